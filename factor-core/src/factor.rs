@@ -1,0 +1,151 @@
+//! The factor model: a residual over manifold variables and its tangent-space
+//! Jacobians.
+//!
+//! A factor is a struct generic over the scalar holding its constants and its
+//! variables; `#[derive(Factor)]` (crate `factor-macros`) implements this trait
+//! for the `f64` instance from one generic residual function. The typed API
+//! (`linearize_dual` returning one fixed-size `nalgebra` block per variable) is
+//! emitted beside it as inherent methods; this trait is the uniform, dynamically
+//! sized view used by the command line, the numerical check and reports.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::manifold::Perturbation;
+
+/// Why a factor has no meaningful value at a configuration.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FactorError {
+    /// The geometry is degenerate (point behind the camera, parallel bearing
+    /// vectors, ...): the residual is undefined or its Jacobian infinite.
+    #[error("{factor}: degenerate geometry: {reason}")]
+    Degenerate {
+        /// The factor's name.
+        factor: &'static str,
+        /// What is degenerate, with the offending value.
+        reason: String,
+    },
+    /// An evaluation produced a NaN or an infinity that validation did not
+    /// foresee; reported instead of returned.
+    #[error("{factor}: non-finite {what}")]
+    NonFinite {
+        /// The factor's name.
+        factor: &'static str,
+        /// Which output (`residual` or the Jacobian of a variable).
+        what: String,
+    },
+}
+
+/// A variable of a factor as reports describe it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VariableInfo {
+    /// The field name.
+    pub name: &'static str,
+    /// The variable's type as written in the factor (`Se3<S>`).
+    pub type_name: &'static str,
+    /// Tangent dimension (Jacobian columns).
+    pub tangent_dim: usize,
+    /// Side of the perturbation.
+    pub perturbation: Perturbation,
+    /// The perturbation and the column order in words.
+    pub tangent: &'static str,
+}
+
+/// Residual and Jacobian blocks of any factor, dynamically sized.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynLinearization {
+    /// The residual.
+    pub residual: DVector<f64>,
+    /// One block per variable, in declaration order: residual rows × tangent columns.
+    pub jacobians: Vec<DMatrix<f64>>,
+}
+
+impl DynLinearization {
+    /// Fails with [`FactorError::NonFinite`] naming the first non-finite output.
+    pub fn ensure_finite(self, factor: &'static str, names: &[&str]) -> Result<Self, FactorError> {
+        if self.residual.iter().any(|x| !x.is_finite()) {
+            return Err(FactorError::NonFinite {
+                factor,
+                what: "residual".into(),
+            });
+        }
+        for (block, name) in self.jacobians.iter().zip(names) {
+            if block.iter().any(|x| !x.is_finite()) {
+                return Err(FactorError::NonFinite {
+                    factor,
+                    what: format!("Jacobian w.r.t. `{name}`"),
+                });
+            }
+        }
+        Ok(self)
+    }
+}
+
+/// Step of the central differences in [`Factor::linearize_numeric_dyn`], in
+/// tangent units; Richardson extrapolation over `h` and `h/2` makes the
+/// truncation error `O(h⁴)`.
+pub const NUMERIC_STEP: f64 = 1e-3;
+
+/// A factor at a configuration of its variables (the `f64` instance).
+pub trait Factor: Sized {
+    /// Snake-case name used on the command line.
+    const NAME: &'static str;
+    /// Residual dimension (Jacobian rows).
+    const RESIDUAL_DIM: usize;
+
+    /// The variables in declaration order.
+    fn variables() -> Vec<VariableInfo>;
+
+    /// Checks that the configuration has a meaningful residual and Jacobian.
+    fn validate(&self) -> Result<(), FactorError>;
+
+    /// The residual, after [`Factor::validate`].
+    fn residual_dyn(&self) -> Result<DVector<f64>, FactorError>;
+
+    /// Residual and Jacobians by dual numbers, after [`Factor::validate`].
+    fn linearize_dual_dyn(&self) -> Result<DynLinearization, FactorError>;
+
+    /// A copy with variable `index` retracted (exactly) by `delta`, on that
+    /// variable's perturbation side.
+    fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;
+
+    /// Residual and Jacobians by central differences through the exact
+    /// retraction of each variable: an independent reference for the dual and
+    /// generated Jacobians.
+    fn linearize_numeric_dyn(&self) -> Result<DynLinearization, FactorError> {
+        self.validate()?;
+        let residual = self.residual_dyn()?;
+        let central =
+            |index: usize, coord: usize, dim: usize, h: f64| -> Result<DVector<f64>, FactorError> {
+                let mut delta = vec![0.0; dim];
+                delta[coord] = h;
+                let plus = self.with_retracted(index, &delta).residual_dyn()?;
+                delta[coord] = -h;
+                let minus = self.with_retracted(index, &delta).residual_dyn()?;
+                Ok((plus - minus) / (2.0 * h))
+            };
+        let variables = Self::variables();
+        let mut jacobians = Vec::with_capacity(variables.len());
+        for (index, variable) in variables.iter().enumerate() {
+            let mut block = DMatrix::zeros(Self::RESIDUAL_DIM, variable.tangent_dim);
+            for coord in 0..variable.tangent_dim {
+                let coarse = central(index, coord, variable.tangent_dim, NUMERIC_STEP)?;
+                let fine = central(index, coord, variable.tangent_dim, NUMERIC_STEP / 2.0)?;
+                block.set_column(coord, &((4.0 * fine - coarse) / 3.0));
+            }
+            jacobians.push(block);
+        }
+        let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
+        DynLinearization {
+            residual,
+            jacobians,
+        }
+        .ensure_finite(Self::NAME, &names)
+    }
+}
+
+/// `‖a − b‖_F / max(‖b‖_F, floor)`: the relative Frobenius error used by every
+/// Jacobian comparison in this project. `floor` keeps a zero reference block
+/// from turning a tiny absolute error into an infinite relative one.
+pub fn relative_frobenius_error(a: &DMatrix<f64>, b: &DMatrix<f64>, floor: f64) -> f64 {
+    (a - b).norm() / b.norm().max(floor)
+}

@@ -1,0 +1,79 @@
+//! Line reprojection with the orthonormal representation, document 000 §III.
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
+use crate::geometry::{Intrinsics, OrthonormalLine};
+use crate::lie::Se3;
+use crate::linalg::dot;
+use crate::validation::exceeds;
+use crate::{Factor, FactorError, Scalar};
+
+/// The distances of the observed endpoints to the projected line,
+/// `γ = [lᵀ p, lᵀ q] / √(l₁² + l₂²)` with `l = 𝒦 n_c` and `p`, `q` the observed
+/// endpoint pixels `[u, v, 1]` (document 000 §III, (6)–(12)).
+///
+/// - `pose` `T` maps world to camera; **left** perturbation `T ← Exp(δξ) T`,
+///   tangent `[δω, δρ]`.
+/// - `line` `(U, W)`: **left** perturbation `U ← Exp(δΘ) U`, `W ← R(δρ) W`,
+///   tangent `[δΘ, δρ]` (4), as in 000 (9).
+///
+/// Degenerate: the line through the optical centre (`n_c = 0`: it projects to
+/// a point) or in the focal plane `Z = 0` (`l₁ = l₂ = 0`: it projects to the
+/// line at infinity).
+#[derive(Debug, Clone, Factor)]
+#[factor(residual = line_reprojection_residual, dim = 2, validate = validate_line_reprojection)]
+pub struct LineReprojection<S: Scalar = f64> {
+    /// `K = [f_u, f_v, c_u, c_v]`.
+    pub intrinsics: Intrinsics<S>,
+    /// Observed start point of the segment (pixels).
+    pub start: Vector2<S>,
+    /// Observed end point of the segment (pixels).
+    pub end: Vector2<S>,
+    /// World-to-camera pose.
+    #[variable(left)]
+    pub pose: Se3<S>,
+    /// The world line.
+    #[variable(left)]
+    pub line: OrthonormalLine<S>,
+}
+
+/// The projected image line `l = 𝒦 n_c`.
+fn projected_line<S: Scalar>(f: &LineReprojection<S>) -> Vector3<S> {
+    let camera_line = f.line.to_plucker().transform(&f.pose);
+    f.intrinsics.project_line(&camera_line.normal)
+}
+
+/// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
+pub fn line_reprojection_residual<S: Scalar>(f: &LineReprojection<S>) -> Vector2<S> {
+    let l = projected_line(f);
+    let inv = (l.x * l.x + l.y * l.y).sqrt().recip();
+    let homogeneous = |p: &Vector2<S>| Vector3::new(p.x, p.y, S::one());
+    Vector2::new(
+        dot(&l, &homogeneous(&f.start)) * inv,
+        dot(&l, &homogeneous(&f.end)) * inv,
+    )
+}
+
+/// Rejects a line through the optical centre or in the focal plane.
+pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), FactorError> {
+    let camera_line = f.line.to_plucker().transform(&f.pose);
+    let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
+    if !exceeds(n, DEGENERACY_TOLERANCE * v) {
+        return Err(degenerate(
+            LineReprojection::NAME,
+            format!(
+                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
+                n / v
+            ),
+        ));
+    }
+    let l = projected_line(f);
+    if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
+        return Err(degenerate(
+            LineReprojection::NAME,
+            "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
+        ));
+    }
+    Ok(())
+}

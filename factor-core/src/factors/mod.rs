@@ -1,0 +1,34 @@
+//! The four factors of the specification documents, each written once as a
+//! generic residual with `#[derive(Factor)]`.
+//!
+//! | factor | document | variables (perturbation) |
+//! | --- | --- | --- |
+//! | [`PointReprojection`] | 000 §II | pose (left), point (additive) |
+//! | [`LineReprojection`] | 000 §III | pose (left), orthonormal line (left) |
+//! | [`PlaneFactor`] | 000 §IV | pose (left), plane quaternion (left) |
+//! | [`FreeLineFactor`] | 001 | body pose (right), free line (left) |
+//!
+//! Degenerate configurations are rejected by each factor's `validate` with
+//! [`crate::FactorError::Degenerate`] before anything is evaluated; no factor
+//! returns a NaN, an infinity or a panic for them.
+
+pub mod free_line;
+pub mod line_reprojection;
+pub mod plane;
+pub mod point_reprojection;
+
+pub use free_line::FreeLineFactor;
+pub use line_reprojection::LineReprojection;
+pub use plane::PlaneFactor;
+pub use point_reprojection::PointReprojection;
+
+use crate::FactorError;
+
+/// Relative threshold below which a length counts as zero in the validations
+/// (`|x| ≤ DEGENERACY_TOLERANCE · scale`).
+pub const DEGENERACY_TOLERANCE: f64 = 1e-9;
+
+/// A [`FactorError::Degenerate`].
+pub(crate) fn degenerate(factor: &'static str, reason: String) -> FactorError {
+    FactorError::Degenerate { factor, reason }
+}

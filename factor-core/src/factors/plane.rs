@@ -1,0 +1,78 @@
+//! Infinite-plane factor, document 000 §IV.
+
+use nalgebra::{Vector3, Vector4};
+
+use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
+use crate::geometry::InfinitePlane;
+use crate::geometry::plane::transpose_transform;
+use crate::lie::{Quaternion, SMALL_ANGLE_SQUARED, Se3};
+use crate::linalg::normalized;
+use crate::validation::{exceeds, within};
+use crate::{Factor, FactorError, Scalar};
+
+/// The plane error `e = log(q(Tᵀ q(π_c)) ⊗ q_w⁻¹)` (document 000 §IV), with
+/// `q(π) = π/|π|` read as a quaternion `[a, b, c, d]` and the full-sphere
+/// quaternion logarithm ([`Quaternion::log`], `|e| < 2π`).
+///
+/// - `pose` `T` maps world to camera; **left** perturbation `T ← Exp(δξ) T`,
+///   tangent `[δω, δρ]`.
+/// - `plane` `q_w`: **left** perturbation `q_w ← exp(δω) ⊗ q_w`, tangent `δω` (3).
+///
+/// The error is not folded onto `w ≥ 0`: a measured plane whose quaternion is
+/// the antipode of the predicted one is the same plane, with `|e|` near 2π.
+/// Degenerate: a measured plane vector of zero norm, and the exactly
+/// antipodal error quaternion (`e_w < 0`, `|e_v| → 0`), where the logarithm
+/// has no direction.
+#[derive(Debug, Clone, Factor)]
+#[factor(residual = plane_residual, dim = 3, validate = validate_plane, name = "plane")]
+pub struct PlaneFactor<S: Scalar = f64> {
+    /// The measured plane `π_c = [a, b, c, d]` in the camera frame, any scale.
+    pub measured: Vector4<S>,
+    /// World-to-camera pose.
+    #[variable(left)]
+    pub pose: Se3<S>,
+    /// The world plane landmark.
+    #[variable(left)]
+    pub plane: InfinitePlane<S>,
+}
+
+/// `q(Tᵀ q(π_c)) ⊗ q_w⁻¹`, the error quaternion.
+fn error_quaternion<S: Scalar>(f: &PlaneFactor<S>) -> Quaternion<S> {
+    let y = transpose_transform(&f.pose, &normalized(&f.measured));
+    let phi = Quaternion::from_coords(normalized(&y));
+    phi.mul(&f.plane.quaternion.conjugate())
+}
+
+/// `log(q(Tᵀ q(π_c)) ⊗ q_w⁻¹)`.
+pub fn plane_residual<S: Scalar>(f: &PlaneFactor<S>) -> Vector3<S> {
+    error_quaternion(f).log()
+}
+
+/// Rejects a zero measured plane and the antipodal error quaternion.
+pub fn validate_plane(f: &PlaneFactor<f64>) -> Result<(), FactorError> {
+    if !exceeds(f.measured.norm(), 0.0) {
+        return Err(degenerate(
+            PlaneFactor::NAME,
+            "measured plane vector has zero norm".into(),
+        ));
+    }
+    let landmark = f.plane.quaternion.coords().norm();
+    if !within(landmark - 1.0, DEGENERACY_TOLERANCE.sqrt()) {
+        return Err(degenerate(
+            PlaneFactor::NAME,
+            format!("plane landmark quaternion has norm {landmark}, expected 1"),
+        ));
+    }
+    let e = error_quaternion(f);
+    if e.w < 0.0 && e.vector().norm_squared() < SMALL_ANGLE_SQUARED {
+        return Err(degenerate(
+            PlaneFactor::NAME,
+            format!(
+                "predicted and landmark plane quaternions are antipodal (error quaternion w = {}): \
+                 the logarithm has no direction",
+                e.w
+            ),
+        ));
+    }
+    Ok(())
+}

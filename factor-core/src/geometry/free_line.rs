@@ -1,0 +1,100 @@
+//! The free line `l = [q_WL, d_L]` of document 001 §1: a frame `L` with its
+//! x axis along the line, its origin on the line at distance `d_L` from the
+//! world origin, and its z axis pointing away from the origin.
+
+use nalgebra::Vector3;
+
+use crate::geometry::GeometryError;
+use crate::lie::Quaternion;
+use crate::lie::so3::perturb_quaternion;
+use crate::linalg::scale;
+use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::scalar::Scalar;
+use crate::validation::within;
+
+/// `[q_WL, d_L]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeLine<S> {
+    /// `q_WL`, the orientation of the line frame in the world (unit).
+    pub rotation: Quaternion<S>,
+    /// `d_L`, the distance of the anchor from the world origin.
+    pub distance: S,
+}
+
+impl<S: Scalar> FreeLine<S> {
+    /// From `q_WL` (unit) and `d_L`.
+    pub fn new(rotation: Quaternion<S>, distance: S) -> Self {
+        FreeLine { rotation, distance }
+    }
+
+    /// The anchor `_W P_L = R(q_WL) [0, 0, d_L]` (001 (1.2)).
+    pub fn anchor(&self) -> Vector3<S> {
+        let z = S::zero();
+        scale(
+            self.distance,
+            &self.rotation.rotate(&Vector3::new(z, z, S::one())),
+        )
+    }
+
+    /// The direction `_W x_L = R(q_WL) [1, 0, 0]` (001 (1.3)).
+    pub fn direction(&self) -> Vector3<S> {
+        let z = S::zero();
+        self.rotation.rotate(&Vector3::new(S::one(), z, z))
+    }
+}
+
+impl FreeLine<f64> {
+    /// Checked construction: `q_WL` of unit norm within `tolerance`
+    /// (then re-normalised), `d_L` finite.
+    pub fn try_new(
+        rotation: Quaternion<f64>,
+        distance: f64,
+        tolerance: f64,
+    ) -> Result<Self, GeometryError> {
+        let norm = rotation.coords().norm();
+        if !within(norm - 1.0, tolerance) {
+            return Err(GeometryError(format!("q_WL has norm {norm}, expected 1")));
+        }
+        if !distance.is_finite() {
+            return Err(GeometryError("d_L is not finite".into()));
+        }
+        Ok(Self::new(rotation.normalized(), distance))
+    }
+}
+
+impl<S: Scalar> MapScalars<S> for FreeLine<S> {
+    type With<T: Scalar> = FreeLine<T>;
+    const SCALARS: usize = 5;
+    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> FreeLine<T> {
+        FreeLine::new(self.rotation.map_scalars(f), f(self.distance))
+    }
+}
+
+/// Tangent `[δθ, δd]` (4). Left (as the specification pins it):
+/// `q_WL ← exp(δθ) ⊗ q_WL`; right: `q_WL ← q_WL ⊗ exp(δθ)`; always
+/// `d_L ← d_L + δd`.
+impl<S: Scalar> Manifold<S> for FreeLine<S> {
+    const DIM: usize = 4;
+    fn retract(&self, delta: &[S], side: Perturbation) -> Self {
+        Self::new(
+            perturb_quaternion(&self.rotation, delta, side, Quaternion::exp),
+            self.distance + delta[3],
+        )
+    }
+    fn retract_first_order(&self, delta: &[S], side: Perturbation) -> Self {
+        Self::new(
+            perturb_quaternion(&self.rotation, delta, side, Quaternion::exp_first_order),
+            self.distance + delta[3],
+        )
+    }
+    fn tangent_description(side: Perturbation) -> &'static str {
+        match side {
+            Perturbation::Left => {
+                "left: q_WL ← exp(δθ) ⊗ q_WL, d_L ← d_L + δd, columns [δθ_x, δθ_y, δθ_z, δd]"
+            }
+            Perturbation::Right => {
+                "right: q_WL ← q_WL ⊗ exp(δθ), d_L ← d_L + δd, columns [δθ_x, δθ_y, δθ_z, δd]"
+            }
+        }
+    }
+}

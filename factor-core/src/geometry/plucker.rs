@@ -1,0 +1,60 @@
+//! Plücker lines `L = [n, v]` (document 000 §III): `n` is the normal of the
+//! plane through the line and the origin, `v` the direction; `n · v = 0` and
+//! the distance to the origin is `|n| / |v|`.
+
+use nalgebra::{Matrix3, Matrix6, Vector3};
+
+use crate::lie::Se3;
+use crate::lie::so3::hat;
+use crate::linalg::cross;
+use crate::manifold::MapScalars;
+use crate::scalar::Scalar;
+
+/// A line `[n, v]`, defined up to a non-zero scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PluckerLine<S> {
+    /// Moment `n`.
+    pub normal: Vector3<S>,
+    /// Direction `v`.
+    pub direction: Vector3<S>,
+}
+
+impl<S: Scalar> PluckerLine<S> {
+    /// From `n` and `v`.
+    pub fn new(normal: Vector3<S>, direction: Vector3<S>) -> Self {
+        PluckerLine { normal, direction }
+    }
+
+    /// The line through Euclidean points `P` and `Q` (homogeneous weights 1):
+    /// `n = P × Q`, `v = Q − P`.
+    pub fn from_points(p: &Vector3<S>, q: &Vector3<S>) -> Self {
+        Self::new(cross(p, q), q - p)
+    }
+
+    /// The line in the frame a pose maps into: `n' = R n + t × (R v)`,
+    /// `v' = R v`, i.e. `H L` with [`PluckerLine::transform_matrix`].
+    pub fn transform(&self, pose: &Se3<S>) -> Self {
+        let rv = pose.rotation.rotate(&self.direction);
+        let n = pose.rotation.rotate(&self.normal) + cross(&pose.translation, &rv);
+        Self::new(n, rv)
+    }
+
+    /// The 6×6 line motion matrix `H = [[R, [t]× R], [0, R]]` of document 000 (8).
+    pub fn transform_matrix(pose: &Se3<S>) -> Matrix6<S> {
+        let r: Matrix3<S> = pose.rotation.matrix();
+        let tr = hat(&pose.translation) * r;
+        let mut h = Matrix6::zeros();
+        h.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
+        h.fixed_view_mut::<3, 3>(0, 3).copy_from(&tr);
+        h.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
+        h
+    }
+}
+
+impl<S: Scalar> MapScalars<S> for PluckerLine<S> {
+    type With<T: Scalar> = PluckerLine<T>;
+    const SCALARS: usize = 6;
+    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> PluckerLine<T> {
+        PluckerLine::new(self.normal.map_scalars(f), self.direction.map_scalars(f))
+    }
+}

@@ -1,0 +1,45 @@
+//! Exact tangent-space Jacobians of SLAM factors written once, generically.
+//!
+//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and a
+//!   symbolic scalar) that residuals and geometry are written against.
+//! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar.
+//! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
+//!   planes, the free line of document 001, camera intrinsics.
+//! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
+//! - [`factor`]: the factor model, numerical linearization and errors.
+//! - [`factors`]: the four factors of the specification documents.
+//! - [`testing`]: a one-line Jacobian check for factor authors.
+//!
+//! Conventions (pinned for the whole workspace; see the README):
+//! quaternions are stored `[x, y, z, w]` with the Hamilton product and the
+//! active rotation `R(q) v = q ⊗ [v, 0] ⊗ q⁻¹`; `hat(ω) b = ω × b`; poses map
+//! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
+//! first; Jacobians are residual rows × tangent columns.
+
+pub mod factor;
+pub mod factors;
+pub mod geometry;
+pub mod lie;
+pub mod linalg;
+pub mod manifold;
+pub mod scalar;
+pub mod testing;
+pub mod validation;
+
+pub use factor::{DynLinearization, Factor, FactorError, VariableInfo};
+pub use manifold::{Manifold, MapScalars, Perturbation};
+pub use scalar::Scalar;
+
+/// Re-exports the derive macro's generated code relies on.
+#[doc(hidden)]
+pub mod __private {
+    pub use nalgebra;
+    pub use num_dual;
+}
+
+/// `#[derive(Factor)]`: the typed API and the [`Factor`] impl from a struct and
+/// one generic residual function (crate `factor-macros`).
+pub use factor_macros::Factor;
+
+// Lets the derive's `::factor_core::...` paths resolve inside this crate.
+extern crate self as factor_core;

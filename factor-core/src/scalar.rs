@@ -1,0 +1,174 @@
+//! The scalar abstraction every residual and all geometry are written against.
+//!
+//! [`Scalar`] is implemented by `f64`, `f32` and num-dual's statically sized
+//! dual vectors ([`DualSVec64`]); a symbolic scalar (a small `Copy` handle into
+//! an expression arena) implements it too, so one residual definition is
+//! evaluated, differentiated and traced without a second copy of anything.
+//!
+//! Design decisions:
+//! - The bounds are only what `nalgebra` needs for storage and products
+//!   (`nalgebra::Scalar`, `Zero`, `One`, the closed arithmetic operators), never
+//!   `RealField`: a symbolic value cannot answer `<` or `is_finite`.
+//! - `Copy` is required: dual vectors of a fixed size are `Copy`, and a symbolic
+//!   scalar is a handle.
+//! - Every data-dependent branch goes through one primitive,
+//!   [`Scalar::select_lt`], so a tracer can record it as a conditional instead of
+//!   answering a comparison. Both arms are evaluated; only the chosen one is
+//!   returned (for duals, with its derivative), so the discarded arm may be
+//!   non-finite without harm.
+
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+use num_dual::{DualNum, DualSVec64};
+use num_traits::{One, Zero};
+
+/// A number type that residuals and geometry are generic over.
+pub trait Scalar:
+    nalgebra::Scalar
+    + Copy
+    + Debug
+    + Zero
+    + One
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + DivAssign
+{
+    /// A constant. For a symbolic scalar this is a literal, never an input.
+    fn from_f64(value: f64) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Sine.
+    fn sin(self) -> Self;
+    /// Cosine.
+    fn cos(self) -> Self;
+    /// Four-quadrant arc tangent of `self / x` (`self` is the ordinate).
+    fn atan2(self, x: Self) -> Self;
+    /// `if lhs < rhs { if_less } else { otherwise }`, the one branching primitive.
+    fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self;
+
+    /// `1 / self`.
+    fn recip(self) -> Self {
+        Self::one() / self
+    }
+    /// `self * self`.
+    fn squared(self) -> Self {
+        self * self
+    }
+    /// Absolute value, through [`Scalar::select_lt`].
+    fn abs(self) -> Self {
+        Self::select_lt(self, Self::zero(), -self, self)
+    }
+}
+
+macro_rules! impl_scalar_for_float {
+    ($float:ty) => {
+        impl Scalar for $float {
+            #[inline]
+            fn from_f64(value: f64) -> Self {
+                value as $float
+            }
+            #[inline]
+            fn sqrt(self) -> Self {
+                <$float>::sqrt(self)
+            }
+            #[inline]
+            fn sin(self) -> Self {
+                <$float>::sin(self)
+            }
+            #[inline]
+            fn cos(self) -> Self {
+                <$float>::cos(self)
+            }
+            #[inline]
+            fn atan2(self, x: Self) -> Self {
+                <$float>::atan2(self, x)
+            }
+            #[inline]
+            fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
+                if lhs < rhs { if_less } else { otherwise }
+            }
+            #[inline]
+            fn recip(self) -> Self {
+                <$float>::recip(self)
+            }
+        }
+    };
+}
+
+impl_scalar_for_float!(f64);
+impl_scalar_for_float!(f32);
+
+/// Dual vectors carry the derivative w.r.t. `N` seeded tangent coordinates.
+/// A branch compares real parts and returns the chosen arm whole, so the
+/// derivative is the derivative of the branch that holds at the point.
+impl<const N: usize> Scalar for DualSVec64<N> {
+    #[inline]
+    fn from_f64(value: f64) -> Self {
+        DualSVec64::from_re(value)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        DualNum::sqrt(&self)
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        DualNum::sin(&self)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        DualNum::cos(&self)
+    }
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        DualNum::atan2(&self, x)
+    }
+    #[inline]
+    fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
+        if lhs.re < rhs.re { if_less } else { otherwise }
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        DualNum::recip(&self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hypot_like<S: Scalar>(a: S, b: S) -> S {
+        (a * a + b * b).sqrt()
+    }
+
+    #[test]
+    fn generic_code_runs_on_floats_and_duals() {
+        assert_eq!(hypot_like(3.0_f64, 4.0), 5.0);
+        assert_eq!(hypot_like(3.0_f32, 4.0), 5.0);
+        let a = DualSVec64::<2>::from_re(3.0).derivative(0);
+        let b = DualSVec64::<2>::from_re(4.0).derivative(1);
+        let h = hypot_like(a, b);
+        assert_eq!(h.re, 5.0);
+        let eps = h.eps.unwrap_generic(nalgebra::Const::<2>, nalgebra::U1);
+        assert!((eps[0] - 0.6).abs() < 1e-15 && (eps[1] - 0.8).abs() < 1e-15);
+    }
+
+    #[test]
+    fn select_follows_the_branch_that_holds_with_its_derivative() {
+        let x = DualSVec64::<1>::from_re(-2.0).derivative(0);
+        let y = x.abs();
+        assert_eq!(y.re, 2.0);
+        assert_eq!(
+            y.eps.unwrap_generic(nalgebra::Const::<1>, nalgebra::U1)[0],
+            -1.0
+        );
+        assert_eq!(f64::select_lt(1.0, 2.0, 10.0, 20.0), 10.0);
+        assert_eq!(f64::select_lt(2.0, 2.0, 10.0, 20.0), 20.0);
+    }
+}

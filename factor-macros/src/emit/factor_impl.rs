@@ -1,0 +1,110 @@
+//! `impl Factor for Foo<f64>`: the uniform, dynamically sized view, with the
+//! generic helpers it calls (the variables' descriptions, exact retraction).
+
+use proc_macro2::TokenStream;
+use quote::{quote, quote_spanned};
+use syn::spanned::Spanned;
+
+use super::Context;
+use crate::naming;
+
+/// The `Factor` impl of the `f64` instance and its generic helpers.
+pub fn emit(cx: &Context) -> TokenStream {
+    let krate = &cx.krate;
+    let nalgebra = &cx.nalgebra;
+    let ident = &cx.model.ident;
+    let scalar = &cx.model.scalar;
+    let name = &cx.model.name;
+    let dim = &cx.dim;
+    let result = quote!(::core::result::Result);
+    let error = quote!(#krate::FactorError);
+    let (impl_generics, ty_generics, where_clause) = cx.generics.split_for_impl();
+    let infos = cx.variables.iter().map(|v| {
+        let (ty, side) = (v.ty, &v.side_tokens);
+        let field = v.ident.to_string();
+        let type_name = naming::type_text(ty);
+        let tangent_dim = cx.dim_generic(v);
+        let tangent =
+            quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::tangent_description);
+        quote! {
+            #krate::VariableInfo {
+                name: #field,
+                type_name: #type_name,
+                tangent_dim: #tangent_dim,
+                perturbation: #side,
+                tangent: #tangent(#side),
+            }
+        }
+    });
+    let fields = cx.model.fields.iter().map(|field| {
+        let (name, ty) = (&field.ident, &field.ty);
+        let clone = quote_spanned!(ty.span()=> ::core::clone::Clone::clone(&self.#name));
+        match cx.variable(field) {
+            Some(v) => {
+                let (k, side) = (v.index, &v.side_tokens);
+                let retract =
+                    quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::retract);
+                quote!(#name: if index == #k { #retract(&self.#name, delta, #side) } else { #clone })
+            }
+            None => quote!(#name: #clone),
+        }
+    });
+    let validate = match &cx.model.validate {
+        Some(path) => {
+            let path = quote_spanned!(path.span()=> #path);
+            quote! {
+                let validate: fn(&Self) -> #result<(), #error> = #path;
+                validate(self)
+            }
+        }
+        None => quote!(#result::Ok(())),
+    };
+    let count = cx.variables.len();
+    quote! {
+        impl #impl_generics #ident #ty_generics #where_clause {
+            /// The variables as [`Factor::variables`](::factor_core::Factor::variables) reports them.
+            fn __factor_variables() -> ::std::vec::Vec<#krate::VariableInfo> {
+                ::std::vec![#(#infos),*]
+            }
+
+            /// A copy with variable `index` retracted exactly by `delta`.
+            fn __factor_retract(&self, index: usize, delta: &[#scalar]) -> Self {
+                #ident { #(#fields,)* }
+            }
+        }
+
+        #[automatically_derived]
+        impl #krate::Factor for #ident<f64> {
+            const NAME: &'static str = #name;
+            const RESIDUAL_DIM: usize = #dim;
+
+            fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {
+                Self::__factor_variables()
+            }
+
+            fn validate(&self) -> #result<(), #error> {
+                #validate
+            }
+
+            fn residual_dyn(&self) -> #result<#nalgebra::DVector<f64>, #error> {
+                self.residual()
+                    .map(|residual| #nalgebra::DVector::from_column_slice(residual.as_slice()))
+            }
+
+            fn linearize_dual_dyn(&self) -> #result<#krate::DynLinearization, #error> {
+                self.linearize_dual().map(|linearization| linearization.to_dyn())
+            }
+
+            fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {
+                ::core::assert!(
+                    index < #count,
+                    "{}: variable index {} out of range; the factor has {} variables",
+                    <Self as #krate::Factor>::NAME,
+                    index,
+                    #count,
+                );
+                self.__factor_retract(index, delta)
+            }
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! `#[derive(Factor)]`: from a struct generic over the scalar and one generic
+//! residual function, emit the typed evaluation and dual-number linearization
+//! API and the [`factor_core::Factor`] implementation.
+//!
+//! The crate is organised like `serde_derive`: `model` parses and validates
+//! the input into a small model (every misuse is a spanned compile error), and
+//! `emit` turns the model into code. All generated paths go through
+//! `::factor_core` and `::factor_core::__private::{nalgebra, num_dual}`, so a
+//! user crate needs only `factor-core` as a dependency.
+//!
+//! [`factor_core::Factor`]: https://docs.rs/factor-core
+
+mod attrs;
+mod emit;
+mod errors;
+mod model;
+mod naming;
+
+use proc_macro::TokenStream;
+use syn::{DeriveInput, parse_macro_input};
+
+/// Derives a factor from a struct of constants and variables and a residual
+/// function generic over the scalar.
+///
+/// ```
+/// use factor_core::lie::Se3;
+/// use factor_core::{Factor, FactorError, Scalar};
+/// use nalgebra::{Vector2, Vector3};
+///
+/// #[derive(Clone, Debug, Factor)]
+/// #[factor(residual = point_residual, dim = 2, validate = point_validate)]
+/// pub struct PointReprojection<S: Scalar = f64> {
+///     pub focal: S, // no attribute: a constant
+///     pub observed: Vector2<S>,
+///     #[variable(left)] // `left`, `right`, or a bare `#[variable]` (= left)
+///     pub pose: Se3<S>,
+///     #[variable]
+///     pub point: Vector3<S>,
+/// }
+///
+/// pub fn point_residual<S: Scalar>(f: &PointReprojection<S>) -> Vector2<S> {
+///     let p = f.pose.transform_point(&f.point);
+///     Vector2::new(p.x / p.z, p.y / p.z) * f.focal - f.observed
+/// }
+///
+/// pub fn point_validate(f: &PointReprojection<f64>) -> Result<(), FactorError> {
+///     let depth = f.pose.transform_point(&f.point).z;
+///     if depth > 1e-9 {
+///         Ok(())
+///     } else {
+///         Err(FactorError::Degenerate {
+///             factor: "point_reprojection",
+///             reason: format!("point at depth {depth}"),
+///         })
+///     }
+/// }
+///
+/// let f = PointReprojection {
+///     focal: 500.0,
+///     observed: Vector2::new(12.0, 25.0),
+///     pose: Se3::identity(),
+///     point: Vector3::new(0.1, 0.2, 4.0),
+/// };
+/// let linearization: PointReprojectionLinearization = f.linearize().unwrap();
+/// assert_eq!(linearization.pose.shape(), (2, 6));
+/// assert_eq!(linearization.point.shape(), (2, 3));
+/// assert_eq!(<PointReprojection as Factor>::NAME, "point_reprojection");
+/// factor_core::testing::assert_correct_jacobians(&f, 1e-6);
+/// ```
+///
+/// `#[factor(...)]` keys: `residual = path` (required; a function
+/// `fn<S: Scalar>(&Foo<S>) -> SVector<S, dim>`), `dim = integer` (required, at
+/// least 1), `validate = path` (optional; `fn(&Foo<f64>) -> Result<(),
+/// FactorError>`), `name = "..."` (optional; defaults to the snake case of the
+/// struct's name).
+///
+/// The struct has exactly one type parameter, the scalar, and named fields.
+/// Every field implements `Clone` and `MapScalars<S>` (constants are lifted
+/// to dual numbers too, so they are written over the scalar: `weight: S`, not
+/// `weight: f64`); every variable also implements `Manifold<S>`, for every
+/// scalar `S`. For `Foo<S>` with variables `v₁ … vₙ` this emits:
+///
+/// - `impl<S: Scalar> MapScalars<S> for Foo<S>` (fields in declaration order);
+/// - `Foo::<S>::perturbed_residual(&self, delta: &[S]) -> SVector<S, dim>`:
+///   the residual with every variable retracted to first order by its slice of
+///   `delta`, the function dual numbers (and a tracer) differentiate;
+/// - `Foo::<f64>::TANGENT_DIM`, `residual()`, `linearize_dual()`,
+///   `linearize_dual_per_block()` and `linearize()`;
+/// - `FooLinearization { residual, v₁, …, vₙ }` with one fixed-size Jacobian
+///   block per variable, and `to_dyn()` / `ensure_finite()`;
+/// - `impl Factor for Foo<f64>`.
+#[proc_macro_derive(Factor, attributes(factor, variable))]
+pub fn derive_factor(input: TokenStream) -> TokenStream {
+    let input = parse_macro_input!(input as DeriveInput);
+    model::FactorModel::from_input(&input)
+        .map(|model| emit::expand(&model))
+        .unwrap_or_else(syn::Error::into_compile_error)
+        .into()
+}

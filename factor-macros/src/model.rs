@@ -1,0 +1,224 @@
+//! The derive input parsed into a small model, with every misuse reported as
+//! a spanned compile error. Emission ([`crate::emit`]) never fails.
+
+use syn::{
+    Attribute, Data, DeriveInput, Fields, GenericParam, Generics, Ident, LitInt, Path, Type,
+    Visibility,
+};
+
+use crate::attrs::{self, FactorAttr, Side};
+use crate::errors;
+use crate::naming;
+
+/// A validated `#[derive(Factor)]` input.
+pub struct FactorModel {
+    /// The struct's visibility, given to the generated linearization struct.
+    pub vis: Visibility,
+    /// The struct's name.
+    pub ident: Ident,
+    /// The struct's generics: exactly one type parameter.
+    pub generics: Generics,
+    /// That type parameter, the scalar.
+    pub scalar: Ident,
+    /// `residual = path`.
+    pub residual: Path,
+    /// `dim = integer`, at least 1.
+    pub dim: LitInt,
+    /// `validate = path`, if given.
+    pub validate: Option<Path>,
+    /// `name = "..."`, or the snake case of the struct's name.
+    pub name: String,
+    /// Every field in declaration order.
+    pub fields: Vec<Field>,
+}
+
+/// A field of the factor struct.
+pub struct Field {
+    /// The field's name.
+    pub ident: Ident,
+    /// The field's type as written (over the scalar parameter).
+    pub ty: Type,
+    /// Constant or variable.
+    pub kind: FieldKind,
+}
+
+/// What a field is to the factor.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum FieldKind {
+    /// No attribute: fixed data, lifted to the scalar but never perturbed.
+    Constant,
+    /// `#[variable(...)]`: a manifold the residual is differentiated on.
+    Variable(Side),
+}
+
+impl FactorModel {
+    /// Parses and validates the input, reporting every error found.
+    pub fn from_input(input: &DeriveInput) -> syn::Result<Self> {
+        let scalar = scalar_param(&input.generics, &input.ident);
+        let attr =
+            FactorAttr::parse(&input.attrs).and_then(|attr| required_keys(attr, &input.ident));
+        let fields = parse_fields(input);
+        let misplaced = errors::check(misplaced_attrs(input));
+        let (((scalar, (residual, dim, validate, name)), fields), ()) =
+            errors::join(errors::join(errors::join(scalar, attr), fields), misplaced)?;
+        Ok(FactorModel {
+            vis: input.vis.clone(),
+            ident: input.ident.clone(),
+            generics: input.generics.clone(),
+            scalar,
+            residual,
+            dim,
+            validate,
+            name: name.unwrap_or_else(|| naming::snake_case(&input.ident.to_string())),
+            fields,
+        })
+    }
+
+    /// The variables with their perturbation sides, in declaration order.
+    pub fn variables(&self) -> impl Iterator<Item = (&Field, Side)> {
+        self.fields.iter().filter_map(|field| match field.kind {
+            FieldKind::Variable(side) => Some((field, side)),
+            FieldKind::Constant => None,
+        })
+    }
+
+    /// `FooLinearization`.
+    pub fn linearization_ident(&self) -> Ident {
+        quote::format_ident!("{}Linearization", self.ident)
+    }
+}
+
+/// The residual, dimension, validation function and name, once both
+/// required keys are known to be present.
+type Keys = (Path, LitInt, Option<Path>, Option<String>);
+
+fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
+    let Some(first) = &attr.first else {
+        return Err(syn::Error::new(
+            ident.span(),
+            "missing `#[factor(residual = <function>, dim = <integer>)]` on the factor struct",
+        ));
+    };
+    let residual = attr.residual.ok_or_else(|| {
+        syn::Error::new_spanned(
+            first,
+            "missing `residual = <function>` in `#[factor(...)]`: the generic residual \
+             `fn<S: Scalar>(&Factor<S>) -> SVector<S, DIM>`",
+        )
+    });
+    let dim = attr.dim.ok_or_else(|| {
+        syn::Error::new_spanned(
+            first,
+            "missing `dim = <integer>` in `#[factor(...)]`: the residual dimension",
+        )
+    });
+    let (residual, dim) = errors::join(residual, dim)?;
+    Ok((
+        residual,
+        dim,
+        attr.validate,
+        attr.name.map(|name| name.value()),
+    ))
+}
+
+/// The single type parameter; lifetimes and const parameters are rejected.
+fn scalar_param(generics: &Generics, ident: &Ident) -> syn::Result<Ident> {
+    let message = "a factor struct has exactly one type parameter, the scalar, \
+                   and no lifetimes or const parameters: `struct Factor<S: Scalar = f64>`";
+    let mut params = generics.params.iter();
+    match (params.next(), params.next()) {
+        (Some(GenericParam::Type(param)), None) => Ok(param.ident.clone()),
+        (None, _) => Err(syn::Error::new(ident.span(), message)),
+        _ => Err(syn::Error::new_spanned(&generics.params, message)),
+    }
+}
+
+fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
+    let named = match &input.data {
+        Data::Struct(data) => match &data.fields {
+            Fields::Named(named) => named,
+            Fields::Unnamed(unnamed) => {
+                return Err(syn::Error::new_spanned(
+                    unnamed,
+                    "`#[derive(Factor)]` needs named fields; a tuple struct has none",
+                ));
+            }
+            Fields::Unit => {
+                return Err(syn::Error::new(
+                    input.ident.span(),
+                    "`#[derive(Factor)]` needs named fields: at least one `#[variable]`",
+                ));
+            }
+        },
+        Data::Enum(data) => {
+            return Err(syn::Error::new(
+                data.enum_token.span,
+                "`#[derive(Factor)]` applies to structs only, not enums",
+            ));
+        }
+        Data::Union(data) => {
+            return Err(syn::Error::new(
+                data.union_token.span,
+                "`#[derive(Factor)]` applies to structs only, not unions",
+            ));
+        }
+    };
+    let fields = errors::collect(named.named.iter().map(|field| {
+        let ident = field
+            .ident
+            .clone()
+            .ok_or_else(|| syn::Error::new_spanned(field, "unnamed field"))?;
+        let kind = match attrs::variable_side(&field.attrs)? {
+            Some(side) => FieldKind::Variable(side),
+            None => FieldKind::Constant,
+        };
+        if kind != FieldKind::Constant && ident == "residual" {
+            return Err(syn::Error::new(
+                ident.span(),
+                format!(
+                    "a variable cannot be named `residual`: `{}Linearization` has a `residual` \
+                     field beside one Jacobian field per variable",
+                    input.ident
+                ),
+            ));
+        }
+        Ok(Field {
+            ident,
+            ty: field.ty.clone(),
+            kind,
+        })
+    }))?;
+    if fields.iter().all(|field| field.kind == FieldKind::Constant) {
+        return Err(syn::Error::new(
+            input.ident.span(),
+            "a factor needs at least one variable: mark the fields the residual is \
+             differentiated on with `#[variable]`, `#[variable(left)]` or `#[variable(right)]`",
+        ));
+    }
+    Ok(fields)
+}
+
+/// `#[variable]` on the struct or `#[factor]` on a field.
+fn misplaced_attrs(input: &DeriveInput) -> Vec<syn::Error> {
+    let on_struct = input
+        .attrs
+        .iter()
+        .filter(|attr| attr.path().is_ident("variable"))
+        .map(|attr| {
+            syn::Error::new_spanned(attr, "`#[variable]` belongs on a field, not on the struct")
+        });
+    let field_attrs: Vec<&Attribute> = match &input.data {
+        Data::Struct(data) => data.fields.iter().flat_map(|field| &field.attrs).collect(),
+        Data::Enum(_) | Data::Union(_) => Vec::new(),
+    };
+    let on_field = field_attrs
+        .into_iter()
+        .filter(|attr| attr.path().is_ident("factor"))
+        .map(|attr| {
+            syn::Error::new_spanned(
+                attr,
+                "`#[factor(...)]` belongs on the struct, not on a field",
+            )
+        });
+    on_struct.chain(on_field).collect()
+}

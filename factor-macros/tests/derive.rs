@@ -1,0 +1,248 @@
+//! `#[derive(Factor)]` on small factors over vector spaces (and one pose):
+//! the single-pass and per-block dual linearizations agree with each other,
+//! with central differences, and with known Jacobians exactly.
+
+use factor_core::lie::Se3;
+use factor_core::testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
+use factor_core::{Factor, FactorError, Manifold, MapScalars, Perturbation, Scalar};
+use nalgebra::{Matrix2x3, Matrix3, Vector2, Vector3, Vector6};
+
+/// `r = x − y + c`: linear, with Jacobians `I` and `−I`.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = difference_residual, dim = 3)]
+pub struct Difference<S: Scalar = f64> {
+    pub offset: Vector3<S>,
+    #[variable]
+    pub x: Vector3<S>,
+    #[variable(right)]
+    pub y: Vector3<S>,
+}
+
+pub fn difference_residual<S: Scalar>(f: &Difference<S>) -> Vector3<S> {
+    f.x - f.y + f.offset
+}
+
+/// `r = [x·y, |x|²] · weight`, refused when `x` is zero.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = products_residual, dim = 2, validate = products_validate, name = "dot_and_norm")]
+pub struct Products<S: Scalar = f64> {
+    #[variable(left)]
+    pub x: Vector3<S>,
+    pub weight: S,
+    #[variable]
+    pub y: Vector3<S>,
+}
+
+pub fn products_residual<S: Scalar>(f: &Products<S>) -> Vector2<S> {
+    Vector2::new(f.x.dot(&f.y), f.x.dot(&f.x)) * f.weight
+}
+
+pub fn products_validate(f: &Products<f64>) -> Result<(), FactorError> {
+    if f.x.norm() == 0.0 {
+        return Err(FactorError::Degenerate {
+            factor: <Products as Factor>::NAME,
+            reason: "x is zero".into(),
+        });
+    }
+    Ok(())
+}
+
+/// `r = T · p − observed`, the pose perturbed on the right.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = transfer_residual, dim = 3)]
+pub struct Transfer<S: Scalar = f64> {
+    pub observed: Vector3<S>,
+    #[variable(right)]
+    pub pose: Se3<S>,
+    #[variable]
+    pub point: Vector3<S>,
+}
+
+pub fn transfer_residual<S: Scalar>(f: &Transfer<S>) -> Vector3<S> {
+    f.pose.transform_point(&f.point) - f.observed
+}
+
+/// `r = s · x` with a scalar variable: its Jacobian is the column `x`.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = scaled_residual, dim = 2)]
+pub struct Scaled<S: Scalar = f64> {
+    pub x: Vector2<S>,
+    #[variable]
+    pub s: S,
+}
+
+pub fn scaled_residual<S: Scalar>(f: &Scaled<S>) -> Vector2<S> {
+    f.x * f.s
+}
+
+fn difference() -> Difference {
+    Difference {
+        offset: Vector3::new(0.5, -1.0, 2.0),
+        x: Vector3::new(1.0, 2.0, 3.0),
+        y: Vector3::new(-4.0, 0.25, 7.0),
+    }
+}
+
+fn products() -> Products {
+    Products {
+        x: Vector3::new(0.3, -1.2, 2.0),
+        weight: 1.5,
+        y: Vector3::new(4.0, 0.5, -0.7),
+    }
+}
+
+fn transfer() -> Transfer {
+    Transfer {
+        observed: Vector3::new(0.1, 0.2, 3.0),
+        pose: Se3::exp(&Vector6::new(0.3, -0.2, 0.5, 1.0, -2.0, 0.5)),
+        point: Vector3::new(0.4, -0.3, 2.5),
+    }
+}
+
+#[test]
+fn the_jacobians_of_a_linear_residual_are_its_matrices_exactly() {
+    let f = difference();
+    let expected = DifferenceLinearization {
+        residual: Vector3::new(5.5, 0.75, -2.0),
+        x: Matrix3::identity(),
+        y: -Matrix3::identity(),
+    };
+    assert_eq!(f.linearize_dual().unwrap(), expected);
+    assert_eq!(f.linearize_dual_per_block().unwrap(), expected);
+    assert_eq!(f.linearize().unwrap(), expected);
+    assert_eq!(f.residual().unwrap(), expected.residual);
+}
+
+#[test]
+fn a_scalar_variable_has_a_one_column_block() {
+    let f = Scaled {
+        x: Vector2::new(3.0, -4.0),
+        s: 0.5,
+    };
+    let lin = f.linearize_dual().unwrap();
+    assert_eq!(lin.s, nalgebra::Matrix2x1::new(3.0, -4.0));
+    assert_eq!(lin, f.linearize_dual_per_block().unwrap());
+    assert_eq!(Scaled::variables()[0].tangent_dim, 1);
+}
+
+#[test]
+fn a_nonlinear_residual_has_its_analytic_jacobians() {
+    let f = products();
+    let lin = f.linearize_dual().unwrap();
+    let w = f.weight;
+    let expected_x = Matrix2x3::from_rows(&[f.y.transpose() * w, f.x.transpose() * (2.0 * w)]);
+    let expected_y = Matrix2x3::from_rows(&[f.x.transpose() * w, Vector3::zeros().transpose()]);
+    assert!((lin.x - expected_x).norm() < 1e-14);
+    assert!((lin.y - expected_y).norm() < 1e-14);
+    assert_eq!(lin, f.linearize_dual_per_block().unwrap());
+}
+
+#[test]
+fn dual_jacobians_agree_with_central_differences() {
+    assert_correct_jacobians(&difference(), DEFAULT_TOLERANCE);
+    assert_correct_jacobians(&products(), DEFAULT_TOLERANCE);
+    assert_correct_jacobians(&transfer(), DEFAULT_TOLERANCE);
+    let f = transfer();
+    let single = f.linearize_dual().unwrap();
+    let per_block = f.linearize_dual_per_block().unwrap();
+    assert!((single.pose - per_block.pose).norm() < 1e-14);
+    assert!((single.point - per_block.point).norm() < 1e-14);
+}
+
+#[test]
+fn the_factor_trait_describes_the_variables() {
+    assert_eq!(<Difference as Factor>::NAME, "difference");
+    assert_eq!(<Products as Factor>::NAME, "dot_and_norm");
+    assert_eq!(<Transfer as Factor>::RESIDUAL_DIM, 3);
+    assert_eq!(Transfer::TANGENT_DIM, 9);
+    let variables = Transfer::variables();
+    assert_eq!(variables.len(), 2);
+    assert_eq!(
+        (
+            variables[0].name,
+            variables[0].type_name,
+            variables[0].tangent_dim
+        ),
+        ("pose", "Se3<S>", 6)
+    );
+    assert_eq!(variables[0].perturbation, Perturbation::Right);
+    assert_eq!(
+        variables[0].tangent,
+        <Se3<f64> as Manifold<f64>>::tangent_description(Perturbation::Right)
+    );
+    assert_eq!(
+        (variables[1].name, variables[1].type_name),
+        ("point", "Vector3<S>")
+    );
+    assert_eq!(variables[1].perturbation, Perturbation::Left);
+}
+
+#[test]
+fn map_scalars_visits_every_field_in_declaration_order() {
+    assert_eq!(<Products as MapScalars<f64>>::SCALARS, 7);
+    let mut seen = Vec::new();
+    let lifted: Products<f32> = products().map_scalars(&mut |x| {
+        seen.push(x);
+        x as f32
+    });
+    assert_eq!(seen, [0.3, -1.2, 2.0, 1.5, 4.0, 0.5, -0.7]);
+    assert_eq!(lifted.weight, 1.5_f32);
+}
+
+#[test]
+fn with_retracted_moves_one_variable_exactly() {
+    let f = difference();
+    let moved = f.with_retracted(1, &[1.0, 0.0, -1.0]);
+    assert_eq!(moved.x, f.x);
+    assert_eq!(moved.y, Vector3::new(-3.0, 0.25, 6.0));
+    let g = transfer();
+    let delta = [0.1, 0.0, 0.0, 0.0, 0.2, 0.0];
+    assert_eq!(
+        g.with_retracted(0, &delta).pose,
+        g.pose.retract(&delta, Perturbation::Right)
+    );
+}
+
+#[test]
+fn perturbed_residual_retracts_each_variable_by_its_slice() {
+    let f = difference();
+    let delta = [1.0, 0.0, 0.0, 0.0, 2.0, 0.0];
+    assert_eq!(f.perturbed_residual(&delta), Vector3::new(6.5, -1.25, -2.0));
+}
+
+#[test]
+fn validation_and_non_finite_values_are_errors() {
+    let mut f = products();
+    f.x = Vector3::zeros();
+    let expected: Result<(), _> = Err(FactorError::Degenerate {
+        factor: "dot_and_norm",
+        reason: "x is zero".into(),
+    });
+    assert_eq!(f.residual().map(|_| ()), expected);
+    assert_eq!(f.linearize_dual().map(|_| ()), expected);
+    assert_eq!(f.linearize_dual_per_block().map(|_| ()), expected);
+    assert_eq!(f.linearize_dual_dyn().map(|_| ()), expected);
+
+    let mut g = products();
+    g.weight = f64::NAN;
+    let non_finite: Result<(), _> = Err(FactorError::NonFinite {
+        factor: "dot_and_norm",
+        what: "residual".into(),
+    });
+    assert_eq!(g.residual().map(|_| ()), non_finite);
+    assert_eq!(g.linearize_dual().map(|_| ()), non_finite);
+}
+
+#[test]
+fn to_dyn_keeps_the_blocks_in_declaration_order() {
+    let f = transfer();
+    let lin = f.linearize_dual().unwrap();
+    let dynamic = f.linearize_dual_dyn().unwrap();
+    assert_eq!(dynamic, lin.to_dyn());
+    assert_eq!(dynamic.jacobians[0].shape(), (3, 6));
+    assert_eq!(dynamic.jacobians[1].shape(), (3, 3));
+    assert_eq!(
+        dynamic.residual.as_slice(),
+        f.residual().unwrap().as_slice()
+    );
+}

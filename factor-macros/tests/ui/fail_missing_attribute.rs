@@ -1,0 +1,10 @@
+use factor_core::{Factor, Scalar};
+use nalgebra::Vector2;
+
+#[derive(Clone, Factor)]
+struct Prior<S: Scalar = f64> {
+    #[variable]
+    x: Vector2<S>,
+}
+
+fn main() {}

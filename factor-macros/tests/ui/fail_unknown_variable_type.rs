@@ -1,0 +1,15 @@
+use factor_core::{Factor, Scalar};
+use nalgebra::Vector2;
+
+#[derive(Clone, Factor)]
+#[factor(residual = prior, dim = 2)]
+struct Prior<S: Scalar = f64> {
+    #[variable]
+    landmark: Landmark<S>,
+}
+
+fn prior<S: Scalar>(_: &Prior<S>) -> Vector2<S> {
+    Vector2::zeros()
+}
+
+fn main() {}

@@ -1,0 +1,112 @@
+//! `slamjac eval`: evaluate a factor at a point given as JSON and write the
+//! residual and its tangent-space Jacobians as JSON.
+
+use factor_core::{DynLinearization, Factor, FactorError, VariableInfo};
+use serde_json::{Map, Value};
+
+use crate::error::CliError;
+use crate::input::{Object, parse_json, read_source};
+use crate::{pretty, registry};
+
+/// How the Jacobians are computed.
+///
+/// The next milestone adds `Generated` (the checked-in kernels of
+/// `generated/`) as a variant with its doc comment, which is all the command
+/// line needs: its `--method` values and help come from this enum. Making it
+/// the default is moving `#[default]` onto it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Method {
+    /// Dual numbers (num-dual) through the generic residual: exact.
+    #[default]
+    Dual,
+    /// Central differences through each variable's exact retraction, with
+    /// Richardson extrapolation: an independent reference, accurate to ~1e-8.
+    Numeric,
+}
+
+impl Method {
+    /// The name used on the command line and in the output.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::Dual => "dual",
+            Method::Numeric => "numeric",
+        }
+    }
+}
+
+/// Validates `factor` and linearizes it with `method`; a degenerate
+/// configuration or a non-finite output is an error.
+pub fn linearize<F: Factor>(factor: &F, method: Method) -> Result<DynLinearization, FactorError> {
+    factor.validate()?;
+    let linearization = match method {
+        Method::Dual => factor.linearize_dual_dyn()?,
+        Method::Numeric => factor.linearize_numeric_dyn()?,
+    };
+    let variables = F::variables();
+    let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
+    linearization.ensure_finite(F::NAME, &names)
+}
+
+/// A factor evaluated at a point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// The factor's name.
+    pub factor: &'static str,
+    /// How the Jacobians were computed.
+    pub method: Method,
+    /// The factor's variables, in declaration order.
+    pub variables: Vec<VariableInfo>,
+    /// Residual and one Jacobian block per variable.
+    pub linearization: DynLinearization,
+}
+
+/// Evaluates the request `{"factor", "variables", "constants"}`.
+pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError> {
+    let top = Object::new(request, "", &["factor", "variables", "constants"])?;
+    let entry = registry::find(top.string("factor")?, &top.path_of("factor"))?;
+    let names = |fields: &'static [(&'static str, &'static str)]| -> Vec<&'static str> {
+        fields.iter().map(|(name, _)| *name).collect()
+    };
+    let variables = top.object("variables", &names(entry.variable_fields))?;
+    let constants = top.object("constants", &names(entry.constant_fields))?;
+    Ok(Evaluation {
+        factor: entry.name,
+        method,
+        variables: (entry.variables)(),
+        linearization: (entry.linearize)(&variables, &constants, method)?,
+    })
+}
+
+/// Reads the request from `source` (a path, or `-` for standard input),
+/// evaluates it and returns the pretty-printed output JSON.
+pub fn run(source: &str, method: Method) -> Result<String, CliError> {
+    let text = read_source(source)?;
+    let request = parse_json(&text, source)?;
+    let evaluation = evaluate(&request, method)?;
+    Ok(pretty::to_string(&evaluation.to_json()))
+}
+
+impl Evaluation {
+    /// `{"factor", "method", "residual", "jacobians": {name: rows}, "tangents": {name: words}}`,
+    /// variables in declaration order, each Jacobian residual rows × tangent columns.
+    pub fn to_json(&self) -> Value {
+        let mut jacobians = Map::new();
+        let mut tangents = Map::new();
+        for (variable, block) in self.variables.iter().zip(&self.linearization.jacobians) {
+            let rows: Vec<Value> = block
+                .row_iter()
+                .map(|row| row.iter().copied().collect::<Vec<f64>>().into())
+                .collect();
+            jacobians.insert(variable.name.into(), rows.into());
+            tangents.insert(variable.name.into(), variable.tangent.into());
+        }
+        let residual: Vec<f64> = self.linearization.residual.iter().copied().collect();
+        let mut out = Map::new();
+        out.insert("factor".into(), self.factor.into());
+        out.insert("method".into(), self.method.as_str().into());
+        out.insert("residual".into(), residual.into());
+        out.insert("jacobians".into(), jacobians.into());
+        out.insert("tangents".into(), tangents.into());
+        out.into()
+    }
+}

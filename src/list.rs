@@ -1,0 +1,102 @@
+//! `slamjac list`: the registered factors, their variables and tangents, as a
+//! table or as JSON.
+
+use serde_json::{Value, json};
+
+use crate::registry::{FactorEntry, factors};
+
+/// A readable table: per factor its name and residual dimension, then one
+/// row per variable (type, tangent dimension, perturbation and columns) and
+/// the JSON fields of the input.
+pub fn table() -> String {
+    let mut out = String::new();
+    for (i, entry) in factors().iter().enumerate() {
+        if i > 0 {
+            out.push('\n');
+        }
+        out.push_str(&factor_table(entry));
+    }
+    out
+}
+
+fn factor_table(entry: &FactorEntry) -> String {
+    let variables = (entry.variables)();
+    let mut rows = vec![[
+        "variable".to_string(),
+        "type".into(),
+        "dim".into(),
+        "tangent".into(),
+    ]];
+    for v in &variables {
+        rows.push([
+            v.name.into(),
+            v.type_name.into(),
+            v.tangent_dim.to_string(),
+            v.tangent.into(),
+        ]);
+    }
+    let width = |c: usize| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0);
+    let widths = [width(0), width(1), width(2)];
+    let mut out = format!(
+        "{}  (residual dimension {})\n",
+        entry.name, entry.residual_dim
+    );
+    for row in &rows {
+        let mut line = String::from("  ");
+        for (cell, w) in row.iter().zip(widths) {
+            line.push_str(&format!("{cell:<w$}  "));
+        }
+        line.push_str(&row[3]);
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
+    let fields = |fields: &[(&str, &str)]| {
+        fields
+            .iter()
+            .map(|(name, shape)| format!("{name} {shape}"))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    out.push_str(&format!("  variables: {}\n", fields(entry.variable_fields)));
+    out.push_str(&format!("  constants: {}\n", fields(entry.constant_fields)));
+    out
+}
+
+/// `tangent` states the perturbation side (or "additive") and the column
+/// order in words; `json` is the variable's shape in the `eval` input.
+///
+/// `{"factors": [{"name", "residual_dim", "variables": [{"name", "type",
+/// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}]}]}`.
+pub fn json() -> Value {
+    let factors: Vec<Value> = factors()
+        .iter()
+        .map(|entry| {
+            let shapes = entry.variable_fields.iter().map(|(_, shape)| *shape);
+            let variables: Vec<Value> = (entry.variables)()
+                .iter()
+                .zip(shapes)
+                .map(|(v, shape)| {
+                    json!({
+                        "name": v.name,
+                        "type": v.type_name,
+                        "tangent_dim": v.tangent_dim,
+                        "tangent": v.tangent,
+                        "json": shape,
+                    })
+                })
+                .collect();
+            let constants: Vec<Value> = entry
+                .constant_fields
+                .iter()
+                .map(|(name, shape)| json!({"name": name, "json": shape}))
+                .collect();
+            json!({
+                "name": entry.name,
+                "residual_dim": entry.residual_dim,
+                "variables": variables,
+                "constants": constants,
+            })
+        })
+        .collect();
+    json!({ "factors": factors })
+}

@@ -1,0 +1,101 @@
+//! The table of factors the command line knows.
+//!
+//! Registering a factor is one line in [`factors`], given a
+//! [`FromJson`] implementation (in [`crate::decode`]) for it.
+
+use factor_core::factors::{FreeLineFactor, LineReprojection, PlaneFactor, PointReprojection};
+use factor_core::{DynLinearization, VariableInfo};
+
+use crate::decode::FromJson;
+use crate::error::{CliError, InputError};
+use crate::eval::{Method, linearize};
+use crate::input::Object;
+
+/// One registered factor, its description and how to evaluate it from JSON.
+#[derive(Debug, Clone, Copy)]
+pub struct FactorEntry {
+    /// The `factor` name used in the JSON input ([`factor_core::Factor::NAME`]).
+    pub name: &'static str,
+    /// Residual dimension (Jacobian rows).
+    pub residual_dim: usize,
+    /// The variables in declaration order ([`factor_core::Factor::variables`]).
+    pub variables: fn() -> Vec<VariableInfo>,
+    /// The fields of `variables` with their JSON shapes.
+    pub variable_fields: &'static [(&'static str, &'static str)],
+    /// The fields of `constants` with their JSON shapes.
+    pub constant_fields: &'static [(&'static str, &'static str)],
+    /// Reads the factor from its checked `variables` and `constants` objects,
+    /// validates it and linearizes it with the given method.
+    pub linearize: fn(&Object, &Object, Method) -> Result<DynLinearization, CliError>,
+}
+
+impl FactorEntry {
+    /// The entry of factor `F`.
+    pub fn of<F: FromJson>() -> Self {
+        FactorEntry {
+            name: F::NAME,
+            residual_dim: F::RESIDUAL_DIM,
+            variables: F::variables,
+            variable_fields: F::VARIABLES,
+            constant_fields: F::CONSTANTS,
+            linearize: |variables, constants, method| {
+                let factor = F::from_json(variables, constants)?;
+                Ok(linearize(&factor, method)?)
+            },
+        }
+    }
+}
+
+/// Every registered factor, in the order `list` shows them.
+pub fn factors() -> Vec<FactorEntry> {
+    vec![
+        FactorEntry::of::<PointReprojection>(),
+        FactorEntry::of::<LineReprojection>(),
+        FactorEntry::of::<PlaneFactor>(),
+        FactorEntry::of::<FreeLineFactor>(),
+    ]
+}
+
+/// The factor called `name`; the error (at field path `path`) lists the known ones.
+pub fn find(name: &str, path: &str) -> Result<FactorEntry, InputError> {
+    let all = factors();
+    all.iter().find(|f| f.name == name).copied().ok_or_else(|| {
+        let known: Vec<&str> = all.iter().map(|f| f.name).collect();
+        InputError::new(
+            path,
+            format!(
+                "unknown factor {name:?}; known factors: {}",
+                known.join(", ")
+            ),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_fields_follow_the_declared_variables() {
+        for entry in factors() {
+            let declared: Vec<&str> = (entry.variables)().iter().map(|v| v.name).collect();
+            let fields: Vec<&str> = entry
+                .variable_fields
+                .iter()
+                .map(|(name, _)| *name)
+                .collect();
+            assert_eq!(declared, fields, "{}", entry.name);
+        }
+    }
+
+    #[test]
+    fn unknown_factors_list_the_known_ones() {
+        let error = find("nope", "factor").unwrap_err();
+        assert_eq!(error.path, "factor");
+        assert!(
+            error
+                .message
+                .contains("point_reprojection, line_reprojection, plane, free_line")
+        );
+    }
+}

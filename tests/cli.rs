@@ -1,0 +1,684 @@
+//! The `slamjac` command line end to end: the example inputs evaluate with
+//! every method and agree, `list` describes every factor, and every class of
+//! bad input gets a one-line error naming the field and a non-zero exit code,
+//! never a panic.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use serde_json::{Value, json};
+
+/// Exit code of rejected input (and clap usage errors).
+const BAD_INPUT: i32 = 2;
+/// Exit code of degenerate geometry and non-finite results.
+const DEGENERATE: i32 = 1;
+
+/// A factor's name, residual dimension and variables with their tangent dimensions.
+type Shape = (&'static str, usize, &'static [(&'static str, usize)]);
+/// An edit of an example input.
+type Edit = fn(&mut Value);
+/// A bad-input case: the example edited and the field path the error must name.
+type Case = (&'static str, Edit, &'static str);
+
+/// The four factors.
+const FACTORS: [Shape; 4] = [
+    ("point_reprojection", 2, &[("pose", 6), ("point", 3)]),
+    ("line_reprojection", 2, &[("pose", 6), ("line", 4)]),
+    ("plane", 3, &[("pose", 6), ("plane", 3)]),
+    ("free_line", 2, &[("body_pose", 6), ("line", 4)]),
+];
+
+fn slamjac(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("slamjac starts");
+    // A process that exits before reading its input closes the pipe; that is fine.
+    let _ = child
+        .stdin
+        .take()
+        .expect("piped stdin")
+        .write_all(stdin.as_bytes());
+    child.wait_with_output().expect("slamjac runs")
+}
+
+fn example_path(factor: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("examples/inputs/{factor}.json"))
+}
+
+fn example(factor: &str) -> Value {
+    let text = std::fs::read_to_string(example_path(factor)).expect("example exists");
+    serde_json::from_str(&text).expect("example is JSON")
+}
+
+/// A fresh path in the temporary directory.
+fn temp_path(tag: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    std::env::temp_dir().join(format!(
+        "slamjac-test-{}-{tag}-{n}.json",
+        std::process::id()
+    ))
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Runs `eval -` on `text` and parses the output, which must succeed.
+fn eval_ok(text: &str, method: &str) -> Value {
+    let output = slamjac(&["eval", "-", "--method", method], text);
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    serde_json::from_slice(&output.stdout).expect("output is JSON")
+}
+
+/// Asserts a failure with `code`, a one-line stderr containing every needle, no panic, no stdout.
+fn assert_error(output: &Output, code: i32, needles: &[&str]) {
+    let err = stderr(output);
+    assert_eq!(output.status.code(), Some(code), "stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(err.starts_with("error: "), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(
+        output.stdout.is_empty(),
+        "stdout: {}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+    for needle in needles {
+        assert!(err.contains(needle), "stderr lacks {needle:?}: {err}");
+    }
+}
+
+/// Evaluates `input` from stdin and asserts the error.
+fn assert_eval_error(input: &Value, code: i32, needles: &[&str]) {
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(&output, code, needles);
+}
+
+/// The example of `factor` with `edit` applied.
+fn edited(factor: &str, edit: impl FnOnce(&mut Value)) -> Value {
+    let mut value = example(factor);
+    edit(&mut value);
+    value
+}
+
+fn matrix(value: &Value) -> Vec<Vec<f64>> {
+    value
+        .as_array()
+        .expect("rows")
+        .iter()
+        .map(|row| {
+            row.as_array()
+                .expect("row")
+                .iter()
+                .map(|x| x.as_f64().expect("number"))
+                .collect()
+        })
+        .collect()
+}
+
+fn frobenius(a: &[Vec<f64>]) -> f64 {
+    a.iter().flatten().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn relative_error(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    let diff: Vec<Vec<f64>> = a
+        .iter()
+        .zip(b)
+        .map(|(ra, rb)| ra.iter().zip(rb).map(|(x, y)| x - y).collect())
+        .collect();
+    frobenius(&diff) / frobenius(b).max(1e-9)
+}
+
+#[test]
+fn examples_evaluate_with_both_methods_and_agree() {
+    for (factor, rows, variables) in FACTORS {
+        let text = example(factor).to_string();
+        let dual = eval_ok(&text, "dual");
+        let numeric = eval_ok(&text, "numeric");
+        for (out, method) in [(&dual, "dual"), (&numeric, "numeric")] {
+            assert_eq!(out["factor"], factor);
+            assert_eq!(out["method"], method);
+            assert_eq!(
+                out["residual"].as_array().expect("residual").len(),
+                rows,
+                "{factor}"
+            );
+            let names: Vec<&str> = out["jacobians"]
+                .as_object()
+                .expect("jacobians")
+                .keys()
+                .map(String::as_str)
+                .collect();
+            let declared: Vec<&str> = variables.iter().map(|(name, _)| *name).collect();
+            assert_eq!(names, declared, "{factor}: Jacobians in declaration order");
+            let tangents: Vec<&str> = out["tangents"]
+                .as_object()
+                .expect("tangents")
+                .keys()
+                .map(String::as_str)
+                .collect();
+            assert_eq!(
+                tangents, declared,
+                "{factor}: tangents in declaration order"
+            );
+            for (name, cols) in variables {
+                let block = matrix(&out["jacobians"][name]);
+                assert_eq!(block.len(), rows, "{factor}.{name} rows");
+                assert!(
+                    block.iter().all(|row| row.len() == *cols),
+                    "{factor}.{name}: {rows}×{cols} expected"
+                );
+                assert!(
+                    !out["tangents"][name]
+                        .as_str()
+                        .expect("tangent words")
+                        .is_empty()
+                );
+            }
+        }
+        let residual = |v: &Value| {
+            vec![
+                v["residual"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect(),
+            ]
+        };
+        assert!(
+            relative_error(&residual(&dual), &residual(&numeric)) <= 1e-12,
+            "{factor} residual"
+        );
+        for (name, _) in variables {
+            let error = relative_error(
+                &matrix(&dual["jacobians"][name]),
+                &matrix(&numeric["jacobians"][name]),
+            );
+            assert!(
+                error <= 1e-6,
+                "{factor}.{name}: dual vs numeric relative Frobenius error {error:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn eval_reads_files_and_defaults_to_dual() {
+    let path = example_path("point_reprojection");
+    let output = slamjac(&["eval", path.to_str().expect("utf-8 path")], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let from_file: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(from_file["method"], "dual");
+    assert_eq!(
+        from_file,
+        eval_ok(&example("point_reprojection").to_string(), "dual")
+    );
+}
+
+#[test]
+fn list_shows_every_factor_with_its_dimensions() {
+    let output = slamjac(&["list"], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let table = String::from_utf8(output.stdout).expect("utf-8");
+    for (factor, rows, variables) in FACTORS {
+        assert!(
+            table.contains(&format!("{factor}  (residual dimension {rows})")),
+            "{table}"
+        );
+        for (name, cols) in variables {
+            let line = table
+                .lines()
+                .find(|l| {
+                    l.trim_start().starts_with(&format!("{name} "))
+                        && l.contains(&format!(" {cols} "))
+                })
+                .unwrap_or_else(|| {
+                    panic!("no row for {factor}.{name} with dimension {cols}:\n{table}")
+                });
+            assert!(
+                line.contains("left") || line.contains("right") || line.contains("additive"),
+                "{line}"
+            );
+        }
+    }
+
+    let output = slamjac(&["list", "--json"], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let listed: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let listed = listed["factors"].as_array().expect("factors");
+    assert_eq!(listed.len(), FACTORS.len());
+    for (entry, (factor, rows, variables)) in listed.iter().zip(FACTORS) {
+        assert_eq!(entry["name"], factor);
+        assert_eq!(entry["residual_dim"], rows);
+        let got: Vec<(&str, u64)> = entry["variables"]
+            .as_array()
+            .expect("variables")
+            .iter()
+            .map(|v| {
+                (
+                    v["name"].as_str().unwrap(),
+                    v["tangent_dim"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        let want: Vec<(&str, u64)> = variables.iter().map(|(n, d)| (*n, *d as u64)).collect();
+        assert_eq!(got, want, "{factor}");
+    }
+}
+
+#[test]
+fn unknown_factor_lists_the_known_ones() {
+    let input = edited("plane", |v| v["factor"] = json!("planar"));
+    assert_eval_error(
+        &input,
+        BAD_INPUT,
+        &["factor:", "\"planar\"", "point_reprojection", "free_line"],
+    );
+}
+
+#[test]
+fn missing_fields_are_named_at_every_level() {
+    let cases: [Case; 5] = [
+        (
+            "point_reprojection",
+            |v| drop(v.as_object_mut().unwrap().remove("constants")),
+            "constants",
+        ),
+        (
+            "point_reprojection",
+            |v| drop(v["variables"].as_object_mut().unwrap().remove("point")),
+            "variables.point",
+        ),
+        (
+            "line_reprojection",
+            |v| drop(v["constants"].as_object_mut().unwrap().remove("end")),
+            "constants.end",
+        ),
+        (
+            "plane",
+            |v| {
+                drop(
+                    v["variables"]["pose"]
+                        .as_object_mut()
+                        .unwrap()
+                        .remove("translation"),
+                )
+            },
+            "variables.pose.translation",
+        ),
+        (
+            "free_line",
+            |v| {
+                drop(
+                    v["variables"]["line"]
+                        .as_object_mut()
+                        .unwrap()
+                        .remove("distance"),
+                )
+            },
+            "variables.line.distance",
+        ),
+    ];
+    for (factor, edit, path) in cases {
+        assert_eval_error(
+            &edited(factor, edit),
+            BAD_INPUT,
+            &[&format!("{path}: missing field")],
+        );
+    }
+}
+
+#[test]
+fn unknown_fields_are_rejected_at_every_level() {
+    let cases: [Case; 6] = [
+        (
+            "point_reprojection",
+            |v| v["comment"] = json!("x"),
+            "comment",
+        ),
+        (
+            "point_reprojection",
+            |v| v["variables"]["velocity"] = json!([0, 0, 0]),
+            "variables.velocity",
+        ),
+        (
+            "plane",
+            |v| v["constants"]["skew"] = json!(0),
+            "constants.skew",
+        ),
+        (
+            "line_reprojection",
+            |v| v["variables"]["pose"]["scale"] = json!(1),
+            "variables.pose.scale",
+        ),
+        (
+            "line_reprojection",
+            |v| v["variables"]["line"]["moment"] = json!([1, 0, 0]),
+            "variables.line.moment",
+        ),
+        (
+            "free_line",
+            |v| v["constants"]["extrinsics"]["time"] = json!(0),
+            "constants.extrinsics.time",
+        ),
+    ];
+    for (factor, edit, path) in cases {
+        assert_eval_error(
+            &edited(factor, edit),
+            BAD_INPUT,
+            &[&format!("{path}: unknown field")],
+        );
+    }
+}
+
+#[test]
+fn wrong_array_lengths_are_rejected() {
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["point"] = json!([1.0, 2.0])
+    });
+    assert_eval_error(
+        &input,
+        BAD_INPUT,
+        &["variables.point:", "expected 3", "found 2"],
+    );
+    let input = edited("free_line", |v| {
+        v["variables"]["body_pose"]["rotation"] = json!([0, 0, 1])
+    });
+    assert_eval_error(
+        &input,
+        BAD_INPUT,
+        &["variables.body_pose.rotation:", "expected 4"],
+    );
+    let input = edited("point_reprojection", |v| {
+        v["constants"]["intrinsics"] = json!([500, 500, 320])
+    });
+    assert_eval_error(&input, BAD_INPUT, &["constants.intrinsics:", "expected 4"]);
+}
+
+#[test]
+fn wrong_types_are_rejected() {
+    let cases: [(&str, Edit, &[&str]); 6] = [
+        (
+            "point_reprojection",
+            |v| v["factor"] = json!(7),
+            &["factor:", "expected a string", "number"],
+        ),
+        (
+            "point_reprojection",
+            |v| v["variables"]["point"] = json!("far"),
+            &["variables.point:", "expected an array", "string"],
+        ),
+        (
+            "point_reprojection",
+            |v| v["variables"]["point"][1] = json!(null),
+            &["variables.point[1]:", "expected a number", "null"],
+        ),
+        (
+            "plane",
+            |v| v["variables"]["pose"] = json!([0, 0, 0, 1]),
+            &["variables.pose:", "expected an object", "array"],
+        ),
+        (
+            "free_line",
+            |v| v["variables"]["line"]["distance"] = json!("3"),
+            &["variables.line.distance:", "expected a number"],
+        ),
+        (
+            "plane",
+            |v| v["constants"] = json!(true),
+            &["constants:", "expected an object", "boolean"],
+        ),
+    ];
+    for (factor, edit, needles) in cases {
+        assert_eval_error(&edited(factor, edit), BAD_INPUT, needles);
+    }
+    let output = slamjac(&["eval", "-"], "[1, 2, 3]");
+    assert_error(&output, BAD_INPUT, &["input:", "expected an object"]);
+}
+
+#[test]
+fn numbers_beyond_the_f64_range_are_non_finite_at_their_field() {
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["point"][2] = json!(123.25)
+    });
+    let text = serde_json::to_string_pretty(&input)
+        .unwrap()
+        .replace("123.25", "1e999");
+    let output = slamjac(&["eval", "-"], &text);
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &["variables.point[2]:", "non-finite", "1e999"],
+    );
+
+    let input = edited("free_line", |v| {
+        v["variables"]["line"]["distance"] = json!(123.25)
+    });
+    let text = input.to_string().replace("123.25", "-2E+400");
+    let output = slamjac(&["eval", "-"], &text);
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &["variables.line.distance:", "non-finite"],
+    );
+}
+
+#[test]
+fn non_unit_quaternions_are_rejected_beyond_the_tolerance() {
+    let cases: [Case; 3] = [
+        (
+            "point_reprojection",
+            |v| v["variables"]["pose"]["rotation"] = json!([0.0, 0.0, 0.0, 1.01]),
+            "variables.pose.rotation",
+        ),
+        (
+            "free_line",
+            |v| v["variables"]["line"]["rotation"] = json!([0.0, 0.0, 0.0, 0.0]),
+            "variables.line.rotation",
+        ),
+        (
+            "free_line",
+            |v| v["constants"]["extrinsics"]["rotation"] = json!([0.5, 0.5, 0.5, 0.6]),
+            "constants.extrinsics.rotation",
+        ),
+    ];
+    for (factor, edit, path) in cases {
+        assert_eval_error(
+            &edited(factor, edit),
+            BAD_INPUT,
+            &[&format!("{path}:"), "norm"],
+        );
+    }
+    // Within 1e-6 of unit norm: accepted and re-normalised.
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"]["rotation"] = json!([0.0, 0.0, 0.0, 1.0000005]);
+    });
+    eval_ok(&input.to_string(), "dual");
+}
+
+#[test]
+fn zero_norm_plane_and_line_vectors_are_rejected() {
+    let cases: [Case; 5] = [
+        (
+            "plane",
+            |v| v["variables"]["plane"] = json!([0, 0, 0, 0]),
+            "variables.plane",
+        ),
+        (
+            "plane",
+            |v| v["constants"]["measured"] = json!([0, 0, 0, 0.0]),
+            "constants.measured",
+        ),
+        (
+            "line_reprojection",
+            |v| v["variables"]["line"]["normal"] = json!([0, 0, 0]),
+            "variables.line.normal",
+        ),
+        (
+            "line_reprojection",
+            |v| v["variables"]["line"]["direction"] = json!([0, 0, 0]),
+            "variables.line.direction",
+        ),
+        (
+            "free_line",
+            |v| v["constants"]["bearing_end"] = json!([0, 0, 0]),
+            "constants.bearing_end",
+        ),
+    ];
+    for (factor, edit, path) in cases {
+        assert_eval_error(
+            &edited(factor, edit),
+            BAD_INPUT,
+            &[&format!("{path}:"), "zero norm"],
+        );
+    }
+}
+
+#[test]
+fn plucker_constraint_violations_are_rejected() {
+    let input = edited("line_reprojection", |v| {
+        v["variables"]["line"] = json!({"normal": [1.0, 0.0, 0.0], "direction": [0.1, 1.0, 0.0]});
+    });
+    assert_eval_error(&input, BAD_INPUT, &["variables.line:", "Plücker", "n · v"]);
+}
+
+#[test]
+fn zero_focal_lengths_are_rejected() {
+    let input = edited("point_reprojection", |v| {
+        v["constants"]["intrinsics"][1] = json!(0.0)
+    });
+    assert_eval_error(
+        &input,
+        BAD_INPUT,
+        &["constants.intrinsics[1]:", "focal length"],
+    );
+}
+
+#[test]
+fn unreadable_files_are_reported() {
+    let path = temp_path("missing");
+    let output = slamjac(&["eval", path.to_str().unwrap()], "");
+    assert_error(&output, BAD_INPUT, &[path.to_str().unwrap(), "cannot read"]);
+}
+
+#[test]
+fn invalid_json_is_reported_with_its_source() {
+    let output = slamjac(&["eval", "-"], "{\"factor\": \"plane\",");
+    assert_error(&output, BAD_INPUT, &["<stdin>:", "invalid JSON"]);
+
+    let path = temp_path("invalid");
+    std::fs::write(&path, "{\"factor\": plane}").unwrap();
+    let output = slamjac(&["eval", path.to_str().unwrap()], "");
+    let _ = std::fs::remove_file(&path);
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!("{}:", path.display()), "invalid JSON"],
+    );
+}
+
+#[test]
+fn usage_errors_keep_clap_exit_code() {
+    let output = slamjac(&["eval", "-", "--method", "symbolic"], "{}");
+    assert_eq!(output.status.code(), Some(BAD_INPUT));
+    assert!(stderr(&output).contains("symbolic"));
+    let output = slamjac(&["eval"], "");
+    assert_eq!(output.status.code(), Some(BAD_INPUT));
+}
+
+/// A pose with identity rotation and the given translation.
+fn pose(t: [f64; 3]) -> Value {
+    json!({"rotation": [0.0, 0.0, 0.0, 1.0], "translation": t})
+}
+
+#[test]
+fn point_behind_the_camera_is_degenerate() {
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["point"] = json!([0.3, -0.2, -4.0]);
+    });
+    assert_eval_error(
+        &input,
+        DEGENERATE,
+        &["point_reprojection", "degenerate", "behind the camera"],
+    );
+}
+
+#[test]
+fn line_through_the_optical_centre_is_degenerate() {
+    // Camera centre −Rᵀt = (−1, 0, 0); the line through it along y has n = c × v = (0, 0, −1).
+    let input = edited("line_reprojection", |v| {
+        v["variables"]["pose"] = pose([1.0, 0.0, 0.0]);
+        v["variables"]["line"] = json!({"normal": [0.0, 0.0, -1.0], "direction": [0.0, 1.0, 0.0]});
+    });
+    assert_eval_error(
+        &input,
+        DEGENERATE,
+        &["line_reprojection", "degenerate", "optical centre"],
+    );
+}
+
+#[test]
+fn parallel_bearings_are_degenerate() {
+    let input = edited("free_line", |v| {
+        let f1 = v["constants"]["bearing_start"].clone();
+        let scaled: Vec<f64> = f1
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| 2.0 * x.as_f64().unwrap())
+            .collect();
+        v["constants"]["bearing_end"] = json!(scaled);
+    });
+    assert_eval_error(&input, DEGENERATE, &["free_line", "degenerate", "parallel"]);
+}
+
+#[test]
+fn camera_centre_on_the_free_line_anchor_is_degenerate() {
+    // q_WL = identity puts the anchor at (0, 0, d); with identity rotations the
+    // camera centre is −t_BW − t_CB = (0, 0, d).
+    let input = edited("free_line", |v| {
+        v["constants"]["extrinsics"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["body_pose"] = pose([0.0, 0.0, -2.5]);
+        v["variables"]["line"] = json!({"rotation": [0.0, 0.0, 0.0, 1.0], "distance": 2.5});
+    });
+    assert_eval_error(&input, DEGENERATE, &["free_line", "degenerate", "anchor"]);
+}
+
+#[test]
+fn antipodal_plane_quaternion_is_degenerate() {
+    // With the identity pose the predicted plane is the measured one: measuring
+    // −π makes the error quaternion exactly −1.
+    let input = edited("plane", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        let negated: Vec<f64> = v["variables"]["plane"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| -x.as_f64().unwrap())
+            .collect();
+        v["constants"]["measured"] = json!(negated);
+    });
+    assert_eval_error(&input, DEGENERATE, &["plane", "degenerate", "antipodal"]);
+}
+
+#[test]
+fn non_finite_results_are_reported() {
+    // Finite, valid input whose projection overflows: f_u X = 1e308 · 4.
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["point"] = json!([4.0, 0.5, 1.0]);
+        v["constants"]["intrinsics"] = json!([1e308, 1e308, 320.0, 240.0]);
+    });
+    for method in ["dual", "numeric"] {
+        let output = slamjac(&["eval", "-", "--method", method], &input.to_string());
+        assert_error(&output, DEGENERATE, &["point_reprojection", "non-finite"]);
+    }
+}
