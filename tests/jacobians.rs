@@ -113,3 +113,24 @@ fn the_comparison_detects_a_wrong_block() {
         check(&sampler.free_line());
     }
 }
+
+/// The two dual-number strategies (one pass over the whole tangent, one pass
+/// per variable) compute the same derivatives, to rounding.
+#[test]
+fn one_pass_and_per_block_dual_agree() {
+    macro_rules! agree {
+        ($sample:expr, $($block:ident),+) => {{
+            let mut sampler = Sampler::new(7);
+            for _ in 0..CONFIGURATIONS {
+                let factor = $sample(&mut sampler);
+                let (a, b) = (factor.linearize_dual().unwrap(), factor.linearize_dual_per_block().unwrap());
+                assert!((a.residual - b.residual).norm() <= 1e-14 * b.residual.norm().max(1.0));
+                $(assert!((a.$block - b.$block).norm() <= 1e-13 * b.$block.norm().max(1.0));)+
+            }
+        }};
+    }
+    agree!(Sampler::point_reprojection, pose, point);
+    agree!(Sampler::line_reprojection, pose, line);
+    agree!(Sampler::plane, pose, plane);
+    agree!(Sampler::free_line, body_pose, line);
+}

@@ -5,7 +5,7 @@ use nalgebra::{Vector3, Vector4};
 use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
 use crate::geometry::InfinitePlane;
 use crate::geometry::plane::transpose_transform;
-use crate::lie::{Quaternion, SMALL_ANGLE_SQUARED, Se3};
+use crate::lie::{Quaternion, Se3};
 use crate::linalg::normalized;
 use crate::validation::{exceeds, within};
 use crate::{Factor, FactorError, Scalar};
@@ -21,7 +21,7 @@ use crate::{Factor, FactorError, Scalar};
 /// The error is not folded onto `w ≥ 0`: a measured plane whose quaternion is
 /// the antipode of the predicted one is the same plane, with `|e|` near 2π.
 /// Degenerate: a measured plane vector of zero norm, and the exactly
-/// antipodal error quaternion (`e_w < 0`, `|e_v| → 0`), where the logarithm
+/// antipodal error quaternion (`e_w < 0`, `|e_v| ≤ 1e-9`), where the logarithm
 /// has no direction.
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = plane_residual, dim = 3, validate = validate_plane, name = "plane")]
@@ -64,7 +64,9 @@ pub fn validate_plane(f: &PlaneFactor<f64>) -> Result<(), FactorError> {
         ));
     }
     let e = error_quaternion(f);
-    if e.w < 0.0 && e.vector().norm_squared() < SMALL_ANGLE_SQUARED {
+    // Only at the antipode itself (angle 2π) has the logarithm no direction;
+    // within 1e-9 of it its Jacobian (~2π/|e_v|) is not worth returning.
+    if e.w < 0.0 && !exceeds(e.vector().norm(), DEGENERACY_TOLERANCE) {
         return Err(degenerate(
             PlaneFactor::NAME,
             format!(
