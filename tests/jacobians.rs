@@ -134,3 +134,9 @@ fn one_pass_and_per_block_dual_agree() {
     agree!(Sampler::plane, pose, plane);
     agree!(Sampler::free_line, body_pose, line);
 }
+
+#[test]
+fn plucker_line_reprojection_dual_matches_numeric() {
+    let worst = worst_error(8, Sampler::plucker_line_reprojection);
+    println!("plucker_line_reprojection: worst relative error {worst:e}");
+}

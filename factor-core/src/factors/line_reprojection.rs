@@ -46,12 +46,21 @@ fn projected_line<S: Scalar>(f: &LineReprojection<S>) -> Vector3<S> {
 
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
 pub fn line_reprojection_residual<S: Scalar>(f: &LineReprojection<S>) -> Vector2<S> {
-    let l = projected_line(f);
+    endpoint_distances(&projected_line(f), &f.start, &f.end)
+}
+
+/// The signed distances of two pixels to the image line `l`:
+/// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)` with `p = [u, v, 1]`.
+pub(crate) fn endpoint_distances<S: Scalar>(
+    l: &Vector3<S>,
+    start: &Vector2<S>,
+    end: &Vector2<S>,
+) -> Vector2<S> {
     let inv = (l.x * l.x + l.y * l.y).sqrt().recip();
     let homogeneous = |p: &Vector2<S>| Vector3::new(p.x, p.y, S::one());
     Vector2::new(
-        dot(&l, &homogeneous(&f.start)) * inv,
-        dot(&l, &homogeneous(&f.end)) * inv,
+        dot(l, &homogeneous(start)) * inv,
+        dot(l, &homogeneous(end)) * inv,
     )
 }
 

@@ -1,4 +1,5 @@
-//! The four factors of the specification documents, each written once as a
+//! The four factors of the specification documents (and the Plücker-line
+//! variant peers are compared on), each written once as a
 //! generic residual with `#[derive(Factor)]`.
 //!
 //! | factor | document | variables (perturbation) |
@@ -7,6 +8,7 @@
 //! | [`LineReprojection`] | 000 §III | pose (left), orthonormal line (left) |
 //! | [`PlaneFactor`] | 000 §IV | pose (left), plane quaternion (left) |
 //! | [`FreeLineFactor`] | 001 | body pose (right), free line (left) |
+//! | [`PluckerLineReprojection`] | 000 §III, (6)–(8) | pose (left), Plücker `[n, v]` (additive) |
 //!
 //! Degenerate configurations are rejected by each factor's `validate` with
 //! [`crate::FactorError::Degenerate`] before anything is evaluated; no factor
@@ -15,11 +17,13 @@
 pub mod free_line;
 pub mod line_reprojection;
 pub mod plane;
+pub mod plucker_line_reprojection;
 pub mod point_reprojection;
 
 pub use free_line::FreeLineFactor;
 pub use line_reprojection::LineReprojection;
 pub use plane::PlaneFactor;
+pub use plucker_line_reprojection::PluckerLineReprojection;
 pub use point_reprojection::PointReprojection;
 
 use crate::FactorError;

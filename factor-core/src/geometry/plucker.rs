@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 use crate::lie::Se3;
 use crate::lie::so3::hat;
 use crate::linalg::cross;
-use crate::manifold::MapScalars;
+use crate::manifold::{Manifold, MapScalars, Perturbation};
 use crate::scalar::Scalar;
 
 /// A line `[n, v]`, defined up to a non-zero scale.
@@ -56,5 +56,21 @@ impl<S: Scalar> MapScalars<S> for PluckerLine<S> {
     const SCALARS: usize = 6;
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> PluckerLine<T> {
         PluckerLine::new(self.normal.map_scalars(f), self.direction.map_scalars(f))
+    }
+}
+
+/// Plücker coordinates as an over-parametrised 6-vector: additive
+/// `[n, v] ← [n, v] + δ`, columns `[δn, δv]`. The 4-dof alternative is
+/// [`crate::geometry::OrthonormalLine`].
+impl<S: Scalar> Manifold<S> for PluckerLine<S> {
+    const DIM: usize = 6;
+    fn retract(&self, delta: &[S], _side: Perturbation) -> Self {
+        Self::new(
+            self.normal + Vector3::new(delta[0], delta[1], delta[2]),
+            self.direction + Vector3::new(delta[3], delta[4], delta[5]),
+        )
+    }
+    fn tangent_description(_side: Perturbation) -> &'static str {
+        "additive: [n, v] ← [n, v] + δ, columns [δn_x, δn_y, δn_z, δv_x, δv_y, δv_z]"
     }
 }

@@ -12,7 +12,9 @@ use nalgebra::{Matrix3, Vector2, Vector3, Vector4};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
-use crate::factors::{FreeLineFactor, LineReprojection, PlaneFactor, PointReprojection};
+use crate::factors::{
+    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+};
 use crate::geometry::plane::transpose_transform;
 use crate::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
 use crate::lie::{Quaternion, Se3, So3};
@@ -142,6 +144,21 @@ impl Sampler {
             end: intrinsics.project(&q_c) + noise(self),
             pose,
             line: OrthonormalLine::from_plucker(&line_w),
+        }
+    }
+
+    /// The line reprojection factor over raw Plücker coordinates, with the
+    /// world line scaled by a factor in `[0.5, 2)`.
+    pub fn plucker_line_reprojection(&mut self) -> PluckerLineReprojection {
+        let f = self.line_reprojection();
+        let line = f.line.to_plucker();
+        let scale = self.uniform(0.5, 2.0);
+        PluckerLineReprojection {
+            intrinsics: f.intrinsics,
+            start: f.start,
+            end: f.end,
+            pose: f.pose,
+            line: PluckerLine::new(line.normal * scale, line.direction * scale),
         }
     }
 

@@ -1,0 +1,83 @@
+//! Line reprojection over raw Plücker coordinates `[n, v]`, document 000 §III
+//! (6)–(8) without the orthonormal parametrisation: the form peer generators
+//! are compared on.
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::factors::line_reprojection::endpoint_distances;
+use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
+use crate::geometry::{Intrinsics, PluckerLine};
+use crate::lie::Se3;
+use crate::validation::exceeds;
+use crate::{Factor, FactorError, Scalar};
+
+/// `γ = [lᵀ p, lᵀ q] / √(l₁² + l₂²)`, `l = 𝒦 n_c`, as
+/// [`crate::factors::LineReprojection`], with the world line as a 6-vector.
+///
+/// - `pose` `T` maps world to camera; **left** perturbation `T ← Exp(δξ) T`,
+///   tangent `[δω, δρ]`.
+/// - `line` `[n, v]`: **additive**, tangent `[δn, δv]` (6). The residual is
+///   invariant to the scale of `[n, v]`, so this block has rank ≤ 4 (5 with
+///   the Plücker constraint ignored).
+///
+/// Degenerate: `v = 0`, or the line through the optical centre or in the
+/// focal plane.
+#[derive(Debug, Clone, Factor)]
+#[factor(
+    residual = plucker_line_residual,
+    dim = 2,
+    validate = validate_plucker_line,
+    name = "plucker_line_reprojection"
+)]
+pub struct PluckerLineReprojection<S: Scalar = f64> {
+    /// `K = [f_u, f_v, c_u, c_v]`.
+    pub intrinsics: Intrinsics<S>,
+    /// Observed start point of the segment (pixels).
+    pub start: Vector2<S>,
+    /// Observed end point of the segment (pixels).
+    pub end: Vector2<S>,
+    /// World-to-camera pose.
+    #[variable(left)]
+    pub pose: Se3<S>,
+    /// The world line `[n, v]`.
+    #[variable]
+    pub line: PluckerLine<S>,
+}
+
+fn projected_line<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector3<S> {
+    f.intrinsics.project_line(&f.line.transform(&f.pose).normal)
+}
+
+/// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
+pub fn plucker_line_residual<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector2<S> {
+    endpoint_distances(&projected_line(f), &f.start, &f.end)
+}
+
+/// Rejects `v = 0`, a line through the optical centre or in the focal plane.
+pub fn validate_plucker_line(f: &PluckerLineReprojection<f64>) -> Result<(), FactorError> {
+    if !exceeds(f.line.direction.norm(), 0.0) {
+        return Err(degenerate(
+            PluckerLineReprojection::NAME,
+            "line direction v has zero norm".into(),
+        ));
+    }
+    let camera_line = f.line.transform(&f.pose);
+    let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
+    if !exceeds(n, DEGENERACY_TOLERANCE * v) {
+        return Err(degenerate(
+            PluckerLineReprojection::NAME,
+            format!(
+                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
+                n / v
+            ),
+        ));
+    }
+    let l = projected_line(f);
+    if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
+        return Err(degenerate(
+            PluckerLineReprojection::NAME,
+            "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
+        ));
+    }
+    Ok(())
+}
