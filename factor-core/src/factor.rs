@@ -50,6 +50,17 @@ pub struct VariableInfo {
     pub tangent: &'static str,
 }
 
+/// A field of a factor (constant or variable) as kernels lay out their inputs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldInfo {
+    /// The field name.
+    pub name: &'static str,
+    /// How many scalars the field stores ([`crate::MapScalars::SCALARS`]).
+    pub scalars: usize,
+    /// The variable's index among the variables, or `None` for a constant.
+    pub variable: Option<usize>,
+}
+
 /// Residual and Jacobian blocks of any factor, dynamically sized.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynLinearization {
@@ -92,8 +103,25 @@ pub trait Factor: Sized {
     /// Residual dimension (Jacobian rows).
     const RESIDUAL_DIM: usize;
 
+    /// Length of the stacked tangent `[δ_v₁, …, δ_vₙ]`.
+    const TANGENT_DIM: usize;
+
     /// The variables in declaration order.
     fn variables() -> Vec<VariableInfo>;
+
+    /// Every field in declaration order: the order of [`crate::MapScalars`]
+    /// and of a generated kernel's input arrays.
+    fn fields() -> Vec<FieldInfo>;
+
+    /// The residual at the first-order retraction of every variable by the
+    /// stacked tangent `delta`, evaluated over symbols: each stored scalar of
+    /// `self` is replaced by `input(value)`, in field order. Differentiating
+    /// the result w.r.t. `delta` at `delta = 0` gives the Jacobians.
+    fn trace_residual(
+        &self,
+        input: &mut dyn FnMut(f64) -> crate::symbolic::Expr,
+        delta: &[crate::symbolic::Expr],
+    ) -> Vec<crate::symbolic::Expr>;
 
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;

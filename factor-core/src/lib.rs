@@ -23,10 +23,11 @@ pub mod lie;
 pub mod linalg;
 pub mod manifold;
 pub mod scalar;
+pub mod symbolic;
 pub mod testing;
 pub mod validation;
 
-pub use factor::{DynLinearization, Factor, FactorError, VariableInfo};
+pub use factor::{DynLinearization, Factor, FactorError, FieldInfo, VariableInfo};
 pub use manifold::{Manifold, MapScalars, Perturbation};
 pub use scalar::Scalar;
 

@@ -143,30 +143,33 @@ impl<S: Scalar> Quaternion<S> {
         scale(k, &v)
     }
 
-    /// Rotates `v` by a unit quaternion: `q ⊗ [v, 0] ⊗ q⁻¹`, computed as
-    /// `v + 2w (u × v) + 2 u × (u × v)`, `u` the vector part.
+    /// Rotates `v` by a unit quaternion, `q ⊗ [v, 0] ⊗ q⁻¹ = R(q) v`.
     pub fn rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        let u = self.vector();
-        let uv = cross(&u, v);
-        let two = S::from_f64(2.0);
-        v + scale(two * self.w, &uv) + scale(two, &cross(&u, &uv))
+        self.to_rotation_matrix() * v
     }
 
-    /// The rotation matrix `R(q)` of a unit quaternion.
+    /// The rotation matrix `R(q)` of a unit quaternion, in the homogeneous
+    /// form `R = (w² − |u|²) I + 2 u uᵀ + 2 w [u]×` (diagonal
+    /// `w² + x² − y² − z²`, ...), which equals `|q|²` times the rotation of
+    /// `q/|q|` for any `q`. So `R(a ⊗ b) = R(a) R(b)` holds as a polynomial
+    /// identity, not only on the unit sphere, and a traced derivative such as
+    /// `∂R(exp(δ) ⊗ q)/∂δ_z = [e_z]× R(q)` comes out as the entries of `R`
+    /// themselves: the symbolic engine shares them instead of emitting new
+    /// polynomials.
     pub fn to_rotation_matrix(&self) -> Matrix3<S> {
         let (x, y, z, w) = (self.x, self.y, self.z, self.w);
         let two = S::from_f64(2.0);
-        let one = S::one();
+        let (xx, yy, zz, ww) = (x * x, y * y, z * z, w * w);
         Matrix3::new(
-            one - two * (y * y + z * z),
+            ww + xx - yy - zz,
             two * (x * y - z * w),
             two * (x * z + y * w),
             two * (x * y + z * w),
-            one - two * (x * x + z * z),
+            ww - xx + yy - zz,
             two * (y * z - x * w),
             two * (x * z - y * w),
             two * (y * z + x * w),
-            one - two * (x * x + y * y),
+            ww - xx - yy + zz,
         )
     }
 

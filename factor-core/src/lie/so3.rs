@@ -170,7 +170,7 @@ impl<S: Scalar> So3<S> {
 
     /// `Rᵀ v`.
     pub fn inverse_rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        self.quaternion.conjugate().rotate(v)
+        self.matrix().transpose() * v
     }
 
     /// `R⁻¹`.

@@ -60,6 +60,23 @@ pub fn emit(cx: &Context) -> TokenStream {
         None => quote!(#result::Ok(())),
     };
     let count = cx.variables.len();
+    let field_infos = cx.model.fields.iter().enumerate().map(|(i, field)| {
+        let field_name = field.ident.to_string();
+        let variable = match cx.variable(field) {
+            Some(v) => {
+                let k = v.index;
+                quote!(::core::option::Option::Some(#k))
+            }
+            None => quote!(::core::option::Option::None),
+        };
+        quote! {
+            #krate::FieldInfo {
+                name: #field_name,
+                scalars: <#ident<f64>>::__FACTOR_SCALARS[#i],
+                variable: #variable,
+            }
+        }
+    });
     quote! {
         impl #impl_generics #ident #ty_generics #where_clause {
             /// The variables as [`Factor::variables`](::factor_core::Factor::variables) reports them.
@@ -77,6 +94,21 @@ pub fn emit(cx: &Context) -> TokenStream {
         impl #krate::Factor for #ident<f64> {
             const NAME: &'static str = #name;
             const RESIDUAL_DIM: usize = #dim;
+            const TANGENT_DIM: usize = <#ident<f64>>::__FACTOR_TANGENT_DIM;
+
+            fn fields() -> ::std::vec::Vec<#krate::FieldInfo> {
+                ::std::vec![#(#field_infos),*]
+            }
+
+            fn trace_residual(
+                &self,
+                input: &mut dyn ::core::ops::FnMut(f64) -> #krate::symbolic::Expr,
+                delta: &[#krate::symbolic::Expr],
+            ) -> ::std::vec::Vec<#krate::symbolic::Expr> {
+                let lifted: #ident<#krate::symbolic::Expr> =
+                    #krate::MapScalars::map_scalars(self, &mut |value| input(value));
+                lifted.perturbed_residual(delta).iter().copied().collect()
+            }
 
             fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {
                 Self::__factor_variables()

@@ -47,7 +47,8 @@ pub fn variables<'a>(model: &'a FactorModel, krate: &TokenStream) -> Vec<Variabl
         .collect()
 }
 
-/// `impl<S: Scalar> Foo<S> { __FACTOR_DIMS, __FACTOR_OFFSETS, __FACTOR_TANGENT_DIM }`.
+/// `impl<S: Scalar> Foo<S> { __FACTOR_DIMS, __FACTOR_OFFSETS, __FACTOR_SCALARS,
+/// __FACTOR_TANGENT_DIM }`.
 pub fn emit(cx: &Context) -> TokenStream {
     let krate = &cx.krate;
     let ident = &cx.model.ident;
@@ -57,6 +58,11 @@ pub fn emit(cx: &Context) -> TokenStream {
     let dims = cx.variables.iter().map(|v| {
         let ty = v.ty;
         quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::DIM)
+    });
+    let field_count = cx.model.fields.len();
+    let scalars = cx.model.fields.iter().map(|field| {
+        let ty = &field.ty;
+        quote_spanned!(ty.span()=> <#ty as #krate::MapScalars<#scalar>>::SCALARS)
     });
     let offsets = (0..count).map(|k| {
         let previous = 0..k;
@@ -68,6 +74,8 @@ pub fn emit(cx: &Context) -> TokenStream {
             const __FACTOR_DIMS: [usize; #count] = [#(#dims),*];
             /// Offset of each variable's tangent in the stacked tangent vector.
             const __FACTOR_OFFSETS: [usize; #count] = [#(#offsets),*];
+            /// Number of stored scalars of each field, in declaration order.
+            const __FACTOR_SCALARS: [usize; #field_count] = [#(#scalars),*];
             /// Length of the stacked tangent vector.
             const __FACTOR_TANGENT_DIM: usize =
                 Self::__FACTOR_OFFSETS[#count - 1] + Self::__FACTOR_DIMS[#count - 1];
