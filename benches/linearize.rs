@@ -1,5 +1,6 @@
-//! Per-factor linearization cost: dual numbers in one pass over the whole
-//! tangent, dual numbers one pass per variable block, and central differences.
+//! Per-factor linearization cost: the generated kernel, dual numbers in one
+//! pass over the whole tangent, dual numbers one pass per variable block, and
+//! central differences.
 //!
 //! `cargo bench --bench linearize`. Each factor is evaluated at 64 sampled
 //! configurations in turn, so the figures are ns per call averaged over
@@ -25,6 +26,13 @@ macro_rules! bench_factor {
         let factors = $factors;
         let mut group = $c.benchmark_group($name);
         let mut i = 0;
+        #[cfg(feature = "kernels")]
+        group.bench_function("generated", |b| {
+            b.iter(|| {
+                i = (i + 1) % CONFIGURATIONS;
+                black_box(black_box(&factors[i]).linearize_generated())
+            })
+        });
         group.bench_function("dual_one_pass", |b| {
             b.iter(|| {
                 i = (i + 1) % CONFIGURATIONS;

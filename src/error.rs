@@ -3,12 +3,14 @@
 //! | exit | meaning |
 //! | --- | --- |
 //! | 0 | success |
-//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry reported by the factor's `validate()`, or a non-finite residual or Jacobian |
-//! | 2 | the input is rejected: unreadable file, invalid JSON, unknown factor, missing, unknown or mistyped field, wrong length, non-finite number, non-unit quaternion, zero-norm vector, Plücker constraint violated (and, from clap, a command-line usage error) |
+//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry reported by the factor's `validate()`, or a non-finite residual or Jacobian; or `check` found stale generated files |
+//! | 2 | the input is rejected: unreadable file, invalid JSON, unknown factor, missing, unknown or mistyped field, wrong length, non-finite number, non-unit quaternion, zero-norm vector, Plücker constraint violated (and, from clap, a command-line usage error); or `generate` cannot write its directory |
 //!
 //! Every error is printed as one line, `error: <where>: <what>`, where
 //! `<where>` is the JSON field path (`variables.pose.rotation[3]`), the input
 //! source (a file name or `<stdin>`) or the factor's name.
+
+use std::path::PathBuf;
 
 use factor_core::FactorError;
 
@@ -48,6 +50,13 @@ pub enum CliError {
     /// message names the factor.
     #[error(transparent)]
     Factor(#[from] FactorError),
+    /// `check`: these generated files differ from what the factor
+    /// definitions produce, are missing or are not generated (exit 1).
+    #[error(
+        "{}: stale: differs from what the factor definitions produce; run `slamjac generate`",
+        .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    Stale(Vec<PathBuf>),
 }
 
 impl CliError {
@@ -55,7 +64,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Input(_) => EXIT_BAD_INPUT,
-            CliError::Factor(_) => EXIT_DEGENERATE,
+            CliError::Factor(_) | CliError::Stale(_) => EXIT_DEGENERATE,
         }
     }
 

@@ -9,15 +9,13 @@ use crate::input::{Object, parse_json, read_source};
 use crate::{pretty, registry};
 
 /// How the Jacobians are computed.
-///
-/// The next milestone adds `Generated` (the checked-in kernels of
-/// `generated/`) as a variant with its doc comment, which is all the command
-/// line needs: its `--method` values and help come from this enum. Making it
-/// the default is moving `#[default]` onto it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Method {
-    /// Dual numbers (num-dual) through the generic residual: exact.
+    /// The checked-in generated kernel of `generated/` (straight-line code,
+    /// exact to rounding); dual numbers for a factor without one.
     #[default]
+    Generated,
+    /// Dual numbers (num-dual) through the generic residual: exact.
     Dual,
     /// Central differences through each variable's exact retraction, with
     /// Richardson extrapolation: an independent reference, accurate to ~1e-8.
@@ -28,6 +26,7 @@ impl Method {
     /// The name used on the command line and in the output.
     pub fn as_str(self) -> &'static str {
         match self {
+            Method::Generated => "generated",
             Method::Dual => "dual",
             Method::Numeric => "numeric",
         }
@@ -35,16 +34,26 @@ impl Method {
 }
 
 /// Validates `factor` and linearizes it with `method`; a degenerate
-/// configuration or a non-finite output is an error.
-pub fn linearize<F: Factor>(factor: &F, method: Method) -> Result<DynLinearization, FactorError> {
+/// configuration or a non-finite output is an error. Returns the method
+/// actually used: [`Method::Generated`] falls back to [`Method::Dual`] for a
+/// factor without a generated kernel (or a build without the `kernels`
+/// feature).
+pub fn linearize<F: Factor>(
+    factor: &F,
+    method: Method,
+) -> Result<(DynLinearization, Method), FactorError> {
     factor.validate()?;
-    let linearization = match method {
-        Method::Dual => factor.linearize_dual_dyn()?,
-        Method::Numeric => factor.linearize_numeric_dyn()?,
+    let (linearization, used) = match method {
+        Method::Generated => match factor.linearize_generated_dyn() {
+            Some(result) => (result?, Method::Generated),
+            None => (factor.linearize_dual_dyn()?, Method::Dual),
+        },
+        Method::Dual => (factor.linearize_dual_dyn()?, Method::Dual),
+        Method::Numeric => (factor.linearize_numeric_dyn()?, Method::Numeric),
     };
     let variables = F::variables();
     let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
-    linearization.ensure_finite(F::NAME, &names)
+    Ok((linearization.ensure_finite(F::NAME, &names)?, used))
 }
 
 /// A factor evaluated at a point.
@@ -52,7 +61,8 @@ pub fn linearize<F: Factor>(factor: &F, method: Method) -> Result<DynLinearizati
 pub struct Evaluation {
     /// The factor's name.
     pub factor: &'static str,
-    /// How the Jacobians were computed.
+    /// How the Jacobians were computed (the requested method, or dual
+    /// numbers when `generated` was requested for a factor without a kernel).
     pub method: Method,
     /// The factor's variables, in declaration order.
     pub variables: Vec<VariableInfo>,
@@ -69,11 +79,12 @@ pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError>
     };
     let variables = top.object("variables", &names(entry.variable_fields))?;
     let constants = top.object("constants", &names(entry.constant_fields))?;
+    let (linearization, method) = (entry.linearize)(&variables, &constants, method)?;
     Ok(Evaluation {
         factor: entry.name,
         method,
         variables: (entry.variables)(),
-        linearization: (entry.linearize)(&variables, &constants, method)?,
+        linearization,
     })
 }
 

@@ -7,6 +7,7 @@
 //! - [`registry`]: the table of factors;
 //! - [`eval`]: evaluation and the output JSON;
 //! - [`list`]: the factor table, text or JSON;
+//! - [`generate`]: `generate` and `check` of the generated kernels;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
 //!   geometry or non-finite result, 2 rejected input).
@@ -14,6 +15,7 @@
 pub mod decode;
 pub mod error;
 pub mod eval;
+pub mod generate;
 pub mod input;
 pub mod list;
 pub mod pretty;

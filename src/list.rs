@@ -1,9 +1,51 @@
-//! `slamjac list`: the registered factors, their variables and tangents, as a
-//! table or as JSON.
+//! `slamjac list`: the registered factors, their variables and tangents, and
+//! their generated kernels with operation counts, as a table or as JSON.
 
+use factor_core::codegen;
+use factor_core::symbolic::lower::OpCounts;
 use serde_json::{Value, json};
 
+use crate::generate::counts_text;
 use crate::registry::{FactorEntry, factors};
+
+/// The kernel's operation counts as the current definitions generate them:
+/// the whole kernel and the residual alone (traced and lowered in process).
+fn kernel_counts(entry: &FactorEntry) -> Option<(OpCounts, OpCounts)> {
+    codegen::spec::find(entry.name).map(|spec| codegen::operation_counts(&spec))
+}
+
+/// The `kernel:` line of the table.
+fn kernel_line(entry: &FactorEntry) -> String {
+    let counts = kernel_counts(entry).map(|(all, residual)| {
+        format!(
+            "{} operations ({}); residual only {}",
+            all.total(),
+            counts_text(&all),
+            residual.total()
+        )
+    });
+    match (entry.kernel, counts) {
+        (Some(path), Some(counts)) => format!("  kernel: {path}, {counts}\n"),
+        (Some(path), None) => format!("  kernel: {path}\n"),
+        (None, Some(counts)) => format!(
+            "  kernel: none in this build (`eval` uses dual numbers); generated: {counts}\n"
+        ),
+        (None, None) => "  kernel: none (`eval` uses dual numbers)\n".to_string(),
+    }
+}
+
+fn counts_json(c: &OpCounts) -> Value {
+    json!({
+        "add": c.add,
+        "mul": c.mul,
+        "div": c.div,
+        "neg": c.neg,
+        "sqrt": c.sqrt,
+        "trig": c.trig,
+        "branch": c.branch,
+        "total": c.total(),
+    })
+}
 
 /// A readable table: per factor its name and residual dimension, then one
 /// row per variable (type, tangent dimension, perturbation and columns) and
@@ -59,14 +101,20 @@ fn factor_table(entry: &FactorEntry) -> String {
     };
     out.push_str(&format!("  variables: {}\n", fields(entry.variable_fields)));
     out.push_str(&format!("  constants: {}\n", fields(entry.constant_fields)));
+    out.push_str(&kernel_line(entry));
     out
 }
 
 /// `tangent` states the perturbation side (or "additive") and the column
-/// order in words; `json` is the variable's shape in the `eval` input.
+/// order in words; `json` is the variable's shape in the `eval` input;
+/// `kernel` is the generated kernel `eval` uses (`null` when it uses dual
+/// numbers) and `operations` the counts by kind of the kernel the current
+/// definitions generate (`residual_operations`: the residual alone).
 ///
 /// `{"factors": [{"name", "residual_dim", "variables": [{"name", "type",
-/// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}]}]}`.
+/// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}],
+/// "kernel", "operations": {"add", "mul", "div", "neg", "sqrt", "trig",
+/// "branch", "total"}, "residual_operations"}]}`.
 pub fn json() -> Value {
     let factors: Vec<Value> = factors()
         .iter()
@@ -90,11 +138,15 @@ pub fn json() -> Value {
                 .iter()
                 .map(|(name, shape)| json!({"name": name, "json": shape}))
                 .collect();
+            let counts = kernel_counts(entry);
             json!({
                 "name": entry.name,
                 "residual_dim": entry.residual_dim,
                 "variables": variables,
                 "constants": constants,
+                "kernel": entry.kernel,
+                "operations": counts.as_ref().map(|(all, _)| counts_json(all)),
+                "residual_operations": counts.as_ref().map(|(_, residual)| residual.total()),
             })
         })
         .collect();

@@ -1,19 +1,22 @@
 //! `slamjac`: evaluate SLAM factors and their exact tangent-space Jacobians.
 //!
 //! ```text
-//! slamjac eval FILE [--method dual|numeric]   # FILE may be `-` for stdin
+//! slamjac eval FILE [--method generated|dual|numeric]   # FILE may be `-` for stdin
 //! slamjac list [--json]
+//! slamjac generate [--out DIR]   # rewrite generated/ from the factor definitions
+//! slamjac check [--dir DIR]      # exit 1 when generated/ is stale
 //! ```
 //!
-//! Exit codes: 0 success; 1 degenerate geometry or a non-finite result;
-//! 2 rejected input or a usage error. Errors are one line on stderr,
-//! `error: <field path>: <what>`.
+//! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
+//! stale generated files; 2 rejected input or a usage error. Errors are one
+//! line on stderr, `error: <field path>: <what>`.
 
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use slamjac::{Method, eval, list, pretty};
+use slamjac::{Method, eval, generate, list, pretty};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -46,6 +49,22 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Rewrite the generated crate's sources (`src/*.rs`) from the current
+    /// factor definitions, printing each kernel's operation counts and the
+    /// generation time.
+    Generate {
+        /// The generated crate's directory [default: `$CARGO_MANIFEST_DIR/generated`
+        /// under `cargo run`, else `./generated`].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// Exit 1, naming the files, when the generated crate's sources differ
+    /// from what `generate` would write.
+    Check {
+        /// The generated crate's directory [default: as for `generate`].
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -54,6 +73,8 @@ fn main() -> ExitCode {
         Command::Eval { file, method } => eval::run(&file, method),
         Command::List { json: true } => Ok(pretty::to_string(&list::json())),
         Command::List { json: false } => Ok(list::table().trim_end().to_owned()),
+        Command::Generate { out } => generate::run_generate(out.as_deref()),
+        Command::Check { dir } => generate::run_check(dir.as_deref()),
     };
     match output {
         Ok(text) => match writeln!(std::io::stdout().lock(), "{text}") {

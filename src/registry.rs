@@ -24,10 +24,18 @@ pub struct FactorEntry {
     pub variable_fields: &'static [(&'static str, &'static str)],
     /// The fields of `constants` with their JSON shapes.
     pub constant_fields: &'static [(&'static str, &'static str)],
+    /// The generated kernel `eval --method generated` uses
+    /// ([`factor_core::Factor::KERNEL`]), if any.
+    pub kernel: Option<&'static str>,
     /// Reads the factor from its checked `variables` and `constants` objects,
-    /// validates it and linearizes it with the given method.
-    pub linearize: fn(&Object, &Object, Method) -> Result<DynLinearization, CliError>,
+    /// validates it and linearizes it with the given method; returns the
+    /// method used (see [`linearize`]).
+    pub linearize: LinearizeFn,
 }
+
+/// How a [`FactorEntry`] evaluates: checked `variables` and `constants`
+/// objects and the requested method → the linearization and the method used.
+pub type LinearizeFn = fn(&Object, &Object, Method) -> Result<(DynLinearization, Method), CliError>;
 
 impl FactorEntry {
     /// The entry of factor `F`.
@@ -38,6 +46,7 @@ impl FactorEntry {
             variables: F::variables,
             variable_fields: F::VARIABLES,
             constant_fields: F::CONSTANTS,
+            kernel: F::KERNEL,
             linearize: |variables, constants, method| {
                 let factor = F::from_json(variables, constants)?;
                 Ok(linearize(&factor, method)?)

@@ -1,7 +1,8 @@
 //! The `slamjac` command line end to end: the example inputs evaluate with
-//! every method and agree, `list` describes every factor, and every class of
-//! bad input gets a one-line error naming the field and a non-zero exit code,
-//! never a panic.
+//! every method and agree, `list` describes every factor and its kernel,
+//! `generate` and `check` write and verify the generated crate, and every
+//! class of bad input gets a one-line error naming the field and a non-zero
+//! exit code, never a panic.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -136,12 +137,17 @@ fn relative_error(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 }
 
 #[test]
-fn examples_evaluate_with_both_methods_and_agree() {
+fn examples_evaluate_with_every_method_and_agree() {
     for (factor, rows, variables) in FACTORS {
         let text = example(factor).to_string();
+        let generated = eval_ok(&text, "generated");
         let dual = eval_ok(&text, "dual");
         let numeric = eval_ok(&text, "numeric");
-        for (out, method) in [(&dual, "dual"), (&numeric, "numeric")] {
+        for (out, method) in [
+            (&generated, "generated"),
+            (&dual, "dual"),
+            (&numeric, "numeric"),
+        ] {
             assert_eq!(out["factor"], factor);
             assert_eq!(out["method"], method);
             assert_eq!(
@@ -196,6 +202,10 @@ fn examples_evaluate_with_both_methods_and_agree() {
             relative_error(&residual(&dual), &residual(&numeric)) <= 1e-12,
             "{factor} residual"
         );
+        assert!(
+            relative_error(&residual(&generated), &residual(&dual)) <= 1e-12,
+            "{factor} residual"
+        );
         for (name, _) in variables {
             let error = relative_error(
                 &matrix(&dual["jacobians"][name]),
@@ -205,20 +215,28 @@ fn examples_evaluate_with_both_methods_and_agree() {
                 error <= 1e-6,
                 "{factor}.{name}: dual vs numeric relative Frobenius error {error:e}"
             );
+            let error = relative_error(
+                &matrix(&generated["jacobians"][name]),
+                &matrix(&dual["jacobians"][name]),
+            );
+            assert!(
+                error <= 1e-12,
+                "{factor}.{name}: generated vs dual relative Frobenius error {error:e}"
+            );
         }
     }
 }
 
 #[test]
-fn eval_reads_files_and_defaults_to_dual() {
+fn eval_reads_files_and_defaults_to_generated() {
     let path = example_path("point_reprojection");
     let output = slamjac(&["eval", path.to_str().expect("utf-8 path")], "");
     assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
     let from_file: Value = serde_json::from_slice(&output.stdout).expect("JSON");
-    assert_eq!(from_file["method"], "dual");
+    assert_eq!(from_file["method"], "generated");
     assert_eq!(
         from_file,
-        eval_ok(&example("point_reprojection").to_string(), "dual")
+        eval_ok(&example("point_reprojection").to_string(), "generated")
     );
 }
 
@@ -249,6 +267,18 @@ fn list_shows_every_factor_with_its_dimensions() {
         }
     }
 
+    for (factor, _, _) in FACTORS {
+        let line = format!("  kernel: factor_generated::{factor}::{factor}, ");
+        let kernel = table
+            .lines()
+            .find(|l| l.starts_with(&line))
+            .unwrap_or_else(|| panic!("no kernel line for {factor}:\n{table}"));
+        assert!(
+            kernel.contains(" operations (add ") && kernel.contains("residual only"),
+            "{kernel}"
+        );
+    }
+
     let output = slamjac(&["list", "--json"], "");
     assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
     let listed: Value = serde_json::from_slice(&output.stdout).expect("JSON");
@@ -270,6 +300,15 @@ fn list_shows_every_factor_with_its_dimensions() {
             .collect();
         let want: Vec<(&str, u64)> = variables.iter().map(|(n, d)| (*n, *d as u64)).collect();
         assert_eq!(got, want, "{factor}");
+        assert_eq!(
+            entry["kernel"],
+            format!("factor_generated::{factor}::{factor}")
+        );
+        let operations = &entry["operations"];
+        let kinds = ["add", "mul", "div", "neg", "sqrt", "trig", "branch"];
+        let sum: u64 = kinds.iter().map(|k| operations[k].as_u64().unwrap()).sum();
+        assert_eq!(operations["total"].as_u64(), Some(sum), "{factor}");
+        assert!(entry["residual_operations"].as_u64().unwrap() < sum);
     }
 }
 
@@ -677,8 +716,86 @@ fn non_finite_results_are_reported() {
         v["variables"]["point"] = json!([4.0, 0.5, 1.0]);
         v["constants"]["intrinsics"] = json!([1e308, 1e308, 320.0, 240.0]);
     });
-    for method in ["dual", "numeric"] {
+    for method in ["generated", "dual", "numeric"] {
         let output = slamjac(&["eval", "-", "--method", method], &input.to_string());
         assert_error(&output, DEGENERATE, &["point_reprojection", "non-finite"]);
     }
+}
+
+/// A fresh directory in the temporary directory.
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = temp_path(tag).with_extension("d");
+    std::fs::create_dir_all(&dir).expect("temporary directory");
+    dir
+}
+
+#[test]
+fn generate_writes_a_crate_that_check_accepts_until_it_is_edited() {
+    let dir = temp_dir("generate");
+    let dir_text = dir.to_str().expect("utf-8 path");
+    let output = slamjac(&["generate", "--out", dir_text], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let report = String::from_utf8(output.stdout).expect("utf-8");
+    for (factor, _, _) in FACTORS {
+        let line = report
+            .lines()
+            .find(|l| l.starts_with(&format!("{factor} ")))
+            .unwrap_or_else(|| panic!("no line for {factor}:\n{report}"));
+        assert!(
+            line.contains(" ops (add ") && line.ends_with(" ms"),
+            "{line}"
+        );
+    }
+    assert!(report.contains("generated 5 kernels into"), "{report}");
+    assert!(report.trim_end().ends_with("in process)"), "{report}");
+    let src = dir.join("src");
+    for file in ["lib.rs", "real.rs", "point_reprojection.rs", "free_line.rs"] {
+        assert!(src.join(file).is_file(), "{file} written");
+    }
+    // The generated sources are the committed ones.
+    let committed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("generated/src");
+    for file in ["lib.rs", "real.rs", "point_reprojection.rs", "plane.rs"] {
+        assert_eq!(
+            std::fs::read_to_string(src.join(file)).unwrap(),
+            std::fs::read_to_string(committed.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+
+    let output = slamjac(&["check", "--dir", dir_text], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    assert!(String::from_utf8_lossy(&output.stdout).contains("up to date"));
+
+    // An edited module and an extra file are both stale.
+    let plane = src.join("plane.rs");
+    let mut text = std::fs::read_to_string(&plane).unwrap();
+    text.push_str("// edited\n");
+    std::fs::write(&plane, text).unwrap();
+    std::fs::write(src.join("extra.rs"), "").unwrap();
+    let output = slamjac(&["check", "--dir", dir_text], "");
+    assert_error(&output, DEGENERATE, &["plane.rs", "extra.rs", "stale"]);
+
+    // Regenerating repairs both.
+    let output = slamjac(&["generate", "--out", dir_text], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    assert!(!src.join("extra.rs").exists());
+    let output = slamjac(&["check", "--dir", dir_text], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+
+    // A missing file is stale too.
+    std::fs::remove_file(src.join("real.rs")).unwrap();
+    let output = slamjac(&["check", "--dir", dir_text], "");
+    assert_error(&output, DEGENERATE, &["real.rs"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn check_accepts_the_committed_generated_crate() {
+    // `cargo test` sets CARGO_MANIFEST_DIR for the child too: the default
+    // directory is the workspace's `generated/`.
+    let output = slamjac(&["check"], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let expected = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("generated");
+    let output = slamjac(&["check", "--dir", expected.to_str().unwrap()], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
 }

@@ -132,6 +132,17 @@ pub trait Factor: Sized {
     /// Residual and Jacobians by dual numbers, after [`Factor::validate`].
     fn linearize_dual_dyn(&self) -> Result<DynLinearization, FactorError>;
 
+    /// The generated kernel the typed `linearize()` goes through, as written
+    /// in `#[factor(kernel = path)]`; `None` when the factor has none.
+    const KERNEL: Option<&'static str> = None;
+
+    /// Residual and Jacobians through the generated kernel, after
+    /// [`Factor::validate`]; `None` when the factor has no kernel (then
+    /// [`Factor::linearize_dual_dyn`] is the exact method).
+    fn linearize_generated_dyn(&self) -> Option<Result<DynLinearization, FactorError>> {
+        None
+    }
+
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;

@@ -9,6 +9,8 @@
 //! - [`factor`]: the factor model, numerical linearization and errors.
 //! - [`factors`]: the four factors of the specification documents.
 //! - [`testing`]: a one-line Jacobian check for factor authors.
+//! - [`symbolic`] and [`codegen`]: the factors traced symbolically and emitted
+//!   as the straight-line kernels of the `factor-generated` crate.
 //!
 //! Conventions (pinned for the whole workspace; see the README):
 //! quaternions are stored `[x, y, z, w]` with the Hamilton product and the
@@ -16,6 +18,7 @@
 //! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
 //! first; Jacobians are residual rows × tangent columns.
 
+pub mod codegen;
 pub mod factor;
 pub mod factors;
 pub mod geometry;

@@ -17,6 +17,8 @@ pub struct FactorAttr {
     pub validate: Option<Path>,
     /// `name = "..."`.
     pub name: Option<LitStr>,
+    /// `kernel = path`: the generated kernel function.
+    pub kernel: Option<Path>,
     /// The first `#[factor]` attribute, for errors about a missing key.
     pub first: Option<Attribute>,
 }
@@ -46,6 +48,7 @@ impl FactorAttr {
         match key.as_str() {
             "residual" => set_once(&mut self.residual, meta, meta.value()?.parse()?),
             "validate" => set_once(&mut self.validate, meta, meta.value()?.parse()?),
+            "kernel" => set_once(&mut self.kernel, meta, meta.value()?.parse()?),
             "name" => {
                 let name: LitStr = meta.value()?.parse()?;
                 if name.value().is_empty() {
@@ -64,7 +67,7 @@ impl FactorAttr {
                 set_once(&mut self.dim, meta, dim)
             }
             _ => Err(meta.error(format!(
-                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate` or `name`",
+                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate`, `name` or `kernel`",
                 path_text(&meta.path)
             ))),
         }

@@ -28,6 +28,8 @@ pub struct FactorModel {
     pub validate: Option<Path>,
     /// `name = "..."`, or the snake case of the struct's name.
     pub name: String,
+    /// `kernel = path`, if given: the generated kernel function.
+    pub kernel: Option<Path>,
     /// Every field in declaration order.
     pub fields: Vec<Field>,
 }
@@ -59,7 +61,7 @@ impl FactorModel {
             FactorAttr::parse(&input.attrs).and_then(|attr| required_keys(attr, &input.ident));
         let fields = parse_fields(input);
         let misplaced = errors::check(misplaced_attrs(input));
-        let (((scalar, (residual, dim, validate, name)), fields), ()) =
+        let (((scalar, (residual, dim, validate, name, kernel)), fields), ()) =
             errors::join(errors::join(errors::join(scalar, attr), fields), misplaced)?;
         Ok(FactorModel {
             vis: input.vis.clone(),
@@ -70,6 +72,7 @@ impl FactorModel {
             dim,
             validate,
             name: name.unwrap_or_else(|| naming::snake_case(&input.ident.to_string())),
+            kernel,
             fields,
         })
     }
@@ -88,9 +91,9 @@ impl FactorModel {
     }
 }
 
-/// The residual, dimension, validation function and name, once both
+/// The residual, dimension, validation function, name and kernel, once both
 /// required keys are known to be present.
-type Keys = (Path, LitInt, Option<Path>, Option<String>);
+type Keys = (Path, LitInt, Option<Path>, Option<String>, Option<Path>);
 
 fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
     let Some(first) = &attr.first else {
@@ -118,6 +121,7 @@ fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
         dim,
         attr.validate,
         attr.name.map(|name| name.value()),
+        attr.kernel,
     ))
 }
 

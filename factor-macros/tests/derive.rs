@@ -246,3 +246,66 @@ fn to_dyn_keeps_the_blocks_in_declaration_order() {
         f.residual().unwrap().as_slice()
     );
 }
+
+/// `r = a · (x − y)`, with a hand-written kernel in the generated kernels'
+/// calling convention: every field flattened, the residual, then one optional
+/// row-major block per variable.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = weighted_residual, dim = 2, kernel = weighted_kernel)]
+pub struct Weighted<S: Scalar = f64> {
+    pub weight: S,
+    #[variable]
+    pub x: Vector2<S>,
+    #[variable(right)]
+    pub y: Vector2<S>,
+}
+
+pub fn weighted_residual<S: Scalar>(f: &Weighted<S>) -> Vector2<S> {
+    (f.x - f.y) * f.weight
+}
+
+fn weighted_kernel(
+    weight: &[f64; 1],
+    x: &[f64; 2],
+    y: &[f64; 2],
+    residual: &mut [f64; 2],
+    d_x: Option<&mut [f64; 4]>,
+    d_y: Option<&mut [f64; 4]>,
+) {
+    let a = weight[0];
+    *residual = [a * (x[0] - y[0]), a * (x[1] - y[1])];
+    if let Some(d) = d_x {
+        *d = [a, 0.0, 0.0, a];
+    }
+    if let Some(d) = d_y {
+        *d = [-a, 0.0, 0.0, -a];
+    }
+}
+
+#[test]
+fn a_kernel_is_what_linearize_goes_through() {
+    let f = Weighted {
+        weight: 2.0,
+        x: Vector2::new(1.0, 5.0),
+        y: Vector2::new(0.5, -1.0),
+    };
+    assert_eq!(<Weighted as Factor>::KERNEL, Some("weighted_kernel"));
+    let generated = f.linearize_generated().unwrap();
+    assert_eq!(f.linearize().unwrap(), generated);
+    assert_eq!(generated, f.linearize_dual().unwrap());
+    assert_eq!(
+        f.linearize_generated_dyn().unwrap().unwrap(),
+        generated.to_dyn()
+    );
+    // Without a kernel there is no generated linearization.
+    assert!(difference().linearize_generated_dyn().is_none());
+    assert_eq!(<Difference as Factor>::KERNEL, None);
+    let bad = Weighted {
+        weight: f64::NAN,
+        ..f
+    };
+    assert!(matches!(
+        bad.linearize_generated(),
+        Err(FactorError::NonFinite { .. })
+    ));
+}

@@ -29,6 +29,10 @@ use crate::{Factor, FactorError, Scalar};
 /// the line anchor (`p_C = p_L`).
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = free_line_residual, dim = 2, validate = validate_free_line, name = "free_line")]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::free_line::free_line)
+)]
 pub struct FreeLineFactor<S: Scalar = f64> {
     /// Camera extrinsics `T_CB`.
     pub extrinsics: Se3<S>,

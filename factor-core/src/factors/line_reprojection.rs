@@ -23,6 +23,10 @@ use crate::{Factor, FactorError, Scalar};
 /// line at infinity).
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = line_reprojection_residual, dim = 2, validate = validate_line_reprojection)]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::line_reprojection::line_reprojection)
+)]
 pub struct LineReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.
     pub intrinsics: Intrinsics<S>,

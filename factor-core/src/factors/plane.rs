@@ -25,6 +25,10 @@ use crate::{Factor, FactorError, Scalar};
 /// has no direction.
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = plane_residual, dim = 3, validate = validate_plane, name = "plane")]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::plane::plane)
+)]
 pub struct PlaneFactor<S: Scalar = f64> {
     /// The measured plane `π_c = [a, b, c, d]` in the camera frame, any scale.
     pub measured: Vector4<S>,

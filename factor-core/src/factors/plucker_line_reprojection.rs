@@ -29,6 +29,10 @@ use crate::{Factor, FactorError, Scalar};
     validate = validate_plucker_line,
     name = "plucker_line_reprojection"
 )]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::plucker_line_reprojection::plucker_line_reprojection)
+)]
 pub struct PluckerLineReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.
     pub intrinsics: Intrinsics<S>,

@@ -20,6 +20,10 @@ use crate::{Factor, FactorError, Scalar};
 /// largest coordinate of `P_c`, `X_w` or `t`).
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = point_reprojection_residual, dim = 2, validate = validate_point_reprojection)]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::point_reprojection::point_reprojection)
+)]
 pub struct PointReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.
     pub intrinsics: Intrinsics<S>,

@@ -6,8 +6,17 @@ use crate::symbolic::graph::{Expr, Graph, Node};
 /// Values of every node up to the largest of `outputs`, given the inputs.
 pub fn evaluate(graph: &Graph, inputs: &[f64], outputs: &[Expr]) -> Vec<f64> {
     let last = outputs.iter().map(|e| e.index()).max().map_or(0, |m| m + 1);
+    // Only what the outputs depend on: a traced graph also holds nodes of
+    // inputs the outputs no longer use (the tangent `δ` after substitution).
+    let mut needed = vec![false; last];
+    let mut stack: Vec<Expr> = outputs.to_vec();
+    while let Some(e) = stack.pop() {
+        if !std::mem::replace(&mut needed[e.index()], true) {
+            stack.extend(graph.node(e).children());
+        }
+    }
     let mut values = vec![0.0; last];
-    for i in 0..last {
+    for i in (0..last).filter(|i| needed[*i]) {
         values[i] = match graph.node(Expr(i as u32)) {
             Node::Const(c) => c.get(),
             Node::Input(k) => inputs[*k as usize],

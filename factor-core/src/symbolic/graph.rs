@@ -45,6 +45,10 @@ impl Real {
     pub fn get(self) -> f64 {
         f64::from_bits(self.0)
     }
+    /// The bit pattern (after folding `−0.0`).
+    pub fn bits(self) -> u64 {
+        self.0
+    }
 }
 
 impl fmt::Debug for Real {

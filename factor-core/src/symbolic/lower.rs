@@ -342,3 +342,40 @@ impl Program {
         counts
     }
 }
+
+impl Program {
+    /// Runs the program on `inputs` and returns the values of `outputs`: the
+    /// reference the emitted Rust is tested against.
+    pub fn evaluate(&self, inputs: &[f64], outputs: &[Value]) -> Vec<f64> {
+        let mut values = vec![0.0; self.instrs.len()];
+        for (i, instr) in self.instrs.iter().enumerate() {
+            let v = |x: &Value| values[x.0 as usize];
+            values[i] = match instr {
+                Instr::Input(k) => inputs[*k as usize],
+                Instr::Const(c) => c.get(),
+                Instr::Add(a, b) => v(a) + v(b),
+                Instr::Sub(a, b) => v(a) - v(b),
+                Instr::Mul(a, b) => v(a) * v(b),
+                Instr::Div(a, b) => v(a) / v(b),
+                Instr::Neg(a) => -v(a),
+                Instr::Sqrt(a) => v(a).sqrt(),
+                Instr::Sin(a) => v(a).sin(),
+                Instr::Cos(a) => v(a).cos(),
+                Instr::Atan2(a, b) => v(a).atan2(v(b)),
+                Instr::Select {
+                    lhs,
+                    rhs,
+                    if_less,
+                    otherwise,
+                } => {
+                    if v(lhs) < v(rhs) {
+                        v(if_less)
+                    } else {
+                        v(otherwise)
+                    }
+                }
+            };
+        }
+        outputs.iter().map(|o| values[o.0 as usize]).collect()
+    }
+}

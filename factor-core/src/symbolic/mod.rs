@@ -17,3 +17,4 @@ pub use kernel::{JacobianBlock, SymbolicKernel, trace};
 pub mod display;
 pub mod kernel;
 pub mod lower;
+pub mod optimize;

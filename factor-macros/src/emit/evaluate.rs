@@ -41,6 +41,27 @@ pub fn emit(cx: &Context) -> TokenStream {
     );
     let result = quote!(::core::result::Result);
     let error = quote!(#krate::FactorError);
+    let (linearize_doc, linearize_body) = match &cx.model.kernel {
+        Some(kernel) => (
+            format!(
+                "Residual and Jacobian blocks through the generated kernel `{}` \
+                 ([`linearize_generated`](Self::linearize_generated)); \
+                 [`linearize_dual`](Self::linearize_dual) gives the same by dual numbers.\n\n\
+                 # Errors\n\n\
+                 As [`linearize_dual`](Self::linearize_dual).",
+                super::kernel::path_text(kernel)
+            ),
+            quote!(self.linearize_generated()),
+        ),
+        None => (
+            "Residual and Jacobian blocks: [`linearize_dual`](Self::linearize_dual) (the \
+             factor has no generated kernel; see `#[factor(kernel = ...)]`).\n\n\
+             # Errors\n\n\
+             As [`linearize_dual`](Self::linearize_dual)."
+                .to_string(),
+            quote!(self.linearize_dual()),
+        ),
+    };
     quote! {
         impl #ident<f64> {
             #[doc = #tangent_doc]
@@ -109,13 +130,9 @@ pub fn emit(cx: &Context) -> TokenStream {
                 #linearization { residual, #(#blocks,)* }.ensure_finite()
             }
 
-            /// Residual and Jacobian blocks: currently [`linearize_dual`](Self::linearize_dual).
-            ///
-            /// # Errors
-            ///
-            /// As [`linearize_dual`](Self::linearize_dual).
+            #[doc = #linearize_doc]
             pub fn linearize(&self) -> #result<#linearization, #error> {
-                self.linearize_dual()
+                #linearize_body
             }
 
             /// The factor over dual numbers with `M` derivative components, all zero.

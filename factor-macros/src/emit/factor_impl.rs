@@ -77,6 +77,21 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
         }
     });
+    let generated = cx.model.kernel.as_ref().map(|kernel| {
+        let text = super::kernel::path_text(kernel);
+        quote! {
+            const KERNEL: ::core::option::Option<&'static str> =
+                ::core::option::Option::Some(#text);
+
+            fn linearize_generated_dyn(
+                &self,
+            ) -> ::core::option::Option<#result<#krate::DynLinearization, #error>> {
+                ::core::option::Option::Some(
+                    self.linearize_generated().map(|linearization| linearization.to_dyn()),
+                )
+            }
+        }
+    });
     quote! {
         impl #impl_generics #ident #ty_generics #where_clause {
             /// The variables as [`Factor::variables`](::factor_core::Factor::variables) reports them.
@@ -126,6 +141,8 @@ pub fn emit(cx: &Context) -> TokenStream {
             fn linearize_dual_dyn(&self) -> #result<#krate::DynLinearization, #error> {
                 self.linearize_dual().map(|linearization| linearization.to_dyn())
             }
+
+            #generated
 
             fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {
                 ::core::assert!(

@@ -8,6 +8,7 @@
 
 mod evaluate;
 mod factor_impl;
+mod kernel;
 mod layout;
 mod linearization;
 mod map_scalars;
@@ -59,6 +60,7 @@ pub fn expand(model: &FactorModel) -> TokenStream {
         perturbed::emit(&cx),
         linearization::emit(&cx),
         evaluate::emit(&cx),
+        kernel::emit(&cx),
         factor_impl::emit(&cx),
     ];
     quote!(#(#items)*)

@@ -1,0 +1,113 @@
+//! wrenfold's generated kernels beside this project's `linearize_dual()`, in
+//! one criterion run, on the same 64 sampled configurations per factor (the
+//! seeds of `benches/linearize.rs`: 1 for the point, 2 for the line).
+//!
+//! Before anything is timed, every wrenfold output is checked against
+//! `linearize_dual()` to 1e-9 relative at all 64 configurations: this
+//! validates both sides' conventions (quaternion order, active rotation, left
+//! perturbation, `[δω, δρ]` column order). A mismatch aborts the run.
+//!
+//! Inputs are prepared once per configuration in each method's own calling
+//! convention (plain arrays for wrenfold, the factor struct for
+//! `linearize_dual()`, which includes its validation and finiteness checks),
+//! and each iteration takes the next configuration in turn.
+
+use std::hint::black_box;
+
+use bench_peers_harness::{PluckerInputs, PointInputs, check_plucker, check_point};
+use criterion::Criterion;
+use factor_core::testing::samples::Sampler;
+
+const CONFIGURATIONS: usize = 64;
+const TOLERANCE: f64 = 1e-9;
+
+fn samples<F>(seed: u64, make: impl Fn(&mut Sampler) -> F) -> Vec<F> {
+    let mut sampler = Sampler::new(seed);
+    (0..CONFIGURATIONS).map(|_| make(&mut sampler)).collect()
+}
+
+/// One criterion function cycling through the configurations.
+macro_rules! bench_cycle {
+    ($group:expr, $name:literal, $inputs:expr, |$x:ident| $call:expr) => {{
+        let inputs = &$inputs;
+        let mut i = 0;
+        $group.bench_function($name, |b| {
+            b.iter(|| {
+                i = (i + 1) % CONFIGURATIONS;
+                let $x = black_box(&inputs[i]);
+                black_box($call)
+            })
+        });
+    }};
+}
+
+fn main() {
+    let points = samples(1, Sampler::point_reprojection);
+    let lines = samples(2, Sampler::plucker_line_reprojection);
+
+    // Conventions check: wrenfold == linearize_dual() everywhere, or no run.
+    let point_agreement = check_point(&points, TOLERANCE).unwrap_or_else(|e| panic!("{e}"));
+    let line_agreement = check_plucker(&lines, TOLERANCE).unwrap_or_else(|e| panic!("{e}"));
+    println!(
+        "conventions check: wrenfold == linearize_dual() at all {CONFIGURATIONS} configurations \
+         to {TOLERANCE:e} relative"
+    );
+    println!(
+        "  point_reprojection worst relative error: residual {:.2e}, pose {:.2e}, point {:.2e}",
+        point_agreement.residual, point_agreement.pose, point_agreement.other
+    );
+    println!(
+        "  plucker_line_reprojection worst relative error: residual {:.2e}, pose {:.2e}, line {:.2e}",
+        line_agreement.residual, line_agreement.pose, line_agreement.other
+    );
+
+    let point_inputs: Vec<_> = points.iter().map(PointInputs::new).collect();
+    let line_inputs: Vec<_> = lines.iter().map(PluckerInputs::new).collect();
+
+    let mut c = Criterion::default().configure_from_args();
+    {
+        let mut group = c.benchmark_group("point_reprojection");
+        bench_cycle!(group, "wrenfold", point_inputs, |x| x.wrenfold());
+        bench_cycle!(group, "dual", points, |f| f.linearize_dual());
+        #[cfg(feature = "generated")]
+        generated::point(&mut group, &points);
+        group.finish();
+    }
+    {
+        let mut group = c.benchmark_group("plucker_line_reprojection");
+        bench_cycle!(group, "wrenfold", line_inputs, |x| x.wrenfold());
+        bench_cycle!(group, "dual", lines, |f| f.linearize_dual());
+        #[cfg(feature = "generated")]
+        generated::plucker(&mut group, &lines);
+        group.finish();
+    }
+    c.final_summary();
+}
+
+// ============================== GENERATED KERNELS ==============================
+// This project's generated kernels, benchmarked beside wrenfold and the dual
+// numbers under `--features generated` (off by default). To be written once the
+// `generated` crate exists (see Cargo.toml): check each kernel against
+// `linearize_dual()` like `check_point` does, then register it in the group as
+// "generated", e.g.
+//
+//     bench_cycle!(group, "generated", inputs, |x| factor_generated::point_reprojection::<f64>(...));
+//
+// with its inputs prepared once per configuration, as for wrenfold.
+#[cfg(feature = "generated")]
+mod generated {
+    use criterion::BenchmarkGroup;
+    use criterion::measurement::WallTime;
+    use factor_core::factors::{PluckerLineReprojection, PointReprojection};
+
+    pub fn point(_group: &mut BenchmarkGroup<'_, WallTime>, _factors: &[PointReprojection]) {
+        compile_error!("bench the factor_generated point_reprojection kernel here");
+    }
+
+    pub fn plucker(
+        _group: &mut BenchmarkGroup<'_, WallTime>,
+        _factors: &[PluckerLineReprojection],
+    ) {
+        compile_error!("bench the factor_generated plucker_line_reprojection kernel here");
+    }
+}

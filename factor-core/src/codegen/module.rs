@@ -1,0 +1,85 @@
+//! A factor's kernel from its trace to its formatted module source.
+
+use crate::codegen::emit::module_source;
+use crate::codegen::schedule::{lower, schedule};
+use crate::codegen::spec::KernelSpec;
+use crate::symbolic::SymbolicKernel;
+use crate::symbolic::lower::OpCounts;
+
+/// One generated module: `src/<name>.rs` of the generated crate.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GeneratedModule {
+    /// The module's (and its function's) name.
+    pub name: &'static str,
+    /// The factor type's path.
+    pub source_type: &'static str,
+    /// The formatted source.
+    pub source: String,
+    /// Operation counts of the whole kernel (residual and every block).
+    pub counts: OpCounts,
+    /// Operation counts when every Jacobian argument is `None`.
+    pub residual_counts: OpCounts,
+}
+
+/// Operation counts of `spec`'s kernel without emitting it: the whole kernel
+/// (residual and every block), and the residual alone.
+pub fn operation_counts(spec: &KernelSpec) -> (OpCounts, OpCounts) {
+    let kernel = (spec.trace)();
+    let blocks: Vec<Vec<_>> = kernel.blocks.iter().map(|b| b.entries.clone()).collect();
+    let lowered = lower(&kernel.graph, &kernel.residual, &blocks);
+    (
+        lowered.counts(&lowered.outputs()),
+        lowered.counts(&lowered.residual),
+    )
+}
+
+/// Lowers, schedules, emits and formats `kernel` as described by `spec`.
+pub fn generate_module(kernel: &SymbolicKernel, spec: &KernelSpec) -> GeneratedModule {
+    let blocks: Vec<Vec<_>> = kernel.blocks.iter().map(|b| b.entries.clone()).collect();
+    let lowered = lower(&kernel.graph, &kernel.residual, &blocks);
+    let schedule = schedule(&lowered);
+    GeneratedModule {
+        name: spec.name,
+        source_type: spec.source_type,
+        source: module_source(kernel, spec, &lowered, &schedule),
+        counts: lowered.counts(&lowered.outputs()),
+        residual_counts: lowered.counts(&lowered.residual),
+    }
+}
+
+/// Traces the factor of `spec` and generates its module.
+///
+/// # Panics
+///
+/// If the traced factor's name is not `spec.name`, or a field has no layout
+/// in `spec.inputs`.
+pub fn generate(spec: &KernelSpec) -> GeneratedModule {
+    let kernel = (spec.trace)();
+    assert_eq!(
+        kernel.name, spec.name,
+        "the spec names the factor's kernel after the factor"
+    );
+    for field in &kernel.fields {
+        assert!(
+            spec.inputs.iter().any(|(name, _)| *name == field.name),
+            "{}: no input layout for field `{}`",
+            spec.name,
+            field.name
+        );
+    }
+    assert_eq!(
+        spec.inputs.len(),
+        kernel.fields.len(),
+        "{}: one input layout per field",
+        spec.name
+    );
+    generate_module(&kernel, spec)
+}
+
+/// Every document kernel, in [`crate::codegen::document_kernels`] order.
+pub fn generate_all() -> Vec<GeneratedModule> {
+    crate::codegen::document_kernels()
+        .iter()
+        .map(generate)
+        .collect()
+}

@@ -1,0 +1,357 @@
+//! The generated kernels of `generated/`: they agree with dual numbers to
+//! rounding and with central differences at 200 random configurations per
+//! factor, skip exactly the Jacobian blocks passed as `None`, and instantiate
+//! with `f32` and with a user's own `Real` type. (`tests/codegen.rs` checks
+//! that they are what the current definitions generate.)
+#![cfg(feature = "kernels")]
+
+use factor_core::factor::relative_frobenius_error;
+use factor_core::testing::samples::Sampler;
+use factor_core::{DynLinearization, Factor, MapScalars};
+
+const CONFIGURATIONS: usize = 200;
+/// Generated vs dual numbers: both exact, so only rounding differs.
+const VS_DUAL: f64 = 1e-12;
+/// Generated vs central differences (the tolerance of `tests/jacobians.rs`).
+const VS_NUMERIC: f64 = 1e-6;
+/// `f32` vs `f64` instantiation of the same kernel, relative to the `f64`
+/// output's norm or 1, whichever is larger (a residual of 0.02 px is known to
+/// a few 1e-5 px in `f32`).
+const F32_VS_F64: f64 = 1e-3;
+
+/// The scale a residual's rounding error lives at: the largest magnitude
+/// among the factor's input scalars (pixel coordinates and focal lengths of
+/// order 10²–10³, unit-vector entries of order 1), or 1.
+///
+/// A residual is the difference of terms of that size (the line residual
+/// `lᵀp/√(l₁²+l₂²)` sums pixel coordinates of order 500 times `l` down to a
+/// fraction of a pixel; the plane and free-line residuals are differences of
+/// unit-vector products), so two correct evaluation orders differ by rounding
+/// of the terms, not of the result: seed 12's 19th line configuration has a
+/// 0.69 px residual from ~450 px terms and the two orders differ by 1.0e-12 px.
+/// Residuals are therefore compared relative to `max(‖r‖, input scale)`: a
+/// backward-error measure. Jacobian blocks have no such cancellation and are
+/// compared relatively down to `1e-9`, as in `factor_core::testing`.
+fn input_scale<F: MapScalars<f64>>(factor: &F) -> f64 {
+    let mut scale: f64 = 1.0;
+    let _ = factor.map_scalars(&mut |x: f64| {
+        scale = scale.max(x.abs());
+        x
+    });
+    scale
+}
+
+/// Relative Frobenius errors of the residual and of each block of `a` w.r.t. `b`.
+fn errors(a: &DynLinearization, b: &DynLinearization, residual_scale: f64) -> Vec<f64> {
+    let residual = (&a.residual - &b.residual).norm() / b.residual.norm().max(residual_scale);
+    let blocks = a
+        .jacobians
+        .iter()
+        .zip(&b.jacobians)
+        .map(|(x, y)| relative_frobenius_error(x, y, 1e-9));
+    std::iter::once(residual).chain(blocks).collect()
+}
+
+/// Checks `CONFIGURATIONS` samples against dual numbers and central
+/// differences; returns the worst errors seen (vs dual, vs numeric).
+fn check_agreement<F: Factor + MapScalars<f64>>(
+    seed: u64,
+    mut sample: impl FnMut(&mut Sampler) -> F,
+) -> (f64, f64) {
+    let mut sampler = Sampler::new(seed);
+    let (mut worst_dual, mut worst_numeric) = (0.0_f64, 0.0_f64);
+    for i in 0..CONFIGURATIONS {
+        let factor = sample(&mut sampler);
+        let generated = factor
+            .linearize_generated_dyn()
+            .unwrap_or_else(|| panic!("{} has a generated kernel", F::NAME))
+            .unwrap_or_else(|e| panic!("{} configuration {i}: {e}", F::NAME));
+        let dual = factor.linearize_dual_dyn().expect("valid");
+        let numeric = factor.linearize_numeric_dyn().expect("valid");
+        for (k, e) in errors(&generated, &dual, input_scale(&factor))
+            .into_iter()
+            .enumerate()
+        {
+            assert!(
+                e <= VS_DUAL,
+                "{} configuration {i}, output {k}: generated vs dual {e:e}",
+                F::NAME
+            );
+            worst_dual = worst_dual.max(e);
+        }
+        for (k, e) in errors(&generated, &numeric, input_scale(&factor))
+            .into_iter()
+            .enumerate()
+        {
+            assert!(
+                e <= VS_NUMERIC,
+                "{} configuration {i}, output {k}: generated vs numeric {e:e}",
+                F::NAME
+            );
+            worst_numeric = worst_numeric.max(e);
+        }
+    }
+    println!(
+        "{}: worst relative error vs dual {worst_dual:e}, vs numeric {worst_numeric:e}",
+        F::NAME
+    );
+    (worst_dual, worst_numeric)
+}
+
+#[test]
+fn point_reprojection_generated_matches_dual_and_numeric() {
+    check_agreement(11, Sampler::point_reprojection);
+}
+
+#[test]
+fn line_reprojection_generated_matches_dual_and_numeric() {
+    check_agreement(12, Sampler::line_reprojection);
+}
+
+#[test]
+fn plucker_line_reprojection_generated_matches_dual_and_numeric() {
+    check_agreement(13, Sampler::plucker_line_reprojection);
+}
+
+#[test]
+fn plane_generated_matches_dual_and_numeric() {
+    check_agreement(14, Sampler::plane);
+}
+
+/// Both branches of the quaternion logarithm: small errors (below its
+/// small-angle threshold) and exactly zero.
+#[test]
+fn plane_generated_matches_dual_near_and_at_zero_error() {
+    let mut sampler = Sampler::new(15);
+    for i in 0..CONFIGURATIONS {
+        let factor = sampler.plane_with_error(if i % 2 == 0 { 1e-4 } else { 0.0 });
+        let generated = factor.linearize_generated_dyn().expect("kernel").unwrap();
+        let dual = factor.linearize_dual_dyn().unwrap();
+        for e in errors(&generated, &dual, input_scale(&factor)) {
+            assert!(e <= VS_DUAL, "configuration {i}: {e:e}");
+        }
+    }
+}
+
+#[test]
+fn free_line_generated_matches_dual_and_numeric() {
+    check_agreement(16, Sampler::free_line);
+}
+
+/// `linearize()` goes through the kernel, and the typed and dynamic forms agree.
+#[test]
+fn linearize_uses_the_generated_kernel() {
+    let mut sampler = Sampler::new(17);
+    let factor = sampler.point_reprojection();
+    assert_eq!(
+        <factor_core::factors::PointReprojection as Factor>::KERNEL,
+        Some("factor_generated::point_reprojection::point_reprojection")
+    );
+    let typed = factor.linearize().unwrap();
+    assert_eq!(typed, factor.linearize_generated().unwrap());
+    assert_eq!(
+        typed.to_dyn(),
+        factor.linearize_generated_dyn().unwrap().unwrap()
+    );
+}
+
+/// The stored scalars of a field in `MapScalars` order, converted by `convert`.
+fn flat<M: MapScalars<f64>, T: Copy + Default, const N: usize>(
+    value: &M,
+    convert: fn(f64) -> T,
+) -> [T; N] {
+    let mut out = [T::default(); N];
+    let mut i = 0;
+    value.map_scalars(&mut |s: f64| {
+        out[i] = convert(s);
+        i += 1;
+        s
+    });
+    assert_eq!(i, N, "a field stores {N} scalars");
+    out
+}
+
+/// `‖a − b‖ / max(‖b‖, 1)`: the loose comparison of `f32` with `f64`.
+fn relative(a: &[f64], b: &[f64]) -> f64 {
+    let diff: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+    let norm: f64 = b.iter().map(|y| y * y).sum();
+    diff.sqrt() / norm.sqrt().max(1.0)
+}
+
+fn f32_of(x: f64) -> f32 {
+    x as f32
+}
+
+fn widen(x: &[f32]) -> Vec<f64> {
+    x.iter().map(|v| f64::from(*v)).collect()
+}
+
+/// For a factor with two variables (its kernel is
+/// `factor_generated::$sample::$sample`): every combination of requested blocks
+/// gives the same residual and the same requested blocks as requesting all,
+/// and leaves the others untouched; and the `f32` instance agrees loosely
+/// with the `f64` one.
+macro_rules! check_kernel {
+    ($seed:expr, $sample:ident, [$($field:ident),+], $r:literal, $d0:literal, $d1:literal) => {{
+        let mut sampler = Sampler::new($seed);
+        let mut worst_f32: f64 = 0.0;
+        for i in 0..CONFIGURATIONS {
+            let factor = sampler.$sample();
+            $(let $field = flat(&factor.$field, |x| x);)+
+            let run = |a: bool, b: bool| {
+                let mut r = [f64::NAN; $r];
+                let mut d0 = [f64::NAN; $r * $d0];
+                let mut d1 = [f64::NAN; $r * $d1];
+                factor_generated::$sample::$sample($(&$field,)+ &mut r, a.then_some(&mut d0), b.then_some(&mut d1));
+                (r, d0, d1)
+            };
+            let (r, d0, d1) = run(true, true);
+            assert!(r.iter().chain(&d0).chain(&d1).all(|x| x.is_finite()), "configuration {i}");
+            for (a, b) in [(true, false), (false, true), (false, false)] {
+                let (r_ab, d0_ab, d1_ab) = run(a, b);
+                assert_eq!(r_ab, r, "configuration {i}: residual with blocks ({a}, {b})");
+                if a {
+                    assert_eq!(d0_ab, d0, "configuration {i}: first block");
+                } else {
+                    assert!(d0_ab.iter().all(|x| x.is_nan()), "first block written");
+                }
+                if b {
+                    assert_eq!(d1_ab, d1, "configuration {i}: second block");
+                } else {
+                    assert!(d1_ab.iter().all(|x| x.is_nan()), "second block written");
+                }
+            }
+            $(let $field = flat(&factor.$field, f32_of);)+
+            let mut r32 = [0.0_f32; $r];
+            let mut d0_32 = [0.0_f32; $r * $d0];
+            let mut d1_32 = [0.0_f32; $r * $d1];
+            factor_generated::$sample::$sample::<f32>($(&$field,)+ &mut r32, Some(&mut d0_32), Some(&mut d1_32));
+            for (low, high) in [(widen(&r32), &r[..]), (widen(&d0_32), &d0[..]), (widen(&d1_32), &d1[..])] {
+                let e = relative(&low, high);
+                assert!(e <= F32_VS_F64, "configuration {i}: f32 vs f64 {e:e}: {low:?} vs {high:?}");
+                worst_f32 = worst_f32.max(e);
+            }
+        }
+        println!("{}: worst f32 vs f64 relative error {worst_f32:e}", stringify!($sample));
+    }};
+}
+
+#[test]
+fn point_reprojection_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        21,
+        point_reprojection,
+        [intrinsics, observed, pose, point],
+        2,
+        6,
+        3
+    );
+}
+
+#[test]
+fn line_reprojection_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        22,
+        line_reprojection,
+        [intrinsics, start, end, pose, line],
+        2,
+        6,
+        4
+    );
+}
+
+#[test]
+fn plucker_line_reprojection_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        23,
+        plucker_line_reprojection,
+        [intrinsics, start, end, pose, line],
+        2,
+        6,
+        6
+    );
+}
+
+#[test]
+fn plane_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(24, plane, [measured, pose, plane], 3, 6, 3);
+}
+
+#[test]
+fn free_line_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        25,
+        free_line,
+        [extrinsics, bearing_start, bearing_end, body_pose, line],
+        2,
+        6,
+        4
+    );
+}
+
+/// The kernels are generic over `Real` only: a user type implementing it
+/// (here a scalar that counts nothing, wrapping `f64`) instantiates them.
+#[test]
+fn kernels_instantiate_with_a_user_real_type() {
+    use std::ops::{Add, Div, Mul, Neg, Sub};
+
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    struct Lane(f64);
+    macro_rules! op {
+        ($tr:ident, $m:ident, $o:tt) => {
+            impl $tr for Lane {
+                type Output = Lane;
+                fn $m(self, rhs: Lane) -> Lane {
+                    Lane(self.0 $o rhs.0)
+                }
+            }
+        };
+    }
+    op!(Add, add, +);
+    op!(Sub, sub, -);
+    op!(Mul, mul, *);
+    op!(Div, div, /);
+    impl Neg for Lane {
+        type Output = Lane;
+        fn neg(self) -> Lane {
+            Lane(-self.0)
+        }
+    }
+    impl factor_generated::Real for Lane {
+        fn constant(c: f64) -> Self {
+            Lane(c)
+        }
+        fn sqrt(self) -> Self {
+            Lane(self.0.sqrt())
+        }
+        fn sin(self) -> Self {
+            Lane(self.0.sin())
+        }
+        fn cos(self) -> Self {
+            Lane(self.0.cos())
+        }
+        fn atan2(self, x: Self) -> Self {
+            Lane(self.0.atan2(x.0))
+        }
+        fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
+            if lhs.0 < rhs.0 { if_less } else { otherwise }
+        }
+    }
+    let factor = Sampler::new(26).plane();
+    let lane = |x: f64| Lane(x);
+    let (measured, pose, plane) = (
+        flat(&factor.measured, lane),
+        flat(&factor.pose, lane),
+        flat(&factor.plane, lane),
+    );
+    let mut r = [Lane(0.0); 3];
+    let mut d_pose = [Lane(0.0); 18];
+    factor_generated::plane::plane(&measured, &pose, &plane, &mut r, Some(&mut d_pose), None);
+    let reference = factor.linearize_generated().unwrap();
+    for (k, x) in r.iter().enumerate() {
+        assert_eq!(x.0, reference.residual[k]);
+    }
+    for (k, x) in d_pose.iter().enumerate() {
+        assert_eq!(x.0, reference.pose[(k / 6, k % 6)]);
+    }
+}
