@@ -7,17 +7,21 @@
 #    the point and Plücker-line kernels into out/wrenfold_generated.rs and its
 #    op counts into out/wrenfold_counts.json;
 # 2. the harness crate (its own workspace) checks wrenfold's outputs against
-#    this project's linearize_dual() at 64 configurations per factor, then
-#    benchmarks both in one criterion run;
+#    this project's linearize_dual() at 64 configurations per factor, and this
+#    project's generated kernels (generated/, feature `generated`) against
+#    wrenfold's, then benchmarks all three in one criterion run;
 # 3. a virtualenv out/venv-symforce with SymForce; symforce_counts.py records
 #    SymForce's op counts for the four document factors (skipped, with pip's
 #    error, if SymForce does not install);
-# 4. summarize.py prints the table and writes out/summary.json.
+# 4. summarize.py prints the table (times, ratios, each generator's op counts,
+#    ours read from the headers of generated/src/*.rs) and writes
+#    out/summary.json.
 #
 # Everything is written under bench-peers/out/, which is git-ignored: nothing
 # a peer generates is committed. Environment: PYTHON (default python3.11),
 # WRENFOLD_VERSION (0.5.3), SYMFORCE_VERSION (0.12.0), SKIP_SYMFORCE=1,
-# FRESH=1 (recreate the virtualenvs).
+# FRESH=1 (recreate the virtualenvs), GENERATED=0 (leave this project's
+# generated kernels out of the criterion run).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -57,7 +61,9 @@ echo "== harness: conventions check and criterion run =="
 export CARGO_TARGET_DIR="$out/target"
 manifest="$here/harness/Cargo.toml"
 cargo run -q --release --manifest-path "$manifest" --bin dump_samples -- "$out/samples.json" 8
-cargo bench --manifest-path "$manifest" --bench peers -- "$@"
+features=(--features generated)
+if [[ "${GENERATED:-1}" == 0 ]]; then features=(); fi
+cargo bench --manifest-path "$manifest" "${features[@]}" --bench peers -- "$@"
 
 if [[ "${SKIP_SYMFORCE:-0}" == 1 ]]; then
     echo '{"skipped": "SKIP_SYMFORCE=1"}' >"$out/symforce_counts.json"

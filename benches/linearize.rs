@@ -1,6 +1,7 @@
-//! Per-factor linearization cost: the generated kernel, dual numbers in one
-//! pass over the whole tangent, dual numbers one pass per variable block, and
-//! central differences.
+//! Per-factor linearization cost, in one run: the generated kernel, dual
+//! numbers in one pass over the whole tangent, dual numbers one pass per
+//! variable block, and central differences, for the point, line (orthonormal),
+//! Plücker-line, plane and free-line factors.
 //!
 //! `cargo bench --bench linearize`. Each factor is evaluated at 64 sampled
 //! configurations in turn, so the figures are ns per call averaged over
@@ -19,8 +20,12 @@ fn samples<F>(seed: u64, make: impl Fn(&mut Sampler) -> F) -> Vec<F> {
     (0..CONFIGURATIONS).map(|_| make(&mut sampler)).collect()
 }
 
-/// Benchmarks the three methods of one factor type; `one_pass` and
-/// `per_block` are the macro-emitted typed methods.
+/// Benchmarks the four methods of one factor type: `generated`
+/// (`linearize_generated()`, with the default feature `kernels`),
+/// `dual_one_pass` (`linearize_dual()`) and `dual_per_block`
+/// (`linearize_dual_per_block()`), the derive-emitted typed methods, each
+/// including the factor's validation and finiteness check, and `numeric`
+/// (`Factor::linearize_numeric_dyn()`, central differences on the manifold).
 macro_rules! bench_factor {
     ($c:expr, $name:literal, $factors:expr) => {{
         let factors = $factors;
@@ -65,6 +70,13 @@ fn linearize(c: &mut Criterion) {
         c,
         "line_reprojection",
         samples(2, Sampler::line_reprojection)
+    );
+    // Seed 2 as for the orthonormal line: the configurations of
+    // bench-peers/harness, so these figures compare with its wrenfold run.
+    bench_factor!(
+        c,
+        "plucker_line_reprojection",
+        samples(2, Sampler::plucker_line_reprojection)
     );
     bench_factor!(c, "plane", samples(3, Sampler::plane));
     bench_factor!(c, "free_line", samples(4, Sampler::free_line));

@@ -9,7 +9,9 @@
 //! camera, parallel bearings, ...) is left to its `validate()`.
 
 use factor_core::Factor;
-use factor_core::factors::{FreeLineFactor, LineReprojection, PlaneFactor, PointReprojection};
+use factor_core::factors::{
+    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+};
 use factor_core::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
 
 use crate::error::InputError;
@@ -94,6 +96,31 @@ impl FromJson for LineReprojection {
             end: constants.vector::<2>("end")?,
             pose,
             line,
+        })
+    }
+}
+
+impl FromJson for PluckerLineReprojection {
+    const VARIABLES: &'static [(&'static str, &'static str)] = &[
+        ("pose", POSE),
+        (
+            "line",
+            "{\"normal\": n [3], \"direction\": v [3]} (Plücker, any scale)",
+        ),
+    ];
+    const CONSTANTS: &'static [(&'static str, &'static str)] = LineReprojection::CONSTANTS;
+
+    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
+        let pose = variables.pose("pose")?;
+        let line = variables.object("line", &["normal", "direction"])?;
+        let normal = line.vector::<3>("normal")?;
+        let direction = line.nonzero_vector::<3>("direction", "line direction v")?;
+        Ok(PluckerLineReprojection {
+            intrinsics: intrinsics(constants, "intrinsics")?,
+            start: constants.vector::<2>("start")?,
+            end: constants.vector::<2>("end")?,
+            pose,
+            line: PluckerLine::new(normal, direction),
         })
     }
 }

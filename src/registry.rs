@@ -3,7 +3,9 @@
 //! Registering a factor is one line in [`factors`], given a
 //! [`FromJson`] implementation (in [`crate::decode`]) for it.
 
-use factor_core::factors::{FreeLineFactor, LineReprojection, PlaneFactor, PointReprojection};
+use factor_core::factors::{
+    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+};
 use factor_core::{DynLinearization, VariableInfo};
 
 use crate::decode::FromJson;
@@ -62,6 +64,7 @@ pub fn factors() -> Vec<FactorEntry> {
         FactorEntry::of::<LineReprojection>(),
         FactorEntry::of::<PlaneFactor>(),
         FactorEntry::of::<FreeLineFactor>(),
+        FactorEntry::of::<PluckerLineReprojection>(),
     ]
 }
 

@@ -24,11 +24,12 @@ type Edit = fn(&mut Value);
 type Case = (&'static str, Edit, &'static str);
 
 /// The four factors.
-const FACTORS: [Shape; 4] = [
+const FACTORS: [Shape; 5] = [
     ("point_reprojection", 2, &[("pose", 6), ("point", 3)]),
     ("line_reprojection", 2, &[("pose", 6), ("line", 4)]),
     ("plane", 3, &[("pose", 6), ("plane", 3)]),
     ("free_line", 2, &[("body_pose", 6), ("line", 4)]),
+    ("plucker_line_reprojection", 2, &[("pose", 6), ("line", 6)]),
 ];
 
 fn slamjac(args: &[&str], stdin: &str) -> Output {

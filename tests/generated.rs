@@ -355,3 +355,55 @@ fn kernels_instantiate_with_a_user_real_type() {
         assert_eq!(x.0, reference.pose[(k / 6, k % 6)]);
     }
 }
+
+/// The plane kernel at the points where the quaternion logarithm is
+/// delicate: error angles at and near 0 (its series branch and the switch),
+/// at and around π, and close to 2π (the antipode, where only the exact
+/// branch is valid). Generated and dual agree everywhere; central differences
+/// (steps of 1e-3) are compared where a step cannot cross the singularity.
+#[test]
+fn plane_kernel_is_exact_near_its_singular_points() {
+    use factor_core::lie::Quaternion;
+    use std::f64::consts::PI;
+    let mut sampler = Sampler::new(17);
+    for angle in [
+        0.0,
+        1e-8,
+        1e-4,
+        2e-3,
+        0.5,
+        PI - 1e-9,
+        PI,
+        PI + 1e-6,
+        2.0 * PI - 1e-3,
+    ] {
+        for _ in 0..20 {
+            let mut factor = sampler.plane_with_error(0.0);
+            let axis = sampler.vector3(1.0).normalize();
+            // At zero error φ = q_w, so q_w ⊗ exp(θa) makes the error
+            // quaternion q_w ⊗ exp(−θa) ⊗ q_w⁻¹: an error of angle exactly θ.
+            let landmark = factor.plane.quaternion;
+            factor.plane.quaternion = landmark.mul(&Quaternion::exp(&(axis * angle)));
+            let generated = factor
+                .linearize_generated_dyn()
+                .expect("kernel")
+                .unwrap_or_else(|e| panic!("angle {angle}: {e}"));
+            let dual = factor
+                .linearize_dual_dyn()
+                .unwrap_or_else(|e| panic!("angle {angle}: {e}"));
+            for e in errors(&generated, &dual, input_scale(&factor)) {
+                assert!(e <= VS_DUAL, "angle {angle}: generated vs dual {e:e}");
+            }
+            assert!(
+                (generated.residual.norm() - angle).abs() <= 1e-9 * (1.0 + angle),
+                "angle {angle}"
+            );
+            if angle < PI + 0.5 {
+                let numeric = factor.linearize_numeric_dyn().unwrap();
+                for e in errors(&generated, &numeric, input_scale(&factor)) {
+                    assert!(e <= VS_NUMERIC, "angle {angle}: generated vs numeric {e:e}");
+                }
+            }
+        }
+    }
+}

@@ -125,9 +125,15 @@ impl<const N: usize> Scalar for DualSVec64<N> {
     fn cos(self) -> Self {
         DualNum::cos(&self)
     }
+    /// `atan2` with the derivative `(x dy − y dx) / (x² + y²)`. num-dual 0.15
+    /// differentiates through `atan(y / x)`, which is NaN at `x = 0` (the
+    /// quaternion logarithm at an angle of exactly π).
     #[inline]
     fn atan2(self, x: Self) -> Self {
-        DualNum::atan2(&self, x)
+        let numerator = self * x.re - x * self.re; // real part 0, ε = x dy − y dx
+        let mut result = numerator * (self.re * self.re + x.re * x.re).recip();
+        result.re = self.re.atan2(x.re);
+        result
     }
     #[inline]
     fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
@@ -157,6 +163,22 @@ mod tests {
         assert_eq!(h.re, 5.0);
         let eps = h.eps.unwrap_generic(nalgebra::Const::<2>, nalgebra::U1);
         assert!((eps[0] - 0.6).abs() < 1e-15 && (eps[1] - 0.8).abs() < 1e-15);
+    }
+
+    #[test]
+    fn dual_atan2_is_differentiable_where_x_is_zero() {
+        for (y, x) in [(1.5, 0.0), (-0.5, 0.0), (0.3, -2.0), (2.0, 1.0)] {
+            let yd = DualSVec64::<2>::from_re(y).derivative(0);
+            let xd = DualSVec64::<2>::from_re(x).derivative(1);
+            let a = Scalar::atan2(yd, xd);
+            let eps = a.eps.unwrap_generic(nalgebra::Const::<2>, nalgebra::U1);
+            let r2 = x * x + y * y;
+            assert_eq!(a.re, f64::atan2(y, x));
+            assert!(
+                (eps[0] - x / r2).abs() < 1e-15 && (eps[1] + y / r2).abs() < 1e-15,
+                "{eps:?}"
+            );
+        }
     }
 
     #[test]

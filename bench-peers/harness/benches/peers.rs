@@ -1,16 +1,20 @@
-//! wrenfold's generated kernels beside this project's `linearize_dual()`, in
-//! one criterion run, on the same 64 sampled configurations per factor (the
-//! seeds of `benches/linearize.rs`: 1 for the point, 2 for the line).
+//! wrenfold's generated kernels beside this project's `linearize_dual()` and,
+//! with the feature `generated` (on in `run.sh`), this project's generated
+//! kernels, in one criterion run, on the same 64 sampled configurations per
+//! factor (the seeds of `benches/linearize.rs`: 1 for the point, 2 for the
+//! line).
 //!
 //! Before anything is timed, every wrenfold output is checked against
 //! `linearize_dual()` to 1e-9 relative at all 64 configurations: this
 //! validates both sides' conventions (quaternion order, active rotation, left
-//! perturbation, `[δω, δρ]` column order). A mismatch aborts the run.
+//! perturbation, `[δω, δρ]` column order). Then the generated kernels are
+//! checked against wrenfold's outputs to the same tolerance. A mismatch aborts
+//! the run.
 //!
 //! Inputs are prepared once per configuration in each method's own calling
-//! convention (plain arrays for wrenfold, the factor struct for
-//! `linearize_dual()`, which includes its validation and finiteness checks),
-//! and each iteration takes the next configuration in turn.
+//! convention (plain arrays for wrenfold and the generated kernels, the factor
+//! struct for `linearize_dual()`, which includes its validation and finiteness
+//! checks), and each iteration takes the next configuration in turn.
 
 use std::hint::black_box;
 
@@ -60,6 +64,8 @@ fn main() {
         "  plucker_line_reprojection worst relative error: residual {:.2e}, pose {:.2e}, line {:.2e}",
         line_agreement.residual, line_agreement.pose, line_agreement.other
     );
+    #[cfg(feature = "generated")]
+    generated::check(&points, &lines);
 
     let point_inputs: Vec<_> = points.iter().map(PointInputs::new).collect();
     let line_inputs: Vec<_> = lines.iter().map(PluckerInputs::new).collect();
@@ -85,29 +91,50 @@ fn main() {
 }
 
 // ============================== GENERATED KERNELS ==============================
-// This project's generated kernels, benchmarked beside wrenfold and the dual
-// numbers under `--features generated` (off by default). To be written once the
-// `generated` crate exists (see Cargo.toml): check each kernel against
-// `linearize_dual()` like `check_point` does, then register it in the group as
-// "generated", e.g.
-//
-//     bench_cycle!(group, "generated", inputs, |x| factor_generated::point_reprojection::<f64>(...));
-//
-// with its inputs prepared once per configuration, as for wrenfold.
+// This project's generated kernels (`factor-generated`), benchmarked beside
+// wrenfold and the dual numbers under `--features generated` (`run.sh` enables
+// it). Each is first checked against wrenfold's outputs to 1e-9 relative at all
+// configurations (wrenfold itself having been checked against
+// `linearize_dual()`), then timed as "generated": f64, every block requested
+// (`Some`), inputs as plain arrays prepared once per configuration, outputs
+// returned by value, exactly as the wrenfold side.
 #[cfg(feature = "generated")]
 mod generated {
+    use std::hint::black_box;
+
+    use bench_peers_harness::ours::{self, PluckerArrays, PointArrays};
     use criterion::BenchmarkGroup;
     use criterion::measurement::WallTime;
     use factor_core::factors::{PluckerLineReprojection, PointReprojection};
 
-    pub fn point(_group: &mut BenchmarkGroup<'_, WallTime>, _factors: &[PointReprojection]) {
-        compile_error!("bench the factor_generated point_reprojection kernel here");
+    use super::{CONFIGURATIONS, TOLERANCE};
+
+    /// Generated == wrenfold at every configuration of both factors, or no
+    /// run.
+    pub fn check(points: &[PointReprojection], lines: &[PluckerLineReprojection]) {
+        let point = ours::check_point(points, TOLERANCE).unwrap_or_else(|e| panic!("{e}"));
+        let line = ours::check_plucker(lines, TOLERANCE).unwrap_or_else(|e| panic!("{e}"));
+        println!(
+            "generated kernels check: generated == wrenfold at all {CONFIGURATIONS} \
+             configurations to {TOLERANCE:e} relative"
+        );
+        println!(
+            "  point_reprojection worst relative error: residual {:.2e}, pose {:.2e}, point {:.2e}",
+            point.residual, point.pose, point.other
+        );
+        println!(
+            "  plucker_line_reprojection worst relative error: residual {:.2e}, pose {:.2e}, line {:.2e}",
+            line.residual, line.pose, line.other
+        );
     }
 
-    pub fn plucker(
-        _group: &mut BenchmarkGroup<'_, WallTime>,
-        _factors: &[PluckerLineReprojection],
-    ) {
-        compile_error!("bench the factor_generated plucker_line_reprojection kernel here");
+    pub fn point(group: &mut BenchmarkGroup<'_, WallTime>, factors: &[PointReprojection]) {
+        let inputs: Vec<_> = factors.iter().map(PointArrays::new).collect();
+        bench_cycle!(group, "generated", inputs, |x| x.generated());
+    }
+
+    pub fn plucker(group: &mut BenchmarkGroup<'_, WallTime>, factors: &[PluckerLineReprojection]) {
+        let inputs: Vec<_> = factors.iter().map(PluckerArrays::new).collect();
+        bench_cycle!(group, "generated", inputs, |x| x.generated());
     }
 }

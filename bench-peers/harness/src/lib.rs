@@ -1,5 +1,8 @@
 //! Calls the wrenfold-generated kernels on this project's factor samples and
-//! checks them against [`linearize_dual`](factor_core::factors::PointReprojection::linearize_dual).
+//! checks them against [`linearize_dual`](factor_core::factors::PointReprojection::linearize_dual);
+//! with the feature `generated`, calls this project's generated kernels
+//! (`factor-generated`) the same way and checks them against wrenfold's
+//! ([`ours`]).
 //!
 //! The kernels are `include!`d from `bench-peers/out/wrenfold_generated.rs`,
 //! written by `bench-peers/wrenfold_factors.py` (run `bash bench-peers/run.sh`).
@@ -215,7 +218,13 @@ pub fn check_point(factors: &[PointReprojection], tolerance: f64) -> Result<Agre
             ("pose", relative_error(&pose.matrix(), &dual.pose)),
             ("point", relative_error(&point.matrix(), &dual.point)),
         ];
-        check(i, "point_reprojection", &errors, tolerance)?;
+        check(
+            i,
+            "point_reprojection",
+            ("wrenfold's", "linearize_dual()"),
+            &errors,
+            tolerance,
+        )?;
         agreement.update(errors[0].1, errors[1].1, errors[2].1);
     }
     Ok(agreement)
@@ -244,21 +253,229 @@ pub fn check_plucker(
             ("pose", relative_error(&pose.matrix(), &dual.pose)),
             ("line", relative_error(&line.matrix(), &dual.line)),
         ];
-        check(i, "plucker_line_reprojection", &errors, tolerance)?;
+        check(
+            i,
+            "plucker_line_reprojection",
+            ("wrenfold's", "linearize_dual()"),
+            &errors,
+            tolerance,
+        )?;
         agreement.update(errors[0].1, errors[1].1, errors[2].1);
     }
     Ok(agreement)
 }
 
-fn check(i: usize, factor: &str, errors: &[(&str, f64)], tolerance: f64) -> Result<(), String> {
+/// `Err` naming the first block of `errors` above `tolerance` (or NaN);
+/// `(subject, reference)` say whose block differs from what.
+fn check(
+    i: usize,
+    factor: &str,
+    (subject, reference): (&str, &str),
+    errors: &[(&str, f64)],
+    tolerance: f64,
+) -> Result<(), String> {
     for (block, error) in errors {
         // NaN fails too.
         if error.is_nan() || *error > tolerance {
             return Err(format!(
-                "{factor} configuration {i}: wrenfold's {block} differs from linearize_dual() \
+                "{factor} configuration {i}: {subject} {block} differs from {reference} \
                  by {error:e} relative (tolerance {tolerance:e})"
             ));
         }
     }
     Ok(())
+}
+
+/// This project's generated kernels (`factor-generated`, feature `generated`)
+/// on plain arrays prepared once per configuration, as wrenfold's are, and
+/// their check against wrenfold's outputs.
+#[cfg(feature = "generated")]
+pub mod ours {
+    use factor_core::factors::{PluckerLineReprojection, PointReprojection};
+    use factor_generated::plucker_line_reprojection::plucker_line_reprojection;
+    use factor_generated::point_reprojection::point_reprojection;
+    use nalgebra::SMatrix;
+
+    use super::{Agreement, PluckerInputs, PointInputs, check, relative_error};
+
+    /// The arguments of the generated point-reprojection kernel, in its order
+    /// (the factor's fields in declaration order, each as its stored scalars).
+    #[derive(Debug, Clone, Copy)]
+    pub struct PointArrays {
+        /// `[fu, fv, cu, cv]`.
+        pub intrinsics: [f64; 4],
+        /// Observed pixel.
+        pub observed: [f64; 2],
+        /// `[qx, qy, qz, qw, tx, ty, tz]`.
+        pub pose: [f64; 7],
+        /// World point.
+        pub point: [f64; 3],
+    }
+
+    /// Residual, 2×6 left pose block `[δω, δρ]`, 2×3 point block, row-major.
+    pub type PointArrayOutputs = ([f64; 2], [f64; 12], [f64; 6]);
+
+    impl PointArrays {
+        /// The plain arrays of one factor.
+        pub fn new(f: &PointReprojection) -> Self {
+            let q = f.pose.rotation.quaternion;
+            let (t, p, k) = (f.pose.translation, f.point, f.intrinsics);
+            PointArrays {
+                intrinsics: [k.fu, k.fv, k.cu, k.cv],
+                observed: [f.observed.x, f.observed.y],
+                pose: [q.x, q.y, q.z, q.w, t.x, t.y, t.z],
+                point: [p.x, p.y, p.z],
+            }
+        }
+
+        /// The generated kernel, every block requested.
+        #[inline]
+        pub fn generated(&self) -> PointArrayOutputs {
+            let mut out = PointArrayOutputs::default();
+            point_reprojection::<f64>(
+                &self.intrinsics,
+                &self.observed,
+                &self.pose,
+                &self.point,
+                &mut out.0,
+                Some(&mut out.1),
+                Some(&mut out.2),
+            );
+            out
+        }
+    }
+
+    /// The arguments of the generated Plücker-line kernel, in its order.
+    #[derive(Debug, Clone, Copy)]
+    pub struct PluckerArrays {
+        /// `[fu, fv, cu, cv]`.
+        pub intrinsics: [f64; 4],
+        /// Observed start pixel.
+        pub start: [f64; 2],
+        /// Observed end pixel.
+        pub end: [f64; 2],
+        /// `[qx, qy, qz, qw, tx, ty, tz]`.
+        pub pose: [f64; 7],
+        /// `[n, v]`.
+        pub line: [f64; 6],
+    }
+
+    /// Residual, 2×6 left pose block `[δω, δρ]`, 2×6 block w.r.t. `[n, v]`,
+    /// row-major.
+    pub type PluckerArrayOutputs = ([f64; 2], [f64; 12], [f64; 12]);
+
+    impl PluckerArrays {
+        /// The plain arrays of one factor.
+        pub fn new(f: &PluckerLineReprojection) -> Self {
+            let q = f.pose.rotation.quaternion;
+            let (t, k) = (f.pose.translation, f.intrinsics);
+            let (n, v) = (f.line.normal, f.line.direction);
+            PluckerArrays {
+                intrinsics: [k.fu, k.fv, k.cu, k.cv],
+                start: [f.start.x, f.start.y],
+                end: [f.end.x, f.end.y],
+                pose: [q.x, q.y, q.z, q.w, t.x, t.y, t.z],
+                line: [n.x, n.y, n.z, v.x, v.y, v.z],
+            }
+        }
+
+        /// The generated kernel, every block requested.
+        #[inline]
+        pub fn generated(&self) -> PluckerArrayOutputs {
+            let mut out = PluckerArrayOutputs::default();
+            plucker_line_reprojection::<f64>(
+                &self.intrinsics,
+                &self.start,
+                &self.end,
+                &self.pose,
+                &self.line,
+                &mut out.0,
+                Some(&mut out.1),
+                Some(&mut out.2),
+            );
+            out
+        }
+    }
+
+    /// A row-major `R × C` output as an nalgebra matrix.
+    fn matrix<const R: usize, const C: usize>(entries: &[f64]) -> SMatrix<f64, R, C> {
+        SMatrix::from_row_slice(entries)
+    }
+
+    /// Compares the generated point kernel with wrenfold's at every
+    /// configuration (wrenfold the reference), each on its own inputs.
+    ///
+    /// # Errors
+    ///
+    /// The first configuration and block that differ by more than `tolerance`
+    /// (relative), NaN included.
+    pub fn check_point(factors: &[PointReprojection], tolerance: f64) -> Result<Agreement, String> {
+        let mut agreement = Agreement::default();
+        for (i, f) in factors.iter().enumerate() {
+            let (residual, pose, point) = PointArrays::new(f).generated();
+            let (w_residual, w_pose, w_point) = PointInputs::new(f).wrenfold();
+            let errors = [
+                (
+                    "residual",
+                    relative_error(&matrix::<2, 1>(&residual), &w_residual.matrix()),
+                ),
+                (
+                    "pose",
+                    relative_error(&matrix::<2, 6>(&pose), &w_pose.matrix()),
+                ),
+                (
+                    "point",
+                    relative_error(&matrix::<2, 3>(&point), &w_point.matrix()),
+                ),
+            ];
+            check(
+                i,
+                "point_reprojection",
+                ("the generated kernel's", "wrenfold's"),
+                &errors,
+                tolerance,
+            )?;
+            agreement.update(errors[0].1, errors[1].1, errors[2].1);
+        }
+        Ok(agreement)
+    }
+
+    /// As [`check_point`], for the Plücker-line kernel.
+    ///
+    /// # Errors
+    ///
+    /// As [`check_point`].
+    pub fn check_plucker(
+        factors: &[PluckerLineReprojection],
+        tolerance: f64,
+    ) -> Result<Agreement, String> {
+        let mut agreement = Agreement::default();
+        for (i, f) in factors.iter().enumerate() {
+            let (residual, pose, line) = PluckerArrays::new(f).generated();
+            let (w_residual, w_pose, w_line) = PluckerInputs::new(f).wrenfold();
+            let errors = [
+                (
+                    "residual",
+                    relative_error(&matrix::<2, 1>(&residual), &w_residual.matrix()),
+                ),
+                (
+                    "pose",
+                    relative_error(&matrix::<2, 6>(&pose), &w_pose.matrix()),
+                ),
+                (
+                    "line",
+                    relative_error(&matrix::<2, 6>(&line), &w_line.matrix()),
+                ),
+            ];
+            check(
+                i,
+                "plucker_line_reprojection",
+                ("the generated kernel's", "wrenfold's"),
+                &errors,
+                tolerance,
+            )?;
+            agreement.update(errors[0].1, errors[1].1, errors[2].1);
+        }
+        Ok(agreement)
+    }
 }

@@ -29,6 +29,63 @@
 //! ```
 //!
 //! which builds neither the generated crate nor anything that calls it.
+//!
+//! # Kernels of your own factors
+//!
+//! A build script cannot see the types of the crate it builds, so a crate
+//! defining factors generates their kernels from one of its binaries (or
+//! tests) into a dependency-free crate of its own tree, which it then
+//! depends on through `#[factor(kernel = path)]`, behind a feature so the
+//! generator builds without it. The steps: a [`KernelSpec`] per factor, a
+//! [`Provenance`] naming the command, [`generate_with`], then
+//! [`write_crate`] or [`check_crate`]:
+//!
+//! ```no_run
+//! use factor_core::codegen::{self, KernelSpec, Provenance};
+//! use factor_core::lie::Se3;
+//! use factor_core::{Factor, Scalar, symbolic::trace};
+//! use nalgebra::Vector3;
+//!
+//! #[derive(Clone, Debug, Factor)]
+//! #[factor(residual = offset_residual, dim = 3)]
+//! // with the generated crate: #[cfg_attr(feature = "kernels",
+//! //     factor(kernel = my_kernels::offset::offset))]
+//! pub struct Offset<S: Scalar = f64> {
+//!     pub measured: Vector3<S>,
+//!     #[variable]
+//!     pub pose: Se3<S>,
+//! }
+//!
+//! pub fn offset_residual<S: Scalar>(f: &Offset<S>) -> Vector3<S> {
+//!     f.pose.translation - f.measured
+//! }
+//!
+//! const PROVENANCE: Provenance = Provenance::new(
+//!     "Residual-and-Jacobian kernels of `my-factors`.",
+//!     "cargo run -p my-factors --bin generate-kernels",
+//!     "cargo run -p my-factors --bin generate-kernels -- --check",
+//! );
+//!
+//! let spec = KernelSpec {
+//!     name: <Offset as Factor>::NAME,
+//!     source_type: "my_factors::Offset",
+//!     document: "a translation prior",
+//!     inputs: &[("measured", "[x, y, z]"), ("pose", "[qx, qy, qz, qw, tx, ty, tz]")],
+//!     // Any value: only the type is traced.
+//!     trace: || trace(&Offset { measured: Vector3::zeros(), pose: Se3::identity() }),
+//! };
+//! let modules = vec![codegen::generate_with(&spec, &PROVENANCE)];
+//! let dir = std::path::Path::new("my-kernels"); // the crate; sources go to `src/`
+//! codegen::write_crate(dir, &modules)?;
+//! if let Err(stale) = codegen::check_crate(dir, &modules) {
+//!     panic!("stale: {stale:?}");
+//! }
+//! # Ok::<(), std::io::Error>(())
+//! ```
+//!
+//! `examples/user-factor/` in the workspace is a complete example (crates
+//! `user-factors` and `user-kernels`); the README's "Embedding kernels of
+//! your own factor" gives the commands.
 
 pub mod crate_writer;
 pub mod emit;
@@ -37,5 +94,7 @@ pub mod schedule;
 pub mod spec;
 
 pub use crate_writer::{check_crate, write_crate};
-pub use module::{GeneratedModule, generate, generate_all, generate_module, operation_counts};
-pub use spec::{KernelSpec, document_kernels};
+pub use module::{
+    GeneratedModule, generate, generate_all, generate_module, generate_with, operation_counts,
+};
+pub use spec::{KernelSpec, Provenance, document_kernels};

@@ -2,7 +2,7 @@
 
 use crate::codegen::emit::module_source;
 use crate::codegen::schedule::{lower, schedule};
-use crate::codegen::spec::KernelSpec;
+use crate::codegen::spec::{KernelSpec, Provenance};
 use crate::symbolic::SymbolicKernel;
 use crate::symbolic::lower::OpCounts;
 
@@ -19,6 +19,8 @@ pub struct GeneratedModule {
     pub counts: OpCounts,
     /// Operation counts when every Jacobian argument is `None`.
     pub residual_counts: OpCounts,
+    /// The generator its header names, and the crate's `lib.rs` with it.
+    pub provenance: Provenance,
 }
 
 /// Operation counts of `spec`'s kernel without emitting it: the whole kernel
@@ -33,27 +35,48 @@ pub fn operation_counts(spec: &KernelSpec) -> (OpCounts, OpCounts) {
     )
 }
 
-/// Lowers, schedules, emits and formats `kernel` as described by `spec`.
-pub fn generate_module(kernel: &SymbolicKernel, spec: &KernelSpec) -> GeneratedModule {
+/// Lowers, schedules, emits and formats `kernel` as described by `spec`,
+/// naming `provenance`'s generator.
+pub fn generate_module(
+    kernel: &SymbolicKernel,
+    spec: &KernelSpec,
+    provenance: &Provenance,
+) -> GeneratedModule {
     let blocks: Vec<Vec<_>> = kernel.blocks.iter().map(|b| b.entries.clone()).collect();
     let lowered = lower(&kernel.graph, &kernel.residual, &blocks);
     let schedule = schedule(&lowered);
     GeneratedModule {
         name: spec.name,
         source_type: spec.source_type,
-        source: module_source(kernel, spec, &lowered, &schedule),
+        source: module_source(kernel, spec, provenance, &lowered, &schedule),
         counts: lowered.counts(&lowered.outputs()),
         residual_counts: lowered.counts(&lowered.residual),
+        provenance: *provenance,
     }
 }
 
-/// Traces the factor of `spec` and generates its module.
+/// Traces the factor of `spec` and generates its module for `generated/`
+/// ([`Provenance::SLAMJAC`]).
+///
+/// # Panics
+///
+/// As [`generate_with`].
+pub fn generate(spec: &KernelSpec) -> GeneratedModule {
+    generate_with(spec, &Provenance::SLAMJAC)
+}
+
+/// Traces the factor of `spec` and generates its module for a crate written
+/// by `provenance`'s generator: the entry point for a user's own factors
+/// (see [`crate::codegen`]). Pass the modules of one crate, all with the same
+/// provenance, to [`crate::codegen::write_crate`] or
+/// [`crate::codegen::check_crate`].
 ///
 /// # Panics
 ///
 /// If the traced factor's name is not `spec.name`, or a field has no layout
-/// in `spec.inputs`.
-pub fn generate(spec: &KernelSpec) -> GeneratedModule {
+/// in `spec.inputs`, or a field's name collides with one the kernel uses
+/// (`residual`, `d_<variable>`, `v<n>`, `T`).
+pub fn generate_with(spec: &KernelSpec, provenance: &Provenance) -> GeneratedModule {
     let kernel = (spec.trace)();
     assert_eq!(
         kernel.name, spec.name,
@@ -73,7 +96,7 @@ pub fn generate(spec: &KernelSpec) -> GeneratedModule {
         "{}: one input layout per field",
         spec.name
     );
-    generate_module(&kernel, spec)
+    generate_module(&kernel, spec, provenance)
 }
 
 /// Every document kernel, in [`crate::codegen::document_kernels`] order.

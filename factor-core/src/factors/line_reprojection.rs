@@ -50,21 +50,31 @@ fn projected_line<S: Scalar>(f: &LineReprojection<S>) -> Vector3<S> {
 
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
 pub fn line_reprojection_residual<S: Scalar>(f: &LineReprojection<S>) -> Vector2<S> {
-    endpoint_distances(&projected_line(f), &f.start, &f.end)
+    let camera_line = f.line.to_plucker().transform(&f.pose);
+    endpoint_distances(&f.intrinsics, &camera_line.normal, &f.start, &f.end)
 }
 
-/// The signed distances of two pixels to the image line `l`:
+/// The signed distances of two pixels to the image line `l = 𝒦 n_c`:
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)` with `p = [u, v, 1]`.
+///
+/// Computed as `lᵀ p = n_cᵀ (𝒦ᵀ p)`, the same number: `𝒦ᵀ p =
+/// [f_v (u − c_u), f_u (v − c_v), f_u f_v]` involves only constants, so a
+/// derivative of the residual meets one dot product per endpoint instead of
+/// the product with `𝒦` and then with `p`.
 pub(crate) fn endpoint_distances<S: Scalar>(
-    l: &Vector3<S>,
+    intrinsics: &Intrinsics<S>,
+    n_c: &Vector3<S>,
     start: &Vector2<S>,
     end: &Vector2<S>,
 ) -> Vector2<S> {
-    let inv = (l.x * l.x + l.y * l.y).sqrt().recip();
-    let homogeneous = |p: &Vector2<S>| Vector3::new(p.x, p.y, S::one());
+    let k = intrinsics;
+    let (l1, l2) = (k.fv * n_c.x, k.fu * n_c.y);
+    let inv = (l1 * l1 + l2 * l2).sqrt().recip();
+    let through =
+        |p: &Vector2<S>| Vector3::new(k.fv * (p.x - k.cu), k.fu * (p.y - k.cv), k.fu * k.fv);
     Vector2::new(
-        dot(l, &homogeneous(start)) * inv,
-        dot(l, &homogeneous(end)) * inv,
+        dot(n_c, &through(start)) * inv,
+        dot(n_c, &through(end)) * inv,
     )
 }
 

@@ -6,7 +6,6 @@ use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
 use crate::geometry::InfinitePlane;
 use crate::geometry::plane::transpose_transform;
 use crate::lie::{Quaternion, Se3};
-use crate::linalg::normalized;
 use crate::validation::{exceeds, within};
 use crate::{Factor, FactorError, Scalar};
 
@@ -40,16 +39,18 @@ pub struct PlaneFactor<S: Scalar = f64> {
     pub plane: InfinitePlane<S>,
 }
 
-/// `q(Tᵀ q(π_c)) ⊗ q_w⁻¹`, the error quaternion.
-fn error_quaternion<S: Scalar>(f: &PlaneFactor<S>) -> Quaternion<S> {
-    let y = transpose_transform(&f.pose, &normalized(&f.measured));
-    let phi = Quaternion::from_coords(normalized(&y));
-    phi.mul(&f.plane.quaternion.conjugate())
+/// `Tᵀ π_c ⊗ q_w⁻¹`: the error quaternion `q(Tᵀ q(π_c)) ⊗ q_w⁻¹` up to a
+/// positive scale. Both `q(·)` are positive scalings, and the quaternion
+/// logarithm is homogeneous of degree 0 ([`Quaternion::log`]), so the
+/// residual is the same without them (and cheaper to differentiate).
+fn scaled_error_quaternion<S: Scalar>(f: &PlaneFactor<S>) -> Quaternion<S> {
+    let y = transpose_transform(&f.pose, &f.measured);
+    Quaternion::from_coords(y).mul(&f.plane.quaternion.conjugate())
 }
 
 /// `log(q(Tᵀ q(π_c)) ⊗ q_w⁻¹)`.
 pub fn plane_residual<S: Scalar>(f: &PlaneFactor<S>) -> Vector3<S> {
-    error_quaternion(f).log()
+    scaled_error_quaternion(f).log()
 }
 
 /// Rejects a zero measured plane and the antipodal error quaternion.
@@ -67,7 +68,7 @@ pub fn validate_plane(f: &PlaneFactor<f64>) -> Result<(), FactorError> {
             format!("plane landmark quaternion has norm {landmark}, expected 1"),
         ));
     }
-    let e = error_quaternion(f);
+    let e = scaled_error_quaternion(f).normalized();
     // Only at the antipode itself (angle 2π) has the logarithm no direction;
     // within 1e-9 of it its Jacobian (~2π/|e_v|) is not worth returning.
     if e.w < 0.0 && !exceeds(e.vector().norm(), DEGENERACY_TOLERANCE) {

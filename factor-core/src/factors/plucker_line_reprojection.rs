@@ -54,7 +54,12 @@ fn projected_line<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector3<S> {
 
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
 pub fn plucker_line_residual<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector2<S> {
-    endpoint_distances(&projected_line(f), &f.start, &f.end)
+    endpoint_distances(
+        &f.intrinsics,
+        &f.line.transform(&f.pose).normal,
+        &f.start,
+        &f.end,
+    )
 }
 
 /// Rejects `v = 0`, a line through the optical centre or in the focal plane.

@@ -123,9 +123,13 @@ impl<S: Scalar> Quaternion<S> {
     /// `2 cos⁻¹(w) v / |v|`, equal on unit quaternions): the inverse of
     /// [`Quaternion::exp`] on the whole sphere, `|log q| < 2π`.
     ///
-    /// Near the identity (`|v|² <` [`SMALL_ANGLE_SQUARED`] and `w > 0`) the
-    /// series `2/w (1 − s²/(3w²) + s⁴/(5w⁴)) v`, `s = |v|`, is used. It is the
-    /// expansion of `2 atan(s/w)/s`, which equals `2 atan2(s, w)/s` only for
+    /// Both forms below are homogeneous of degree 0: `log(λ q) = log(q)` for
+    /// every `λ > 0`, so a caller may pass an unnormalised quaternion with a
+    /// positive scale and save the normalisation (the plane factor does).
+    ///
+    /// Near the identity (`r = |v|²/w² <` [`SMALL_ANGLE_SQUARED`] and `w > 0`)
+    /// the series `2/w (1 − r/3 + r²/5) v` is used: the expansion of
+    /// `2 atan(s/w)/s`, `s = |v|`, which equals `2 atan2(s, w)/s` only for
     /// `w > 0`; near `q = −1` (`w < 0`, angle near 2π) the exact form is kept.
     /// At `q = [0, 0, 0, −1]` (angle 2π) the logarithm has no direction: callers
     /// that can meet it reject it first.
@@ -138,8 +142,8 @@ impl<S: Scalar> Quaternion<S> {
             S::from_f64(2.0) / w * (S::one() - r / S::from_f64(3.0) + r * r / S::from_f64(5.0));
         let s = s2.sqrt();
         let exact = S::from_f64(2.0) * s.atan2(w) / s;
-        let near_identity = S::select_lt(S::zero(), w, series, exact);
-        let k = S::select_lt(s2, S::from_f64(SMALL_ANGLE_SQUARED), near_identity, exact);
+        let small = S::select_lt(r, S::from_f64(SMALL_ANGLE_SQUARED), series, exact);
+        let k = S::select_lt(S::zero(), w, small, exact);
         scale(k, &v)
     }
 
