@@ -57,6 +57,10 @@ pub enum CliError {
         .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
     Stale(Vec<PathBuf>),
+    /// `audit`: these formulas disagree with the truth and are not known
+    /// errata (exit 1).
+    #[error("audit: formulas disagree with the truth: {}", .0.join("; "))]
+    Disagreement(Vec<String>),
 }
 
 impl CliError {
@@ -64,7 +68,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Input(_) => EXIT_BAD_INPUT,
-            CliError::Factor(_) | CliError::Stale(_) => EXIT_DEGENERATE,
+            CliError::Factor(_) | CliError::Stale(_) | CliError::Disagreement(_) => EXIT_DEGENERATE,
         }
     }
 

@@ -12,6 +12,7 @@
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
 //!   geometry or non-finite result, 2 rejected input).
 
+pub mod audit;
 pub mod decode;
 pub mod error;
 pub mod eval;

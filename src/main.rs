@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use slamjac::{Method, eval, generate, list, pretty};
+use slamjac::{Method, audit, eval, generate, list, pretty};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -65,6 +65,20 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         dir: Option<PathBuf>,
     },
+    /// Audit the hand-derived formulas of the specification documents
+    /// against the toolchain's derivatives; exit 1 when a formula that is not
+    /// a known erratum disagrees.
+    Audit {
+        /// Sampled points per formula.
+        #[arg(long, default_value_t = 100)]
+        samples: usize,
+        /// Also write a Markdown report here.
+        #[arg(long, value_name = "FILE")]
+        markdown: Option<PathBuf>,
+        /// Also write a JSON report here (one entry per formula).
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -75,6 +89,11 @@ fn main() -> ExitCode {
         Command::List { json: false } => Ok(list::table().trim_end().to_owned()),
         Command::Generate { out } => generate::run_generate(out.as_deref()),
         Command::Check { dir } => generate::run_check(dir.as_deref()),
+        Command::Audit {
+            samples,
+            markdown,
+            json,
+        } => audit::run(samples, markdown.as_deref(), json.as_deref()),
     };
     match output {
         Ok(text) => match writeln!(std::io::stdout().lock(), "{text}") {

@@ -800,3 +800,58 @@ fn check_accepts_the_committed_generated_crate() {
     let output = slamjac(&["check", "--dir", expected.to_str().unwrap()], "");
     assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
 }
+
+/// `audit` prints its table, writes both reports with the verdict
+/// vocabulary of the specification, and exits 0 because every disagreement
+/// found in the documents is recorded as a known erratum.
+#[test]
+fn audit_writes_reports_and_gates_on_unexpected_disagreements() {
+    let dir = std::env::temp_dir().join(format!("slamjac-audit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let (json_path, markdown_path) = (dir.join("audit.json"), dir.join("audit.md"));
+    let output = slamjac(
+        &[
+            "audit",
+            "--samples",
+            "20",
+            "--json",
+            json_path.to_str().unwrap(),
+            "--markdown",
+            markdown_path.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let table = String::from_utf8(output.stdout).expect("UTF-8");
+    assert!(
+        table.contains("(5) ∂ρ/∂ξ") && table.contains("malformed"),
+        "{table}"
+    );
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    let entries = report.as_array().expect("array");
+    assert!(!entries.is_empty());
+    for entry in entries {
+        let verdict = entry["verdict"].as_str().expect("verdict");
+        assert!(
+            ["correct", "convention", "wrong", "malformed"].contains(&verdict),
+            "{verdict}"
+        );
+        for key in [
+            "document",
+            "equation",
+            "claim",
+            "max_relative_error",
+            "convention_note",
+            "corrected_latex",
+        ] {
+            assert!(entry.get(key).is_some(), "missing {key}");
+        }
+    }
+    let markdown = std::fs::read_to_string(&markdown_path).unwrap();
+    assert!(markdown.starts_with("# Derivation audit") && markdown.contains("$$"));
+    let zero = slamjac(&["audit", "--samples", "0"], "");
+    assert_eq!(zero.status.code(), Some(2));
+    assert!(stderr(&zero).contains("--samples"));
+    std::fs::remove_dir_all(&dir).ok();
+}

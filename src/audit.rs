@@ -1,0 +1,73 @@
+//! `slamjac audit`: the documents' hand-derived formulas against the truth.
+
+use std::io::Write;
+use std::path::Path;
+
+use factor_core::audit::{Finding, audit_documents, report};
+use serde_json::{Value, json};
+
+use crate::error::{CliError, InputError};
+
+/// Audits every transcribed formula at `samples` points, prints the table,
+/// writes the optional Markdown and JSON reports, and fails (exit 1) when a
+/// formula that is not a known erratum disagrees with the truth.
+pub fn run(
+    samples: usize,
+    markdown: Option<&Path>,
+    json: Option<&Path>,
+) -> Result<String, CliError> {
+    if samples == 0 {
+        return Err(InputError::new("--samples", "must be at least 1").into());
+    }
+    let findings = audit_documents(samples);
+    let write = |path: &Path, text: String| {
+        std::fs::write(path, text)
+            .map_err(|e| CliError::from(InputError::new(path.display().to_string(), e.to_string())))
+    };
+    if let Some(path) = markdown {
+        write(path, report::markdown(&findings))?;
+    }
+    if let Some(path) = json {
+        write(path, json_report(&findings))?;
+    }
+    let table = report::table(&findings);
+    let unexpected: Vec<String> = findings
+        .iter()
+        .filter(|f| f.is_unexpected())
+        .map(|f| format!("{} {}", f.label.document, f.label.equation))
+        .collect();
+    if unexpected.is_empty() {
+        Ok(format!(
+            "{table}{} formulas audited at {samples} points each",
+            findings.len()
+        ))
+    } else {
+        // The table goes out before the one-line error.
+        let _ = write!(std::io::stdout().lock(), "{table}");
+        Err(CliError::Disagreement(unexpected))
+    }
+}
+
+/// One object per formula: document, equation, claim, verdict (`correct`,
+/// `convention`, `wrong` or `malformed`), max relative error, convention
+/// note, known erratum and corrected LaTeX.
+fn json_report(findings: &[Finding]) -> String {
+    let entries: Vec<Value> = findings
+        .iter()
+        .map(|f| {
+            let note = report::note(f);
+            json!({
+                "document": f.label.document,
+                "equation": f.label.equation,
+                "claim": f.label.claim,
+                "verdict": f.verdict.keyword(),
+                "max_relative_error": f.max_relative_error.filter(|e| e.is_finite()),
+                "convention_note": (!note.is_empty()).then_some(note),
+                "known_erratum": f.label.known_erratum,
+                "corrected_latex": f.corrected_latex,
+                "samples": f.samples,
+            })
+        })
+        .collect();
+    serde_json::to_string_pretty(&entries).expect("serialisable") + "\n"
+}
