@@ -65,6 +65,7 @@ fn json_report(findings: &[Finding]) -> String {
                 "convention_note": (!note.is_empty()).then_some(note),
                 "known_erratum": f.label.known_erratum,
                 "corrected_latex": f.corrected_latex,
+                "chain_localisation": f.localisation,
                 "samples": f.samples,
             })
         })

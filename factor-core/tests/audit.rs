@@ -52,6 +52,15 @@ fn document_000_preliminaries_and_point_factor() {
         assert!(latex.starts_with("\\begin{bmatrix}"), "{latex}");
     }
     assert!(matches!(verdict_of("(4)"), Verdict::Convention(c) if c.contains("swapped")));
+    // The chain rule (5) ∂ρ/∂ξ is localised to its link (4).
+    let composed = findings
+        .iter()
+        .find(|f| f.label.equation == "(5) ∂ρ/∂ξ")
+        .expect("(5)");
+    assert_eq!(
+        composed.localisation.as_deref(),
+        Some("wrong link(s): (4) (convention); right: (2)")
+    );
 }
 
 /// `∂(R p)/∂δ` under `R ← Exp(δ) R` is `−[R p]×`; the derivation below prints

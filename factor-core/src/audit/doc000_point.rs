@@ -517,3 +517,20 @@ pub fn audits() -> Vec<crate::audit::Audit> {
         Audit::of(|s| PointPoseResidualJacobian(PointContext::sample(s))),
     ]
 }
+
+/// The chain rules of §II: (5) combines (2), (3) and (4).
+pub fn chains() -> Vec<crate::audit::chain::Chain> {
+    use crate::audit::chain::Chain;
+    vec![
+        Chain {
+            document: DOCUMENT,
+            composed: "(5) ∂ρ/∂^wP",
+            links: vec!["(2)", "(3)"],
+        },
+        Chain {
+            document: DOCUMENT,
+            composed: "(5) ∂ρ/∂ξ",
+            links: vec!["(2)", "(4)"],
+        },
+    ]
+}

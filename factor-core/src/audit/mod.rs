@@ -11,8 +11,11 @@
 //! [`Derivation`] for a type holding a sampled configuration, and call
 //! [`verdict::audit`] (or [`Audit::of`] to add it to a report).
 
+pub mod chain;
 pub mod derivation;
+pub mod doc000_line_plane;
 pub mod doc000_point;
+pub mod doc001;
 pub mod latex;
 pub mod report;
 pub mod verdict;
@@ -43,14 +46,28 @@ impl Audit {
 
 /// Every transcribed formula of the specification documents.
 pub fn document_audits() -> Vec<Audit> {
-    doc000_point::audits()
+    let mut audits = doc000_point::audits();
+    audits.extend(doc000_line_plane::audits());
+    audits.extend(doc001::audits());
+    audits
 }
 
-/// Audits every formula of the documents at `samples` points each.
+/// The chain rules of the documents, by equation labels.
+pub fn document_chains() -> Vec<chain::Chain> {
+    let mut chains = doc000_point::chains();
+    chains.extend(doc000_line_plane::chains());
+    chains.extend(doc001::chains());
+    chains
+}
+
+/// Audits every formula of the documents at `samples` points each, and
+/// localises the errors of the chain rules.
 pub fn audit_documents(samples: usize) -> Vec<Finding> {
-    document_audits()
+    let mut findings: Vec<Finding> = document_audits()
         .iter()
         .enumerate()
         .map(|(i, a)| a.run(samples, 1000 + i as u64))
-        .collect()
+        .collect();
+    chain::localise(&mut findings, &document_chains());
+    findings
 }

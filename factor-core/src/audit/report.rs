@@ -82,6 +82,9 @@ pub fn markdown(findings: &[Finding]) -> String {
         if let Some(known) = f.label.known_erratum {
             let _ = writeln!(out, "- known erratum: {known}");
         }
+        if let Some(localisation) = &f.localisation {
+            let _ = writeln!(out, "- chain rule: {localisation}");
+        }
         if let Some(latex) = &f.corrected_latex {
             let _ = writeln!(out, "\nCorrect expression:\n\n$$\n{latex}\n$$");
         }

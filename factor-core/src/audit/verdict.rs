@@ -56,6 +56,9 @@ pub struct Finding {
     pub corrected_latex: Option<String>,
     /// Number of sampled points.
     pub samples: usize,
+    /// For a composed formula of a chain rule that is not correct: which
+    /// links are wrong ([`crate::audit::chain::localise`]).
+    pub localisation: Option<String>,
 }
 
 impl Finding {
@@ -149,6 +152,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
                     max_relative_error: None,
                     corrected_latex: Some(corrected_latex(&instances[0])),
                     samples,
+                    localisation: None,
                 };
             }
         };
@@ -197,5 +201,6 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
         max_relative_error: Some(worst),
         corrected_latex,
         samples,
+        localisation: None,
     }
 }
