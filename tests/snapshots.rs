@@ -1,0 +1,127 @@
+//! Snapshot tests (`insta`): the generated Jacobians of every factor at a
+//! fixed configuration beside the documents' formulas where the audit finds
+//! them right, the audit's verdicts, and the generated kernel sources.
+//!
+//! Numbers are printed with 6 significant digits and audit errors bucketed,
+//! so the snapshots are stable across machines. Accept an intended change
+//! with `cargo insta review` (or `INSTA_UPDATE=always cargo test`).
+
+use std::fmt::Write;
+
+use factor_core::audit::{Derivation, Printed, audit_documents, doc000_point};
+use factor_core::codegen;
+use factor_core::testing::samples::Sampler;
+use factor_core::{DynLinearization, Factor};
+use nalgebra::DMatrix;
+
+/// `x` with 6 significant digits; tiny values (rounding noise) print as 0.
+fn number(x: f64) -> String {
+    if x.abs() < 1e-12 {
+        "0".into()
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
+fn matrix(m: &DMatrix<f64>) -> String {
+    let mut out = String::new();
+    for r in 0..m.nrows() {
+        let row: Vec<String> = (0..m.ncols())
+            .map(|c| format!("{:>13}", number(m[(r, c)])))
+            .collect();
+        let _ = writeln!(out, "  [{}]", row.join(", "));
+    }
+    out
+}
+
+fn linearization<F: Factor>(factor: &F) -> String {
+    let lin: DynLinearization = factor
+        .linearize_generated_dyn()
+        .expect("a generated kernel")
+        .expect("a well-conditioned configuration");
+    let mut out = format!(
+        "{}\nresidual: {:?}\n",
+        F::NAME,
+        lin.residual.iter().map(|x| number(*x)).collect::<Vec<_>>()
+    );
+    for (variable, block) in F::variables().iter().zip(&lin.jacobians) {
+        let _ = write!(
+            out,
+            "d/d{} ({}):\n{}",
+            variable.name,
+            variable.tangent,
+            matrix(block)
+        );
+    }
+    out
+}
+
+#[test]
+fn generated_jacobians_at_fixed_configurations() {
+    let mut s = Sampler::new(42);
+    insta::assert_snapshot!("point_reprojection", linearization(&s.point_reprojection()));
+    insta::assert_snapshot!("line_reprojection", linearization(&s.line_reprojection()));
+    insta::assert_snapshot!(
+        "plucker_line_reprojection",
+        linearization(&s.plucker_line_reprojection())
+    );
+    insta::assert_snapshot!("plane", linearization(&s.plane()));
+    insta::assert_snapshot!("free_line", linearization(&s.free_line()));
+}
+
+/// The point block beside document 000 (5), first line, which the audit
+/// finds correct: the two must print the same digits.
+#[test]
+fn point_block_beside_document_000_equation_5() {
+    let factor = Sampler::new(42).point_reprojection();
+    let lin = factor.linearize_generated().expect("valid");
+    let context = doc000_point::PointContext {
+        k: [
+            factor.intrinsics.fu,
+            factor.intrinsics.fv,
+            factor.intrinsics.cu,
+            factor.intrinsics.cv,
+        ],
+        pose: factor.pose,
+        point: factor.point,
+    };
+    let Printed::Evaluated(printed) = doc000_point::PointResidualJacobian(context).printed() else {
+        panic!("(5) is well formed");
+    };
+    let generated = DMatrix::from_column_slice(2, 3, lin.point.as_slice());
+    let text = format!(
+        "generated ∂ρ/∂X:\n{}document 000 (5):\n{}",
+        matrix(&generated),
+        matrix(&printed)
+    );
+    insta::assert_snapshot!("point_block_vs_document_000_5", text);
+}
+
+#[test]
+fn audit_verdicts() {
+    let mut out = String::new();
+    for f in audit_documents(100) {
+        // Agreement is bucketed; a disagreement keeps two significant digits.
+        let error = match f.max_relative_error {
+            None => "—".to_string(),
+            Some(e) if e <= 1e-9 => "≤ 1e-9".to_string(),
+            Some(e) => format!("{e:.1e}"),
+        };
+        let _ = writeln!(
+            out,
+            "{} {}: {} ({error}){}",
+            f.label.document,
+            f.label.equation,
+            f.verdict.keyword(),
+            f.localisation.map(|l| format!("; {l}")).unwrap_or_default()
+        );
+    }
+    insta::assert_snapshot!("audit_verdicts", out);
+}
+
+#[test]
+fn generated_kernel_sources() {
+    for module in codegen::generate_all() {
+        insta::assert_snapshot!(format!("kernel_{}", module.name), module.source);
+    }
+}
