@@ -57,11 +57,24 @@ pub fn corrected_latex<D: Derivation>(d: &D) -> String {
                 .join(" & ")
         })
         .collect();
-    format!(
+    let typeset = format!(
         "\\begin{{bmatrix}} {} \\end{{bmatrix}}",
         rows.join(" \\\\ ")
-    )
+    );
+    if typeset.len() <= MAX_TYPESET_CHARS {
+        typeset
+    } else {
+        format!(
+            "\\text{{the expanded expression has {} characters and is not typeset; it is the \
+             product of the corrected links of its chain rule}}",
+            typeset.len()
+        )
+    }
 }
+
+/// Longest correction typeset in full: a fully expanded chain rule (document
+/// 000 (13) expands to half a megabyte) says nothing a reader can use.
+pub const MAX_TYPESET_CHARS: usize = 16_000;
 
 /// `e` as LaTeX; input `i` is `names[i]`.
 pub fn latex(graph: &Graph, e: Expr, names: &[String]) -> String {
