@@ -18,6 +18,7 @@
 //! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
 //! first; Jacobians are residual rows × tangent columns.
 
+pub mod analytic;
 pub mod audit;
 pub mod codegen;
 pub mod factor;
