@@ -38,6 +38,7 @@ use crate::Real;
 /// The residual of `factor_core::factors::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn free_line<T: Real>(
     extrinsics: &[T; 7],
     bearing_start: &[T; 3],
@@ -114,8 +115,8 @@ pub fn free_line<T: Real>(
     let v63 = body_pose[1] * body_pose[3];
     let v64 = v62 - v63;
     let v65 = v7 + v8;
-    let v66 = v65 - v10;
-    let v67 = v66 - v11;
+    let v66 = v10 + v11;
+    let v67 = v65 - v66;
     let v68 = v40 * v67;
     let v69 = v68 * T::constant(0.5);
     let v70 = v53 - v54;
@@ -158,8 +159,8 @@ pub fn free_line<T: Real>(
     let v107 = v62 + v63;
     let v108 = v44 * v107;
     let v109 = v0 + v1;
-    let v110 = v109 - v3;
-    let v111 = v110 - v4;
+    let v110 = v3 + v4;
+    let v111 = v109 - v110;
     let v112 = v75 * v111;
     let v113 = v106 + v112;
     let v114 = v113 - v108;
@@ -327,8 +328,8 @@ pub fn free_line<T: Real>(
         let v268 = v266 + v267;
         let v269 = v114 * v268;
         let v270 = v269 * T::constant(8.0);
-        let v271 = v254 - v262;
-        let v272 = v271 - v270;
+        let v271 = v262 + v270;
+        let v272 = v254 - v271;
         let v273 = v192 * v272;
         let v274 = v153 * v253;
         let v275 = v168 * v260;
@@ -356,8 +357,8 @@ pub fn free_line<T: Real>(
         let v297 = v294 - v296;
         let v298 = v114 * v297;
         let v299 = T::constant(2.0) * v298;
-        let v300 = v291 - v290;
-        let v301 = v300 - v299;
+        let v300 = v290 + v299;
+        let v301 = v291 - v300;
         let v302 = v192 * v301;
         let v303 = v168 * v288;
         let v304 = T::constant(0.5) * v303;
@@ -380,8 +381,8 @@ pub fn free_line<T: Real>(
         let v321 = v317 + v320;
         let v322 = v114 * v321;
         let v323 = T::constant(2.0) * v322;
-        let v324 = v315 - v314;
-        let v325 = v324 - v323;
+        let v324 = v314 + v323;
+        let v325 = v315 - v324;
         let v326 = v192 * v325;
         let v327 = v168 * v297;
         let v328 = T::constant(0.5) * v327;
@@ -449,8 +450,8 @@ pub fn free_line<T: Real>(
         let v376 = v122 * v153;
         let v377 = v157 * v168;
         let v378 = v171 * v181;
-        let v379 = v376 - v377;
-        let v380 = v379 - v378;
+        let v379 = v377 + v378;
+        let v380 = v376 - v379;
         let v381 = v208 * v380;
         let v382 = v375 - v381;
         let v383 = T::constant(-2.0) * v382;

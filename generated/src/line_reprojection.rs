@@ -38,6 +38,7 @@ use crate::Real;
 /// The residual of `factor_core::factors::LineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn line_reprojection<T: Real>(
     intrinsics: &[T; 4],
     start: &[T; 2],
@@ -103,8 +104,8 @@ pub fn line_reprojection<T: Real>(
     let v52 = v25 + v26;
     let v53 = v6 * v52;
     let v54 = v7 + v8;
-    let v55 = v54 - v10;
-    let v56 = v55 - v11;
+    let v55 = v10 + v11;
+    let v56 = v54 - v55;
     let v57 = v24 * v56;
     let v58 = v53 + v57;
     let v59 = v43 - v44;
@@ -164,8 +165,8 @@ pub fn line_reprojection<T: Real>(
     let v113 = intrinsics[1] * intrinsics[0];
     let v114 = v112 * v113;
     let v115 = T::constant(4.0) * v114;
-    let v116 = v96 - v99;
-    let v117 = v116 - v115;
+    let v116 = v99 + v115;
+    let v117 = v96 - v116;
     let v118 = v94 * v117;
     let v119 = -v118;
     let v120 = intrinsics[2] - end[0];
@@ -516,12 +517,12 @@ pub fn line_reprojection<T: Real>(
         let v436 = pose[5] * v426;
         let v437 = T::constant(0.5) * v436;
         let v438 = line[5] * v109;
-        let v439 = v438 - v435;
-        let v440 = v439 - v437;
+        let v439 = v435 + v437;
+        let v440 = v438 - v439;
         let v441 = v113 * v440;
         let v442 = T::constant(4.0) * v441;
-        let v443 = v425 - v433;
-        let v444 = v443 - v442;
+        let v443 = v433 + v442;
+        let v444 = v425 - v443;
         let v445 = v68 * v424;
         let v446 = v89 * v431;
         let v447 = T::constant(4.0) * v446;

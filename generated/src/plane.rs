@@ -36,6 +36,7 @@ use crate::Real;
 /// The residual of `factor_core::factors::PlaneFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn plane<T: Real>(
     measured: &[T; 4],
     pose: &[T; 7],
@@ -68,8 +69,8 @@ pub fn plane<T: Real>(
     let v21 = measured[1] * pose[5];
     let v22 = measured[2] * pose[6];
     let v23 = measured[3] + v20;
-    let v24 = v21 + v23;
-    let v25 = v22 + v24;
+    let v24 = v21 + v22;
+    let v25 = v23 + v24;
     let v26 = plane[0] * v25;
     let v27 = v2 + v5;
     let v28 = measured[1] * v27;
@@ -86,8 +87,8 @@ pub fn plane<T: Real>(
     let v39 = v19 + v38;
     let v40 = v39 - v26;
     let v41 = v0 + v1;
-    let v42 = v41 - v3;
-    let v43 = v42 - v4;
+    let v42 = v3 + v4;
+    let v43 = v41 - v42;
     let v44 = measured[2] * v43;
     let v45 = v44 * T::constant(0.5);
     let v46 = v31 - v32;
@@ -135,8 +136,8 @@ pub fn plane<T: Real>(
     let v88 = v84 * v87;
     let v89 = v83 * v88;
     let v90 = v89 * T::constant(0.6000000000000001);
-    let v91 = v86 - v90;
-    let v92 = v91 - T::constant(3.0);
+    let v91 = v90 + T::constant(3.0);
+    let v92 = v86 - v91;
     let v93 = v84 * v92;
     let v94 = v93 * T::constant(-0.6666666666666666);
     let v95 = T::sqrt(v83);
@@ -349,8 +350,8 @@ pub fn plane<T: Real>(
         let v287 = measured[0] * v46;
         let v288 = v286 - v287;
         let v289 = plane[2] * v288;
-        let v290 = v280 - v285;
-        let v291 = v290 - v289;
+        let v290 = v285 + v289;
+        let v291 = v280 - v290;
         let v292 = T::constant(2.0) * v291;
         let v293 = v275 + v292;
         let v294 = v107 * v293;
@@ -359,8 +360,8 @@ pub fn plane<T: Real>(
         let v297 = plane[3] * v284;
         let v298 = plane[0] * v288;
         let v299 = plane[2] * v279;
-        let v300 = v297 - v298;
-        let v301 = v300 - v299;
+        let v300 = v298 + v299;
+        let v301 = v297 - v300;
         let v302 = T::constant(2.0) * v301;
         let v303 = v296 + v302;
         let v304 = v80 * v303;
@@ -413,8 +414,8 @@ pub fn plane<T: Real>(
         let v351 = plane[0] * v54;
         let v352 = plane[2] * v70;
         let v353 = plane[1] * v80;
-        let v354 = v351 - v352;
-        let v355 = v354 - v353;
+        let v354 = v352 + v353;
+        let v355 = v351 - v354;
         let v356 = measured[0] * v355;
         let v357 = v171 * v356;
         let v358 = v138 * v349;

@@ -38,6 +38,7 @@ use crate::Real;
 /// The residual of `factor_core::factors::PluckerLineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn plucker_line_reprojection<T: Real>(
     intrinsics: &[T; 4],
     start: &[T; 2],
@@ -78,8 +79,8 @@ pub fn plucker_line_reprojection<T: Real>(
     let v27 = v25 + v26;
     let v28 = line[2] * v27;
     let v29 = v0 + v1;
-    let v30 = v29 - v3;
-    let v31 = v30 - v4;
+    let v30 = v3 + v4;
+    let v31 = v29 - v30;
     let v32 = line[5] * v31;
     let v33 = v32 * T::constant(0.5);
     let v34 = v14 + v15;
@@ -108,8 +109,8 @@ pub fn plucker_line_reprojection<T: Real>(
     let v57 = line[0] * v12;
     let v58 = v16 * line[2];
     let v59 = v39 * pose[4];
-    let v60 = v59 - v57;
-    let v61 = v60 - v58;
+    let v60 = v57 + v58;
+    let v61 = v59 - v60;
     let v62 = T::constant(2.0) * v61;
     let v63 = v56 + v62;
     let v64 = v63 * intrinsics[0];

@@ -37,6 +37,7 @@ use crate::Real;
 /// The residual of `factor_core::factors::PointReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn point_reprojection<T: Real>(
     intrinsics: &[T; 4],
     observed: &[T; 2],
@@ -67,8 +68,8 @@ pub fn point_reprojection<T: Real>(
     let v18 = v17 * T::constant(2.0);
     let v19 = v8 + v18;
     let v20 = v0 + v1;
-    let v21 = v20 - v3;
-    let v22 = v21 - v4;
+    let v21 = v3 + v4;
+    let v22 = v20 - v21;
     let v23 = point[2] * v22;
     let v24 = pose[6] - v23;
     let v25 = pose[1] * pose[2];
@@ -83,8 +84,8 @@ pub fn point_reprojection<T: Real>(
     let v34 = T::constant(1.0) / v33;
     let v35 = intrinsics[0] * v34;
     let v36 = v19 * v35;
-    let v37 = observed[0] - intrinsics[2];
-    let v38 = v37 - v36;
+    let v37 = intrinsics[2] + v36;
+    let v38 = observed[0] - v37;
     let v39 = v2 + v5;
     let v40 = point[1] * v39;
     let v41 = pose[5] - v40;
@@ -97,8 +98,8 @@ pub fn point_reprojection<T: Real>(
     let v48 = v41 + v47;
     let v49 = v34 * intrinsics[1];
     let v50 = v48 * v49;
-    let v51 = observed[1] - intrinsics[3];
-    let v52 = v51 - v50;
+    let v51 = intrinsics[3] + v50;
+    let v52 = observed[1] - v51;
     residual[0] = v38;
     residual[1] = v52;
     let (v53, v54, v55) = if d_pose.is_some() || d_point.is_some() {

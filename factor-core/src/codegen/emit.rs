@@ -428,6 +428,7 @@ pub fn module_source(
 
         #(#[doc = #doc])*
         #unused
+        #[inline]
         pub fn #name<T: Real>(
             #(#fields: &[T; #sizes],)*
             residual: &mut [T; #r],

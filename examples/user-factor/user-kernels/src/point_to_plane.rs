@@ -36,6 +36,7 @@ use crate::Real;
 /// The residual of `user_factors::PointToPlane` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
+#[inline]
 pub fn point_to_plane<T: Real>(
     point: &[T; 3],
     plane_point: &[T; 3],
@@ -85,8 +86,8 @@ pub fn point_to_plane<T: Real>(
     let v38 = T::constant(2.0) * v37;
     let v39 = pose[6] + v38;
     let v40 = v0 + v1;
-    let v41 = v40 - v3;
-    let v42 = v41 - v4;
+    let v41 = v3 + v4;
+    let v42 = v40 - v41;
     let v43 = point[2] * v42;
     let v44 = v43 * T::constant(0.5);
     let v45 = v13 - v14;
