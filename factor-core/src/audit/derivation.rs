@@ -28,6 +28,25 @@ pub struct Label {
     pub known_erratum: Option<&'static str>,
 }
 
+impl Label {
+    /// A label; `known_erratum` is `Some` only once the audit has found it.
+    pub fn new(
+        document: &'static str,
+        equation: &'static str,
+        claim: &'static str,
+        convention: &'static str,
+        known_erratum: Option<&'static str>,
+    ) -> Self {
+        Label {
+            document,
+            equation,
+            claim,
+            convention,
+            known_erratum,
+        }
+    }
+}
+
 /// What a formula claims about its map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Claim {
@@ -85,29 +104,36 @@ pub fn truth<D: Derivation>(d: &D) -> DMatrix<f64> {
         let y = d.map(&d.point(), &parameters);
         return DMatrix::from_column_slice(y.len(), 1, &y);
     }
-    let point = d.point();
     let parameters: Vec<DualSVec64<1>> = d
         .parameters()
         .iter()
         .map(|(_, v)| DualSVec64::from_re(*v))
         .collect();
-    let mut columns = Vec::with_capacity(point.len());
-    for j in 0..point.len() {
-        let x: Vec<DualSVec64<1>> = point
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| {
-                let x = DualSVec64::<1>::from_re(v);
-                if i == j { x.derivative(0) } else { x }
-            })
-            .collect();
-        let y = d.map(&x, &parameters);
-        columns.push(
-            y.iter()
+    dual_jacobian(&d.point(), |x| d.map(x, &parameters))
+}
+
+/// The Jacobian at `point` of `f`, written for dual numbers, one pass per
+/// input: the truth of a derivation, or of a convention it offers.
+pub fn dual_jacobian(
+    point: &[f64],
+    f: impl Fn(&[DualSVec64<1>]) -> Vec<DualSVec64<1>>,
+) -> DMatrix<f64> {
+    let columns: Vec<Vec<f64>> = (0..point.len())
+        .map(|j| {
+            let x: Vec<DualSVec64<1>> = point
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| {
+                    let x = DualSVec64::<1>::from_re(v);
+                    if i == j { x.derivative(0) } else { x }
+                })
+                .collect();
+            f(&x)
+                .iter()
                 .map(|v| v.eps.0.map_or(0.0, |e| e[0]))
-                .collect::<Vec<f64>>(),
-        );
-    }
+                .collect()
+        })
+        .collect();
     let rows = columns.first().map_or(0, Vec::len);
     DMatrix::from_fn(rows, point.len(), |r, c| columns[c][r])
 }

@@ -12,8 +12,10 @@
 use nalgebra::{DMatrix, Matrix2x3, Matrix3, Matrix4, Matrix6, SMatrix, Vector2, Vector3, Vector4};
 use num_dual::DualSVec64;
 
+use crate::audit::derivation::dual_jacobian;
 use crate::audit::derivation::{Derivation, Label, Printed};
 use crate::audit::doc000_point::DOCUMENT;
+use crate::audit::transcription::{matrix, pose_from, pose_parameters, quaternion, vec3};
 use crate::geometry::plane::transpose_transform;
 use crate::geometry::{InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
 use crate::lie::so3::{hat, left_jacobian_inverse, right_jacobian_inverse};
@@ -29,70 +31,7 @@ fn label(
     convention: &'static str,
     erratum: Option<&'static str>,
 ) -> Label {
-    Label {
-        document: DOCUMENT,
-        equation,
-        claim,
-        convention,
-        known_erratum: erratum,
-    }
-}
-
-fn matrix<const R: usize, const C: usize>(m: SMatrix<f64, R, C>) -> DMatrix<f64> {
-    DMatrix::from_column_slice(R, C, m.as_slice())
-}
-
-fn vec3<S: Scalar>(x: &[S]) -> Vector3<S> {
-    Vector3::new(x[0], x[1], x[2])
-}
-
-fn quaternion<S: Scalar>(x: &[S]) -> Quaternion<S> {
-    Quaternion::new(x[0], x[1], x[2], x[3])
-}
-
-/// The pose `[qx, qy, qz, qw, tx, ty, tz]` from parameters.
-fn pose_from<S: Scalar>(p: &[S]) -> Se3<S> {
-    Se3::new(So3::from_quaternion(quaternion(p)), vec3(&p[4..7]))
-}
-
-fn pose_parameters(pose: &Se3<f64>) -> Vec<(&'static str, f64)> {
-    let q = pose.rotation.quaternion;
-    let t = pose.translation;
-    vec![
-        ("q_x", q.x),
-        ("q_y", q.y),
-        ("q_z", q.z),
-        ("q_w", q.w),
-        ("t_x", t.x),
-        ("t_y", t.y),
-        ("t_z", t.z),
-    ]
-}
-
-/// The Jacobian at `point` of a map written for dual numbers, for the truths
-/// of other conventions (one pass per input).
-fn dual_jacobian(
-    point: &[f64],
-    f: impl Fn(&[DualSVec64<1>]) -> Vec<DualSVec64<1>>,
-) -> DMatrix<f64> {
-    let columns: Vec<Vec<f64>> = (0..point.len())
-        .map(|j| {
-            let x: Vec<DualSVec64<1>> = point
-                .iter()
-                .enumerate()
-                .map(|(i, &v)| {
-                    let x = DualSVec64::<1>::from_re(v);
-                    if i == j { x.derivative(0) } else { x }
-                })
-                .collect();
-            f(&x)
-                .iter()
-                .map(|v| v.eps.0.map_or(0.0, |e| e[0]))
-                .collect()
-        })
-        .collect();
-    let rows = columns.first().map_or(0, Vec::len);
-    DMatrix::from_fn(rows, point.len(), |r, c| columns[c][r])
+    Label::new(DOCUMENT, equation, claim, convention, erratum)
 }
 
 // ---------------------------------------------------------------------------

@@ -1,9 +1,10 @@
 //! Document 000 (`000_29653f4af9b68bb8.txt`): the preliminaries of §I and
 //! the point reprojection factor of §II, transcribed as printed.
 
-use nalgebra::{DMatrix, Matrix2x3, Matrix3, SMatrix, Vector3};
+use nalgebra::{DMatrix, Matrix2x3, Matrix3, Vector3};
 
 use crate::audit::derivation::{Claim, Derivation, Label, Printed};
+use crate::audit::transcription::{matrix, pose_from, pose_parameters, vec3};
 use crate::lie::so3::{
     hat, left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse,
 };
@@ -21,49 +22,13 @@ fn label(
     convention: &'static str,
     erratum: Option<&'static str>,
 ) -> Label {
-    Label {
-        document: DOCUMENT,
-        equation,
-        claim,
-        convention,
-        known_erratum: erratum,
-    }
-}
-
-fn matrix<const R: usize, const C: usize>(m: SMatrix<f64, R, C>) -> DMatrix<f64> {
-    DMatrix::from_column_slice(R, C, m.as_slice())
+    Label::new(DOCUMENT, equation, claim, convention, erratum)
 }
 
 /// A rotation vector of angle in `(0.05, 3.0)`.
 fn rotation_vector(s: &mut Sampler) -> Vector3<f64> {
     let axis = s.vector3(1.0).normalize();
     axis * s.uniform(0.05, 3.0)
-}
-
-fn vec3<S: Scalar>(x: &[S]) -> Vector3<S> {
-    Vector3::new(x[0], x[1], x[2])
-}
-
-/// The pose `[qx, qy, qz, qw, tx, ty, tz]` from parameters.
-fn pose_from<S: Scalar>(p: &[S]) -> Se3<S> {
-    Se3::new(
-        So3::from_quaternion(Quaternion::new(p[0], p[1], p[2], p[3])),
-        vec3(&p[4..7]),
-    )
-}
-
-fn pose_parameters(pose: &Se3<f64>) -> Vec<(&'static str, f64)> {
-    let q = pose.rotation.quaternion;
-    let t = pose.translation;
-    vec![
-        ("q_x", q.x),
-        ("q_y", q.y),
-        ("q_z", q.z),
-        ("q_w", q.w),
-        ("t_x", t.x),
-        ("t_y", t.y),
-        ("t_z", t.z),
-    ]
 }
 
 /// §I: `exp(ω) = [½ sinc(θ/2) ω̂, cos(θ/2)]`.

@@ -15,14 +15,15 @@
 //! - line `[q_WL, d_L]`: anchor `p_L = R(q_WL) [0, 0, d_L]`, direction
 //!   `x_L = R(q_WL) [1, 0, 0]`; `v = (p_C − p_L)/‖p_C − p_L‖` (4.7).
 
-use nalgebra::{DMatrix, Matrix3, RowVector3, SMatrix, Vector3};
+use nalgebra::{DMatrix, Matrix3, RowVector3, Vector3};
 
 use crate::audit::derivation::{Claim, Derivation, Label, Printed, truth};
+use crate::audit::transcription::{matrix, pose_from, vec3};
 use crate::factors::FreeLineFactor;
 use crate::factors::free_line::free_line_residual;
 use crate::geometry::{FreeLine, bearing_plane_normal};
 use crate::lie::so3::hat;
-use crate::lie::{Quaternion, Se3, So3};
+use crate::lie::{Quaternion, Se3};
 use crate::linalg::{norm, scale};
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
@@ -37,29 +38,7 @@ fn label(
     convention: &'static str,
     erratum: Option<&'static str>,
 ) -> Label {
-    Label {
-        document: DOCUMENT,
-        equation,
-        claim,
-        convention,
-        known_erratum: erratum,
-    }
-}
-
-fn matrix<const R: usize, const C: usize>(m: SMatrix<f64, R, C>) -> DMatrix<f64> {
-    DMatrix::from_column_slice(R, C, m.as_slice())
-}
-
-fn vec3<S: Scalar>(x: &[S]) -> Vector3<S> {
-    Vector3::new(x[0], x[1], x[2])
-}
-
-/// A pose `[qx, qy, qz, qw, tx, ty, tz]` from parameters.
-fn pose_from<S: Scalar>(p: &[S]) -> Se3<S> {
-    Se3::new(
-        So3::from_quaternion(Quaternion::new(p[0], p[1], p[2], p[3])),
-        vec3(&p[4..7]),
-    )
+    Label::new(DOCUMENT, equation, claim, convention, erratum)
 }
 
 /// A line `[q_WL, d_L]` from parameters `[qx, qy, qz, qw, d]`.

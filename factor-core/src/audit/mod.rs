@@ -18,6 +18,7 @@ pub mod doc000_point;
 pub mod doc001;
 pub mod latex;
 pub mod report;
+pub mod transcription;
 pub mod verdict;
 
 pub use derivation::{Claim, Derivation, Label, Printed, truth};
