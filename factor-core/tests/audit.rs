@@ -320,3 +320,72 @@ fn document_000_line_and_plane_factors() {
         )
     );
 }
+
+/// `∂P/∂ξ` printed with the homogeneous row of `[P; 1]` kept:
+/// `[−⌊P⌋×, I; 0, 0]` (4 × 6), the form document 000 writes on the line
+/// before (4) (there with its column halves swapped as well).
+struct HomogeneousPoseJacobian(factor_core::audit::doc000_point::PointContext);
+
+impl Derivation for HomogeneousPoseJacobian {
+    fn label(&self) -> Label {
+        Label::new(
+            "test",
+            "(4) homogeneous",
+            "∂[P; 1]/∂ξ",
+            "left, [δω, δρ]",
+            None,
+        )
+    }
+    fn point(&self) -> Vec<f64> {
+        vec![0.0; 6]
+    }
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        let q = self.0.pose.rotation.quaternion;
+        let (t, x) = (self.0.pose.translation, self.0.point);
+        vec![
+            ("q_x", q.x),
+            ("q_y", q.y),
+            ("q_z", q.z),
+            ("q_w", q.w),
+            ("t_x", t.x),
+            ("t_y", t.y),
+            ("t_z", t.z),
+            ("x", x.x),
+            ("y", x.y),
+            ("z", x.z),
+        ]
+    }
+    fn input_names(&self) -> Vec<&'static str> {
+        vec!["a", "b", "c", "d", "e", "f"]
+    }
+    fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
+        let pose = factor_core::lie::Se3::new(
+            So3::from_quaternion(factor_core::lie::Quaternion::new(p[0], p[1], p[2], p[3])),
+            Vector3::new(p[4], p[5], p[6]),
+        );
+        pose.retract(x, Perturbation::Left)
+            .transform_point(&Vector3::new(p[7], p[8], p[9]))
+            .as_slice()
+            .to_vec()
+    }
+    fn printed(&self) -> Printed {
+        let p = self.0.pose.transform_point(&self.0.point);
+        let mut m = DMatrix::zeros(4, 6);
+        m.view_mut((0, 0), (3, 3)).copy_from(&(-hat(&p)));
+        m.view_mut((0, 3), (3, 3))
+            .copy_from(&nalgebra::Matrix3::identity());
+        Printed::Evaluated(m)
+    }
+}
+
+#[test]
+fn a_kept_homogeneous_coordinate_is_a_convention() {
+    let sample: fn(&mut Sampler) -> HomogeneousPoseJacobian =
+        |s| HomogeneousPoseJacobian(factor_core::audit::doc000_point::sample_point_context(s));
+    assert_eq!(
+        audit(sample, 50, 9).verdict,
+        Verdict::Convention(
+            "right with the homogeneous coordinate kept (an extra zero last row)".into()
+        )
+    );
+}

@@ -2,7 +2,8 @@
 //!
 //! - `correct`: agrees at every sample (relative Frobenius error ≤ 1e-6);
 //! - `convention`: disagrees, but agrees with the truth under another
-//!   convention the derivation offers, or with its tangent blocks swapped;
+//!   convention the derivation offers (perturbation side, normalisation), with
+//!   its tangent blocks swapped, or with a homogeneous coordinate kept;
 //! - `wrong`: agrees with nothing; the largest error is reported with a
 //!   guess at the erratum (sign, constant factor, transpose, which columns);
 //! - `malformed`: the printed formula cannot be evaluated as printed.
@@ -78,6 +79,16 @@ fn swap_column_halves(m: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     })
 }
 
+/// The printed matrix without a homogeneous coordinate it kept: its last
+/// row, when that row is zero and the truth has one row fewer.
+fn without_homogeneous_row(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let rows = printed.nrows();
+    (rows == truth.nrows() + 1
+        && printed.ncols() == truth.ncols()
+        && printed.row(rows - 1).norm() == 0.0)
+        .then(|| printed.rows(0, rows - 1).into_owned())
+}
+
 fn agree(a: &DMatrix<f64>, b: &DMatrix<f64>) -> bool {
     a.shape() == b.shape() && relative_frobenius_error(a, b, 1e-9) <= TOLERANCE
 }
@@ -141,6 +152,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
     // Conventions that have held at every sample so far (by description).
     let mut conventions: Option<Vec<&'static str>> = None;
     let mut halves_swapped = true;
+    let mut homogeneous = true;
     for d in &instances {
         let t = truth(d);
         let p = match d.printed() {
@@ -179,11 +191,16 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
                 .collect(),
         });
         halves_swapped &= swap_column_halves(&t).is_some_and(|s| agree(&p, &s));
+        homogeneous &= without_homogeneous_row(&p, &t).is_some_and(|q| agree(&q, &t));
     }
     let verdict = if worst <= TOLERANCE {
         Verdict::Correct
     } else if let Some(name) = conventions.unwrap_or_default().first() {
         Verdict::Convention((*name).to_string())
+    } else if homogeneous {
+        Verdict::Convention(
+            "right with the homogeneous coordinate kept (an extra zero last row)".into(),
+        )
     } else if halves_swapped {
         Verdict::Convention(
             "right with the two halves of the tangent swapped (e.g. [δρ, δω] instead of [δω, δρ])"
