@@ -10,7 +10,7 @@
 //! emitting the sets by decreasing size, instructions in program order within
 //! a set, is a topological order.
 
-use crate::symbolic::lower::{Instr, OpCounts, Value};
+use crate::symbolic::lower::{self, Instr, OpCounts, Value};
 
 /// A lowered kernel: the program and the value of every output.
 #[derive(Debug, Clone)]
@@ -33,26 +33,12 @@ impl LoweredKernel {
 
     /// Which instructions `outputs` depend on.
     pub fn live(&self, outputs: &[Value]) -> Vec<bool> {
-        let mut live = vec![false; self.instrs.len()];
-        let mut stack: Vec<Value> = outputs.to_vec();
-        while let Some(v) = stack.pop() {
-            if !std::mem::replace(&mut live[v.0 as usize], true) {
-                stack.extend(self.instrs[v.0 as usize].operands());
-            }
-        }
-        live
+        lower::live(&self.instrs, outputs)
     }
 
-    /// Operation counts of the instructions `outputs` depend on (as
-    /// [`Program::counts`]).
+    /// Operation counts of the instructions `outputs` depend on.
     pub fn counts(&self, outputs: &[Value]) -> OpCounts {
-        let mut counts = OpCounts::default();
-        for (instr, live) in self.instrs.iter().zip(self.live(outputs)) {
-            if live {
-                counts.count(instr);
-            }
-        }
-        counts
+        lower::counts(&self.instrs, outputs)
     }
 }
 

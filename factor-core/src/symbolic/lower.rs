@@ -1,13 +1,11 @@
-//! Lowering of the canonical DAG to straight-line binary instructions.
-//!
-//! Each n-ary sum or product becomes a chain of binary operations; binary
-//! instructions are interned too, so a sub-chain two nodes share is computed
-//! once. Coefficients of ±1 cost nothing (an add becomes a subtract), and a
-//! negative power `x⁻ᵏ` is a power of the one shared reciprocal `1/x`.
+//! Straight-line binary instructions: what the canonical DAG is compiled to
+//! ([`crate::symbolic::optimize`]), what the emitter prints, and what
+//! operation counts are taken on. Instructions are interned, so an
+//! instruction two users share is computed once.
 
 use std::collections::HashMap;
 
-use crate::symbolic::graph::{Expr, Graph, Node, Real};
+use crate::symbolic::graph::Real;
 
 /// An SSA value: the index of the instruction that computes it.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
@@ -115,13 +113,12 @@ impl OpCounts {
     }
 }
 
-/// A straight-line program being built from DAG nodes.
+/// A straight-line program, built by [`crate::symbolic::optimize::compile`].
 #[derive(Default)]
 pub struct Program {
     /// Instructions; operands always precede their users.
     pub instrs: Vec<Instr>,
     interned: HashMap<Instr, Value>,
-    lowered: HashMap<Expr, Value>,
 }
 
 impl Program {
@@ -141,206 +138,31 @@ impl Program {
         v
     }
 
-    fn constant(&mut self, c: f64) -> Value {
-        self.push(Instr::Const(Real::new(c)))
-    }
-
-    /// The value of `e`, lowering what is not lowered yet.
-    pub fn lower(&mut self, graph: &Graph, e: Expr) -> Value {
-        if let Some(&v) = self.lowered.get(&e) {
-            return v;
-        }
-        let v = match graph.node(e).clone() {
-            Node::Const(c) => self.push(Instr::Const(c)),
-            Node::Input(i) => self.push(Instr::Input(i)),
-            Node::Add { constant, terms } => self.lower_sum(graph, constant.get(), &terms),
-            Node::Mul {
-                coefficient,
-                factors,
-            } => self.lower_product(graph, coefficient.get(), &factors),
-            Node::Sqrt(x) => {
-                let x = self.lower(graph, x);
-                self.push(Instr::Sqrt(x))
-            }
-            Node::Sin(x) => {
-                let x = self.lower(graph, x);
-                self.push(Instr::Sin(x))
-            }
-            Node::Cos(x) => {
-                let x = self.lower(graph, x);
-                self.push(Instr::Cos(x))
-            }
-            Node::Atan2(y, x) => {
-                let (y, x) = (self.lower(graph, y), self.lower(graph, x));
-                self.push(Instr::Atan2(y, x))
-            }
-            Node::Select {
-                lhs,
-                rhs,
-                if_less,
-                otherwise,
-            } => {
-                let (lhs, rhs) = (self.lower(graph, lhs), self.lower(graph, rhs));
-                let (if_less, otherwise) =
-                    (self.lower(graph, if_less), self.lower(graph, otherwise));
-                self.push(Instr::Select {
-                    lhs,
-                    rhs,
-                    if_less,
-                    otherwise,
-                })
-            }
-        };
-        self.lowered.insert(e, v);
-        v
-    }
-
-    /// `|c| · t`, free when `|c| = 1`.
-    fn scaled(&mut self, graph: &Graph, term: Expr, c: f64) -> Value {
-        let t = self.lower(graph, term);
-        if c.abs() == 1.0 {
-            t
-        } else {
-            let c = self.constant(c.abs());
-            self.push(Instr::Mul(c, t))
-        }
-    }
-
-    fn lower_sum(&mut self, graph: &Graph, constant: f64, terms: &[(Expr, Real)]) -> Value {
-        let mut acc: Option<Value> = None;
-        for &(t, c) in terms.iter().filter(|(_, c)| c.get() > 0.0) {
-            let term = self.scaled(graph, t, c.get());
-            acc = Some(match acc {
-                Some(a) => self.push(Instr::Add(a, term)),
-                None => term,
-            });
-        }
-        if constant != 0.0 {
-            let k = self.constant(constant);
-            acc = Some(match acc {
-                Some(a) => self.push(Instr::Add(a, k)),
-                None => k,
-            });
-        }
-        let mut negatives: Option<Value> = None;
-        for &(t, c) in terms.iter().filter(|(_, c)| c.get() < 0.0) {
-            let term = self.scaled(graph, t, c.get());
-            match acc {
-                Some(a) => acc = Some(self.push(Instr::Sub(a, term))),
-                None => {
-                    negatives = Some(match negatives {
-                        Some(n) => self.push(Instr::Add(n, term)),
-                        None => term,
-                    })
-                }
-            }
-        }
-        match (acc, negatives) {
-            (Some(a), None) => a,
-            (None, Some(n)) => self.push(Instr::Neg(n)),
-            _ => unreachable!("a canonical sum has at least one term"),
-        }
-    }
-
-    /// `b^k` for `k ≥ 1` by repeated squaring.
-    fn power(&mut self, b: Value, k: u32) -> Value {
-        if k == 1 {
-            return b;
-        }
-        let half = self.power(b, k / 2);
-        let square = self.push(Instr::Mul(half, half));
-        if k % 2 == 1 {
-            self.push(Instr::Mul(square, b))
-        } else {
-            square
-        }
-    }
-
-    fn product_of(
-        &mut self,
-        graph: &Graph,
-        factors: impl Iterator<Item = (Expr, u32)>,
-    ) -> Option<Value> {
-        let mut acc: Option<Value> = None;
-        for (b, k) in factors {
-            let b = self.lower(graph, b);
-            let p = self.power(b, k);
-            acc = Some(match acc {
-                Some(a) => self.push(Instr::Mul(a, p)),
-                None => p,
-            });
-        }
-        acc
-    }
-
-    /// `1 / x`, one division shared by every product that divides by `x`.
-    fn reciprocal(&mut self, graph: &Graph, x: Expr) -> Value {
-        let one = self.constant(1.0);
-        let x = self.lower(graph, x);
-        self.push(Instr::Div(one, x))
-    }
-
-    fn lower_product(&mut self, graph: &Graph, coefficient: f64, factors: &[(Expr, i32)]) -> Value {
-        let numerator = self.product_of(
-            graph,
-            factors
-                .iter()
-                .filter(|(_, k)| *k > 0)
-                .map(|(b, k)| (*b, k.unsigned_abs())),
-        );
-        let mut denominator: Option<Value> = None;
-        for &(b, k) in factors.iter().filter(|(_, k)| *k < 0) {
-            let r = self.reciprocal(graph, b);
-            let p = self.power(r, k.unsigned_abs());
-            denominator = Some(match denominator {
-                Some(d) => self.push(Instr::Mul(d, p)),
-                None => p,
-            });
-        }
-        // `denominator` holds reciprocals: multiply, never divide again.
-        let magnitude = coefficient.abs();
-        let value = match (numerator, denominator) {
-            (Some(n), d) => {
-                let n = if magnitude == 1.0 {
-                    n
-                } else {
-                    let c = self.constant(magnitude);
-                    self.push(Instr::Mul(c, n))
-                };
-                match d {
-                    Some(d) => self.push(Instr::Mul(n, d)),
-                    None => n,
-                }
-            }
-            (None, Some(d)) if magnitude == 1.0 => d,
-            (None, Some(d)) => {
-                let c = self.constant(magnitude);
-                self.push(Instr::Mul(c, d))
-            }
-            (None, None) => unreachable!("a canonical product has a factor"),
-        };
-        if coefficient < 0.0 {
-            self.push(Instr::Neg(value))
-        } else {
-            value
-        }
-    }
-
     /// Operation counts of the instructions `outputs` depend on.
     pub fn counts(&self, outputs: &[Value]) -> OpCounts {
-        let mut live = vec![false; self.instrs.len()];
-        let mut stack: Vec<Value> = outputs.to_vec();
-        while let Some(v) = stack.pop() {
-            if !std::mem::replace(&mut live[v.0 as usize], true) {
-                stack.extend(self.instrs[v.0 as usize].operands());
-            }
-        }
-        let mut counts = OpCounts::default();
-        for (instr, _) in self.instrs.iter().zip(&live).filter(|(_, l)| **l) {
-            counts.count(instr);
-        }
-        counts
+        counts(&self.instrs, outputs)
     }
+}
+
+/// Which of `instrs` the `outputs` depend on.
+pub fn live(instrs: &[Instr], outputs: &[Value]) -> Vec<bool> {
+    let mut live = vec![false; instrs.len()];
+    let mut stack: Vec<Value> = outputs.to_vec();
+    while let Some(v) = stack.pop() {
+        if !std::mem::replace(&mut live[v.0 as usize], true) {
+            stack.extend(instrs[v.0 as usize].operands());
+        }
+    }
+    live
+}
+
+/// Operation counts of the instructions of `instrs` that `outputs` depend on.
+pub fn counts(instrs: &[Instr], outputs: &[Value]) -> OpCounts {
+    let mut counts = OpCounts::default();
+    for (instr, _) in instrs.iter().zip(live(instrs, outputs)).filter(|(_, l)| *l) {
+        counts.count(instr);
+    }
+    counts
 }
 
 impl Program {
