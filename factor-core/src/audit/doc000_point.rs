@@ -5,6 +5,7 @@ use nalgebra::{DMatrix, Matrix2x3, Matrix3, Vector3};
 
 use crate::audit::derivation::{Claim, Derivation, Label, Printed};
 use crate::audit::transcription::{matrix, pose_from, pose_parameters, vec3};
+use crate::geometry::Intrinsics;
 use crate::lie::so3::{
     hat, left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse,
 };
@@ -259,8 +260,10 @@ impl PointContext {
 
 /// The pinhole projection `[f_u X/Z + c_u, f_v Y/Z + c_v]` with `K = p[0..4]`.
 fn project<S: Scalar>(k: &[S], p: &Vector3<S>) -> Vec<S> {
-    let inv = p.z.recip();
-    vec![k[0] * p.x * inv + k[2], k[1] * p.y * inv + k[3]]
+    Intrinsics::new(k[0], k[1], k[2], k[3])
+        .project(p)
+        .as_slice()
+        .to_vec()
 }
 
 /// (2): `∂p'/∂(P_x, P_y, P_z) = [f_u 0 c_u; 0 f_v c_v] · [[1/P_z, 0, −P_x/P_z²], …, [0, 0, 0]]`.

@@ -3,7 +3,7 @@
 use nalgebra::{Vector2, Vector3};
 
 use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
-use crate::geometry::{Intrinsics, OrthonormalLine};
+use crate::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
 use crate::lie::Se3;
 use crate::linalg::dot;
 use crate::validation::exceeds;
@@ -42,12 +42,6 @@ pub struct LineReprojection<S: Scalar = f64> {
     pub line: OrthonormalLine<S>,
 }
 
-/// The projected image line `l = 𝒦 n_c`.
-fn projected_line<S: Scalar>(f: &LineReprojection<S>) -> Vector3<S> {
-    let camera_line = f.line.to_plucker().transform(&f.pose);
-    f.intrinsics.project_line(&camera_line.normal)
-}
-
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
 pub fn line_reprojection_residual<S: Scalar>(f: &LineReprojection<S>) -> Vector2<S> {
     let camera_line = f.line.to_plucker().transform(&f.pose);
@@ -81,20 +75,31 @@ pub(crate) fn endpoint_distances<S: Scalar>(
 /// Rejects a line through the optical centre or in the focal plane.
 pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), FactorError> {
     let camera_line = f.line.to_plucker().transform(&f.pose);
+    validate_camera_line(LineReprojection::NAME, &f.intrinsics, &camera_line)
+}
+
+/// Rejects a camera-frame line that passes through the optical centre
+/// (`n_c = 0`: it projects to a point) or lies in the focal plane
+/// (`l₁ = l₂ = 0` for `l = 𝒦 n_c`: it projects to the line at infinity).
+pub(crate) fn validate_camera_line(
+    factor: &'static str,
+    intrinsics: &Intrinsics<f64>,
+    camera_line: &PluckerLine<f64>,
+) -> Result<(), FactorError> {
     let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
     if !exceeds(n, DEGENERACY_TOLERANCE * v) {
         return Err(degenerate(
-            LineReprojection::NAME,
+            factor,
             format!(
                 "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
                 n / v
             ),
         ));
     }
-    let l = projected_line(f);
+    let l = intrinsics.project_line(&camera_line.normal);
     if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
         return Err(degenerate(
-            LineReprojection::NAME,
+            factor,
             "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
         ));
     }

@@ -2,10 +2,10 @@
 //! (6)–(8) without the orthonormal parametrisation: the form peer generators
 //! are compared on.
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector2;
 
-use crate::factors::line_reprojection::endpoint_distances;
-use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
+use crate::factors::degenerate;
+use crate::factors::line_reprojection::{endpoint_distances, validate_camera_line};
 use crate::geometry::{Intrinsics, PluckerLine};
 use crate::lie::Se3;
 use crate::validation::exceeds;
@@ -48,10 +48,6 @@ pub struct PluckerLineReprojection<S: Scalar = f64> {
     pub line: PluckerLine<S>,
 }
 
-fn projected_line<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector3<S> {
-    f.intrinsics.project_line(&f.line.transform(&f.pose).normal)
-}
-
 /// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
 pub fn plucker_line_residual<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vector2<S> {
     endpoint_distances(
@@ -70,23 +66,9 @@ pub fn validate_plucker_line(f: &PluckerLineReprojection<f64>) -> Result<(), Fac
             "line direction v has zero norm".into(),
         ));
     }
-    let camera_line = f.line.transform(&f.pose);
-    let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
-    if !exceeds(n, DEGENERACY_TOLERANCE * v) {
-        return Err(degenerate(
-            PluckerLineReprojection::NAME,
-            format!(
-                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
-                n / v
-            ),
-        ));
-    }
-    let l = projected_line(f);
-    if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
-        return Err(degenerate(
-            PluckerLineReprojection::NAME,
-            "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
-        ));
-    }
-    Ok(())
+    validate_camera_line(
+        PluckerLineReprojection::NAME,
+        &f.intrinsics,
+        &f.line.transform(&f.pose),
+    )
 }
