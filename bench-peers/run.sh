@@ -21,7 +21,8 @@
 # a peer generates is committed. Environment: PYTHON (default python3.11),
 # WRENFOLD_VERSION (0.5.3), SYMFORCE_VERSION (0.12.0), SKIP_SYMFORCE=1,
 # FRESH=1 (recreate the virtualenvs), GENERATED=0 (leave this project's
-# generated kernels out of the criterion run).
+# generated kernels out of the criterion run and skip the A/B run), AB_ROUNDS
+# (rounds of the A/B run, default 61).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -64,6 +65,10 @@ cargo run -q --release --manifest-path "$manifest" --bin dump_samples -- "$out/s
 features=(--features generated)
 if [[ "${GENERATED:-1}" == 0 ]]; then features=(); fi
 cargo bench --manifest-path "$manifest" "${features[@]}" --bench peers -- "$@"
+if [[ "${GENERATED:-1}" != 0 ]]; then
+    echo "== A/B-alternated ratios (harness/src/bin/ab.rs) =="
+    cargo run -q --release --manifest-path "$manifest" --features generated --bin ab -- "${AB_ROUNDS:-61}"
+fi
 
 if [[ "${SKIP_SYMFORCE:-0}" == 1 ]]; then
     echo '{"skipped": "SKIP_SYMFORCE=1"}' >"$out/symforce_counts.json"

@@ -14,11 +14,11 @@
 //!
 //! | kernel | factor | operations | residual only |
 //! | --- | --- | --- | --- |
-//! | [`point_reprojection`](point_reprojection::point_reprojection) | `factor_core::factors::PointReprojection` | 95 | 53 |
-//! | [`line_reprojection`](line_reprojection::line_reprojection) | `factor_core::factors::LineReprojection` | 493 | 130 |
-//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `factor_core::factors::PluckerLineReprojection` | 378 | 100 |
-//! | [`plane`](plane::plane) | `factor_core::factors::PlaneFactor` | 545 | 107 |
-//! | [`free_line`](free_line::free_line) | `factor_core::factors::FreeLineFactor` | 384 | 195 |
+//! | [`point_reprojection`](point_reprojection::point_reprojection) | `factor_core::factors::PointReprojection` | 96 | 54 |
+//! | [`line_reprojection`](line_reprojection::line_reprojection) | `factor_core::factors::LineReprojection` | 393 | 128 |
+//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `factor_core::factors::PluckerLineReprojection` | 271 | 102 |
+//! | [`plane`](plane::plane) | `factor_core::factors::PlaneFactor` | 447 | 107 |
+//! | [`free_line`](free_line::free_line) | `factor_core::factors::FreeLineFactor` | 322 | 192 |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

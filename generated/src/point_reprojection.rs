@@ -21,14 +21,16 @@
 //!
 //! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; poses of document 000 map world to camera (`X_c = R X_w + t`); pose tangents `[δω, δρ]`, rotation first; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
 //!
+//! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
+//!
 //! # Operation counts
 //!
 //! Every arithmetic instruction counts one (inputs and literals are free); `trig` is `sin`, `cos` and `atan2`, `branch` a `select_lt`.
 //!
 //! | outputs | add | mul | div | neg | sqrt | trig | branch | total |
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
-//! | all | 34 | 55 | 1 | 5 | 0 | 0 | 0 | 95 |
-//! | residual only | 26 | 26 | 1 | 0 | 0 | 0 | 0 | 53 |
+//! | all | 34 | 54 | 1 | 7 | 0 | 0 | 0 | 96 |
+//! | residual only | 26 | 27 | 1 | 0 | 0 | 0 | 0 | 54 |
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
@@ -55,120 +57,121 @@ pub fn point_reprojection<T: Real>(
     let v5 = v3 - v4;
     let v6 = v2 - v5;
     let v7 = point[0] * v6;
-    let v8 = pose[4] + v7;
-    let v9 = pose[0] * pose[1];
-    let v10 = pose[2] * pose[3];
-    let v11 = v9 - v10;
-    let v12 = point[1] * v11;
-    let v13 = pose[0] * pose[2];
-    let v14 = pose[1] * pose[3];
-    let v15 = v13 + v14;
-    let v16 = point[2] * v15;
-    let v17 = v12 + v16;
-    let v18 = v17 * T::constant(2.0);
-    let v19 = v8 + v18;
-    let v20 = v0 + v1;
-    let v21 = v3 + v4;
-    let v22 = v20 - v21;
-    let v23 = point[2] * v22;
-    let v24 = pose[6] - v23;
-    let v25 = pose[1] * pose[2];
-    let v26 = pose[0] * pose[3];
-    let v27 = v25 + v26;
-    let v28 = point[1] * v27;
-    let v29 = v13 - v14;
-    let v30 = point[0] * v29;
-    let v31 = v28 + v30;
-    let v32 = T::constant(2.0) * v31;
-    let v33 = v24 + v32;
-    let v34 = T::constant(1.0) / v33;
-    let v35 = intrinsics[0] * v34;
-    let v36 = v19 * v35;
-    let v37 = intrinsics[2] + v36;
-    let v38 = observed[0] - v37;
-    let v39 = v2 + v5;
-    let v40 = point[1] * v39;
-    let v41 = pose[5] - v40;
-    let v42 = v9 + v10;
-    let v43 = point[0] * v42;
-    let v44 = v25 - v26;
-    let v45 = point[2] * v44;
-    let v46 = v43 + v45;
-    let v47 = T::constant(2.0) * v46;
-    let v48 = v41 + v47;
-    let v49 = v34 * intrinsics[1];
-    let v50 = v48 * v49;
-    let v51 = intrinsics[3] + v50;
-    let v52 = observed[1] - v51;
-    residual[0] = v38;
-    residual[1] = v52;
-    let (v53, v54, v55) = if d_pose.is_some() || d_point.is_some() {
-        let v53 = v19 * v34;
-        let v54 = v35 * v53;
-        let v55 = v34 * v50;
-        (v53, v54, v55)
+    let v8 = pose[0] * pose[1];
+    let v9 = pose[2] * pose[3];
+    let v10 = v8 - v9;
+    let v11 = point[1] * T::constant(2.0);
+    let v12 = pose[0] * pose[2];
+    let v13 = pose[1] * pose[3];
+    let v14 = v12 + v13;
+    let v15 = T::constant(2.0) * point[2];
+    let v16 = point[1] * v10;
+    let v17 = point[2] * v14;
+    let v18 = v16 + v17;
+    let v19 = T::constant(2.0) * v18;
+    let v20 = pose[4] + v7;
+    let v21 = v19 + v20;
+    let v22 = v0 + v1;
+    let v23 = v3 + v4;
+    let v24 = v22 - v23;
+    let v25 = point[2] * v24;
+    let v26 = pose[1] * pose[2];
+    let v27 = pose[0] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v11 * v28;
+    let v30 = v12 - v13;
+    let v31 = point[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = v29 + v32;
+    let v34 = pose[6] - v25;
+    let v35 = v33 + v34;
+    let v36 = T::constant(1.0) / v35;
+    let v37 = intrinsics[0] * v36;
+    let v38 = v21 * v37;
+    let v39 = observed[0] - intrinsics[2];
+    let v40 = v39 - v38;
+    let v41 = v2 + v5;
+    let v42 = point[1] * v41;
+    let v43 = v8 + v9;
+    let v44 = v31 * v43;
+    let v45 = v26 - v27;
+    let v46 = v15 * v45;
+    let v47 = v44 + v46;
+    let v48 = pose[5] - v42;
+    let v49 = v47 + v48;
+    let v50 = v36 * intrinsics[1];
+    let v51 = v49 * v50;
+    let v52 = observed[1] - intrinsics[3];
+    let v53 = v52 - v51;
+    residual[0] = v40;
+    residual[1] = v53;
+    let (v54, v55, v56) = if d_pose.is_some() || d_point.is_some() {
+        let v54 = v21 * v36;
+        let v55 = v37 * v54;
+        let v56 = v36 * v51;
+        (v54, v55, v56)
     } else {
         (T::constant(0.0), T::constant(0.0), T::constant(0.0))
     };
     if let Some(d_pose) = d_pose {
-        let v56 = v48 * v54;
-        let v57 = v19 * v54;
-        let v58 = intrinsics[0] + v57;
-        let v59 = -v58;
-        let v60 = v35 * v48;
-        let v61 = -v35;
-        let v62 = v48 * v55;
-        let v63 = intrinsics[1] + v62;
-        let v64 = v50 * v53;
-        let v65 = -v64;
-        let v66 = v19 * v49;
-        let v67 = -v66;
-        let v68 = -v49;
-        d_pose[0] = v56;
-        d_pose[1] = v59;
-        d_pose[2] = v60;
-        d_pose[3] = v61;
+        let v57 = v49 * v55;
+        let v58 = v21 * v55;
+        let v59 = intrinsics[0] + v58;
+        let v60 = -v59;
+        let v61 = v37 * v49;
+        let v62 = -v37;
+        let v63 = v49 * v56;
+        let v64 = intrinsics[1] + v63;
+        let v65 = v51 * v54;
+        let v66 = -v65;
+        let v67 = v21 * v50;
+        let v68 = -v67;
+        let v69 = -v50;
+        d_pose[0] = v57;
+        d_pose[1] = v60;
+        d_pose[2] = v61;
+        d_pose[3] = v62;
         d_pose[4] = T::constant(0.0);
-        d_pose[5] = v54;
-        d_pose[6] = v63;
-        d_pose[7] = v65;
-        d_pose[8] = v67;
+        d_pose[5] = v55;
+        d_pose[6] = v64;
+        d_pose[7] = v66;
+        d_pose[8] = v68;
         d_pose[9] = T::constant(0.0);
-        d_pose[10] = v68;
-        d_pose[11] = v55;
+        d_pose[10] = v69;
+        d_pose[11] = v56;
     }
     if let Some(d_point) = d_point {
-        let v69 = v6 * v35;
-        let v70 = v29 * v54;
-        let v71 = T::constant(2.0) * v70;
-        let v72 = v71 - v69;
-        let v73 = v11 * v35;
-        let v74 = v27 * v54;
-        let v75 = v73 - v74;
-        let v76 = v75 * T::constant(-2.0);
-        let v77 = v22 * v54;
-        let v78 = v77 * T::constant(0.5);
-        let v79 = v15 * v35;
-        let v80 = v78 + v79;
-        let v81 = T::constant(-2.0) * v80;
-        let v82 = v42 * v49;
-        let v83 = v29 * v55;
-        let v84 = v82 - v83;
-        let v85 = T::constant(-2.0) * v84;
-        let v86 = v39 * v49;
-        let v87 = v27 * v55;
-        let v88 = T::constant(2.0) * v87;
-        let v89 = v86 + v88;
-        let v90 = v22 * v55;
-        let v91 = T::constant(0.5) * v90;
-        let v92 = v44 * v49;
-        let v93 = v91 + v92;
-        let v94 = T::constant(-2.0) * v93;
-        d_point[0] = v72;
-        d_point[1] = v76;
-        d_point[2] = v81;
-        d_point[3] = v85;
-        d_point[4] = v89;
-        d_point[5] = v94;
+        let v70 = v6 * v37;
+        let v71 = T::constant(2.0) * v30;
+        let v72 = v55 * v71;
+        let v73 = v72 - v70;
+        let v74 = T::constant(2.0) * v28;
+        let v75 = v10 * v37;
+        let v76 = v28 * v55;
+        let v77 = v76 - v75;
+        let v78 = T::constant(2.0) * v77;
+        let v79 = v24 * v55;
+        let v80 = T::constant(2.0) * v14;
+        let v81 = v37 * v80;
+        let v82 = v79 + v81;
+        let v83 = -v82;
+        let v84 = T::constant(2.0) * v43;
+        let v85 = v50 * v84;
+        let v86 = v56 * v71;
+        let v87 = v86 - v85;
+        let v88 = v41 * v50;
+        let v89 = v56 * v74;
+        let v90 = v88 + v89;
+        let v91 = v24 * v56;
+        let v92 = T::constant(2.0) * v45;
+        let v93 = v50 * v92;
+        let v94 = v91 + v93;
+        let v95 = -v94;
+        d_point[0] = v73;
+        d_point[1] = v78;
+        d_point[2] = v83;
+        d_point[3] = v87;
+        d_point[4] = v90;
+        d_point[5] = v95;
     }
 }

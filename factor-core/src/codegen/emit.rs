@@ -17,8 +17,8 @@ use quote::{format_ident, quote};
 
 use crate::codegen::schedule::{Group, LoweredKernel, Schedule};
 use crate::codegen::spec::{KernelSpec, Provenance};
-use crate::symbolic::SymbolicKernel;
 use crate::symbolic::lower::{Instr, OpCounts, Value};
+use crate::symbolic::{JacobianForm, SymbolicKernel};
 
 /// Lints the generated code trips by construction: one argument per field,
 /// literals such as `3.141592653589793` that are not meant as `π`, and a
@@ -339,6 +339,17 @@ fn header(
     lines.extend([
         String::new(),
         provenance.conventions.to_string(),
+        String::new(),
+        match kernel.jacobian_form {
+            JacobianForm::Direct => "Jacobian entries: each differentiated as a whole (no chain \
+                                     rule through an intermediate was cheaper)."
+                .to_string(),
+            JacobianForm::Chained { width } => format!(
+                "Jacobian entries: by the chain rule through {width} intermediate values that \
+                 every path from the tangents to the residual crosses, `∂r/∂δ = ∂r/∂c · ∂c/∂δ` \
+                 (the cheapest of the candidate cuts and the direct form)."
+            ),
+        },
         String::new(),
         "# Operation counts".to_string(),
         String::new(),

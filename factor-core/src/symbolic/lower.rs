@@ -50,6 +50,21 @@ pub enum Instr {
 }
 
 impl Instr {
+    /// Estimated cycles from the operands' availability to the result's, on
+    /// a recent x86-64 core (scalar `f64`: add and multiply 3, divide 13,
+    /// square root 20, a sign flip 1, a libm call 60; inputs and literals
+    /// are there from the start). Only the emitter's ordering uses it.
+    pub fn latency(&self) -> u32 {
+        match self {
+            Instr::Input(_) | Instr::Const(_) => 0,
+            Instr::Neg(_) | Instr::Select { .. } => 1,
+            Instr::Add(..) | Instr::Sub(..) | Instr::Mul(..) => 3,
+            Instr::Div(..) => 13,
+            Instr::Sqrt(_) => 20,
+            Instr::Sin(_) | Instr::Cos(_) | Instr::Atan2(..) => 60,
+        }
+    }
+
     /// Operands, in order.
     pub fn operands(&self) -> Vec<Value> {
         match *self {

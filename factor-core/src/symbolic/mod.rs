@@ -8,12 +8,13 @@
 
 pub mod algebra;
 pub mod calculus;
+pub mod cut;
 pub mod evaluate;
 pub mod graph;
 mod scalar_impl;
 
 pub use graph::{Expr, Graph, Node, Tracer};
-pub use kernel::{JacobianBlock, SymbolicKernel, trace};
+pub use kernel::{JacobianBlock, JacobianForm, SymbolicKernel, trace};
 pub mod display;
 pub mod kernel;
 pub mod lower;

@@ -7,9 +7,18 @@
 //!    term pairs `a + r·b` (up to a common coefficient) across all sums. This
 //!    is the classic pairwise common-subexpression heuristic; canonical
 //!    operand order makes it deterministic.
-//! 3. Each n-ary operation is emitted as a chain of binary instructions:
+//! 3. Each n-ary operation is emitted as a tree of binary instructions:
 //!    signs become subtractions, equal coefficients are applied once, and a
-//!    reciprocal used by a single product turns back into a division.
+//!    reciprocal used by a single product turns back into a division. The
+//!    tree combines the operands ready first first (by the latency model of
+//!    [`Instr::latency`]), and a literal joins a product as one more factor,
+//!    so it meets an early operand instead of waiting for a late one. The
+//!    operation count is that of any tree; what shrinks is the longest
+//!    dependency chain, which bounds a kernel of a few hundred operations
+//!    more than their number does. Before a reciprocal or a square root
+//!    (which everything after it waits for), a literal shared by several
+//!    terms is applied to each term when that makes the sum ready sooner,
+//!    at the price of an operation.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -124,6 +133,8 @@ pub fn compile_with(graph: &Graph, outputs: &[Expr], strategy: Strategy) -> (Pro
         uses,
         program: Program::default(),
         values: HashMap::new(),
+        ready: Vec::new(),
+        urgent: c.urgent(&live),
     };
     let values = roots.iter().map(|r| emitter.emit(*r)).collect();
     (emitter.program, values)
@@ -341,6 +352,22 @@ impl Compiler<'_> {
         seen.into_iter().collect()
     }
 
+    /// The live ops a reciprocal or a square root depends on.
+    fn urgent(&self, live: &[usize]) -> BTreeSet<usize> {
+        let mut stack: Vec<usize> = live
+            .iter()
+            .filter(|op| matches!(self.ops[**op], Op::Recip(_) | Op::Leaf(LeafOp::Sqrt(_))))
+            .flat_map(|op| self.operands(*op))
+            .collect();
+        let mut urgent = BTreeSet::new();
+        while let Some(op) = stack.pop() {
+            if urgent.insert(op) {
+                stack.extend(self.operands(op));
+            }
+        }
+        urgent
+    }
+
     fn use_counts(&self, live: &[usize]) -> HashMap<usize, usize> {
         let mut uses = HashMap::new();
         for &op in live {
@@ -464,6 +491,12 @@ struct Emitter<'a> {
     uses: HashMap<usize, usize>,
     program: Program,
     values: HashMap<usize, Value>,
+    /// Estimated ready time of each instruction emitted so far
+    /// ([`Instr::latency`] along its longest operand path).
+    ready: Vec<u32>,
+    /// Ops a reciprocal or a square root depends on: everything after those
+    /// waits for them, so their latency is worth an operation.
+    urgent: BTreeSet<usize>,
 }
 
 impl Emitter<'_> {
@@ -486,7 +519,7 @@ impl Emitter<'_> {
                 coefficient,
                 factors,
             } => self.emit_product(coefficient, &factors),
-            Op::Sum { constant, terms } => self.emit_sum(constant, &terms),
+            Op::Sum { constant, terms } => self.emit_sum(op, constant, &terms),
         };
         self.values.insert(op, v);
         v
@@ -525,29 +558,83 @@ impl Emitter<'_> {
         }
     }
 
-    fn chain(
-        &mut self,
-        values: impl IntoIterator<Item = Value>,
-        make: fn(Value, Value) -> Instr,
-    ) -> Option<Value> {
-        // A balanced tree: the same number of operations as a left-to-right
-        // chain, with a dependency depth of log₂ n instead of n, so the
-        // processor overlaps them.
-        let mut level: Vec<Value> = values.into_iter().collect();
-        while level.len() > 1 {
-            level = level
-                .chunks(2)
-                .map(|pair| match *pair {
-                    [a, b] => self.program.push(make(a, b)),
-                    [a] => a,
-                    _ => unreachable!("chunks of two"),
-                })
-                .collect();
+    /// When `v` is ready, by the latency model of [`Instr::latency`].
+    fn ready(&mut self, v: Value) -> u32 {
+        while self.ready.len() < self.program.instrs.len() {
+            let instr = self.program.instrs[self.ready.len()];
+            let start = instr
+                .operands()
+                .iter()
+                .map(|o| self.ready[o.0 as usize])
+                .max()
+                .unwrap_or(0);
+            self.ready.push(start + instr.latency());
         }
-        level.pop()
+        self.ready[v.0 as usize]
+    }
+
+    /// `Σ ±vᵢ` (`true` marks a negative member), as a signed value.
+    ///
+    /// The two members ready first are combined first (Huffman's rule on
+    /// ready times): the same `n − 1` operations as any binary tree, and the
+    /// result is ready as early as the operands allow, so work that waits on
+    /// a late value (a division, a square root) is as short as it can be.
+    /// With equal ready times this is a balanced tree. Signs become
+    /// subtractions; the result is negative only when every member is (the
+    /// caller may absorb the sign).
+    fn signed_tree(&mut self, members: &[(Value, bool)]) -> Option<(Value, bool)> {
+        let mut pending: Vec<(u32, usize, Value, bool)> = Vec::new();
+        for (order, &(v, negative)) in members.iter().enumerate() {
+            pending.push((self.ready(v), order, v, negative));
+        }
+        let mut order = pending.len();
+        while pending.len() > 1 {
+            pending.sort_unstable_by_key(|(ready, order, ..)| std::cmp::Reverse((*ready, *order)));
+            let (_, _, a, a_negative) = pending.pop().expect("two members");
+            let (_, _, b, b_negative) = pending.pop().expect("two members");
+            let (v, negative) = match (a_negative, b_negative) {
+                (false, false) => (self.program.push(Instr::Add(a, b)), false),
+                (false, true) => (self.program.push(Instr::Sub(a, b)), false),
+                (true, false) => (self.program.push(Instr::Sub(b, a)), false),
+                (true, true) => (self.program.push(Instr::Add(a, b)), true),
+            };
+            pending.push((self.ready(v), order, v, negative));
+            order += 1;
+        }
+        pending.pop().map(|(_, _, v, negative)| (v, negative))
+    }
+
+    /// `Π vᵢ` by the same rule as [`Emitter::signed_tree`].
+    fn product_tree(&mut self, values: impl IntoIterator<Item = Value>) -> Option<Value> {
+        let mut pending: Vec<(u32, usize, Value)> = Vec::new();
+        for (order, v) in values.into_iter().enumerate() {
+            pending.push((self.ready(v), order, v));
+        }
+        let mut order = pending.len();
+        while pending.len() > 1 {
+            pending.sort_unstable_by_key(|(ready, order, _)| std::cmp::Reverse((*ready, *order)));
+            let (_, _, a) = pending.pop().expect("two factors");
+            let (_, _, b) = pending.pop().expect("two factors");
+            let v = self.program.push(Instr::Mul(a, b));
+            pending.push((self.ready(v), order, v));
+            order += 1;
+        }
+        pending.pop().map(|(_, _, v)| v)
     }
 
     fn emit_product(&mut self, coefficient: f64, factors: &[usize]) -> Value {
+        // `c · (private sum)`: the coefficient goes into the sum's terms when
+        // that costs no more multiplications (`−2 (½a + b)` is `−a − 2b`).
+        if let [f] = *factors
+            && coefficient.abs() != 1.0
+            && let Some((k, terms)) = self.private_sum(f)
+        {
+            let scaled: Vec<(usize, f64)> =
+                terms.iter().map(|(t, c)| (*t, c * coefficient)).collect();
+            if scaling_multiplications(&scaled) <= scaling_multiplications(&terms) + 1 {
+                return self.emit_sum(f, k * coefficient, &scaled);
+            }
+        }
         // A reciprocal no other op uses is folded back into a division.
         let mut numerator = Vec::new();
         let mut denominator = Vec::new();
@@ -582,37 +669,34 @@ impl Emitter<'_> {
             flipped.insert(f);
             negate = false;
         }
-        let numerator: Vec<Value> = numerator
+        let mut numerator: Vec<Value> = numerator
             .into_iter()
             .map(|f| match self.private_sum(f) {
                 Some((k, terms)) if flipped.contains(&f) => {
                     let negated: Vec<(usize, f64)> = terms.iter().map(|(t, c)| (*t, -c)).collect();
-                    self.emit_sum(-k, &negated)
+                    self.emit_sum(f, -k, &negated)
                 }
                 _ => self.emit(f),
             })
             .collect();
         let denominator: Vec<Value> = denominator.into_iter().map(|f| self.emit(f)).collect();
         let magnitude = coefficient.abs();
-        let coefficient = if negate { -magnitude } else { magnitude };
-        let mut value = self.chain(numerator, Instr::Mul);
-        if magnitude != 1.0 || value.is_none() {
-            // The sign rides on the literal when there is one to multiply by.
-            let c = self.constant(if magnitude != 1.0 {
-                coefficient
-            } else {
-                magnitude
-            });
-            value = Some(match value {
-                Some(v) => self.program.push(Instr::Mul(c, v)),
-                None => c,
-            });
+        // The literal is one more factor (it is ready at once, so it meets
+        // the earliest factor, off the critical path), carrying the sign.
+        // A sign without a literal to ride on is a final negation (measured
+        // faster than negating the earliest factor instead).
+        let signed = if negate { -magnitude } else { magnitude };
+        let sign_flip = negate && magnitude == 1.0 && !numerator.is_empty();
+        if magnitude != 1.0 || numerator.is_empty() {
+            numerator.push(self.constant(signed));
         }
-        let mut value = value.expect("set above");
-        if let Some(d) = self.chain(denominator, Instr::Mul) {
+        let mut value = self
+            .product_tree(numerator)
+            .expect("a factor or the literal");
+        if let Some(d) = self.product_tree(denominator) {
             value = self.program.push(Instr::Div(value, d));
         }
-        if coefficient < 0.0 && magnitude == 1.0 {
+        if sign_flip {
             value = self.program.push(Instr::Neg(value));
         }
         value
@@ -630,7 +714,8 @@ impl Emitter<'_> {
         }
     }
 
-    fn emit_sum(&mut self, constant: f64, terms: &[(usize, f64)]) -> Value {
+    /// The sum `op` (possibly rescaled or negated by its only user).
+    fn emit_sum(&mut self, op: usize, constant: f64, terms: &[(usize, f64)]) -> Value {
         // Terms sharing a coefficient magnitude are summed before one multiply.
         let mut groups: BTreeMap<u64, Vec<(usize, f64)>> = BTreeMap::new();
         for &(t, c) in terms {
@@ -639,44 +724,131 @@ impl Emitter<'_> {
         let mut signed: Vec<(Value, bool)> = Vec::new();
         for (bits, group) in groups {
             let magnitude = f64::from_bits(bits);
-            // Oriented negative only when every term is: a mixed group is
-            // `a − b`, never `−(b − a)`.
-            let lead_negative = group.iter().all(|(_, c)| *c < 0.0);
-            let members: Vec<(Value, bool)> = group
-                .iter()
-                .map(|&(t, c)| (self.emit(t), (c < 0.0) != lead_negative))
-                .collect();
-            let inner = self.signed_chain(&members);
-            let scaled = if magnitude == 1.0 {
-                inner
-            } else {
-                let c = self.constant(magnitude);
-                self.program.push(Instr::Mul(c, inner))
-            };
-            signed.push((scaled, lead_negative));
+            // A literal applied to each term early (`(2x)·a + (2y)·b`) or to
+            // the group's sum late (`2·(x·a + y·b)`): both are emitted, and
+            // the unused one is dead code. Early wins when it costs no more
+            // instructions (its products may exist already) and is ready
+            // sooner, or, before a division or a square root (which all
+            // later work waits for), whenever it is ready sooner.
+            if magnitude != 1.0 && group.len() > 1 {
+                let start = self.program.instrs.len();
+                let early = self.scaled_terms(magnitude, &group);
+                let early = self.signed_tree(&early).expect("a term");
+                let late = self.scaled_group(magnitude, &group);
+                let (early_cost, late_cost) = (
+                    self.cost_since(early.0, start),
+                    self.cost_since(late.0, start),
+                );
+                let sooner = self.ready(early.0) < self.ready(late.0);
+                let urgent = self.urgent.contains(&op);
+                signed.push(if sooner && (urgent || early_cost <= late_cost) {
+                    early
+                } else {
+                    late
+                });
+                continue;
+            }
+            // A lone scaled product only this sum reads takes the literal
+            // among its own factors, where it is applied early.
+            signed.extend(self.scaled_terms(magnitude, &group));
         }
         if constant != 0.0 {
             let c = self.constant(constant.abs());
             signed.push((c, constant < 0.0));
         }
-        self.signed_chain(&signed)
-    }
-
-    /// `Σ ±vᵢ` with positives first; a negation only if every term is negative.
-    fn signed_chain(&mut self, members: &[(Value, bool)]) -> Value {
-        let positives = members.iter().filter(|(_, neg)| !neg).map(|(v, _)| *v);
-        let negatives: Vec<Value> = members
-            .iter()
-            .filter(|(_, neg)| *neg)
-            .map(|(v, _)| *v)
-            .collect();
-        let positive = self.chain(positives, Instr::Add);
-        let negative = self.chain(negatives, Instr::Add);
-        match (positive, negative) {
-            (Some(p), Some(n)) => self.program.push(Instr::Sub(p, n)),
-            (Some(p), None) => p,
-            (None, Some(n)) => self.program.push(Instr::Neg(n)),
-            (None, None) => unreachable!("a sum has a term"),
+        match self.signed_tree(&signed).expect("a sum has a term") {
+            (v, false) => v,
+            (v, true) => self.program.push(Instr::Neg(v)),
         }
     }
+
+    /// Instructions from index `start` on that `v` depends on: what choosing
+    /// `v` adds to the program.
+    fn cost_since(&self, v: Value, start: usize) -> usize {
+        let mut seen = BTreeSet::new();
+        let mut stack = vec![v];
+        while let Some(v) = stack.pop() {
+            if (v.0 as usize) >= start && seen.insert(v) {
+                stack.extend(self.program.instrs[v.0 as usize].operands());
+            }
+        }
+        seen.iter()
+            .filter(|v| {
+                !matches!(
+                    self.program.instrs[v.0 as usize],
+                    Instr::Input(_) | Instr::Const(_)
+                )
+            })
+            .count()
+    }
+
+    /// `Σ cᵢ tᵢ` over terms of one coefficient magnitude, summed, then
+    /// multiplied by the magnitude once; signed.
+    fn scaled_group(&mut self, magnitude: f64, group: &[(usize, f64)]) -> (Value, bool) {
+        // Oriented negative only when every term is: a mixed group is
+        // `a − b`, never `−(b − a)`.
+        let lead_negative = group.iter().all(|(_, c)| *c < 0.0);
+        let members: Vec<(Value, bool)> = group
+            .iter()
+            .map(|&(t, c)| (self.emit(t), (c < 0.0) != lead_negative))
+            .collect();
+        let (inner, inner_negative) = self.signed_tree(&members).expect("a term");
+        let scaled = if magnitude == 1.0 {
+            inner
+        } else {
+            let c = self.constant(magnitude);
+            self.program.push(Instr::Mul(c, inner))
+        };
+        (scaled, lead_negative != inner_negative)
+    }
+
+    /// Each `cᵢ tᵢ` of one coefficient magnitude on its own, signed: a
+    /// product only this sum reads takes the literal among its factors
+    /// (applied to its earliest one), any other term is multiplied by it.
+    fn scaled_terms(&mut self, magnitude: f64, group: &[(usize, f64)]) -> Vec<(Value, bool)> {
+        group
+            .iter()
+            .map(|&(t, c)| {
+                let value = match self.private_product(t) {
+                    Some((k, factors)) => self.emit_product(k * magnitude, &factors),
+                    None => {
+                        let term = self.emit(t);
+                        if magnitude == 1.0 {
+                            term
+                        } else {
+                            let literal = self.constant(magnitude);
+                            self.program.push(Instr::Mul(literal, term))
+                        }
+                    }
+                };
+                (value, c < 0.0)
+            })
+            .collect()
+    }
+
+    /// A product op only this use reads and not yet emitted:
+    /// `(coefficient, factors)`.
+    fn private_product(&self, op: usize) -> Option<(f64, Vec<usize>)> {
+        match &self.ops[op] {
+            Op::Product {
+                coefficient,
+                factors,
+            } if self.uses.get(&op) == Some(&1) && !self.values.contains_key(&op) => {
+                Some((*coefficient, factors.clone()))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Multiplications by literals that [`Emitter::emit_sum`] spends on `terms`:
+/// one per distinct coefficient magnitude other than 1.
+fn scaling_multiplications(terms: &[(usize, f64)]) -> usize {
+    let magnitudes: BTreeSet<u64> = terms
+        .iter()
+        .map(|(_, c)| c.abs())
+        .filter(|m| *m != 1.0)
+        .map(f64::to_bits)
+        .collect();
+    magnitudes.len()
 }

@@ -14,7 +14,7 @@
 //!
 //! | kernel | factor | operations | residual only |
 //! | --- | --- | --- | --- |
-//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1458 | 249 |
+//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 |
 //! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 |
 
 #![forbid(unsafe_code)]

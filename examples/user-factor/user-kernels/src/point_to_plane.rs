@@ -20,6 +20,8 @@
 //!
 //! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
 //!
+//! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
+//!
 //! # Operation counts
 //!
 //! Every arithmetic instruction counts one (inputs and literals are free); `trig` is `sin`, `cos` and `atan2`, `branch` a `select_lt`.
@@ -82,14 +84,14 @@ pub fn point_to_plane<T: Real>(
     let v34 = plane_point[1] - v33;
     let v35 = normal[1] * v34;
     let v36 = v27 + v28;
-    let v37 = point[1] * v36;
-    let v38 = T::constant(2.0) * v37;
+    let v37 = point[1] * T::constant(2.0);
+    let v38 = v36 * v37;
     let v39 = pose[6] + v38;
     let v40 = v0 + v1;
     let v41 = v3 + v4;
     let v42 = v40 - v41;
-    let v43 = point[2] * v42;
-    let v44 = v43 * T::constant(0.5);
+    let v43 = point[2] * T::constant(0.5);
+    let v44 = v42 * v43;
     let v45 = v13 - v14;
     let v46 = point[0] * v45;
     let v47 = v46 - v44;
