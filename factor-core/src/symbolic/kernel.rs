@@ -65,20 +65,12 @@ impl SymbolicKernel {
 pub fn trace<F: Factor>(template: &F) -> SymbolicKernel {
     let tracer = Tracer::new();
     let fields = F::fields();
-    let input_len: usize = fields.iter().map(|f| f.scalars).sum();
-    let input_len = u32::try_from(input_len).expect("fewer than 2³² inputs");
-    let delta: Vec<Expr> = (0..F::TANGENT_DIM as u32)
-        .map(|j| Expr::input(input_len + j))
-        .collect();
-    let mut next = 0;
-    let traced = template.trace_residual(
-        &mut |_| {
-            next += 1;
-            Expr::input(next - 1)
-        },
-        &delta,
-    );
-    let at_zero: HashMap<Expr, Expr> = delta.iter().map(|d| (*d, Expr::constant(0.0))).collect();
+    let Traced {
+        residual: traced,
+        delta,
+        input_len,
+        at_zero,
+    } = trace_at_tangent(template, &mut |_| {});
     let mut substituted = HashMap::new();
     let residual: Vec<Expr> = traced
         .iter()
@@ -105,6 +97,44 @@ pub fn trace<F: Factor>(template: &F) -> SymbolicKernel {
         residual,
         blocks,
         jacobian_form,
+    }
+}
+
+/// A residual traced at the first-order retraction by a symbolic tangent.
+struct Traced {
+    /// The residual over the inputs and `δ`.
+    residual: Vec<Expr>,
+    /// The tangent symbols, inputs after the factor's own scalars.
+    delta: Vec<Expr>,
+    /// Number of the factor's own input scalars.
+    input_len: u32,
+    /// `δ ↦ 0`.
+    at_zero: HashMap<Expr, Expr>,
+}
+
+/// Traces `factor`'s residual (inside an active [`Tracer`]) with each stored
+/// scalar as the next input, passing its value to `value`.
+fn trace_at_tangent<F: Factor>(factor: &F, value: &mut dyn FnMut(f64)) -> Traced {
+    let input_len: usize = F::fields().iter().map(|f| f.scalars).sum();
+    let input_len = u32::try_from(input_len).expect("fewer than 2³² inputs");
+    let delta: Vec<Expr> = (0..F::TANGENT_DIM as u32)
+        .map(|j| Expr::input(input_len + j))
+        .collect();
+    let mut next = 0;
+    let residual = factor.trace_residual(
+        &mut |v| {
+            value(v);
+            next += 1;
+            Expr::input(next - 1)
+        },
+        &delta,
+    );
+    let at_zero = delta.iter().map(|d| (*d, Expr::constant(0.0))).collect();
+    Traced {
+        residual,
+        delta,
+        input_len,
+        at_zero,
     }
 }
 
@@ -270,19 +300,12 @@ mod tests {
             let factor = make(&mut sampler);
             let tracer = Tracer::new();
             let mut values = Vec::new();
-            let input_len = F::fields().iter().map(|f| f.scalars).sum::<usize>() as u32;
-            let delta: Vec<Expr> = (0..F::TANGENT_DIM as u32)
-                .map(|j| Expr::input(input_len + j))
-                .collect();
-            let traced = factor.trace_residual(
-                &mut |value| {
-                    values.push(value);
-                    Expr::input(values.len() as u32 - 1)
-                },
-                &delta,
-            );
-            let at_zero: HashMap<Expr, Expr> =
-                delta.iter().map(|d| (*d, Expr::constant(0.0))).collect();
+            let Traced {
+                residual: traced,
+                delta,
+                input_len,
+                at_zero,
+            } = trace_at_tangent(&factor, &mut |v| values.push(v));
             let mut substituted = HashMap::new();
             let direct = direct_columns(&traced, &delta, &at_zero, &mut substituted);
             let cuts = minimum_cuts(&traced, &delta, CUTS_TRIED);

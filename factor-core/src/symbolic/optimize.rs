@@ -583,43 +583,47 @@ impl Emitter<'_> {
     /// subtractions; the result is negative only when every member is (the
     /// caller may absorb the sign).
     fn signed_tree(&mut self, members: &[(Value, bool)]) -> Option<(Value, bool)> {
-        let mut pending: Vec<(u32, usize, Value, bool)> = Vec::new();
-        for (order, &(v, negative)) in members.iter().enumerate() {
-            pending.push((self.ready(v), order, v, negative));
-        }
-        let mut order = pending.len();
-        while pending.len() > 1 {
-            pending.sort_unstable_by_key(|(ready, order, ..)| std::cmp::Reverse((*ready, *order)));
-            let (_, _, a, a_negative) = pending.pop().expect("two members");
-            let (_, _, b, b_negative) = pending.pop().expect("two members");
-            let (v, negative) = match (a_negative, b_negative) {
-                (false, false) => (self.program.push(Instr::Add(a, b)), false),
-                (false, true) => (self.program.push(Instr::Sub(a, b)), false),
-                (true, false) => (self.program.push(Instr::Sub(b, a)), false),
-                (true, true) => (self.program.push(Instr::Add(a, b)), true),
-            };
-            pending.push((self.ready(v), order, v, negative));
-            order += 1;
-        }
-        pending.pop().map(|(_, _, v, negative)| (v, negative))
+        self.ready_first_tree(
+            members.to_vec(),
+            |e, (a, a_negative), (b, b_negative)| match (a_negative, b_negative) {
+                (false, false) => (e.program.push(Instr::Add(a, b)), false),
+                (false, true) => (e.program.push(Instr::Sub(a, b)), false),
+                (true, false) => (e.program.push(Instr::Sub(b, a)), false),
+                (true, true) => (e.program.push(Instr::Add(a, b)), true),
+            },
+        )
     }
 
     /// `Π vᵢ` by the same rule as [`Emitter::signed_tree`].
     fn product_tree(&mut self, values: impl IntoIterator<Item = Value>) -> Option<Value> {
-        let mut pending: Vec<(u32, usize, Value)> = Vec::new();
-        for (order, v) in values.into_iter().enumerate() {
-            pending.push((self.ready(v), order, v));
+        let members = values.into_iter().map(|v| (v, ())).collect();
+        self.ready_first_tree(members, |e, (a, ()), (b, ())| {
+            (e.program.push(Instr::Mul(a, b)), ())
+        })
+        .map(|(v, ())| v)
+    }
+
+    /// Combines the two members ready first, with `combine`, until one is
+    /// left (ties by order of appearance, so the result is deterministic).
+    fn ready_first_tree<M: Copy>(
+        &mut self,
+        members: Vec<(Value, M)>,
+        combine: impl Fn(&mut Self, (Value, M), (Value, M)) -> (Value, M),
+    ) -> Option<(Value, M)> {
+        let mut pending: Vec<(u32, usize, (Value, M))> = Vec::new();
+        for (order, member) in members.into_iter().enumerate() {
+            pending.push((self.ready(member.0), order, member));
         }
         let mut order = pending.len();
         while pending.len() > 1 {
             pending.sort_unstable_by_key(|(ready, order, _)| std::cmp::Reverse((*ready, *order)));
-            let (_, _, a) = pending.pop().expect("two factors");
-            let (_, _, b) = pending.pop().expect("two factors");
-            let v = self.program.push(Instr::Mul(a, b));
-            pending.push((self.ready(v), order, v));
+            let (_, _, a) = pending.pop().expect("two members");
+            let (_, _, b) = pending.pop().expect("two members");
+            let combined = combine(self, a, b);
+            pending.push((self.ready(combined.0), order, combined));
             order += 1;
         }
-        pending.pop().map(|(_, _, v)| v)
+        pending.pop().map(|(_, _, member)| member)
     }
 
     fn emit_product(&mut self, coefficient: f64, factors: &[usize]) -> Value {
