@@ -1,5 +1,5 @@
 //! Per-factor linearization cost, in one run: the hand-written analytic
-//! Jacobians (`factor_core::analytic`), the generated kernel, dual numbers in
+//! Jacobians (`slam_factors::analytic`), the generated kernel, dual numbers in
 //! one pass over the whole tangent, dual numbers one pass per variable block,
 //! and central differences, for the point, line (orthonormal), Plücker-line,
 //! plane and free-line factors.
@@ -12,8 +12,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use factor_core::Factor;
-use factor_core::analytic;
-use factor_core::testing::samples::Sampler;
+use factor_testing::samples::Sampler;
+use slam_factors::analytic;
 
 const CONFIGURATIONS: usize = 64;
 
@@ -23,7 +23,7 @@ fn samples<F>(seed: u64, make: impl Fn(&mut Sampler) -> F) -> Vec<F> {
 }
 
 /// Benchmarks the five methods of one factor type: `hand_written` (the
-/// factor's `factor_core::analytic` function, between the same validation and
+/// factor's `slam_factors::analytic` function, between the same validation and
 /// finiteness check as the typed methods, so it does the same work as
 /// `generated`), `generated` (`linearize_generated()`, with the default
 /// feature `kernels`),

@@ -9,14 +9,14 @@
 //! `cargo run --example audit_own_derivation` prints the verdict table and
 //! the Markdown report; `cargo test` runs the same audit.
 
+use factor_audit::report::{markdown, table};
+use factor_audit::verdict::audit;
+use factor_audit::{Derivation, Finding, Label, Printed};
 use factor_core::Scalar;
-use factor_core::audit::report::{markdown, table};
-use factor_core::audit::verdict::audit;
-use factor_core::audit::{Derivation, Finding, Label, Printed};
 use factor_core::lie::so3::hat;
 use factor_core::lie::{Quaternion, So3};
 use factor_core::manifold::{Manifold, Perturbation};
-use factor_core::testing::samples::Sampler;
+use factor_testing::samples::Sampler;
 use nalgebra::{DMatrix, Vector3};
 
 /// One sampled configuration of the claim.
@@ -91,7 +91,7 @@ fn main() {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use factor_core::audit::Verdict;
+    use factor_audit::Verdict;
 
     #[test]
     fn the_notes_are_right() {

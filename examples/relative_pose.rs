@@ -11,8 +11,8 @@
 //! against central differences; `cargo test` runs the same check.
 
 use factor_core::lie::{Se3, So3};
-use factor_core::testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use factor_core::{Factor, Scalar};
+use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use nalgebra::{Vector3, Vector6};
 
 /// `Log(T̃_ij⁻¹ T_i⁻¹ T_j)`: zero when the poses agree with the measurement.

@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use factor_core::audit::{Finding, audit_documents, report};
+use factor_audit::{Finding, audit_documents, report};
 use serde_json::{Value, json};
 
 use crate::error::{CliError, InputError};

@@ -9,10 +9,10 @@
 //! camera, parallel bearings, ...) is left to its `validate()`.
 
 use factor_core::Factor;
-use factor_core::factors::{
+use factor_core::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
+use slam_factors::{
     FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
-use factor_core::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
 
 use crate::error::InputError;
 use crate::input::{Object, QUATERNION_NORM_TOLERANCE};

@@ -11,10 +11,11 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use factor_core::codegen::{self, GeneratedModule, KernelSpec};
-use factor_core::symbolic::lower::OpCounts;
+use factor_codegen::OpCounts;
+use factor_codegen::{self as codegen, GeneratedModule, KernelSpec};
 
 use crate::error::{CliError, InputError};
+use crate::kernels;
 
 /// The default directory of the generated crate (see the module docs).
 pub fn default_dir() -> PathBuf {
@@ -35,11 +36,11 @@ pub struct Timed {
 
 /// Generates every document kernel, timing each.
 pub fn generate_timed() -> Vec<Timed> {
-    codegen::document_kernels()
+    kernels::document_kernels()
         .iter()
         .map(|spec: &KernelSpec| {
             let start = Instant::now();
-            let module = codegen::generate(spec);
+            let module = codegen::generate_with(spec, &kernels::PROVENANCE);
             Timed {
                 module,
                 elapsed: start.elapsed(),
@@ -100,7 +101,7 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
 /// `generate` would write, else [`CliError::Stale`] naming the files.
 pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
     let dir = dir.map_or_else(default_dir, Path::to_path_buf);
-    let modules = codegen::generate_all();
+    let modules = kernels::generate_all();
     match codegen::check_crate(&dir, &modules) {
         Ok(()) => Ok(format!(
             "{} is up to date ({} kernels)",

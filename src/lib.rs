@@ -18,6 +18,7 @@ pub mod error;
 pub mod eval;
 pub mod generate;
 pub mod input;
+pub mod kernels;
 pub mod list;
 pub mod pretty;
 pub mod registry;

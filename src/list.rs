@@ -1,17 +1,18 @@
 //! `slamjac list`: the registered factors, their variables and tangents, and
 //! their generated kernels with operation counts, as a table or as JSON.
 
-use factor_core::codegen;
-use factor_core::symbolic::lower::OpCounts;
+use factor_codegen as codegen;
+use factor_codegen::OpCounts;
 use serde_json::{Value, json};
 
 use crate::generate::counts_text;
+use crate::kernels;
 use crate::registry::{FactorEntry, factors};
 
 /// The kernel's operation counts as the current definitions generate them:
 /// the whole kernel and the residual alone (traced and lowered in process).
 fn kernel_counts(entry: &FactorEntry) -> Option<(OpCounts, OpCounts)> {
-    codegen::spec::find(entry.name).map(|spec| codegen::operation_counts(&spec))
+    kernels::find(entry.name).map(|spec| codegen::operation_counts(&spec))
 }
 
 /// The `kernel:` line of the table.

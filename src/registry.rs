@@ -3,10 +3,10 @@
 //! Registering a factor is one line in [`factors`], given a
 //! [`FromJson`] implementation (in [`crate::decode`]) for it.
 
-use factor_core::factors::{
+use factor_core::{DynLinearization, VariableInfo};
+use slam_factors::{
     FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
-use factor_core::{DynLinearization, VariableInfo};
 
 use crate::decode::FromJson;
 use crate::error::{CliError, InputError};

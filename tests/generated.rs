@@ -6,8 +6,8 @@
 #![cfg(feature = "kernels")]
 
 use factor_core::factor::relative_frobenius_error;
-use factor_core::testing::samples::Sampler;
 use factor_core::{DynLinearization, Factor, MapScalars};
+use factor_testing::samples::Sampler;
 
 const CONFIGURATIONS: usize = 200;
 /// Generated vs dual numbers: both exact, so only rounding differs.
@@ -31,7 +31,7 @@ const F32_VS_F64: f64 = 1e-3;
 /// 0.69 px residual from ~450 px terms and the two orders differ by 1.0e-12 px.
 /// Residuals are therefore compared relative to `max(‖r‖, input scale)`: a
 /// backward-error measure. Jacobian blocks have no such cancellation and are
-/// compared relatively down to `1e-9`, as in `factor_core::testing`.
+/// compared relatively down to `1e-9`, as in `factor_testing`.
 fn input_scale<F: MapScalars<f64>>(factor: &F) -> f64 {
     let mut scale: f64 = 1.0;
     let _ = factor.map_scalars(&mut |x: f64| {
@@ -144,7 +144,7 @@ fn linearize_uses_the_generated_kernel() {
     let mut sampler = Sampler::new(17);
     let factor = sampler.point_reprojection();
     assert_eq!(
-        <factor_core::factors::PointReprojection as Factor>::KERNEL,
+        <slam_factors::PointReprojection as Factor>::KERNEL,
         Some("factor_generated::point_reprojection::point_reprojection")
     );
     let typed = factor.linearize().unwrap();

@@ -8,10 +8,9 @@
 
 use std::fmt::Write;
 
-use factor_core::audit::{Derivation, Printed, audit_documents, doc000_point};
-use factor_core::codegen;
-use factor_core::testing::samples::Sampler;
+use factor_audit::{Derivation, Printed, audit_documents, doc000_point};
 use factor_core::{DynLinearization, Factor};
+use factor_testing::samples::Sampler;
 use nalgebra::DMatrix;
 
 /// `x` with 6 significant digits; tiny values (rounding noise) print as 0.
@@ -121,7 +120,7 @@ fn audit_verdicts() {
 
 #[test]
 fn generated_kernel_sources() {
-    for module in codegen::generate_all() {
+    for module in slamjac::kernels::generate_all() {
         insta::assert_snapshot!(format!("kernel_{}", module.name), module.source);
     }
 }

@@ -11,6 +11,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::manifold::Perturbation;
+use crate::scalar::Scalar;
 
 /// Why a factor has no meaningful value at a configuration.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -114,14 +115,15 @@ pub trait Factor: Sized {
     fn fields() -> Vec<FieldInfo>;
 
     /// The residual at the first-order retraction of every variable by the
-    /// stacked tangent `delta`, evaluated over symbols: each stored scalar of
-    /// `self` is replaced by `input(value)`, in field order. Differentiating
-    /// the result w.r.t. `delta` at `delta = 0` gives the Jacobians.
-    fn trace_residual(
+    /// stacked tangent `delta`, over any scalar `T`: each stored scalar of
+    /// `self` is replaced by `lift(value)`, in field order. Differentiating
+    /// the result w.r.t. `delta` at `delta = 0` gives the Jacobians; a
+    /// symbolic scalar traces it (crate `factor-symbolic`).
+    fn perturbed_residual_over<T: Scalar>(
         &self,
-        input: &mut dyn FnMut(f64) -> crate::symbolic::Expr,
-        delta: &[crate::symbolic::Expr],
-    ) -> Vec<crate::symbolic::Expr>;
+        lift: &mut dyn FnMut(f64) -> T,
+        delta: &[T],
+    ) -> Vec<T>;
 
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;

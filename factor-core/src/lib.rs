@@ -1,16 +1,22 @@
-//! Exact tangent-space Jacobians of SLAM factors written once, generically.
+//! The runtime of `slamjac` factors: what an estimator that embeds them
+//! needs, and nothing that only the code generator needs.
 //!
-//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and a
-//!   symbolic scalar) that residuals and geometry are written against.
+//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and
+//!   the symbolic scalar of crate `factor-symbolic`) that residuals and
+//!   geometry are written against.
 //! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar.
 //! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
-//!   planes, the free line of document 001, camera intrinsics.
+//!   planes, the free line of document 001, camera intrinsics, bearing planes.
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
-//! - [`factor`]: the factor model, numerical linearization and errors.
-//! - [`factors`]: the four factors of the specification documents.
-//! - [`testing`]: a one-line Jacobian check for factor authors.
-//! - [`symbolic`] and [`codegen`]: the factors traced symbolically and emitted
-//!   as the straight-line kernels of the `factor-generated` crate.
+//! - [`factor`]: the factor model, numerical linearization and errors;
+//!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
+//! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
+//! - [`validation`]: NaN-rejecting comparisons for validation code.
+//!
+//! The factors the toolchain ships are in crate `slam-factors`, the test
+//! helpers in `factor-testing`, the symbolic engine and the code generator
+//! in `factor-symbolic` and `factor-codegen`, the derivation audit in
+//! `factor-audit`.
 //!
 //! Conventions (pinned for the whole workspace; see the README):
 //! quaternions are stored `[x, y, z, w]` with the Hamilton product and the
@@ -18,18 +24,12 @@
 //! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
 //! first; Jacobians are residual rows × tangent columns.
 
-pub mod analytic;
-pub mod audit;
-pub mod codegen;
 pub mod factor;
-pub mod factors;
 pub mod geometry;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
 pub mod scalar;
-pub mod symbolic;
-pub mod testing;
 pub mod validation;
 
 pub use factor::{DynLinearization, Factor, FactorError, FieldInfo, VariableInfo};

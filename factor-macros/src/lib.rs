@@ -65,7 +65,7 @@ use syn::{DeriveInput, parse_macro_input};
 /// assert_eq!(linearization.pose.shape(), (2, 6));
 /// assert_eq!(linearization.point.shape(), (2, 3));
 /// assert_eq!(<PointReprojection as Factor>::NAME, "point_reprojection");
-/// factor_core::testing::assert_correct_jacobians(&f, 1e-6);
+/// factor_testing::assert_correct_jacobians(&f, 1e-6);
 /// ```
 ///
 /// `#[factor(...)]` keys: `residual = path` (required; a function

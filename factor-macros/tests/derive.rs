@@ -3,8 +3,8 @@
 //! with central differences, and with known Jacobians exactly.
 
 use factor_core::lie::Se3;
-use factor_core::testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use factor_core::{Factor, FactorError, Manifold, MapScalars, Perturbation, Scalar};
+use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use nalgebra::{Matrix2x3, Matrix3, Vector2, Vector3, Vector6};
 
 /// `r = x − y + c`: linear, with Jacobians `I` and `−I`.

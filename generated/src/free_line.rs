@@ -1,4 +1,4 @@
-//! `free_line`: the residual and its Jacobian blocks, generated from `factor_core::factors::FreeLineFactor`.
+//! `free_line`: the residual and its Jacobian blocks, generated from `slam_factors::FreeLineFactor`.
 //!
 //! Source: document 001 §3–4.
 //!
@@ -37,7 +37,7 @@
 
 use crate::Real;
 
-/// The residual of `factor_core::factors::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]

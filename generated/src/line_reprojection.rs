@@ -1,4 +1,4 @@
-//! `line_reprojection`: the residual and its Jacobian blocks, generated from `factor_core::factors::LineReprojection`.
+//! `line_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::LineReprojection`.
 //!
 //! Source: document 000 §III (6)–(12).
 //!
@@ -37,7 +37,7 @@
 
 use crate::Real;
 
-/// The residual of `factor_core::factors::LineReprojection` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::LineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]

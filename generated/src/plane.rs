@@ -1,4 +1,4 @@
-//! `plane`: the residual and its Jacobian blocks, generated from `factor_core::factors::PlaneFactor`.
+//! `plane`: the residual and its Jacobian blocks, generated from `slam_factors::PlaneFactor`.
 //!
 //! Source: document 000 §IV (13).
 //!
@@ -35,7 +35,7 @@
 
 use crate::Real;
 
-/// The residual of `factor_core::factors::PlaneFactor` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::PlaneFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]

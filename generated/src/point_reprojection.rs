@@ -1,4 +1,4 @@
-//! `point_reprojection`: the residual and its Jacobian blocks, generated from `factor_core::factors::PointReprojection`.
+//! `point_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::PointReprojection`.
 //!
 //! Source: document 000 §II (2)–(5).
 //!
@@ -36,7 +36,7 @@
 
 use crate::Real;
 
-/// The residual of `factor_core::factors::PointReprojection` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::PointReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]

@@ -20,7 +20,7 @@ use std::hint::black_box;
 
 use bench_peers_harness::{PluckerInputs, PointInputs, check_plucker, check_point};
 use criterion::Criterion;
-use factor_core::testing::samples::Sampler;
+use factor_testing::samples::Sampler;
 
 const CONFIGURATIONS: usize = 64;
 const TOLERANCE: f64 = 1e-9;
@@ -105,7 +105,7 @@ mod generated {
     use bench_peers_harness::ours::{self, PluckerArrays, PointArrays};
     use criterion::BenchmarkGroup;
     use criterion::measurement::WallTime;
-    use factor_core::factors::{PluckerLineReprojection, PointReprojection};
+    use slam_factors::{PluckerLineReprojection, PointReprojection};
 
     use super::{CONFIGURATIONS, TOLERANCE};
 

@@ -1,5 +1,5 @@
 //! Calls the wrenfold-generated kernels on this project's factor samples and
-//! checks them against [`linearize_dual`](factor_core::factors::PointReprojection::linearize_dual);
+//! checks them against [`linearize_dual`](slam_factors::PointReprojection::linearize_dual);
 //! with the feature `generated`, calls this project's generated kernels
 //! (`factor-generated`) the same way and checks them against wrenfold's
 //! ([`ours`]).
@@ -7,7 +7,7 @@
 //! The kernels are `include!`d from `bench-peers/out/wrenfold_generated.rs`,
 //! written by `bench-peers/wrenfold_factors.py` (run `bash bench-peers/run.sh`).
 
-use factor_core::factors::{PluckerLineReprojection, PointReprojection};
+use slam_factors::{PluckerLineReprojection, PointReprojection};
 use nalgebra::SMatrix;
 use wrenfold_traits::{OutputSpan2D, Span2D};
 
@@ -291,7 +291,7 @@ fn check(
 /// their check against wrenfold's outputs.
 #[cfg(feature = "generated")]
 pub mod ours {
-    use factor_core::factors::{PluckerLineReprojection, PointReprojection};
+    use slam_factors::{PluckerLineReprojection, PointReprojection};
     use factor_generated::plucker_line_reprojection::plucker_line_reprojection;
     use factor_generated::point_reprojection::point_reprojection;
     use nalgebra::SMatrix;

@@ -115,13 +115,13 @@ pub fn emit(cx: &Context) -> TokenStream {
                 ::std::vec![#(#field_infos),*]
             }
 
-            fn trace_residual(
+            fn perturbed_residual_over<__T: #krate::Scalar>(
                 &self,
-                input: &mut dyn ::core::ops::FnMut(f64) -> #krate::symbolic::Expr,
-                delta: &[#krate::symbolic::Expr],
-            ) -> ::std::vec::Vec<#krate::symbolic::Expr> {
-                let lifted: #ident<#krate::symbolic::Expr> =
-                    #krate::MapScalars::map_scalars(self, &mut |value| input(value));
+                lift: &mut dyn ::core::ops::FnMut(f64) -> __T,
+                delta: &[__T],
+            ) -> ::std::vec::Vec<__T> {
+                let lifted: #ident<__T> =
+                    #krate::MapScalars::map_scalars(self, &mut |value| lift(value));
                 lifted.perturbed_residual(delta).iter().copied().collect()
             }
 

@@ -10,7 +10,7 @@
 //! minimum ns/call of each side over all rounds, and the median and
 //! quartiles of the per-round ratios. Contenders: this project's generated
 //! kernel (the SPEC comparison), and for reference the hand-written
-//! Jacobians of `factor_core::analytic` (nalgebra outputs, no validation).
+//! Jacobians of `slam_factors::analytic` (nalgebra outputs, no validation).
 //! The kernels are first checked against each other (and wrenfold against
 //! `linearize_dual()`) exactly as in `benches/peers.rs`.
 
@@ -21,8 +21,8 @@ fn main() {
 
     use bench_peers_harness::ours::{PluckerArrays, PointArrays};
     use bench_peers_harness::{PluckerInputs, PointInputs};
-    use factor_core::analytic;
-    use factor_core::testing::samples::Sampler;
+    use slam_factors::analytic;
+    use factor_testing::samples::Sampler;
 
     const CONFIGURATIONS: usize = 64;
     const PASSES: usize = 2000;

@@ -7,7 +7,7 @@
 
 use factor_core::Factor;
 use factor_core::lie::Se3;
-use factor_core::testing::samples::Sampler;
+use factor_testing::samples::Sampler;
 use nalgebra::{Matrix, Storage, U1};
 use serde_json::{Value, json};
 
@@ -56,7 +56,7 @@ fn main() {
         })
         .collect();
     out.insert(
-        factor_core::factors::PointReprojection::NAME.into(),
+        slam_factors::PointReprojection::NAME.into(),
         point.into(),
     );
 
@@ -78,7 +78,7 @@ fn main() {
         })
         .collect();
     out.insert(
-        factor_core::factors::LineReprojection::NAME.into(),
+        slam_factors::LineReprojection::NAME.into(),
         line.into(),
     );
 
@@ -100,7 +100,7 @@ fn main() {
         })
         .collect();
     out.insert(
-        factor_core::factors::PluckerLineReprojection::NAME.into(),
+        slam_factors::PluckerLineReprojection::NAME.into(),
         plucker.into(),
     );
 
@@ -119,7 +119,7 @@ fn main() {
             })
         })
         .collect();
-    out.insert(factor_core::factors::PlaneFactor::NAME.into(), plane.into());
+    out.insert(slam_factors::PlaneFactor::NAME.into(), plane.into());
 
     std::fs::write(
         path,

@@ -7,10 +7,10 @@
 
 use std::path::{Path, PathBuf};
 
+use factor_codegen::trace;
+use factor_codegen::{self as codegen, GeneratedModule, KernelSpec, Provenance};
 use factor_core::Factor;
-use factor_core::codegen::{self, GeneratedModule, KernelSpec, Provenance};
 use factor_core::lie::Se3;
-use factor_core::symbolic::trace;
 use nalgebra::Vector3;
 
 use crate::{PointToPlane, RelativePose};

@@ -6,9 +6,9 @@
 
 use factor_core::factor::relative_frobenius_error;
 use factor_core::lie::Se3;
-use factor_core::testing::samples::Sampler;
-use factor_core::testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use factor_core::{DynLinearization, Factor, MapScalars};
+use factor_testing::samples::Sampler;
+use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use nalgebra::Vector3;
 use user_factors::{PointToPlane, RelativePose};
 

@@ -1,0 +1,223 @@
+//! Verdicts: the printed formula against the truth at many sampled points.
+//!
+//! - `correct`: agrees at every sample (relative Frobenius error ≤ 1e-6);
+//! - `convention`: disagrees, but agrees with the truth under another
+//!   convention the derivation offers (perturbation side, normalisation), with
+//!   its tangent blocks swapped, or with a homogeneous coordinate kept;
+//! - `wrong`: agrees with nothing; the largest error is reported with a
+//!   guess at the erratum (sign, constant factor, transpose, which columns);
+//! - `malformed`: the printed formula cannot be evaluated as printed.
+
+use nalgebra::DMatrix;
+
+use crate::derivation::{Derivation, Label, Printed, truth};
+use crate::latex::corrected_latex;
+use factor_core::factor::relative_frobenius_error;
+use factor_testing::samples::Sampler;
+
+/// Agreement threshold (relative Frobenius error at each sample).
+pub const TOLERANCE: f64 = 1e-6;
+
+/// The audit's verdict on one formula.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    /// Right as printed.
+    Correct,
+    /// Right under another convention (described).
+    Convention(String),
+    /// Wrong; the suspected erratum, when one of the simple ones fits.
+    Wrong(Option<String>),
+    /// Not well formed as printed; why.
+    Malformed(String),
+}
+
+impl Verdict {
+    /// The JSON vocabulary: `correct`, `convention`, `wrong`, `malformed`.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            Verdict::Correct => "correct",
+            Verdict::Convention(_) => "convention",
+            Verdict::Wrong(_) => "wrong",
+            Verdict::Malformed(_) => "malformed",
+        }
+    }
+}
+
+/// The audit of one formula.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finding {
+    /// What was audited.
+    pub label: Label,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Largest relative Frobenius error of the printed formula against the
+    /// truth over the samples (`None` when malformed).
+    pub max_relative_error: Option<f64>,
+    /// The correct expression as LaTeX, for wrong and malformed formulas.
+    pub corrected_latex: Option<String>,
+    /// Number of sampled points.
+    pub samples: usize,
+    /// For a composed formula of a chain rule that is not correct: which
+    /// links are wrong ([`crate::chain::localise`]).
+    pub localisation: Option<String>,
+}
+
+impl Finding {
+    /// Whether this finding should fail a gated run: a disagreement that is
+    /// not a known erratum.
+    pub fn is_unexpected(&self) -> bool {
+        !matches!(self.verdict, Verdict::Correct) && self.label.known_erratum.is_none()
+    }
+}
+
+/// Swaps the two halves of the columns (`[ω, ρ]` ↔ `[ρ, ω]`), if even.
+fn swap_column_halves(m: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = m.ncols();
+    (n >= 2 && n.is_multiple_of(2)).then(|| {
+        let h = n / 2;
+        DMatrix::from_fn(m.nrows(), n, |r, c| m[(r, (c + h) % n)])
+    })
+}
+
+/// The printed matrix without a homogeneous coordinate it kept: its last
+/// row, when that row is zero and the truth has one row fewer.
+fn without_homogeneous_row(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let rows = printed.nrows();
+    (rows == truth.nrows() + 1
+        && printed.ncols() == truth.ncols()
+        && printed.row(rows - 1).norm() == 0.0)
+        .then(|| printed.rows(0, rows - 1).into_owned())
+}
+
+fn agree(a: &DMatrix<f64>, b: &DMatrix<f64>) -> bool {
+    a.shape() == b.shape() && relative_frobenius_error(a, b, 1e-9) <= TOLERANCE
+}
+
+/// Simple errata that turn the printed matrix into the truth, in words.
+fn suspected_erratum(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<String> {
+    if printed.shape() == truth.shape() {
+        if agree(&(-printed), truth) {
+            return Some("opposite sign".into());
+        }
+        for factor in [2.0, 0.5, -2.0, -0.5, 4.0, 0.25] {
+            if agree(&(printed * factor), truth) {
+                return Some(format!(
+                    "off by a constant factor {factor} (printed × {factor} = truth)"
+                ));
+            }
+        }
+        let wrong_columns: Vec<usize> = (0..truth.ncols())
+            .filter(|&c| {
+                let (p, t) = (printed.column(c), truth.column(c));
+                (p - t).norm() > TOLERANCE * truth.norm().max(1e-9)
+            })
+            .collect();
+        if !wrong_columns.is_empty() && wrong_columns.len() < truth.ncols() {
+            let list: Vec<String> = wrong_columns.iter().map(|c| (c + 1).to_string()).collect();
+            return Some(format!(
+                "columns {} are wrong, the others right",
+                list.join(", ")
+            ));
+        }
+        let wrong_rows: Vec<usize> = (0..truth.nrows())
+            .filter(|&r| {
+                let (p, t) = (printed.row(r), truth.row(r));
+                (p - t).norm() > TOLERANCE * truth.norm().max(1e-9)
+            })
+            .collect();
+        if !wrong_rows.is_empty() && wrong_rows.len() < truth.nrows() {
+            let list: Vec<String> = wrong_rows.iter().map(|r| (r + 1).to_string()).collect();
+            return Some(format!(
+                "rows {} are wrong, the others right",
+                list.join(", ")
+            ));
+        }
+    }
+    if printed.transpose().shape() == truth.shape() && agree(&printed.transpose(), truth) {
+        return Some("transposed".into());
+    }
+    None
+}
+
+/// Audits a derivation type at `samples` points drawn from `sample`.
+pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed: u64) -> Finding {
+    let mut sampler = Sampler::new(seed);
+    let first = sample(&mut sampler);
+    let label = first.label();
+    let mut instances = vec![first];
+    instances.extend((1..samples).map(|_| sample(&mut sampler)));
+
+    let mut worst: f64 = 0.0;
+    let mut worst_pair: Option<(DMatrix<f64>, DMatrix<f64>)> = None;
+    // Conventions that have held at every sample so far (by description).
+    let mut conventions: Option<Vec<&'static str>> = None;
+    let mut halves_swapped = true;
+    let mut homogeneous = true;
+    for d in &instances {
+        let t = truth(d);
+        let p = match d.printed() {
+            Printed::Evaluated(p) => p,
+            Printed::Malformed(reason) => {
+                return Finding {
+                    label,
+                    verdict: Verdict::Malformed(reason),
+                    max_relative_error: None,
+                    corrected_latex: Some(corrected_latex(&instances[0])),
+                    samples,
+                    localisation: None,
+                };
+            }
+        };
+        let error = if p.shape() == t.shape() {
+            relative_frobenius_error(&p, &t, 1e-9)
+        } else {
+            f64::INFINITY
+        };
+        if error > worst || worst_pair.is_none() {
+            worst = worst.max(error);
+            worst_pair = Some((p.clone(), t.clone()));
+        }
+        let holding: Vec<&'static str> = d
+            .conventions()
+            .into_iter()
+            .filter(|(_, alt)| agree(&p, alt))
+            .map(|(name, _)| name)
+            .collect();
+        conventions = Some(match conventions {
+            None => holding,
+            Some(previous) => previous
+                .into_iter()
+                .filter(|n| holding.contains(n))
+                .collect(),
+        });
+        halves_swapped &= swap_column_halves(&t).is_some_and(|s| agree(&p, &s));
+        homogeneous &= without_homogeneous_row(&p, &t).is_some_and(|q| agree(&q, &t));
+    }
+    let verdict = if worst <= TOLERANCE {
+        Verdict::Correct
+    } else if let Some(name) = conventions.unwrap_or_default().first() {
+        Verdict::Convention((*name).to_string())
+    } else if homogeneous {
+        Verdict::Convention(
+            "right with the homogeneous coordinate kept (an extra zero last row)".into(),
+        )
+    } else if halves_swapped {
+        Verdict::Convention(
+            "right with the two halves of the tangent swapped (e.g. [δρ, δω] instead of [δω, δρ])"
+                .into(),
+        )
+    } else {
+        let (p, t) = worst_pair.expect("at least one sample");
+        Verdict::Wrong(suspected_erratum(&p, &t))
+    };
+    let corrected_latex =
+        matches!(verdict, Verdict::Wrong(_)).then(|| corrected_latex(&instances[0]));
+    Finding {
+        label,
+        verdict,
+        max_relative_error: Some(worst),
+        corrected_latex,
+        samples,
+        localisation: None,
+    }
+}

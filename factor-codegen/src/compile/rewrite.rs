@@ -1,0 +1,204 @@
+//! Stage 2: rewrites that share work. Common pairs are extracted greedily,
+//! the most frequent first, until no pair occurs twice: operand pairs `a·b`
+//! across all products, and term pairs `a + r·b` (up to a common
+//! coefficient) across all sums, the classic pairwise common-subexpression
+//! heuristic (canonical operand order makes it deterministic). Distributive
+//! factoring `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` is tried by some strategies.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use factor_symbolic::graph::Real;
+
+use super::ops::{Compiler, Op};
+
+impl Compiler<'_> {
+    /// Factors the most common factor out of one live sum's product terms
+    /// (only single-use ones unless `shared`): `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` saves a multiplication per
+    /// term beyond the first.
+    pub(super) fn factor_sum(&mut self, live: &[usize], shared: bool) -> bool {
+        let uses = self.use_counts(live);
+        for &op in live {
+            let Op::Sum { constant, terms } = self.ops[op].clone() else {
+                continue;
+            };
+            // Each term as (coefficient inside, factor multiset), if eligible.
+            let split: Vec<Option<(f64, Vec<usize>)>> = terms
+                .iter()
+                .map(|(t, _)| match &self.ops[*t] {
+                    Op::Product {
+                        coefficient,
+                        factors,
+                    } if shared || uses.get(t) == Some(&1) => Some((*coefficient, factors.clone())),
+                    Op::Product { .. } => None,
+                    _ => Some((1.0, vec![*t])),
+                })
+                .collect();
+            let mut counts: BTreeMap<usize, usize> = BTreeMap::new();
+            for (_, factors) in split.iter().flatten() {
+                for f in factors.iter().collect::<BTreeSet<_>>() {
+                    *counts.entry(*f).or_insert(0) += 1;
+                }
+            }
+            let Some((&f, _)) = counts
+                .iter()
+                .filter(|(_, n)| **n >= 2)
+                .max_by_key(|(f, n)| (**n, std::cmp::Reverse(**f)))
+            else {
+                continue;
+            };
+            let mut inner_constant = 0.0;
+            let mut inner: BTreeMap<usize, f64> = BTreeMap::new();
+            let mut outer: Vec<(usize, f64)> = Vec::new();
+            for ((t, c), parts) in terms.iter().zip(split) {
+                match parts {
+                    Some((k, mut factors)) if factors.contains(&f) => {
+                        let i = factors.iter().position(|x| *x == f).expect("contains");
+                        factors.remove(i);
+                        match self.product(k, factors) {
+                            Some(cofactor) => *inner.entry(cofactor).or_insert(0.0) += c,
+                            None => inner_constant += c * k,
+                        }
+                    }
+                    _ => outer.push((*t, *c)),
+                }
+            }
+            let mut inner: Vec<(usize, f64)> =
+                inner.into_iter().filter(|(_, c)| *c != 0.0).collect();
+            // A sum whose terms are all negative would cost a negation: carry
+            // its sign out to this sum's coefficient instead.
+            let sign = if inner.iter().all(|(_, c)| *c < 0.0) && inner_constant <= 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            inner.iter_mut().for_each(|(_, c)| *c *= sign);
+            let inner_sum = self.push(Op::Sum {
+                constant: inner_constant * sign,
+                terms: inner,
+            });
+            let factored = self.push(Op::Product {
+                coefficient: 1.0,
+                factors: {
+                    let mut v = vec![f, inner_sum];
+                    v.sort_unstable();
+                    v
+                },
+            });
+            outer.push((factored, sign));
+            outer.sort_unstable_by_key(|(t, _)| *t);
+            self.ops[op] = Op::Sum {
+                constant,
+                terms: outer,
+            };
+            return true;
+        }
+        false
+    }
+
+    /// Extracts the most frequent operand pair of the live products.
+    pub(super) fn extract_product_pair(&mut self, live: &[usize]) -> bool {
+        let mut counts: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+        for &op in live {
+            if let Op::Product { factors, .. } = &self.ops[op] {
+                let mut pairs = BTreeSet::new();
+                for i in 0..factors.len() {
+                    for j in i + 1..factors.len() {
+                        pairs.insert((factors[i], factors[j]));
+                    }
+                }
+                for pair in pairs {
+                    *counts.entry(pair).or_insert(0) += 1;
+                }
+            }
+        }
+        let Some((&(a, b), _)) = counts
+            .iter()
+            .filter(|(_, n)| **n >= 2)
+            .max_by_key(|(pair, n)| (**n, std::cmp::Reverse(**pair)))
+        else {
+            return false;
+        };
+        let pair = self.push(Op::Product {
+            coefficient: 1.0,
+            factors: vec![a, b],
+        });
+        for &op in live {
+            if op == pair {
+                continue;
+            }
+            if let Op::Product { factors, .. } = &mut self.ops[op] {
+                {
+                    if let Some(i) = factors.iter().position(|f| *f == a) {
+                        let rest: Vec<usize> = factors
+                            .iter()
+                            .enumerate()
+                            .filter(|(k, _)| *k != i)
+                            .map(|(_, f)| *f)
+                            .collect();
+                        if let Some(j) = rest.iter().position(|f| *f == b) {
+                            let mut next: Vec<usize> = rest
+                                .iter()
+                                .enumerate()
+                                .filter(|(k, _)| *k != j)
+                                .map(|(_, f)| *f)
+                                .collect();
+                            next.push(pair);
+                            next.sort_unstable();
+                            *factors = next;
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// Extracts the most frequent term pair `a + r·b` of the live sums.
+    pub(super) fn extract_sum_pair(&mut self, live: &[usize]) -> bool {
+        let mut counts: BTreeMap<(usize, usize, u64), usize> = BTreeMap::new();
+        for &op in live {
+            if let Op::Sum { terms, .. } = &self.ops[op] {
+                let mut pairs = BTreeSet::new();
+                for i in 0..terms.len() {
+                    for j in i + 1..terms.len() {
+                        let ratio = Real::new(terms[j].1 / terms[i].1);
+                        pairs.insert((terms[i].0, terms[j].0, ratio.bits()));
+                    }
+                }
+                for pair in pairs {
+                    *counts.entry(pair).or_insert(0) += 1;
+                }
+            }
+        }
+        let Some((&(a, b, ratio_bits), _)) = counts
+            .iter()
+            .filter(|(_, n)| **n >= 2)
+            .max_by_key(|(pair, n)| (**n, std::cmp::Reverse(**pair)))
+        else {
+            return false;
+        };
+        let ratio = f64::from_bits(ratio_bits);
+        let pair = self.push(Op::Sum {
+            constant: 0.0,
+            terms: vec![(a, 1.0), (b, ratio)],
+        });
+        for &op in live {
+            if op == pair {
+                continue;
+            }
+            if let Op::Sum { terms, .. } = &mut self.ops[op] {
+                let ia = terms.iter().position(|(t, _)| *t == a);
+                let ib = terms.iter().position(|(t, _)| *t == b);
+                if let (Some(ia), Some(ib)) = (ia, ib) {
+                    let ca = terms[ia].1;
+                    if Real::new(terms[ib].1 / ca) == Real::new(ratio) {
+                        terms.retain(|(t, _)| *t != a && *t != b);
+                        terms.push((pair, ca));
+                        terms.sort_unstable_by_key(|(t, _)| *t);
+                    }
+                }
+            }
+        }
+        true
+    }
+}

@@ -1,0 +1,66 @@
+//! What gets generated: one [`KernelSpec`] per factor, and the
+//! [`Provenance`] the generated files name.
+
+use crate::kernel::SymbolicKernel;
+
+/// A factor to generate a kernel for.
+///
+/// For a factor `F` of any crate: `name: <F as Factor>::NAME`, and
+/// `trace: || factor_codegen::trace(&template)` with any value
+/// `template: F` (only its type is traced).
+#[derive(Debug, Clone, Copy)]
+pub struct KernelSpec {
+    /// The module and function name in the generated crate: the factor's
+    /// [`factor_core::Factor::NAME`].
+    pub name: &'static str,
+    /// The factor type's path, for the module header.
+    pub source_type: &'static str,
+    /// Where the residual is defined: document and section, equations.
+    pub document: &'static str,
+    /// Each field's input layout, in declaration order: the field name and
+    /// its scalars in [`factor_core::MapScalars`] order.
+    pub inputs: &'static [(&'static str, &'static str)],
+    /// Traces the factor type (the values of the template are irrelevant).
+    pub trace: fn() -> SymbolicKernel,
+}
+
+/// Where a generated crate comes from, as its files say: what the crate
+/// holds, and the commands that regenerate and check it.
+///
+/// A crate of kernels names its generator with [`Provenance::new`] (see the
+/// crate documentation, "Kernels of your own factors").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Provenance {
+    /// What the crate holds: the first paragraph of its `lib.rs`
+    /// documentation, Markdown, one `//!` line per `\n`-separated line.
+    pub description: &'static str,
+    /// The command that writes the crate, quoted in every file's
+    /// "do not edit" note.
+    pub generate: &'static str,
+    /// The command that fails when the crate is stale.
+    pub check: &'static str,
+    /// The conventions paragraph of each module's header.
+    pub conventions: &'static str,
+}
+
+impl Provenance {
+    /// The conventions every factor built on `factor_core`'s types follows.
+    pub const CONVENTIONS: &'static str = "Conventions: quaternions `[x, y, z, w]`, Hamilton \
+        product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the \
+        derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.";
+
+    /// A crate holding `description`, written by the command `generate` and
+    /// checked by `check`, with the library's [`Provenance::CONVENTIONS`].
+    pub const fn new(
+        description: &'static str,
+        generate: &'static str,
+        check: &'static str,
+    ) -> Provenance {
+        Provenance {
+            description,
+            generate,
+            check,
+            conventions: Provenance::CONVENTIONS,
+        }
+    }
+}

@@ -1,0 +1,48 @@
+//! The factors `slamjac` ships, each written once as a generic residual with
+//! `#[derive(Factor)]` on the runtime crate `factor-core`: the four factors
+//! of the specification documents, and the Plücker-line variant peers are
+//! compared on.
+//!
+//! | factor | document | variables (perturbation) |
+//! | --- | --- | --- |
+//! | [`PointReprojection`] | 000 §II | pose (left), point (additive) |
+//! | [`LineReprojection`] | 000 §III | pose (left), orthonormal line (left) |
+//! | [`PlaneFactor`] | 000 §IV | pose (left), plane quaternion (left) |
+//! | [`FreeLineFactor`] | 001 | body pose (right), free line (left) |
+//! | [`PluckerLineReprojection`] | 000 §III, (6)–(8) | pose (left), Plücker `[n, v]` (additive) |
+//!
+//! Degenerate configurations are rejected by each factor's `validate` with
+//! [`factor_core::FactorError::Degenerate`] before anything is evaluated; no factor
+//! returns a NaN, an infinity or a panic for them.
+
+//!
+//! With the default feature `kernels`, each factor's `linearize()` goes
+//! through its generated kernel in the crate `factor-generated`
+//! (`generated/`); without it, through dual numbers (the way to regenerate
+//! kernels that no longer compile). [`analytic`] holds the documents'
+//! hand-derived Jacobians, corrected where the derivation audit found them
+//! wrong, for comparison and benchmarks.
+
+pub mod analytic;
+pub mod free_line;
+pub mod line_reprojection;
+pub mod plane;
+pub mod plucker_line_reprojection;
+pub mod point_reprojection;
+
+pub use free_line::FreeLineFactor;
+pub use line_reprojection::LineReprojection;
+pub use plane::PlaneFactor;
+pub use plucker_line_reprojection::PluckerLineReprojection;
+pub use point_reprojection::PointReprojection;
+
+use factor_core::FactorError;
+
+/// Relative threshold below which a length counts as zero in the validations
+/// (`|x| ≤ DEGENERACY_TOLERANCE · scale`).
+pub const DEGENERACY_TOLERANCE: f64 = 1e-9;
+
+/// A [`FactorError::Degenerate`].
+pub(crate) fn degenerate(factor: &'static str, reason: String) -> FactorError {
+    FactorError::Degenerate { factor, reason }
+}

@@ -1,0 +1,107 @@
+//! Line reprojection with the orthonormal representation, document 000 §III.
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::{DEGENERACY_TOLERANCE, degenerate};
+use factor_core::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
+use factor_core::lie::Se3;
+use factor_core::linalg::dot;
+use factor_core::validation::exceeds;
+use factor_core::{Factor, FactorError, Scalar};
+
+/// The distances of the observed endpoints to the projected line,
+/// `γ = [lᵀ p, lᵀ q] / √(l₁² + l₂²)` with `l = 𝒦 n_c` and `p`, `q` the observed
+/// endpoint pixels `[u, v, 1]` (document 000 §III, (6)–(12)).
+///
+/// - `pose` `T` maps world to camera; **left** perturbation `T ← Exp(δξ) T`,
+///   tangent `[δω, δρ]`.
+/// - `line` `(U, W)`: **left** perturbation `U ← Exp(δΘ) U`, `W ← R(δρ) W`,
+///   tangent `[δΘ, δρ]` (4), as in 000 (9).
+///
+/// Degenerate: the line through the optical centre (`n_c = 0`: it projects to
+/// a point) or in the focal plane `Z = 0` (`l₁ = l₂ = 0`: it projects to the
+/// line at infinity).
+#[derive(Debug, Clone, Factor)]
+#[factor(residual = line_reprojection_residual, dim = 2, validate = validate_line_reprojection)]
+#[cfg_attr(
+    feature = "kernels",
+    factor(kernel = factor_generated::line_reprojection::line_reprojection)
+)]
+pub struct LineReprojection<S: Scalar = f64> {
+    /// `K = [f_u, f_v, c_u, c_v]`.
+    pub intrinsics: Intrinsics<S>,
+    /// Observed start point of the segment (pixels).
+    pub start: Vector2<S>,
+    /// Observed end point of the segment (pixels).
+    pub end: Vector2<S>,
+    /// World-to-camera pose.
+    #[variable(left)]
+    pub pose: Se3<S>,
+    /// The world line.
+    #[variable(left)]
+    pub line: OrthonormalLine<S>,
+}
+
+/// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)`.
+pub fn line_reprojection_residual<S: Scalar>(f: &LineReprojection<S>) -> Vector2<S> {
+    let camera_line = f.line.to_plucker().transform(&f.pose);
+    endpoint_distances(&f.intrinsics, &camera_line.normal, &f.start, &f.end)
+}
+
+/// The signed distances of two pixels to the image line `l = 𝒦 n_c`:
+/// `[lᵀ p, lᵀ q] / √(l₁² + l₂²)` with `p = [u, v, 1]`.
+///
+/// Computed as `lᵀ p = n_cᵀ (𝒦ᵀ p)`, the same number: `𝒦ᵀ p =
+/// [f_v (u − c_u), f_u (v − c_v), f_u f_v]` involves only constants, so a
+/// derivative of the residual meets one dot product per endpoint instead of
+/// the product with `𝒦` and then with `p`.
+pub(crate) fn endpoint_distances<S: Scalar>(
+    intrinsics: &Intrinsics<S>,
+    n_c: &Vector3<S>,
+    start: &Vector2<S>,
+    end: &Vector2<S>,
+) -> Vector2<S> {
+    let k = intrinsics;
+    let (l1, l2) = (k.fv * n_c.x, k.fu * n_c.y);
+    let inv = (l1 * l1 + l2 * l2).sqrt().recip();
+    let through =
+        |p: &Vector2<S>| Vector3::new(k.fv * (p.x - k.cu), k.fu * (p.y - k.cv), k.fu * k.fv);
+    Vector2::new(
+        dot(n_c, &through(start)) * inv,
+        dot(n_c, &through(end)) * inv,
+    )
+}
+
+/// Rejects a line through the optical centre or in the focal plane.
+pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), FactorError> {
+    let camera_line = f.line.to_plucker().transform(&f.pose);
+    validate_camera_line(LineReprojection::NAME, &f.intrinsics, &camera_line)
+}
+
+/// Rejects a camera-frame line that passes through the optical centre
+/// (`n_c = 0`: it projects to a point) or lies in the focal plane
+/// (`l₁ = l₂ = 0` for `l = 𝒦 n_c`: it projects to the line at infinity).
+pub(crate) fn validate_camera_line(
+    factor: &'static str,
+    intrinsics: &Intrinsics<f64>,
+    camera_line: &PluckerLine<f64>,
+) -> Result<(), FactorError> {
+    let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
+    if !exceeds(n, DEGENERACY_TOLERANCE * v) {
+        return Err(degenerate(
+            factor,
+            format!(
+                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
+                n / v
+            ),
+        ));
+    }
+    let l = intrinsics.project_line(&camera_line.normal);
+    if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
+        return Err(degenerate(
+            factor,
+            "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
+        ));
+    }
+    Ok(())
+}
