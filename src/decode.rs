@@ -1,178 +1,93 @@
-//! Each factor's `variables` and `constants` objects → the factor value
-//! (SPEC.md, "The `eval` JSON interface").
-//!
-//! Checks made here, each reported at its field path (exit 2): shapes and
-//! types, finiteness, unit quaternions (within
-//! [`crate::input::QUATERNION_NORM_TOLERANCE`], then re-normalised), zero-norm
-//! plane, line and bearing vectors, zero focal lengths, and the Plücker
-//! constraint `n · v = 0`. What only the factor can judge (a point behind the
-//! camera, parallel bearings, ...) is left to its `validate()`.
+//! The `variables` and `constants` objects of an `eval` request → the
+//! factor, for any factor: each field is read in the shape its type's
+//! [`Storage::input_layout`](factor_core::Storage::input_layout) gives (an
+//! object for a record, an array for named scalars, a number), then checked
+//! and converted to its stored scalars by its type's
+//! [`Storage::from_input`](factor_core::Storage::from_input) (unit
+//! quaternions within
+//! [`QUATERNION_NORM_TOLERANCE`](factor_core::storage::QUATERNION_NORM_TOLERANCE)
+//! of norm 1, planes at any
+//! scale, Plücker lines to the orthonormal form, ...). Errors name the field
+//! path (exit 2); what only the factor can judge (a point behind the camera,
+//! parallel bearings, ...) is left to its `validate()`.
 
-use factor_core::Factor;
-use factor_core::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
-use slam_factors::{
-    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
-};
+use factor_core::{Factor, FieldInfo, Layout};
+use serde_json::Value;
 
 use crate::error::InputError;
-use crate::input::{Object, QUATERNION_NORM_TOLERANCE};
+use crate::input::{Object, number, numbers};
 
-/// The JSON shape of the pose objects.
-const POSE: &str = "{\"rotation\": [x, y, z, w], \"translation\": [tx, ty, tz]}";
-/// The JSON shape of the intrinsics.
-const INTRINSICS: &str = "[fu, fv, cu, cv]";
-
-/// A factor that can be read from the `eval` JSON.
-pub trait FromJson: Factor {
-    /// The fields of `variables` and their JSON shapes, in the factor's
-    /// declaration order (the names of [`Factor::variables`]).
-    const VARIABLES: &'static [(&'static str, &'static str)];
-    /// The fields of `constants` and their JSON shapes.
-    const CONSTANTS: &'static [(&'static str, &'static str)];
-
-    /// The factor from its checked `variables` and `constants` objects.
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError>;
-}
-
-/// `[fu, fv, cu, cv]` with non-zero focal lengths.
-fn intrinsics(constants: &Object, key: &str) -> Result<Intrinsics<f64>, InputError> {
-    let k = constants.vector::<4>(key)?;
-    for (i, name) in [(0, "f_u"), (1, "f_v")] {
-        if k[i] == 0.0 {
-            return Err(InputError::new(
-                format!("{}[{i}]", constants.path_of(key)),
-                format!("focal length {name} is zero"),
-            ));
+/// The JSON shape of a layout, for `list` and error messages:
+/// `{"rotation": [qx, qy, qz, qw], "translation": [x, y, z]}`.
+pub fn json_shape(layout: &Layout) -> String {
+    match layout {
+        Layout::Scalar => "number".to_owned(),
+        Layout::Array(names) => format!("[{}]", names.join(", ")),
+        Layout::Record(parts) => {
+            let parts: Vec<String> = parts
+                .iter()
+                .map(|(key, part)| format!("\"{key}\": {}", json_shape(part)))
+                .collect();
+            format!("{{{}}}", parts.join(", "))
         }
     }
-    Ok(Intrinsics::new(k[0], k[1], k[2], k[3]))
 }
 
-impl FromJson for PointReprojection {
-    const VARIABLES: &'static [(&'static str, &'static str)] =
-        &[("pose", POSE), ("point", "[X, Y, Z]")];
-    const CONSTANTS: &'static [(&'static str, &'static str)] =
-        &[("intrinsics", INTRINSICS), ("observed", "[u, v]")];
-
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
-        let pose = variables.pose("pose")?;
-        let point = variables.vector::<3>("point")?;
-        Ok(PointReprojection {
-            intrinsics: intrinsics(constants, "intrinsics")?,
-            observed: constants.vector::<2>("observed")?,
-            pose,
-            point,
-        })
+/// The keys of a record layout (none for another layout).
+pub fn record_keys(layout: &Layout) -> Vec<&'static str> {
+    match layout {
+        Layout::Record(parts) => parts.iter().map(|(key, _)| *key).collect(),
+        Layout::Scalar | Layout::Array(_) => Vec::new(),
     }
 }
 
-impl FromJson for LineReprojection {
-    const VARIABLES: &'static [(&'static str, &'static str)] = &[
-        ("pose", POSE),
-        (
-            "line",
-            "{\"normal\": n [3], \"direction\": v [3]} (Plücker, any scale)",
-        ),
-    ];
-    const CONSTANTS: &'static [(&'static str, &'static str)] = &[
-        ("intrinsics", INTRINSICS),
-        ("start", "[u, v]"),
-        ("end", "[u, v]"),
-    ];
-
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
-        let pose = variables.pose("pose")?;
-        let line = variables.object("line", &["normal", "direction"])?;
-        let normal = line.nonzero_vector::<3>(
-            "normal",
-            "line normal n (the line must not pass through the world origin)",
-        )?;
-        let direction = line.nonzero_vector::<3>("direction", "line direction v")?;
-        let line = OrthonormalLine::try_from_plucker(&PluckerLine::new(normal, direction))
-            .map_err(|e| InputError::new(variables.path_of("line"), e.to_string()))?;
-        Ok(LineReprojection {
-            intrinsics: intrinsics(constants, "intrinsics")?,
-            start: constants.vector::<2>("start")?,
-            end: constants.vector::<2>("end")?,
-            pose,
-            line,
-        })
+/// Appends the numbers of `value` (at `path`), written in `layout`, to `out`.
+fn read(value: &Value, path: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
+    match layout {
+        Layout::Scalar => out.push(number(value, path)?),
+        Layout::Array(names) => out.extend(numbers(value, path, names.len())?),
+        Layout::Record(parts) => {
+            let object = Object::new(value, path, &record_keys(layout))?;
+            for (key, part) in parts {
+                read(object.get(key), &object.path_of(key), part, out)?;
+            }
+        }
     }
+    Ok(())
 }
 
-impl FromJson for PluckerLineReprojection {
-    const VARIABLES: &'static [(&'static str, &'static str)] = &[
-        ("pose", POSE),
-        (
-            "line",
-            "{\"normal\": n [3], \"direction\": v [3]} (Plücker, any scale)",
-        ),
-    ];
-    const CONSTANTS: &'static [(&'static str, &'static str)] = LineReprojection::CONSTANTS;
-
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
-        let pose = variables.pose("pose")?;
-        let line = variables.object("line", &["normal", "direction"])?;
-        let normal = line.vector::<3>("normal")?;
-        let direction = line.nonzero_vector::<3>("direction", "line direction v")?;
-        Ok(PluckerLineReprojection {
-            intrinsics: intrinsics(constants, "intrinsics")?,
-            start: constants.vector::<2>("start")?,
-            end: constants.vector::<2>("end")?,
-            pose,
-            line: PluckerLine::new(normal, direction),
-        })
-    }
+/// Field `field`'s stored scalars from `object` (the request's `variables`
+/// or `constants`).
+fn field_scalars(object: &Object, field: &FieldInfo) -> Result<Vec<f64>, InputError> {
+    let path = object.path_of(field.name);
+    let mut input = Vec::with_capacity(field.input_layout.scalars());
+    read(
+        object.get(field.name),
+        &path,
+        &field.input_layout,
+        &mut input,
+    )?;
+    (field.from_input)(&input).map_err(|e| {
+        let at = match (e.path.is_empty(), e.path.starts_with('[')) {
+            (true, _) => path,
+            (false, true) => format!("{path}{}", e.path),
+            (false, false) => format!("{path}.{}", e.path),
+        };
+        InputError::new(at, e.message)
+    })
 }
 
-impl FromJson for PlaneFactor {
-    const VARIABLES: &'static [(&'static str, &'static str)] =
-        &[("pose", POSE), ("plane", "[a, b, c, d] (world, any scale)")];
-    const CONSTANTS: &'static [(&'static str, &'static str)] =
-        &[("measured", "[a, b, c, d] (camera, any scale)")];
-
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
-        let pose = variables.pose("pose")?;
-        let plane = variables.nonzero_vector::<4>("plane", "plane vector [a, b, c, d]")?;
-        let plane = InfinitePlane::try_from_coefficients(&plane)
-            .map_err(|e| InputError::new(variables.path_of("plane"), e.to_string()))?;
-        Ok(PlaneFactor {
-            measured: constants.nonzero_vector::<4>("measured", "plane vector [a, b, c, d]")?,
-            pose,
-            plane,
-        })
+/// Factor `F` from its checked `variables` and `constants` objects (each
+/// with exactly `F`'s variable and constant fields).
+pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, InputError> {
+    let mut stored = Vec::with_capacity(F::SCALARS);
+    for field in F::fields() {
+        let object = if field.variable.is_some() {
+            variables
+        } else {
+            constants
+        };
+        stored.extend(field_scalars(object, &field)?);
     }
-}
-
-impl FromJson for FreeLineFactor {
-    const VARIABLES: &'static [(&'static str, &'static str)] = &[
-        ("body_pose", POSE),
-        (
-            "line",
-            "{\"rotation\": q_WL [x, y, z, w], \"distance\": d_L}",
-        ),
-    ];
-    const CONSTANTS: &'static [(&'static str, &'static str)] = &[
-        ("extrinsics", POSE),
-        ("bearing_start", "[x, y, z]"),
-        ("bearing_end", "[x, y, z]"),
-    ];
-
-    fn from_json(variables: &Object, constants: &Object) -> Result<Self, InputError> {
-        let body_pose = variables.pose("body_pose")?;
-        let line = variables.object("line", &["rotation", "distance"])?;
-        let line = FreeLine::try_new(
-            line.quaternion("rotation")?,
-            line.number("distance")?,
-            QUATERNION_NORM_TOLERANCE,
-        )
-        .map_err(|e| InputError::new(variables.path_of("line"), e.to_string()))?;
-        Ok(FreeLineFactor {
-            extrinsics: constants.pose("extrinsics")?,
-            bearing_start: constants.nonzero_vector::<3>("bearing_start", "bearing vector")?,
-            bearing_end: constants.nonzero_vector::<3>("bearing_end", "bearing vector")?,
-            body_pose,
-            line,
-        })
-    }
+    Ok(F::from_scalars(&stored))
 }

@@ -57,6 +57,9 @@ pub enum CliError {
         .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
     Stale(Vec<PathBuf>),
+    /// `generate`/`check`: the generator refuses a kernel (exit 1).
+    #[error("generate: {0}")]
+    Codegen(#[from] factor_codegen::CodegenError),
     /// `audit`: these formulas disagree with the truth and are not known
     /// errata (exit 1).
     #[error("audit: formulas disagree with the truth: {}", .0.join("; "))]
@@ -68,7 +71,10 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Input(_) => EXIT_BAD_INPUT,
-            CliError::Factor(_) | CliError::Stale(_) | CliError::Disagreement(_) => EXIT_DEGENERATE,
+            CliError::Factor(_)
+            | CliError::Stale(_)
+            | CliError::Codegen(_)
+            | CliError::Disagreement(_) => EXIT_DEGENERATE,
         }
     }
 

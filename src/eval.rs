@@ -74,11 +74,15 @@ pub struct Evaluation {
 pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError> {
     let top = Object::new(request, "", &["factor", "variables", "constants"])?;
     let entry = registry::find(top.string("factor")?, &top.path_of("factor"))?;
-    let names = |fields: &'static [(&'static str, &'static str)]| -> Vec<&'static str> {
-        fields.iter().map(|(name, _)| *name).collect()
+    let names = |variables: bool| -> Vec<&'static str> {
+        entry
+            .json_fields(variables)
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect()
     };
-    let variables = top.object("variables", &names(entry.variable_fields))?;
-    let constants = top.object("constants", &names(entry.constant_fields))?;
+    let variables = top.object("variables", &names(true))?;
+    let constants = top.object("constants", &names(false))?;
     let (linearization, method) = (entry.linearize)(&variables, &constants, method)?;
     Ok(Evaluation {
         factor: entry.name,

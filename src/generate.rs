@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use factor_codegen::OpCounts;
-use factor_codegen::{self as codegen, GeneratedModule, KernelSpec};
+use factor_codegen::{self as codegen, CodegenError, GeneratedCrate, GeneratedModule, KernelSpec};
 
 use crate::error::{CliError, InputError};
 use crate::kernels;
@@ -35,16 +35,20 @@ pub struct Timed {
 }
 
 /// Generates every document kernel, timing each.
-pub fn generate_timed() -> Vec<Timed> {
+///
+/// # Errors
+///
+/// As [`codegen::generate_with`].
+pub fn generate_timed() -> Result<Vec<Timed>, CodegenError> {
     kernels::document_kernels()
         .iter()
         .map(|spec: &KernelSpec| {
             let start = Instant::now();
-            let module = codegen::generate_with(spec, &kernels::PROVENANCE);
-            Timed {
+            let module = codegen::generate_with(spec, &kernels::PROVENANCE)?;
+            Ok(Timed {
                 module,
                 elapsed: start.elapsed(),
-            }
+            })
         })
         .collect()
 }
@@ -66,16 +70,18 @@ fn milliseconds(d: Duration) -> String {
 pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
     let dir = out.map_or_else(default_dir, Path::to_path_buf);
     let start = Instant::now();
-    let timed = generate_timed();
+    let timed = generate_timed()?;
     let generation = start.elapsed();
     let modules: Vec<GeneratedModule> = timed.iter().map(|t| t.module.clone()).collect();
-    codegen::write_crate(&dir, &modules).map_err(|e| {
+    let count = modules.len();
+    let generated = GeneratedCrate::from_modules(kernels::PROVENANCE, modules)?;
+    generated.write(&dir).map_err(|e| {
         InputError::new(
             dir.display().to_string(),
             format!("cannot write the generated crate: {e}"),
         )
     })?;
-    let width = modules.iter().map(|m| m.name.len()).max().unwrap_or(0);
+    let width = timed.iter().map(|t| t.module.name.len()).max().unwrap_or(0);
     let mut lines = Vec::new();
     for t in &timed {
         let m = &t.module;
@@ -90,7 +96,7 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
     }
     lines.push(format!(
         "generated {} kernels into {} in {} (trace, lower, emit and format, in process)",
-        modules.len(),
+        count,
         dir.join("src").display(),
         milliseconds(generation),
     ));
@@ -101,12 +107,12 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
 /// `generate` would write, else [`CliError::Stale`] naming the files.
 pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
     let dir = dir.map_or_else(default_dir, Path::to_path_buf);
-    let modules = kernels::generate_all();
-    match codegen::check_crate(&dir, &modules) {
+    let generated = kernels::generate_all()?;
+    match generated.check(&dir) {
         Ok(()) => Ok(format!(
             "{} is up to date ({} kernels)",
             dir.join("src").display(),
-            modules.len()
+            generated.modules.len()
         )),
         Err(files) => Err(CliError::Stale(files)),
     }

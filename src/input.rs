@@ -8,15 +8,9 @@
 
 use std::io::Read;
 
-use factor_core::lie::{Quaternion, Se3, So3};
-use nalgebra::SVector;
 use serde_json::{Map, Value};
 
 use crate::error::InputError;
-
-/// How far from 1 the norm of an input quaternion may be; within it the
-/// quaternion is re-normalised, beyond it rejected.
-pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-6;
 
 /// The name errors use for an input source: the path, or `<stdin>` for `-`.
 pub fn source_name(source: &str) -> String {
@@ -147,25 +141,25 @@ pub fn number(value: &Value, path: &str) -> Result<f64, InputError> {
     }
 }
 
-/// An array of exactly `N` finite numbers at `path`.
-pub fn vector<const N: usize>(value: &Value, path: &str) -> Result<SVector<f64, N>, InputError> {
+/// An array of exactly `n` finite numbers at `path`.
+pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
     let items = value.as_array().ok_or_else(|| {
         InputError::new(
             path,
-            format!("expected an array of {N} numbers, found {}", kind(value)),
+            format!("expected an array of {n} numbers, found {}", kind(value)),
         )
     })?;
-    if items.len() != N {
+    if items.len() != n {
         return Err(InputError::new(
             path,
-            format!("wrong length: expected {N} numbers, found {}", items.len()),
+            format!("wrong length: expected {n} numbers, found {}", items.len()),
         ));
     }
-    let mut out = SVector::<f64, N>::zeros();
-    for (i, item) in items.iter().enumerate() {
-        out[i] = number(item, &format!("{path}[{i}]"))?;
-    }
-    Ok(out)
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, item)| number(item, &format!("{path}[{i}]")))
+        .collect()
 }
 
 /// A JSON object whose keys have been checked: none unknown, none missing.
@@ -229,63 +223,9 @@ impl<'a> Object<'a> {
             })
     }
 
-    /// A finite number field.
-    pub fn number(&self, key: &str) -> Result<f64, InputError> {
-        number(self.get(key), &self.path_of(key))
-    }
-
-    /// A field holding an array of `N` finite numbers.
-    pub fn vector<const N: usize>(&self, key: &str) -> Result<SVector<f64, N>, InputError> {
-        vector(self.get(key), &self.path_of(key))
-    }
-
-    /// Like [`Object::vector`], rejecting the zero vector; `what` names it.
-    pub fn nonzero_vector<const N: usize>(
-        &self,
-        key: &str,
-        what: &str,
-    ) -> Result<SVector<f64, N>, InputError> {
-        let v = self.vector::<N>(key)?;
-        if v.norm() > 0.0 {
-            Ok(v)
-        } else {
-            Err(InputError::new(
-                self.path_of(key),
-                format!("{what} has zero norm"),
-            ))
-        }
-    }
-
-    /// A unit quaternion `[x, y, z, w]`: a norm within
-    /// [`QUATERNION_NORM_TOLERANCE`] of 1 is re-normalised, any other rejected.
-    pub fn quaternion(&self, key: &str) -> Result<Quaternion<f64>, InputError> {
-        let c = self.vector::<4>(key)?;
-        let norm = c.norm();
-        if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE {
-            Ok(Quaternion::from_coords(c / norm))
-        } else {
-            Err(InputError::new(
-                self.path_of(key),
-                format!(
-                    "quaternion [x, y, z, w] has norm {norm}, expected 1 \
-                     (within {QUATERNION_NORM_TOLERANCE:e})"
-                ),
-            ))
-        }
-    }
-
     /// A sub-object with exactly the fields `keys`.
     pub fn object(&self, key: &str, keys: &[&str]) -> Result<Object<'a>, InputError> {
         Object::new(self.get(key), &self.path_of(key), keys)
-    }
-
-    /// A pose `{"rotation": [x, y, z, w], "translation": [tx, ty, tz]}`.
-    pub fn pose(&self, key: &str) -> Result<Se3<f64>, InputError> {
-        let pose = self.object(key, &["rotation", "translation"])?;
-        Ok(Se3::new(
-            So3::from_quaternion(pose.quaternion("rotation")?),
-            pose.vector::<3>("translation")?,
-        ))
     }
 }
 
@@ -297,7 +237,7 @@ mod tests {
     fn out_of_range_literals_are_reported_at_their_field() {
         let value = parse_json("{\"a\": [1, -1e999]}", "x").unwrap();
         let a = Object::new(&value, "", &["a"]).unwrap();
-        let error = a.vector::<2>("a").unwrap_err();
+        let error = numbers(a.get("a"), &a.path_of("a"), 2).unwrap_err();
         assert_eq!(error.path, "a[1]");
         assert!(error.message.contains("-1e999"), "{error}");
     }
@@ -306,7 +246,7 @@ mod tests {
     fn several_out_of_range_literals_after_non_ascii_text_are_all_marked() {
         let value = parse_json("{\"é\": \"ü\",\r\n \"b\": [1e999, 2E+999, 3]}", "x").unwrap();
         let b = Object::new(&value, "", &["é", "b"]).unwrap();
-        assert_eq!(b.vector::<3>("b").unwrap_err().path, "b[0]");
+        assert_eq!(numbers(b.get("b"), "b", 3).unwrap_err().path, "b[0]");
         assert_eq!(number(&value["b"][1], "b[1]").unwrap_err().path, "b[1]");
         assert_eq!(number(&value["b"][2], "b[2]"), Ok(3.0));
     }
@@ -316,16 +256,5 @@ mod tests {
         let error = parse_json("{\"a\": ", "in.json").unwrap_err();
         assert_eq!(error.path, "in.json");
         assert!(error.message.starts_with("invalid JSON"));
-    }
-
-    #[test]
-    fn quaternions_are_renormalised_within_tolerance_only() {
-        let value =
-            serde_json::json!({"q": [0.0, 0.0, 0.0, 1.0000005], "r": [0.0, 0.0, 0.0, 1.01]});
-        let o = Object::new(&value, "p", &["q", "r"]).unwrap();
-        assert_eq!(o.quaternion("q").unwrap().w, 1.0);
-        let error = o.quaternion("r").unwrap_err();
-        assert_eq!(error.path, "p.r");
-        assert!(error.message.contains("norm"));
     }
 }

@@ -93,15 +93,16 @@ fn factor_table(entry: &FactorEntry) -> String {
         out.push_str(line.trim_end());
         out.push('\n');
     }
-    let fields = |fields: &[(&str, &str)]| {
-        fields
+    let fields = |variables: bool| {
+        entry
+            .json_fields(variables)
             .iter()
             .map(|(name, shape)| format!("{name} {shape}"))
             .collect::<Vec<_>>()
             .join("; ")
     };
-    out.push_str(&format!("  variables: {}\n", fields(entry.variable_fields)));
-    out.push_str(&format!("  constants: {}\n", fields(entry.constant_fields)));
+    out.push_str(&format!("  variables: {}\n", fields(true)));
+    out.push_str(&format!("  constants: {}\n", fields(false)));
     out.push_str(&kernel_line(entry));
     out
 }
@@ -120,7 +121,7 @@ pub fn json() -> Value {
     let factors: Vec<Value> = factors()
         .iter()
         .map(|entry| {
-            let shapes = entry.variable_fields.iter().map(|(_, shape)| *shape);
+            let shapes = entry.json_fields(true).into_iter().map(|(_, shape)| shape);
             let variables: Vec<Value> = (entry.variables)()
                 .iter()
                 .zip(shapes)
@@ -135,7 +136,7 @@ pub fn json() -> Value {
                 })
                 .collect();
             let constants: Vec<Value> = entry
-                .constant_fields
+                .json_fields(false)
                 .iter()
                 .map(|(name, shape)| json!({"name": name, "json": shape}))
                 .collect();

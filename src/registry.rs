@@ -1,14 +1,14 @@
 //! The table of factors the command line knows.
 //!
-//! Registering a factor is one line in [`factors`], given a
-//! [`FromJson`] implementation (in [`crate::decode`]) for it.
+//! Registering a factor is one line in [`factors`]: its JSON form comes
+//! from its fields' storage ([`crate::decode`]).
 
-use factor_core::{DynLinearization, VariableInfo};
+use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
 use slam_factors::{
     FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
 
-use crate::decode::FromJson;
+use crate::decode::{decode, json_shape};
 use crate::error::{CliError, InputError};
 use crate::eval::{Method, linearize};
 use crate::input::Object;
@@ -22,10 +22,8 @@ pub struct FactorEntry {
     pub residual_dim: usize,
     /// The variables in declaration order ([`factor_core::Factor::variables`]).
     pub variables: fn() -> Vec<VariableInfo>,
-    /// The fields of `variables` with their JSON shapes.
-    pub variable_fields: &'static [(&'static str, &'static str)],
-    /// The fields of `constants` with their JSON shapes.
-    pub constant_fields: &'static [(&'static str, &'static str)],
+    /// Every field in declaration order ([`factor_core::Factor::fields`]).
+    pub fields: fn() -> Vec<FieldInfo>,
     /// The generated kernel `eval --method generated` uses
     /// ([`factor_core::Factor::KERNEL`]), if any.
     pub kernel: Option<&'static str>,
@@ -41,19 +39,30 @@ pub type LinearizeFn = fn(&Object, &Object, Method) -> Result<(DynLinearization,
 
 impl FactorEntry {
     /// The entry of factor `F`.
-    pub fn of<F: FromJson>() -> Self {
+    pub fn of<F: Factor>() -> Self {
         FactorEntry {
             name: F::NAME,
             residual_dim: F::RESIDUAL_DIM,
             variables: F::variables,
-            variable_fields: F::VARIABLES,
-            constant_fields: F::CONSTANTS,
+            fields: F::fields,
             kernel: F::KERNEL,
             linearize: |variables, constants, method| {
-                let factor = F::from_json(variables, constants)?;
+                let factor: F = decode(variables, constants)?;
                 Ok(linearize(&factor, method)?)
             },
         }
+    }
+}
+
+impl FactorEntry {
+    /// The fields of `variables` (`true`) or `constants` (`false`), each
+    /// with its JSON shape.
+    pub fn json_fields(&self, variables: bool) -> Vec<(&'static str, String)> {
+        (self.fields)()
+            .into_iter()
+            .filter(|field| field.variable.is_some() == variables)
+            .map(|field| (field.name, json_shape(&field.input_layout)))
+            .collect()
     }
 }
 
@@ -92,7 +101,7 @@ mod tests {
         for entry in factors() {
             let declared: Vec<&str> = (entry.variables)().iter().map(|v| v.name).collect();
             let fields: Vec<&str> = entry
-                .variable_fields
+                .json_fields(true)
                 .iter()
                 .map(|(name, _)| *name)
                 .collect();

@@ -5,8 +5,9 @@
 //! that they are what the current definitions generate.)
 #![cfg(feature = "kernels")]
 
-use factor_core::factor::relative_frobenius_error;
-use factor_core::{DynLinearization, Factor, MapScalars};
+use factor_core::{Factor, Storage};
+use factor_testing::JacobianCheck;
+use factor_testing::generated::compare;
 use factor_testing::samples::Sampler;
 
 const CONFIGURATIONS: usize = 200;
@@ -19,45 +20,16 @@ const VS_NUMERIC: f64 = 1e-6;
 /// a few 1e-5 px in `f32`).
 const F32_VS_F64: f64 = 1e-3;
 
-/// The scale a residual's rounding error lives at: the largest magnitude
-/// among the factor's input scalars (pixel coordinates and focal lengths of
-/// order 10²–10³, unit-vector entries of order 1), or 1.
-///
-/// A residual is the difference of terms of that size (the line residual
-/// `lᵀp/√(l₁²+l₂²)` sums pixel coordinates of order 500 times `l` down to a
-/// fraction of a pixel; the plane and free-line residuals are differences of
-/// unit-vector products), so two correct evaluation orders differ by rounding
-/// of the terms, not of the result: seed 12's 19th line configuration has a
-/// 0.69 px residual from ~450 px terms and the two orders differ by 1.0e-12 px.
-/// Residuals are therefore compared relative to `max(‖r‖, input scale)`: a
-/// backward-error measure. Jacobian blocks have no such cancellation and are
-/// compared relatively down to `1e-9`, as in `factor_testing`.
-fn input_scale<F: MapScalars<f64>>(factor: &F) -> f64 {
-    let mut scale: f64 = 1.0;
-    let _ = factor.map_scalars(&mut |x: f64| {
-        scale = scale.max(x.abs());
-        x
-    });
-    scale
-}
-
-/// Relative Frobenius errors of the residual and of each block of `a` w.r.t. `b`.
-fn errors(a: &DynLinearization, b: &DynLinearization, residual_scale: f64) -> Vec<f64> {
-    let residual = (&a.residual - &b.residual).norm() / b.residual.norm().max(residual_scale);
-    let blocks = a
-        .jacobians
-        .iter()
-        .zip(&b.jacobians)
-        .map(|(x, y)| relative_frobenius_error(x, y, 1e-9));
-    std::iter::once(residual).chain(blocks).collect()
+/// The residual's error, then each block's (see [`compare`]).
+fn errors(check: &JacobianCheck) -> Vec<f64> {
+    std::iter::once(check.residual_error)
+        .chain(check.block_errors.iter().map(|(_, e)| *e))
+        .collect()
 }
 
 /// Checks `CONFIGURATIONS` samples against dual numbers and central
 /// differences; returns the worst errors seen (vs dual, vs numeric).
-fn check_agreement<F: Factor + MapScalars<f64>>(
-    seed: u64,
-    mut sample: impl FnMut(&mut Sampler) -> F,
-) -> (f64, f64) {
+fn check_agreement<F: Factor>(seed: u64, mut sample: impl FnMut(&mut Sampler) -> F) -> (f64, f64) {
     let mut sampler = Sampler::new(seed);
     let (mut worst_dual, mut worst_numeric) = (0.0_f64, 0.0_f64);
     for i in 0..CONFIGURATIONS {
@@ -68,7 +40,7 @@ fn check_agreement<F: Factor + MapScalars<f64>>(
             .unwrap_or_else(|e| panic!("{} configuration {i}: {e}", F::NAME));
         let dual = factor.linearize_dual_dyn().expect("valid");
         let numeric = factor.linearize_numeric_dyn().expect("valid");
-        for (k, e) in errors(&generated, &dual, input_scale(&factor))
+        for (k, e) in errors(&compare(&factor, &generated, &dual))
             .into_iter()
             .enumerate()
         {
@@ -79,7 +51,7 @@ fn check_agreement<F: Factor + MapScalars<f64>>(
             );
             worst_dual = worst_dual.max(e);
         }
-        for (k, e) in errors(&generated, &numeric, input_scale(&factor))
+        for (k, e) in errors(&compare(&factor, &generated, &numeric))
             .into_iter()
             .enumerate()
         {
@@ -127,7 +99,7 @@ fn plane_generated_matches_dual_near_and_at_zero_error() {
         let factor = sampler.plane_with_error(if i % 2 == 0 { 1e-4 } else { 0.0 });
         let generated = factor.linearize_generated_dyn().expect("kernel").unwrap();
         let dual = factor.linearize_dual_dyn().unwrap();
-        for e in errors(&generated, &dual, input_scale(&factor)) {
+        for e in errors(&compare(&factor, &generated, &dual)) {
             assert!(e <= VS_DUAL, "configuration {i}: {e:e}");
         }
     }
@@ -155,20 +127,14 @@ fn linearize_uses_the_generated_kernel() {
     );
 }
 
-/// The stored scalars of a field in `MapScalars` order, converted by `convert`.
-fn flat<M: MapScalars<f64>, T: Copy + Default, const N: usize>(
+/// The stored scalars of a field in storage order, converted by `convert`.
+fn flat<M: Storage<f64>, T: Copy + Default, const N: usize>(
     value: &M,
     convert: fn(f64) -> T,
 ) -> [T; N] {
-    let mut out = [T::default(); N];
-    let mut i = 0;
-    value.map_scalars(&mut |s: f64| {
-        out[i] = convert(s);
-        i += 1;
-        s
-    });
-    assert_eq!(i, N, "a field stores {N} scalars");
-    out
+    let stored = value.to_scalars();
+    assert_eq!(stored.len(), N, "a field stores {N} scalars");
+    std::array::from_fn(|i| convert(stored[i]))
 }
 
 /// `‖a − b‖ / max(‖b‖, 1)`: the loose comparison of `f32` with `f64`.
@@ -391,7 +357,7 @@ fn plane_kernel_is_exact_near_its_singular_points() {
             let dual = factor
                 .linearize_dual_dyn()
                 .unwrap_or_else(|e| panic!("angle {angle}: {e}"));
-            for e in errors(&generated, &dual, input_scale(&factor)) {
+            for e in errors(&compare(&factor, &generated, &dual)) {
                 assert!(e <= VS_DUAL, "angle {angle}: generated vs dual {e:e}");
             }
             assert!(
@@ -400,7 +366,7 @@ fn plane_kernel_is_exact_near_its_singular_points() {
             );
             if angle < PI + 0.5 {
                 let numeric = factor.linearize_numeric_dyn().unwrap();
-                for e in errors(&generated, &numeric, input_scale(&factor)) {
+                for e in errors(&compare(&factor, &generated, &numeric)) {
                     assert!(e <= VS_NUMERIC, "angle {angle}: generated vs numeric {e:e}");
                 }
             }

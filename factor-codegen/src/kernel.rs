@@ -62,10 +62,10 @@ impl SymbolicKernel {
     }
 }
 
-/// Traces `template`'s factor type. The values in `template` are not used,
-/// only its structure: every stored scalar becomes an input. The Jacobian
-/// blocks are the cheapest of the exact forms (see the module docs).
-pub fn trace<F: Factor>(template: &F) -> SymbolicKernel {
+/// Traces factor type `F`: every stored scalar becomes an input, in storage
+/// order (no value of the factor is needed). The Jacobian blocks are the
+/// cheapest of the exact forms (see the module docs).
+pub fn trace<F: Factor>() -> SymbolicKernel {
     let tracer = Tracer::new();
     let fields = F::fields();
     let Traced {
@@ -73,7 +73,7 @@ pub fn trace<F: Factor>(template: &F) -> SymbolicKernel {
         delta,
         input_len,
         at_zero,
-    } = trace_at_tangent(template, &mut |_| {});
+    } = trace_at_tangent::<F>();
     let mut substituted = HashMap::new();
     let residual: Vec<Expr> = traced
         .iter()

@@ -18,8 +18,9 @@
 //! - [`module`]: trace → lower → schedule → emit for one factor
 //!   ([`GeneratedModule`]), what to generate ([`spec`]: [`KernelSpec`],
 //!   [`Provenance`]);
-//! - [`crate_writer`]: the crate's `src/` files, written ([`write_crate`]) or
-//!   compared with the disk ([`check_crate`]).
+//! - [`crate_writer`]: the crate's `src/` files ([`GeneratedCrate`]),
+//!   written or compared with the disk;
+//! - [`error`]: what the generator refuses ([`CodegenError`]).
 //!
 //! Output is deterministic: no timestamps, no hash-map iteration order, so
 //! regenerating from unchanged definitions is byte-identical, and a check
@@ -31,22 +32,27 @@
 //! defining factors generates their kernels from one of its binaries (or
 //! tests) into a dependency-free crate of its own tree, which it then
 //! depends on through `#[factor(kernel = path)]`, behind a feature so the
-//! generator builds without it. The steps: a [`KernelSpec`] per factor, a
-//! [`Provenance`] naming the command, [`generate_with`], then
-//! [`write_crate`] or [`check_crate`]:
+//! generator builds without it. The steps: a [`KernelSpec`] per factor (one
+//! line: [`KernelSpec::of`]), a [`Provenance`] naming the commands, then
+//! [`GeneratedCrate::generate`] and [`GeneratedCrate::write`] or
+//! [`GeneratedCrate::check`]:
 //!
 //! ```no_run
-//! use factor_codegen::{self as codegen, KernelSpec, Provenance, trace};
+//! use factor_codegen::{GeneratedCrate, KernelSpec, Provenance};
 //! use factor_core::lie::Se3;
 //! use factor_core::{Factor, Scalar};
 //! use nalgebra::Vector3;
 //!
+//! /// A translation prior, `r = t − t̃`.
 //! #[derive(Clone, Debug, Factor)]
 //! #[factor(residual = offset_residual, dim = 3)]
-//! // with the generated crate: #[cfg_attr(feature = "kernels",
-//! //     factor(kernel = my_kernels::offset::offset))]
+//! // with the generated crate: #[cfg_attr(feature = "kernels", factor(
+//! //     kernel = my_kernels::offset::offset,
+//! //     regenerate = "cargo run -p my-factors --no-default-features --bin generate-kernels"))]
 //! pub struct Offset<S: Scalar = f64> {
+//!     /// The measured translation `t̃`.
 //!     pub measured: Vector3<S>,
+//!     /// The pose whose translation is measured.
 //!     #[variable]
 //!     pub pose: Se3<S>,
 //! }
@@ -61,21 +67,13 @@
 //!     "cargo run -p my-factors --bin generate-kernels -- --check",
 //! );
 //!
-//! let spec = KernelSpec {
-//!     name: <Offset as Factor>::NAME,
-//!     source_type: "my_factors::Offset",
-//!     document: "a translation prior",
-//!     inputs: &[("measured", "[x, y, z]"), ("pose", "[qx, qy, qz, qw, tx, ty, tz]")],
-//!     // Any value: only the type is traced.
-//!     trace: || trace(&Offset { measured: Vector3::zeros(), pose: Se3::identity() }),
-//! };
-//! let modules = vec![codegen::generate_with(&spec, &PROVENANCE)];
+//! let kernels = GeneratedCrate::generate(PROVENANCE, &[KernelSpec::of::<Offset>()])?;
 //! let dir = std::path::Path::new("my-kernels"); // the crate; sources go to `src/`
-//! codegen::write_crate(dir, &modules)?;
-//! if let Err(stale) = codegen::check_crate(dir, &modules) {
+//! kernels.write(dir)?;
+//! if let Err(stale) = kernels.check(dir) {
 //!     panic!("stale: {stale:?}");
 //! }
-//! # Ok::<(), std::io::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! `examples/user-factor/` in the workspace is a complete example (crates
@@ -85,6 +83,7 @@
 pub mod compile;
 pub mod crate_writer;
 pub mod emit;
+pub mod error;
 pub mod ir;
 pub mod kernel;
 pub mod lower;
@@ -92,7 +91,8 @@ pub mod module;
 pub mod schedule;
 pub mod spec;
 
-pub use crate_writer::{check_crate, write_crate};
+pub use crate_writer::GeneratedCrate;
+pub use error::CodegenError;
 pub use ir::OpCounts;
 pub use kernel::{JacobianBlock, JacobianForm, SymbolicKernel, trace};
 pub use module::{GeneratedModule, generate_module, generate_with, operation_counts};

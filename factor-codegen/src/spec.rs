@@ -1,13 +1,14 @@
 //! What gets generated: one [`KernelSpec`] per factor, and the
 //! [`Provenance`] the generated files name.
 
-use crate::kernel::SymbolicKernel;
+use factor_core::Factor;
 
-/// A factor to generate a kernel for.
-///
-/// For a factor `F` of any crate: `name: <F as Factor>::NAME`, and
-/// `trace: || factor_codegen::trace(&template)` with any value
-/// `template: F` (only its type is traced).
+use crate::kernel::{SymbolicKernel, trace};
+
+/// A factor to generate a kernel for: [`KernelSpec::of`] for any factor
+/// type; everything the kernel's module says about its inputs comes from the
+/// factor's own definition (each field's [`factor_core::Storage`] layout and
+/// documentation).
 #[derive(Debug, Clone, Copy)]
 pub struct KernelSpec {
     /// The module and function name in the generated crate: the factor's
@@ -15,13 +16,29 @@ pub struct KernelSpec {
     pub name: &'static str,
     /// The factor type's path, for the module header.
     pub source_type: &'static str,
-    /// Where the residual is defined: document and section, equations.
-    pub document: &'static str,
-    /// Each field's input layout, in declaration order: the field name and
-    /// its scalars in [`factor_core::MapScalars`] order.
-    pub inputs: &'static [(&'static str, &'static str)],
-    /// Traces the factor type (the values of the template are irrelevant).
+    /// Where the residual comes from, for the module header: by default the
+    /// first paragraph of the factor type's documentation.
+    pub source: &'static str,
+    /// Traces the factor type.
     pub trace: fn() -> SymbolicKernel,
+}
+
+impl KernelSpec {
+    /// The spec of factor type `F`.
+    pub fn of<F: Factor>() -> KernelSpec {
+        KernelSpec {
+            name: F::NAME,
+            source_type: F::TYPE_PATH,
+            source: F::DESCRIPTION,
+            trace: trace::<F>,
+        }
+    }
+
+    /// The same spec naming `source` (a document and its equations, say) as
+    /// where the residual comes from.
+    pub const fn with_source(self, source: &'static str) -> KernelSpec {
+        KernelSpec { source, ..self }
+    }
 }
 
 /// Where a generated crate comes from, as its files say: what the crate

@@ -12,6 +12,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::manifold::Perturbation;
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// Why a factor has no meaningful value at a configuration.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -36,6 +37,38 @@ pub enum FactorError {
     },
 }
 
+impl FactorError {
+    /// [`FactorError::NonFinite`] for factor `F`'s output at `at`, as
+    /// [`first_non_finite`] reports it: `None` for the residual, `Some(k)`
+    /// for the Jacobian block of variable `k`.
+    pub fn non_finite_output<F: Factor>(at: Option<usize>) -> Self {
+        FactorError::NonFinite {
+            factor: F::NAME,
+            what: match at {
+                None => "residual".into(),
+                Some(k) => format!("Jacobian w.r.t. `{}`", F::variables()[k].name),
+            },
+        }
+    }
+}
+
+/// The first output that is not finite: `None` when all are, `Some(None)`
+/// for the residual, `Some(Some(k))` for block `k` (blocks passed as `None`
+/// are not looked at).
+pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Option<Option<usize>> {
+    if !residual.iter().all(|x| x.is_finite()) {
+        return Some(None);
+    }
+    blocks
+        .iter()
+        .position(|block| {
+            block
+                .as_deref()
+                .is_some_and(|b| !b.iter().all(|x| x.is_finite()))
+        })
+        .map(Some)
+}
+
 /// A variable of a factor as reports describe it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct VariableInfo {
@@ -51,15 +84,25 @@ pub struct VariableInfo {
     pub tangent: &'static str,
 }
 
-/// A field of a factor (constant or variable) as kernels lay out their inputs.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// A field of a factor (constant or variable): how it is stored, as kernels
+/// lay out their inputs, and how a user writes it.
+#[derive(Debug, Clone)]
 pub struct FieldInfo {
     /// The field name.
     pub name: &'static str,
-    /// How many scalars the field stores ([`crate::MapScalars::SCALARS`]).
+    /// The first paragraph of the field's documentation, on one line.
+    pub doc: &'static str,
+    /// How many scalars the field stores ([`crate::Storage::SCALARS`]).
     pub scalars: usize,
     /// The variable's index among the variables, or `None` for a constant.
     pub variable: Option<usize>,
+    /// The stored scalars' names ([`crate::Storage::layout`]).
+    pub layout: Layout,
+    /// The shape a user writes the field in ([`crate::Storage::input_layout`]).
+    pub input_layout: Layout,
+    /// The field's [`crate::Storage::from_input`]: what a user wrote, in
+    /// `input_layout` order, to the stored scalars, or what is wrong with it.
+    pub from_input: fn(&[f64]) -> Result<Vec<f64>, StorageError>,
 }
 
 /// Residual and Jacobian blocks of any factor, dynamically sized.
@@ -98,9 +141,16 @@ impl DynLinearization {
 pub const NUMERIC_STEP: f64 = 1e-3;
 
 /// A factor at a configuration of its variables (the `f64` instance).
-pub trait Factor: Sized {
+///
+/// A factor is stored as its fields' scalars, in declaration order
+/// ([`Storage`]), which is also the order of a generated kernel's inputs.
+pub trait Factor: Storage<f64> + Sized {
     /// Snake-case name used on the command line.
     const NAME: &'static str;
+    /// The factor type's path (`my_crate::module::MyFactor`).
+    const TYPE_PATH: &'static str;
+    /// The first paragraph of the factor type's documentation, on one line.
+    const DESCRIPTION: &'static str;
     /// Residual dimension (Jacobian rows).
     const RESIDUAL_DIM: usize;
 
@@ -110,20 +160,21 @@ pub trait Factor: Sized {
     /// The variables in declaration order.
     fn variables() -> Vec<VariableInfo>;
 
-    /// Every field in declaration order: the order of [`crate::MapScalars`]
-    /// and of a generated kernel's input arrays.
+    /// Every field in declaration order: the order of its [`Storage`] and of
+    /// a generated kernel's input arrays.
     fn fields() -> Vec<FieldInfo>;
 
-    /// The residual at the first-order retraction of every variable by the
-    /// stacked tangent `delta`, over any scalar `T`: each stored scalar of
-    /// `self` is replaced by `lift(value)`, in field order. Differentiating
-    /// the result w.r.t. `delta` at `delta = 0` gives the Jacobians; a
-    /// symbolic scalar traces it (crate `factor-symbolic`).
-    fn perturbed_residual_over<T: Scalar>(
-        &self,
-        lift: &mut dyn FnMut(f64) -> T,
-        delta: &[T],
-    ) -> Vec<T>;
+    /// The residual of the factor stored as `stored` (its fields' scalars in
+    /// declaration order, [`Storage`]) with every variable retracted to first
+    /// order by its slice of the stacked tangent `delta`, over any scalar
+    /// `T`. Its derivative w.r.t. `delta` at `delta = 0` is the Jacobian; a
+    /// symbolic scalar traces it (crate `factor-symbolic`) with no value of
+    /// the factor at hand.
+    ///
+    /// # Panics
+    ///
+    /// If `stored` or `delta` has the wrong length.
+    fn perturbed_residual_over<T: Scalar>(stored: &[T], delta: &[T]) -> Vec<T>;
 
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;
@@ -144,6 +195,30 @@ pub trait Factor: Sized {
     fn linearize_generated_dyn(&self) -> Option<Result<DynLinearization, FactorError>> {
         None
     }
+
+    /// Residual and the requested Jacobian blocks written into the caller's
+    /// storage: the path a solver takes. Through the generated kernel where
+    /// the factor has one (no allocation), else through dual numbers.
+    ///
+    /// `residual` holds [`Factor::RESIDUAL_DIM`] entries; `jacobians` has one
+    /// entry per variable, `Some(block)` for a block to compute (row-major,
+    /// residual rows × the variable's tangent columns) and `None` for a
+    /// variable the caller holds fixed, whose block is not computed (nor the
+    /// work only it needs, in a kernel).
+    ///
+    /// # Errors
+    ///
+    /// The validation's error, or [`FactorError::NonFinite`] naming the first
+    /// non-finite output.
+    ///
+    /// # Panics
+    ///
+    /// If `residual`, `jacobians` or a block has the wrong length.
+    fn linearize_into(
+        &self,
+        residual: &mut [f64],
+        jacobians: &mut [Option<&mut [f64]>],
+    ) -> Result<(), FactorError>;
 
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.

@@ -8,6 +8,8 @@
 //! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
 //!   planes, the free line of document 001, camera intrinsics, bearing planes.
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
+//! - [`storage`]: how a value is stored as named scalars, and read from
+//!   what a user writes.
 //! - [`factor`]: the factor model, numerical linearization and errors;
 //!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
@@ -30,17 +32,37 @@ pub mod lie;
 pub mod linalg;
 pub mod manifold;
 pub mod scalar;
+pub mod storage;
 pub mod validation;
 
-pub use factor::{DynLinearization, Factor, FactorError, FieldInfo, VariableInfo};
-pub use manifold::{Manifold, MapScalars, Perturbation};
+pub use factor::{
+    DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, first_non_finite,
+};
+pub use manifold::{Manifold, Perturbation};
 pub use scalar::Scalar;
+pub use storage::{Layout, Storage, StorageError};
 
 /// Re-exports the derive macro's generated code relies on.
 #[doc(hidden)]
 pub mod __private {
     pub use nalgebra;
     pub use num_dual;
+
+    /// Whether two shapes (lists of array lengths) are equal, in a constant:
+    /// the derive's compile-time check that a generated kernel is current.
+    pub const fn same_shape(a: &[usize], b: &[usize]) -> bool {
+        if a.len() != b.len() {
+            return false;
+        }
+        let mut i = 0;
+        while i < a.len() {
+            if a[i] != b[i] {
+                return false;
+            }
+            i += 1;
+        }
+        true
+    }
 }
 
 /// `#[derive(Factor)]`: the typed API and the [`Factor`] impl from a struct and

@@ -23,9 +23,11 @@ use crate::scalar::Scalar;
 /// Which side a group perturbation acts on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Perturbation {
-    /// `x ← Exp(δ) · x` (GTSAM's and document 000's convention for poses).
+    /// `x ← Exp(δ) · x`: document 000's convention for its camera pose and
+    /// landmarks.
     Left,
-    /// `x ← x · Exp(δ)` (document 001's body pose).
+    /// `x ← x · Exp(δ)`: document 001's body pose, and the retraction of
+    /// GTSAM (`Pose3::retract`), manif (`rplus`) and apex-solver.
     Right,
 }
 
@@ -37,21 +39,6 @@ impl Perturbation {
             Perturbation::Right => "right",
         }
     }
-}
-
-/// A value stored as a fixed list of scalars that can be rebuilt over another
-/// scalar type: `f64` values are lifted to dual numbers or to symbols this way.
-///
-/// `map_scalars` visits the stored scalars in a fixed order (the order of
-/// [`MapScalars::SCALARS`] storage slots), which is also the layout of a
-/// generated kernel's input arrays.
-pub trait MapScalars<S: Scalar> {
-    /// The same value type over scalar `T`.
-    type With<T: Scalar>;
-    /// How many scalars are stored.
-    const SCALARS: usize;
-    /// Rebuilds the value with every stored scalar passed through `f`.
-    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Self::With<T>;
 }
 
 /// A manifold with a retraction on a tangent space of dimension [`Manifold::DIM`].
@@ -72,14 +59,6 @@ pub trait Manifold<S: Scalar>: Sized {
 }
 
 /// Scalars are a 1-dimensional vector space.
-impl<S: Scalar> MapScalars<S> for S {
-    type With<T: Scalar> = T;
-    const SCALARS: usize = 1;
-    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> T {
-        f(*self)
-    }
-}
-
 impl<S: Scalar> Manifold<S> for S {
     const DIM: usize = 1;
     fn retract(&self, delta: &[S], _side: Perturbation) -> Self {
@@ -87,15 +66,6 @@ impl<S: Scalar> Manifold<S> for S {
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: x ← x + δ"
-    }
-}
-
-impl<S: Scalar, const R: usize, const C: usize> MapScalars<S> for SMatrix<S, R, C> {
-    type With<T: Scalar> = SMatrix<T, R, C>;
-    const SCALARS: usize = R * C;
-    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> SMatrix<T, R, C> {
-        // Column-major, nalgebra's storage order.
-        SMatrix::<T, R, C>::from_iterator(self.iter().map(|&s| f(s)))
     }
 }
 
@@ -118,7 +88,7 @@ impl<S: Scalar + NalgebraScalar, const R: usize, const C: usize> Manifold<S> for
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Vector2, Vector3};
+    use nalgebra::Vector3;
 
     #[test]
     fn vectors_retract_additively_on_either_side() {
@@ -133,13 +103,5 @@ mod tests {
             Vector3::new(1.5, 1.0, 5.0)
         );
         assert_eq!(<Vector3<f64> as Manifold<f64>>::DIM, 3);
-    }
-
-    #[test]
-    fn map_scalars_changes_the_scalar_type_in_storage_order() {
-        let v = Vector2::new(1.0_f64, 2.0);
-        let w: Vector2<f32> = v.map_scalars(&mut |s| s as f32 * 2.0);
-        assert_eq!(w, Vector2::new(2.0_f32, 4.0));
-        assert_eq!(<Vector2<f64> as MapScalars<f64>>::SCALARS, 2);
     }
 }

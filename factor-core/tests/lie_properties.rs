@@ -20,7 +20,7 @@ use factor_core::lie::so3::{
 };
 use factor_core::lie::{Quaternion, SMALL_ANGLE_SQUARED, Se3, So2, So3};
 use factor_core::linalg::squared_norm;
-use factor_core::{Manifold, MapScalars, Perturbation, Scalar};
+use factor_core::{Manifold, Perturbation, Scalar, Storage};
 use nalgebra::{Const, Matrix3, Matrix4, SMatrix, SVector, U1, Vector3, Vector4, Vector6};
 use num_dual::DualSVec64;
 use proptest::prelude::*;
@@ -70,7 +70,7 @@ fn seeded_zero<const N: usize>() -> [DualSVec64<N>; N] {
 }
 
 /// A constant lifted to dual numbers (zero derivative).
-fn lift<const N: usize, M: MapScalars<f64>>(x: &M) -> M::With<DualSVec64<N>> {
+fn lift<const N: usize, M: Storage<f64>>(x: &M) -> M::With<DualSVec64<N>> {
     x.map_scalars(&mut |s| DualSVec64::<N>::from_re(s))
 }
 

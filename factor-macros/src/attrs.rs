@@ -19,6 +19,8 @@ pub struct FactorAttr {
     pub name: Option<LitStr>,
     /// `kernel = path`: the generated kernel function.
     pub kernel: Option<Path>,
+    /// `regenerate = "command"`: how to rewrite the kernel when it is stale.
+    pub regenerate: Option<LitStr>,
     /// The first `#[factor]` attribute, for errors about a missing key.
     pub first: Option<Attribute>,
 }
@@ -49,6 +51,7 @@ impl FactorAttr {
             "residual" => set_once(&mut self.residual, meta, meta.value()?.parse()?),
             "validate" => set_once(&mut self.validate, meta, meta.value()?.parse()?),
             "kernel" => set_once(&mut self.kernel, meta, meta.value()?.parse()?),
+            "regenerate" => set_once(&mut self.regenerate, meta, meta.value()?.parse()?),
             "name" => {
                 let name: LitStr = meta.value()?.parse()?;
                 if name.value().is_empty() {
@@ -67,7 +70,7 @@ impl FactorAttr {
                 set_once(&mut self.dim, meta, dim)
             }
             _ => Err(meta.error(format!(
-                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate`, `name` or `kernel`",
+                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate`, `name`, `kernel` or `regenerate`",
                 path_text(&meta.path)
             ))),
         }

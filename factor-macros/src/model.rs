@@ -30,6 +30,10 @@ pub struct FactorModel {
     pub name: String,
     /// `kernel = path`, if given: the generated kernel function.
     pub kernel: Option<Path>,
+    /// `regenerate = "command"`, if given: how to rewrite a stale kernel.
+    pub regenerate: Option<String>,
+    /// The first paragraph of the struct's documentation, on one line.
+    pub doc: String,
     /// Every field in declaration order.
     pub fields: Vec<Field>,
 }
@@ -42,6 +46,8 @@ pub struct Field {
     pub ty: Type,
     /// Constant or variable.
     pub kind: FieldKind,
+    /// The first paragraph of the field's documentation, on one line.
+    pub doc: String,
 }
 
 /// What a field is to the factor.
@@ -61,7 +67,7 @@ impl FactorModel {
             FactorAttr::parse(&input.attrs).and_then(|attr| required_keys(attr, &input.ident));
         let fields = parse_fields(input);
         let misplaced = errors::check(misplaced_attrs(input));
-        let (((scalar, (residual, dim, validate, name, kernel)), fields), ()) =
+        let (((scalar, (residual, dim, validate, name, kernel, regenerate)), fields), ()) =
             errors::join(errors::join(errors::join(scalar, attr), fields), misplaced)?;
         Ok(FactorModel {
             vis: input.vis.clone(),
@@ -73,6 +79,8 @@ impl FactorModel {
             validate,
             name: name.unwrap_or_else(|| naming::snake_case(&input.ident.to_string())),
             kernel,
+            regenerate,
+            doc: first_paragraph(&input.attrs),
             fields,
         })
     }
@@ -91,9 +99,16 @@ impl FactorModel {
     }
 }
 
-/// The residual, dimension, validation function, name and kernel, once both
-/// required keys are known to be present.
-type Keys = (Path, LitInt, Option<Path>, Option<String>, Option<Path>);
+/// The residual, dimension, validation function, name, kernel and its
+/// regeneration command, once both required keys are known to be present.
+type Keys = (
+    Path,
+    LitInt,
+    Option<Path>,
+    Option<String>,
+    Option<Path>,
+    Option<String>,
+);
 
 fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
     let Some(first) = &attr.first else {
@@ -115,13 +130,22 @@ fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
             "missing `dim = <integer>` in `#[factor(...)]`: the residual dimension",
         )
     });
-    let (residual, dim) = errors::join(residual, dim)?;
+    let regenerate = match (&attr.regenerate, &attr.kernel) {
+        (Some(command), None) => Err(syn::Error::new(
+            command.span(),
+            "`regenerate` names the command that rewrites the generated kernel: it needs \
+             `kernel = <path>`",
+        )),
+        _ => Ok(()),
+    };
+    let ((residual, dim), ()) = errors::join(errors::join(residual, dim), regenerate)?;
     Ok((
         residual,
         dim,
         attr.validate,
         attr.name.map(|name| name.value()),
         attr.kernel,
+        attr.regenerate.map(|command| command.value()),
     ))
 }
 
@@ -190,6 +214,7 @@ fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
             ident,
             ty: field.ty.clone(),
             kind,
+            doc: first_paragraph(&field.attrs),
         })
     }))?;
     if fields.iter().all(|field| field.kind == FieldKind::Constant) {
@@ -225,4 +250,32 @@ fn misplaced_attrs(input: &DeriveInput) -> Vec<syn::Error> {
             )
         });
     on_struct.chain(on_field).collect()
+}
+
+/// The first paragraph of the `///` documentation in `attrs`, its lines
+/// trimmed and joined by spaces (empty without documentation).
+fn first_paragraph(attrs: &[Attribute]) -> String {
+    let mut words = Vec::new();
+    for attr in attrs.iter().filter(|attr| attr.path().is_ident("doc")) {
+        let syn::Meta::NameValue(meta) = &attr.meta else {
+            continue;
+        };
+        let syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Str(text),
+            ..
+        }) = &meta.value
+        else {
+            continue;
+        };
+        let line = text.value();
+        let line = line.trim();
+        if line.is_empty() {
+            if words.is_empty() {
+                continue;
+            }
+            break;
+        }
+        words.push(line.to_owned());
+    }
+    words.join(" ")
 }

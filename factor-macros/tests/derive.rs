@@ -3,7 +3,7 @@
 //! with central differences, and with known Jacobians exactly.
 
 use factor_core::lie::Se3;
-use factor_core::{Factor, FactorError, Manifold, MapScalars, Perturbation, Scalar};
+use factor_core::{Factor, FactorError, Manifold, Perturbation, Scalar, Storage};
 use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use nalgebra::{Matrix2x3, Matrix3, Vector2, Vector3, Vector6};
 
@@ -178,8 +178,8 @@ fn the_factor_trait_describes_the_variables() {
 }
 
 #[test]
-fn map_scalars_visits_every_field_in_declaration_order() {
-    assert_eq!(<Products as MapScalars<f64>>::SCALARS, 7);
+fn storage_visits_every_field_in_declaration_order() {
+    assert_eq!(<Products as Storage<f64>>::SCALARS, 7);
     let mut seen = Vec::new();
     let lifted: Products<f32> = products().map_scalars(&mut |x| {
         seen.push(x);
@@ -187,6 +187,85 @@ fn map_scalars_visits_every_field_in_declaration_order() {
     });
     assert_eq!(seen, [0.3, -1.2, 2.0, 1.5, 4.0, 0.5, -0.7]);
     assert_eq!(lifted.weight, 1.5_f32);
+}
+
+#[test]
+fn storage_round_trips_and_names_every_field() {
+    let f = products();
+    let stored = f.to_scalars();
+    assert_eq!(stored, [0.3, -1.2, 2.0, 1.5, 4.0, 0.5, -0.7]);
+    let back = Products::<f64>::from_scalars(&stored);
+    assert_eq!(back.to_scalars(), stored);
+    assert_eq!(
+        <Products as Storage<f64>>::layout().to_string(),
+        "{x: [x, y, z], weight, y: [x, y, z]}"
+    );
+    // A factor written by a user is read field by field, each field's errors
+    // named by its path.
+    let transfer_input: Vec<f64> = transfer().to_scalars();
+    assert_eq!(
+        Transfer::<f64>::from_input(&transfer_input).unwrap(),
+        transfer_input
+    );
+    let mut bad = transfer_input.clone();
+    bad[3] = 3.0; // the pose's quaternion w
+    let error = Transfer::<f64>::from_input(&bad).unwrap_err();
+    assert_eq!(error.path, "pose.rotation");
+}
+
+#[test]
+fn fields_carry_their_documentation_and_the_type_its_path() {
+    let fields = <Weighted as Factor>::fields();
+    assert_eq!(fields.len(), 3);
+    assert_eq!(
+        (fields[0].name, fields[0].scalars, fields[0].variable),
+        ("weight", 1, None)
+    );
+    assert_eq!(fields[2].variable, Some(1));
+    assert_eq!(
+        <Transfer as Factor>::DESCRIPTION,
+        "`r = T · p − observed`, the pose perturbed on the right."
+    );
+    assert!(
+        <Transfer as Factor>::TYPE_PATH.ends_with("::Transfer"),
+        "{}",
+        <Transfer as Factor>::TYPE_PATH
+    );
+}
+
+#[test]
+fn the_residual_over_stored_scalars_is_the_residual() {
+    let f = transfer();
+    let delta = [0.0; 9];
+    let over = Transfer::perturbed_residual_over(&f.to_scalars(), &delta);
+    assert_eq!(over.as_slice(), f.residual().unwrap().as_slice());
+}
+
+/// `linearize_into` writes the residual and the requested blocks only: a
+/// variable held fixed (`None`) keeps its storage untouched, through a
+/// kernel and through dual numbers alike.
+#[test]
+fn fixed_variables_skip_their_blocks() {
+    let w = Weighted {
+        weight: 2.0,
+        x: Vector2::new(1.0, 5.0),
+        y: Vector2::new(0.5, -1.0),
+    };
+    let full = w.linearize().unwrap();
+    let mut residual = [0.0; 2];
+    let mut d_y = [7.0; 4];
+    w.linearize_into(&mut residual, &mut [None, Some(&mut d_y[..])])
+        .unwrap();
+    assert_eq!(residual.as_slice(), full.residual.as_slice());
+    assert_eq!(d_y.as_slice(), full.y.transpose().as_slice());
+    let f = transfer();
+    let full = f.linearize().unwrap();
+    let mut residual = [0.0; 3];
+    let mut d_point = [0.0; 9];
+    f.linearize_into(&mut residual, &mut [None, Some(&mut d_point[..])])
+        .unwrap();
+    assert_eq!(residual.as_slice(), full.residual.as_slice());
+    assert_eq!(d_point.as_slice(), full.point.transpose().as_slice());
 }
 
 #[test]
@@ -247,11 +326,12 @@ fn to_dyn_keeps_the_blocks_in_declaration_order() {
     );
 }
 
-/// `r = a · (x − y)`, with a hand-written kernel in the generated kernels'
-/// calling convention: every field flattened, the residual, then one optional
-/// row-major block per variable.
+/// `r = a · (x − y)`, with a hand-written kernel in the calling convention of
+/// the generated kernels: every field flattened, the residual, then one
+/// optional row-major block per variable, beside its `SHAPE` and its slice
+/// entry, as a generated module holds them.
 #[derive(Clone, Debug, Factor)]
-#[factor(residual = weighted_residual, dim = 2, kernel = weighted_kernel)]
+#[factor(residual = weighted_residual, dim = 2, kernel = weighted::weighted)]
 pub struct Weighted<S: Scalar = f64> {
     pub weight: S,
     #[variable]
@@ -264,21 +344,62 @@ pub fn weighted_residual<S: Scalar>(f: &Weighted<S>) -> Vector2<S> {
     (f.x - f.y) * f.weight
 }
 
-fn weighted_kernel(
-    weight: &[f64; 1],
-    x: &[f64; 2],
-    y: &[f64; 2],
-    residual: &mut [f64; 2],
-    d_x: Option<&mut [f64; 4]>,
-    d_y: Option<&mut [f64; 4]>,
-) {
-    let a = weight[0];
-    *residual = [a * (x[0] - y[0]), a * (x[1] - y[1])];
-    if let Some(d) = d_x {
-        *d = [a, 0.0, 0.0, a];
+/// What a generated module of `Weighted` would hold.
+mod weighted {
+    /// The array lengths of a kernel.
+    pub struct Shape {
+        pub inputs: &'static [usize],
+        pub residual: usize,
+        pub blocks: &'static [usize],
     }
-    if let Some(d) = d_y {
-        *d = [-a, 0.0, 0.0, -a];
+
+    pub const SHAPE: Shape = Shape {
+        inputs: &[1, 2, 2],
+        residual: 2,
+        blocks: &[4, 4],
+    };
+
+    pub fn weighted(
+        weight: &[f64; 1],
+        x: &[f64; 2],
+        y: &[f64; 2],
+        residual: &mut [f64; 2],
+        d_x: Option<&mut [f64; 4]>,
+        d_y: Option<&mut [f64; 4]>,
+    ) {
+        let a = weight[0];
+        *residual = [a * (x[0] - y[0]), a * (x[1] - y[1])];
+        if let Some(d) = d_x {
+            *d = [a, 0.0, 0.0, a];
+        }
+        if let Some(d) = d_y {
+            *d = [-a, 0.0, 0.0, -a];
+        }
+    }
+
+    pub fn weighted_slices(
+        inputs: &[&[f64]],
+        residual: &mut [f64],
+        blocks: &mut [Option<&mut [f64]>],
+    ) -> bool {
+        let ([weight, x, y], [d_x, d_y]) = (inputs, blocks) else {
+            return false;
+        };
+        let (Ok(weight), Ok(x), Ok(y), Ok(residual)) = (
+            <&[f64; 1]>::try_from(*weight),
+            <&[f64; 2]>::try_from(*x),
+            <&[f64; 2]>::try_from(*y),
+            <&mut [f64; 2]>::try_from(residual),
+        ) else {
+            return false;
+        };
+        let d_x = d_x.as_deref_mut().map(<&mut [f64; 4]>::try_from);
+        let d_y = d_y.as_deref_mut().map(<&mut [f64; 4]>::try_from);
+        let (Ok(d_x), Ok(d_y)) = (d_x.transpose(), d_y.transpose()) else {
+            return false;
+        };
+        weighted(weight, x, y, residual, d_x, d_y);
+        true
     }
 }
 
@@ -289,7 +410,7 @@ fn a_kernel_is_what_linearize_goes_through() {
         x: Vector2::new(1.0, 5.0),
         y: Vector2::new(0.5, -1.0),
     };
-    assert_eq!(<Weighted as Factor>::KERNEL, Some("weighted_kernel"));
+    assert_eq!(<Weighted as Factor>::KERNEL, Some("weighted::weighted"));
     let generated = f.linearize_generated().unwrap();
     assert_eq!(f.linearize().unwrap(), generated);
     assert_eq!(generated, f.linearize_dual().unwrap());

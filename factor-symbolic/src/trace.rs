@@ -26,23 +26,16 @@ pub struct Traced {
     pub at_zero: HashMap<Expr, Expr>,
 }
 
-/// Traces `factor`'s residual (inside an active [`crate::Tracer`]) with each stored
-/// scalar as the next input, passing its value to `value`.
-pub fn trace_at_tangent<F: Factor>(factor: &F, value: &mut dyn FnMut(f64)) -> Traced {
-    let input_len: usize = F::fields().iter().map(|f| f.scalars).sum();
-    let input_len = u32::try_from(input_len).expect("fewer than 2³² inputs");
+/// Traces factor type `F`'s residual (inside an active [`crate::Tracer`]):
+/// each stored scalar is an input symbol, in storage order, the tangent the
+/// inputs after them. No value of the factor is needed, only its type.
+pub fn trace_at_tangent<F: Factor>() -> Traced {
+    let input_len = u32::try_from(F::SCALARS).expect("fewer than 2³² inputs");
+    let inputs: Vec<Expr> = (0..input_len).map(Expr::input).collect();
     let delta: Vec<Expr> = (0..F::TANGENT_DIM as u32)
         .map(|j| Expr::input(input_len + j))
         .collect();
-    let mut next = 0;
-    let residual = factor.perturbed_residual_over(
-        &mut |v| {
-            value(v);
-            next += 1;
-            Expr::input(next - 1)
-        },
-        &delta,
-    );
+    let residual = F::perturbed_residual_over(&inputs, &delta);
     let at_zero = delta.iter().map(|d| (*d, Expr::constant(0.0))).collect();
     Traced {
         residual,

@@ -22,13 +22,13 @@ fn chained_equals_direct<F: Factor>(make: fn(&mut Sampler) -> F) {
     for _ in 0..20 {
         let factor = make(&mut sampler);
         let tracer = Tracer::new();
-        let mut values = Vec::new();
+        let values = factor.to_scalars();
         let Traced {
             residual: traced,
             delta,
             input_len,
             at_zero,
-        } = trace_at_tangent(&factor, &mut |v| values.push(v));
+        } = trace_at_tangent::<F>();
         let mut substituted = HashMap::new();
         let direct = direct_columns(&traced, &delta, &at_zero, &mut substituted);
         let cuts = minimum_cuts(&traced, &delta, CUTS_TRIED);

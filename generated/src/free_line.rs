@@ -1,4 +1,4 @@
-//! `free_line`: the residual and its Jacobian blocks, generated from `slam_factors::FreeLineFactor`.
+//! `free_line`: the residual and its Jacobian blocks, generated from `slam_factors::free_line::FreeLineFactor`.
 //!
 //! Source: document 001 §3–4.
 //!
@@ -8,11 +8,11 @@
 //!
 //! One array per field of the factor, in declaration order, each holding the field's scalars as stored:
 //!
-//! - `extrinsics: [T; 7]` (constant): [qx, qy, qz, qw, tx, ty, tz] (T_CB)
-//! - `bearing_start: [T; 3]` (constant): [x, y, z] (camera frame)
-//! - `bearing_end: [T; 3]` (constant): [x, y, z] (camera frame)
-//! - `body_pose: [T; 7]` (variable): [qx, qy, qz, qw, tx, ty, tz] (T_BW)
-//! - `line: [T; 5]` (variable): [qx, qy, qz, qw, d] (q_WL as [x, y, z, w], then d_L)
+//! - `extrinsics: [T; 7]` (constant): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — Camera extrinsics `T_CB`.
+//! - `bearing_start: [T; 3]` (constant): `[x, y, z]` — Bearing vector `f₁` through the segment's first endpoint (camera frame).
+//! - `bearing_end: [T; 3]` (constant): `[x, y, z]` — Bearing vector `f₂` through the segment's second endpoint (camera frame).
+//! - `body_pose: [T; 7]` (variable): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — Body pose `T_BW`.
+//! - `line: [T; 5]` (variable): `{rotation: [qx, qy, qz, qw], distance}` — The line `[q_WL, d_L]`.
 //!
 //! # Outputs
 //!
@@ -35,9 +35,9 @@
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::Real;
+use crate::{Real, Shape};
 
-/// The residual of `slam_factors::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::free_line::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]
@@ -413,4 +413,65 @@ pub fn free_line<T: Real>(
         d_line[6] = v314;
         d_line[7] = v321;
     }
+}
+
+/// The lengths of the kernel's arrays: each field's stored scalars, the
+/// residual, each Jacobian block (row-major).
+pub const SHAPE: Shape = Shape {
+    inputs: &[7, 3, 3, 7, 5],
+    residual: 2,
+    blocks: &[12, 8],
+};
+
+/// [`free_line`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+#[inline]
+pub fn free_line_slices<T: Real>(
+    inputs: &[&[T]],
+    residual: &mut [T],
+    blocks: &mut [Option<&mut [T]>],
+) -> bool {
+    let [extrinsics, bearing_start, bearing_end, body_pose, line] = inputs else {
+        return false;
+    };
+    let (
+        Ok(extrinsics),
+        Ok(bearing_start),
+        Ok(bearing_end),
+        Ok(body_pose),
+        Ok(line),
+        Ok(residual),
+    ) = (
+        <&[T; 7]>::try_from(*extrinsics),
+        <&[T; 3]>::try_from(*bearing_start),
+        <&[T; 3]>::try_from(*bearing_end),
+        <&[T; 7]>::try_from(*body_pose),
+        <&[T; 5]>::try_from(*line),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    let [d_body_pose, d_line] = blocks else {
+        return false;
+    };
+    let d_body_pose = match d_body_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let d_line = match d_line.as_deref_mut().map(<&mut [T; 8]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::free_line(
+        extrinsics,
+        bearing_start,
+        bearing_end,
+        body_pose,
+        line,
+        residual,
+        d_body_pose,
+        d_line,
+    );
+    true
 }

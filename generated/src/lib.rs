@@ -14,11 +14,11 @@
 //!
 //! | kernel | factor | operations | residual only |
 //! | --- | --- | --- | --- |
-//! | [`point_reprojection`](point_reprojection::point_reprojection) | `slam_factors::PointReprojection` | 96 | 54 |
-//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::LineReprojection` | 393 | 128 |
-//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::PluckerLineReprojection` | 271 | 102 |
-//! | [`plane`](plane::plane) | `slam_factors::PlaneFactor` | 447 | 107 |
-//! | [`free_line`](free_line::free_line) | `slam_factors::FreeLineFactor` | 322 | 192 |
+//! | [`point_reprojection`](point_reprojection::point_reprojection) | `slam_factors::point_reprojection::PointReprojection` | 96 | 54 |
+//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::line_reprojection::LineReprojection` | 393 | 128 |
+//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::plucker_line_reprojection::PluckerLineReprojection` | 271 | 102 |
+//! | [`plane`](plane::plane) | `slam_factors::plane::PlaneFactor` | 447 | 107 |
+//! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 322 | 192 |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -35,5 +35,8 @@ pub mod plucker_line_reprojection;
 pub mod point_reprojection;
 #[rustfmt::skip]
 mod real;
+#[rustfmt::skip]
+mod shape;
 
 pub use real::Real;
+pub use shape::Shape;

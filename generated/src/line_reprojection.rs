@@ -1,4 +1,4 @@
-//! `line_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::LineReprojection`.
+//! `line_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::line_reprojection::LineReprojection`.
 //!
 //! Source: document 000 §III (6)–(12).
 //!
@@ -8,11 +8,11 @@
 //!
 //! One array per field of the factor, in declaration order, each holding the field's scalars as stored:
 //!
-//! - `intrinsics: [T; 4]` (constant): [fu, fv, cu, cv]
-//! - `start: [T; 2]` (constant): [u, v] (pixels)
-//! - `end: [T; 2]` (constant): [u, v] (pixels)
-//! - `pose: [T; 7]` (variable): [qx, qy, qz, qw, tx, ty, tz] (unit quaternion [x, y, z, w], then translation)
-//! - `line: [T; 6]` (variable): [ux, uy, uz, uw, w1, w2] (U ∈ SO(3) as a unit quaternion [x, y, z, w], W ∈ SO(2) as (cos, sin))
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]` — `K = [f_u, f_v, c_u, c_v]`.
+//! - `start: [T; 2]` (constant): `[x, y]` — Observed start point of the segment (pixels).
+//! - `end: [T; 2]` (constant): `[x, y]` — Observed end point of the segment (pixels).
+//! - `pose: [T; 7]` (variable): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — World-to-camera pose.
+//! - `line: [T; 6]` (variable): `{u: [qx, qy, qz, qw], w: [cos, sin]}` — The world line.
 //!
 //! # Outputs
 //!
@@ -35,9 +35,9 @@
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::Real;
+use crate::{Real, Shape};
 
-/// The residual of `slam_factors::LineReprojection` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::line_reprojection::LineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]
@@ -481,4 +481,58 @@ pub fn line_reprojection<T: Real>(
         d_line[6] = v386;
         d_line[7] = v392;
     }
+}
+
+/// The lengths of the kernel's arrays: each field's stored scalars, the
+/// residual, each Jacobian block (row-major).
+pub const SHAPE: Shape = Shape {
+    inputs: &[4, 2, 2, 7, 6],
+    residual: 2,
+    blocks: &[12, 8],
+};
+
+/// [`line_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+#[inline]
+pub fn line_reprojection_slices<T: Real>(
+    inputs: &[&[T]],
+    residual: &mut [T],
+    blocks: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, start, end, pose, line] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(start), Ok(end), Ok(pose), Ok(line), Ok(residual)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*start),
+        <&[T; 2]>::try_from(*end),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 6]>::try_from(*line),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    let [d_pose, d_line] = blocks else {
+        return false;
+    };
+    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let d_line = match d_line.as_deref_mut().map(<&mut [T; 8]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::line_reprojection(
+        intrinsics,
+        start,
+        end,
+        pose,
+        line,
+        residual,
+        d_pose,
+        d_line,
+    );
+    true
 }

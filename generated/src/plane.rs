@@ -1,4 +1,4 @@
-//! `plane`: the residual and its Jacobian blocks, generated from `slam_factors::PlaneFactor`.
+//! `plane`: the residual and its Jacobian blocks, generated from `slam_factors::plane::PlaneFactor`.
 //!
 //! Source: document 000 §IV (13).
 //!
@@ -8,9 +8,9 @@
 //!
 //! One array per field of the factor, in declaration order, each holding the field's scalars as stored:
 //!
-//! - `measured: [T; 4]` (constant): [a, b, c, d] (camera frame, any scale)
-//! - `pose: [T; 7]` (variable): [qx, qy, qz, qw, tx, ty, tz] (unit quaternion [x, y, z, w], then translation)
-//! - `plane: [T; 4]` (variable): [qx, qy, qz, qw] (the plane as a unit quaternion q_w)
+//! - `measured: [T; 4]` (constant): `[x, y, z, w]` — The measured plane `π_c = [a, b, c, d]` in the camera frame, any scale.
+//! - `pose: [T; 7]` (variable): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — World-to-camera pose.
+//! - `plane: [T; 4]` (variable): `[a, b, c, d]` — The world plane landmark.
 //!
 //! # Outputs
 //!
@@ -33,9 +33,9 @@
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::Real;
+use crate::{Real, Shape};
 
-/// The residual of `slam_factors::PlaneFactor` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::plane::PlaneFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]
@@ -546,4 +546,47 @@ pub fn plane<T: Real>(
         d_plane[7] = v442;
         d_plane[8] = v446;
     }
+}
+
+/// The lengths of the kernel's arrays: each field's stored scalars, the
+/// residual, each Jacobian block (row-major).
+pub const SHAPE: Shape = Shape {
+    inputs: &[4, 7, 4],
+    residual: 3,
+    blocks: &[18, 9],
+};
+
+/// [`plane`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+#[inline]
+pub fn plane_slices<T: Real>(
+    inputs: &[&[T]],
+    residual: &mut [T],
+    blocks: &mut [Option<&mut [T]>],
+) -> bool {
+    let [measured, pose, plane] = inputs else {
+        return false;
+    };
+    let (Ok(measured), Ok(pose), Ok(plane), Ok(residual)) = (
+        <&[T; 4]>::try_from(*measured),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 4]>::try_from(*plane),
+        <&mut [T; 3]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    let [d_pose, d_plane] = blocks else {
+        return false;
+    };
+    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 18]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let d_plane = match d_plane.as_deref_mut().map(<&mut [T; 9]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::plane(measured, pose, plane, residual, d_pose, d_plane);
+    true
 }

@@ -1,4 +1,4 @@
-//! `plucker_line_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::PluckerLineReprojection`.
+//! `plucker_line_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::plucker_line_reprojection::PluckerLineReprojection`.
 //!
 //! Source: document 000 §III (6)–(8), raw Plücker [n, v].
 //!
@@ -8,11 +8,11 @@
 //!
 //! One array per field of the factor, in declaration order, each holding the field's scalars as stored:
 //!
-//! - `intrinsics: [T; 4]` (constant): [fu, fv, cu, cv]
-//! - `start: [T; 2]` (constant): [u, v] (pixels)
-//! - `end: [T; 2]` (constant): [u, v] (pixels)
-//! - `pose: [T; 7]` (variable): [qx, qy, qz, qw, tx, ty, tz] (unit quaternion [x, y, z, w], then translation)
-//! - `line: [T; 6]` (variable): [nx, ny, nz, vx, vy, vz] (Plücker normal n, direction v)
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]` — `K = [f_u, f_v, c_u, c_v]`.
+//! - `start: [T; 2]` (constant): `[x, y]` — Observed start point of the segment (pixels).
+//! - `end: [T; 2]` (constant): `[x, y]` — Observed end point of the segment (pixels).
+//! - `pose: [T; 7]` (variable): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — World-to-camera pose.
+//! - `line: [T; 6]` (variable): `{normal: [x, y, z], direction: [x, y, z]}` — The world line `[n, v]`.
 //!
 //! # Outputs
 //!
@@ -35,9 +35,9 @@
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::Real;
+use crate::{Real, Shape};
 
-/// The residual of `slam_factors::PluckerLineReprojection` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::plucker_line_reprojection::PluckerLineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]
@@ -363,4 +363,58 @@ pub fn plucker_line_reprojection<T: Real>(
         d_line[10] = v264;
         d_line[11] = v270;
     }
+}
+
+/// The lengths of the kernel's arrays: each field's stored scalars, the
+/// residual, each Jacobian block (row-major).
+pub const SHAPE: Shape = Shape {
+    inputs: &[4, 2, 2, 7, 6],
+    residual: 2,
+    blocks: &[12, 12],
+};
+
+/// [`plucker_line_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+#[inline]
+pub fn plucker_line_reprojection_slices<T: Real>(
+    inputs: &[&[T]],
+    residual: &mut [T],
+    blocks: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, start, end, pose, line] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(start), Ok(end), Ok(pose), Ok(line), Ok(residual)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*start),
+        <&[T; 2]>::try_from(*end),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 6]>::try_from(*line),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    let [d_pose, d_line] = blocks else {
+        return false;
+    };
+    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let d_line = match d_line.as_deref_mut().map(<&mut [T; 12]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::plucker_line_reprojection(
+        intrinsics,
+        start,
+        end,
+        pose,
+        line,
+        residual,
+        d_pose,
+        d_line,
+    );
+    true
 }

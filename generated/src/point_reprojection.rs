@@ -1,4 +1,4 @@
-//! `point_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::PointReprojection`.
+//! `point_reprojection`: the residual and its Jacobian blocks, generated from `slam_factors::point_reprojection::PointReprojection`.
 //!
 //! Source: document 000 §II (2)–(5).
 //!
@@ -8,10 +8,10 @@
 //!
 //! One array per field of the factor, in declaration order, each holding the field's scalars as stored:
 //!
-//! - `intrinsics: [T; 4]` (constant): [fu, fv, cu, cv]
-//! - `observed: [T; 2]` (constant): [u, v] (pixels)
-//! - `pose: [T; 7]` (variable): [qx, qy, qz, qw, tx, ty, tz] (unit quaternion [x, y, z, w], then translation)
-//! - `point: [T; 3]` (variable): [X, Y, Z] (world)
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]` — `K = [f_u, f_v, c_u, c_v]`.
+//! - `observed: [T; 2]` (constant): `[x, y]` — The observed pixel `p_obs`.
+//! - `pose: [T; 7]` (variable): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}` — World-to-camera pose.
+//! - `point: [T; 3]` (variable): `[x, y, z]` — The world point.
 //!
 //! # Outputs
 //!
@@ -34,9 +34,9 @@
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::Real;
+use crate::{Real, Shape};
 
-/// The residual of `slam_factors::PointReprojection` and, for each `Some` Jacobian argument, its block.
+/// The residual of `slam_factors::point_reprojection::PointReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
 #[inline]
@@ -174,4 +174,56 @@ pub fn point_reprojection<T: Real>(
         d_point[4] = v90;
         d_point[5] = v95;
     }
+}
+
+/// The lengths of the kernel's arrays: each field's stored scalars, the
+/// residual, each Jacobian block (row-major).
+pub const SHAPE: Shape = Shape {
+    inputs: &[4, 2, 7, 3],
+    residual: 2,
+    blocks: &[12, 6],
+};
+
+/// [`point_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+#[inline]
+pub fn point_reprojection_slices<T: Real>(
+    inputs: &[&[T]],
+    residual: &mut [T],
+    blocks: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, observed, pose, point] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(observed), Ok(pose), Ok(point), Ok(residual)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*observed),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 3]>::try_from(*point),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    let [d_pose, d_point] = blocks else {
+        return false;
+    };
+    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let d_point = match d_point.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::point_reprojection(
+        intrinsics,
+        observed,
+        pose,
+        point,
+        residual,
+        d_pose,
+        d_point,
+    );
+    true
 }

@@ -72,10 +72,10 @@ fn line_in_the_focal_plane() {
 fn plucker_input_with_zero_normal_or_not_a_line() {
     let zero_n = PluckerLine::new(Vector3::zeros(), Vector3::new(0.0, 0.0, 1.0));
     let e = OrthonormalLine::try_from_plucker(&zero_n).unwrap_err();
-    assert!(e.0.contains("zero norm"), "{e}");
+    assert!(e.message.contains("zero norm"), "{e}");
     let not_orthogonal = PluckerLine::new(Vector3::new(1.0, 0.0, 0.0), Vector3::new(1.0, 1.0, 0.0));
     let e = OrthonormalLine::try_from_plucker(&not_orthogonal).unwrap_err();
-    assert!(e.0.contains("n · v"), "{e}");
+    assert!(e.message.contains("n · v"), "{e}");
 }
 
 #[test]

@@ -2,8 +2,8 @@
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::manifold::MapScalars;
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// Pinhole intrinsics; pixel `= [f_u X/Z + c_u, f_v Y/Z + c_v]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,10 +64,26 @@ impl<S: Scalar> Intrinsics<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for Intrinsics<S> {
+/// Stored `[fu, fv, cu, cv]`; from users, non-zero focal lengths.
+impl<S: Scalar> Storage<S> for Intrinsics<S> {
     type With<T: Scalar> = Intrinsics<T>;
     const SCALARS: usize = 4;
+    fn layout() -> Layout {
+        Layout::array(&["fu", "fv", "cu", "cv"])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Intrinsics<T> {
         Intrinsics::new(f(self.fu), f(self.fv), f(self.cu), f(self.cv))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        Intrinsics::new(next(), next(), next(), next())
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        for (i, name) in [(0, "f_u"), (1, "f_v")] {
+            if input[i] == 0.0 {
+                return Err(StorageError::new(format!("focal length {name} is zero"))
+                    .within(&format!("[{i}]")));
+            }
+        }
+        Ok(input.to_vec())
     }
 }

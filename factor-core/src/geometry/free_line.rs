@@ -4,13 +4,12 @@
 
 use nalgebra::Vector3;
 
-use crate::geometry::GeometryError;
 use crate::lie::Quaternion;
 use crate::lie::so3::perturb_quaternion;
 use crate::linalg::scale;
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
-use crate::validation::within;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// `[q_WL, d_L]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,30 +42,28 @@ impl<S: Scalar> FreeLine<S> {
     }
 }
 
-impl FreeLine<f64> {
-    /// Checked construction: `q_WL` of unit norm within `tolerance`
-    /// (then re-normalised), `d_L` finite.
-    pub fn try_new(
-        rotation: Quaternion<f64>,
-        distance: f64,
-        tolerance: f64,
-    ) -> Result<Self, GeometryError> {
-        let norm = rotation.coords().norm();
-        if !within(norm - 1.0, tolerance) {
-            return Err(GeometryError(format!("q_WL has norm {norm}, expected 1")));
-        }
-        if !distance.is_finite() {
-            return Err(GeometryError("d_L is not finite".into()));
-        }
-        Ok(Self::new(rotation.normalized(), distance))
-    }
-}
-
-impl<S: Scalar> MapScalars<S> for FreeLine<S> {
+/// Stored `{rotation: [qx, qy, qz, qw], distance}` (`q_WL`, `d_L`).
+impl<S: Scalar> Storage<S> for FreeLine<S> {
     type With<T: Scalar> = FreeLine<T>;
     const SCALARS: usize = 5;
+    fn layout() -> Layout {
+        Layout::Record(vec![
+            ("rotation", <Quaternion<S> as Storage<S>>::layout()),
+            ("distance", Layout::Scalar),
+        ])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> FreeLine<T> {
         FreeLine::new(self.rotation.map_scalars(f), f(self.distance))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        let rotation = Quaternion::read_scalars(next);
+        FreeLine::new(rotation, next())
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let mut stored = <Quaternion<f64> as Storage<f64>>::from_input(&input[..4])
+            .map_err(|e| e.within("rotation"))?;
+        stored.push(input[4]);
+        Ok(stored)
     }
 }
 

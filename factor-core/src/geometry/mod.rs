@@ -13,8 +13,3 @@ pub use free_line::FreeLine;
 pub use orthonormal_line::OrthonormalLine;
 pub use plane::InfinitePlane;
 pub use plucker::PluckerLine;
-
-/// Input that does not describe the geometric object it claims to.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct GeometryError(pub String);

@@ -8,11 +8,12 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::geometry::{GeometryError, PluckerLine};
+use crate::geometry::PluckerLine;
 use crate::lie::{So2, So3};
 use crate::linalg::{cross, dot, norm, scale};
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 use crate::validation::{exceeds, within};
 
 /// A line as `(U, W)`.
@@ -58,22 +59,22 @@ impl<S: Scalar> OrthonormalLine<S> {
 impl OrthonormalLine<f64> {
     /// Checked conversion: `n` and `v` non-zero and orthogonal to `1e-9`
     /// relative (`|n · v| ≤ 1e-9 |n| |v|`); any common scale is accepted.
-    pub fn try_from_plucker(line: &PluckerLine<f64>) -> Result<Self, GeometryError> {
+    pub fn try_from_plucker(line: &PluckerLine<f64>) -> Result<Self, StorageError> {
         let (n, v) = (line.normal, line.direction);
         let (n_norm, v_norm) = (n.norm(), v.norm());
         if !exceeds(v_norm, 0.0) {
-            return Err(GeometryError("line direction v has zero norm".into()));
+            return Err(StorageError::new("line direction v has zero norm").within("direction"));
         }
         if !exceeds(n_norm, 0.0) {
-            return Err(GeometryError(
+            return Err(StorageError::new(
                 "line normal n has zero norm (the line passes through the world origin, where \
-                 the orthonormal representation is undefined)"
-                    .into(),
-            ));
+                 the orthonormal representation is undefined)",
+            )
+            .within("normal"));
         }
         let cosine = dot(&n, &v) / (n_norm * v_norm);
         if !within(cosine, 1e-9) {
-            return Err(GeometryError(format!(
+            return Err(StorageError::new(format!(
                 "not a Plücker line: n · v = {:e} (cosine {cosine:e}), must be 0",
                 dot(&n, &v)
             )));
@@ -82,11 +83,32 @@ impl OrthonormalLine<f64> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for OrthonormalLine<S> {
+/// Stored `{u: [qx, qy, qz, qw], w: [cos, sin]}`; users write the Plücker
+/// coordinates `{normal, direction}` at any scale, converted by
+/// [`OrthonormalLine::try_from_plucker`].
+impl<S: Scalar> Storage<S> for OrthonormalLine<S> {
     type With<T: Scalar> = OrthonormalLine<T>;
     const SCALARS: usize = 6;
+    fn layout() -> Layout {
+        Layout::Record(vec![
+            ("u", <So3<S> as Storage<S>>::layout()),
+            ("w", <So2<S> as Storage<S>>::layout()),
+        ])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> OrthonormalLine<T> {
         OrthonormalLine::new(self.u.map_scalars(f), self.w.map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        let u = So3::read_scalars(next);
+        OrthonormalLine::new(u, So2::read_scalars(next))
+    }
+    fn input_layout() -> Layout {
+        <PluckerLine<S> as Storage<S>>::layout()
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let plucker = <PluckerLine<f64> as Storage<f64>>::from_scalars(input);
+        let line = OrthonormalLine::<f64>::try_from_plucker(&plucker)?;
+        Ok(<OrthonormalLine<f64> as Storage<f64>>::to_scalars(&line))
     }
 }
 

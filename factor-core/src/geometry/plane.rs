@@ -8,13 +8,13 @@
 
 use nalgebra::Vector4;
 
-use crate::geometry::GeometryError;
 use crate::lie::Quaternion;
 use crate::lie::Se3;
 use crate::lie::so3::perturb_quaternion;
 use crate::linalg::dot;
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 use crate::validation::exceeds;
 
 /// An infinite plane stored as a unit quaternion.
@@ -38,18 +38,6 @@ impl<S: Scalar> InfinitePlane<S> {
     }
 }
 
-impl InfinitePlane<f64> {
-    /// Checked conversion: the coefficient vector must be finite and non-zero.
-    pub fn try_from_coefficients(pi: &Vector4<f64>) -> Result<Self, GeometryError> {
-        if !exceeds(pi.norm(), 0.0) {
-            return Err(GeometryError(
-                "plane vector [a, b, c, d] has zero norm".into(),
-            ));
-        }
-        Ok(Self::from_coefficients(pi))
-    }
-}
-
 /// `Tᵀ π` for `T = [R t; 0 1]`: `[Rᵀ n, tᵀ n + d]` with `π = [n, d]`, the plane
 /// `π` of the frame `T` maps into, expressed in the frame `T` maps from
 /// (document 000 §IV, `q(π_w) = T_wᶜᵀ q(π_c)`).
@@ -64,13 +52,30 @@ pub fn transpose_transform<S: Scalar>(pose: &Se3<S>, pi: &Vector4<S>) -> Vector4
     )
 }
 
-impl<S: Scalar> MapScalars<S> for InfinitePlane<S> {
+/// Stored as the unit quaternion `q(π)`, named `[a, b, c, d]`; users give
+/// any non-zero scale, normalised.
+impl<S: Scalar> Storage<S> for InfinitePlane<S> {
     type With<T: Scalar> = InfinitePlane<T>;
     const SCALARS: usize = 4;
+    fn layout() -> Layout {
+        Layout::array(&["a", "b", "c", "d"])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> InfinitePlane<T> {
         InfinitePlane {
             quaternion: self.quaternion.map_scalars(f),
         }
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        InfinitePlane {
+            quaternion: Quaternion::read_scalars(next),
+        }
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let norm = input.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !exceeds(norm, 0.0) {
+            return Err(StorageError::new("plane vector [a, b, c, d] has zero norm"));
+        }
+        Ok(input.iter().map(|x| x / norm).collect())
     }
 }
 

@@ -7,8 +7,9 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 use crate::lie::Se3;
 use crate::lie::so3::hat;
 use crate::linalg::cross;
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// A line `[n, v]`, defined up to a non-zero scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,11 +52,27 @@ impl<S: Scalar> PluckerLine<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for PluckerLine<S> {
+/// Stored `{normal: [x, y, z], direction: [x, y, z]}`; from users, a
+/// non-zero direction (the normal may be zero: a line through the origin).
+impl<S: Scalar> Storage<S> for PluckerLine<S> {
     type With<T: Scalar> = PluckerLine<T>;
     const SCALARS: usize = 6;
+    fn layout() -> Layout {
+        let xyz = <Vector3<S> as Storage<S>>::layout;
+        Layout::Record(vec![("normal", xyz()), ("direction", xyz())])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> PluckerLine<T> {
         PluckerLine::new(self.normal.map_scalars(f), self.direction.map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        let normal = Vector3::read_scalars(next);
+        PluckerLine::new(normal, Vector3::read_scalars(next))
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        if input[3..].iter().all(|x| *x == 0.0) {
+            return Err(StorageError::new("line direction v has zero norm").within("direction"));
+        }
+        Ok(input.to_vec())
     }
 }
 

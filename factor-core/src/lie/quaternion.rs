@@ -10,8 +10,8 @@ use nalgebra::{Matrix3, Vector3, Vector4};
 
 use crate::lie::SMALL_ANGLE_SQUARED;
 use crate::linalg::{cross, dot, scale, squared_norm};
-use crate::manifold::MapScalars;
 use crate::scalar::Scalar;
+use crate::storage::{Layout, QUATERNION_NORM_TOLERANCE, Storage, StorageError};
 
 /// A quaternion `x i + y j + z k + w`, stored vector part first.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -241,11 +241,30 @@ impl<S: Scalar> Quaternion<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for Quaternion<S> {
+/// Stored `[qx, qy, qz, qw]` (vector part first); from users, a norm within
+/// [`QUATERNION_NORM_TOLERANCE`] of 1, re-normalised.
+impl<S: Scalar> Storage<S> for Quaternion<S> {
     type With<T: Scalar> = Quaternion<T>;
     const SCALARS: usize = 4;
+    fn layout() -> Layout {
+        Layout::array(&["qx", "qy", "qz", "qw"])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Quaternion<T> {
         Quaternion::new(f(self.x), f(self.y), f(self.z), f(self.w))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        Quaternion::new(next(), next(), next(), next())
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let norm = input.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE {
+            Ok(input.iter().map(|x| x / norm).collect())
+        } else {
+            Err(StorageError::new(format!(
+                "quaternion [x, y, z, w] has norm {norm}, expected 1 \
+                 (within {QUATERNION_NORM_TOLERANCE:e})"
+            )))
+        }
     }
 }
 

@@ -9,8 +9,9 @@ use nalgebra::{Matrix3, Matrix4, Vector3, Vector6};
 use crate::lie::so3::{left_jacobian, left_jacobian_inverse, perturb_quaternion};
 use crate::lie::{Quaternion, So3};
 use crate::linalg::cross;
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// A rigid transform `X ↦ R X + t`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,14 +95,31 @@ impl<S: Scalar> Se3<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for Se3<S> {
+/// Stored `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`.
+impl<S: Scalar> Storage<S> for Se3<S> {
     type With<T: Scalar> = Se3<T>;
     const SCALARS: usize = 7;
+    fn layout() -> Layout {
+        Layout::Record(vec![
+            ("rotation", <So3<S> as Storage<S>>::layout()),
+            ("translation", <Vector3<S> as Storage<S>>::layout()),
+        ])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Se3<T> {
         Se3::new(
             self.rotation.map_scalars(f),
             self.translation.map_scalars(f),
         )
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        let rotation = So3::read_scalars(next);
+        Se3::new(rotation, Vector3::read_scalars(next))
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let mut stored = <So3<f64> as Storage<f64>>::from_input(&input[..4])
+            .map_err(|e| e.within("rotation"))?;
+        stored.extend_from_slice(&input[4..]);
+        Ok(stored)
     }
 }
 

@@ -1,8 +1,9 @@
 //! SO(2): planar rotations stored as `(cos ρ, sin ρ)`, the `W` factor of the
 //! orthonormal line representation (document 000 §III).
 
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage};
 
 /// `W = [[c, −s], [s, c]]` with `c² + s² = 1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,11 +39,18 @@ impl<S: Scalar> So2<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for So2<S> {
+/// Stored `[cos, sin]`.
+impl<S: Scalar> Storage<S> for So2<S> {
     type With<T: Scalar> = So2<T>;
     const SCALARS: usize = 2;
+    fn layout() -> Layout {
+        Layout::array(&["cos", "sin"])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> So2<T> {
         So2::new(f(self.cos), f(self.sin))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        So2::new(next(), next())
     }
 }
 

@@ -12,8 +12,9 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::lie::{Quaternion, SMALL_ANGLE_SQUARED};
 use crate::linalg::squared_norm;
-use crate::manifold::{Manifold, MapScalars, Perturbation};
+use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
 
 /// `hat(ω)`, the skew matrix with `hat(ω) b = ω × b`.
 pub fn hat<S: Scalar>(w: &Vector3<S>) -> Matrix3<S> {
@@ -184,11 +185,21 @@ impl<S: Scalar> So3<S> {
     }
 }
 
-impl<S: Scalar> MapScalars<S> for So3<S> {
+/// Stored as its unit quaternion `[qx, qy, qz, qw]`.
+impl<S: Scalar> Storage<S> for So3<S> {
     type With<T: Scalar> = So3<T>;
     const SCALARS: usize = 4;
+    fn layout() -> Layout {
+        <Quaternion<S> as Storage<S>>::layout()
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> So3<T> {
         So3::from_quaternion(self.quaternion.map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        So3::from_quaternion(Quaternion::read_scalars(next))
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        <Quaternion<f64> as Storage<f64>>::from_input(input)
     }
 }
 

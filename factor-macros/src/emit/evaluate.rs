@@ -137,7 +137,7 @@ pub fn emit(cx: &Context) -> TokenStream {
 
             /// The factor over dual numbers with `M` derivative components, all zero.
             fn __factor_lift<const M: usize>(&self) -> #ident<#num_dual::DualSVec64<M>> {
-                #krate::MapScalars::map_scalars(self, &mut #num_dual::DualSVec64::<M>::from_re)
+                #krate::Storage::map_scalars(self, &mut #num_dual::DualSVec64::<M>::from_re)
             }
 
             /// Real parts and derivative parts (rows: residual entries) of a dual residual.

@@ -15,6 +15,8 @@ pub fn emit(cx: &Context) -> TokenStream {
     let ident = &cx.model.ident;
     let scalar = &cx.model.scalar;
     let name = &cx.model.name;
+    let ident_text = ident.to_string();
+    let description = &cx.model.doc;
     let dim = &cx.dim;
     let result = quote!(::core::result::Result);
     let error = quote!(#krate::FactorError);
@@ -60,8 +62,18 @@ pub fn emit(cx: &Context) -> TokenStream {
         None => quote!(#result::Ok(())),
     };
     let count = cx.variables.len();
-    let field_infos = cx.model.fields.iter().enumerate().map(|(i, field)| {
-        let field_name = field.ident.to_string();
+    let field_infos = cx.model.fields.iter().map(|field| {
+        let (field_name, doc) = (field.ident.to_string(), &field.doc);
+        let ty = &field.ty;
+        let item = |item: TokenStream| {
+            quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
+        };
+        let (scalars, layout, input_layout, from_input) = (
+            item(quote!(SCALARS)),
+            item(quote!(layout)),
+            item(quote!(input_layout)),
+            item(quote!(from_input)),
+        );
         let variable = match cx.variable(field) {
             Some(v) => {
                 let k = v.index;
@@ -72,8 +84,12 @@ pub fn emit(cx: &Context) -> TokenStream {
         quote! {
             #krate::FieldInfo {
                 name: #field_name,
-                scalars: <#ident<f64>>::__FACTOR_SCALARS[#i],
+                doc: #doc,
+                scalars: #scalars,
                 variable: #variable,
+                layout: #layout(),
+                input_layout: #input_layout(),
+                from_input: #from_input,
             }
         }
     });
@@ -92,11 +108,38 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
         }
     });
+    let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
+    let indices: Vec<usize> = cx.variables.iter().map(|v| v.index).collect();
+    let linearize_into = match &cx.model.kernel {
+        Some(_) => quote!(self.linearize_generated_into(residual, jacobians)),
+        // Through dual numbers every block is computed; the ones held fixed
+        // are not written.
+        None => quote! {
+            ::core::assert_eq!(
+                jacobians.len(),
+                #count,
+                "one Jacobian entry per variable",
+            );
+            let linearization = self.linearize_dual()?;
+            residual.copy_from_slice(linearization.residual.as_slice());
+            #(
+                if let ::core::option::Option::Some(block) = jacobians[#indices].as_deref_mut() {
+                    block.copy_from_slice(linearization.#blocks.transpose().as_slice());
+                }
+            )*
+            #result::Ok(())
+        },
+    };
     quote! {
         impl #impl_generics #ident #ty_generics #where_clause {
             /// The variables as [`Factor::variables`](::factor_core::Factor::variables) reports them.
             fn __factor_variables() -> ::std::vec::Vec<#krate::VariableInfo> {
                 ::std::vec![#(#infos),*]
+            }
+
+            /// The fields as [`Factor::fields`](::factor_core::Factor::fields) reports them.
+            fn __factor_fields() -> ::std::vec::Vec<#krate::FieldInfo> {
+                ::std::vec![#(#field_infos),*]
             }
 
             /// A copy with variable `index` retracted exactly by `delta`.
@@ -108,21 +151,22 @@ pub fn emit(cx: &Context) -> TokenStream {
         #[automatically_derived]
         impl #krate::Factor for #ident<f64> {
             const NAME: &'static str = #name;
+            const TYPE_PATH: &'static str =
+                ::core::concat!(::core::module_path!(), "::", #ident_text);
+            const DESCRIPTION: &'static str = #description;
             const RESIDUAL_DIM: usize = #dim;
             const TANGENT_DIM: usize = <#ident<f64>>::__FACTOR_TANGENT_DIM;
 
             fn fields() -> ::std::vec::Vec<#krate::FieldInfo> {
-                ::std::vec![#(#field_infos),*]
+                <#ident<f64>>::__factor_fields()
             }
 
             fn perturbed_residual_over<__T: #krate::Scalar>(
-                &self,
-                lift: &mut dyn ::core::ops::FnMut(f64) -> __T,
+                stored: &[__T],
                 delta: &[__T],
             ) -> ::std::vec::Vec<__T> {
-                let lifted: #ident<__T> =
-                    #krate::MapScalars::map_scalars(self, &mut |value| lift(value));
-                lifted.perturbed_residual(delta).iter().copied().collect()
+                let factor: #ident<__T> = #krate::Storage::from_scalars(stored);
+                factor.perturbed_residual(delta).iter().copied().collect()
             }
 
             fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {
@@ -143,6 +187,14 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
 
             #generated
+
+            fn linearize_into(
+                &self,
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) -> #result<(), #error> {
+                #linearize_into
+            }
 
             fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {
                 ::core::assert!(

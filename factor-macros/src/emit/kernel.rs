@@ -1,7 +1,13 @@
-//! `linearize_generated`: the linearization through a generated kernel
-//! (`#[factor(kernel = path)]`), a function of the generated crate
-//! `fn<T: Real>(&[T; N₁], …, &mut [T; dim], Option<&mut [T; dim·D₁]>, …)`
-//! taking every field flattened in `MapScalars` order.
+//! The linearization through a generated kernel (`#[factor(kernel = path)]`).
+//!
+//! `path` names a kernel function of a crate written by the code generator;
+//! its module also holds `SHAPE` (the array lengths it was generated for:
+//! each field's stored scalars, the residual, each Jacobian block) and
+//! `<name>_slices`, the same kernel over slices that checks their lengths.
+//! The derive calls the slice entry, so a kernel generated for another
+//! layout of the factor is never a type error; instead a constant compares
+//! `SHAPE` with the factor's own layout and fails the build with a message
+//! that says the kernel is stale and how to regenerate it.
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
@@ -15,7 +21,19 @@ pub fn path_text(path: &Path) -> String {
     quote!(#path).to_string().replace(' ', "")
 }
 
-/// `impl Foo<f64> { linearize_generated }`, or nothing without a kernel.
+/// `path` with its last segment replaced by `last`: an item of the kernel's
+/// module.
+fn sibling(path: &Path, last: &syn::Ident) -> Path {
+    let mut sibling = path.clone();
+    if let Some(segment) = sibling.segments.last_mut() {
+        segment.ident = last.clone();
+        segment.arguments = syn::PathArguments::None;
+    }
+    sibling
+}
+
+/// `impl Foo<f64> { linearize_generated_into, linearize_generated }` and the
+/// compile-time check that the kernel is current, or nothing without a kernel.
 pub fn emit(cx: &Context) -> TokenStream {
     let Some(kernel) = &cx.model.kernel else {
         return TokenStream::new();
@@ -25,90 +43,127 @@ pub fn emit(cx: &Context) -> TokenStream {
     let ident = &cx.model.ident;
     let dim = &cx.dim;
     let linearization = cx.model.linearization_ident();
-    let inputs: Vec<_> = cx
-        .model
-        .fields
-        .iter()
-        .map(|f| format_ident!("__in_{}", f.ident))
+    let kernel_text = path_text(kernel);
+    let span = kernel.span();
+    let last = kernel
+        .segments
+        .last()
+        .map_or_else(|| format_ident!("kernel"), |s| s.ident.clone());
+    let shape = sibling(kernel, &format_ident!("SHAPE", span = span));
+    let slices = sibling(kernel, &format_ident!("{}_slices", last, span = span));
+
+    let field_count = cx.model.fields.len();
+    let inputs: Vec<_> = (0..field_count)
+        .map(|i| format_ident!("__in_{}", i))
         .collect();
-    let flatten = cx
-        .model
-        .fields
-        .iter()
-        .zip(&inputs)
-        .enumerate()
-        .map(|(i, (field, input))| {
-            let name = &field.ident;
-            quote! {
-                let mut #input = [0.0_f64; <#ident<f64>>::__FACTOR_SCALARS[#i]];
-                {
-                    let mut slots = #input.iter_mut();
-                    let _ = #krate::MapScalars::map_scalars(&self.#name, &mut |s: f64| {
-                        if let ::core::option::Option::Some(slot) = slots.next() {
-                            *slot = s;
-                        }
-                        s
-                    });
-                }
-            }
-        });
+    let names: Vec<_> = cx.model.fields.iter().map(|f| &f.ident).collect();
+    let scalars: Vec<_> = (0..field_count)
+        .map(|i| quote!(<#ident<f64>>::__FACTOR_SCALARS[#i]))
+        .collect();
     let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
-    let outputs: Vec<_> = cx
-        .variables
-        .iter()
-        .map(|v| format_ident!("__d_{}", v.ident))
-        .collect();
     let block_dims: Vec<_> = cx.variables.iter().map(|v| cx.dim_f64(v)).collect();
-    // A typed binding: a kernel with the wrong signature is reported at its
-    // path, with the expected `fn` type.
-    let scalars = (0..cx.model.fields.len()).map(|i| quote!(<#ident<f64>>::__FACTOR_SCALARS[#i]));
-    let block_dims_again = block_dims.clone();
-    let kernel_type = quote! {
-        fn(
-            #(&[f64; #scalars],)*
-            &mut [f64; #dim],
-            #(::core::option::Option<&mut [f64; #dim * #block_dims_again]>,)*
-        )
+    let outputs: Vec<_> = (0..blocks.len())
+        .map(|k| format_ident!("__d_{}", k))
+        .collect();
+
+    let stale = format!(
+        "the generated kernel `{kernel_text}` does not match `{ident}`: it was generated for \
+         another layout of the factor (a field, its storage or a tangent changed since); {}",
+        match &cx.model.regenerate {
+            Some(command) => format!("regenerate it with `{command}`"),
+            None => "regenerate the crate that holds it with the generator that wrote it (named \
+                     in its module header), built without the feature that compiles the kernels"
+                .to_owned(),
+        }
+    );
+    // The residual dimension without the span of `dim = …`: clippy reads
+    // `dim * D` at that span as a missing comma in the attribute.
+    let rows = syn::LitInt::new(dim.base10_digits(), proc_macro2::Span::call_site());
+    let check = quote_spanned! {span=>
+        const _: () = {
+            let generated = #shape;
+            let current = generated.residual == #rows
+                && #krate::__private::same_shape(generated.inputs, &[#(#scalars),*])
+                && #krate::__private::same_shape(generated.blocks, &[#(#rows * #block_dims),*]);
+            if !current {
+                ::core::panic!(#stale);
+            }
+        };
     };
-    let kernel = quote_spanned!(kernel.span()=> #kernel);
-    let doc = format!(
-        "Residual and Jacobian blocks through the generated kernel \
-         [`{0}`]({0}): straight-line code with every entry unrolled and common \
-         subexpressions shared, exact to rounding like \
-         [`linearize_dual`](Self::linearize_dual).\n\n\
+    let into_doc = format!(
+        "Residual and the requested Jacobian blocks through the generated kernel \
+         [`{kernel_text}`]({kernel_text}), written into the caller's storage with no \
+         allocation: `residual` has {dim} entries, `jacobians[k]` is `Some(block)` (row-major, \
+         {dim} × variable `k`'s tangent dimension) or `None` for a variable held fixed, whose \
+         block is not computed (nor the work only it needs).\n\n\
          # Errors\n\n\
          The validation's error, or \
          [`FactorError::NonFinite`](::factor_core::FactorError::NonFinite) naming the first \
-         non-finite output.",
-        path_text(cx.model.kernel.as_ref().expect("checked above"))
+         non-finite output.\n\n\
+         # Panics\n\n\
+         If `residual`, `jacobians` or a block has the wrong length."
+    );
+    let doc = format!(
+        "Residual and Jacobian blocks through the generated kernel \
+         [`{kernel_text}`]({kernel_text}): straight-line code with every entry unrolled and \
+         common subexpressions shared, exact to rounding like \
+         [`linearize_dual`](Self::linearize_dual).\n\n\
+         # Errors\n\n\
+         As [`linearize_generated_into`](Self::linearize_generated_into)."
     );
     quote! {
+        #check
+
         impl #ident<f64> {
+            #[doc = #into_doc]
+            pub fn linearize_generated_into(
+                &self,
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                <Self as #krate::Factor>::validate(self)?;
+                #(
+                    let mut #inputs = [0.0_f64; #scalars];
+                    #krate::Storage::write_scalars(&self.#names, &mut #inputs);
+                )*
+                let done = #slices(&[#(&#inputs[..]),*], residual, jacobians);
+                ::core::assert!(
+                    done,
+                    "{}: the residual has {} entries and each variable's block {} × its \
+                     tangent dimension ({} blocks)",
+                    <Self as #krate::Factor>::NAME,
+                    #dim,
+                    #dim,
+                    <Self as #krate::Factor>::variables().len(),
+                );
+                match #krate::first_non_finite(residual, jacobians) {
+                    ::core::option::Option::None => ::core::result::Result::Ok(()),
+                    ::core::option::Option::Some(at) => ::core::result::Result::Err(
+                        #krate::FactorError::non_finite_output::<Self>(at),
+                    ),
+                }
+            }
+
             #[doc = #doc]
             pub fn linearize_generated(
                 &self,
             ) -> ::core::result::Result<#linearization, #krate::FactorError> {
-                <Self as #krate::Factor>::validate(self)?;
-                #(#flatten)*
-                let mut __residual = [0.0_f64; #dim];
+                let mut residual = [0.0_f64; #dim];
                 #(
                     let mut #outputs = [0.0_f64; #dim * #block_dims];
                 )*
-                let kernel: #kernel_type = #kernel;
-                kernel(
-                    #(&#inputs,)*
-                    &mut __residual,
-                    #(::core::option::Option::Some(&mut #outputs),)*
-                );
-                #linearization {
-                    residual: #nalgebra::SVector::<f64, #dim>::from_column_slice(&__residual),
+                self.linearize_generated_into(
+                    &mut residual,
+                    &mut [#(::core::option::Option::Some(&mut #outputs[..])),*],
+                )?;
+                ::core::result::Result::Ok(#linearization {
+                    residual: #nalgebra::SVector::<f64, #dim>::from_column_slice(&residual),
                     #(
                         #blocks: #nalgebra::SMatrix::<f64, #dim, { #block_dims }>::from_row_slice(
                             &#outputs,
                         ),
                     )*
-                }
-                .ensure_finite()
+                })
             }
         }
     }

@@ -62,7 +62,7 @@ pub fn emit(cx: &Context) -> TokenStream {
     let field_count = cx.model.fields.len();
     let scalars = cx.model.fields.iter().map(|field| {
         let ty = &field.ty;
-        quote_spanned!(ty.span()=> <#ty as #krate::MapScalars<#scalar>>::SCALARS)
+        quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::SCALARS)
     });
     let offsets = (0..count).map(|k| {
         let previous = 0..k;

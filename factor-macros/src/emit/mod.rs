@@ -1,7 +1,7 @@
 //! Code generation from a validated [`FactorModel`]. Each submodule emits one
 //! group of items; [`Context`] holds what they share.
 //!
-//! Every use of a field type's traits (`Manifold`, `MapScalars`, `Clone`)
+//! Every use of a field type's traits (`Manifold`, `Storage`, `Clone`)
 //! sits in code generic over the scalar and is spanned at that field type, so
 //! a type lacking one is reported once, at the type. Code for the `f64`
 //! instance only calls into the generic impls.
@@ -11,8 +11,8 @@ mod factor_impl;
 mod kernel;
 mod layout;
 mod linearization;
-mod map_scalars;
 mod perturbed;
+mod storage;
 
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -56,7 +56,7 @@ pub fn expand(model: &FactorModel) -> TokenStream {
     };
     let items = [
         layout::emit(&cx),
-        map_scalars::emit(&cx),
+        storage::emit(&cx),
         perturbed::emit(&cx),
         linearization::emit(&cx),
         evaluate::emit(&cx),

@@ -1,4 +1,4 @@
-use factor_core::{Factor, Manifold, MapScalars, Perturbation, Scalar};
+use factor_core::{Factor, Layout, Manifold, Perturbation, Scalar, Storage};
 use nalgebra::Vector2;
 
 /// A landmark whose retraction exists for `f64` only: dual numbers (and any
@@ -6,11 +6,17 @@ use nalgebra::Vector2;
 #[derive(Clone)]
 struct Landmark<S>(Vector2<S>);
 
-impl<S: Scalar> MapScalars<S> for Landmark<S> {
+impl<S: Scalar> Storage<S> for Landmark<S> {
     type With<T: Scalar> = Landmark<T>;
     const SCALARS: usize = 2;
+    fn layout() -> Layout {
+        Layout::array(&["x", "y"])
+    }
     fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Landmark<T> {
         Landmark(self.0.map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        Landmark(Vector2::read_scalars(next))
     }
 }
 

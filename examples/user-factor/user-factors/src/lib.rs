@@ -32,7 +32,10 @@ use nalgebra::{Vector1, Vector3, Vector6};
 #[factor(residual = relative_pose_residual, dim = 6)]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = user_kernels::relative_pose::relative_pose)
+    factor(
+        kernel = user_kernels::relative_pose::relative_pose,
+        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels"
+    )
 )]
 pub struct RelativePose<S: Scalar = f64> {
     /// The measured relative pose `T̃_ij`.
@@ -58,7 +61,10 @@ pub fn relative_pose_residual<S: Scalar>(f: &RelativePose<S>) -> Vector6<S> {
 #[factor(residual = point_to_plane_residual, dim = 1)]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = user_kernels::point_to_plane::point_to_plane)
+    factor(
+        kernel = user_kernels::point_to_plane::point_to_plane,
+        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels"
+    )
 )]
 pub struct PointToPlane<S: Scalar = f64> {
     /// The scan point `p`, in the scan frame.

@@ -4,19 +4,16 @@
 //! (`tests/generate_kernels.rs` checks that they are current.)
 #![cfg(feature = "kernels")]
 
-use factor_core::factor::relative_frobenius_error;
+use factor_core::Factor;
 use factor_core::lie::Se3;
-use factor_core::{DynLinearization, Factor, MapScalars};
 use factor_testing::samples::Sampler;
-use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
+use factor_testing::{
+    DEFAULT_TOLERANCE, GENERATED_TOLERANCE, assert_correct_jacobians, assert_generated_matches_dual,
+};
 use nalgebra::Vector3;
 use user_factors::{PointToPlane, RelativePose};
 
 const CONFIGURATIONS: usize = 200;
-/// Generated vs dual numbers: both exact, so only rounding differs.
-const VS_DUAL: f64 = 1e-12;
-/// Generated vs central differences.
-const VS_NUMERIC: f64 = 1e-6;
 
 /// A relative-pose factor between two random poses whose measurement is
 /// their true relative pose, perturbed by up to 0.3 rad and 0.2 m, or exact
@@ -62,65 +59,15 @@ fn point_to_plane(sampler: &mut Sampler, _: usize) -> PointToPlane {
     }
 }
 
-/// The largest magnitude among the factor's input scalars, or 1: a residual
-/// that is a difference of terms of that size is compared relative to it.
-fn input_scale<F: MapScalars<f64>>(factor: &F) -> f64 {
-    let mut scale: f64 = 1.0;
-    let _ = factor.map_scalars(&mut |x: f64| {
-        scale = scale.max(x.abs());
-        x
-    });
-    scale
-}
-
-/// Relative errors of `a` w.r.t. `b`: the residual (relative to its norm or
-/// the input scale), then each Jacobian block (relative Frobenius, floored
-/// at `1e-9`).
-fn errors(a: &DynLinearization, b: &DynLinearization, residual_scale: f64) -> Vec<f64> {
-    let residual = (&a.residual - &b.residual).norm() / b.residual.norm().max(residual_scale);
-    let blocks = a
-        .jacobians
-        .iter()
-        .zip(&b.jacobians)
-        .map(|(x, y)| relative_frobenius_error(x, y, 1e-9));
-    std::iter::once(residual).chain(blocks).collect()
-}
-
-/// Generated vs dual (≤ 1e-12) and vs numeric (≤ 1e-6) at every sample;
-/// returns the worst error vs dual.
-fn check_agreement<F: Factor + MapScalars<f64>>(
-    seed: u64,
-    mut sample: impl FnMut(&mut Sampler, usize) -> F,
-) -> f64 {
+/// At every sample, the generated kernel against dual numbers (to rounding)
+/// and the dual Jacobians against central differences: one line each.
+fn check_agreement<F: Factor>(seed: u64, mut sample: impl FnMut(&mut Sampler, usize) -> F) {
     let mut sampler = Sampler::new(seed);
-    let mut worst: f64 = 0.0;
     for i in 0..CONFIGURATIONS {
         let factor = sample(&mut sampler, i);
-        let generated = factor
-            .linearize_generated_dyn()
-            .unwrap_or_else(|| panic!("{} has a generated kernel", F::NAME))
-            .unwrap_or_else(|e| panic!("{} configuration {i}: {e}", F::NAME));
-        let dual = factor.linearize_dual_dyn().expect("valid");
-        let numeric = factor.linearize_numeric_dyn().expect("valid");
-        let scale = input_scale(&factor);
-        for (k, e) in errors(&generated, &dual, scale).into_iter().enumerate() {
-            assert!(
-                e <= VS_DUAL,
-                "{} configuration {i}, output {k}: generated vs dual {e:e}",
-                F::NAME
-            );
-            worst = worst.max(e);
-        }
-        for (k, e) in errors(&generated, &numeric, scale).into_iter().enumerate() {
-            assert!(
-                e <= VS_NUMERIC,
-                "{} configuration {i}, output {k}: generated vs numeric {e:e}",
-                F::NAME
-            );
-        }
+        assert_generated_matches_dual(&factor, GENERATED_TOLERANCE);
+        assert_correct_jacobians(&factor, DEFAULT_TOLERANCE);
     }
-    println!("{}: worst relative error vs dual {worst:e}", F::NAME);
-    worst
 }
 
 #[test]

@@ -26,5 +26,8 @@ pub mod point_to_plane;
 pub mod relative_pose;
 #[rustfmt::skip]
 mod real;
+#[rustfmt::skip]
+mod shape;
 
 pub use real::Real;
+pub use shape::Shape;

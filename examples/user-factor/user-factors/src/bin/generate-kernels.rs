@@ -58,14 +58,18 @@ fn main() -> ExitCode {
         }
     };
     let src = args.out.join("src");
+    let generated = match codegen::generate() {
+        Ok(generated) => generated,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    let count = generated.modules.len();
     if args.check {
-        match codegen::check(&args.out) {
-            Ok(modules) => {
-                println!(
-                    "{} is up to date ({} kernels)",
-                    src.display(),
-                    modules.len()
-                );
+        match generated.check(&args.out) {
+            Ok(()) => {
+                println!("{} is up to date ({count} kernels)", src.display());
                 ExitCode::SUCCESS
             }
             Err(stale) => {
@@ -79,9 +83,9 @@ fn main() -> ExitCode {
             }
         }
     } else {
-        match codegen::write(&args.out) {
-            Ok(modules) => {
-                for m in &modules {
+        match generated.write(&args.out) {
+            Ok(()) => {
+                for m in &generated.modules {
                     println!(
                         "{}: {} ops, residual only {}",
                         m.name,
@@ -89,7 +93,7 @@ fn main() -> ExitCode {
                         m.residual_counts.total()
                     );
                 }
-                println!("generated {} kernels into {}", modules.len(), src.display());
+                println!("generated {count} kernels into {}", src.display());
                 ExitCode::SUCCESS
             }
             Err(e) => {
