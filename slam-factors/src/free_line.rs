@@ -31,7 +31,10 @@ use factor_core::{Factor, FactorError, Scalar};
 #[factor(residual = free_line_residual, dim = 2, validate = validate_free_line, name = "free_line")]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = factor_generated::free_line::free_line)
+    factor(
+        kernel = factor_generated::free_line::free_line,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
 )]
 pub struct FreeLineFactor<S: Scalar = f64> {
     /// Camera extrinsics `T_CB`.

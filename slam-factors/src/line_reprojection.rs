@@ -25,7 +25,10 @@ use factor_core::{Factor, FactorError, Scalar};
 #[factor(residual = line_reprojection_residual, dim = 2, validate = validate_line_reprojection)]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = factor_generated::line_reprojection::line_reprojection)
+    factor(
+        kernel = factor_generated::line_reprojection::line_reprojection,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
 )]
 pub struct LineReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.

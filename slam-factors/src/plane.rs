@@ -26,7 +26,10 @@ use factor_core::{Factor, FactorError, Scalar};
 #[factor(residual = plane_residual, dim = 3, validate = validate_plane, name = "plane")]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = factor_generated::plane::plane)
+    factor(
+        kernel = factor_generated::plane::plane,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
 )]
 pub struct PlaneFactor<S: Scalar = f64> {
     /// The measured plane `π_c = [a, b, c, d]` in the camera frame, any scale.

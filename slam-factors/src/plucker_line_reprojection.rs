@@ -31,7 +31,10 @@ use factor_core::{Factor, FactorError, Scalar};
 )]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = factor_generated::plucker_line_reprojection::plucker_line_reprojection)
+    factor(
+        kernel = factor_generated::plucker_line_reprojection::plucker_line_reprojection,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
 )]
 pub struct PluckerLineReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.

@@ -22,7 +22,10 @@ use factor_core::{Factor, FactorError, Scalar};
 #[factor(residual = point_reprojection_residual, dim = 2, validate = validate_point_reprojection)]
 #[cfg_attr(
     feature = "kernels",
-    factor(kernel = factor_generated::point_reprojection::point_reprojection)
+    factor(
+        kernel = factor_generated::point_reprojection::point_reprojection,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
 )]
 pub struct PointReprojection<S: Scalar = f64> {
     /// `K = [f_u, f_v, c_u, c_v]`.
