@@ -1,0 +1,273 @@
+//! A formula's lines and statements, found on its tokens before parsing, so
+//! a garbled line or side note does not hide the others.
+//!
+//! A display that is one `aligned`/`split`/`align`/… environment has a line
+//! per row (`&` marks alignment and is dropped); one that is a `cases`
+//! environment has a line per case (the condition after `&` a side note);
+//! otherwise top-level `\\` separate lines. Within a line, top-level `,` and
+//! `\quad`/`\qquad` separate statements: the first is the line's claim, the
+//! others side notes (`\quad θ = |ω|`), except that a piece starting with a
+//! relation continues the chain (`= R \qquad \in SO(3)`). Trailing `.` and
+//! `,` are punctuation.
+
+use std::ops::Range;
+
+use crate::lexer::{LexError, Tok, Token, lex};
+use crate::names::{ALIGNMENT_ENVIRONMENTS, RELATION_COMMANDS, lookup};
+
+/// One line of a formula, split into statements.
+#[derive(Debug, Clone)]
+pub(crate) struct Line {
+    /// The line's bytes in the formula's math.
+    pub span: Range<usize>,
+    /// The statements' tokens: the claim first, then side notes.
+    pub statements: Vec<Vec<Token>>,
+    /// The line starts with a relation: it continues an earlier line.
+    pub continued: bool,
+    /// The line does not continue one but holds a top-level relation: it
+    /// starts a chain.
+    pub heads_chain: bool,
+    /// The environment around the whole display, when the display never
+    /// closes it (read as closed at the display's end).
+    pub unclosed: Option<String>,
+}
+
+/// How a formula's rows are written.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    /// No environment around the whole formula.
+    Plain,
+    /// An alignment environment: `&` marks alignment.
+    Aligned,
+    /// A `cases` environment: `&` introduces a side condition.
+    Cases,
+}
+
+/// The lines of a formula's math. Only a lexing error stops the split:
+/// unbalanced braces or environments are left to each line's parse, so one
+/// garbled line does not hide the others.
+pub(crate) fn lines(math: &str) -> Result<Vec<Line>, LexError> {
+    let toks = lex(math)?;
+    let env = environment_depths(&toks);
+    let (layout, body, unclosed) = layout(&toks, &env);
+    let base = body.clone().next().map_or(0, |i| env[i]);
+    let mut out = Vec::new();
+    let mut row_start = body.start;
+    for i in body.clone().chain(std::iter::once(body.end)) {
+        if i == body.end || (toks[i].tok == Tok::RowBreak && env[i] == base) {
+            if let Some(mut line) = line(&toks[row_start..i], &env[row_start..i], base, layout) {
+                line.unclosed = unclosed.clone();
+                out.push(line);
+            }
+            row_start = i + 1;
+        }
+    }
+    Ok(out)
+}
+
+/// The depth of `\begin…\end` nesting before each token (an `\end`
+/// without its `\begin` does not go below zero).
+fn environment_depths(toks: &[Token]) -> Vec<usize> {
+    let mut depth = 0usize;
+    toks.iter()
+        .map(|t| match t.tok {
+            Tok::Begin(_) => {
+                depth += 1;
+                depth - 1
+            }
+            Tok::End(_) => {
+                depth = depth.saturating_sub(1);
+                depth
+            }
+            _ => depth,
+        })
+        .collect()
+}
+
+/// Whether the whole formula is one alignment or `cases` environment, the
+/// tokens holding its rows, and the environment's name if it is not closed.
+fn layout(toks: &[Token], env: &[usize]) -> (Layout, Range<usize>, Option<String>) {
+    let plain = (Layout::Plain, 0..toks.len(), None);
+    let Some(first) = toks
+        .iter()
+        .position(|t| !matches!(t.tok, Tok::Quad | Tok::Space))
+    else {
+        return plain;
+    };
+    let Tok::Begin(name) = &toks[first].tok else {
+        return plain;
+    };
+    let layout = if name == "cases" {
+        Layout::Cases
+    } else if ALIGNMENT_ENVIRONMENTS.contains(&name.as_str()) {
+        Layout::Aligned
+    } else {
+        return plain;
+    };
+    let close = (first + 1..toks.len())
+        .find(|&i| env[i] == env[first] && matches!(toks[i].tok, Tok::End(_)));
+    let ignorable = |t: &Tok| matches!(t, Tok::Quad | Tok::Space | Tok::Period | Tok::Comma);
+    match close {
+        Some(c) if toks[c + 1..].iter().all(|t| ignorable(&t.tok)) => (layout, first + 1..c, None),
+        Some(_) => plain,
+        None => (layout, first + 1..toks.len(), Some(name.clone())),
+    }
+}
+
+/// Whether a token is a relation (`\Rightarrow` included).
+pub(crate) fn is_relation(tok: &Tok) -> bool {
+    match tok {
+        Tok::Eq | Tok::Lt | Tok::Gt | Tok::Colon => true,
+        Tok::Command(c) => lookup(RELATION_COMMANDS, c).is_some(),
+        _ => false,
+    }
+}
+
+fn is_implies(tok: &Tok) -> bool {
+    matches!(tok, Tok::Command(c) if c == "Rightarrow" || c == "implies")
+}
+
+/// One row's statements: split at the row's top level (outside braces,
+/// environments and delimiters; extra closers do not go below zero).
+fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Line> {
+    let span = toks.first()?.start..toks.last()?.end;
+    let mut statements: Vec<Vec<Token>> = Vec::new();
+    let mut current: Vec<Token> = Vec::new();
+    let (mut braces, mut depth) = (0usize, 0usize);
+    let mut heads_chain = false;
+    // Whether the statement being read was opened by a `\quad`.
+    let mut after_quad = false;
+    for (t, e) in toks.iter().zip(env) {
+        match t.tok {
+            Tok::LBrace => braces += 1,
+            Tok::RBrace => braces = braces.saturating_sub(1),
+            _ => {}
+        }
+        let top = *e == base && braces == 0;
+        if top {
+            match t.tok {
+                Tok::Open(_) | Tok::Left(_) => depth += 1,
+                Tok::Close(_) | Tok::Right(_) => depth = depth.saturating_sub(1),
+                _ => {}
+            }
+        }
+        let separator = top
+            && depth == 0
+            && match t.tok {
+                Tok::Comma | Tok::Quad => true,
+                Tok::Amp => layout == Layout::Cases,
+                _ => false,
+            };
+        if top && t.tok == Tok::Amp && layout == Layout::Aligned {
+            continue;
+        }
+        if separator {
+            close_statement(&mut statements, &mut current, after_quad);
+            after_quad = t.tok == Tok::Quad;
+            continue;
+        }
+        if top && depth == 0 && statements.is_empty() && is_relation(&t.tok) && !is_implies(&t.tok)
+        {
+            heads_chain = true;
+        }
+        current.push(t.clone());
+    }
+    close_statement(&mut statements, &mut current, after_quad);
+    // Trailing punctuation.
+    if let Some(last) = statements.last_mut() {
+        while matches!(last.last().map(|t| &t.tok), Some(Tok::Period | Tok::Comma)) {
+            last.pop();
+        }
+        if last.is_empty() {
+            statements.pop();
+        }
+    }
+    let first = statements.first()?.first()?;
+    let continued = is_relation(&first.tok) && !is_implies(&first.tok);
+    Some(Line {
+        span,
+        heads_chain: heads_chain && !continued,
+        continued,
+        statements,
+        unclosed: None,
+    })
+}
+
+/// Ends the statement being read: a piece opened by `\quad` that starts with
+/// a relation continues the previous statement.
+fn close_statement(statements: &mut Vec<Vec<Token>>, current: &mut Vec<Token>, after_quad: bool) {
+    let piece = std::mem::take(current);
+    if piece.is_empty() {
+        return;
+    }
+    let starts_with_relation = is_relation(&piece[0].tok) && !is_implies(&piece[0].tok);
+    match statements.last_mut() {
+        Some(prev) if after_quad && starts_with_relation => prev.extend(piece),
+        _ => statements.push(piece),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(math: &str) -> Vec<Vec<String>> {
+        lines(math)
+            .unwrap()
+            .iter()
+            .map(|l| {
+                l.statements
+                    .iter()
+                    .map(|s| math[s[0].start..s.last().unwrap().end].to_string())
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn aligned_rows_are_lines_and_quads_separate_statements() {
+        let math =
+            "\\begin{aligned} a &= b \\quad (c = d) \\\\ &= e \\qquad \\in R. \\end{aligned}";
+        assert_eq!(
+            texts(math),
+            vec![vec!["a &= b", "(c = d)"], vec!["= e \\qquad \\in R"]]
+        );
+        let l = lines(math).unwrap();
+        assert!(l[0].heads_chain && !l[0].continued);
+        assert!(l[1].continued && !l[1].heads_chain);
+    }
+
+    #[test]
+    fn cases_rows_are_lines_with_conditions_as_notes() {
+        assert_eq!(
+            texts(
+                "\\begin{cases} x = 1 & a > 0 \\\\ x = \\begin{bmatrix} 1 & 2 \\end{bmatrix} \\end{cases}"
+            ),
+            vec![
+                vec!["x = 1", "a > 0"],
+                vec!["x = \\begin{bmatrix} 1 & 2 \\end{bmatrix}"]
+            ]
+        );
+    }
+
+    #[test]
+    fn commas_inside_groups_do_not_separate() {
+        assert_eq!(
+            texts("E(\\xi, \\omega) = (a \\quad b), c = d"),
+            vec![vec!["E(\\xi, \\omega) = (a \\quad b)", "c = d"]]
+        );
+    }
+
+    #[test]
+    fn a_garbled_row_does_not_hide_the_others() {
+        let math = "\\begin{split} a &= \\frac{b}}{c} \\\\ &= d \\end{split}";
+        assert_eq!(texts(math), vec![vec!["a &= \\frac{b}}{c}"], vec!["= d"]]);
+    }
+
+    #[test]
+    fn an_unclosed_environment_around_the_display_closes_at_its_end() {
+        let l = lines("\\begin{cases} a = b \\\\ c = d").unwrap();
+        assert_eq!(l.len(), 2);
+        assert_eq!(l[1].unclosed.as_deref(), Some("cases"));
+    }
+}

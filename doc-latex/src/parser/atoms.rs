@@ -1,0 +1,498 @@
+//! Factors: symbols (fonts, accents, increments `\delta x`, pre-scripts),
+//! numbers, functions and their application, `\partial`, `\lim`, `\frac`,
+//! `\sqrt`.
+
+use super::{Ctx, Parser, Seps};
+use crate::ast::{Base, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, Symbol};
+use crate::error::{ErrorKind, ParseError};
+use crate::lexer::{Delim, Tok};
+use crate::names::{
+    ACCENT_COMMANDS, FONT_COMMANDS, function_command, function_word, lookup, symbol_command,
+};
+
+/// What a factor starts with, before its scripts.
+pub(super) enum Atom {
+    /// A symbol: scripts become part of it.
+    Symbol(Symbol),
+    /// A function name: a power, then its argument(s).
+    Function(String),
+    /// Anything else: scripts wrap it.
+    Expr(Expr),
+    /// `\partial …`, `\lim …`: already took the rest of the product.
+    Swallowed(Expr),
+}
+
+impl Parser<'_> {
+    /// One factor with its scripts (and its application to a parenthesised
+    /// group, after a symbol or function).
+    pub(super) fn factor(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
+        self.nested(|p| {
+            p.skip_spaces();
+            let atom = p.atom(ctx)?;
+            p.finish(atom, true)
+        })
+    }
+
+    /// A factor without application to a following group: the argument of
+    /// a function written without parentheses (`\sin\theta`).
+    fn simple_factor(&mut self) -> Result<Expr, ParseError> {
+        self.nested(|p| {
+            let atom = p.atom(Ctx::default())?;
+            p.finish(atom, false)
+        })
+    }
+
+    fn finish(&mut self, atom: Atom, apply: bool) -> Result<Expr, ParseError> {
+        match atom {
+            Atom::Swallowed(e) => Ok(e),
+            Atom::Function(name) => self.function(name),
+            Atom::Expr(e) => self.scripts_on_expr(e),
+            Atom::Symbol(s) => {
+                let e = self.scripts_on_symbol(s)?;
+                match e {
+                    Expr::Symbol(s)
+                        if apply && matches!(self.peek(), Some(Tok::Open(Delim::Paren))) =>
+                    {
+                        let args = self.call_arguments()?;
+                        self.scripts_on_expr(Expr::Apply {
+                            head: Head::Symbol(s),
+                            args,
+                        })
+                    }
+                    e => Ok(e),
+                }
+            }
+        }
+    }
+
+    pub(super) fn atom(&mut self, ctx: Ctx) -> Result<Atom, ParseError> {
+        let Some(tok) = self.peek().cloned() else {
+            return Err(self.unexpected());
+        };
+        match tok {
+            Tok::Number(n) => {
+                self.pos += 1;
+                Ok(Atom::Expr(Expr::Number(n)))
+            }
+            Tok::Letter(c) => {
+                self.pos += 1;
+                let s = Symbol::new(Base::Letter(c));
+                Ok(Atom::Symbol(self.increment(s)?))
+            }
+            Tok::Word(w) => {
+                self.pos += 1;
+                Ok(Atom::Function(w.to_string()))
+            }
+            Tok::Text(t) => {
+                self.pos += 1;
+                Ok(match function_word(t.trim()) {
+                    Some(f) => Atom::Function(f.to_string()),
+                    None => Atom::Expr(Expr::Text(t)),
+                })
+            }
+            Tok::OperatorName(n) => {
+                self.pos += 1;
+                Ok(Atom::Function(n.trim().to_string()))
+            }
+            Tok::LBrace => self.brace_group(),
+            Tok::Open(_) | Tok::Left(_) | Tok::Bar | Tok::DoubleBar => self.delimited(),
+            Tok::Begin(name) => Ok(Atom::Expr(self.environment(&name)?)),
+            Tok::Period if self.closes(self.pos + 1) => {
+                self.pos += 1;
+                Ok(Atom::Expr(Expr::Placeholder))
+            }
+            Tok::Command(name) => self.command(&name, ctx),
+            _ => Err(self.unexpected()),
+        }
+    }
+
+    /// A command: commands nest (`\sqrt\sqrt…`, `\hat\hat…`) with the
+    /// largest stack frames, so each counts one more nesting step.
+    fn command(&mut self, name: &str, ctx: Ctx) -> Result<Atom, ParseError> {
+        self.nested(|p| p.command_atom(name, ctx))
+    }
+
+    fn command_atom(&mut self, name: &str, ctx: Ctx) -> Result<Atom, ParseError> {
+        if let Some(font) = lookup(FONT_COMMANDS, name) {
+            return self.font(name, font);
+        }
+        if let Some(accent) = lookup(ACCENT_COMMANDS, name) {
+            let mut s = self.symbol_argument(name)?;
+            if s.accent.is_some() {
+                return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
+            }
+            s.accent = Some(accent);
+            return Ok(Atom::Symbol(self.increment(s)?));
+        }
+        if let Some(f) = function_command(name) {
+            self.pos += 1;
+            return Ok(Atom::Function(f.to_string()));
+        }
+        if let Some(s) = symbol_command(name) {
+            self.pos += 1;
+            let s = Symbol::new(Base::Command(s.to_string()));
+            return Ok(Atom::Symbol(self.increment(s)?));
+        }
+        match name {
+            "partial" => {
+                self.pos += 1;
+                let of = self.product(ctx)?;
+                Ok(Atom::Swallowed(Expr::Differential(Box::new(of))))
+            }
+            "lim" => {
+                self.pos += 1;
+                if self.peek() != Some(&Tok::Sub) {
+                    return Err(self.error_here(ErrorKind::MissingOperand("\\lim".into())));
+                }
+                self.pos += 1;
+                let under = self.script_expression(false)?;
+                let body = self.product(ctx)?;
+                Ok(Atom::Swallowed(Expr::Limit {
+                    under: Box::new(under),
+                    body: Box::new(body),
+                }))
+            }
+            "frac" | "dfrac" | "tfrac" | "cfrac" => {
+                self.pos += 1;
+                Ok(Atom::Expr(self.fraction()?))
+            }
+            "sqrt" => {
+                self.pos += 1;
+                Ok(Atom::Expr(self.sqrt()?))
+            }
+            "cdot" if self.closes(self.pos + 1) => {
+                self.pos += 1;
+                Ok(Atom::Expr(Expr::Placeholder))
+            }
+            _ if lookup(crate::names::RELATION_COMMANDS, name).is_some()
+                || lookup(crate::names::MULOP_COMMANDS, name).is_some()
+                || name == "mid" =>
+            {
+                Err(self.unexpected())
+            }
+            _ => Err(self.error_here(ErrorKind::UnknownCommand(name.into()))),
+        }
+    }
+
+    /// `\delta x`: a bare `δ` directly before a symbol makes an increment.
+    fn increment(&mut self, s: Symbol) -> Result<Symbol, ParseError> {
+        let bare_delta = s.base == Base::Command("delta".into())
+            && matches!(s.font, Font::Plain | Font::Bold)
+            && Symbol {
+                font: Font::Plain,
+                ..s.clone()
+            } == Symbol::new(Base::Command("delta".into()));
+        if !bare_delta || !self.starts_symbol(self.pos) {
+            return Ok(s);
+        }
+        let mut inner = self.symbol_atom("delta")?;
+        if inner.delta.is_some() {
+            return Err(self.error_before(ErrorKind::NotASymbol("delta".into())));
+        }
+        inner.delta = Some(s.font);
+        Ok(inner)
+    }
+
+    /// Whether token `i` begins a symbol (for `\delta x` and `{}_W x`).
+    fn starts_symbol(&self, i: usize) -> bool {
+        match self.peek_at(i) {
+            Some(Tok::Letter(_)) => true,
+            Some(Tok::Command(c)) => {
+                symbol_command(c).is_some()
+                    || lookup(FONT_COMMANDS, c).is_some()
+                    || lookup(ACCENT_COMMANDS, c).is_some()
+            }
+            _ => false,
+        }
+    }
+
+    /// `{}_W x`: pre-scripts on the symbol that follows (the cursor is after
+    /// the empty group).
+    pub(super) fn prescripted_symbol(&mut self) -> Result<Atom, ParseError> {
+        let (mut pre_sub, mut pre_sup) = (None, None);
+        loop {
+            let is_sub = match self.peek() {
+                Some(Tok::Sub) => true,
+                Some(Tok::Sup) => false,
+                _ => break,
+            };
+            if (if is_sub { &pre_sub } else { &pre_sup }).is_some() {
+                return Err(self.error_here(ErrorKind::DoubleScript("pre-")));
+            }
+            self.pos += 1;
+            let e = Some(Box::new(self.script_expression(false)?));
+            if is_sub {
+                pre_sub = e;
+            } else {
+                pre_sup = e;
+            }
+        }
+        self.skip_spaces();
+        if !self.starts_symbol(self.pos) {
+            return Err(self.error_here(ErrorKind::NotASymbol("{}_".into())));
+        }
+        let mut s = self.symbol_atom("{}_")?;
+        if s.pre_sub.is_some() || s.pre_sup.is_some() {
+            return Err(self.error_before(ErrorKind::DoubleScript("pre-")));
+        }
+        s.pre_sub = pre_sub;
+        s.pre_sup = pre_sup;
+        Ok(Atom::Symbol(s))
+    }
+
+    /// The symbol atom at the cursor (without scripts), for `what`.
+    fn symbol_atom(&mut self, what: &str) -> Result<Symbol, ParseError> {
+        self.nested(|p| match p.atom(Ctx::default())? {
+            Atom::Symbol(s) => Ok(s),
+            _ => Err(p.error_before(ErrorKind::NotASymbol(what.into()))),
+        })
+    }
+
+    /// A function name's power and argument(s), then scripts on the result.
+    fn function(&mut self, name: String) -> Result<Expr, ParseError> {
+        let mut power = None;
+        loop {
+            match self.peek() {
+                Some(Tok::Sup) => {
+                    if power.is_some() {
+                        return Err(self.error_here(ErrorKind::DoubleScript("super")));
+                    }
+                    self.pos += 1;
+                    power = Some(Box::new(self.script_expression(false)?));
+                }
+                Some(Tok::Sub) => return Err(self.error_here(ErrorKind::FunctionSubscript(name))),
+                _ => break,
+            }
+        }
+        let args = match self.peek() {
+            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => self.call_arguments()?,
+            _ => {
+                self.skip_spaces();
+                if !self.starts_operand(self.pos) {
+                    return Err(self.error_here(ErrorKind::MissingOperand(name)));
+                }
+                vec![self.simple_factor()?]
+            }
+        };
+        self.scripts_on_expr(Expr::Apply {
+            head: Head::Function(Function { name, power }),
+            args,
+        })
+    }
+
+    /// `\mathbf{x}`, `\mathcal{K}`, `\mathrm{d}`; `\mathrm` of a word is a
+    /// function name or text.
+    fn font(&mut self, name: &str, font: Font) -> Result<Atom, ParseError> {
+        if font == Font::Roman
+            && self.peek_at(self.pos + 1) == Some(&Tok::LBrace)
+            && let Some(word) = self.braced_word(self.pos + 1)
+            && word.chars().count() > 1
+        {
+            self.pos = self.matching[self.pos + 1] + 1;
+            return Ok(match function_word(&word) {
+                Some(f) => Atom::Function(f.to_string()),
+                None => Atom::Expr(Expr::Text(word)),
+            });
+        }
+        let mut s = self.symbol_argument(name)?;
+        if s.font != Font::Plain {
+            return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
+        }
+        s.font = font;
+        Ok(Atom::Symbol(self.increment(s)?))
+    }
+
+    /// The letters of the group opened at `open`, if it holds only letters.
+    fn braced_word(&self, open: usize) -> Option<String> {
+        let close = self.matching[open];
+        let mut word = String::new();
+        for t in &self.toks[open + 1..close] {
+            match &t.tok {
+                Tok::Letter(c) => word.push(*c),
+                Tok::Word(w) => word.push_str(w),
+                _ => return None,
+            }
+        }
+        Some(word)
+    }
+
+    /// The argument of a font or accent command at the cursor: one symbol.
+    fn symbol_argument(&mut self, name: &str) -> Result<Symbol, ParseError> {
+        self.pos += 1;
+        let not_a_symbol = |p: &Self| p.error_before(ErrorKind::NotASymbol(name.into()));
+        let e = if self.peek() == Some(&Tok::LBrace) {
+            let close = self.matching[self.pos];
+            self.pos += 1;
+            let e = self.bounded(close, |p| p.relation(Ctx::default()))?;
+            if self.pos != close {
+                return Err(not_a_symbol(self));
+            }
+            self.pos += 1;
+            e
+        } else if self.starts_symbol(self.pos) {
+            Expr::Symbol(self.symbol_atom(name)?)
+        } else {
+            return Err(not_a_symbol(self));
+        };
+        match e {
+            Expr::Symbol(s) => Ok(s),
+            _ => Err(not_a_symbol(self)),
+        }
+    }
+
+    /// Runs `f` with the input cut at token `end`.
+    pub(super) fn bounded<T>(
+        &mut self,
+        end: usize,
+        f: impl FnOnce(&mut Self) -> Result<T, ParseError>,
+    ) -> Result<T, ParseError> {
+        let saved = self.end;
+        self.end = end;
+        let r = f(self);
+        self.end = saved;
+        r
+    }
+
+    /// `\frac{num}{den}`: a derivative, a stacked block matrix when a half
+    /// holds `\mid` separators, or a fraction.
+    fn fraction(&mut self) -> Result<Expr, ParseError> {
+        let num = self.argument(Seps::Mid)?;
+        let den = self.argument(Seps::Mid)?;
+        let stacked = num.iter().chain(&den).any(|item| item.len() > 1);
+        if stacked {
+            if num.len() > 1 || den.len() > 1 {
+                return Err(self.error_before(ErrorKind::MixedSeparators));
+            }
+            let rows = num.into_iter().chain(den).collect();
+            return Ok(Expr::Matrix(Matrix { rows }));
+        }
+        let num = self.build_group(num)?;
+        let den = self.build_group(den)?;
+        Ok(derivative(num, den))
+    }
+
+    /// `\sqrt[index]{body}`.
+    fn sqrt(&mut self) -> Result<Expr, ParseError> {
+        let index = if self.peek() == Some(&Tok::Open(Delim::Bracket)) {
+            self.pos += 1;
+            let items = self.list(Seps::None)?;
+            if self.peek() != Some(&Tok::Close(Delim::Bracket)) {
+                return Err(self.error_here(ErrorKind::Unclosed {
+                    open: "[".into(),
+                    expected: "]".into(),
+                }));
+            }
+            self.pos += 1;
+            Some(Box::new(self.build_group(items)?))
+        } else {
+            None
+        };
+        let body = self.argument(Seps::None)?;
+        Ok(Expr::Sqrt {
+            index,
+            body: Box::new(self.build_group(body)?),
+        })
+    }
+
+    /// A command's argument: a braced group's list, or one token.
+    pub(super) fn argument(&mut self, seps: Seps) -> Result<Vec<Vec<Expr>>, ParseError> {
+        if self.peek() == Some(&Tok::LBrace) {
+            let close = self.matching[self.pos];
+            self.pos += 1;
+            let items = self.bounded(close, |p| p.list(seps))?;
+            if self.pos != close {
+                return Err(self.unexpected());
+            }
+            self.pos = close + 1;
+            Ok(items)
+        } else {
+            Ok(vec![vec![self.single_token_argument()?]])
+        }
+    }
+
+    /// An argument written without braces: one digit, one letter, or one
+    /// command with its own arguments (`\frac12`, `x^2`, `_\phi`).
+    pub(super) fn single_token_argument(&mut self) -> Result<Expr, ParseError> {
+        match self.peek().cloned() {
+            Some(Tok::Number(n)) => {
+                // LaTeX takes one digit: `x^12` is `x^1 2`. A decimal `0.5`
+                // is taken whole (its digits split would leave `.5`).
+                if n.len() > 1 && n.as_bytes()[1] != b'.' {
+                    let t = &mut self.toks[self.pos];
+                    t.start += 1;
+                    t.tok = Tok::Number(n[1..].to_string());
+                    Ok(Expr::Number(n[..1].to_string()))
+                } else {
+                    self.pos += 1;
+                    Ok(Expr::Number(n))
+                }
+            }
+            Some(Tok::Letter(c)) => {
+                self.pos += 1;
+                Ok(Expr::Symbol(Symbol::new(Base::Letter(c))))
+            }
+            Some(Tok::Command(_)) => self.nested(|p| match p.atom(Ctx::default())? {
+                Atom::Symbol(s) => Ok(Expr::Symbol(s)),
+                Atom::Expr(e) => Ok(e),
+                Atom::Function(_) | Atom::Swallowed(_) => {
+                    Err(p.error_before(ErrorKind::MissingOperand("a one-token argument".into())))
+                }
+            }),
+            _ => Err(self.unexpected()),
+        }
+    }
+}
+
+/// `num / den` as a derivative when both are differentials: `∂a/∂b`, or
+/// `d a / d b` (a `d` juxtaposed before the rest of each half).
+fn derivative(num: Expr, den: Expr) -> Expr {
+    match (num, den) {
+        (Expr::Differential(of), Expr::Differential(wrt)) => Expr::Derivative {
+            kind: DerivativeKind::Partial,
+            of,
+            wrt,
+        },
+        (num, den) => match (after_d(&num), after_d(&den)) {
+            (Some(of), Some(wrt)) => Expr::Derivative {
+                kind: DerivativeKind::Total,
+                of: Box::new(of),
+                wrt: Box::new(wrt),
+            },
+            _ => Expr::Fraction {
+                num: Box::new(num),
+                den: Box::new(den),
+            },
+        },
+    }
+}
+
+/// The rest of a product `d x …` whose first factor is a bare `d`.
+fn after_d(e: &Expr) -> Option<Expr> {
+    let Expr::Product { first, rest } = e else {
+        return None;
+    };
+    let is_d = match first.as_ref() {
+        Expr::Symbol(s) => {
+            s.is_letter('d')
+                || *s
+                    == Symbol {
+                        font: Font::Roman,
+                        ..Symbol::new(Base::Letter('d'))
+                    }
+        }
+        _ => false,
+    };
+    if !is_d || rest[0].0 != MulOp::Implicit {
+        return None;
+    }
+    let mut rest = rest.clone();
+    let (_, second) = rest.remove(0);
+    Some(if rest.is_empty() {
+        second
+    } else {
+        Expr::Product {
+            first: Box::new(second),
+            rest,
+        }
+    })
+}

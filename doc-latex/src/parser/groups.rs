@@ -1,0 +1,288 @@
+//! Groups: braces, delimited groups (grouping, tuples, block rows), norms,
+//! `\lfloor…\rfloor_\times`, argument lists and environments (matrices,
+//! `cases`).
+
+use super::atoms::Atom;
+use super::{Ctx, Parser, Seps};
+use crate::ast::{Case, Expr, Matrix};
+use crate::error::{ErrorKind, ParseError};
+use crate::lexer::{Delim, Tok};
+use crate::names::{ALIGNMENT_ENVIRONMENTS, MATRIX_ENVIRONMENTS};
+
+impl Parser<'_> {
+    /// `{…}`: a transparent group, or `{}` before pre-scripts.
+    pub(super) fn brace_group(&mut self) -> Result<Atom, ParseError> {
+        let close = self.matching[self.pos];
+        if close == self.pos + 1 {
+            self.pos = close + 1;
+            if matches!(self.peek(), Some(Tok::Sub | Tok::Sup)) {
+                return self.prescripted_symbol();
+            }
+            return Err(self.error_before(ErrorKind::Empty("group")));
+        }
+        self.pos += 1;
+        let items = self.bounded(close, |p| p.list(Seps::None))?;
+        if self.pos != close {
+            return Err(self.unexpected());
+        }
+        self.pos = close + 1;
+        Ok(Atom::Expr(self.build_group(items)?))
+    }
+
+    /// A group opened by a delimiter at the cursor: `(…)`, `[…]`, `\{…\}`,
+    /// `\left…\right…`, a norm `|…|`/`\|…\|`, or `\lfloor…\rfloor_\times`.
+    pub(super) fn delimited(&mut self) -> Result<Atom, ParseError> {
+        let open = self.pos;
+        let tok = self.toks[open].tok.clone();
+        self.pos += 1;
+        let (sized, delim) = match tok {
+            Tok::Open(d) => (false, d),
+            Tok::Left(d) => (true, d),
+            Tok::Bar => (false, Delim::Bar),
+            Tok::DoubleBar => (false, Delim::DoubleBar),
+            _ => return Err(self.unexpected()),
+        };
+        let e = match delim {
+            Delim::Bar | Delim::DoubleBar => {
+                let double = delim == Delim::DoubleBar;
+                // A plain bar closes at the same level; `\right|` is its own token.
+                let ctx = Ctx {
+                    norm: (!sized).then_some(double),
+                    seps: Seps::None,
+                };
+                let body = self.relation(ctx)?;
+                self.close(open, sized, delim)?;
+                Expr::Norm {
+                    double,
+                    body: Box::new(body),
+                }
+            }
+            Delim::Floor => {
+                let body = self.relation(Ctx::default())?;
+                self.close(open, sized, delim)?;
+                if self.peek() != Some(&Tok::Sub) {
+                    return Err(self.error_here(ErrorKind::FloorWithoutTimes));
+                }
+                self.pos += 1;
+                if !self.script_argument(false)?.times {
+                    return Err(self.error_before(ErrorKind::FloorWithoutTimes));
+                }
+                Expr::Skew(Box::new(body))
+            }
+            _ => {
+                let items = self.list(Seps::All)?;
+                self.close(open, sized, delim)?;
+                self.build_group(items)?
+            }
+        };
+        Ok(Atom::Expr(e))
+    }
+
+    /// Consumes the closing delimiter matching the one at `open`.
+    fn close(&mut self, open: usize, sized: bool, delim: Delim) -> Result<(), ParseError> {
+        let ok = match (self.peek(), sized) {
+            (Some(Tok::Close(d)), false) => *d == delim,
+            (Some(Tok::Bar), false) => delim == Delim::Bar,
+            (Some(Tok::DoubleBar), false) => delim == Delim::DoubleBar,
+            (Some(Tok::Right(d)), true) => {
+                *d == delim || *d == Delim::Invisible || delim == Delim::Invisible
+            }
+            _ => false,
+        };
+        if ok {
+            self.pos += 1;
+            return Ok(());
+        }
+        let (left, right) = if sized {
+            ("\\left", "\\right")
+        } else {
+            ("", "")
+        };
+        let err = ErrorKind::Unclosed {
+            open: format!("{left}{}", delim.open()),
+            expected: format!("{right}{}", delim.close()),
+        };
+        Err(match self.peek() {
+            Some(_) => self.error_here(err),
+            None => super::error_at(self.place, self.toks[open].start, err),
+        })
+    }
+
+    /// `(a, b)` after a function or symbol: the arguments.
+    pub(super) fn call_arguments(&mut self) -> Result<Vec<Expr>, ParseError> {
+        let open = self.pos;
+        let sized = matches!(self.toks[open].tok, Tok::Left(_));
+        self.pos += 1;
+        let items = self.list(Seps::All)?;
+        self.close(open, sized, Delim::Paren)?;
+        Ok(items.into_iter().map(row_or_entry).collect())
+    }
+
+    /// Comma-separated items, each a row of entries separated by the `seps`
+    /// separators, up to the next closing token (not consumed).
+    pub(super) fn list(&mut self, seps: Seps) -> Result<Vec<Vec<Expr>>, ParseError> {
+        let mut items = Vec::new();
+        let mut row = Vec::new();
+        loop {
+            self.skip_spaces();
+            if self.no_entry_here() {
+                let what = if items.is_empty() {
+                    "group"
+                } else {
+                    "list item"
+                };
+                return Err(self.error_here(ErrorKind::Empty(what)));
+            }
+            row.push(self.relation(Ctx { norm: None, seps })?);
+            let mut spaced = false;
+            while matches!(self.peek(), Some(Tok::Quad | Tok::Space)) {
+                self.pos += 1;
+                spaced = true;
+            }
+            match self.peek() {
+                Some(Tok::Comma) => {
+                    self.pos += 1;
+                    items.push(std::mem::take(&mut row));
+                }
+                Some(Tok::Bar) if seps == Seps::All => self.pos += 1,
+                Some(Tok::Command(c)) if c == "mid" && seps != Seps::None => self.pos += 1,
+                _ if self.closes(self.pos) => {
+                    items.push(row);
+                    return Ok(items);
+                }
+                _ if spaced && seps == Seps::All => {}
+                _ => return Err(self.unexpected()),
+            }
+        }
+    }
+
+    /// Whether the cursor is where an entry should start but none does (a
+    /// bar there opens a norm entry, as in `[|n| \mid v]`).
+    fn no_entry_here(&self) -> bool {
+        self.closes(self.pos) && !matches!(self.peek(), Some(Tok::Bar | Tok::DoubleBar))
+    }
+
+    /// One item of one entry is that entry (grouping); one item of several
+    /// entries is a block row; several single-entry items are a tuple.
+    pub(super) fn build_group(&self, mut items: Vec<Vec<Expr>>) -> Result<Expr, ParseError> {
+        if items.len() == 1 {
+            return Ok(row_or_entry(items.pop().expect("one item")));
+        }
+        if items.iter().any(|row| row.len() != 1) {
+            return Err(self.error_before(ErrorKind::MixedSeparators));
+        }
+        Ok(Expr::Tuple(items.into_iter().flatten().collect()))
+    }
+
+    /// `\begin{name} … \end{name}` inside an expression.
+    pub(super) fn environment(&mut self, name: &str) -> Result<Expr, ParseError> {
+        if ALIGNMENT_ENVIRONMENTS.contains(&name) {
+            return Err(self.error_here(ErrorKind::NestedAlignment(name.into())));
+        }
+        let is_matrix = MATRIX_ENVIRONMENTS.contains(&name);
+        if !is_matrix && name != "cases" {
+            return Err(self.error_here(ErrorKind::UnknownEnvironment(name.into())));
+        }
+        let begin = self.pos;
+        self.pos += 1;
+        if name == "array" {
+            // The column specification (`{c|c}`) only draws rules.
+            if self.peek() != Some(&Tok::LBrace) {
+                return Err(self.error_here(ErrorKind::MissingOperand("\\begin{array}".into())));
+            }
+            self.pos = self.matching[self.pos] + 1;
+        }
+        self.nested(|p| {
+            if is_matrix {
+                p.matrix_rows(name, begin)
+            } else {
+                p.case_rows(name, begin)
+            }
+        })
+    }
+
+    fn end_of(&mut self, name: &str, begin: usize) -> Result<bool, ParseError> {
+        match self.peek() {
+            Some(Tok::End(n)) if n == name => {
+                self.pos += 1;
+                Ok(true)
+            }
+            Some(Tok::End(_)) | None => Err(super::error_at(
+                self.place,
+                self.toks[begin].start,
+                ErrorKind::UnclosedEnvironment(name.into()),
+            )),
+            _ => Ok(false),
+        }
+    }
+
+    fn matrix_rows(&mut self, name: &str, begin: usize) -> Result<Expr, ParseError> {
+        let mut rows = Vec::new();
+        while !self.end_of(name, begin)? {
+            let mut row = Vec::new();
+            loop {
+                self.skip_spaces();
+                if self.no_entry_here() {
+                    return Err(self.error_here(ErrorKind::Empty("matrix entry")));
+                }
+                row.push(self.relation(Ctx {
+                    norm: None,
+                    seps: Seps::All,
+                })?);
+                let mut spaced = false;
+                while matches!(self.peek(), Some(Tok::Quad | Tok::Space)) {
+                    self.pos += 1;
+                    spaced = true;
+                }
+                match self.peek() {
+                    Some(Tok::Amp | Tok::Bar) => self.pos += 1,
+                    Some(Tok::Command(c)) if c == "mid" => self.pos += 1,
+                    Some(Tok::RowBreak) => {
+                        self.pos += 1;
+                        break;
+                    }
+                    Some(Tok::End(_)) | None => break,
+                    _ if spaced => {}
+                    _ => return Err(self.unexpected()),
+                }
+            }
+            rows.push(row);
+        }
+        if rows.is_empty() {
+            return Err(self.error_before(ErrorKind::Empty("matrix")));
+        }
+        Ok(Expr::Matrix(Matrix { rows }))
+    }
+
+    fn case_rows(&mut self, name: &str, begin: usize) -> Result<Expr, ParseError> {
+        let mut cases = Vec::new();
+        while !self.end_of(name, begin)? {
+            let value = self.relation(Ctx::default())?;
+            let condition = if self.peek() == Some(&Tok::Amp) {
+                self.pos += 1;
+                Some(self.relation(Ctx::default())?)
+            } else {
+                None
+            };
+            match self.peek() {
+                Some(Tok::RowBreak) => self.pos += 1,
+                Some(Tok::End(_)) | None => {}
+                _ => return Err(self.unexpected()),
+            }
+            cases.push(Case { value, condition });
+        }
+        if cases.is_empty() {
+            return Err(self.error_before(ErrorKind::Empty("cases")));
+        }
+        Ok(Expr::Cases(cases))
+    }
+}
+
+/// A row of one entry is that entry; a longer row is a 1 × n matrix.
+fn row_or_entry(mut row: Vec<Expr>) -> Expr {
+    if row.len() == 1 {
+        row.pop().expect("one entry")
+    } else {
+        Expr::Matrix(Matrix { rows: vec![row] })
+    }
+}

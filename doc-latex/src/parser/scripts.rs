@@ -1,0 +1,243 @@
+//! Sub- and superscripts, primes, and what they mean on their base.
+//!
+//! A superscript is first stripped of trailing postfix markers (`T`,
+//! `\top`, `\wedge`, `\vee`, primes), so `T_w^{cT}` is `(T_w^c)ᵀ` and
+//! `\delta\phi^{\wedge T}` is `((δφ)^∧)ᵀ`. What remains is part of a symbol's
+//! name unless it reads as an exponent ([`Expr::reads_as_exponent`]); on any
+//! other base it is a power. A subscript `\times` makes a skew matrix, `r
+//! \times c` on a non-symbol a shape annotation.
+
+use super::{Parser, Seps};
+use crate::ast::{Expr, PostfixOp, Symbol};
+use crate::error::{ErrorKind, ParseError};
+use crate::lexer::Tok;
+
+/// One script's argument, taken apart.
+#[derive(Debug, Default)]
+pub(super) struct ScriptArg {
+    /// What remains after the markers, if anything.
+    pub expr: Option<Expr>,
+    /// Postfix markers, in the order they apply.
+    pub markers: Vec<PostfixOp>,
+    /// Primes among the markers.
+    pub primes: u32,
+    /// The subscript is `\times`.
+    pub times: bool,
+}
+
+/// The scripts after one base.
+#[derive(Default)]
+struct Scripts {
+    sub: Option<ScriptArg>,
+    sup: Option<ScriptArg>,
+    primes: u32,
+}
+
+/// The postfix marker a token stands for in a superscript.
+enum Marker {
+    Op(PostfixOp),
+    Prime,
+}
+
+fn marker(tok: &Tok) -> Option<Marker> {
+    match tok {
+        Tok::Letter('T') => Some(Marker::Op(PostfixOp::Transpose)),
+        Tok::Prime => Some(Marker::Prime),
+        Tok::Command(c) => match c.as_str() {
+            "top" => Some(Marker::Op(PostfixOp::Transpose)),
+            "wedge" => Some(Marker::Op(PostfixOp::Hat)),
+            "vee" => Some(Marker::Op(PostfixOp::Vee)),
+            "prime" => Some(Marker::Prime),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+impl Parser<'_> {
+    /// The argument of the `^` (`sup`) or `_` just consumed.
+    pub(super) fn script_argument(&mut self, sup: bool) -> Result<ScriptArg, ParseError> {
+        let mut arg = ScriptArg::default();
+        let Some(tok) = self.peek().cloned() else {
+            return Err(self.unexpected());
+        };
+        if tok != Tok::LBrace {
+            match (sup, marker(&tok)) {
+                (true, Some(Marker::Op(op))) => arg.markers.push(op),
+                (true, Some(Marker::Prime)) => arg.primes += 1,
+                _ if !sup && tok == Tok::Command("times".into()) => arg.times = true,
+                _ => {
+                    arg.expr = Some(self.single_token_argument()?);
+                    return Ok(arg);
+                }
+            }
+            self.pos += 1;
+            return Ok(arg);
+        }
+        let open = self.pos;
+        let close = self.matching[open];
+        let mut stop = close;
+        if sup {
+            while stop > open + 1 {
+                match marker(&self.toks[stop - 1].tok) {
+                    Some(Marker::Op(op)) => arg.markers.push(op),
+                    Some(Marker::Prime) => arg.primes += 1,
+                    None => break,
+                }
+                stop -= 1;
+            }
+            arg.markers.reverse();
+        } else if close == open + 2 && self.toks[open + 1].tok == Tok::Command("times".into()) {
+            arg.times = true;
+            stop = open + 1;
+        }
+        if stop > open + 1 {
+            self.pos = open + 1;
+            let items = self.bounded(stop, |p| p.list(Seps::None))?;
+            if self.pos != stop {
+                return Err(self.unexpected());
+            }
+            arg.expr = Some(self.build_group(items)?);
+        } else if arg.markers.is_empty() && arg.primes == 0 && !arg.times {
+            return Err(self.error_here(ErrorKind::Empty("script")));
+        }
+        self.pos = close + 1;
+        Ok(arg)
+    }
+
+    /// A script that must be a plain expression (under `\lim`, a
+    /// pre-script, a function's power).
+    pub(super) fn script_expression(&mut self, sup: bool) -> Result<Expr, ParseError> {
+        let at = self.pos;
+        let arg = self.script_argument(sup)?;
+        match arg.expr {
+            Some(e) if arg.markers.is_empty() && arg.primes == 0 => Ok(e),
+            _ => Err(super::error_at(
+                self.place,
+                self.toks[at].start,
+                ErrorKind::Unexpected(self.text_of(at).to_string()),
+            )),
+        }
+    }
+
+    fn collect_scripts(&mut self) -> Result<Scripts, ParseError> {
+        let mut s = Scripts::default();
+        loop {
+            let sup = match self.peek() {
+                Some(Tok::Sub) => false,
+                Some(Tok::Sup) => true,
+                Some(Tok::Prime) => {
+                    self.pos += 1;
+                    s.primes += 1;
+                    continue;
+                }
+                _ => return Ok(s),
+            };
+            if (if sup { &s.sup } else { &s.sub }).is_some() {
+                let which = if sup { "super" } else { "sub" };
+                return Err(self.error_here(ErrorKind::DoubleScript(which)));
+            }
+            self.pos += 1;
+            let arg = Some(self.script_argument(sup)?);
+            if sup {
+                s.sup = arg;
+            } else {
+                s.sub = arg;
+            }
+        }
+    }
+
+    /// The scripts after a symbol: indices join the symbol.
+    pub(super) fn scripts_on_symbol(&mut self, mut s: Symbol) -> Result<Expr, ParseError> {
+        let at = self.pos;
+        let scripts = self.collect_scripts()?;
+        let double = |p: &Self, which| {
+            super::error_at(p.place, p.toks[at].start, ErrorKind::DoubleScript(which))
+        };
+        s.primes += scripts.primes;
+        let mut skew = false;
+        if let Some(sub) = scripts.sub {
+            skew = sub.times;
+            if let Some(x) = sub.expr {
+                if s.sub.is_some() {
+                    return Err(double(self, "sub"));
+                }
+                s.sub = Some(Box::new(x));
+            }
+        }
+        let mut power = None;
+        let mut markers = Vec::new();
+        if let Some(sup) = scripts.sup {
+            s.primes += sup.primes;
+            markers = sup.markers;
+            match sup.expr {
+                Some(x) if x.reads_as_exponent() => power = Some(x),
+                Some(x) => {
+                    if s.sup.is_some() {
+                        return Err(double(self, "super"));
+                    }
+                    s.sup = Some(Box::new(x));
+                }
+                None => {}
+            }
+        }
+        let mut e = Expr::Symbol(s);
+        if skew {
+            e = Expr::Skew(Box::new(e));
+        }
+        if let Some(p) = power {
+            e = Expr::Power {
+                base: Box::new(e),
+                exponent: Box::new(p),
+            };
+        }
+        Ok(postfix(e, markers))
+    }
+
+    /// The scripts after anything but a symbol.
+    pub(super) fn scripts_on_expr(&mut self, mut e: Expr) -> Result<Expr, ParseError> {
+        let scripts = self.collect_scripts()?;
+        if let Some(sub) = scripts.sub {
+            e = match (sub.times, sub.expr) {
+                (true, _) => Expr::Skew(Box::new(e)),
+                (false, Some(index)) => match index.shape_annotation() {
+                    Some((rows, cols)) => Expr::Shaped {
+                        base: Box::new(e),
+                        rows,
+                        cols,
+                    },
+                    None => Expr::Indexed {
+                        base: Box::new(e),
+                        index: Box::new(index),
+                    },
+                },
+                (false, None) => e,
+            };
+        }
+        let (sup_primes, exponent, markers) = match scripts.sup {
+            Some(s) => (s.primes, s.expr, s.markers),
+            None => (0, None, Vec::new()),
+        };
+        let primes = scripts.primes + sup_primes;
+        if primes > 0 {
+            e = Expr::Primed {
+                base: Box::new(e),
+                primes,
+            };
+        }
+        if let Some(x) = exponent {
+            e = Expr::Power {
+                base: Box::new(e),
+                exponent: Box::new(x),
+            };
+        }
+        Ok(postfix(e, markers))
+    }
+}
+
+fn postfix(e: Expr, markers: Vec<PostfixOp>) -> Expr {
+    markers.into_iter().fold(e, |base, op| Expr::Postfix {
+        base: Box::new(base),
+        op,
+    })
+}
