@@ -1,0 +1,124 @@
+//! The file formats, by name and by detection.
+
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+use crate::bundler::HEADER as BUNDLER_HEADER;
+use crate::error::Error;
+use crate::input::{self, Lines, parse_integer};
+
+/// A data-set format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// Bundle Adjustment in the Large ([`crate::bal`]).
+    Bal,
+    /// Bundler v0.3 ([`crate::bundler`]).
+    Bundler,
+    /// g2o `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` ([`crate::g2o`]).
+    G2o,
+    /// `VERTEX3`/`EDGE3` ([`crate::edge3`]).
+    Edge3,
+    /// GTSAM's KITTI stereo VO files ([`crate::kitti_vo`]).
+    KittiVo,
+}
+
+impl Format {
+    /// Every format, in the order of their names in messages.
+    pub const ALL: [Format; 5] = [
+        Format::Bal,
+        Format::Bundler,
+        Format::G2o,
+        Format::Edge3,
+        Format::KittiVo,
+    ];
+
+    /// The name [`FromStr`] takes: `bal`, `bundler`, `g2o`, `edge3`, `kitti-vo`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Bal => "bal",
+            Format::Bundler => "bundler",
+            Format::G2o => "g2o",
+            Format::Edge3 => "edge3",
+            Format::KittiVo => "kitti-vo",
+        }
+    }
+
+    /// The format of the file at `path`: a file named `VO_*.txt` is KITTI
+    /// VO, `*.out` Bundler, `*.g2o` g2o; any other (`.txt` is ambiguous) is
+    /// told by its content: a first line `# Bundle file v0.3` is Bundler,
+    /// and the first record (skipping blank and `#` lines) starting with
+    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o, with `VERTEX3`/`EDGE3`
+    /// EDGE3, and of three integers BAL.
+    pub fn detect(path: &Path) -> Result<Format, Error> {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        if name.starts_with("VO_") && name.ends_with(".txt") {
+            return Ok(Format::KittiVo);
+        }
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("out") => return Ok(Format::Bundler),
+            Some("g2o") => return Ok(Format::G2o),
+            _ => {}
+        }
+        let (reader, name) = input::open(path)?;
+        let mut lines = Lines::new(reader, &name);
+        if let Some(first) = lines.next_line()?
+            && first.text.trim_end() == BUNDLER_HEADER
+        {
+            return Ok(Format::Bundler);
+        }
+        // The first line is read: look at it unless it is blank or a comment.
+        let first_is_record = {
+            let text = lines.current_text();
+            text.split_ascii_whitespace()
+                .next()
+                .is_some_and(|t| !t.starts_with('#'))
+        };
+        if !first_is_record && lines.next_record()?.is_none() {
+            return Err(lines.error(format!(
+                "no content to tell the format from; give it explicitly ({})",
+                names()
+            )));
+        }
+        let fields: Vec<&str> = lines.current_text().split_ascii_whitespace().collect();
+        match fields.as_slice() {
+            ["VERTEX_SE3:QUAT" | "EDGE_SE3:QUAT", ..] => Ok(Format::G2o),
+            ["VERTEX3" | "EDGE3", ..] => Ok(Format::Edge3),
+            [a, b, c] if [a, b, c].iter().all(|t| parse_integer(t).is_ok()) => Ok(Format::Bal),
+            _ => Err(lines.error(format!(
+                "cannot tell the format from this line; give it explicitly ({})",
+                names()
+            ))),
+        }
+    }
+}
+
+/// The format names, for messages.
+fn names() -> String {
+    Format::ALL.map(Format::name).join(", ")
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A name that is not a format.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown format `{0}` (one of {names})", names = names())]
+pub struct UnknownFormat(pub String);
+
+impl FromStr for Format {
+    type Err = UnknownFormat;
+
+    fn from_str(name: &str) -> Result<Self, Self::Err> {
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name() == name)
+            .ok_or_else(|| UnknownFormat(name.to_owned()))
+    }
+}

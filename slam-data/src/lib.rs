@@ -1,0 +1,103 @@
+//! Readers and writers of real SLAM data sets, and a seeded synthetic BAL
+//! generator. Plain `nalgebra` types; no dependency on the rest of the
+//! workspace.
+//!
+//! # Formats
+//!
+//! | format ([`Format`]) | module | holds | problem type |
+//! | --- | --- | --- | --- |
+//! | `bal` | [`bal`] | Bundle Adjustment in the Large: cameras `[ω, t, f, k1, k2]`, points, observations | [`BalProblem`] |
+//! | `bundler` | [`bundler`] | Bundler v0.3 `bundle.out`: cameras `f k1 k2, R, t`, points with colours and views | [`BundlerProblem`] |
+//! | `g2o` | [`g2o`] | `VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` pose graphs | [`PoseGraph`] |
+//! | `edge3` | [`edge3`] | `VERTEX3`, `EDGE3` pose graphs (`sphere2500`) | [`PoseGraph`] |
+//! | `kitti-vo` | [`kitti_vo`] | GTSAM's KITTI stereo VO: calibration, camera poses, stereo observations | [`StereoVo`] |
+//!
+//! Each module has `read(path)`, `read_from(reader, name)`,
+//! `from_text(text, name)`, `write(problem, path)` and
+//! `write_to(problem, out, name)` (KITTI VO takes its three files together).
+//! [`Problem::read`] reads any of them, the format given or
+//! [detected](Format::detect) (`.txt` is told by its content), and
+//! [`Problem::write`] writes one back in its format. Values are kept exactly
+//! as read and written as the shortest decimals that read back to the same
+//! doubles, so read → write → read gives the same problem bit for bit.
+//!
+//! # Conventions
+//!
+//! - **BAL and Bundler cameras** ([`camera`]): `P = R X + t` (world to
+//!   camera), the camera looking down **−z** (y up): `p = −P / P_z`,
+//!   `r = 1 + k1 ‖p‖² + k2 ‖p‖⁴`, pixel `f r p`, origin at the image centre,
+//!   x right, y up. BAL writes `R` as an angle-axis vector (`R = exp([ω]×)`),
+//!   Bundler as a matrix, row by row. [`SnavelyCamera::world_from_camera_cv`]
+//!   converts to the computer-vision convention GTSAM uses (x right, y down,
+//!   z forward; pixel `(u, −v)`).
+//! - **Pose graphs**: a vertex is a world-from-body pose; an edge `i j`
+//!   measures `T_i⁻¹ T_j`. Quaternions are Hamilton, stored `[x, y, z, w]`
+//!   as written (g2o order). `EDGE3` angles give `R = Rz(yaw) Ry(pitch)
+//!   Rx(roll)`, as GTSAM's `Rot3::Ypr`. Information matrices are returned in
+//!   tangent order **`[δω, δρ]`** (rotation first): g2o's, written in
+//!   `[δt, δq]` order, have their 3×3 blocks swapped, as GTSAM does;
+//!   `EDGE3`'s are taken unchanged, as GTSAM does (see [`edge3`] for iSAM's
+//!   different reading). Pose graphs without vertices are initialised by
+//!   [`PoseGraph::odometry_initial_values`].
+//! - **KITTI VO**: poses are camera-to-world 4×4 matrices (computer-vision
+//!   camera frame); an observation is `(uL, uR, v)` with the landmark in the
+//!   observing camera's frame, from which [`StereoVo::initial_landmarks`]
+//!   initialises landmarks as GTSAM's example does.
+//!
+//! # Limits and tolerances
+//!
+//! - Files over [`MAX_FILE_BYTES`] (4 GiB) and lines over
+//!   [`MAX_LINE_BYTES`] (64 MiB) are rejected; input must be UTF-8.
+//! - Counts in headers are not trusted: at most 65 536 items are reserved
+//!   ahead, the rest grows as items are actually read, and a body that
+//!   disagrees with its header is an error at the line where it shows.
+//! - Numbers must be finite doubles of magnitude at most [`MAX_MAGNITUDE`]
+//!   (1e100; `1e999`, `1e101`, `nan`, `inf` are errors);
+//!   counts, indices and ids non-negative integers; indices in range; focal
+//!   lengths, stereo focal lengths and baseline positive; colours 0–255.
+//! - A 3×3 rotation is accepted when every entry of `RᵀR − I` and
+//!   `det R − 1` is within [`ROTATION_TOLERANCE`] (1e-5) of zero and kept
+//!   as written; `camera()`/`isometry()` use the nearest rotation.
+//! - A quaternion is accepted when its norm is within
+//!   [`QUATERNION_TOLERANCE`] (1e-5) of one, and renormalised when used
+//!   ([`Rotation::unit_quaternion`]).
+//! - Information matrices must be positive definite (a Cholesky
+//!   factorisation exists); vertex and pose ids must be distinct; edges may
+//!   not join a pose to itself and, when the file has vertices, must join
+//!   two of them.
+//! - Unknown record tags are errors, not skipped.
+//!
+//! Every error is one line, `FILE:LINE: what` ([`Error`]).
+//!
+//! # Synthetic problems
+//!
+//! [`synthetic::generate`] makes a seeded BAL problem (cameras on a ring
+//! looking at a ball of points, Gaussian pixel noise, uniform outliers,
+//! perturbed initial values), with its ground truth; see [`synthetic`].
+
+pub mod bal;
+pub mod bundler;
+pub mod camera;
+mod checks;
+pub mod edge3;
+mod error;
+mod format;
+pub mod g2o;
+mod graph_file;
+mod input;
+pub mod kitti_vo;
+mod output;
+pub mod pose_graph;
+mod problem;
+pub mod synthetic;
+
+pub use bal::{BalCamera, BalProblem, Observation};
+pub use bundler::{BundlerCamera, BundlerObservation, BundlerPoint, BundlerProblem};
+pub use camera::{SnavelyCamera, SnavelyIntrinsics};
+pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
+pub use error::Error;
+pub use format::{Format, UnknownFormat};
+pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
+pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};
+pub use pose_graph::{ChainError, Edge, Pose, PoseGraph, Rotation, Vertex};
+pub use problem::Problem;

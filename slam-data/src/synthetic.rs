@@ -1,0 +1,310 @@
+//! Seeded synthetic bundle-adjustment problems, in the BAL camera model.
+//!
+//! The scene: `cameras` cameras evenly spaced on a ring of radius
+//! [`RING_RADIUS`] (heights varying by ±[`RING_HEIGHT`]), each looking at the
+//! centre (aim jittered uniformly within ±[`AIM_JITTER`] per axis), and
+//! `points` points uniform in a ball of radius [`SCENE_RADIUS`] at the
+//! centre, so every point is in front of every camera and inside its image.
+//! Image [`IMAGE_WIDTH`] × [`IMAGE_HEIGHT`] pixels (BAL pixels: origin at
+//! the centre, y up); focal length uniform in [800, 1200] px, k1 uniform
+//! in [−0.15, −0.05], k2 uniform in [−0.05, 0.05].
+//!
+//! Each point is seen by `views_per_point` cameras of the ring starting at a
+//! uniformly drawn one, with a stride that spreads them over about 60° of
+//! the ring. An observation is an outlier with probability
+//! `outlier_fraction` (default 5%), drawn uniformly in the image; otherwise
+//! it is the exact projection plus Gaussian noise of `pixel_sigma` (default
+//! 1 px) on each coordinate.
+//!
+//! The problem's cameras and points are the truth perturbed (defaults):
+//! rotation by `exp(δ)`, δ ~ N(0, 0.01² I) rad, on the left; translation
+//! and points by N(0, 0.05² I) (0.5% of the ring radius); focal length by a
+//! factor 1 + N(0, 0.01²); k1 by N(0, 0.01²); k2 by N(0, 0.001²).
+//!
+//! One pass over cameras, points and observations: time and memory linear
+//! in the size. The same seed gives the same problem on every platform
+//! (ChaCha8).
+
+use nalgebra::{Rotation3, Vector2, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+
+use crate::bal::{BalCamera, BalProblem, Observation};
+use crate::camera::SnavelyIntrinsics;
+
+/// Radius of the ring of cameras.
+pub const RING_RADIUS: f64 = 10.0;
+/// Camera heights vary as `RING_HEIGHT sin(3θ)` around the ring.
+pub const RING_HEIGHT: f64 = 1.0;
+/// Radius of the ball the points are drawn in.
+pub const SCENE_RADIUS: f64 = 2.0;
+/// Each camera aims at the centre moved by up to this along each axis.
+pub const AIM_JITTER: f64 = 0.3;
+/// Image width in pixels.
+pub const IMAGE_WIDTH: f64 = 1024.0;
+/// Image height in pixels.
+pub const IMAGE_HEIGHT: f64 = 768.0;
+/// Most observations a generated problem may have (10⁸, about 3 GB).
+pub const MAX_OBSERVATIONS: usize = 100_000_000;
+
+/// What to generate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SyntheticConfig {
+    /// Number of cameras on the ring (at least 2).
+    pub cameras: usize,
+    /// Number of points.
+    pub points: usize,
+    /// Cameras that see each point (2 to `cameras`).
+    pub views_per_point: usize,
+    /// Seed of the random generator.
+    pub seed: u64,
+    /// Standard deviation of the pixel noise of inliers (px).
+    pub pixel_sigma: f64,
+    /// Probability that an observation is an outlier, uniform in the image.
+    pub outlier_fraction: f64,
+    /// Standard deviation of the rotation perturbation of the initial
+    /// cameras (rad, per axis).
+    pub rotation_sigma: f64,
+    /// Standard deviation of the perturbation of the initial camera
+    /// translations and points (per axis).
+    pub position_sigma: f64,
+    /// Relative standard deviation of the initial focal lengths.
+    pub focal_sigma: f64,
+    /// Standard deviation of the perturbation of the initial k1.
+    pub k1_sigma: f64,
+    /// Standard deviation of the perturbation of the initial k2.
+    pub k2_sigma: f64,
+}
+
+impl SyntheticConfig {
+    /// About `observations` observations (`5 ⌈observations / 5⌉`): five
+    /// views per point, `⌈observations / 5⌉` points, and one camera per
+    /// thousand observations (at least 10), with the default noise.
+    pub fn with_observations(observations: usize, seed: u64) -> Self {
+        let views_per_point = 5;
+        SyntheticConfig {
+            cameras: (observations / 1000).max(10),
+            points: observations.div_ceil(views_per_point),
+            views_per_point,
+            seed,
+            pixel_sigma: 1.0,
+            outlier_fraction: 0.05,
+            rotation_sigma: 0.01,
+            position_sigma: 0.05,
+            focal_sigma: 0.01,
+            k1_sigma: 0.01,
+            k2_sigma: 0.001,
+        }
+    }
+
+    /// Number of observations the problem will have.
+    pub fn observations(&self) -> Option<usize> {
+        self.points.checked_mul(self.views_per_point)
+    }
+
+    fn check(&self) -> Result<(), SyntheticError> {
+        let fail = |what: String| Err(SyntheticError(what));
+        if self.cameras < 2 {
+            return fail(format!(
+                "at least 2 cameras are needed, not {}",
+                self.cameras
+            ));
+        }
+        if !(2..=self.cameras).contains(&self.views_per_point) {
+            return fail(format!(
+                "views per point must be from 2 to the {} cameras, not {}",
+                self.cameras, self.views_per_point
+            ));
+        }
+        match self.observations() {
+            Some(n) if n <= MAX_OBSERVATIONS => {}
+            _ => {
+                return fail(format!(
+                    "more than {MAX_OBSERVATIONS} observations asked for"
+                ));
+            }
+        }
+        let sigmas = [
+            ("pixel sigma", self.pixel_sigma),
+            ("rotation sigma", self.rotation_sigma),
+            ("position sigma", self.position_sigma),
+            ("focal sigma", self.focal_sigma),
+            ("k1 sigma", self.k1_sigma),
+            ("k2 sigma", self.k2_sigma),
+        ];
+        for (name, sigma) in sigmas {
+            if !(sigma.is_finite() && sigma >= 0.0) {
+                return fail(format!(
+                    "{name} must be finite and not negative, not {sigma}"
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.outlier_fraction) {
+            return fail(format!(
+                "the outlier fraction must be in [0, 1], not {}",
+                self.outlier_fraction
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Settings that cannot be generated.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("synthetic BAL: {0}")]
+pub struct SyntheticError(pub String);
+
+/// A generated problem with its ground truth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SyntheticBal {
+    /// The problem: perturbed cameras and points, noisy observations.
+    pub problem: BalProblem,
+    /// The cameras the observations were made with.
+    pub true_cameras: Vec<BalCamera>,
+    /// The points the observations were made of.
+    pub true_points: Vec<Vector3<f64>>,
+    /// Indices of the outlier observations, increasing.
+    pub outliers: Vec<usize>,
+}
+
+/// Generates the problem `config` describes.
+pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError> {
+    config.check()?;
+    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let true_cameras: Vec<BalCamera> = (0..config.cameras)
+        .map(|i| ring_camera(i, config.cameras, &mut rng))
+        .collect();
+    let true_points: Vec<Vector3<f64>> = (0..config.points)
+        .map(|_| point_in_ball(&mut rng))
+        .collect();
+
+    // Projections go through the rotation matrices, computed once.
+    let models: Vec<_> = true_cameras.iter().map(BalCamera::camera).collect();
+    let stride = view_stride(config.cameras, config.views_per_point);
+    let mut observations = Vec::with_capacity(config.points * config.views_per_point);
+    let mut outliers = Vec::new();
+    for (j, point) in true_points.iter().enumerate() {
+        let first = rng.random_range(0..config.cameras);
+        for v in 0..config.views_per_point {
+            let camera = (first + v * stride) % config.cameras;
+            let pixel = if rng.random_bool(config.outlier_fraction) {
+                outliers.push(observations.len());
+                Vector2::new(
+                    rng.random_range(-0.5..0.5) * IMAGE_WIDTH,
+                    rng.random_range(-0.5..0.5) * IMAGE_HEIGHT,
+                )
+            } else {
+                let exact = models[camera]
+                    .project(point)
+                    .expect("a scene point is in front of every ring camera");
+                exact + gaussian2(&mut rng) * config.pixel_sigma
+            };
+            observations.push(Observation {
+                camera,
+                point: j,
+                pixel,
+            });
+        }
+    }
+
+    let cameras = true_cameras
+        .iter()
+        .map(|c| perturb_camera(c, config, &mut rng))
+        .collect();
+    let points = true_points
+        .iter()
+        .map(|p| p + gaussian3(&mut rng) * config.position_sigma)
+        .collect();
+    Ok(SyntheticBal {
+        problem: BalProblem {
+            cameras,
+            points,
+            observations,
+        },
+        true_cameras,
+        true_points,
+        outliers,
+    })
+}
+
+/// Camera `i` of `n` on the ring, aimed at the jittered centre.
+fn ring_camera(i: usize, n: usize, rng: &mut ChaCha8Rng) -> BalCamera {
+    let angle = std::f64::consts::TAU * i as f64 / n as f64;
+    let centre = Vector3::new(
+        RING_RADIUS * angle.cos(),
+        RING_RADIUS * angle.sin(),
+        RING_HEIGHT * (3.0 * angle).sin(),
+    );
+    let aim = Vector3::from_fn(|_, _| rng.random_range(-AIM_JITTER..AIM_JITTER));
+    // World to camera, the view direction to the camera's −z, world z up.
+    let rotation = Rotation3::look_at_rh(&(aim - centre), &Vector3::z());
+    BalCamera {
+        rotation: rotation.scaled_axis(),
+        translation: -(rotation * centre),
+        intrinsics: SnavelyIntrinsics {
+            focal: rng.random_range(800.0..1200.0),
+            k1: rng.random_range(-0.15..-0.05),
+            k2: rng.random_range(-0.05..0.05),
+        },
+    }
+}
+
+/// A point uniform in the ball of radius [`SCENE_RADIUS`] (by rejection).
+fn point_in_ball(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    loop {
+        let p = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        if p.norm_squared() <= 1.0 {
+            return p * SCENE_RADIUS;
+        }
+    }
+}
+
+/// Step between the cameras of a point so that its views span about 60° of
+/// the ring (at least consecutive cameras).
+fn view_stride(cameras: usize, views: usize) -> usize {
+    let span = cameras as f64 / 6.0;
+    ((span / (views - 1) as f64).round() as usize).max(1)
+}
+
+fn perturb_camera(c: &BalCamera, config: &SyntheticConfig, rng: &mut ChaCha8Rng) -> BalCamera {
+    let delta = Rotation3::new(gaussian3(rng) * config.rotation_sigma);
+    let k = &c.intrinsics;
+    let focal_factor: f64 = rng.sample(StandardNormal);
+    let k1_noise: f64 = rng.sample(StandardNormal);
+    let k2_noise: f64 = rng.sample(StandardNormal);
+    BalCamera {
+        rotation: (delta * Rotation3::new(c.rotation)).scaled_axis(),
+        translation: c.translation + gaussian3(rng) * config.position_sigma,
+        intrinsics: SnavelyIntrinsics {
+            focal: k.focal * (1.0 + focal_factor * config.focal_sigma),
+            k1: k.k1 + k1_noise * config.k1_sigma,
+            k2: k.k2 + k2_noise * config.k2_sigma,
+        },
+    }
+}
+
+fn gaussian2(rng: &mut ChaCha8Rng) -> Vector2<f64> {
+    Vector2::from_fn(|_, _| rng.sample(StandardNormal))
+}
+
+fn gaussian3(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    Vector3::from_fn(|_, _| rng.sample(StandardNormal))
+}
+
+/// Whether `pixel` is inside the generator's image.
+pub fn in_image(pixel: &Vector2<f64>) -> bool {
+    pixel.x.abs() <= IMAGE_WIDTH / 2.0 && pixel.y.abs() <= IMAGE_HEIGHT / 2.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn views_spread_over_about_a_sixth_of_the_ring() {
+        assert_eq!(view_stride(10, 5), 1);
+        assert_eq!(view_stride(100, 5), 4);
+        assert_eq!(view_stride(1000, 5), 42);
+    }
+}
