@@ -13,7 +13,7 @@ use factor_core::Factor;
 use factor_core::lie::Se3;
 use nalgebra::Vector3;
 
-use crate::{PointToPlane, RelativePose};
+use crate::{PointToPlane, RelativePose, ScaledRangeBearing};
 
 /// What the generated files say about where they come from.
 pub const PROVENANCE: Provenance = Provenance::new(
@@ -63,6 +63,25 @@ pub fn kernel_specs() -> Vec<KernelSpec> {
                     plane_point: Vector3::zeros(),
                     normal: Vector3::z(),
                     pose: Se3::identity(),
+                })
+            },
+        },
+        KernelSpec {
+            name: <ScaledRangeBearing as Factor>::NAME,
+            source_type: "user_factors::ScaledRangeBearing",
+            document: "range-bearing with a range scale, r = [atan(y/x), asin(z/ρ), ln(e^λ ρ)] − measured",
+            inputs: &[
+                ("landmark", "[x, y, z] (world frame)"),
+                ("measured", "[azimuth, elevation, log range]"),
+                ("pose", "[qx, qy, qz, qw, tx, ty, tz] (world to sensor)"),
+                ("log_scale", "[λ] (range scale exp(λ))"),
+            ],
+            trace: || {
+                trace(&ScaledRangeBearing {
+                    landmark: Vector3::x(),
+                    measured: Vector3::zeros(),
+                    pose: Se3::identity(),
+                    log_scale: 0.0,
                 })
             },
         },
