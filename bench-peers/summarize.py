@@ -10,7 +10,7 @@ OUT_DIR/summary.json. Standard library only.
 
 Each generator's count is its own: wrenfold's `// Operation counts:` block
 (add, multiply, divide, negate, call; negations count), SymForce's
-`// Total ops:` line, and ours (add, mul, div, neg, sqrt, trig, branch;
+`// Total ops:` line, and ours (add, mul, div, neg, sqrt, func, branch;
 negations count, loading inputs and literals does not).
 
 Usage: python3 summarize.py OUT_DIR

@@ -56,8 +56,8 @@ pub fn generate_timed() -> Result<Vec<Timed>, CodegenError> {
 /// `add 12, mul 30, …` for a report.
 pub fn counts_text(c: &OpCounts) -> String {
     format!(
-        "add {}, mul {}, div {}, neg {}, sqrt {}, trig {}, branch {}",
-        c.add, c.mul, c.div, c.neg, c.sqrt, c.trig, c.branch
+        "add {}, mul {}, div {}, neg {}, sqrt {}, func {}, branch {}",
+        c.add, c.mul, c.div, c.neg, c.sqrt, c.func, c.branch
     )
 }
 

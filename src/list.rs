@@ -42,7 +42,7 @@ fn counts_json(c: &OpCounts) -> Value {
         "div": c.div,
         "neg": c.neg,
         "sqrt": c.sqrt,
-        "trig": c.trig,
+        "func": c.func,
         "branch": c.branch,
         "total": c.total(),
     })
@@ -115,7 +115,7 @@ fn factor_table(entry: &FactorEntry) -> String {
 ///
 /// `{"factors": [{"name", "residual_dim", "variables": [{"name", "type",
 /// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}],
-/// "kernel", "operations": {"add", "mul", "div", "neg", "sqrt", "trig",
+/// "kernel", "operations": {"add", "mul", "div", "neg", "sqrt", "func",
 /// "branch", "total"}, "residual_operations"}]}`.
 pub fn json() -> Value {
     let factors: Vec<Value> = factors()

@@ -306,7 +306,7 @@ fn list_shows_every_factor_with_its_dimensions() {
             format!("factor_generated::{factor}::{factor}")
         );
         let operations = &entry["operations"];
-        let kinds = ["add", "mul", "div", "neg", "sqrt", "trig", "branch"];
+        let kinds = ["add", "mul", "div", "neg", "sqrt", "func", "branch"];
         let sum: u64 = kinds.iter().map(|k| operations[k].as_u64().unwrap()).sum();
         assert_eq!(operations["total"].as_u64(), Some(sum), "{factor}");
         assert!(entry["residual_operations"].as_u64().unwrap() < sum);

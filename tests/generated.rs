@@ -299,6 +299,21 @@ fn kernels_instantiate_with_a_user_real_type() {
         fn atan2(self, x: Self) -> Self {
             Lane(self.0.atan2(x.0))
         }
+        fn exp(self) -> Self {
+            Lane(self.0.exp())
+        }
+        fn ln(self) -> Self {
+            Lane(self.0.ln())
+        }
+        fn acos(self) -> Self {
+            Lane(self.0.acos())
+        }
+        fn asin(self) -> Self {
+            Lane(self.0.asin())
+        }
+        fn atan(self) -> Self {
+            Lane(self.0.atan())
+        }
         fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
             if lhs.0 < rhs.0 { if_less } else { otherwise }
         }

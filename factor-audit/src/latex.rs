@@ -119,6 +119,20 @@ fn write_power(graph: &Graph, base: Expr, k: i32, names: &[String], out: &mut St
     }
 }
 
+/// The LaTeX operator of a one-argument function node.
+fn function_name(node: &Node) -> &'static str {
+    match node {
+        Node::Sin(_) => "\\sin",
+        Node::Cos(_) => "\\cos",
+        Node::Exp(_) => "\\exp",
+        Node::Ln(_) => "\\ln",
+        Node::Acos(_) => "\\arccos",
+        Node::Asin(_) => "\\arcsin",
+        Node::Atan(_) => "\\arctan",
+        _ => unreachable!("not a one-argument function"),
+    }
+}
+
 fn write_latex(graph: &Graph, e: Expr, names: &[String], out: &mut String) {
     match graph.node(e) {
         Node::Const(c) => out.push_str(&number(c.get())),
@@ -190,12 +204,15 @@ fn write_latex(graph: &Graph, e: Expr, names: &[String], out: &mut String) {
             write_latex(graph, *x, names, out);
             out.push('}');
         }
-        Node::Sin(x) | Node::Cos(x) => {
-            out.push_str(if matches!(graph.node(e), Node::Sin(_)) {
-                "\\sin\\left("
-            } else {
-                "\\cos\\left("
-            });
+        Node::Sin(x)
+        | Node::Cos(x)
+        | Node::Exp(x)
+        | Node::Ln(x)
+        | Node::Acos(x)
+        | Node::Asin(x)
+        | Node::Atan(x) => {
+            out.push_str(function_name(graph.node(e)));
+            out.push_str("\\left(");
             write_latex(graph, *x, names, out);
             out.push_str("\\right)");
         }

@@ -23,7 +23,8 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// lanes hold several configurations.
 ///
 /// Beyond the arithmetic operators a kernel needs literals, square roots,
-/// `sin`, `cos`, `atan2` and one branching primitive, [`Real::select_lt`],
+/// the math-library functions `sin`, `cos`, `atan2`, `exp`, `ln`, `acos`,
+/// `asin`, `atan` and one branching primitive, [`Real::select_lt`],
 /// which a SIMD type implements as a lane-wise select. Kernels evaluate both
 /// arms of a branch before selecting, so an arm that is not selected may be
 /// non-finite.
@@ -45,6 +46,16 @@ pub trait Real:
     fn cos(self) -> Self;
     /// Four-quadrant arc tangent of `self / x` (`self` is the ordinate).
     fn atan2(self, x: Self) -> Self;
+    /// `e^self`.
+    fn exp(self) -> Self;
+    /// Natural logarithm.
+    fn ln(self) -> Self;
+    /// Arc cosine, in `[0, π]`.
+    fn acos(self) -> Self;
+    /// Arc sine, in `[−π/2, π/2]`.
+    fn asin(self) -> Self;
+    /// Arc tangent, in `(−π/2, π/2)`.
+    fn atan(self) -> Self;
     /// `if lhs < rhs { if_less } else { otherwise }`.
     fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self;
 }
@@ -69,6 +80,26 @@ impl Real for f64 {
     #[inline]
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        f64::exp(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        f64::ln(self)
+    }
+    #[inline]
+    fn acos(self) -> Self {
+        f64::acos(self)
+    }
+    #[inline]
+    fn asin(self) -> Self {
+        f64::asin(self)
+    }
+    #[inline]
+    fn atan(self) -> Self {
+        f64::atan(self)
     }
     #[inline]
     fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
@@ -96,6 +127,26 @@ impl Real for f32 {
     #[inline]
     fn atan2(self, x: Self) -> Self {
         f32::atan2(self, x)
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        f32::exp(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        f32::ln(self)
+    }
+    #[inline]
+    fn acos(self) -> Self {
+        f32::acos(self)
+    }
+    #[inline]
+    fn asin(self) -> Self {
+        f32::asin(self)
+    }
+    #[inline]
+    fn atan(self) -> Self {
+        f32::atan(self)
     }
     #[inline]
     fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {

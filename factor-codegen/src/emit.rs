@@ -89,6 +89,12 @@ impl Body<'_> {
         }
     }
 
+    /// `T::f(a)`, a call of a one-argument method of `Real`.
+    fn call(&self, f: &str, a: Value) -> TokenStream {
+        let (f, a) = (format_ident!("{f}"), self.operand(a));
+        quote!(T::#f(#a))
+    }
+
     /// `let vN = …;`, naming `v` with the next free number.
     fn statement(&mut self, v: Value) -> TokenStream {
         let o = |body: &Self, v: Value| body.operand(v);
@@ -113,18 +119,14 @@ impl Body<'_> {
                 let a = o(self, a);
                 quote!(-#a)
             }
-            Instr::Sqrt(a) => {
-                let a = o(self, a);
-                quote!(T::sqrt(#a))
-            }
-            Instr::Sin(a) => {
-                let a = o(self, a);
-                quote!(T::sin(#a))
-            }
-            Instr::Cos(a) => {
-                let a = o(self, a);
-                quote!(T::cos(#a))
-            }
+            Instr::Sqrt(a) => self.call("sqrt", a),
+            Instr::Sin(a) => self.call("sin", a),
+            Instr::Cos(a) => self.call("cos", a),
+            Instr::Exp(a) => self.call("exp", a),
+            Instr::Ln(a) => self.call("ln", a),
+            Instr::Acos(a) => self.call("acos", a),
+            Instr::Asin(a) => self.call("asin", a),
+            Instr::Atan(a) => self.call("atan", a),
             Instr::Atan2(y, x) => {
                 let (y, x) = (o(self, y), o(self, x));
                 quote!(T::atan2(#y, #x))
@@ -262,7 +264,7 @@ fn body(kernel: &SymbolicKernel, lowered: &LoweredKernel, schedule: &Schedule) -
 /// `| add | mul | … |` rows for a header.
 fn counts_table(rows: &[(&str, OpCounts)]) -> Vec<String> {
     let mut lines = vec![
-        "| outputs | add | mul | div | neg | sqrt | trig | branch | total |".to_string(),
+        "| outputs | add | mul | div | neg | sqrt | func | branch | total |".to_string(),
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |".to_string(),
     ];
     for (label, c) in rows {
@@ -273,7 +275,7 @@ fn counts_table(rows: &[(&str, OpCounts)]) -> Vec<String> {
             c.div,
             c.neg,
             c.sqrt,
-            c.trig,
+            c.func,
             c.branch,
             c.total()
         ));
@@ -370,8 +372,9 @@ fn header(
         String::new(),
         "# Operation counts".to_string(),
         String::new(),
-        "Every arithmetic instruction counts one (inputs and literals are free); `trig` is \
-         `sin`, `cos` and `atan2`, `branch` a `select_lt`."
+        "Every arithmetic instruction counts one (inputs and literals are free); `func` is \
+         a math-library call (`sin`, `cos`, `atan2`, `exp`, `ln`, `acos`, `asin`, `atan`), \
+         `branch` a `select_lt`."
             .to_string(),
         String::new(),
     ]);

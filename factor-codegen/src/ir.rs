@@ -36,6 +36,16 @@ pub enum Instr {
     Cos(Value),
     /// `atan2(a, b)`.
     Atan2(Value, Value),
+    /// `eᵃ`.
+    Exp(Value),
+    /// `ln a`.
+    Ln(Value),
+    /// `acos a`.
+    Acos(Value),
+    /// `asin a`.
+    Asin(Value),
+    /// `atan a`.
+    Atan(Value),
     /// `if lhs < rhs { if_less } else { otherwise }`.
     Select {
         /// Left side of the comparison.
@@ -52,8 +62,9 @@ pub enum Instr {
 impl Instr {
     /// Estimated cycles from the operands' availability to the result's, on
     /// a recent x86-64 core (scalar `f64`: add and multiply 3, divide 13,
-    /// square root 20, a sign flip 1, a libm call 60; inputs and literals
-    /// are there from the start). Only the emitter's ordering uses it.
+    /// square root 20, a sign flip 1, a libm call (`sin`, `cos`, `atan2`,
+    /// `exp`, `ln`, `acos`, `asin`, `atan`) 60; inputs and literals are there
+    /// from the start). Only the emitter's ordering uses it.
     pub fn latency(&self) -> u32 {
         match self {
             Instr::Input(_) | Instr::Const(_) => 0,
@@ -61,7 +72,14 @@ impl Instr {
             Instr::Add(..) | Instr::Sub(..) | Instr::Mul(..) => 3,
             Instr::Div(..) => 13,
             Instr::Sqrt(_) => 20,
-            Instr::Sin(_) | Instr::Cos(_) | Instr::Atan2(..) => 60,
+            Instr::Sin(_)
+            | Instr::Cos(_)
+            | Instr::Atan2(..)
+            | Instr::Exp(_)
+            | Instr::Ln(_)
+            | Instr::Acos(_)
+            | Instr::Asin(_)
+            | Instr::Atan(_) => 60,
         }
     }
 
@@ -69,7 +87,15 @@ impl Instr {
     pub fn operands(&self) -> Vec<Value> {
         match *self {
             Instr::Input(_) | Instr::Const(_) => Vec::new(),
-            Instr::Neg(a) | Instr::Sqrt(a) | Instr::Sin(a) | Instr::Cos(a) => vec![a],
+            Instr::Neg(a)
+            | Instr::Sqrt(a)
+            | Instr::Sin(a)
+            | Instr::Cos(a)
+            | Instr::Exp(a)
+            | Instr::Ln(a)
+            | Instr::Acos(a)
+            | Instr::Asin(a)
+            | Instr::Atan(a) => vec![a],
             Instr::Add(a, b)
             | Instr::Sub(a, b)
             | Instr::Mul(a, b)
@@ -101,8 +127,9 @@ pub struct OpCounts {
     pub neg: usize,
     /// Square roots.
     pub sqrt: usize,
-    /// `sin`, `cos`, `atan2`.
-    pub trig: usize,
+    /// Calls of the math library's functions: `sin`, `cos`, `atan2`, `exp`,
+    /// `ln`, `acos`, `asin`, `atan`.
+    pub func: usize,
     /// Conditional selections.
     pub branch: usize,
 }
@@ -110,7 +137,7 @@ pub struct OpCounts {
 impl OpCounts {
     /// The sum of all kinds.
     pub fn total(&self) -> usize {
-        self.add + self.mul + self.div + self.neg + self.sqrt + self.trig + self.branch
+        self.add + self.mul + self.div + self.neg + self.sqrt + self.func + self.branch
     }
 
     /// Counts one instruction.
@@ -122,7 +149,14 @@ impl OpCounts {
             Instr::Div(..) => self.div += 1,
             Instr::Neg(_) => self.neg += 1,
             Instr::Sqrt(_) => self.sqrt += 1,
-            Instr::Sin(_) | Instr::Cos(_) | Instr::Atan2(..) => self.trig += 1,
+            Instr::Sin(_)
+            | Instr::Cos(_)
+            | Instr::Atan2(..)
+            | Instr::Exp(_)
+            | Instr::Ln(_)
+            | Instr::Acos(_)
+            | Instr::Asin(_)
+            | Instr::Atan(_) => self.func += 1,
             Instr::Select { .. } => self.branch += 1,
         }
     }
@@ -199,6 +233,11 @@ impl Program {
                 Instr::Sin(a) => v(a).sin(),
                 Instr::Cos(a) => v(a).cos(),
                 Instr::Atan2(a, b) => v(a).atan2(v(b)),
+                Instr::Exp(a) => v(a).exp(),
+                Instr::Ln(a) => v(a).ln(),
+                Instr::Acos(a) => v(a).acos(),
+                Instr::Asin(a) => v(a).asin(),
+                Instr::Atan(a) => v(a).atan(),
                 Instr::Select {
                     lhs,
                     rhs,

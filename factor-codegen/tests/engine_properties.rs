@@ -19,7 +19,9 @@ use proptest::prelude::*;
 const INPUTS: usize = 3;
 
 /// An expression tree; every operation is total on the sampled inputs
-/// (denominators and square-root arguments are kept away from zero).
+/// (denominators and square-root arguments are kept away from zero, the
+/// arguments of `ln`, `acos` and `asin` inside their domains, and `exp`'s
+/// bounded).
 #[derive(Debug, Clone)]
 enum Tree {
     Input(usize),
@@ -35,6 +37,15 @@ enum Tree {
     Sin(Box<Tree>),
     Cos(Box<Tree>),
     Atan2(Box<Tree>, Box<Tree>),
+    /// `exp(a / √(a² + 1))`, the argument in `(−1, 1)`.
+    Exp(Box<Tree>),
+    /// `ln(a² + b² + ½)`.
+    Ln(Box<Tree>, Box<Tree>),
+    /// `acos(a / √(a² + 1))`, the argument in `(−1, 1)`.
+    Acos(Box<Tree>),
+    /// `asin(a / √(a² + 1))`.
+    Asin(Box<Tree>),
+    Atan(Box<Tree>),
     Select(Box<Tree>, Box<Tree>, Box<Tree>, Box<Tree>),
     /// The same subtree twice, so DAG sharing and cancellation are exercised.
     Twice(Box<Tree>, bool),
@@ -66,6 +77,14 @@ impl Tree {
                 let d = b.eval(x);
                 a.eval(x).atan2(d * d + one)
             }
+            Tree::Exp(a) => unit_interval(a.eval(x)).exp(),
+            Tree::Ln(a, b) => {
+                let (a, b) = (a.eval(x), b.eval(x));
+                (a * a + b * b + S::from_f64(0.5)).ln()
+            }
+            Tree::Acos(a) => unit_interval(a.eval(x)).acos(),
+            Tree::Asin(a) => unit_interval(a.eval(x)).asin(),
+            Tree::Atan(a) => a.eval(x).atan(),
             Tree::Select(l, r, a, b) => S::select_lt(l.eval(x), r.eval(x), a.eval(x), b.eval(x)),
             Tree::Twice(a, subtract) => {
                 let v = a.eval(x);
@@ -73,6 +92,12 @@ impl Tree {
             }
         }
     }
+}
+
+/// `v / √(v² + 1)`, in `(−1, 1)`: inside the domain of `acos` and `asin`,
+/// and approaching its ends for large `|v|`.
+fn unit_interval<S: Scalar>(v: S) -> S {
+    v / (v * v + S::one()).sqrt()
 }
 
 fn tree() -> impl Strategy<Value = Tree> {
@@ -93,6 +118,11 @@ fn tree() -> impl Strategy<Value = Tree> {
             b().prop_map(Tree::Sin),
             b().prop_map(Tree::Cos),
             (b(), b()).prop_map(|(a, c)| Tree::Atan2(a, c)),
+            b().prop_map(Tree::Exp),
+            (b(), b()).prop_map(|(a, c)| Tree::Ln(a, c)),
+            b().prop_map(Tree::Acos),
+            b().prop_map(Tree::Asin),
+            b().prop_map(Tree::Atan),
             (b(), b(), b(), b()).prop_map(|(l, r, a, c)| Tree::Select(l, r, a, c)),
             (b(), any::<bool>()).prop_map(|(a, s)| Tree::Twice(a, s)),
         ]
@@ -186,4 +216,71 @@ fn algebraic_identities_hold_by_construction() {
     assert_eq!((s.scale(-2.0)).scale(-0.5), s);
     assert_eq!(Expr::select_lt(x, y, x, x), x);
     drop(tracer);
+}
+
+/// The math-library functions compile to one instruction each, counted in
+/// the `func` column, and the compiled program evaluates them (and their
+/// derivatives) as `f64` does: `exp' = exp`, `ln' = 1/x`,
+/// `acos' = −1/√(1 − x²)`, `asin' = 1/√(1 − x²)`, `atan' = 1/(1 + x²)`.
+#[test]
+fn library_functions_compile_to_one_call_each() {
+    let tracer = Tracer::new();
+    let x = Expr::input(0);
+    let functions = [x.exp(), x.ln(), x.acos(), x.asin(), x.atan()];
+    let derivatives: Vec<Expr> = functions
+        .iter()
+        .map(|f| derivative(*f, x, &mut HashMap::new()))
+        .collect();
+    let graph = tracer.finish();
+    let (program, values) = factor_codegen::compile::compile(&graph, &functions);
+    assert_eq!(program.counts(&values).func, 5);
+    assert_eq!(program.counts(&values).total(), 5);
+    let (program_d, values_d) = factor_codegen::compile::compile(&graph, &derivatives);
+    // exp' is exp itself; the other derivatives are arithmetic and square roots.
+    assert_eq!(program_d.counts(&values_d).func, 1);
+    for v in [0.3, 0.5, 0.9, 0.999_999] {
+        let got = program.evaluate(&[v], &values);
+        let want = [v.exp(), v.ln(), v.acos(), v.asin(), v.atan()];
+        for (g, w) in got.iter().zip(want) {
+            assert_eq!(*g, w);
+        }
+        let got = program_d.evaluate(&[v], &values_d);
+        // Independent closed forms: acos' = −1/sin(acos x), asin' = 1/cos(asin x),
+        // atan' = cos²(atan x).
+        let want = [
+            v.exp(),
+            1.0 / v,
+            -1.0 / v.acos().sin(),
+            1.0 / v.asin().cos(),
+            v.atan().cos().powi(2),
+        ];
+        for (g, w) in got.iter().zip(want) {
+            assert!(close(*g, w, 1e-12), "{v}: {g} vs {w}");
+        }
+    }
+}
+
+/// Constants fold inside the functions' domains only; outside, the node is
+/// kept (and evaluates to NaN, as `f64` does).
+#[test]
+fn library_functions_fold_constants_inside_their_domains() {
+    let tracer = Tracer::new();
+    let c = Expr::constant;
+    assert_eq!(c(0.0).exp(), c(1.0));
+    assert_eq!(c(1.0).ln(), c(0.0));
+    assert_eq!(c(1.0).acos(), c(0.0));
+    assert_eq!(
+        c(1.0).asin().as_constant(),
+        Some(std::f64::consts::FRAC_PI_2)
+    );
+    assert_eq!(
+        c(1.0).atan().as_constant(),
+        Some(std::f64::consts::FRAC_PI_4)
+    );
+    for outside in [c(-1.0).ln(), c(0.0).ln(), c(1.5).acos(), c(-1.5).asin()] {
+        assert_eq!(outside.as_constant(), None);
+    }
+    let outside = [c(-1.0).ln(), c(1.5).acos(), c(-1.5).asin()];
+    let graph = tracer.finish();
+    assert!(evaluate(&graph, &[], &outside).iter().all(|v| v.is_nan()));
 }

@@ -4,7 +4,8 @@
 //! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and
 //!   the symbolic scalar of crate `factor-symbolic`) that residuals and
 //!   geometry are written against.
-//! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar.
+//! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar,
+//!   with one vocabulary, [`lie::LieGroup`].
 //! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
 //!   planes, the free line of document 001, camera intrinsics, bearing planes.
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.

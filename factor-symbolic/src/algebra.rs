@@ -9,7 +9,10 @@
 //!   the node of another, `2(xy + zw)`, negated.
 //! - Products are flattened into `c · Π bᵢ^kᵢ` with integer exponents:
 //!   `x · 1 = x`, `x · 0 = 0`, `x · x⁻¹ = 1`, `−(−x) = x`, `√x · √x = x`.
-//! - Functions of constants are folded; `select` with equal arms is its arm.
+//! - Functions of constants are folded where they are defined (`√` of a
+//!   non-negative, `ln` of a positive, `acos`/`asin` of a constant in
+//!   `[−1, 1]`; outside, the node is kept and evaluates to NaN as `f64`
+//!   does); `select` with equal arms is its arm.
 
 use std::collections::BTreeMap;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -76,6 +79,47 @@ impl Expr {
         match self.as_constant() {
             Some(c) => Expr::constant(c.cos()),
             None => intern(Node::Cos(self)),
+        }
+    }
+
+    /// `e^self`.
+    pub fn exp(self) -> Expr {
+        match self.as_constant() {
+            Some(c) => Expr::constant(c.exp()),
+            None => intern(Node::Exp(self)),
+        }
+    }
+
+    /// `ln self` (folded for a positive constant only, as [`Expr::sqrt`] is
+    /// for a non-negative one).
+    pub fn ln(self) -> Expr {
+        match self.as_constant() {
+            Some(c) if c > 0.0 => Expr::constant(c.ln()),
+            _ => intern(Node::Ln(self)),
+        }
+    }
+
+    /// `acos self` (folded for a constant in `[−1, 1]` only).
+    pub fn acos(self) -> Expr {
+        match self.as_constant() {
+            Some(c) if c.abs() <= 1.0 => Expr::constant(c.acos()),
+            _ => intern(Node::Acos(self)),
+        }
+    }
+
+    /// `asin self` (folded for a constant in `[−1, 1]` only).
+    pub fn asin(self) -> Expr {
+        match self.as_constant() {
+            Some(c) if c.abs() <= 1.0 => Expr::constant(c.asin()),
+            _ => intern(Node::Asin(self)),
+        }
+    }
+
+    /// `atan self`.
+    pub fn atan(self) -> Expr {
+        match self.as_constant() {
+            Some(c) => Expr::constant(c.atan()),
+            None => intern(Node::Atan(self)),
         }
     }
 

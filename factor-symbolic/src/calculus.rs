@@ -37,6 +37,15 @@ pub fn derivative(e: Expr, wrt: Expr, memo: &mut HashMap<Expr, Expr>) -> Expr {
             let r2 = x * x + y * y;
             (x * dy - y * dx) / r2
         }
+        Node::Exp(x) => derivative(x, wrt, memo) * e,
+        Node::Ln(x) => derivative(x, wrt, memo) / x,
+        // √((1 − x)(1 + x)), not √(1 − x²): both factors are exact near |x| = 1.
+        Node::Acos(x) => -(derivative(x, wrt, memo) / one_minus_square_root(x)),
+        Node::Asin(x) => derivative(x, wrt, memo) / one_minus_square_root(x),
+        Node::Atan(x) => {
+            let one = Expr::constant(1.0);
+            derivative(x, wrt, memo) / (one + x * x)
+        }
         Node::Select {
             lhs,
             rhs,
@@ -51,6 +60,12 @@ pub fn derivative(e: Expr, wrt: Expr, memo: &mut HashMap<Expr, Expr>) -> Expr {
     };
     memo.insert(e, d);
     d
+}
+
+/// `√((1 − x)(1 + x))`, the derivative's denominator of `acos` and `asin`.
+fn one_minus_square_root(x: Expr) -> Expr {
+    let one = Expr::constant(1.0);
+    ((one - x) * (one + x)).sqrt()
 }
 
 /// `e` with every key of `map` replaced by its value, rebuilt and simplified.
@@ -81,6 +96,11 @@ pub fn substitute(e: Expr, map: &HashMap<Expr, Expr>, memo: &mut HashMap<Expr, E
             let y = sub(y);
             y.atan2(sub(x))
         }
+        Node::Exp(x) => sub(x).exp(),
+        Node::Ln(x) => sub(x).ln(),
+        Node::Acos(x) => sub(x).acos(),
+        Node::Asin(x) => sub(x).asin(),
+        Node::Atan(x) => sub(x).atan(),
         Node::Select {
             lhs,
             rhs,

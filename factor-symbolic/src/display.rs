@@ -56,6 +56,11 @@ fn write_expr(graph: &Graph, e: Expr, name: &dyn Fn(u32) -> String, out: &mut St
         Node::Sin(x) => call(graph, "sin", &[*x], name, out),
         Node::Cos(x) => call(graph, "cos", &[*x], name, out),
         Node::Atan2(y, x) => call(graph, "atan2", &[*y, *x], name, out),
+        Node::Exp(x) => call(graph, "exp", &[*x], name, out),
+        Node::Ln(x) => call(graph, "ln", &[*x], name, out),
+        Node::Acos(x) => call(graph, "acos", &[*x], name, out),
+        Node::Asin(x) => call(graph, "asin", &[*x], name, out),
+        Node::Atan(x) => call(graph, "atan", &[*x], name, out),
         Node::Select {
             lhs,
             rhs,

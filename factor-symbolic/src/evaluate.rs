@@ -33,6 +33,11 @@ pub fn evaluate(graph: &Graph, inputs: &[f64], outputs: &[Expr]) -> Vec<f64> {
             Node::Sin(x) => values[x.index()].sin(),
             Node::Cos(x) => values[x.index()].cos(),
             Node::Atan2(y, x) => values[y.index()].atan2(values[x.index()]),
+            Node::Exp(x) => values[x.index()].exp(),
+            Node::Ln(x) => values[x.index()].ln(),
+            Node::Acos(x) => values[x.index()].acos(),
+            Node::Asin(x) => values[x.index()].asin(),
+            Node::Atan(x) => values[x.index()].atan(),
             Node::Select {
                 lhs,
                 rhs,

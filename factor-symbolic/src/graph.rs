@@ -89,6 +89,16 @@ pub enum Node {
     Cos(Expr),
     /// `atan2(y, x)`.
     Atan2(Expr, Expr),
+    /// `eˣ`.
+    Exp(Expr),
+    /// `ln x`.
+    Ln(Expr),
+    /// `acos x`.
+    Acos(Expr),
+    /// `asin x`.
+    Asin(Expr),
+    /// `atan x`.
+    Atan(Expr),
     /// `if lhs < rhs { if_less } else { otherwise }`.
     Select {
         /// Left side of the comparison.
@@ -109,7 +119,14 @@ impl Node {
             Node::Const(_) | Node::Input(_) => Vec::new(),
             Node::Add { terms, .. } => terms.iter().map(|(t, _)| *t).collect(),
             Node::Mul { factors, .. } => factors.iter().map(|(b, _)| *b).collect(),
-            Node::Sqrt(x) | Node::Sin(x) | Node::Cos(x) => vec![*x],
+            Node::Sqrt(x)
+            | Node::Sin(x)
+            | Node::Cos(x)
+            | Node::Exp(x)
+            | Node::Ln(x)
+            | Node::Acos(x)
+            | Node::Asin(x)
+            | Node::Atan(x) => vec![*x],
             Node::Atan2(y, x) => vec![*y, *x],
             Node::Select {
                 lhs,

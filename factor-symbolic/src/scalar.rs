@@ -38,6 +38,21 @@ impl Scalar for Expr {
     fn atan2(self, x: Expr) -> Expr {
         Expr::atan2(self, x)
     }
+    fn exp(self) -> Expr {
+        Expr::exp(self)
+    }
+    fn ln(self) -> Expr {
+        Expr::ln(self)
+    }
+    fn acos(self) -> Expr {
+        Expr::acos(self)
+    }
+    fn asin(self) -> Expr {
+        Expr::asin(self)
+    }
+    fn atan(self) -> Expr {
+        Expr::atan(self)
+    }
     fn select_lt(lhs: Expr, rhs: Expr, if_less: Expr, otherwise: Expr) -> Expr {
         Expr::select_lt(lhs, rhs, if_less, otherwise)
     }

@@ -24,9 +24,9 @@
 //!
 //! # Operation counts
 //!
-//! Every arithmetic instruction counts one (inputs and literals are free); `trig` is `sin`, `cos` and `atan2`, `branch` a `select_lt`.
+//! Every arithmetic instruction counts one (inputs and literals are free); `func` is a math-library call (`sin`, `cos`, `atan2`, `exp`, `ln`, `acos`, `asin`, `atan`), `branch` a `select_lt`.
 //!
-//! | outputs | add | mul | div | neg | sqrt | trig | branch | total |
+//! | outputs | add | mul | div | neg | sqrt | func | branch | total |
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 149 | 267 | 4 | 15 | 1 | 1 | 10 | 447 |
 //! | residual only | 38 | 61 | 2 | 2 | 1 | 1 | 2 | 107 |

@@ -26,9 +26,9 @@
 //!
 //! # Operation counts
 //!
-//! Every arithmetic instruction counts one (inputs and literals are free); `trig` is `sin`, `cos` and `atan2`, `branch` a `select_lt`.
+//! Every arithmetic instruction counts one (inputs and literals are free); `func` is a math-library call (`sin`, `cos`, `atan2`, `exp`, `ln`, `acos`, `asin`, `atan`), `branch` a `select_lt`.
 //!
-//! | outputs | add | mul | div | neg | sqrt | trig | branch | total |
+//! | outputs | add | mul | div | neg | sqrt | func | branch | total |
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 89 | 173 | 2 | 6 | 1 | 0 | 0 | 271 |
 //! | residual only | 40 | 59 | 1 | 1 | 1 | 0 | 0 | 102 |

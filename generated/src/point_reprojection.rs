@@ -25,9 +25,9 @@
 //!
 //! # Operation counts
 //!
-//! Every arithmetic instruction counts one (inputs and literals are free); `trig` is `sin`, `cos` and `atan2`, `branch` a `select_lt`.
+//! Every arithmetic instruction counts one (inputs and literals are free); `func` is a math-library call (`sin`, `cos`, `atan2`, `exp`, `ln`, `acos`, `asin`, `atan`), `branch` a `select_lt`.
 //!
-//! | outputs | add | mul | div | neg | sqrt | trig | branch | total |
+//! | outputs | add | mul | div | neg | sqrt | func | branch | total |
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 34 | 54 | 1 | 7 | 0 | 0 | 0 | 96 |
 //! | residual only | 26 | 27 | 1 | 0 | 0 | 0 | 0 | 54 |

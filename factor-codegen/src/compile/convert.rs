@@ -49,6 +49,11 @@ impl Compiler<'_> {
             Node::Sin(x) => Op::Leaf(LeafOp::Sin(self.op_of(x))),
             Node::Cos(x) => Op::Leaf(LeafOp::Cos(self.op_of(x))),
             Node::Atan2(y, x) => Op::Leaf(LeafOp::Atan2(self.op_of(y), self.op_of(x))),
+            Node::Exp(x) => Op::Leaf(LeafOp::Exp(self.op_of(x))),
+            Node::Ln(x) => Op::Leaf(LeafOp::Ln(self.op_of(x))),
+            Node::Acos(x) => Op::Leaf(LeafOp::Acos(self.op_of(x))),
+            Node::Asin(x) => Op::Leaf(LeafOp::Asin(self.op_of(x))),
+            Node::Atan(x) => Op::Leaf(LeafOp::Atan(self.op_of(x))),
             Node::Select {
                 lhs,
                 rhs,

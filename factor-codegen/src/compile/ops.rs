@@ -33,6 +33,11 @@ pub(super) enum LeafOp {
     Sin(usize),
     Cos(usize),
     Atan2(usize, usize),
+    Exp(usize),
+    Ln(usize),
+    Acos(usize),
+    Asin(usize),
+    Atan(usize),
     Select([usize; 4]),
 }
 
@@ -98,7 +103,14 @@ impl Compiler<'_> {
         match &self.ops[op] {
             Op::Leaf(leaf) => match *leaf {
                 LeafOp::Input(_) | LeafOp::Const(_) => Vec::new(),
-                LeafOp::Sqrt(x) | LeafOp::Sin(x) | LeafOp::Cos(x) => vec![x],
+                LeafOp::Sqrt(x)
+                | LeafOp::Sin(x)
+                | LeafOp::Cos(x)
+                | LeafOp::Exp(x)
+                | LeafOp::Ln(x)
+                | LeafOp::Acos(x)
+                | LeafOp::Asin(x)
+                | LeafOp::Atan(x) => vec![x],
                 LeafOp::Atan2(y, x) => vec![y, x],
                 LeafOp::Select(args) => args.to_vec(),
             },

@@ -61,18 +61,14 @@ impl Emitter<'_> {
         match leaf {
             LeafOp::Input(i) => self.program.push(Instr::Input(i)),
             LeafOp::Const(c) => self.constant(c),
-            LeafOp::Sqrt(x) => {
-                let x = self.emit(x);
-                self.program.push(Instr::Sqrt(x))
-            }
-            LeafOp::Sin(x) => {
-                let x = self.emit(x);
-                self.program.push(Instr::Sin(x))
-            }
-            LeafOp::Cos(x) => {
-                let x = self.emit(x);
-                self.program.push(Instr::Cos(x))
-            }
+            LeafOp::Sqrt(x) => self.unary(x, Instr::Sqrt),
+            LeafOp::Sin(x) => self.unary(x, Instr::Sin),
+            LeafOp::Cos(x) => self.unary(x, Instr::Cos),
+            LeafOp::Exp(x) => self.unary(x, Instr::Exp),
+            LeafOp::Ln(x) => self.unary(x, Instr::Ln),
+            LeafOp::Acos(x) => self.unary(x, Instr::Acos),
+            LeafOp::Asin(x) => self.unary(x, Instr::Asin),
+            LeafOp::Atan(x) => self.unary(x, Instr::Atan),
             LeafOp::Atan2(y, x) => {
                 let (y, x) = (self.emit(y), self.emit(x));
                 self.program.push(Instr::Atan2(y, x))
@@ -88,6 +84,12 @@ impl Emitter<'_> {
                 })
             }
         }
+    }
+
+    /// `f(x)` for a one-operand instruction `f`.
+    fn unary(&mut self, x: usize, f: fn(Value) -> Instr) -> Value {
+        let x = self.emit(x);
+        self.program.push(f(x))
     }
 
     /// When `v` is ready, by the latency model of [`Instr::latency`].

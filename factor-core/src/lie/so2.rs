@@ -1,6 +1,9 @@
 //! SO(2): planar rotations stored as `(cos ρ, sin ρ)`, the `W` factor of the
 //! orthonormal line representation (document 000 §III).
 
+use nalgebra::{Matrix1, Matrix2, Vector1, Vector2};
+
+use crate::lie::LieGroup;
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage};
@@ -37,6 +40,16 @@ impl<S: Scalar> So2<S> {
             self.sin * rhs.cos + self.cos * rhs.sin,
         )
     }
+
+    /// `W⁻¹ = Wᵀ`, the rotation by `−ρ`.
+    pub fn inverse(&self) -> Self {
+        Self::new(self.cos, -self.sin)
+    }
+
+    /// `W = [[cos ρ, −sin ρ], [sin ρ, cos ρ]]`.
+    pub fn matrix(&self) -> Matrix2<S> {
+        Matrix2::new(self.cos, -self.sin, self.sin, self.cos)
+    }
 }
 
 /// Stored `[cos, sin]`.
@@ -51,6 +64,44 @@ impl<S: Scalar> Storage<S> for So2<S> {
     }
     fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
         So2::new(next(), next())
+    }
+}
+
+/// SO(2) in the [`LieGroup`] vocabulary: tangent `[ρ]`, acting on planar
+/// points by `W p`. The group is commutative, so the adjoint and all four
+/// Jacobians are `[1]` and both sides of `plus`/`minus` agree.
+impl<S: Scalar> LieGroup<S> for So2<S> {
+    const DOF: usize = 1;
+    type Tangent = Vector1<S>;
+    type Jacobian = Matrix1<S>;
+    type Point = Vector2<S>;
+
+    fn identity() -> Self {
+        Self::new(S::one(), S::zero())
+    }
+    fn compose(&self, rhs: &Self) -> Self {
+        So2::compose(self, rhs)
+    }
+    fn inverse(&self) -> Self {
+        So2::inverse(self)
+    }
+    fn act(&self, point: &Vector2<S>) -> Vector2<S> {
+        self.matrix() * point
+    }
+    fn exp(tau: &Vector1<S>) -> Self {
+        So2::exp(tau[0])
+    }
+    fn log(&self) -> Vector1<S> {
+        Vector1::new(So2::log(self))
+    }
+    fn adjoint(&self) -> Matrix1<S> {
+        Matrix1::identity()
+    }
+    fn left_jacobian(_tau: &Vector1<S>) -> Matrix1<S> {
+        Matrix1::identity()
+    }
+    fn left_jacobian_inverse(_tau: &Vector1<S>) -> Matrix1<S> {
+        Matrix1::identity()
     }
 }
 

@@ -10,7 +10,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::lie::{Quaternion, SMALL_ANGLE_SQUARED};
+use crate::lie::{LieGroup, Quaternion, SMALL_ANGLE_SQUARED};
 use crate::linalg::squared_norm;
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
@@ -34,7 +34,11 @@ pub fn vee<S: Scalar>(m: &Matrix3<S>) -> Vector3<S> {
 
 /// Evaluates `f(θ)` exactly, or its Taylor series in `θ²` below the small-angle
 /// threshold. `series` gets `θ²`, `exact` gets `θ`.
-fn angle_coefficient<S: Scalar>(theta2: S, series: impl Fn(S) -> S, exact: impl Fn(S) -> S) -> S {
+pub(crate) fn angle_coefficient<S: Scalar>(
+    theta2: S,
+    series: impl Fn(S) -> S,
+    exact: impl Fn(S) -> S,
+) -> S {
     S::select_lt(
         theta2,
         S::from_f64(SMALL_ANGLE_SQUARED),
@@ -62,7 +66,7 @@ fn one_minus_cos_over_theta2<S: Scalar>(theta2: S) -> S {
 }
 
 /// `(θ − sin θ)/θ³`.
-fn theta_minus_sin_over_theta3<S: Scalar>(theta2: S) -> S {
+pub(crate) fn theta_minus_sin_over_theta3<S: Scalar>(theta2: S) -> S {
     angle_coefficient(
         theta2,
         |t2| S::from_f64(1.0 / 6.0) - t2 / S::from_f64(120.0) + t2 * t2 / S::from_f64(5040.0),
@@ -200,6 +204,50 @@ impl<S: Scalar> Storage<S> for So3<S> {
     }
     fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
         <Quaternion<f64> as Storage<f64>>::from_input(input)
+    }
+}
+
+/// SO(3) in the [`LieGroup`] vocabulary: tangent `ω`, acting on points by
+/// `R p`, `Ad_R = R` (since `R Exp(ω) Rᵀ = Exp(R ω)`), Jacobians as in the
+/// module documentation. `log` identifies `q` with `−q` (`|ω| ≤ π`).
+impl<S: Scalar> LieGroup<S> for So3<S> {
+    const DOF: usize = 3;
+    type Tangent = Vector3<S>;
+    type Jacobian = Matrix3<S>;
+    type Point = Vector3<S>;
+
+    fn identity() -> Self {
+        So3::identity()
+    }
+    fn compose(&self, rhs: &Self) -> Self {
+        So3::compose(self, rhs)
+    }
+    fn inverse(&self) -> Self {
+        So3::inverse(self)
+    }
+    fn act(&self, point: &Vector3<S>) -> Vector3<S> {
+        self.rotate(point)
+    }
+    fn exp(tau: &Vector3<S>) -> Self {
+        So3::exp(tau)
+    }
+    fn log(&self) -> Vector3<S> {
+        So3::log(self)
+    }
+    fn adjoint(&self) -> Matrix3<S> {
+        self.matrix()
+    }
+    fn left_jacobian(tau: &Vector3<S>) -> Matrix3<S> {
+        left_jacobian(tau)
+    }
+    fn left_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
+        left_jacobian_inverse(tau)
+    }
+    fn right_jacobian(tau: &Vector3<S>) -> Matrix3<S> {
+        right_jacobian(tau)
+    }
+    fn right_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
+        right_jacobian_inverse(tau)
     }
 }
 

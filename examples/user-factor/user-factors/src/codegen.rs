@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
 
-use crate::{PointToPlane, RelativePose};
+use crate::{PointToPlane, RelativePose, ScaledRangeBearing};
 
 /// What the generated files say about where they come from.
 pub const PROVENANCE: Provenance = Provenance::new(
@@ -26,6 +26,7 @@ pub fn kernel_specs() -> Vec<KernelSpec> {
     vec![
         KernelSpec::of::<RelativePose>(),
         KernelSpec::of::<PointToPlane>(),
+        KernelSpec::of::<ScaledRangeBearing>(),
     ]
 }
 

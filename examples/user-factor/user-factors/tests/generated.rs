@@ -11,7 +11,7 @@ use factor_testing::{
     DEFAULT_TOLERANCE, GENERATED_TOLERANCE, assert_correct_jacobians, assert_generated_matches_dual,
 };
 use nalgebra::Vector3;
-use user_factors::{PointToPlane, RelativePose};
+use user_factors::{PointToPlane, RelativePose, ScaledRangeBearing};
 
 const CONFIGURATIONS: usize = 200;
 
@@ -59,6 +59,38 @@ fn point_to_plane(sampler: &mut Sampler, _: usize) -> PointToPlane {
     }
 }
 
+/// A range-bearing factor: a random sensor pose, a landmark in front of it
+/// (`x ∈ [0.5, 10]`, `|y|, |z| ≤ 5` in the sensor frame), a log scale in
+/// `[−1, 1]`, and the true measurement perturbed by up to 0.05 (exact every
+/// tenth time).
+fn scaled_range_bearing(sampler: &mut Sampler, i: usize) -> ScaledRangeBearing {
+    let pose = sampler.pose();
+    let in_sensor = Vector3::new(
+        sampler.uniform(0.5, 10.0),
+        sampler.uniform(-5.0, 5.0),
+        sampler.uniform(-5.0, 5.0),
+    );
+    let landmark = pose.inverse().transform_point(&in_sensor);
+    let log_scale = sampler.uniform(-1.0, 1.0);
+    let range = in_sensor.norm();
+    let truth = Vector3::new(
+        (in_sensor.y / in_sensor.x).atan(),
+        (in_sensor.z / range).asin(),
+        log_scale + range.ln(),
+    );
+    let noise = if i.is_multiple_of(10) {
+        Vector3::zeros()
+    } else {
+        sampler.vector3(0.05)
+    };
+    ScaledRangeBearing {
+        landmark,
+        measured: truth + noise,
+        pose,
+        log_scale,
+    }
+}
+
 /// At every sample, the generated kernel against dual numbers (to rounding)
 /// and the dual Jacobians against central differences: one line each.
 fn check_agreement<F: Factor>(seed: u64, mut sample: impl FnMut(&mut Sampler, usize) -> F) {
@@ -80,6 +112,11 @@ fn point_to_plane_generated_matches_dual_and_numeric() {
     check_agreement(2, point_to_plane);
 }
 
+#[test]
+fn scaled_range_bearing_generated_matches_dual_and_numeric() {
+    check_agreement(5, scaled_range_bearing);
+}
+
 /// The dual-number Jacobians themselves are right (the reference above).
 #[test]
 fn dual_jacobians_are_correct() {
@@ -87,6 +124,7 @@ fn dual_jacobians_are_correct() {
     for i in 0..10 {
         assert_correct_jacobians(&relative_pose(&mut sampler, i), DEFAULT_TOLERANCE);
         assert_correct_jacobians(&point_to_plane(&mut sampler, i), DEFAULT_TOLERANCE);
+        assert_correct_jacobians(&scaled_range_bearing(&mut sampler, i), DEFAULT_TOLERANCE);
     }
 }
 
@@ -107,4 +145,10 @@ fn linearize_goes_through_the_generated_kernel() {
     assert_eq!(f.linearize(), f.linearize_generated());
     let g = point_to_plane(&mut sampler, 1);
     assert_eq!(g.linearize(), g.linearize_generated());
+    assert_eq!(
+        <ScaledRangeBearing as Factor>::KERNEL,
+        Some("user_kernels::scaled_range_bearing::scaled_range_bearing")
+    );
+    let h = scaled_range_bearing(&mut sampler, 1);
+    assert_eq!(h.linearize(), h.linearize_generated());
 }

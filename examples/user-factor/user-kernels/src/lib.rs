@@ -16,6 +16,7 @@
 //! | --- | --- | --- | --- |
 //! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 |
 //! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 |
+//! | [`scaled_range_bearing`](scaled_range_bearing::scaled_range_bearing) | `user_factors::ScaledRangeBearing` | 92 | 62 |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -24,6 +25,8 @@
 pub mod point_to_plane;
 #[rustfmt::skip]
 pub mod relative_pose;
+#[rustfmt::skip]
+pub mod scaled_range_bearing;
 #[rustfmt::skip]
 mod real;
 #[rustfmt::skip]
