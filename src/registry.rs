@@ -11,6 +11,7 @@ use factor_core::{DynLinearization, VariableInfo};
 use crate::decode::FromJson;
 use crate::error::{CliError, InputError};
 use crate::eval::{Method, linearize};
+use crate::field_path::quoted;
 use crate::input::Object;
 
 /// One registered factor, its description and how to evaluate it from JSON.
@@ -76,7 +77,8 @@ pub fn find(name: &str, path: &str) -> Result<FactorEntry, InputError> {
         InputError::new(
             path,
             format!(
-                "unknown factor {name:?}; known factors: {}",
+                "unknown factor {}; known factors: {}",
+                quoted(name),
                 known.join(", ")
             ),
         )

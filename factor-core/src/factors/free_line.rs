@@ -6,7 +6,7 @@ use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
 use crate::geometry::{FreeLine, bearing_plane_normal};
 use crate::lie::Se3;
 use crate::linalg::{cross, dot, norm};
-use crate::validation::exceeds;
+use crate::validation::{exceeds, number_text};
 use crate::{Factor, FactorError, Scalar};
 
 /// The two error terms of document 001 §3 for a line `[q_WL, d_L]` seen by a
@@ -85,7 +85,10 @@ pub fn validate_free_line(f: &FreeLineFactor<f64>) -> Result<(), FactorError> {
     if !exceeds(distance, DEGENERACY_TOLERANCE * centre.norm().max(1.0)) {
         return Err(degenerate(
             FreeLineFactor::NAME,
-            format!("camera centre lies on the line anchor (distance {distance:e})"),
+            format!(
+                "camera centre lies on the line anchor (distance {})",
+                number_text(distance)
+            ),
         ));
     }
     Ok(())

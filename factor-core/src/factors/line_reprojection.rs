@@ -6,7 +6,7 @@ use crate::factors::{DEGENERACY_TOLERANCE, degenerate};
 use crate::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
 use crate::lie::Se3;
 use crate::linalg::dot;
-use crate::validation::exceeds;
+use crate::validation::{exceeds, number_text};
 use crate::{Factor, FactorError, Scalar};
 
 /// The distances of the observed endpoints to the projected line,
@@ -91,8 +91,8 @@ pub(crate) fn validate_camera_line(
         return Err(degenerate(
             factor,
             format!(
-                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
-                n / v
+                "line passes through the optical centre (distance |n_c|/|v_c| = {})",
+                number_text(n / v)
             ),
         ));
     }

@@ -10,7 +10,7 @@ use crate::lie::so3::perturb_quaternion;
 use crate::linalg::scale;
 use crate::manifold::{Manifold, MapScalars, Perturbation};
 use crate::scalar::Scalar;
-use crate::validation::within;
+use crate::validation::{number_text, within};
 
 /// `[q_WL, d_L]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +53,10 @@ impl FreeLine<f64> {
     ) -> Result<Self, GeometryError> {
         let norm = rotation.coords().norm();
         if !within(norm - 1.0, tolerance) {
-            return Err(GeometryError(format!("q_WL has norm {norm}, expected 1")));
+            return Err(GeometryError(format!(
+                "q_WL has norm {}, expected 1",
+                number_text(norm)
+            )));
         }
         if !distance.is_finite() {
             return Err(GeometryError("d_L is not finite".into()));
