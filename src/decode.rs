@@ -12,10 +12,10 @@
 //! parallel bearings, ...) is left to its `validate()`.
 
 use factor_core::{Factor, FieldInfo, Layout};
-use serde_json::Value;
 
 use crate::error::InputError;
-use crate::input::{Object, number, numbers};
+use crate::field_path::join;
+use crate::input::{Object, number};
 
 /// The JSON shape of a layout, for `list` and error messages:
 /// `{"rotation": [qx, qy, qz, qw], "translation": [x, y, z]}`.
@@ -41,15 +41,23 @@ pub fn record_keys(layout: &Layout) -> Vec<&'static str> {
     }
 }
 
-/// Appends the numbers of `value` (at `path`), written in `layout`, to `out`.
-fn read(value: &Value, path: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
+/// Whether an array of these names is a quaternion (the layout of
+/// [`factor_core::lie::Quaternion`]): read through [`Object::quaternion`], which
+/// can try the `[w, x, y, z]` order for the w-first hint.
+fn is_quaternion(names: &[String]) -> bool {
+    names == ["qx", "qy", "qz", "qw"]
+}
+
+/// Appends the numbers of field `key` of `object`, written in `layout`, to `out`.
+fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
     match layout {
-        Layout::Scalar => out.push(number(value, path)?),
-        Layout::Array(names) => out.extend(numbers(value, path, names.len())?),
+        Layout::Scalar => out.push(number(object.get(key), &object.path_of(key))?),
+        Layout::Array(names) if is_quaternion(names) => out.extend(object.quaternion(key)?),
+        Layout::Array(names) => out.extend(object.numbers(key, names.len())?),
         Layout::Record(parts) => {
-            let object = Object::new(value, path, &record_keys(layout))?;
-            for (key, part) in parts {
-                read(object.get(key), &object.path_of(key), part, out)?;
+            let inner = object.object(key, &record_keys(layout))?;
+            for (part_key, part) in parts {
+                read(&inner, part_key, part, out)?;
             }
         }
     }
@@ -59,21 +67,19 @@ fn read(value: &Value, path: &str, layout: &Layout, out: &mut Vec<f64>) -> Resul
 /// Field `field`'s stored scalars from `object` (the request's `variables`
 /// or `constants`).
 fn field_scalars(object: &Object, field: &FieldInfo) -> Result<Vec<f64>, InputError> {
-    let path = object.path_of(field.name);
     let mut input = Vec::with_capacity(field.input_layout.scalars());
-    read(
-        object.get(field.name),
-        &path,
-        &field.input_layout,
-        &mut input,
-    )?;
+    read(object, field.name, &field.input_layout, &mut input)?;
     (field.from_input)(&input).map_err(|e| {
-        let at = match (e.path.is_empty(), e.path.starts_with('[')) {
-            (true, _) => path,
-            (false, true) => format!("{path}{}", e.path),
-            (false, false) => format!("{path}.{}", e.path),
-        };
-        InputError::new(at, e.message)
+        let mut path = object.path_of(field.name);
+        if !e.path.is_empty() {
+            for part in e.path.split('.') {
+                path = match part.strip_prefix('[') {
+                    Some(_) => format!("{path}{part}"),
+                    None => join(&path, part),
+                };
+            }
+        }
+        InputError::new(path, e.message)
     })
 }
 

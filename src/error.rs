@@ -3,16 +3,21 @@
 //! | exit | meaning |
 //! | --- | --- |
 //! | 0 | success |
-//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry reported by the factor's `validate()`, or a non-finite residual or Jacobian; or `check` found stale generated files |
-//! | 2 | the input is rejected: unreadable file, invalid JSON, unknown factor, missing, unknown or mistyped field, wrong length, non-finite number, non-unit quaternion, zero-norm vector, Plücker constraint violated (and, from clap, a command-line usage error); or `generate` cannot write its directory |
+//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry reported by the factor's `validate()` (with a hint when an input quaternion looks written `[w, x, y, z]`), or a non-finite residual or Jacobian; or `check` found stale generated files |
+//! | 2 | the input is rejected: unreadable file, input over 16 MiB or not UTF-8, invalid JSON (nesting deeper than 128 included), duplicate key, unknown factor, missing, unknown or mistyped field, wrong length, non-finite number, non-unit quaternion, zero-norm vector, Plücker constraint violated (and, from clap, a command-line usage error); or the generated crate is not found or a file of it cannot be read, `generate --out` names a directory that is not a generated crate, or `generate` cannot write it |
 //!
 //! Every error is printed as one line, `error: <where>: <what>`, where
-//! `<where>` is the JSON field path (`variables.pose.rotation[3]`), the input
-//! source (a file name or `<stdin>`) or the factor's name.
+//! `<where>` is the JSON field path (`variables.pose.rotation[3]`,
+//! `variables["a b"]`: see [`crate::field_path`] for quoting, escaping and
+//! the cut of long names), the input source (a file name or `<stdin>`), a
+//! directory or file of the generated crate, or the factor's name. No
+//! character that ends a line or steers a terminal is printed raw.
 
 use std::path::PathBuf;
 
 use factor_core::FactorError;
+
+use crate::field_path::escape_unprintable;
 
 /// Exit code of rejected input (and of clap's usage errors).
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -50,6 +55,15 @@ pub enum CliError {
     /// message names the factor.
     #[error(transparent)]
     Factor(#[from] FactorError),
+    /// A degenerate configuration with a hint at its likely cause in the
+    /// input (exit 1), e.g. a quaternion written `[w, x, y, z]`.
+    #[error("{error} ({hint})")]
+    Hinted {
+        /// The factor's error.
+        error: FactorError,
+        /// The hint, naming the input field.
+        hint: String,
+    },
     /// `check`: these generated files differ from what the factor
     /// definitions produce, are missing or are not generated (exit 1).
     #[error(
@@ -72,16 +86,16 @@ impl CliError {
         match self {
             CliError::Input(_) => EXIT_BAD_INPUT,
             CliError::Factor(_)
+            | CliError::Hinted { .. }
             | CliError::Stale(_)
             | CliError::Codegen(_)
             | CliError::Disagreement(_) => EXIT_DEGENERATE,
         }
     }
 
-    /// The message as one line, `error: <where>: <what>`.
+    /// The message as one line, `error: <where>: <what>`, any line break or
+    /// other unprintable character in it escaped (`\n`, `\u001b`).
     pub fn one_line(&self) -> String {
-        let text = self.to_string();
-        let lines: Vec<&str> = text.lines().map(str::trim).collect();
-        format!("error: {}", lines.join(" "))
+        format!("error: {}", escape_unprintable(&self.to_string()))
     }
 }

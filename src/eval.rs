@@ -5,8 +5,10 @@ use factor_core::{DynLinearization, Factor, FactorError, VariableInfo};
 use serde_json::{Map, Value};
 
 use crate::error::CliError;
-use crate::input::{Object, parse_json, read_source};
-use crate::{pretty, registry};
+use crate::input::{Object, QuaternionReading};
+use crate::source::read_source;
+use crate::strict_json::parse_json;
+use crate::{pretty, registry, w_first};
 
 /// How the Jacobians are computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -70,9 +72,28 @@ pub struct Evaluation {
     pub linearization: DynLinearization,
 }
 
-/// Evaluates the request `{"factor", "variables", "constants"}`.
+/// Evaluates the request `{"factor", "variables", "constants"}`. A
+/// degenerate configuration whose quaternions look written `[w, x, y, z]`
+/// gets a hint naming them (see [`w_first`]).
 pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError> {
-    let top = Object::new(request, "", &["factor", "variables", "constants"])?;
+    let reading = QuaternionReading::default();
+    match evaluate_reading(request, method, &reading) {
+        Err(CliError::Factor(error @ FactorError::Degenerate { .. })) => {
+            Err(w_first::with_hint(error, &reading.read(), |reading| {
+                evaluate_reading(request, method, reading)
+            }))
+        }
+        result => result,
+    }
+}
+
+/// [`evaluate`] without the hint, reading quaternions as `reading` says.
+fn evaluate_reading(
+    request: &Value,
+    method: Method,
+    reading: &QuaternionReading,
+) -> Result<Evaluation, CliError> {
+    let top = Object::top(request, &["factor", "variables", "constants"], reading)?;
     let entry = registry::find(top.string("factor")?, &top.path_of("factor"))?;
     let names = |variables: bool| -> Vec<&'static str> {
         entry

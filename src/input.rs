@@ -1,105 +1,40 @@
 //! JSON → typed values. Every error names the offending field by its path
-//! (`variables.pose.rotation[3]`) and says what is wrong, in one line.
+//! (`variables.pose.rotation[3]`, shown as [`crate::field_path`] says) and
+//! says what is wrong, in one line.
 //!
 //! Objects are closed: a key that is not expected is an error at every level,
-//! as is a missing one. Numbers must be finite; a literal beyond the `f64`
-//! range (`1e999`), which `serde_json` refuses to parse, is reported at its
-//! field path too (see [`parse_json`]).
+//! as is a missing one. Numbers are finite: [`crate::strict_json`] rejects
+//! literals beyond the `f64` range as it reads them.
 
-use std::io::Read;
+use std::cell::RefCell;
 
 use serde_json::{Map, Value};
 
 use crate::error::InputError;
+use crate::field_path::{self, join};
 
-/// The name errors use for an input source: the path, or `<stdin>` for `-`.
-pub fn source_name(source: &str) -> String {
-    if source == "-" {
-        "<stdin>".into()
-    } else {
-        source.into()
-    }
+/// How [`Object::quaternion`] reads quaternions: it records the path of each
+/// one it reads, and reads those at the paths given to
+/// [`QuaternionReading::w_first`] as `[w, x, y, z]` (to try whether an input
+/// was written in that order).
+#[derive(Debug, Default)]
+pub struct QuaternionReading {
+    w_first: Vec<String>,
+    read: RefCell<Vec<String>>,
 }
 
-/// Reads a file, or standard input for `-`.
-pub fn read_source(source: &str) -> Result<String, InputError> {
-    let name = source_name(source);
-    let result = if source == "-" {
-        let mut text = String::new();
-        std::io::stdin().read_to_string(&mut text).map(|_| text)
-    } else {
-        std::fs::read_to_string(source)
-    };
-    result.map_err(|e| InputError::new(name, format!("cannot read input: {e}")))
-}
-
-/// Marks a number literal `serde_json` could not represent (see [`parse_json`]).
-const OUT_OF_RANGE: &str = "\u{1}slamjac:out-of-range:";
-
-/// Parses JSON text. A number literal beyond the `f64` range makes
-/// `serde_json` fail with "number out of range"; such a literal is replaced by
-/// a marked string and parsing retried, so that the reader reports it at its
-/// field path as a non-finite number instead of at a line and column.
-pub fn parse_json(text: &str, source: &str) -> Result<Value, InputError> {
-    let mut text = text.to_owned();
-    loop {
-        let error = match serde_json::from_str::<Value>(&text) {
-            Ok(value) => return Ok(value),
-            Err(error) => error,
-        };
-        let replaced = error
-            .to_string()
-            .starts_with("number out of range")
-            .then(|| mark_number_at(&text, error.line(), error.column()))
-            .flatten();
-        match replaced {
-            Some(marked) => text = marked,
-            None => {
-                return Err(InputError::new(
-                    source_name(source),
-                    format!("invalid JSON: {error}"),
-                ));
-            }
+impl QuaternionReading {
+    /// Reads the quaternions at `paths` as `[w, x, y, z]`, the others as `[x, y, z, w]`.
+    pub fn w_first(paths: &[String]) -> Self {
+        QuaternionReading {
+            w_first: paths.to_vec(),
+            read: RefCell::default(),
         }
     }
-}
 
-/// `text` with the number literal at (or just before) `line`:`column`
-/// (`serde_json`'s 1-based line, 0-based byte column) replaced by a marked string.
-fn mark_number_at(text: &str, line: usize, column: usize) -> Option<String> {
-    let line_start: usize = text
-        .split_inclusive('\n')
-        .take(line.checked_sub(1)?)
-        .map(str::len)
-        .sum();
-    let bytes = text.as_bytes();
-    let number_byte = |b: u8| b.is_ascii_digit() || matches!(b, b'-' | b'+' | b'.' | b'e' | b'E');
-    let mut start = (line_start + column).min(bytes.len());
-    let mut end = start;
-    while end < bytes.len() && number_byte(bytes[end]) {
-        end += 1;
-    }
-    while start > 0 && number_byte(bytes[start - 1]) {
-        start -= 1;
-    }
-    let literal = text.get(start..end)?;
-    if !literal.bytes().any(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    let marker = serde_json::to_string(&format!("{OUT_OF_RANGE}{literal}")).ok()?;
-    Some(format!(
-        "{}{marker}{}",
-        text.get(..start)?,
-        text.get(end..)?
-    ))
-}
-
-/// `parent.key`, or `key` at the top level.
-fn join(parent: &str, key: &str) -> String {
-    if parent.is_empty() {
-        key.into()
-    } else {
-        format!("{parent}.{key}")
+    /// The paths of the quaternions read so far, in reading order.
+    pub fn read(&self) -> Vec<String> {
+        self.read.borrow().clone()
     }
 }
 
@@ -109,7 +44,6 @@ fn kind(value: &Value) -> &'static str {
         Value::Null => "null",
         Value::Bool(_) => "a boolean",
         Value::Number(_) => "a number",
-        Value::String(s) if s.starts_with(OUT_OF_RANGE) => "a number",
         Value::String(_) => "a string",
         Value::Array(_) => "an array",
         Value::Object(_) => "an object",
@@ -123,17 +57,6 @@ pub fn number(value: &Value, path: &str) -> Result<f64, InputError> {
             Some(x) if x.is_finite() => Ok(x),
             _ => Err(InputError::new(path, format!("non-finite number {n}"))),
         },
-        Value::String(s) if s.starts_with(OUT_OF_RANGE) => {
-            let literal = &s[OUT_OF_RANGE.len()..];
-            let shown = match literal.char_indices().nth(24) {
-                Some((end, _)) => format!("{}…", &literal[..end]),
-                None => literal.to_owned(),
-            };
-            Err(InputError::new(
-                path,
-                format!("non-finite number: {shown} is beyond the range of f64"),
-            ))
-        }
         other => Err(InputError::new(
             path,
             format!("expected a number, found {}", kind(other)),
@@ -158,7 +81,7 @@ pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputErr
     items
         .iter()
         .enumerate()
-        .map(|(i, item)| number(item, &format!("{path}[{i}]")))
+        .map(|(i, item)| number(item, &field_path::index(path, i)))
         .collect()
 }
 
@@ -167,6 +90,7 @@ pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputErr
 pub struct Object<'a> {
     path: String,
     map: &'a Map<String, Value>,
+    quaternions: Option<&'a QuaternionReading>,
 }
 
 impl<'a> Object<'a> {
@@ -196,6 +120,20 @@ impl<'a> Object<'a> {
         Ok(Object {
             path: path.into(),
             map,
+            quaternions: None,
+        })
+    }
+
+    /// Like [`Object::new`] for the top level, reading its quaternions (and
+    /// those of its sub-objects) as `quaternions` says.
+    pub fn top(
+        value: &'a Value,
+        keys: &[&str],
+        quaternions: &'a QuaternionReading,
+    ) -> Result<Self, InputError> {
+        Ok(Object {
+            quaternions: Some(quaternions),
+            ..Object::new(value, "", keys)?
         })
     }
 
@@ -212,20 +150,47 @@ impl<'a> Object<'a> {
     /// A string field.
     pub fn string(&self, key: &str) -> Result<&'a str, InputError> {
         let value = self.get(key);
-        value
-            .as_str()
-            .filter(|s| !s.starts_with(OUT_OF_RANGE))
-            .ok_or_else(|| {
-                InputError::new(
-                    self.path_of(key),
-                    format!("expected a string, found {}", kind(value)),
-                )
-            })
+        value.as_str().ok_or_else(|| {
+            InputError::new(
+                self.path_of(key),
+                format!("expected a string, found {}", kind(value)),
+            )
+        })
+    }
+
+    /// A finite number field.
+    pub fn number(&self, key: &str) -> Result<f64, InputError> {
+        number(self.get(key), &self.path_of(key))
+    }
+
+    /// A field holding an array of `n` finite numbers.
+    pub fn numbers(&self, key: &str, n: usize) -> Result<Vec<f64>, InputError> {
+        numbers(self.get(key), &self.path_of(key), n)
+    }
+
+    /// A field holding a quaternion's four numbers, returned `[x, y, z, w]`:
+    /// as written, or read `[w, x, y, z]` where the [`QuaternionReading`]
+    /// says so; the reading records the field's path. Whether it is a unit
+    /// quaternion is for its type to judge
+    /// ([`factor_core::Storage::from_input`]).
+    pub fn quaternion(&self, key: &str) -> Result<Vec<f64>, InputError> {
+        let path = self.path_of(key);
+        let mut c = self.numbers(key, 4)?;
+        if let Some(reading) = self.quaternions {
+            if reading.w_first.contains(&path) {
+                c.rotate_left(1);
+            }
+            reading.read.borrow_mut().push(path);
+        }
+        Ok(c)
     }
 
     /// A sub-object with exactly the fields `keys`.
     pub fn object(&self, key: &str, keys: &[&str]) -> Result<Object<'a>, InputError> {
-        Object::new(self.get(key), &self.path_of(key), keys)
+        Ok(Object {
+            quaternions: self.quaternions,
+            ..Object::new(self.get(key), &self.path_of(key), keys)?
+        })
     }
 }
 
@@ -234,27 +199,24 @@ mod tests {
     use super::*;
 
     #[test]
-    fn out_of_range_literals_are_reported_at_their_field() {
-        let value = parse_json("{\"a\": [1, -1e999]}", "x").unwrap();
-        let a = Object::new(&value, "", &["a"]).unwrap();
-        let error = numbers(a.get("a"), &a.path_of("a"), 2).unwrap_err();
-        assert_eq!(error.path, "a[1]");
-        assert!(error.message.contains("-1e999"), "{error}");
+    fn paths_of_unusual_keys_are_quoted() {
+        let value = serde_json::json!({"v": {"a\nb": 1}});
+        let top = Object::new(&value, "", &["v"]).unwrap();
+        let error = top.object("v", &["c"]).unwrap_err();
+        assert_eq!(error.path, "v[\"a\\nb\"]");
+        let error = numbers(&serde_json::json!([1, "x"]), "", 2).unwrap_err();
+        assert_eq!(error.path, "input[1]");
     }
 
     #[test]
-    fn several_out_of_range_literals_after_non_ascii_text_are_all_marked() {
-        let value = parse_json("{\"é\": \"ü\",\r\n \"b\": [1e999, 2E+999, 3]}", "x").unwrap();
-        let b = Object::new(&value, "", &["é", "b"]).unwrap();
-        assert_eq!(numbers(b.get("b"), "b", 3).unwrap_err().path, "b[0]");
-        assert_eq!(number(&value["b"][1], "b[1]").unwrap_err().path, "b[1]");
-        assert_eq!(number(&value["b"][2], "b[2]"), Ok(3.0));
-    }
-
-    #[test]
-    fn invalid_json_names_the_source() {
-        let error = parse_json("{\"a\": ", "in.json").unwrap_err();
-        assert_eq!(error.path, "in.json");
-        assert!(error.message.starts_with("invalid JSON"));
+    fn quaternions_are_read_w_first_where_asked_and_recorded() {
+        let value =
+            serde_json::json!({"p": {"q": [1.0, 0.0, 0.0, 0.0], "r": [1.0, 0.0, 0.0, 0.0]}});
+        let reading = QuaternionReading::w_first(&["p.q".to_owned()]);
+        let top = Object::top(&value, &["p"], &reading).unwrap();
+        let p = top.object("p", &["q", "r"]).unwrap();
+        assert_eq!(p.quaternion("q").unwrap(), [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(p.quaternion("r").unwrap(), [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(reading.read(), ["p.q", "p.r"]);
     }
 }

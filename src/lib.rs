@@ -2,10 +2,16 @@
 //! factors and evaluate any of them, residual and tangent-space Jacobians, at
 //! a point given as JSON (SPEC.md, "The `eval` JSON interface").
 //!
+//! - [`source`]: reading an input file or standard input (16 MiB at most, UTF-8);
+//! - [`strict_json`]: JSON text → value tree, rejecting duplicate keys and
+//!   out-of-range numbers at their field path;
 //! - [`input`]: JSON → typed values, errors naming the field path;
+//! - [`field_path`]: how errors show field paths and input text (quoted,
+//!   escaped, cut);
 //! - [`decode`]: each factor's `variables` and `constants` → the factor;
 //! - [`registry`]: the table of factors;
 //! - [`eval`]: evaluation and the output JSON;
+//! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
 //! - [`list`]: the factor table, text or JSON;
 //! - [`generate`]: `generate` and `check` of the generated kernels;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
@@ -16,12 +22,16 @@ pub mod audit;
 pub mod decode;
 pub mod error;
 pub mod eval;
+pub mod field_path;
 pub mod generate;
 pub mod input;
 pub mod kernels;
 pub mod list;
 pub mod pretty;
 pub mod registry;
+pub mod source;
+pub mod strict_json;
+pub mod w_first;
 
 pub use error::{CliError, InputError};
 pub use eval::{Evaluation, Method};

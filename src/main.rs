@@ -9,7 +9,10 @@
 //!
 //! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
 //! stale generated files; 2 rejected input or a usage error. Errors are one
-//! line on stderr, `error: <field path>: <what>`.
+//! line on stderr, `error: <field path>: <what>`, with unusual keys quoted
+//! and escaped (`variables["a\nb"]`) and long names cut after 64 characters.
+//! `eval` reads at most 16 MiB of UTF-8 and rejects duplicate keys. Where
+//! `generate` and `check` work: see `slamjac::generate`.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -25,7 +28,9 @@ use slamjac::{Method, audit, eval, generate, list, pretty};
     about = "Exact tangent-space Jacobians of SLAM factors",
     after_help = "Exit codes: 0 success; 1 degenerate geometry or non-finite result; \
                   2 invalid input or usage. Errors are one line on stderr: \
-                  `error: <field path>: <what>`."
+                  `error: <field path>: <what>`; keys that are not plain identifiers \
+                  are quoted and JSON-escaped (`variables[\"a\\nb\"]`), names and \
+                  values from the input cut after 64 characters (`…`)."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -36,8 +41,10 @@ struct Cli {
 enum Command {
     /// Evaluate a factor's residual and Jacobians at a point given as JSON:
     /// {"factor": NAME, "variables": {...}, "constants": {...}} (see `slamjac list`).
+    /// Quaternions are [x, y, z, w].
     Eval {
-        /// The JSON input file, or `-` for standard input.
+        /// The JSON input file, or `-` for standard input: UTF-8, at most
+        /// 16 MiB, no key given twice.
         file: String,
         /// How the Jacobians are computed.
         #[arg(long, value_enum, default_value_t)]
@@ -53,15 +60,20 @@ enum Command {
     /// factor definitions, printing each kernel's operation counts and the
     /// generation time.
     Generate {
-        /// The generated crate's directory [default: `$CARGO_MANIFEST_DIR/generated`
-        /// under `cargo run`, else `./generated`].
+        /// The generated crate's directory [default: the workspace's
+        /// `generated/`, where this binary was built]. DIR must be a generated
+        /// crate (its Cargo.toml names the package `factor-generated`), or new
+        /// or empty: then a standalone Cargo.toml is written first. Any other
+        /// directory is refused untouched.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
     /// Exit 1, naming the files, when the generated crate's sources differ
-    /// from what `generate` would write.
+    /// from what `generate` would write (exit 2 when the crate is not found
+    /// or a file cannot be read).
     Check {
-        /// The generated crate's directory [default: as for `generate`].
+        /// The generated crate's directory [default: the workspace's
+        /// `generated/`, where this binary was built].
         #[arg(long, value_name = "DIR")]
         dir: Option<PathBuf>,
     },

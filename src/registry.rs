@@ -11,6 +11,7 @@ use slam_factors::{
 use crate::decode::{decode, json_shape};
 use crate::error::{CliError, InputError};
 use crate::eval::{Method, linearize};
+use crate::field_path::quoted;
 use crate::input::Object;
 
 /// One registered factor, its description and how to evaluate it from JSON.
@@ -85,7 +86,8 @@ pub fn find(name: &str, path: &str) -> Result<FactorEntry, InputError> {
         InputError::new(
             path,
             format!(
-                "unknown factor {name:?}; known factors: {}",
+                "unknown factor {}; known factors: {}",
+                quoted(name),
                 known.join(", ")
             ),
         )

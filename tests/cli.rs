@@ -866,3 +866,262 @@ fn audit_writes_reports_and_gates_on_unexpected_disagreements() {
     assert!(stderr(&zero).contains("--samples"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Asserts that stderr holds no raw control or line-separator character
+/// besides its final newline.
+fn assert_printable(output: &Output) {
+    let err = stderr(output);
+    let line = err.strip_suffix('\n').unwrap_or(&err);
+    assert!(
+        !line
+            .chars()
+            .any(|c| c.is_control() || matches!(c, '\u{2028}' | '\u{2029}')),
+        "raw control character: {line:?}"
+    );
+}
+
+#[test]
+fn field_paths_are_escaped_quoted_and_never_empty() {
+    let cases = [
+        ("a\nb", "variables[\"a\\nb\"]: unknown field"),
+        ("a\rb", "variables[\"a\\rb\"]: unknown field"),
+        (
+            "\u{1b}[31mred",
+            "variables[\"\\u001b[31mred\"]: unknown field",
+        ),
+        ("nul\u{0}", "variables[\"nul\\u0000\"]: unknown field"),
+        (
+            "line\u{2028}sep",
+            "variables[\"line\\u2028sep\"]: unknown field",
+        ),
+        (
+            "next\u{85}line",
+            "variables[\"next\\u0085line\"]: unknown field",
+        ),
+        (
+            "quote\"back\\slash",
+            "variables[\"quote\\\"back\\\\slash\"]: unknown field",
+        ),
+        ("a b", "variables[\"a b\"]: unknown field"),
+        ("", "variables[\"\"]: unknown field"),
+    ];
+    for (key, path) in cases {
+        let input = edited("point_reprojection", |v| v["variables"][key] = json!(1));
+        let output = slamjac(&["eval", "-"], &input.to_string());
+        assert_error(&output, BAD_INPUT, &[&format!("error: {path}")]);
+        assert_printable(&output);
+    }
+    // At the top level an empty key shows as `""`.
+    let input = edited("plane", |v| v[""] = json!(0));
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(&output, BAD_INPUT, &["error: \"\": unknown field"]);
+}
+
+#[test]
+fn long_names_and_values_are_cut_at_64_characters() {
+    let long = "x".repeat(10_000);
+    let shown = format!("\"{}…\"", "x".repeat(64));
+    let input = edited("plane", |v| v["constants"][long.as_str()] = json!(0));
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!("error: constants[{shown}]: unknown field")],
+    );
+    assert!(stderr(&output).len() < 300, "{}", stderr(&output));
+
+    let input = edited("plane", |v| v["factor"] = json!(format!("{long}\u{1b}")));
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!(
+            "error: factor: unknown factor {shown}; known factors"
+        )],
+    );
+    assert!(stderr(&output).len() < 300, "{}", stderr(&output));
+}
+
+#[test]
+fn no_input_text_is_mistaken_for_a_number() {
+    // The string the old parser used to mark out-of-range literals.
+    let marker = "\u{1}slamjac:out-of-range:";
+    let input = edited("plane", |v| v["factor"] = json!(format!("{marker}1e999")));
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &["error: factor: unknown factor \"\\u0001slamjac:out-of-range:1e999\""],
+    );
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["point"][0] = json!(format!("{marker}5"))
+    });
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &["error: variables.point[0]: expected a number, found a string"],
+    );
+}
+
+#[test]
+fn duplicate_keys_are_rejected_at_their_path() {
+    let text = serde_json::to_string_pretty(&example("point_reprojection")).unwrap();
+    let cases = [
+        (
+            text.replacen(
+                "\"factor\": \"point_reprojection\"",
+                "\"factor\": \"plane\", \"factor\": \"point_reprojection\"",
+                1,
+            ),
+            "error: factor: duplicate key",
+        ),
+        (
+            text.replacen("\"point\": [", "\"point\": [1, 2, 3], \"point\": [", 1),
+            "error: variables.point: duplicate key",
+        ),
+        (
+            text.replacen(
+                "\"rotation\": [",
+                "\"rotation\": [0, 0, 0, 1], \"rotation\": [",
+                1,
+            ),
+            "error: variables.pose.rotation: duplicate key",
+        ),
+    ];
+    for (input, needle) in cases {
+        assert_ne!(input, text, "the edit applies");
+        let output = slamjac(&["eval", "-"], &input);
+        assert_error(&output, BAD_INPUT, &[needle]);
+    }
+}
+
+#[test]
+fn w_first_quaternions_get_a_hint_naming_the_field() {
+    // The identity written w-first reads as a 180° turn about x: Z = -3.
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] =
+            json!({"rotation": [1.0, 0.0, 0.0, 0.0], "translation": [0.0, 0.0, 0.0]});
+        v["variables"]["point"] = json!([0.3, -0.2, 3.0]);
+    });
+    assert_eval_error(
+        &input,
+        DEGENERATE,
+        &[
+            "error: point_reprojection: degenerate geometry: point is at or behind the camera \
+             (depth Z = -3) (variables.pose.rotation looks w-first: quaternions are [x, y, z, w])",
+        ],
+    );
+    // The example's rotation written w-first.
+    let input = edited("point_reprojection", |v| {
+        let q = v["variables"]["pose"]["rotation"].clone();
+        v["variables"]["pose"]["rotation"] = json!([q[3], q[0], q[1], q[2]]);
+    });
+    assert_eval_error(
+        &input,
+        DEGENERATE,
+        &["(variables.pose.rotation looks w-first: quaternions are [x, y, z, w])"],
+    );
+    // A point truly behind the camera gets no hint.
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["point"] = json!([0.3, -0.2, -4.0]);
+    });
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(&output, DEGENERATE, &["(depth Z = -4)"]);
+    assert!(!stderr(&output).contains("w-first"), "{}", stderr(&output));
+}
+
+#[test]
+fn numbers_in_messages_are_in_plain_notation() {
+    let input = edited("line_reprojection", |v| {
+        v["variables"]["line"] = json!({"normal": [1.0, 0.0, 0.0], "direction": [0.1, 1.0, 0.0]});
+    });
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(&output, BAD_INPUT, &["n · v = 0.1 "]);
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["point"] = json!([0.3, -0.2, -1.5e-12]);
+    });
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(&output, DEGENERATE, &["(depth Z = -1.5e-12)"]);
+}
+
+/// `slamjac args…` run from `dir` without `CARGO_MANIFEST_DIR`, as an installed binary is.
+fn slamjac_in(dir: &std::path::Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_slamjac"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("CARGO_MANIFEST_DIR")
+        .stdin(Stdio::null())
+        .output()
+        .expect("slamjac runs")
+}
+
+#[test]
+fn check_and_generate_find_the_workspace_crate_from_anywhere() {
+    let elsewhere = temp_dir("elsewhere");
+    let output = slamjac_in(&elsewhere, &["check"]);
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let expected = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("generated/src");
+    assert!(
+        String::from_utf8_lossy(&output.stdout).contains(&expected.display().to_string()),
+        "{}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+    assert!(!elsewhere.join("generated").exists());
+    let _ = std::fs::remove_dir_all(&elsewhere);
+}
+
+#[test]
+fn check_says_not_found_for_a_missing_directory() {
+    let missing = temp_path("missing").with_extension("d");
+    let output = slamjac(&["check", "--dir", missing.to_str().unwrap()], "");
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!("error: {}: not found", missing.display())],
+    );
+    assert!(!stderr(&output).contains("stale"), "{}", stderr(&output));
+}
+
+#[test]
+fn check_reports_unreadable_files_as_read_errors() {
+    let dir = temp_dir("unreadable");
+    let dir_text = dir.to_str().unwrap();
+    let output = slamjac(&["generate", "--out", dir_text], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    // A directory where a module should be cannot be read (as root can read any file).
+    let plane = dir.join("src/plane.rs");
+    std::fs::remove_file(&plane).unwrap();
+    std::fs::create_dir(&plane).unwrap();
+    let output = slamjac(&["check", "--dir", dir_text], "");
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!("error: {}: cannot read", plane.display())],
+    );
+    assert!(!stderr(&output).contains("stale"), "{}", stderr(&output));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn generate_refuses_a_directory_that_is_not_a_generated_crate() {
+    let dir = temp_dir("not-a-crate");
+    std::fs::create_dir(dir.join("src")).unwrap();
+    std::fs::write(dir.join("src/main.rs"), "fn main() {}\n").unwrap();
+    std::fs::write(dir.join("Cargo.toml"), "[package]\nname = \"mine\"\n").unwrap();
+    let output = slamjac(&["generate", "--out", dir.to_str().unwrap()], "");
+    assert_error(
+        &output,
+        BAD_INPUT,
+        &[&format!("error: {}: not a generated crate", dir.display())],
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("src/main.rs")).unwrap(),
+        "fn main() {}\n",
+        "nothing touched"
+    );
+    assert!(!dir.join("src/lib.rs").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

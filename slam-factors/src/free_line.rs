@@ -6,7 +6,7 @@ use crate::{DEGENERACY_TOLERANCE, degenerate};
 use factor_core::geometry::{FreeLine, bearing_plane_normal};
 use factor_core::lie::Se3;
 use factor_core::linalg::{cross, dot, norm};
-use factor_core::validation::exceeds;
+use factor_core::validation::{exceeds, number_text};
 use factor_core::{Factor, FactorError, Scalar};
 
 /// The two error terms of document 001 §3 for a line `[q_WL, d_L]` seen by a
@@ -88,7 +88,10 @@ pub fn validate_free_line(f: &FreeLineFactor<f64>) -> Result<(), FactorError> {
     if !exceeds(distance, DEGENERACY_TOLERANCE * centre.norm().max(1.0)) {
         return Err(degenerate(
             FreeLineFactor::NAME,
-            format!("camera centre lies on the line anchor (distance {distance:e})"),
+            format!(
+                "camera centre lies on the line anchor (distance {})",
+                number_text(distance)
+            ),
         ));
     }
     Ok(())

@@ -6,7 +6,7 @@ use crate::{DEGENERACY_TOLERANCE, degenerate};
 use factor_core::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
 use factor_core::lie::Se3;
 use factor_core::linalg::dot;
-use factor_core::validation::exceeds;
+use factor_core::validation::{exceeds, number_text};
 use factor_core::{Factor, FactorError, Scalar};
 
 /// The distances of the observed endpoints to the projected line,
@@ -94,8 +94,8 @@ pub(crate) fn validate_camera_line(
         return Err(degenerate(
             factor,
             format!(
-                "line passes through the optical centre (distance |n_c|/|v_c| = {:e})",
-                n / v
+                "line passes through the optical centre (distance |n_c|/|v_c| = {})",
+                number_text(n / v)
             ),
         ));
     }

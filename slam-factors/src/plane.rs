@@ -6,7 +6,7 @@ use crate::{DEGENERACY_TOLERANCE, degenerate};
 use factor_core::geometry::InfinitePlane;
 use factor_core::geometry::plane::transpose_transform;
 use factor_core::lie::{Quaternion, Se3};
-use factor_core::validation::{exceeds, within};
+use factor_core::validation::{exceeds, number_text, within};
 use factor_core::{Factor, FactorError, Scalar};
 
 /// The plane error `e = log(q(Tᵀ q(π_c)) ⊗ q_w⁻¹)` (document 000 §IV), with
@@ -68,7 +68,10 @@ pub fn validate_plane(f: &PlaneFactor<f64>) -> Result<(), FactorError> {
     if !within(landmark - 1.0, DEGENERACY_TOLERANCE.sqrt()) {
         return Err(degenerate(
             PlaneFactor::NAME,
-            format!("plane landmark quaternion has norm {landmark}, expected 1"),
+            format!(
+                "plane landmark quaternion has norm {}, expected 1",
+                number_text(landmark)
+            ),
         ));
     }
     let e = scaled_error_quaternion(f).normalized();
@@ -80,7 +83,7 @@ pub fn validate_plane(f: &PlaneFactor<f64>) -> Result<(), FactorError> {
             format!(
                 "predicted and landmark plane quaternions are antipodal (error quaternion w = {}): \
                  the logarithm has no direction",
-                e.w
+                number_text(e.w)
             ),
         ));
     }

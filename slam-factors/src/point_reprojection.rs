@@ -5,7 +5,7 @@ use nalgebra::{Vector2, Vector3};
 use crate::{DEGENERACY_TOLERANCE, degenerate};
 use factor_core::geometry::Intrinsics;
 use factor_core::lie::Se3;
-use factor_core::validation::exceeds;
+use factor_core::validation::{exceeds, number_text};
 use factor_core::{Factor, FactorError, Scalar};
 
 /// The reprojection error of a world point, `ρ = p_obs − π(K, R X_w + t)`
@@ -59,7 +59,10 @@ pub fn validate_point_reprojection(f: &PointReprojection<f64>) -> Result<(), Fac
     if !exceeds(p_c.z, DEGENERACY_TOLERANCE * scale) {
         return Err(degenerate(
             PointReprojection::NAME,
-            format!("point is at or behind the camera (depth Z = {:e})", p_c.z),
+            format!(
+                "point is at or behind the camera (depth Z = {})",
+                number_text(p_c.z)
+            ),
         ));
     }
     Ok(())

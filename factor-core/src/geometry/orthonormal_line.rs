@@ -14,7 +14,7 @@ use crate::linalg::{cross, dot, norm, scale};
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
-use crate::validation::{exceeds, within};
+use crate::validation::{exceeds, number_text, within};
 
 /// A line as `(U, W)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,8 +75,9 @@ impl OrthonormalLine<f64> {
         let cosine = dot(&n, &v) / (n_norm * v_norm);
         if !within(cosine, 1e-9) {
             return Err(StorageError::new(format!(
-                "not a Plücker line: n · v = {:e} (cosine {cosine:e}), must be 0",
-                dot(&n, &v)
+                "not a Plücker line: n · v = {} (cosine {}), must be 0",
+                number_text(dot(&n, &v)),
+                number_text(cosine)
             )));
         }
         Ok(Self::from_plucker(line))

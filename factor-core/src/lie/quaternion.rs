@@ -12,6 +12,7 @@ use crate::lie::SMALL_ANGLE_SQUARED;
 use crate::linalg::{cross, dot, scale, squared_norm};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, QUATERNION_NORM_TOLERANCE, Storage, StorageError};
+use crate::validation::number_text;
 
 /// A quaternion `x i + y j + z k + w`, stored vector part first.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -261,8 +262,9 @@ impl<S: Scalar> Storage<S> for Quaternion<S> {
             Ok(input.iter().map(|x| x / norm).collect())
         } else {
             Err(StorageError::new(format!(
-                "quaternion [x, y, z, w] has norm {norm}, expected 1 \
-                 (within {QUATERNION_NORM_TOLERANCE:e})"
+                "quaternion [x, y, z, w] has norm {}, expected 1 \
+                 (within {QUATERNION_NORM_TOLERANCE:e})",
+                number_text(norm)
             )))
         }
     }
