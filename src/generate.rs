@@ -162,13 +162,13 @@ pub struct Timed {
     pub elapsed: Duration,
 }
 
-/// Generates every document kernel, timing each.
+/// Generates every shipped kernel, timing each.
 ///
 /// # Errors
 ///
 /// As [`codegen::generate_with`].
 pub fn generate_timed() -> Result<Vec<Timed>, CodegenError> {
-    kernels::document_kernels()
+    kernels::shipped_kernels()
         .iter()
         .map(|spec: &KernelSpec| {
             let start = Instant::now();

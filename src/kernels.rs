@@ -1,28 +1,31 @@
-//! The document factors' kernels: what `slamjac generate` writes into
+//! The shipped factors' kernels: what `slamjac generate` writes into
 //! `generated/`, through the public generator API of `factor-codegen`, as
 //! any user's generator does.
 
 use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
 use slam_factors::{
-    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+    BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
+    PointReprojection, SnavelyReprojection, StereoReprojection,
 };
 
-/// Where `generated/` comes from: the kernels of the document factors,
+/// Where `generated/` comes from: the kernels of the shipped factors,
 /// written by `slamjac generate` and checked by `slamjac check`.
 pub const PROVENANCE: Provenance = Provenance {
-    description: "Residual-and-Jacobian kernels of the document factors, generated from their\n\
-                  definitions in `slam-factors`.",
+    description: "Residual-and-Jacobian kernels of the factors `slam-factors` ships, generated\n\
+                  from their definitions.",
     generate: "slamjac generate",
     check: "slamjac check",
     conventions: "Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; \
                   poses of document 000 map world to camera (`X_c = R X_w + t`); pose \
-                  tangents `[δω, δρ]`, rotation first; each block is the derivative of \
+                  tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses \
+                  (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of \
                   `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.",
 };
 
-/// The five document factors of `slam-factors`, in the order `list` shows
-/// them, each naming the document section its residual comes from.
-pub fn document_kernels() -> Vec<KernelSpec> {
+/// The factors of `slam-factors` with kernels, in the order `list` shows
+/// them, each naming where its residual comes from: the five document
+/// factors, then the three of `slamjac solve`.
+pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
         KernelSpec::of::<PointReprojection>().with_source("document 000 §II (2)–(5)"),
         KernelSpec::of::<LineReprojection>().with_source("document 000 §III (6)–(12)"),
@@ -30,21 +33,26 @@ pub fn document_kernels() -> Vec<KernelSpec> {
             .with_source("document 000 §III (6)–(8), raw Plücker [n, v]"),
         KernelSpec::of::<PlaneFactor>().with_source("document 000 §IV (13)"),
         KernelSpec::of::<FreeLineFactor>().with_source("document 001 §3–4"),
+        KernelSpec::of::<SnavelyReprojection>().with_source(
+            "the BAL / Bundler camera model (Snavely; Ceres' SnavelyReprojectionError)",
+        ),
+        KernelSpec::of::<StereoReprojection>()
+            .with_source("rectified stereo (GTSAM's GenericStereoFactor3D, Cal3_S2Stereo)"),
+        KernelSpec::of::<BetweenFactor>()
+            .with_source("pose-graph relative pose (GTSAM's BetweenFactor<Pose3>), whitened"),
     ]
 }
 
-/// The spec of the document factor named `name`.
+/// The spec of the shipped factor named `name`.
 pub fn find(name: &str) -> Option<KernelSpec> {
-    document_kernels()
-        .into_iter()
-        .find(|spec| spec.name == name)
+    shipped_kernels().into_iter().find(|spec| spec.name == name)
 }
 
-/// Every document kernel, generated in [`document_kernels`] order.
+/// Every shipped kernel, generated in [`shipped_kernels`] order.
 ///
 /// # Errors
 ///
-/// As [`GeneratedCrate::generate`] (none for the document factors).
+/// As [`GeneratedCrate::generate`] (none for the shipped factors).
 pub fn generate_all() -> Result<GeneratedCrate, CodegenError> {
-    GeneratedCrate::generate(PROVENANCE, &document_kernels())
+    GeneratedCrate::generate(PROVENANCE, &shipped_kernels())
 }

@@ -5,7 +5,8 @@
 
 use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
 use slam_factors::{
-    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+    BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
+    PointReprojection, SnavelyReprojection, StereoReprojection,
 };
 
 use crate::decode::{decode, json_shape};
@@ -75,6 +76,9 @@ pub fn factors() -> Vec<FactorEntry> {
         FactorEntry::of::<PlaneFactor>(),
         FactorEntry::of::<FreeLineFactor>(),
         FactorEntry::of::<PluckerLineReprojection>(),
+        FactorEntry::of::<SnavelyReprojection>(),
+        FactorEntry::of::<StereoReprojection>(),
+        FactorEntry::of::<BetweenFactor>(),
     ]
 }
 

@@ -24,12 +24,19 @@ type Edit = fn(&mut Value);
 type Case = (&'static str, Edit, &'static str);
 
 /// The four factors.
-const FACTORS: [Shape; 5] = [
+const FACTORS: [Shape; 8] = [
     ("point_reprojection", 2, &[("pose", 6), ("point", 3)]),
     ("line_reprojection", 2, &[("pose", 6), ("line", 4)]),
     ("plane", 3, &[("pose", 6), ("plane", 3)]),
     ("free_line", 2, &[("body_pose", 6), ("line", 4)]),
     ("plucker_line_reprojection", 2, &[("pose", 6), ("line", 6)]),
+    (
+        "snavely_reprojection",
+        2,
+        &[("pose", 6), ("intrinsics", 3), ("point", 3)],
+    ),
+    ("stereo_reprojection", 3, &[("pose", 6), ("landmark", 3)]),
+    ("between", 6, &[("pose_i", 6), ("pose_j", 6)]),
 ];
 
 fn slamjac(args: &[&str], stdin: &str) -> Output {
@@ -758,7 +765,7 @@ fn generate_writes_a_crate_that_check_accepts_until_it_is_edited() {
             "{line}"
         );
     }
-    assert!(report.contains("generated 5 kernels into"), "{report}");
+    assert!(report.contains("generated 8 kernels into"), "{report}");
     assert!(report.trim_end().ends_with("in process)"), "{report}");
     let src = dir.join("src");
     for file in ["lib.rs", "real.rs", "point_reprojection.rs", "free_line.rs"] {

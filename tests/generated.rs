@@ -110,6 +110,21 @@ fn free_line_generated_matches_dual_and_numeric() {
     check_agreement(16, Sampler::free_line);
 }
 
+#[test]
+fn snavely_reprojection_generated_matches_dual_and_numeric() {
+    check_agreement(18, Sampler::snavely_reprojection);
+}
+
+#[test]
+fn stereo_reprojection_generated_matches_dual_and_numeric() {
+    check_agreement(19, Sampler::stereo_reprojection);
+}
+
+#[test]
+fn between_generated_matches_dual_and_numeric() {
+    check_agreement(20, Sampler::between);
+}
+
 /// `linearize()` goes through the kernel, and the typed and dynamic forms agree.
 #[test]
 fn linearize_uses_the_generated_kernel() {
@@ -241,6 +256,30 @@ fn plucker_line_reprojection_kernel_outputs_are_optional_and_f32_works() {
 #[test]
 fn plane_kernel_outputs_are_optional_and_f32_works() {
     check_kernel!(24, plane, [measured, pose, plane], 3, 6, 3);
+}
+
+#[test]
+fn stereo_reprojection_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        27,
+        stereo_reprojection,
+        [calibration, observed, pose, landmark],
+        3,
+        6,
+        3
+    );
+}
+
+#[test]
+fn between_kernel_outputs_are_optional_and_f32_works() {
+    check_kernel!(
+        28,
+        between,
+        [sqrt_information, measured, pose_i, pose_j],
+        6,
+        6,
+        6
+    );
 }
 
 #[test]

@@ -66,6 +66,15 @@ fn generated_jacobians_at_fixed_configurations() {
     );
     insta::assert_snapshot!("plane", linearization(&s.plane()));
     insta::assert_snapshot!("free_line", linearization(&s.free_line()));
+    insta::assert_snapshot!(
+        "snavely_reprojection",
+        linearization(&s.snavely_reprojection())
+    );
+    insta::assert_snapshot!(
+        "stereo_reprojection",
+        linearization(&s.stereo_reprojection())
+    );
+    insta::assert_snapshot!("between", linearization(&s.between()));
 }
 
 /// The point block beside document 000 (5), first line, which the audit

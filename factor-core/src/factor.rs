@@ -220,6 +220,24 @@ pub trait Factor: Storage<f64> + Sized {
         jacobians: &mut [Option<&mut [f64]>],
     ) -> Result<(), FactorError>;
 
+    /// [`Factor::linearize_into`] by dual numbers, whether or not the factor
+    /// has a generated kernel: the same outputs to rounding, with no
+    /// allocation, for solvers that compare the two (every block is
+    /// computed; those passed as `None` are not written).
+    ///
+    /// # Errors
+    ///
+    /// As [`Factor::linearize_into`].
+    ///
+    /// # Panics
+    ///
+    /// As [`Factor::linearize_into`].
+    fn linearize_dual_into(
+        &self,
+        residual: &mut [f64],
+        jacobians: &mut [Option<&mut [f64]>],
+    ) -> Result<(), FactorError>;
+
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;

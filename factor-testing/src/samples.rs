@@ -1,4 +1,4 @@
-//! Well-conditioned random configurations of the document factors, for tests,
+//! Well-conditioned random configurations of the shipped factors, for tests,
 //! benchmarks and audits.
 //!
 //! Every sample is built from what a camera would see: landmarks are drawn in
@@ -8,15 +8,17 @@
 //! (a few pixels, a few degrees) and no configuration is near a degeneracy.
 //! Samples are reproducible from a seed.
 
-use nalgebra::{Matrix3, Vector2, Vector3, Vector4};
+use nalgebra::{Matrix3, Matrix6, Vector2, Vector3, Vector4, Vector6};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
 use factor_core::geometry::plane::transpose_transform;
 use factor_core::geometry::{FreeLine, InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
-use factor_core::lie::{Quaternion, Se3, So3};
+use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use slam_factors::{
-    FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
+    BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
+    PointReprojection, RadialIntrinsics, SnavelyReprojection, SqrtInformation6, StereoIntrinsics,
+    StereoReprojection,
 };
 
 /// A seeded random source of configurations.
@@ -217,5 +219,83 @@ impl Sampler {
                 line,
             };
         }
+    }
+
+    /// A BAL / Bundler observation: a world-to-camera pose, `f` in
+    /// `[400, 1200)` px, `k1` in `[−0.2, 0.2)`, `k2` in `[−0.05, 0.05)` (the
+    /// radial map stays increasing inside the view), a point 1–10 m in front
+    /// of the camera (which looks down −z) inside a ±31° view, and the
+    /// observation its pixel plus up to 3 px of noise.
+    pub fn snavely_reprojection(&mut self) -> SnavelyReprojection {
+        let pose = self.pose();
+        let intrinsics = RadialIntrinsics::new(
+            self.uniform(400.0, 1200.0),
+            self.uniform(-0.2, 0.2),
+            self.uniform(-0.05, 0.05),
+        );
+        // `point_in_view` looks down +z; the Snavely camera looks down −z.
+        let p_c = self
+            .point_in_view()
+            .component_mul(&Vector3::new(1.0, 1.0, -1.0));
+        let p = -p_c.xy() / p_c.z;
+        let pixel = p * (intrinsics.focal * intrinsics.radial_factor(p.norm_squared()));
+        SnavelyReprojection {
+            observed: pixel + Vector2::new(self.uniform(-3.0, 3.0), self.uniform(-3.0, 3.0)),
+            pose: Se3RhoTheta(pose),
+            intrinsics,
+            point: pose.inverse().transform_point(&p_c),
+        }
+    }
+
+    /// A stereo observation: a KITTI-like rig (`fx`, `fy` in `[600, 800)`,
+    /// skew within ±1, baseline 0.1–0.6 m), a camera-to-world pose, a landmark
+    /// in view 1–10 m ahead, and its `[u_L, u_R, v]` plus up to 2 px of noise.
+    pub fn stereo_reprojection(&mut self) -> StereoReprojection {
+        let calibration = StereoIntrinsics::new(
+            self.uniform(600.0, 800.0),
+            self.uniform(600.0, 800.0),
+            self.uniform(-1.0, 1.0),
+            self.uniform(300.0, 340.0),
+            self.uniform(220.0, 260.0),
+            self.uniform(0.1, 0.6),
+        );
+        let pose = self.pose();
+        let p_c = self.point_in_view();
+        let noise = Vector3::new(
+            self.uniform(-2.0, 2.0),
+            self.uniform(-2.0, 2.0),
+            self.uniform(-2.0, 2.0),
+        );
+        StereoReprojection {
+            calibration,
+            observed: calibration.project(&p_c) + noise,
+            pose: Se3RhoTheta(pose),
+            landmark: pose.transform_point(&p_c),
+        }
+    }
+
+    /// A pose-graph edge whose measurement is the true relative pose moved
+    /// by `Exp` of a step of up to `max_error` (radians and metres, per
+    /// coordinate), with a random information matrix: `B Bᵀ + D`, `B` entries
+    /// in `[−1, 1)`, `D` diagonal with entries in `[1, 100)`.
+    pub fn between_with_error(&mut self, max_error: f64) -> BetweenFactor {
+        let (pose_i, pose_j) = (self.pose(), self.pose());
+        let step = Vector6::from_fn(|_, _| self.uniform(-max_error, max_error));
+        let measured = pose_i.inverse().compose(&pose_j).compose(&Se3::exp(&step));
+        let b = Matrix6::from_fn(|_, _| self.uniform(-1.0, 1.0));
+        let d = Vector6::from_fn(|_, _| self.uniform(1.0, 100.0));
+        let information = b * b.transpose() + Matrix6::from_diagonal(&d);
+        BetweenFactor {
+            sqrt_information: SqrtInformation6::from_information(&information)
+                .expect("B Bᵀ + D is positive definite"),
+            measured,
+            pose_i: Se3RhoTheta(pose_i),
+            pose_j: Se3RhoTheta(pose_j),
+        }
+    }
+
+    /// A pose-graph edge with an error of up to 0.3 per coordinate.
+    pub fn between(&mut self) -> BetweenFactor {
+        self.between_with_error(0.3)
     }
 }

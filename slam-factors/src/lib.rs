@@ -1,15 +1,24 @@
 //! The factors `slamjac` ships, each written once as a generic residual with
 //! `#[derive(Factor)]` on the runtime crate `factor-core`: the four factors
-//! of the specification documents, and the Plücker-line variant peers are
-//! compared on.
+//! of the specification documents, the Plücker-line variant peers are
+//! compared on, and the three factors of the estimation problems `slamjac
+//! solve` runs (bundle adjustment, stereo visual odometry, pose graphs).
 //!
-//! | factor | document | variables (perturbation) |
+//! | factor | source | variables (perturbation) |
 //! | --- | --- | --- |
-//! | [`PointReprojection`] | 000 §II | pose (left), point (additive) |
-//! | [`LineReprojection`] | 000 §III | pose (left), orthonormal line (left) |
-//! | [`PlaneFactor`] | 000 §IV | pose (left), plane quaternion (left) |
-//! | [`FreeLineFactor`] | 001 | body pose (right), free line (left) |
-//! | [`PluckerLineReprojection`] | 000 §III, (6)–(8) | pose (left), Plücker `[n, v]` (additive) |
+//! | [`PointReprojection`] | document 000 §II | pose (left), point (additive) |
+//! | [`LineReprojection`] | document 000 §III | pose (left), orthonormal line (left) |
+//! | [`PlaneFactor`] | document 000 §IV | pose (left), plane quaternion (left) |
+//! | [`FreeLineFactor`] | document 001 | body pose (right), free line (left) |
+//! | [`PluckerLineReprojection`] | document 000 §III, (6)–(8) | pose (left), Plücker `[n, v]` (additive) |
+//! | [`SnavelyReprojection`] | BAL / Bundler camera | pose (right, `[δρ, δθ]`), `[f, k1, k2]`, point (additive) |
+//! | [`StereoReprojection`] | rectified stereo (KITTI VO) | camera-to-world pose (right, `[δρ, δθ]`), landmark (additive) |
+//! | [`BetweenFactor`] | pose graphs (g2o, EDGE3) | two body-to-world poses (right, `[δρ, δθ]`) |
+//!
+//! The last three declare their poses [`factor_core::lie::Se3RhoTheta`]
+//! perturbed on the right: the chart of apex-solver (crate `factor-apex`
+//! serves them to it), so their generated kernels emit the solver's
+//! Jacobian columns as they are.
 //!
 //! Degenerate configurations are rejected by each factor's `validate` with
 //! [`factor_core::FactorError::Degenerate`] before anything is evaluated; no factor
@@ -24,17 +33,23 @@
 //! wrong, for comparison and benchmarks.
 
 pub mod analytic;
+pub mod between;
 pub mod free_line;
 pub mod line_reprojection;
 pub mod plane;
 pub mod plucker_line_reprojection;
 pub mod point_reprojection;
+pub mod snavely;
+pub mod stereo;
 
+pub use between::{BetweenFactor, SqrtInformation6};
 pub use free_line::FreeLineFactor;
 pub use line_reprojection::LineReprojection;
 pub use plane::PlaneFactor;
 pub use plucker_line_reprojection::PluckerLineReprojection;
 pub use point_reprojection::PointReprojection;
+pub use snavely::{RadialIntrinsics, SnavelyReprojection};
+pub use stereo::{StereoIntrinsics, StereoReprojection};
 
 use factor_core::FactorError;
 

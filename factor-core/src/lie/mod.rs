@@ -13,7 +13,8 @@
 //!   `Jr(ω) = Jl(−ω)` with `Exp(ω + δ) ≈ Exp(ω) Exp(Jr(ω) δ)`;
 //! - SE(3) tangents are `[ω, ρ]`, rotation first; the adjoint of `T = (R, t)`
 //!   is `[[R, 0], [t^ R, R]]` and `Jl([ω, ρ]) = [[Jl(ω), 0], [Q(ω, ρ), Jl(ω)]]`
-//!   (see [`se3`]).
+//!   (see [`se3`]); [`Se3RhoTheta`] is the same group with the tangent
+//!   ordered `[ρ, θ]`, the chart of apex-solver, manif and Sophus.
 //!
 //! Every small-angle case is a branch through [`crate::Scalar::select_lt`] on
 //! `θ²` (never on `θ`, whose square root has no derivative at zero), taken
@@ -23,6 +24,7 @@
 pub mod group;
 pub mod quaternion;
 pub mod se3;
+pub mod se3_rho_theta;
 pub mod so2;
 pub mod so3;
 pub mod unit_quaternion;
@@ -30,6 +32,7 @@ pub mod unit_quaternion;
 pub use group::LieGroup;
 pub use quaternion::Quaternion;
 pub use se3::Se3;
+pub use se3_rho_theta::Se3RhoTheta;
 pub use so2::So2;
 pub use so3::So3;
 

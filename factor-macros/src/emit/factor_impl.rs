@@ -112,23 +112,24 @@ pub fn emit(cx: &Context) -> TokenStream {
     let indices: Vec<usize> = cx.variables.iter().map(|v| v.index).collect();
     let linearize_into = match &cx.model.kernel {
         Some(_) => quote!(self.linearize_generated_into(residual, jacobians)),
-        // Through dual numbers every block is computed; the ones held fixed
-        // are not written.
-        None => quote! {
-            ::core::assert_eq!(
-                jacobians.len(),
-                #count,
-                "one Jacobian entry per variable",
-            );
-            let linearization = self.linearize_dual()?;
-            residual.copy_from_slice(linearization.residual.as_slice());
-            #(
-                if let ::core::option::Option::Some(block) = jacobians[#indices].as_deref_mut() {
-                    block.copy_from_slice(linearization.#blocks.transpose().as_slice());
-                }
-            )*
-            #result::Ok(())
-        },
+        None => quote!(self.linearize_dual_into(residual, jacobians)),
+    };
+    // Through dual numbers every block is computed; the ones held fixed are
+    // not written.
+    let linearize_dual_into = quote! {
+        ::core::assert_eq!(
+            jacobians.len(),
+            #count,
+            "one Jacobian entry per variable",
+        );
+        let linearization = self.linearize_dual()?;
+        residual.copy_from_slice(linearization.residual.as_slice());
+        #(
+            if let ::core::option::Option::Some(block) = jacobians[#indices].as_deref_mut() {
+                block.copy_from_slice(linearization.#blocks.transpose().as_slice());
+            }
+        )*
+        #result::Ok(())
     };
     quote! {
         impl #impl_generics #ident #ty_generics #where_clause {
@@ -194,6 +195,14 @@ pub fn emit(cx: &Context) -> TokenStream {
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> #result<(), #error> {
                 #linearize_into
+            }
+
+            fn linearize_dual_into(
+                &self,
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) -> #result<(), #error> {
+                #linearize_dual_into
             }
 
             fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {

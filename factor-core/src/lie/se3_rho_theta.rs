@@ -1,0 +1,115 @@
+//! SE(3) with its tangent ordered translation first, `[δρ, δθ]`: the chart of
+//! apex-solver, manif and Sophus (this project's [`Se3`] orders `[δω, δρ]`).
+//!
+//! A factor whose pose is meant for such a solver declares it
+//! `#[variable(right)] pose: Se3RhoTheta<S>`: its Jacobian columns are then
+//! the solver's own (`T ← T Exp([δρ, δθ])`, to first order `R ← R Exp(δθ)`,
+//! `t ← t + R δρ`), so the generated kernel emits the solver's block and
+//! nothing is permuted or multiplied by an adjoint at run time. The stored
+//! scalars are those of [`Se3`] (`[qx, qy, qz, qw, x, y, z]`); only the
+//! tangent differs.
+
+use std::ops::Deref;
+
+use crate::lie::Se3;
+use crate::manifold::{Manifold, Perturbation};
+use crate::scalar::Scalar;
+use crate::storage::{Layout, Storage, StorageError};
+
+/// A rigid transform `X ↦ R X + t` whose tangent is `[δρ, δθ]`
+/// (translation, then rotation). It dereferences to the [`Se3`] it wraps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Se3RhoTheta<S>(pub Se3<S>);
+
+impl<S> Deref for Se3RhoTheta<S> {
+    type Target = Se3<S>;
+    fn deref(&self) -> &Se3<S> {
+        &self.0
+    }
+}
+
+impl<S: Scalar> From<Se3<S>> for Se3RhoTheta<S> {
+    fn from(pose: Se3<S>) -> Self {
+        Se3RhoTheta(pose)
+    }
+}
+
+/// Stored as [`Se3`]: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`.
+impl<S: Scalar> Storage<S> for Se3RhoTheta<S> {
+    type With<T: Scalar> = Se3RhoTheta<T>;
+    const SCALARS: usize = 7;
+    fn layout() -> Layout {
+        <Se3<S> as Storage<S>>::layout()
+    }
+    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Se3RhoTheta<T> {
+        Se3RhoTheta(self.0.map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        Se3RhoTheta(Se3::read_scalars(next))
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        <Se3<f64> as Storage<f64>>::from_input(input)
+    }
+}
+
+/// `[δρ, δθ]` reordered to [`Se3`]'s `[δθ, δρ]`.
+fn rotation_first<S: Scalar>(delta: &[S]) -> [S; 6] {
+    [delta[3], delta[4], delta[5], delta[0], delta[1], delta[2]]
+}
+
+/// [`Se3`]'s retraction with the tangent read as `[δρ, δθ]`.
+/// - Right: `R ← R Exp(δθ)`, `t ← t + R δρ`, which agrees with apex-solver's
+///   `T ⊕ τ = T Exp([δρ, δθ])` to first order (the same Jacobian).
+/// - Left: `T ← Exp([δθ, δρ] of Se3) T`, the exact exponential.
+impl<S: Scalar> Manifold<S> for Se3RhoTheta<S> {
+    const DIM: usize = 6;
+    fn retract(&self, delta: &[S], side: Perturbation) -> Self {
+        Se3RhoTheta(self.0.retract(&rotation_first(delta), side))
+    }
+    fn retract_first_order(&self, delta: &[S], side: Perturbation) -> Self {
+        Se3RhoTheta(self.0.retract_first_order(&rotation_first(delta), side))
+    }
+    fn tangent_description(side: Perturbation) -> &'static str {
+        match side {
+            Perturbation::Left => {
+                "left: T ← Exp(δξ) T, columns δξ = [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z] \
+                 (translation first)"
+            }
+            Perturbation::Right => {
+                "right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, \
+                 apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]"
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    use crate::lie::So3;
+
+    /// The same step retracts `Se3RhoTheta` as it retracts `Se3` with the
+    /// halves of the tangent swapped, on either side.
+    #[test]
+    fn the_tangent_is_se3_with_its_halves_swapped() {
+        let pose = Se3::new(
+            So3::exp(&Vector3::new(0.3, -0.2, 0.5)),
+            Vector3::new(1.0, 2.0, -0.5),
+        );
+        let rho_theta = [0.1, -0.2, 0.3, 0.01, 0.02, -0.03];
+        let theta_rho = [0.01, 0.02, -0.03, 0.1, -0.2, 0.3];
+        for side in [Perturbation::Left, Perturbation::Right] {
+            assert_eq!(
+                Se3RhoTheta(pose).retract(&rho_theta, side).0,
+                pose.retract(&theta_rho, side)
+            );
+        }
+        let stepped =
+            Se3RhoTheta(pose).retract(&[0.5, 0.0, 0.0, 0.0, 0.0, 0.0], Perturbation::Right);
+        let expected = pose.translation + pose.rotation.rotate(&Vector3::new(0.5, 0.0, 0.0));
+        assert!((stepped.translation - expected).norm() < 1e-15);
+        assert_eq!(stepped.rotation, pose.rotation);
+    }
+}

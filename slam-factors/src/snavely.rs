@@ -1,0 +1,190 @@
+//! BAL / Bundler camera reprojection: Snavely's camera model, as the two
+//! formats define it and as Ceres' `SnavelyReprojectionError` and GTSAM's
+//! `Cal3Bundler` evaluate it.
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::{DEGENERACY_TOLERANCE, degenerate};
+use factor_core::lie::Se3RhoTheta;
+use factor_core::manifold::{Manifold, Perturbation};
+use factor_core::storage::{Layout, Storage};
+use factor_core::validation::{exceeds, number_text};
+use factor_core::{Factor, FactorError, Scalar};
+
+/// A BAL/Bundler camera's focal length (pixels) and radial distortion
+/// coefficients, `[f, k1, k2]`: a point `p` of the normalised image plane
+/// goes to the pixel `f (1 + k1 ‖p‖² + k2 ‖p‖⁴) p`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadialIntrinsics<S> {
+    /// Focal length `f`, pixels.
+    pub focal: S,
+    /// Coefficient of `‖p‖²`.
+    pub k1: S,
+    /// Coefficient of `‖p‖⁴`.
+    pub k2: S,
+}
+
+impl<S: Scalar> RadialIntrinsics<S> {
+    /// From `f`, `k1`, `k2`.
+    pub fn new(focal: S, k1: S, k2: S) -> Self {
+        RadialIntrinsics { focal, k1, k2 }
+    }
+
+    /// The radial factor `r = 1 + k1 ρ² + k2 ρ⁴` at `ρ² = rho2`.
+    pub fn radial_factor(&self, rho2: S) -> S {
+        S::one() + rho2 * (self.k1 + self.k2 * rho2)
+    }
+}
+
+/// Stored `[f, k1, k2]`.
+impl<S: Scalar> Storage<S> for RadialIntrinsics<S> {
+    type With<T: Scalar> = RadialIntrinsics<T>;
+    const SCALARS: usize = 3;
+    fn layout() -> Layout {
+        Layout::array(&["f", "k1", "k2"])
+    }
+    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> RadialIntrinsics<T> {
+        RadialIntrinsics::new(f(self.focal), f(self.k1), f(self.k2))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        RadialIntrinsics::new(next(), next(), next())
+    }
+}
+
+/// A vector space: `[f, k1, k2] ← [f, k1, k2] + δ` on either side.
+impl<S: Scalar> Manifold<S> for RadialIntrinsics<S> {
+    const DIM: usize = 3;
+    fn retract(&self, delta: &[S], _side: Perturbation) -> Self {
+        RadialIntrinsics::new(
+            self.focal + delta[0],
+            self.k1 + delta[1],
+            self.k2 + delta[2],
+        )
+    }
+    fn tangent_description(_side: Perturbation) -> &'static str {
+        "additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]"
+    }
+}
+
+/// The reprojection error of a BAL or Bundler observation, predicted minus
+/// observed, in pixels:
+///
+/// `P = R X + t`, `p = −P_xy / P_z`, `r = 1 + k1 ‖p‖² + k2 ‖p‖⁴`,
+/// residual `f r p − observed`.
+///
+/// The camera looks down its −z axis (a point in front has `P_z < 0`); pixels
+/// have their origin at the image centre, x right, y up. This is Ceres'
+/// `SnavelyReprojectionError`; GTSAM's `Cal3Bundler` camera gives the same
+/// residual with `v` negated (it flips the camera to look down +z).
+///
+/// - `pose` `[R | t]` maps world to camera, as the files store it:
+///   **right** perturbation, tangent `[δρ, δθ]` ([`Se3RhoTheta`]), the chart
+///   apex-solver uses for its SE(3) variables.
+/// - `intrinsics` `[f, k1, k2]` and `point` `X`: additive.
+///
+/// Degenerate: a focal length that is not positive; the point at or behind
+/// the camera (`−P_z ≤ 1e-9` times the largest coordinate of `P`, `X` or
+/// `t`); and distortion that folds the image, i.e. a radial map
+/// `ρ ↦ ρ (1 + k1 ρ² + k2 ρ⁴)` that is not increasing on `[0, ‖p‖]`
+/// ([`radial_map_derivative_minimum`]): there two image radii have the same
+/// pixel and the projection's Jacobian is singular or flips orientation.
+#[derive(Debug, Clone, Factor)]
+#[factor(
+    residual = snavely_reprojection_residual,
+    dim = 2,
+    validate = validate_snavely_reprojection
+)]
+#[cfg_attr(
+    feature = "kernels",
+    factor(
+        kernel = factor_generated::snavely_reprojection::snavely_reprojection,
+        regenerate = "cargo run --release --no-default-features -- generate"
+    )
+)]
+pub struct SnavelyReprojection<S: Scalar = f64> {
+    /// The observed pixel `(u, v)`: origin at the image centre, x right, y up.
+    pub observed: Vector2<S>,
+    /// World-to-camera pose `[R | t]`, `P = R X + t`.
+    #[variable(right)]
+    pub pose: Se3RhoTheta<S>,
+    /// Focal length and radial distortion `[f, k1, k2]`.
+    #[variable]
+    pub intrinsics: RadialIntrinsics<S>,
+    /// The world point `X`.
+    #[variable]
+    pub point: Vector3<S>,
+}
+
+/// `f r p − observed` with `p = −P_xy / P_z`, `P = R X + t`.
+pub fn snavely_reprojection_residual<S: Scalar>(f: &SnavelyReprojection<S>) -> Vector2<S> {
+    let p_c = f.pose.transform_point(&f.point);
+    let inverse_depth = -p_c.z.recip();
+    let p = Vector2::new(p_c.x * inverse_depth, p_c.y * inverse_depth);
+    let scale = f.intrinsics.focal * f.intrinsics.radial_factor(p.x * p.x + p.y * p.y);
+    Vector2::new(p.x * scale, p.y * scale) - f.observed
+}
+
+/// The smallest value of `d/dρ [ρ (1 + k1 ρ² + k2 ρ⁴)] = 1 + 3 k1 ρ² + 5 k2 ρ⁴`
+/// over `ρ ∈ [0, radius]`, with the `ρ` where it is reached: the radial map is
+/// increasing (the image does not fold) up to `radius` exactly when it is
+/// positive. In `s = ρ²` the derivative is a quadratic; its minimum on
+/// `[0, radius²]` is at an end or at the vertex `s = −3 k1 / (10 k2)`.
+pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius: f64) -> (f64, f64) {
+    let derivative = |s: f64| 1.0 + s * (3.0 * k1 + 5.0 * k2 * s);
+    let end = radius * radius;
+    let vertex = -3.0 * k1 / (10.0 * k2);
+    let interior = (k2 > 0.0 && vertex > 0.0 && vertex < end).then_some(vertex);
+    [Some(0.0), Some(end), interior]
+        .into_iter()
+        .flatten()
+        .map(|s| (derivative(s), s.sqrt()))
+        .fold(
+            (f64::INFINITY, 0.0),
+            |best, c| if c.0 < best.0 { c } else { best },
+        )
+}
+
+/// Rejects a focal length that is not positive, a point at or behind the
+/// camera, and distortion that folds the image up to the point's radius.
+pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(), FactorError> {
+    let name = SnavelyReprojection::NAME;
+    let RadialIntrinsics { focal, k1, k2 } = f.intrinsics;
+    if !exceeds(focal, 0.0) {
+        return Err(degenerate(
+            name,
+            format!("focal length f = {} is not positive", number_text(focal)),
+        ));
+    }
+    let p_c = f.pose.transform_point(&f.point);
+    let scale = p_c
+        .amax()
+        .max(f.point.amax())
+        .max(f.pose.translation.amax());
+    // The camera looks down −z: a point in front has −P_z > 0.
+    if !exceeds(-p_c.z, DEGENERACY_TOLERANCE * scale) {
+        return Err(degenerate(
+            name,
+            format!(
+                "point is at or behind the camera (depth −P_z = {}; the camera looks down −z)",
+                number_text(-p_c.z)
+            ),
+        ));
+    }
+    let radius = (p_c.xy() / p_c.z).norm();
+    let (minimum, at) = radial_map_derivative_minimum(k1, k2, radius);
+    if !exceeds(minimum, 0.0) {
+        return Err(degenerate(
+            name,
+            format!(
+                "distortion folds the image: d/dρ [ρ (1 + k1 ρ² + k2 ρ⁴)] = {} at ρ = {}, \
+                 within the point's radius ‖p‖ = {} (k1 = {}, k2 = {})",
+                number_text(minimum),
+                number_text(at),
+                number_text(radius),
+                number_text(k1),
+                number_text(k2)
+            ),
+        ));
+    }
+    Ok(())
+}
