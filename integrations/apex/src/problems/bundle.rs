@@ -1,0 +1,207 @@
+//! Bundle adjustment of BAL and Bundler problems (Snavely's camera model).
+
+use apex_solver::apex_camera_models::{BALPinholeCameraStrict, DistortionModel, PinholeParams};
+use apex_solver::core::VarKey;
+use apex_solver::factors::SelfCalibration;
+use apex_solver::factors::visual::ProjectionFactor;
+use apex_solver::linalg::LinearSolverType;
+use apex_solver::{ManifoldType, apex_camera_models::CameraModelError};
+use factor_core::Factor;
+use factor_core::lie::{Se3, Se3RhoTheta, So3};
+use nalgebra::{Rotation3, Vector2, Vector3};
+use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_factors::{RadialIntrinsics, SnavelyReprojection};
+use std::sync::Arc;
+
+use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
+use crate::adapter::ApexFactor;
+use crate::variables::{apex_pose, pose_from_apex};
+
+/// The variables of a bundle-adjustment problem.
+#[derive(Debug, Clone)]
+pub struct BundleKeys {
+    /// Each camera's world-to-camera pose (`SE3`).
+    pub poses: Vec<VarKey>,
+    /// Each camera's `[f, k1, k2]` (`Rn(3)`).
+    pub intrinsics: Vec<VarKey>,
+    /// Each point (`Rn(3)`).
+    pub points: Vec<VarKey>,
+}
+
+/// A BAL camera's world-to-camera pose.
+pub fn camera_pose(camera: &BalCamera) -> Se3<f64> {
+    Se3::new(So3::exp(&camera.rotation), camera.translation)
+}
+
+/// The factor of observation `k` of `bal` at the problem's values.
+fn factor_of(bal: &BalProblem, k: usize) -> SnavelyReprojection {
+    let o = &bal.observations[k];
+    let camera = &bal.cameras[o.camera];
+    let SnavelyIntrinsics { focal, k1, k2 } = camera.intrinsics;
+    SnavelyReprojection {
+        observed: o.pixel,
+        pose: Se3RhoTheta(camera_pose(camera)),
+        intrinsics: RadialIntrinsics::new(focal, k1, k2),
+        point: bal.points[o.point],
+    }
+}
+
+/// The observations grouped by point, points in order, each group in file
+/// order: the order the Schur solver evaluates them in.
+fn by_point(bal: &BalProblem) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..bal.observations.len()).collect();
+    order.sort_by_key(|&k| bal.observations[k].point);
+    order
+}
+
+/// apex-solver's own factor for observation `k`.
+fn apex_factor(
+    bal: &BalProblem,
+    k: usize,
+) -> Result<ProjectionFactor<BALPinholeCameraStrict, SelfCalibration>, CameraModelError> {
+    let o = &bal.observations[k];
+    let SnavelyIntrinsics { focal, k1, k2 } = bal.cameras[o.camera].intrinsics;
+    let camera = BALPinholeCameraStrict::new(
+        PinholeParams::new(focal, focal, 0.0, 0.0)?,
+        DistortionModel::Radial { k1, k2 },
+    )?;
+    let observed = nalgebra_apex::Matrix2xX::from_columns(&[nalgebra_apex::Vector2::new(
+        o.pixel.x, o.pixel.y,
+    )]);
+    Ok(ProjectionFactor::new(observed, camera))
+}
+
+/// Builds the bundle adjustment of `bal`.
+pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, BuildError> {
+    let mut builder = ProblemBuilder::new(options, bal.observations.len());
+    let mut keys = BundleKeys {
+        poses: Vec::with_capacity(bal.cameras.len()),
+        intrinsics: Vec::with_capacity(bal.cameras.len()),
+        points: Vec::with_capacity(bal.points.len()),
+    };
+    for camera in &bal.cameras {
+        keys.poses
+            .push(builder.variable(ManifoldType::SE3, apex_pose(&camera_pose(camera))));
+        let SnavelyIntrinsics { focal, k1, k2 } = camera.intrinsics;
+        keys.intrinsics
+            .push(builder.variable(ManifoldType::RN, vec![focal, k1, k2]));
+    }
+    for (j, point) in bal.points.iter().enumerate() {
+        let key = builder.variable(ManifoldType::RN, point.as_slice().to_vec());
+        // Point 0 is held fixed (the gauge) and stays in the reduced system.
+        if j > 0 {
+            builder.eliminate(key);
+        }
+        keys.points.push(key);
+    }
+    for k in by_point(bal) {
+        let o = &bal.observations[k];
+        let (pose, intrinsics, point) = (
+            keys.poses[o.camera],
+            keys.intrinsics[o.camera],
+            keys.points[o.point],
+        );
+        match options.factors {
+            FactorChoice::Ours(kernels) => {
+                let factor = factor_of(bal, k);
+                factor.validate().map_err(|error| BuildError::Degenerate {
+                    which: format!(
+                        "observation {k} (camera {}, point {}) at the initial values",
+                        o.camera, o.point
+                    ),
+                    error,
+                })?;
+                let served =
+                    ApexFactor::new(&factor, kernels)?.with_rejections(builder.rejections());
+                builder.block(&[pose, intrinsics, point], Arc::new(served), None)?;
+            }
+            FactorChoice::Apex => {
+                let factor = apex_factor(bal, k).map_err(|e| BuildError::Solver(e.to_string()))?;
+                builder.block(&[pose, point, intrinsics], Arc::new(factor), None)?;
+            }
+        }
+    }
+    // The gauge, as GTSAM's `sfmFactorGraph`: camera 0 and point 0 fixed.
+    if let (Some(&pose), Some(&intrinsics)) = (keys.poses.first(), keys.intrinsics.first()) {
+        builder.fix(pose, 6)?;
+        builder.fix(intrinsics, 3)?;
+    }
+    if let Some(&point) = keys.points.first() {
+        builder.fix(point, 3)?;
+    }
+    Ok(builder.finish(Keys::Bundle(keys), LinearSolverType::ExplicitSparseSchur))
+}
+
+impl BundleKeys {
+    /// The camera `k` of the solution, as BAL writes it.
+    fn camera<'a>(&self, k: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> BalCamera {
+        let pose = pose_from_apex(value(self.poses[k]));
+        let intrinsics = value(self.intrinsics[k]);
+        let q = pose.rotation.quaternion;
+        let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            q.w, q.x, q.y, q.z,
+        ));
+        BalCamera {
+            rotation: rotation.scaled_axis(),
+            translation: pose.translation,
+            intrinsics: SnavelyIntrinsics {
+                focal: intrinsics[0],
+                k1: intrinsics[1],
+                k2: intrinsics[2],
+            },
+        }
+    }
+
+    fn point<'a>(&self, j: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> Vector3<f64> {
+        let p = value(self.points[j]);
+        Vector3::new(p[0], p[1], p[2])
+    }
+
+    /// `bal` with the solution's cameras and points.
+    pub fn write_bal<'a>(
+        &self,
+        bal: &BalProblem,
+        value: impl Fn(VarKey) -> &'a [f64],
+    ) -> BalProblem {
+        BalProblem {
+            cameras: (0..bal.cameras.len())
+                .map(|k| self.camera(k, &value))
+                .collect(),
+            points: (0..bal.points.len())
+                .map(|j| self.point(j, &value))
+                .collect(),
+            observations: bal.observations.clone(),
+        }
+    }
+
+    /// `bundler` with the solution's cameras (rotation matrices) and points
+    /// (colours and feature keys kept).
+    pub fn write_bundler<'a>(
+        &self,
+        bundler: &BundlerProblem,
+        value: impl Fn(VarKey) -> &'a [f64],
+    ) -> BundlerProblem {
+        let mut out = bundler.clone();
+        for (k, camera) in out.cameras.iter_mut().enumerate() {
+            let solved = self.camera(k, &value);
+            camera.rotation = *Rotation3::new(solved.rotation).matrix();
+            camera.translation = solved.translation;
+            camera.intrinsics = solved.intrinsics;
+        }
+        for (j, point) in out.points.iter_mut().enumerate() {
+            point.position = self.point(j, &value);
+        }
+        out
+    }
+}
+
+/// `‖f r p − observed‖` of each observation (NaN where degenerate).
+pub(super) fn reprojection_errors(bal: &BalProblem) -> Vec<f64> {
+    (0..bal.observations.len())
+        .map(|k| {
+            factor_of(bal, k)
+                .residual()
+                .map_or(f64::NAN, |r: Vector2<f64>| r.norm())
+        })
+        .collect()
+}

@@ -1,0 +1,366 @@
+//! Real estimation problems as apex-solver problems.
+//!
+//! | data set (crate `slam-data`) | variables | factors | gauge | linear solver |
+//! | --- | --- | --- | --- | --- |
+//! | BAL, Bundler ([`bundle`]) | per camera an `SE3` world-to-camera pose and `Rn(3)` `[f, k1, k2]`; per point `Rn(3)` | [`SnavelyReprojection`](slam_factors::SnavelyReprojection), one per observation | camera 0 (pose and intrinsics) and point 0 held fixed, as GTSAM's `sfmFactorGraph` | explicit sparse Schur, points eliminated |
+//! | g2o, EDGE3 ([`pose_graph`]) | per vertex an `SE3` body-to-world pose (EDGE3 without vertices: the odometry chain) | [`BetweenFactor`](slam_factors::BetweenFactor), one per edge | the first pose held fixed | sparse Cholesky |
+//! | KITTI stereo VO ([`stereo`]) | per pose an `SE3` camera-to-world pose; per landmark `Rn(3)` | [`StereoReprojection`](slam_factors::StereoReprojection), one per observation | the first pose held fixed, as GTSAM's example | explicit sparse Schur, landmarks eliminated |
+//!
+//! [`FactorChoice::Apex`] builds the same problem with apex-solver's own
+//! hand-written factors, for comparison: its BAL `ProjectionFactor` (the
+//! same variables), its `BetweenFactor` with the edge's square-root
+//! information as its noise model (the same variables), and its
+//! `StereoFactor`, whose poses are world-to-camera (the inverses of this
+//! project's: another chart, so another path to the same optimum).
+//!
+//! Blocks are added in the order the solver evaluates them (observations
+//! grouped by eliminated point or landmark, in the order of the points),
+//! so the first and the last block added time the passes ([`crate::timing`]).
+
+pub mod bundle;
+pub mod pose_graph;
+pub mod stereo;
+
+use std::collections::HashMap;
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use apex_solver::core::VarKey;
+use apex_solver::core::loss_functions::{CauchyLoss, HuberLoss, LossFunction};
+use apex_solver::core::problem::Problem;
+use apex_solver::core::variable::ManifoldVariable;
+use apex_solver::factors::Factor;
+use apex_solver::linalg::{JacobianMode, LinearSolverType};
+use apex_solver::{ManifoldType, NoiseModel};
+use factor_core::FactorError;
+use slotmap::SlotMap;
+
+use crate::adapter::{Kernels, Rejections};
+use crate::timing::{Marks, PhaseClock, Timed};
+
+/// The factors a problem is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FactorChoice {
+    /// This project's factors, linearized as given.
+    Ours(Kernels),
+    /// apex-solver's own hand-written factors.
+    Apex,
+}
+
+impl FactorChoice {
+    /// `generated`, `dual` or `apex`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FactorChoice::Ours(kernels) => kernels.name(),
+            FactorChoice::Apex => "apex",
+        }
+    }
+}
+
+/// A robust loss on every block: `½ ρ(‖r‖²)` instead of `½ ‖r‖²`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Robust {
+    /// Huber: quadratic up to `‖r‖ = δ`, linear beyond.
+    Huber(f64),
+    /// Cauchy: `δ² log(1 + ‖r‖²/δ²)`.
+    Cauchy(f64),
+}
+
+impl Robust {
+    /// apex-solver's loss.
+    fn loss(self) -> Result<Box<dyn LossFunction + Send + Sync>, BuildError> {
+        let loss: Result<Box<dyn LossFunction + Send + Sync>, _> = match self {
+            Robust::Huber(delta) => HuberLoss::new(delta).map(|l| Box::new(l) as _),
+            Robust::Cauchy(delta) => CauchyLoss::new(delta).map(|l| Box::new(l) as _),
+        };
+        loss.map_err(|e| BuildError::Solver(e.to_string()))
+    }
+}
+
+/// `huber:δ` or `cauchy:δ`.
+impl fmt::Display for Robust {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Robust::Huber(delta) => write!(f, "huber:{delta}"),
+            Robust::Cauchy(delta) => write!(f, "cauchy:{delta}"),
+        }
+    }
+}
+
+/// Reads `huber:δ` or `cauchy:δ` with a finite `δ > 0`.
+impl FromStr for Robust {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (name, delta) = text
+            .split_once(':')
+            .ok_or_else(|| format!("`{text}`: expected huber:δ or cauchy:δ"))?;
+        let delta: f64 = delta
+            .parse()
+            .ok()
+            .filter(|d: &f64| d.is_finite() && *d > 0.0)
+            .ok_or_else(|| format!("`{text}`: δ must be a finite number above 0"))?;
+        match name {
+            "huber" => Ok(Robust::Huber(delta)),
+            "cauchy" => Ok(Robust::Cauchy(delta)),
+            _ => Err(format!("`{text}`: unknown loss `{name}` (huber or cauchy)")),
+        }
+    }
+}
+
+/// How to build a problem.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuildOptions {
+    /// Which factors.
+    pub factors: FactorChoice,
+    /// A robust loss on every block, or plain least squares.
+    pub robust: Option<Robust>,
+    /// Keep a handle on every block ([`Built::kept`]) to call it directly.
+    pub keep_blocks: bool,
+}
+
+/// Why a problem cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    /// A block is degenerate at the initial values.
+    #[error("{which}: {error}")]
+    Degenerate {
+        /// The observation or edge, in words.
+        which: String,
+        /// The factor's error.
+        error: FactorError,
+    },
+    /// The data cannot make a problem (an information matrix that is not
+    /// positive definite, no odometry to initialise from, ...).
+    #[error("{0}")]
+    Data(String),
+    /// The factors asked for do not exist for this problem.
+    #[error("{0}")]
+    Unavailable(String),
+    /// apex-solver refused the problem.
+    #[error("apex-solver: {0}")]
+    Solver(String),
+    /// The adapter cannot serve a factor.
+    #[error(transparent)]
+    Adapter(#[from] crate::AdapterError),
+}
+
+/// The variable keys of a problem, by data-set entity, to read the solution.
+#[derive(Debug, Clone)]
+pub enum Keys {
+    /// Bundle adjustment.
+    Bundle(bundle::BundleKeys),
+    /// A pose graph.
+    PoseGraph(pose_graph::PoseGraphKeys),
+    /// Stereo visual odometry.
+    Stereo(stereo::StereoKeys),
+}
+
+/// An apex problem built from a data set.
+pub struct Built {
+    /// The problem, ready to solve.
+    pub problem: Problem,
+    /// Where each entity's variable is.
+    pub keys: Keys,
+    /// The linear solver the problem is meant for.
+    pub linear_solver: LinearSolverType,
+    /// The residual blocks (observations or edges).
+    pub blocks: usize,
+    /// The cost at the initial values, `Σ ½ ρ(‖S r‖²)`.
+    pub initial_cost: f64,
+    /// The times of the latest passes.
+    pub clock: Arc<PhaseClock>,
+    /// Evaluations this project's factors rejected.
+    pub rejections: Arc<Rejections>,
+    /// Every block, when [`BuildOptions::keep_blocks`] asked for them.
+    pub kept: Option<Vec<KeptBlock>>,
+}
+
+/// Builds the apex problem of `data`.
+///
+/// # Errors
+///
+/// A block degenerate at the initial values (this project's factors are
+/// validated as they are built), data that cannot make a problem, factors
+/// apex does not have for it, or apex's refusal.
+pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built, BuildError> {
+    match data {
+        slam_data::Problem::Bal(bal) => bundle::build(bal, options),
+        slam_data::Problem::Bundler(bundler) => bundle::build(&bundler.to_bal(), options),
+        slam_data::Problem::G2o(graph) | slam_data::Problem::Edge3(graph) => {
+            pose_graph::build(graph, options)
+        }
+        slam_data::Problem::KittiVo(vo) => stereo::build(vo, options),
+    }
+}
+
+impl Built {
+    /// `data` with its variables replaced by `values` (the solver's result):
+    /// the optimized problem, in the input's format.
+    pub fn write_back(
+        &self,
+        data: &slam_data::Problem,
+        values: &SlotMap<VarKey, Box<dyn ManifoldVariable>>,
+    ) -> slam_data::Problem {
+        let value = |key: VarKey| values.get(key).map_or(&[][..], |v| v.as_param_slice());
+        match (&self.keys, data) {
+            (Keys::Bundle(keys), slam_data::Problem::Bal(bal)) => {
+                slam_data::Problem::Bal(keys.write_bal(bal, value))
+            }
+            (Keys::Bundle(keys), slam_data::Problem::Bundler(bundler)) => {
+                slam_data::Problem::Bundler(keys.write_bundler(bundler, value))
+            }
+            (Keys::PoseGraph(keys), slam_data::Problem::G2o(graph)) => {
+                slam_data::Problem::G2o(keys.write(graph, value))
+            }
+            (Keys::PoseGraph(keys), slam_data::Problem::Edge3(graph)) => {
+                slam_data::Problem::Edge3(keys.write(graph, value))
+            }
+            (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
+                slam_data::Problem::KittiVo(keys.write(vo, value))
+            }
+            // Keys are built from the same data they write back.
+            _ => data.clone(),
+        }
+    }
+}
+
+/// The reprojection error of each observation (pixels: `‖predicted −
+/// observed‖`, two coordinates for BAL and Bundler, `[u_L, u_R, v]` for
+/// stereo) at the problem's values, through this project's factors; `None`
+/// for a pose graph. An observation degenerate at these values is NaN.
+pub fn reprojection_errors(data: &slam_data::Problem) -> Option<Vec<f64>> {
+    match data {
+        slam_data::Problem::Bal(bal) => Some(bundle::reprojection_errors(bal)),
+        slam_data::Problem::Bundler(bundler) => {
+            Some(bundle::reprojection_errors(&bundler.to_bal()))
+        }
+        slam_data::Problem::KittiVo(vo) => Some(stereo::reprojection_errors(vo)),
+        slam_data::Problem::G2o(_) | slam_data::Problem::Edge3(_) => None,
+    }
+}
+
+/// A residual block kept for direct calls (benchmarks): its factor, its
+/// variables' initial apex parameters and its noise model.
+pub struct KeptBlock {
+    /// The factor, as registered.
+    pub factor: Arc<dyn Factor + Send + Sync>,
+    /// Each variable's initial parameters.
+    pub params: Vec<Vec<f64>>,
+    /// The noise model apex whitens the block with.
+    pub noise: NoiseModel,
+}
+
+/// An apex problem under construction: its variables' initial values are
+/// kept, so that each block's initial cost is known as it is added (apex
+/// computes it too, but inside its solve, after the first report is due),
+/// and each block is wrapped in [`Timed`], the first and the last marking
+/// the passes on the problem's clock.
+pub(crate) struct ProblemBuilder {
+    problem: Problem,
+    initial: HashMap<VarKey, Vec<f64>>,
+    options: BuildOptions,
+    cost: f64,
+    expected_blocks: usize,
+    blocks: usize,
+    clock: Arc<PhaseClock>,
+    rejections: Arc<Rejections>,
+    kept: Option<Vec<KeptBlock>>,
+}
+
+impl ProblemBuilder {
+    /// An empty sparse problem that will hold `expected_blocks` blocks.
+    pub(crate) fn new(options: &BuildOptions, expected_blocks: usize) -> Self {
+        ProblemBuilder {
+            problem: Problem::new(JacobianMode::Sparse),
+            initial: HashMap::new(),
+            options: *options,
+            cost: 0.0,
+            expected_blocks,
+            blocks: 0,
+            clock: PhaseClock::new(),
+            rejections: Rejections::new(),
+            kept: options.keep_blocks.then(Vec::new),
+        }
+    }
+
+    /// The record of rejected evaluations this problem's factors share.
+    pub(crate) fn rejections(&self) -> Arc<Rejections> {
+        Arc::clone(&self.rejections)
+    }
+
+    /// A variable with initial value `value` (apex's parameters).
+    pub(crate) fn variable(&mut self, manifold: ManifoldType, value: Vec<f64>) -> VarKey {
+        let key = self
+            .problem
+            .add_variable(manifold, nalgebra_apex::DVector::from_column_slice(&value));
+        self.initial.insert(key, value);
+        key
+    }
+
+    /// Marks `key` for elimination by the Schur complement.
+    pub(crate) fn eliminate(&mut self, key: VarKey) {
+        self.problem.mark_for_elimination(key);
+    }
+
+    /// Holds every tangent coordinate of `key` fixed.
+    pub(crate) fn fix(&mut self, key: VarKey, dof: usize) -> Result<(), BuildError> {
+        for coordinate in 0..dof {
+            self.problem
+                .try_fix_variable(key, coordinate)
+                .map_err(|e| BuildError::Solver(e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// Registers a block on `keys` and adds its initial cost `½ ρ(‖S r‖²)`
+    /// (apex's objective: `S` the noise model's square root, `ρ` the loss).
+    pub(crate) fn block(
+        &mut self,
+        keys: &[VarKey],
+        factor: Arc<dyn Factor + Send + Sync>,
+        noise: Option<NoiseModel>,
+    ) -> Result<(), BuildError> {
+        let params: Vec<&[f64]> = keys
+            .iter()
+            .map(|key| self.initial.get(key).map_or(&[][..], Vec::as_slice))
+            .collect();
+        let mut residual = vec![0.0; factor.residual_dim()];
+        factor.linearize(&params, &mut residual, None);
+        let noise = noise.unwrap_or_else(NoiseModel::null);
+        noise.whiten_residual(&mut residual);
+        let squared: f64 = residual.iter().map(|r| r * r).sum();
+        let loss = self.options.robust.map(Robust::loss).transpose()?;
+        self.cost += 0.5 * loss.as_ref().map_or(squared, |l| l.evaluate(squared)[0]);
+        if let Some(kept) = &mut self.kept {
+            kept.push(KeptBlock {
+                factor: Arc::clone(&factor),
+                params: params.iter().map(|p| p.to_vec()).collect(),
+                noise: noise.clone(),
+            });
+        }
+        let timed = Timed {
+            factor,
+            marks: Marks::of_block(&self.clock, self.blocks, self.expected_blocks),
+        };
+        self.problem
+            .try_add_residual_block_with_noise(keys, Box::new(timed), loss, noise)
+            .map_err(|e| BuildError::Solver(e.to_string()))?;
+        self.blocks += 1;
+        Ok(())
+    }
+
+    /// The problem, for `linear_solver`.
+    pub(crate) fn finish(self, keys: Keys, linear_solver: LinearSolverType) -> Built {
+        Built {
+            problem: self.problem,
+            keys,
+            linear_solver,
+            blocks: self.blocks,
+            initial_cost: self.cost,
+            clock: self.clock,
+            rejections: self.rejections,
+            kept: self.kept,
+        }
+    }
+}

@@ -1,0 +1,199 @@
+//! Stereo visual odometry (GTSAM's KITTI `VO_*` files).
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use apex_solver::ManifoldType;
+use apex_solver::core::VarKey;
+use apex_solver::factors::visual::{StereoCalibration as ApexStereoCalibration, StereoFactor};
+use apex_solver::linalg::LinearSolverType;
+use factor_core::Factor;
+use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
+use nalgebra::Vector3;
+use slam_data::{CameraPose, StereoCalibration, StereoObservation, StereoVo};
+use slam_factors::{StereoIntrinsics, StereoReprojection};
+
+use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
+use crate::adapter::ApexFactor;
+use crate::variables::{apex_pose, point_from_apex, pose_from_apex};
+
+/// The variables of a stereo VO problem.
+#[derive(Debug, Clone)]
+pub struct StereoKeys {
+    /// Each pose's key, in file order.
+    pub poses: Vec<VarKey>,
+    /// Each landmark id's key.
+    pub landmarks: HashMap<usize, VarKey>,
+    /// Whether the poses are world-to-camera (apex's own stereo factor)
+    /// rather than camera-to-world (this project's).
+    pub world_to_camera: bool,
+}
+
+/// A VO file's camera-to-world pose (its nearest rotation, the quaternion
+/// normalised: `CameraPose::isometry`'s is unit only to about 1e-8).
+pub fn camera_to_world(pose: &CameraPose) -> Se3<f64> {
+    let iso = pose.isometry();
+    let q = iso.rotation;
+    Se3::new(
+        So3::from_quaternion(Quaternion::new(q.i, q.j, q.k, q.w).normalized()),
+        iso.translation.vector,
+    )
+}
+
+/// apex-solver's stereo calibration, which has no skew and one principal
+/// point for both images.
+fn apex_calibration(c: &StereoCalibration) -> Result<ApexStereoCalibration, BuildError> {
+    if c.skew != 0.0 {
+        return Err(BuildError::Unavailable(format!(
+            "apex-solver's stereo factor has no skew; this calibration's is {}",
+            c.skew
+        )));
+    }
+    ApexStereoCalibration::new(c.fx, c.fy, c.u0, c.v0, c.baseline).map_err(BuildError::Solver)
+}
+
+fn intrinsics(c: &StereoCalibration) -> StereoIntrinsics<f64> {
+    StereoIntrinsics::new(c.fx, c.fy, c.skew, c.u0, c.v0, c.baseline)
+}
+
+fn factor_of(
+    vo: &StereoVo,
+    o: &StereoObservation,
+    pose: &Se3<f64>,
+    landmark: &Vector3<f64>,
+) -> StereoReprojection {
+    StereoReprojection {
+        calibration: intrinsics(&vo.calibration),
+        observed: Vector3::new(o.u_left, o.u_right, o.v),
+        pose: Se3RhoTheta(*pose),
+        landmark: *landmark,
+    }
+}
+
+/// The observations grouped by landmark, landmarks in order of first
+/// appearance, each group in file order.
+fn by_landmark(vo: &StereoVo, rank: &HashMap<usize, usize>) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..vo.observations.len()).collect();
+    order.sort_by_key(|&k| rank[&vo.observations[k].landmark]);
+    order
+}
+
+/// Builds the VO problem of `vo`.
+pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, BuildError> {
+    // apex's own `StereoFactor` takes world-to-camera poses.
+    let world_to_camera = options.factors == FactorChoice::Apex;
+    let calibration = match options.factors {
+        FactorChoice::Apex => Some(apex_calibration(&vo.calibration)?),
+        FactorChoice::Ours(_) => None,
+    };
+    let mut builder = ProblemBuilder::new(options, vo.observations.len());
+    let mut poses = HashMap::with_capacity(vo.poses.len());
+    let mut keys = StereoKeys {
+        poses: Vec::with_capacity(vo.poses.len()),
+        landmarks: HashMap::new(),
+        world_to_camera,
+    };
+    for p in &vo.poses {
+        let pose = camera_to_world(p);
+        let value = if world_to_camera {
+            apex_pose(&pose.inverse())
+        } else {
+            apex_pose(&pose)
+        };
+        let key = builder.variable(ManifoldType::SE3, value);
+        keys.poses.push(key);
+        poses.insert(p.id, (key, pose));
+    }
+    let landmarks = vo.initial_landmarks();
+    let mut rank = HashMap::with_capacity(landmarks.len());
+    let mut values = HashMap::with_capacity(landmarks.len());
+    for (r, (id, position)) in landmarks.iter().enumerate() {
+        let key = builder.variable(ManifoldType::RN, position.as_slice().to_vec());
+        builder.eliminate(key);
+        keys.landmarks.insert(*id, key);
+        rank.insert(*id, r);
+        values.insert(*id, *position);
+    }
+    for k in by_landmark(vo, &rank) {
+        let o = &vo.observations[k];
+        let (pose_key, pose) = poses[&o.pose];
+        let landmark_key = keys.landmarks[&o.landmark];
+        let factor = factor_of(vo, o, &pose, &values[&o.landmark]);
+        let block: Arc<dyn apex_solver::factors::Factor + Send + Sync> =
+            match (options.factors, &calibration) {
+                (FactorChoice::Ours(kernels), _) => {
+                    factor.validate().map_err(|error| BuildError::Degenerate {
+                        which: format!(
+                            "observation {k} (pose {}, landmark {}) at the initial values",
+                            o.pose, o.landmark
+                        ),
+                        error,
+                    })?;
+                    Arc::new(
+                        ApexFactor::new(&factor, kernels)?.with_rejections(builder.rejections()),
+                    )
+                }
+                (FactorChoice::Apex, Some(calibration)) => Arc::new(StereoFactor::new(
+                    nalgebra_apex::Vector3::new(o.u_left, o.u_right, o.v),
+                    calibration.clone(),
+                )),
+                (FactorChoice::Apex, None) => {
+                    return Err(BuildError::Unavailable("no stereo calibration".into()));
+                }
+            };
+        builder.block(&[pose_key, landmark_key], block, None)?;
+    }
+    // The gauge: the first pose fixed, as GTSAM's example does.
+    if let Some(&key) = keys.poses.first() {
+        builder.fix(key, 6)?;
+    }
+    Ok(builder.finish(Keys::Stereo(keys), LinearSolverType::ExplicitSparseSchur))
+}
+
+impl StereoKeys {
+    /// `vo` with the solution's poses, and each observation's landmark in
+    /// its camera's frame recomputed from the solution (so that reading the
+    /// file back initialises every landmark at its optimized position).
+    pub fn write<'a>(&self, vo: &StereoVo, value: impl Fn(VarKey) -> &'a [f64]) -> StereoVo {
+        let mut out = vo.clone();
+        let mut solved = HashMap::with_capacity(vo.poses.len());
+        for (p, &key) in out.poses.iter_mut().zip(&self.poses) {
+            let pose = pose_from_apex(value(key));
+            let pose = if self.world_to_camera {
+                pose.inverse()
+            } else {
+                pose
+            };
+            p.rotation = pose.rotation.matrix();
+            p.translation = pose.translation;
+            solved.insert(p.id, pose);
+        }
+        for o in &mut out.observations {
+            if let (Some(pose), Some(&key)) = (solved.get(&o.pose), self.landmarks.get(&o.landmark))
+            {
+                o.landmark_in_camera = pose.inverse().transform_point(&point_from_apex(value(key)));
+            }
+        }
+        out
+    }
+}
+
+/// `‖π(T⁻¹ X) − [u_L, u_R, v]‖` of each observation, landmarks initialised
+/// as the file initialises them (NaN where degenerate).
+pub(super) fn reprojection_errors(vo: &StereoVo) -> Vec<f64> {
+    let poses: HashMap<usize, Se3<f64>> = vo
+        .poses
+        .iter()
+        .map(|p| (p.id, camera_to_world(p)))
+        .collect();
+    let landmarks: HashMap<usize, Vector3<f64>> = vo.initial_landmarks().into_iter().collect();
+    vo.observations
+        .iter()
+        .map(|o| match (poses.get(&o.pose), landmarks.get(&o.landmark)) {
+            (Some(pose), Some(landmark)) => factor_of(vo, o, pose, landmark)
+                .residual()
+                .map_or(f64::NAN, |r: Vector3<f64>| r.norm()),
+            _ => f64::NAN,
+        })
+        .collect()
+}

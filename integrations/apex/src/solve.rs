@@ -1,0 +1,245 @@
+//! Levenberg–Marquardt (apex-solver's) on a built problem, reporting each
+//! iteration as it ends.
+
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+use apex_solver::core::VarKey;
+use apex_solver::core::variable::ManifoldVariable;
+use apex_solver::optimizer::levenberg_marquardt::{LevenbergMarquardt, LevenbergMarquardtConfig};
+use apex_solver::optimizer::{OptObserver, OptimizationStatus};
+use slotmap::SlotMap;
+
+use crate::problems::Built;
+use crate::timing::PhaseClock;
+
+/// When to stop (apex-solver's Ceres-like criteria).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveOptions {
+    /// The most iterations (accepted or rejected steps).
+    pub max_iterations: usize,
+    /// Stop when an accepted step decreases the cost by less than this, relative.
+    pub cost_tolerance: f64,
+    /// Stop when the step is shorter than this, relative to the parameters.
+    pub parameter_tolerance: f64,
+    /// Stop when `‖Jᵀ r‖` falls below this.
+    pub gradient_tolerance: f64,
+}
+
+impl Default for SolveOptions {
+    /// apex-solver's defaults (Ceres' function, parameter and gradient
+    /// tolerances 1e-6, 1e-8, 1e-10), 50 iterations.
+    fn default() -> Self {
+        let lm = LevenbergMarquardtConfig::default();
+        SolveOptions {
+            max_iterations: lm.max_iterations,
+            cost_tolerance: lm.cost_tolerance,
+            parameter_tolerance: lm.parameter_tolerance,
+            gradient_tolerance: lm.gradient_tolerance,
+        }
+    }
+}
+
+impl SolveOptions {
+    /// Tolerances at the level of rounding (1e-12, 1e-12, 1e-12) and
+    /// `max_iterations`: a solve that runs to the optimum, for comparing
+    /// final costs.
+    pub fn converged(max_iterations: usize) -> Self {
+        SolveOptions {
+            max_iterations,
+            cost_tolerance: 1e-12,
+            parameter_tolerance: 1e-12,
+            gradient_tolerance: 1e-12,
+        }
+    }
+}
+
+/// One iteration (a step tried, accepted or rejected), as it ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Iteration {
+    /// 0 for the first step.
+    pub index: usize,
+    /// The cost after the iteration (unchanged by a rejected step).
+    pub cost: f64,
+    /// `(previous cost − cost) / previous cost`.
+    pub relative_decrease: f64,
+    /// The damping λ after the iteration's update.
+    pub damping: Option<f64>,
+    /// The step quality ρ (actual over predicted decrease).
+    pub step_quality: Option<f64>,
+    /// Whether the step was accepted.
+    pub accepted: bool,
+    /// The wall time of the linearization pass (residuals and Jacobians).
+    pub linearization: Duration,
+    /// The wall time of the residual-only pass that evaluated the step.
+    pub evaluation: Duration,
+    /// The rest of the iteration: assembling and solving the linear system,
+    /// updating the variables (the first iteration also holds the solver's
+    /// set-up).
+    pub solve: Duration,
+    /// Time since the solve started.
+    pub elapsed: Duration,
+}
+
+/// What a solve ended with.
+pub struct Outcome {
+    /// apex-solver's status.
+    pub status: OptimizationStatus,
+    /// The cost at the initial values.
+    pub initial_cost: f64,
+    /// The cost at the solution.
+    pub final_cost: f64,
+    /// Iterations run.
+    pub iterations: usize,
+    /// Wall time of the solve (set-up included).
+    pub elapsed: Duration,
+    /// The solution, by variable key.
+    pub values: SlotMap<VarKey, Box<dyn ManifoldVariable>>,
+    /// Each iteration's report.
+    pub history: Vec<Iteration>,
+}
+
+/// How a solve ended, for a command line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    /// A convergence criterion was met.
+    Converged(String),
+    /// The iteration limit was reached first.
+    IterationLimit,
+    /// No step reduced the cost any more (damping at its maximum).
+    Stalled,
+    /// The solve stopped on a failure (non-finite values, an
+    /// ill-conditioned system, ...).
+    Failed(String),
+}
+
+impl Outcome {
+    /// The verdict of the status (and of a non-finite final cost).
+    pub fn verdict(&self) -> Verdict {
+        if !self.final_cost.is_finite() {
+            return Verdict::Failed(format!("the final cost is {}", self.final_cost));
+        }
+        match &self.status {
+            OptimizationStatus::Converged
+            | OptimizationStatus::CostToleranceReached
+            | OptimizationStatus::ParameterToleranceReached
+            | OptimizationStatus::GradientToleranceReached
+            | OptimizationStatus::MinCostThresholdReached => {
+                Verdict::Converged(self.status.to_string().to_lowercase())
+            }
+            OptimizationStatus::MaxIterationsReached => Verdict::IterationLimit,
+            OptimizationStatus::StalledNoProgress => Verdict::Stalled,
+            other => Verdict::Failed(other.to_string()),
+        }
+    }
+}
+
+/// The solve failed before it could report an outcome.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("apex-solver: {0}")]
+pub struct SolveError(pub String);
+
+/// The observer that turns apex's notifications into [`Iteration`]s.
+struct Reporter {
+    state: Arc<Mutex<ReporterState>>,
+}
+
+struct ReporterState {
+    clock: Arc<PhaseClock>,
+    start: Instant,
+    last: Instant,
+    previous_cost: f64,
+    metrics: (f64, Option<f64>, Option<f64>),
+    min_relative_decrease: f64,
+    history: Vec<Iteration>,
+    callback: Box<dyn FnMut(&Iteration) + Send>,
+}
+
+impl OptObserver for Reporter {
+    fn on_step(&self, _values: &SlotMap<VarKey, Box<dyn ManifoldVariable>>, iteration: usize) {
+        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        let now = Instant::now();
+        let (cost, damping, step_quality) = state.metrics;
+        let previous = state.previous_cost;
+        let (linearization, evaluation) = (state.clock.linearization(), state.clock.evaluation());
+        let report = Iteration {
+            index: iteration,
+            cost,
+            relative_decrease: if previous > 0.0 {
+                (previous - cost) / previous
+            } else {
+                0.0
+            },
+            damping,
+            step_quality,
+            accepted: step_quality.is_some_and(|rho| rho > state.min_relative_decrease),
+            linearization,
+            evaluation,
+            solve: (now - state.last).saturating_sub(linearization + evaluation),
+            elapsed: now - state.start,
+        };
+        state.last = now;
+        state.previous_cost = cost;
+        (state.callback)(&report);
+        state.history.push(report);
+    }
+
+    fn set_iteration_metrics(
+        &self,
+        cost: f64,
+        _gradient_norm: f64,
+        damping: Option<f64>,
+        _step_norm: f64,
+        step_quality: Option<f64>,
+    ) {
+        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        state.metrics = (cost, damping, step_quality);
+    }
+}
+
+/// Solves `built` with Levenberg–Marquardt, calling `on_iteration` as each
+/// iteration ends.
+///
+/// # Errors
+///
+/// apex-solver's error (a linear solve that failed, a problem it refuses).
+pub fn solve(
+    built: &mut Built,
+    options: &SolveOptions,
+    on_iteration: impl FnMut(&Iteration) + Send + 'static,
+) -> Result<Outcome, SolveError> {
+    let config = LevenbergMarquardtConfig::default()
+        .with_linear_solver_type(built.linear_solver)
+        .with_max_iterations(options.max_iterations)
+        .with_cost_tolerance(options.cost_tolerance)
+        .with_parameter_tolerance(options.parameter_tolerance)
+        .with_gradient_tolerance(options.gradient_tolerance);
+    let start = Instant::now();
+    let state = Arc::new(Mutex::new(ReporterState {
+        clock: Arc::clone(&built.clock),
+        start,
+        last: start,
+        previous_cost: built.initial_cost,
+        metrics: (f64::NAN, None, None),
+        min_relative_decrease: config.min_relative_decrease,
+        history: Vec::new(),
+        callback: Box::new(on_iteration),
+    }));
+    let mut solver = LevenbergMarquardt::with_config(config);
+    solver.add_observer(Reporter {
+        state: Arc::clone(&state),
+    });
+    let result = solver
+        .optimize(&mut built.problem)
+        .map_err(|e| SolveError(e.to_string()))?;
+    let history = std::mem::take(&mut state.lock().unwrap_or_else(PoisonError::into_inner).history);
+    Ok(Outcome {
+        status: result.status,
+        initial_cost: result.initial_cost,
+        final_cost: result.final_cost,
+        iterations: result.iterations,
+        elapsed: start.elapsed(),
+        values: result.parameters,
+        history,
+    })
+}
