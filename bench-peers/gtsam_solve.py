@@ -8,11 +8,11 @@ The problems follow GTSAM's own readers and examples (see `data/SOURCES.md`,
 holds it:
 
 - BAL, Bundler: `SfmData.FromBalFile` / `FromBundlerFile` (each pixel read
-  as `(u, -v)`, cameras converted to GTSAM's convention),
-  `initialCamerasAndPointsEstimate`, and `SfmData.sfmFactorGraph()`: one
-  `GeneralSFMFactor` per observation with a unit noise model, camera 0 and
-  point 0 held fixed by `NonlinearEquality` (slamjac fixes camera 0's pose
-  and [f, k1, k2] and point 0).
+  as `(u, -v)`, cameras converted to GTSAM's convention), and, as slamjac
+  parameterizes them, separate pose, calibration and point variables: one
+  `GeneralSFMFactor2Cal3Bundler` per observation with a unit noise model,
+  camera 0's pose held fixed by a `NonlinearEqualityPose3` (the scale is
+  left to the damping, as in slamjac).
 - g2o: `readG2o(file, True)`; the first vertex held fixed by a
   `NonlinearEqualityPose3` (slamjac fixes it).
 - EDGE3 (`sphere2500`): `load3D`, which gives no initial values; poses are
@@ -53,8 +53,24 @@ def lm(graph, initial, max_iterations):
 
 def sfm(path, reader):
     data = reader(path)
-    graph = data.sfmFactorGraph()
-    return graph, gtsam.initialCamerasAndPointsEstimate(data)
+    X = lambda i: gtsam.symbol("x", i)
+    K = lambda i: gtsam.symbol("k", i)
+    P = lambda j: gtsam.symbol("p", j)
+    graph = gtsam.NonlinearFactorGraph()
+    initial = gtsam.Values()
+    noise = gtsam.noiseModel.Unit.Create(2)
+    for i in range(data.numberCameras()):
+        camera = data.camera(i)
+        initial.insert(X(i), camera.pose())
+        initial.insert(K(i), camera.calibration())
+    for j in range(data.numberTracks()):
+        track = data.track(j)
+        initial.insert(P(j), track.point3())
+        for m in range(track.numberMeasurements()):
+            i, uv = track.measurement(m)
+            graph.add(gtsam.GeneralSFMFactor2Cal3Bundler(uv, noise, X(i), P(j), K(i)))
+    graph.add(gtsam.NonlinearEqualityPose3(X(0), initial.atPose3(X(0))))
+    return graph, initial
 
 
 def g2o(path):

@@ -78,18 +78,30 @@ pub enum CliError {
     /// errata (exit 1).
     #[error("audit: formulas disagree with the truth: {}", .0.join("; "))]
     Disagreement(Vec<String>),
+    /// A data file that cannot be read or written, `FILE:LINE: what` or
+    /// `FILE: what` (exit 2).
+    #[error(transparent)]
+    Data(#[from] slam_data::Error),
+    /// An option whose value is not valid, named (exit 2).
+    #[error("{0}")]
+    Usage(String),
+    /// `solve`: the problem cannot be solved from its initial values, or the
+    /// solve stopped on a failure (exit 1).
+    #[error("{0}")]
+    Solve(String),
 }
 
 impl CliError {
     /// The process exit code for this error.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Input(_) => EXIT_BAD_INPUT,
+            CliError::Input(_) | CliError::Data(_) | CliError::Usage(_) => EXIT_BAD_INPUT,
             CliError::Factor(_)
             | CliError::Hinted { .. }
             | CliError::Stale(_)
             | CliError::Codegen(_)
-            | CliError::Disagreement(_) => EXIT_DEGENERATE,
+            | CliError::Disagreement(_)
+            | CliError::Solve(_) => EXIT_DEGENERATE,
         }
     }
 

@@ -15,6 +15,9 @@
 //! - [`list`]: the factor table, text or JSON;
 //! - [`generate`]: `generate` and `check` of the generated kernels;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
+//! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
+//! - `solve` (feature `solve`): real estimation problems solved by
+//!   apex-solver through the factors' generated kernels;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
 //!   geometry or non-finite result, 2 rejected input).
 
@@ -29,8 +32,11 @@ pub mod kernels;
 pub mod list;
 pub mod pretty;
 pub mod registry;
+#[cfg(feature = "solve")]
+pub mod solve;
 pub mod source;
 pub mod strict_json;
+pub mod synth;
 pub mod w_first;
 
 pub use error::{CliError, InputError};

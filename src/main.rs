@@ -5,6 +5,9 @@
 //! slamjac list [--json]
 //! slamjac generate [--out DIR]   # rewrite generated/ from the factor definitions
 //! slamjac check [--dir DIR]      # exit 1 when generated/ is stale
+//! slamjac solve FILE [--format F] [--kernels generated|dual] [--max-iterations N]
+//!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
+//! slamjac synth-bal --cameras N --points M [--views V] [--seed S] [--outliers F] [--noise σ] --output FILE
 //! ```
 //!
 //! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
@@ -18,16 +21,17 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
-use slamjac::{Method, audit, eval, generate, list, pretty};
+use clap::{Parser, Subcommand, ValueEnum};
+use slamjac::{CliError, Method, audit, eval, generate, list, pretty, synth};
 
 #[derive(Debug, Parser)]
 #[command(
     name = "slamjac",
     version,
     about = "Exact tangent-space Jacobians of SLAM factors",
-    after_help = "Exit codes: 0 success; 1 degenerate geometry or non-finite result; \
-                  2 invalid input or usage. Errors are one line on stderr: \
+    after_help = "Exit codes: 0 success; 1 degenerate geometry or non-finite result, or a \
+                  solve that cannot start or stops on a failure; 2 invalid input, data file \
+                  or usage. Errors are one line on stderr: \
                   `error: <field path>: <what>`; keys that are not plain identifiers \
                   are quoted and JSON-escaped (`variables[\"a\\nb\"]`), names and \
                   values from the input cut after 64 characters (`…`)."
@@ -91,6 +95,129 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+    /// Solve a real estimation problem with apex-solver (Levenberg–Marquardt),
+    /// its factors linearized by their generated kernels: bundle adjustment
+    /// (BAL, Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3:
+    /// the first pose fixed), stereo visual odometry (KITTI VO files: the
+    /// first pose fixed). Prints a line per iteration and a summary. Needs
+    /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
+    Solve {
+        /// The data file; a KITTI VO problem is named by any of its three
+        /// `VO_*.txt` files.
+        file: PathBuf,
+        /// The format [default: from the file name, `.txt` from its content].
+        #[arg(long, value_parser = parse_format)]
+        format: Option<slam_data::Format>,
+        /// How the factors are linearized.
+        #[arg(long, value_enum, default_value_t)]
+        kernels: KernelChoice,
+        /// The most iterations (accepted or rejected steps).
+        #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+        max_iterations: u64,
+        /// A robust loss on every block, `huber:δ` or `cauchy:δ` (δ in the
+        /// residual's units: pixels, or whitened units for pose graphs).
+        #[arg(long, value_name = "LOSS:δ")]
+        robust: Option<String>,
+        /// Write the optimized problem here, in the input's format (KITTI VO:
+        /// the three files beside this `VO_*.txt` name).
+        #[arg(long, value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Write an SVG plot here: the cost per iteration and, for
+        /// reprojection problems, the reprojection errors before and after.
+        #[arg(long, value_name = "FILE.svg")]
+        plot: Option<PathBuf>,
+    },
+    /// Write a seeded synthetic bundle-adjustment problem as a BAL file:
+    /// cameras on a ring looking at a ball of points, Gaussian pixel noise,
+    /// uniform outliers, perturbed initial values.
+    SynthBal {
+        /// Cameras (at least 2).
+        #[arg(long)]
+        cameras: usize,
+        /// Points.
+        #[arg(long)]
+        points: usize,
+        /// Cameras that see each point.
+        #[arg(long, default_value_t = 5)]
+        views: usize,
+        /// Seed of the random generator.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Fraction of observations that are outliers, uniform in the image.
+        #[arg(long, default_value_t = 0.05)]
+        outliers: f64,
+        /// Pixel noise of the inliers (standard deviation, px).
+        #[arg(long, default_value_t = 1.0)]
+        noise: f64,
+        /// The BAL file to write.
+        #[arg(long, value_name = "FILE")]
+        output: PathBuf,
+    },
+}
+
+/// `--kernels`: how `solve` linearizes its factors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+enum KernelChoice {
+    /// The generated kernels of `generated/`.
+    #[default]
+    Generated,
+    /// Dual numbers through the same factors (for comparison).
+    Dual,
+}
+
+fn parse_format(name: &str) -> Result<slam_data::Format, String> {
+    name.parse()
+        .map_err(|e: slam_data::UnknownFormat| e.to_string())
+}
+
+#[cfg(feature = "solve")]
+#[allow(clippy::too_many_arguments)]
+fn solve(
+    file: PathBuf,
+    format: Option<slam_data::Format>,
+    kernels: KernelChoice,
+    max_iterations: u64,
+    robust: Option<String>,
+    output: Option<PathBuf>,
+    plot: Option<PathBuf>,
+) -> Result<String, CliError> {
+    use factor_apex::Kernels;
+    let robust = robust
+        .map(|r| {
+            r.parse()
+                .map_err(|e| CliError::Usage(format!("--robust: {e}")))
+        })
+        .transpose()?;
+    slamjac::solve::run(&slamjac::solve::SolveArgs {
+        file,
+        format,
+        kernels: match kernels {
+            KernelChoice::Generated => Kernels::Generated,
+            KernelChoice::Dual => Kernels::Dual,
+        },
+        max_iterations: usize::try_from(max_iterations).unwrap_or(usize::MAX),
+        robust,
+        output,
+        plot,
+    })
+}
+
+#[cfg(not(feature = "solve"))]
+#[allow(clippy::too_many_arguments)]
+fn solve(
+    _file: PathBuf,
+    _format: Option<slam_data::Format>,
+    _kernels: KernelChoice,
+    _max_iterations: u64,
+    _robust: Option<String>,
+    _output: Option<PathBuf>,
+    _plot: Option<PathBuf>,
+) -> Result<String, CliError> {
+    Err(CliError::Usage(
+        "solve: this slamjac was built without the feature `solve`; build it with \
+         `cargo run --release --features solve -- solve FILE`"
+            .into(),
+    ))
 }
 
 fn main() -> ExitCode {
@@ -106,6 +233,34 @@ fn main() -> ExitCode {
             markdown,
             json,
         } => audit::run(samples, markdown.as_deref(), json.as_deref()),
+        Command::Solve {
+            file,
+            format,
+            kernels,
+            max_iterations,
+            robust,
+            output,
+            plot,
+        } => solve(file, format, kernels, max_iterations, robust, output, plot),
+        Command::SynthBal {
+            cameras,
+            points,
+            views,
+            seed,
+            outliers,
+            noise,
+            output,
+        } => synth::run(
+            &synth::SynthArgs {
+                cameras,
+                points,
+                views,
+                seed,
+                outliers,
+                noise,
+            },
+            &output,
+        ),
     };
     match output {
         Ok(text) => match writeln!(std::io::stdout().lock(), "{text}") {

@@ -16,7 +16,7 @@ use crate::timing::PhaseClock;
 /// When to stop (apex-solver's Ceres-like criteria).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveOptions {
-    /// The most iterations (accepted or rejected steps).
+    /// The most iterations (steps tried, accepted or rejected); at least 1.
     pub max_iterations: usize,
     /// Stop when an accepted step decreases the cost by less than this, relative.
     pub cost_tolerance: f64,
@@ -27,12 +27,12 @@ pub struct SolveOptions {
 }
 
 impl Default for SolveOptions {
-    /// apex-solver's defaults (Ceres' function, parameter and gradient
-    /// tolerances 1e-6, 1e-8, 1e-10), 50 iterations.
+    /// apex-solver's tolerances (Ceres' function, parameter and gradient
+    /// tolerances: 1e-6, 1e-8, 1e-10) and 100 iterations (GTSAM's limit).
     fn default() -> Self {
         let lm = LevenbergMarquardtConfig::default();
         SolveOptions {
-            max_iterations: lm.max_iterations,
+            max_iterations: 100,
             cost_tolerance: lm.cost_tolerance,
             parameter_tolerance: lm.parameter_tolerance,
             gradient_tolerance: lm.gradient_tolerance,
@@ -210,7 +210,9 @@ pub fn solve(
 ) -> Result<Outcome, SolveError> {
     let config = LevenbergMarquardtConfig::default()
         .with_linear_solver_type(built.linear_solver)
-        .with_max_iterations(options.max_iterations)
+        // apex stops after the iteration whose 0-based index reaches its
+        // limit, so it runs `limit + 1` iterations.
+        .with_max_iterations(options.max_iterations.saturating_sub(1))
         .with_cost_tolerance(options.cost_tolerance)
         .with_parameter_tolerance(options.parameter_tolerance)
         .with_gradient_tolerance(options.gradient_tolerance);

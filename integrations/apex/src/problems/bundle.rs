@@ -86,12 +86,9 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
         keys.intrinsics
             .push(builder.variable(ManifoldType::RN, vec![focal, k1, k2]));
     }
-    for (j, point) in bal.points.iter().enumerate() {
+    for point in &bal.points {
         let key = builder.variable(ManifoldType::RN, point.as_slice().to_vec());
-        // Point 0 is held fixed (the gauge) and stays in the reduced system.
-        if j > 0 {
-            builder.eliminate(key);
-        }
+        builder.eliminate(key);
         keys.points.push(key);
     }
     for k in by_point(bal) {
@@ -121,13 +118,10 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
             }
         }
     }
-    // The gauge, as GTSAM's `sfmFactorGraph`: camera 0 and point 0 fixed.
-    if let (Some(&pose), Some(&intrinsics)) = (keys.poses.first(), keys.intrinsics.first()) {
+    // The gauge: camera 0's pose fixed (six of its seven dimensions; the
+    // scale is left to the damping), as apex-solver's own BA example does.
+    if let Some(&pose) = keys.poses.first() {
         builder.fix(pose, 6)?;
-        builder.fix(intrinsics, 3)?;
-    }
-    if let Some(&point) = keys.points.first() {
-        builder.fix(point, 3)?;
     }
     Ok(builder.finish(Keys::Bundle(keys), LinearSolverType::ExplicitSparseSchur))
 }

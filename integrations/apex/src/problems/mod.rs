@@ -2,7 +2,7 @@
 //!
 //! | data set (crate `slam-data`) | variables | factors | gauge | linear solver |
 //! | --- | --- | --- | --- | --- |
-//! | BAL, Bundler ([`bundle`]) | per camera an `SE3` world-to-camera pose and `Rn(3)` `[f, k1, k2]`; per point `Rn(3)` | [`SnavelyReprojection`](slam_factors::SnavelyReprojection), one per observation | camera 0 (pose and intrinsics) and point 0 held fixed, as GTSAM's `sfmFactorGraph` | explicit sparse Schur, points eliminated |
+//! | BAL, Bundler ([`bundle`]) | per camera an `SE3` world-to-camera pose and `Rn(3)` `[f, k1, k2]`; per point `Rn(3)` | [`SnavelyReprojection`](slam_factors::SnavelyReprojection), one per observation | camera 0's pose held fixed (the scale, the seventh dimension of the gauge, is left to the damping) | explicit sparse Schur, points eliminated |
 //! | g2o, EDGE3 ([`pose_graph`]) | per vertex an `SE3` body-to-world pose (EDGE3 without vertices: the odometry chain) | [`BetweenFactor`](slam_factors::BetweenFactor), one per edge | the first pose held fixed | sparse Cholesky |
 //! | KITTI stereo VO ([`stereo`]) | per pose an `SE3` camera-to-world pose; per landmark `Rn(3)` | [`StereoReprojection`](slam_factors::StereoReprojection), one per observation | the first pose held fixed, as GTSAM's example | explicit sparse Schur, landmarks eliminated |
 //!

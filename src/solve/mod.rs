@@ -1,0 +1,115 @@
+//! `slamjac solve`: a real estimation problem (BAL, Bundler, g2o, EDGE3,
+//! KITTI stereo VO) optimized by apex-solver's Levenberg–Marquardt, its
+//! factors written once with the derive and linearized by their generated
+//! kernels (or, with `--kernels dual`, by dual numbers), served through the
+//! generic adapter of crate `factor-apex`.
+//!
+//! - [`progress`]: a line per iteration (and a progress bar on long runs);
+//! - [`report`]: the header and the final summary;
+//! - [`plot`]: the SVG of the cost per iteration and, for reprojection
+//!   problems, the histogram of reprojection errors before and after.
+//!
+//! Exit codes follow [`crate::error`]: 2 for a malformed file or option, 1
+//! for a problem that is degenerate at its initial values or a solve that
+//! stops on a failure.
+
+pub mod plot;
+pub mod progress;
+pub mod report;
+
+use std::path::{Path, PathBuf};
+
+use factor_apex::Kernels;
+use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice, Robust};
+use factor_apex::solve::{SolveOptions, Verdict, solve};
+use slam_data::Format;
+
+use crate::error::CliError;
+
+/// What `solve` was asked for.
+#[derive(Debug, Clone)]
+pub struct SolveArgs {
+    /// The data file (for KITTI VO, any of its three files).
+    pub file: PathBuf,
+    /// The format, or detected from the file.
+    pub format: Option<Format>,
+    /// Generated kernels or dual numbers.
+    pub kernels: Kernels,
+    /// The most iterations.
+    pub max_iterations: usize,
+    /// A robust loss on every block.
+    pub robust: Option<Robust>,
+    /// Where to write the optimized problem (in the input's format).
+    pub output: Option<PathBuf>,
+    /// Where to write the SVG plot.
+    pub plot: Option<PathBuf>,
+}
+
+/// `FILE: what` (made one printable line by [`CliError::one_line`]).
+fn at(file: &Path, what: impl std::fmt::Display) -> String {
+    format!("{}: {what}", file.display())
+}
+
+/// Reads, builds, solves and reports; prints the header and a line per
+/// iteration as they come and returns the summary.
+///
+/// # Errors
+///
+/// [`CliError::Data`] for a file that cannot be read or written,
+/// [`CliError::Usage`] for data that cannot make a problem, and
+/// [`CliError::Solve`] for a problem degenerate at its initial values or a
+/// solve that stopped on a failure (the summary is printed first).
+pub fn run(args: &SolveArgs) -> Result<String, CliError> {
+    let data = slam_data::Problem::read(&args.file, args.format)?;
+    let options = BuildOptions {
+        factors: FactorChoice::Ours(args.kernels),
+        robust: args.robust,
+        keep_blocks: false,
+    };
+    let mut built = problems::build(&data, &options).map_err(|e| match e {
+        BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
+        BuildError::Degenerate { .. } | BuildError::Solver(_) | BuildError::Adapter(_) => {
+            CliError::Solve(at(&args.file, e))
+        }
+    })?;
+    let before = problems::reprojection_errors(&data);
+    progress::print(&report::header(&args.file, &data, &built, args));
+    let options = SolveOptions {
+        max_iterations: args.max_iterations,
+        ..SolveOptions::default()
+    };
+    let mut progress = progress::Progress::new(args.max_iterations, built.blocks);
+    let outcome = solve(&mut built, &options, progress.callback())
+        .map_err(|e| CliError::Solve(at(&args.file, format!("the solve stopped: {e}"))))?;
+    progress.finish();
+    let solved = built.write_back(&data, &outcome.values);
+    let after = problems::reprojection_errors(&solved);
+    let errors = before.as_deref().zip(after.as_deref());
+    if let Some(path) = &args.plot {
+        plot::write(path, built.initial_cost, &outcome.history, errors)?;
+    }
+    let verdict = outcome.verdict();
+    if let Verdict::Failed(why) = &verdict {
+        progress::print(&report::summary(
+            &built,
+            &outcome,
+            errors,
+            None,
+            args.plot.as_deref(),
+        ));
+        return Err(CliError::Solve(at(
+            &args.file,
+            format!("the solve stopped on a failure: {why}; no output written"),
+        )));
+    }
+    if let Some(path) = &args.output {
+        solved.write(path)?;
+    }
+    Ok(report::summary(
+        &built,
+        &outcome,
+        errors,
+        args.output.as_deref(),
+        args.plot.as_deref(),
+    ))
+}

@@ -1,0 +1,172 @@
+//! The header printed before a solve and the summary after it.
+
+use std::path::Path;
+
+use factor_apex::problems::Built;
+use factor_apex::solve::{Outcome, Verdict};
+
+use super::SolveArgs;
+use super::progress::duration;
+
+/// What the problem is, in words: sizes, factors, kernels, gauge, solver.
+pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &SolveArgs) -> String {
+    let (sizes, factor, gauge) = match data {
+        slam_data::Problem::Bal(p) => (
+            format!(
+                "{} cameras, {} points, {} observations",
+                p.cameras.len(),
+                p.points.len(),
+                p.observations.len()
+            ),
+            "snavely_reprojection",
+            "camera 0's pose fixed (the scale is left to the damping)",
+        ),
+        slam_data::Problem::Bundler(p) => (
+            format!(
+                "{} cameras, {} points, {} observations",
+                p.cameras.len(),
+                p.points.len(),
+                p.observations.len()
+            ),
+            "snavely_reprojection",
+            "camera 0's pose fixed (the scale is left to the damping)",
+        ),
+        slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => (
+            if g.vertices.is_empty() {
+                format!(
+                    "{} edges, no vertices (poses chained from the odometry)",
+                    g.edges.len()
+                )
+            } else {
+                format!("{} poses, {} edges", g.vertices.len(), g.edges.len())
+            },
+            "between",
+            "the first pose fixed",
+        ),
+        slam_data::Problem::KittiVo(vo) => (
+            format!(
+                "{} poses, {} landmarks, {} stereo observations",
+                vo.poses.len(),
+                vo.initial_landmarks().len(),
+                vo.observations.len()
+            ),
+            "stereo_reprojection",
+            "the first pose fixed",
+        ),
+    };
+    let robust = args
+        .robust
+        .map_or_else(|| "least squares".to_owned(), |r| format!("robust {r}"));
+    format!(
+        "{} ({}): {sizes}\n{} {factor} blocks, {} kernels, {robust}; gauge: {gauge}; \
+         Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
+        file.display(),
+        data.format(),
+        built.blocks,
+        args.kernels.name(),
+        built.linear_solver,
+        built.initial_cost
+    )
+}
+
+/// `sqrt(mean(e²))` over the finite errors, in words (`0.4209 px`), and
+/// how many there are.
+fn rms(errors: &[f64]) -> (String, usize) {
+    let finite: Vec<f64> = errors.iter().copied().filter(|e| e.is_finite()).collect();
+    if finite.is_empty() {
+        return ("not finite".to_owned(), 0);
+    }
+    let sum: f64 = finite.iter().map(|e| e * e).sum();
+    (
+        format!("{:.4} px", (sum / finite.len() as f64).sqrt()),
+        finite.len(),
+    )
+}
+
+/// The summary: verdict, costs, RMS reprojection error, where the time
+/// went, rejected evaluations, peak memory, files written.
+pub fn summary(
+    built: &Built,
+    outcome: &Outcome,
+    errors: Option<(&[f64], &[f64])>,
+    output: Option<&Path>,
+    plot: Option<&Path>,
+) -> String {
+    let verdict = match outcome.verdict() {
+        Verdict::Converged(why) => format!("converged ({why})"),
+        Verdict::IterationLimit => "stopped at the iteration limit, not converged".to_owned(),
+        Verdict::Stalled => {
+            "stopped: no step reduces the cost any more (damping at its maximum)".to_owned()
+        }
+        Verdict::Failed(why) => format!("failed: {why}"),
+    };
+    let change = if outcome.initial_cost > 0.0 && outcome.final_cost.is_finite() {
+        format!(
+            " ({:+.3}%)",
+            100.0 * (outcome.final_cost - outcome.initial_cost) / outcome.initial_cost
+        )
+    } else {
+        String::new()
+    };
+    let mut lines = vec![
+        format!(
+            "summary: {verdict} after {} iterations in {}",
+            outcome.iterations,
+            duration(outcome.elapsed)
+        ),
+        format!(
+            "  cost: initial {:.12e}, final {:.12e}{change}",
+            outcome.initial_cost, outcome.final_cost
+        ),
+    ];
+    if let Some((before, after)) = errors {
+        let ((b, _), (a, n)) = (rms(before), rms(after));
+        lines.push(format!(
+            "  RMS reprojection error: {b} initially, {a} finally ({n} of {} observations)",
+            after.len()
+        ));
+    }
+    let passes = outcome.history.len().max(1);
+    let linearization: std::time::Duration =
+        outcome.history.iter().map(|it| it.linearization).sum();
+    let solves: std::time::Duration = outcome.history.iter().map(|it| it.solve).sum();
+    let evaluations: std::time::Duration = outcome.history.iter().map(|it| it.evaluation).sum();
+    let per_block = linearization.as_secs_f64() / passes as f64 / built.blocks.max(1) as f64 * 1e9;
+    lines.push(format!(
+        "  time: linearization {} ({per_block:.0} ns per block per pass), linear solves and \
+         updates {}, step evaluations {}",
+        duration(linearization),
+        duration(solves),
+        duration(evaluations)
+    ));
+    let rejected = built.rejections.count();
+    if rejected > 0 {
+        lines.push(format!(
+            "  rejected evaluations: {rejected} trial steps met a degenerate configuration \
+             (the step was rejected); first: {}",
+            built.rejections.first().unwrap_or("?")
+        ));
+    }
+    if let Some(bytes) = peak_memory() {
+        lines.push(format!(
+            "  peak memory: {:.1} MiB",
+            bytes as f64 / 1048576.0
+        ));
+    }
+    if let Some(path) = output {
+        lines.push(format!("  wrote {}", path.display()));
+    }
+    if let Some(path) = plot {
+        lines.push(format!("  plot {}", path.display()));
+    }
+    lines.join("\n")
+}
+
+/// The process's peak resident memory (Linux: `VmHWM` of
+/// `/proc/self/status`); `None` elsewhere.
+pub fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
