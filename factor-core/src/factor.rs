@@ -56,17 +56,22 @@ impl FactorError {
 /// for the residual, `Some(Some(k))` for block `k` (blocks passed as `None`
 /// are not looked at).
 pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Option<Option<usize>> {
-    if !residual.iter().all(|x| x.is_finite()) {
+    if all_finite(residual) && blocks.iter().all(|b| b.as_deref().is_none_or(all_finite)) {
+        return None;
+    }
+    if !all_finite(residual) {
         return Some(None);
     }
     blocks
         .iter()
-        .position(|block| {
-            block
-                .as_deref()
-                .is_some_and(|b| !b.iter().all(|x| x.is_finite()))
-        })
+        .position(|block| block.as_deref().is_some_and(|b| !all_finite(b)))
         .map(Some)
+}
+
+/// Whether every value is finite, without a branch per value (a reduction
+/// the compiler vectorizes: this is on every solver call's path).
+fn all_finite(values: &[f64]) -> bool {
+    values.iter().fold(true, |finite, x| finite & x.is_finite())
 }
 
 /// A variable of a factor as reports describe it.
@@ -234,6 +239,25 @@ pub trait Factor: Storage<f64> + Sized {
     /// As [`Factor::linearize_into`].
     fn linearize_dual_into(
         &self,
+        residual: &mut [f64],
+        jacobians: &mut [Option<&mut [f64]>],
+    ) -> Result<(), FactorError>;
+
+    /// [`Factor::linearize_into`] for the factor stored as `stored` (its
+    /// fields' scalars in declaration order, [`Storage`]): the factor is
+    /// rebuilt from them for its validation, and the generated kernel reads
+    /// its inputs straight from `stored`. The path of a solver that holds the
+    /// scalars already (crate `factor-apex`); no allocation.
+    ///
+    /// # Errors
+    ///
+    /// As [`Factor::linearize_into`].
+    ///
+    /// # Panics
+    ///
+    /// If `stored` has the wrong length, or as [`Factor::linearize_into`].
+    fn linearize_stored_into(
+        stored: &[f64],
         residual: &mut [f64],
         jacobians: &mut [Option<&mut [f64]>],
     ) -> Result<(), FactorError>;

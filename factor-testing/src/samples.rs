@@ -241,7 +241,7 @@ impl Sampler {
         let pixel = p * (intrinsics.focal * intrinsics.radial_factor(p.norm_squared()));
         SnavelyReprojection {
             observed: pixel + Vector2::new(self.uniform(-3.0, 3.0), self.uniform(-3.0, 3.0)),
-            pose: Se3RhoTheta(pose),
+            pose: Se3RhoTheta::new(pose),
             intrinsics,
             point: pose.inverse().transform_point(&p_c),
         }
@@ -269,7 +269,7 @@ impl Sampler {
         StereoReprojection {
             calibration,
             observed: calibration.project(&p_c) + noise,
-            pose: Se3RhoTheta(pose),
+            pose: Se3RhoTheta::new(pose),
             landmark: pose.transform_point(&p_c),
         }
     }
@@ -289,8 +289,8 @@ impl Sampler {
             sqrt_information: SqrtInformation6::from_information(&information)
                 .expect("B Bᵀ + D is positive definite"),
             measured,
-            pose_i: Se3RhoTheta(pose_i),
-            pose_j: Se3RhoTheta(pose_j),
+            pose_i: Se3RhoTheta::new(pose_i),
+            pose_j: Se3RhoTheta::new(pose_j),
         }
     }
 

@@ -131,7 +131,7 @@ pub struct BetweenFactor<S: Scalar = f64> {
 fn error_pose<S: Scalar>(f: &BetweenFactor<S>) -> Se3<S> {
     f.measured
         .inverse()
-        .compose(&f.pose_i.inverse().compose(&f.pose_j))
+        .compose(&f.pose_i.se3().inverse().compose(&f.pose_j.se3()))
 }
 
 /// `U · Log(Z⁻¹ · T_i⁻¹ · T_j)`.

@@ -125,23 +125,24 @@ pub fn snavely_reprojection_residual<S: Scalar>(f: &SnavelyReprojection<S>) -> V
 }
 
 /// The smallest value of `d/dρ [ρ (1 + k1 ρ² + k2 ρ⁴)] = 1 + 3 k1 ρ² + 5 k2 ρ⁴`
-/// over `ρ ∈ [0, radius]`, with the `ρ` where it is reached: the radial map is
-/// increasing (the image does not fold) up to `radius` exactly when it is
-/// positive. In `s = ρ²` the derivative is a quadratic; its minimum on
-/// `[0, radius²]` is at an end or at the vertex `s = −3 k1 / (10 k2)`.
-pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius: f64) -> (f64, f64) {
+/// over `ρ² ∈ [0, radius2]`, with the `ρ²` where it is reached: the radial
+/// map is increasing (the image does not fold) up to the radius exactly when
+/// it is positive. In `s = ρ²` the derivative is a quadratic; its minimum on
+/// `[0, radius2]` is at an end or at the vertex `s = −3 k1 / (10 k2)`. (In
+/// squared radii, so that the validation every linearization runs takes no
+/// square root.)
+pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius2: f64) -> (f64, f64) {
     let derivative = |s: f64| 1.0 + s * (3.0 * k1 + 5.0 * k2 * s);
-    let end = radius * radius;
-    let vertex = -3.0 * k1 / (10.0 * k2);
-    let interior = (k2 > 0.0 && vertex > 0.0 && vertex < end).then_some(vertex);
-    [Some(0.0), Some(end), interior]
-        .into_iter()
-        .flatten()
-        .map(|s| (derivative(s), s.sqrt()))
-        .fold(
-            (f64::INFINITY, 0.0),
-            |best, c| if c.0 < best.0 { c } else { best },
-        )
+    let (at_end, vertex) = (derivative(radius2), -3.0 * k1 / (10.0 * k2));
+    let mut minimum = if at_end < 1.0 {
+        (at_end, radius2)
+    } else {
+        (1.0, 0.0)
+    };
+    if k2 > 0.0 && vertex > 0.0 && vertex < radius2 && derivative(vertex) < minimum.0 {
+        minimum = (derivative(vertex), vertex);
+    }
+    minimum
 }
 
 /// Rejects a focal length that is not positive, a point at or behind the
@@ -156,10 +157,11 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
         ));
     }
     let p_c = f.pose.transform_point(&f.point);
-    let scale = p_c
-        .amax()
-        .max(f.point.amax())
-        .max(f.pose.translation.amax());
+    let t = f.pose.translation();
+    let scale = [p_c, f.point, t]
+        .iter()
+        .flat_map(|v| v.iter())
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
     // The camera looks down −z: a point in front has −P_z > 0.
     if !exceeds(-p_c.z, DEGENERACY_TOLERANCE * scale) {
         return Err(degenerate(
@@ -170,8 +172,8 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
             ),
         ));
     }
-    let radius = (p_c.xy() / p_c.z).norm();
-    let (minimum, at) = radial_map_derivative_minimum(k1, k2, radius);
+    let radius2 = (p_c.x * p_c.x + p_c.y * p_c.y) / (p_c.z * p_c.z);
+    let (minimum, at) = radial_map_derivative_minimum(k1, k2, radius2);
     if !exceeds(minimum, 0.0) {
         return Err(degenerate(
             name,
@@ -179,8 +181,8 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
                 "distortion folds the image: d/dρ [ρ (1 + k1 ρ² + k2 ρ⁴)] = {} at ρ = {}, \
                  within the point's radius ‖p‖ = {} (k1 = {}, k2 = {})",
                 number_text(minimum),
-                number_text(at),
-                number_text(radius),
+                number_text(at.sqrt()),
+                number_text(radius2.sqrt()),
                 number_text(k1),
                 number_text(k2)
             ),

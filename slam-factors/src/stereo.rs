@@ -99,7 +99,7 @@ impl<S: Scalar> Storage<S> for StereoIntrinsics<S> {
 /// - `landmark` `X` in the world: additive.
 ///
 /// Degenerate: the landmark at or behind the camera (`z ≤ 1e-9` times the
-/// largest coordinate of `T⁻¹ X`, `X` or `t`).
+/// largest coordinate of `X − t`, `X` or `t`).
 #[derive(Debug, Clone, Factor)]
 #[factor(
     residual = stereo_reprojection_residual,
@@ -128,10 +128,7 @@ pub struct StereoReprojection<S: Scalar = f64> {
 
 /// The landmark in the left camera's frame, `Rᵀ (X − t)`.
 fn landmark_in_camera<S: Scalar>(f: &StereoReprojection<S>) -> Vector3<S> {
-    f.pose
-        .rotation
-        .inverse()
-        .rotate(&(f.landmark - f.pose.translation))
+    f.pose.inverse_transform_point(&f.landmark)
 }
 
 /// `π(Rᵀ (X − t)) − [u_L, u_R, v]`.
@@ -141,17 +138,28 @@ pub fn stereo_reprojection_residual<S: Scalar>(f: &StereoReprojection<S>) -> Vec
 
 /// Rejects a landmark at or behind the camera.
 pub fn validate_stereo_reprojection(f: &StereoReprojection<f64>) -> Result<(), FactorError> {
-    let p_c = landmark_in_camera(f);
-    let scale = p_c
-        .amax()
-        .max(f.landmark.amax())
-        .max(f.pose.translation.amax());
-    if !exceeds(p_c.z, DEGENERACY_TOLERANCE * scale) {
+    // Only the depth is needed: the third row of `Rᵀ`, i.e. the third
+    // column of `R(q)` written from the quaternion (in the homogeneous form
+    // the kernels use), times `X − t`. This runs at every linearization.
+    let q = f.pose.se3().rotation.quaternion;
+    let column = Vector3::new(
+        2.0 * (q.x * q.z + q.w * q.y),
+        2.0 * (q.y * q.z - q.w * q.x),
+        q.w * q.w - q.x * q.x - q.y * q.y + q.z * q.z,
+    );
+    let t = f.pose.translation();
+    let offset = f.landmark - t;
+    let depth = column.dot(&offset);
+    let scale = [offset, f.landmark, t]
+        .iter()
+        .flat_map(|v| v.iter())
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    if !exceeds(depth, DEGENERACY_TOLERANCE * scale) {
         return Err(degenerate(
             StereoReprojection::NAME,
             format!(
                 "landmark is at or behind the camera (depth z = {})",
-                number_text(p_c.z)
+                number_text(depth)
             ),
         ));
     }

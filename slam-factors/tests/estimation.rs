@@ -57,8 +57,8 @@ fn snavely_residual_is_the_bal_model() {
     let mut sampler = Sampler::new(36);
     for _ in 0..50 {
         let f = sampler.snavely_reprojection();
-        let r = Rotation3::from_matrix_unchecked(f.pose.rotation.matrix());
-        let p_c = r * f.point + f.pose.translation;
+        let r = Rotation3::from_matrix_unchecked(f.pose.se3().rotation.matrix());
+        let p_c = r * f.point + f.pose.translation();
         let p = -p_c.xy() / p_c.z;
         let RadialIntrinsics { focal, k1, k2 } = f.intrinsics;
         let r2 = p.norm_squared();
@@ -74,8 +74,8 @@ fn stereo_residual_is_the_rectified_stereo_model() {
     let mut sampler = Sampler::new(37);
     for _ in 0..50 {
         let f = sampler.stereo_reprojection();
-        let r = f.pose.rotation.matrix();
-        let p = r.transpose() * (f.landmark - f.pose.translation);
+        let r = f.pose.se3().rotation.matrix();
+        let p = r.transpose() * (f.landmark - f.pose.translation());
         let c = f.calibration;
         let u_left = c.fx * p.x / p.z + c.skew * p.y / p.z + c.u0;
         let expected = Vector3::new(
@@ -100,7 +100,7 @@ fn between_residual_is_whitened_by_the_information() {
         let error = f
             .measured
             .inverse()
-            .compose(&f.pose_i.inverse().compose(&f.pose_j))
+            .compose(&f.pose_i.se3().inverse().compose(&f.pose_j.se3()))
             .log();
         let residual = f.residual().expect("valid");
         let expected = (error.transpose() * information * error)[(0, 0)];
@@ -143,7 +143,7 @@ fn assert_degenerate<F: Factor>(factor: &F, needle: &str) {
 /// A Snavely factor whose point is at `p_c` in the camera frame.
 fn snavely_with_camera_point(p_c: Vector3<f64>) -> SnavelyReprojection {
     let mut f = Sampler::new(40).snavely_reprojection();
-    f.point = f.pose.inverse().transform_point(&p_c);
+    f.point = f.pose.se3().inverse().transform_point(&p_c);
     f
 }
 
@@ -185,8 +185,11 @@ fn snavely_distortion_that_folds_the_image() {
     // interior minimum catches it.
     f.intrinsics.k1 = -3.0;
     f.intrinsics.k2 = 4.02;
-    let (minimum, at) = radial_map_derivative_minimum(-3.0, 4.02, 0.5);
-    assert!(minimum < 0.0 && at > 0.0 && at < 0.5, "{minimum} at {at}");
+    let (minimum, at) = radial_map_derivative_minimum(-3.0, 4.02, 0.25);
+    assert!(
+        minimum < 0.0 && at > 0.0 && at < 0.25,
+        "{minimum} at ρ² = {at}"
+    );
     let end = |k1: f64, k2: f64, s: f64| 1.0 + 3.0 * k1 * s + 5.0 * k2 * s * s;
     assert!(end(-3.0, 4.02, 0.25) > 0.0, "positive again at the radius");
     assert_degenerate(&f, "distortion folds the image");
@@ -217,7 +220,7 @@ fn between_rotation_error_of_pi() {
         So3::exp(&Vector3::new(0.0, std::f64::consts::PI, 0.0)),
         Vector3::zeros(),
     );
-    f.pose_j = Se3RhoTheta(f.pose_i.compose(&f.measured).compose(&half_turn));
+    f.pose_j = Se3RhoTheta::new(f.pose_i.se3().compose(&f.measured).compose(&half_turn));
     assert_degenerate(&f, "rotation error is π");
 }
 
@@ -227,7 +230,7 @@ fn between_rotation_error_of_pi() {
 fn snavely_at_the_identity_camera() {
     let f = SnavelyReprojection {
         observed: Vector2::zeros(),
-        pose: Se3RhoTheta(Se3::identity()),
+        pose: Se3RhoTheta::new(Se3::identity()),
         intrinsics: RadialIntrinsics::new(500.0, 0.1, 0.01),
         point: Vector3::new(0.2, -0.4, -2.0),
     };

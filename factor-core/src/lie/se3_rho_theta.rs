@@ -9,7 +9,7 @@
 //! scalars are those of [`Se3`] (`[qx, qy, qz, qw, x, y, z]`); only the
 //! tangent differs.
 
-use std::ops::Deref;
+use nalgebra::Vector3;
 
 use crate::lie::Se3;
 use crate::manifold::{Manifold, Perturbation};
@@ -17,20 +17,40 @@ use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
 /// A rigid transform `X ↦ R X + t` whose tangent is `[δρ, δθ]`
-/// (translation, then rotation). It dereferences to the [`Se3`] it wraps.
+/// (translation, then rotation).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Se3RhoTheta<S>(pub Se3<S>);
+pub struct Se3RhoTheta<S>(Se3<S>);
 
-impl<S> Deref for Se3RhoTheta<S> {
-    type Target = Se3<S>;
-    fn deref(&self) -> &Se3<S> {
-        &self.0
+impl<S: Scalar> Se3RhoTheta<S> {
+    /// The pose `T`.
+    pub fn new(pose: Se3<S>) -> Self {
+        Se3RhoTheta(pose)
+    }
+
+    /// The pose as [`Se3`] (the same transform; only the tangent differs).
+    pub fn se3(&self) -> Se3<S> {
+        self.0
+    }
+
+    /// `t`.
+    pub fn translation(&self) -> Vector3<S> {
+        self.0.translation
+    }
+
+    /// `T x = R x + t`.
+    pub fn transform_point(&self, x: &Vector3<S>) -> Vector3<S> {
+        self.0.transform_point(x)
+    }
+
+    /// `T⁻¹ y = Rᵀ (y − t)`.
+    pub fn inverse_transform_point(&self, y: &Vector3<S>) -> Vector3<S> {
+        self.0.rotation.inverse().rotate(&(y - self.0.translation))
     }
 }
 
 impl<S: Scalar> From<Se3<S>> for Se3RhoTheta<S> {
     fn from(pose: Se3<S>) -> Self {
-        Se3RhoTheta(pose)
+        Se3RhoTheta::new(pose)
     }
 }
 
@@ -86,30 +106,32 @@ impl<S: Scalar> Manifold<S> for Se3RhoTheta<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Vector3;
 
     use crate::lie::So3;
+
+    fn pose() -> Se3<f64> {
+        Se3::new(
+            So3::exp(&Vector3::new(0.3, -0.2, 0.5)),
+            Vector3::new(1.0, 2.0, -0.5),
+        )
+    }
 
     /// The same step retracts `Se3RhoTheta` as it retracts `Se3` with the
     /// halves of the tangent swapped, on either side.
     #[test]
     fn the_tangent_is_se3_with_its_halves_swapped() {
-        let pose = Se3::new(
-            So3::exp(&Vector3::new(0.3, -0.2, 0.5)),
-            Vector3::new(1.0, 2.0, -0.5),
-        );
+        let pose = pose();
         let rho_theta = [0.1, -0.2, 0.3, 0.01, 0.02, -0.03];
         let theta_rho = [0.01, 0.02, -0.03, 0.1, -0.2, 0.3];
         for side in [Perturbation::Left, Perturbation::Right] {
             assert_eq!(
-                Se3RhoTheta(pose).retract(&rho_theta, side).0,
+                Se3RhoTheta::new(pose).retract(&rho_theta, side).se3(),
                 pose.retract(&theta_rho, side)
             );
         }
         let stepped =
-            Se3RhoTheta(pose).retract(&[0.5, 0.0, 0.0, 0.0, 0.0, 0.0], Perturbation::Right);
+            Se3RhoTheta::new(pose).retract(&[0.5, 0.0, 0.0, 0.0, 0.0, 0.0], Perturbation::Right);
         let expected = pose.translation + pose.rotation.rotate(&Vector3::new(0.5, 0.0, 0.0));
-        assert!((stepped.translation - expected).norm() < 1e-15);
-        assert_eq!(stepped.rotation, pose.rotation);
+        assert!((stepped.translation() - expected).norm() < 1e-15);
     }
 }

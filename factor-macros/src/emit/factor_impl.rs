@@ -114,6 +114,17 @@ pub fn emit(cx: &Context) -> TokenStream {
         Some(_) => quote!(self.linearize_generated_into(residual, jacobians)),
         None => quote!(self.linearize_dual_into(residual, jacobians)),
     };
+    let linearize_stored_into = match &cx.model.kernel {
+        Some(_) => quote! {
+            let factor: Self = #krate::Storage::from_scalars(stored);
+            <Self as #krate::Factor>::validate(&factor)?;
+            Self::__factor_kernel(stored, residual, jacobians)
+        },
+        None => quote! {
+            let factor: Self = #krate::Storage::from_scalars(stored);
+            factor.linearize_dual_into(residual, jacobians)
+        },
+    };
     // Through dual numbers every block is computed; the ones held fixed are
     // not written.
     let linearize_dual_into = quote! {
@@ -203,6 +214,14 @@ pub fn emit(cx: &Context) -> TokenStream {
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> #result<(), #error> {
                 #linearize_dual_into
+            }
+
+            fn linearize_stored_into(
+                stored: &[f64],
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) -> #result<(), #error> {
+                #linearize_stored_into
             }
 
             fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {

@@ -53,12 +53,17 @@ pub fn emit(cx: &Context) -> TokenStream {
     let slices = sibling(kernel, &format_ident!("{}_slices", last, span = span));
 
     let field_count = cx.model.fields.len();
-    let inputs: Vec<_> = (0..field_count)
-        .map(|i| format_ident!("__in_{}", i))
-        .collect();
-    let names: Vec<_> = cx.model.fields.iter().map(|f| &f.ident).collect();
     let scalars: Vec<_> = (0..field_count)
         .map(|i| quote!(<#ident<f64>>::__FACTOR_SCALARS[#i]))
+        .collect();
+    // Each field's slice of the stored scalars: `stored[a..a + n]`, `a` the
+    // sum of the earlier fields' counts.
+    let slices_of_stored: Vec<_> = (0..field_count)
+        .map(|i| {
+            let earlier = &scalars[..i];
+            let n = &scalars[i];
+            quote!(&stored[(0usize #(+ #earlier)*)..(0usize #(+ #earlier)*) + #n])
+        })
         .collect();
     let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
     let block_dims: Vec<_> = cx.variables.iter().map(|v| cx.dim_f64(v)).collect();
@@ -122,11 +127,19 @@ pub fn emit(cx: &Context) -> TokenStream {
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> ::core::result::Result<(), #krate::FactorError> {
                 <Self as #krate::Factor>::validate(self)?;
-                #(
-                    let mut #inputs = [0.0_f64; #scalars];
-                    #krate::Storage::write_scalars(&self.#names, &mut #inputs);
-                )*
-                let done = #slices(&[#(&#inputs[..]),*], residual, jacobians);
+                let mut stored = [0.0_f64; <Self as #krate::Storage<f64>>::SCALARS];
+                #krate::Storage::write_scalars(self, &mut stored);
+                Self::__factor_kernel(&stored, residual, jacobians)
+            }
+
+            /// The generated kernel on the factor stored as `stored` (no
+            /// validation), its outputs checked for non-finite values.
+            fn __factor_kernel(
+                stored: &[f64],
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                let done = #slices(&[#(#slices_of_stored),*], residual, jacobians);
                 ::core::assert!(
                     done,
                     "{}: the residual has {} entries and each variable's block {} × its \

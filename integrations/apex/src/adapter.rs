@@ -133,24 +133,88 @@ impl<F: Factor> ApexFactor<F> {
     pub fn manifolds(&self) -> Vec<ApexManifold> {
         self.variables.iter().map(|(m, _)| *m).collect()
     }
+}
 
-    /// Residual and the requested row-major blocks at apex's parameters.
-    fn evaluate(
+/// Writes row-major blocks (`rows ×` each block's columns), side by side,
+/// into apex's `rows × Σ columns` matrix, column by column: through
+/// contiguous slices when its rows are contiguous (apex's always are).
+fn write_column_major<'b>(
+    mut jacobian: faer::mat::MatMut<'_, f64>,
+    rows: usize,
+    blocks: impl Iterator<Item = (usize, &'b [f64])>,
+) {
+    let columns = blocks.flat_map(|(dof, block)| (0..dof).map(move |c| (dof, block, c)));
+    match jacobian.rb_mut().try_as_col_major_mut() {
+        Some(matrix) => {
+            for (column, (dof, block, c)) in matrix.col_iter_mut().zip(columns) {
+                for (r, slot) in column.as_slice_mut().iter_mut().enumerate() {
+                    *slot = block[r * dof + c];
+                }
+            }
+        }
+        None => {
+            for (j, (dof, block, c)) in columns.enumerate() {
+                for r in 0..rows {
+                    *jacobian.rb_mut().get_mut(r, j) = block[r * dof + c];
+                }
+            }
+        }
+    }
+}
+
+impl<F: Factor> ApexFactor<F> {
+    /// [`apex_solver::factors::Factor::linearize`] with stack buffers of `S`
+    /// stored scalars and `J` Jacobian entries (zeroed at each call, so
+    /// sized to the factor: see `linearize`).
+    fn linearize_with<const S: usize, const J: usize>(
         &self,
         params: &[&[f64]],
         residual: &mut [f64],
-        blocks: &mut [Option<&mut [f64]>],
-    ) -> Result<(), FactorError> {
-        let mut buffer = [0.0; MAX_SCALARS];
-        let stored = &mut buffer[..self.template.len()];
+        jacobian: Option<faer::mat::MatMut<'_, f64>>,
+    ) {
+        let rows = F::RESIDUAL_DIM;
+        let mut stored = [0.0; S];
+        let stored = &mut stored[..self.template.len()];
         stored.copy_from_slice(&self.template);
         for ((manifold, offset), apex) in self.variables.iter().zip(params) {
             manifold.stored_from_apex(apex, &mut stored[*offset..]);
         }
-        let factor = F::from_scalars(stored);
-        match self.kernels {
-            Kernels::Generated => factor.linearize_into(residual, blocks),
-            Kernels::Dual => factor.linearize_dual_into(residual, blocks),
+        let mut scratch = [0.0; J];
+        let mut blocks: [Option<&mut [f64]>; MAX_VARIABLES] = Default::default();
+        if jacobian.is_some() {
+            let mut rest = &mut scratch[..];
+            for ((manifold, _), block) in self.variables.iter().zip(blocks.iter_mut()) {
+                let (head, tail) = rest.split_at_mut(rows * manifold.dof());
+                *block = Some(head);
+                rest = tail;
+            }
+        }
+        let blocks = &mut blocks[..self.variables.len()];
+        let result = match self.kernels {
+            Kernels::Generated => F::linearize_stored_into(stored, residual, blocks),
+            Kernels::Dual => F::from_scalars(stored).linearize_dual_into(residual, blocks),
+        };
+        match (result, jacobian) {
+            (Ok(()), Some(jacobian)) => {
+                let blocks =
+                    self.variables
+                        .iter()
+                        .zip(blocks.iter())
+                        .map(|((manifold, _), block)| {
+                            (manifold.dof(), block.as_deref().unwrap_or_default())
+                        });
+                write_column_major(jacobian, rows, blocks);
+            }
+            (Ok(()), None) => {}
+            (Err(error), jacobian) => {
+                residual.fill(f64::NAN);
+                if let Some(mut jacobian) = jacobian {
+                    jacobian.fill(f64::NAN);
+                }
+                if let Some(rejections) = &self.rejections {
+                    rejections.record(&error);
+                }
+            }
         }
     }
 }
@@ -162,42 +226,16 @@ impl<F: Factor> apex_solver::factors::Factor for ApexFactor<F> {
         residual: &mut [f64],
         jacobian: Option<faer::mat::MatMut<'_, f64>>,
     ) {
-        let linearizing = jacobian.is_some();
-        let rows = F::RESIDUAL_DIM;
-        let mut scratch = [0.0; MAX_JACOBIAN];
-        let mut blocks: [Option<&mut [f64]>; MAX_VARIABLES] = Default::default();
-        let count = self.variables.len();
-        if linearizing {
-            let mut rest = &mut scratch[..];
-            for ((manifold, _), block) in self.variables.iter().zip(blocks.iter_mut()) {
-                let (head, tail) = rest.split_at_mut(rows * manifold.dof());
-                *block = Some(head);
-                rest = tail;
-            }
-        }
-        let result = self.evaluate(params, residual, &mut blocks[..count]);
-        match (result, jacobian) {
-            (Ok(()), Some(mut jacobian)) => {
-                let mut column = 0;
-                for ((manifold, _), block) in self.variables.iter().zip(&blocks) {
-                    let (dof, block) = (manifold.dof(), block.as_deref().unwrap_or_default());
-                    for r in 0..rows {
-                        for c in 0..dof {
-                            *jacobian.rb_mut().get_mut(r, column + c) = block[r * dof + c];
-                        }
-                    }
-                    column += dof;
-                }
-            }
-            (Ok(()), None) => {}
-            (Err(error), jacobian) => {
-                residual.fill(f64::NAN);
-                if let Some(mut jacobian) = jacobian {
-                    jacobian.fill(f64::NAN);
-                }
-                if let Some(rejections) = &self.rejections {
-                    rejections.record(&error);
-                }
+        // Size classes of the stack buffers, chosen by constants (the other
+        // arms compile away): zeroing 2 KiB at every call would cost as much
+        // as a small kernel.
+        let (scalars, entries) = (F::SCALARS, F::RESIDUAL_DIM * F::TANGENT_DIM);
+        match (scalars <= 16, entries <= 32) {
+            (true, true) => self.linearize_with::<16, 32>(params, residual, jacobian),
+            (false, true) => self.linearize_with::<MAX_SCALARS, 32>(params, residual, jacobian),
+            (true, false) => self.linearize_with::<16, MAX_JACOBIAN>(params, residual, jacobian),
+            (false, false) => {
+                self.linearize_with::<MAX_SCALARS, MAX_JACOBIAN>(params, residual, jacobian)
             }
         }
     }

@@ -263,6 +263,7 @@ fn degenerate_configurations_are_nan_and_counted() {
     let mut factor = Sampler::new(56).snavely_reprojection();
     factor.point = factor
         .pose
+        .se3()
         .inverse()
         .transform_point(&nalgebra::Vector3::new(0.1, 0.2, 3.0));
     let rejections = Rejections::new();
@@ -315,7 +316,7 @@ fn stereo_equals_apex_stereo_factor_up_to_the_chart() {
             nalgebra_apex::Vector3::new(factor.observed.x, factor.observed.y, factor.observed.z),
             StereoCalibration::new(c.fx, c.fy, c.u0, c.v0, c.baseline).expect("valid"),
         );
-        let apex_params = vec![apex_pose(&factor.pose.inverse()), params[1].clone()];
+        let apex_params = vec![apex_pose(&factor.pose.se3().inverse()), params[1].clone()];
         let (apex_residual, apex_jacobian) = linearize(&apex, &apex_params);
         assert!(
             relative(&residual, &apex_residual) < 1e-12,
@@ -328,13 +329,13 @@ fn stereo_equals_apex_stereo_factor_up_to_the_chart() {
             relative(landmark(&j).as_slice(), landmark(&j_apex).as_slice()) < 1e-9,
             "configuration {i}: landmark block"
         );
-        let r = factor.pose.rotation.matrix();
+        let r = factor.pose.se3().rotation.matrix();
         let mut adjoint = nalgebra::Matrix6::zeros();
         adjoint.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
         adjoint.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
         adjoint
             .fixed_view_mut::<3, 3>(0, 3)
-            .copy_from(&(hat(&factor.pose.translation) * r));
+            .copy_from(&(hat(&factor.pose.translation()) * r));
         let pose_apex: nalgebra::DMatrix<f64> = j_apex.columns(0, 6).into_owned();
         let expected = -(pose_apex * adjoint);
         assert!(

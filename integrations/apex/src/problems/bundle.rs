@@ -40,7 +40,7 @@ fn factor_of(bal: &BalProblem, k: usize) -> SnavelyReprojection {
     let SnavelyIntrinsics { focal, k1, k2 } = camera.intrinsics;
     SnavelyReprojection {
         observed: o.pixel,
-        pose: Se3RhoTheta(camera_pose(camera)),
+        pose: Se3RhoTheta::new(camera_pose(camera)),
         intrinsics: RadialIntrinsics::new(focal, k1, k2),
         point: bal.points[o.point],
     }

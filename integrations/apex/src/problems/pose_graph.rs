@@ -54,8 +54,8 @@ fn factor_of(e: &Edge, i: &Se3<f64>, j: &Se3<f64>) -> Result<BetweenFactor, Buil
     Ok(BetweenFactor {
         sqrt_information,
         measured: se3(&e.measurement),
-        pose_i: Se3RhoTheta(*i),
-        pose_j: Se3RhoTheta(*j),
+        pose_i: Se3RhoTheta::new(*i),
+        pose_j: Se3RhoTheta::new(*j),
     })
 }
 

@@ -65,7 +65,7 @@ fn factor_of(
     StereoReprojection {
         calibration: intrinsics(&vo.calibration),
         observed: Vector3::new(o.u_left, o.u_right, o.v),
-        pose: Se3RhoTheta(*pose),
+        pose: Se3RhoTheta::new(*pose),
         landmark: *landmark,
     }
 }
