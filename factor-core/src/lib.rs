@@ -43,6 +43,14 @@ pub use manifold::{Manifold, Perturbation};
 pub use scalar::Scalar;
 pub use storage::{Layout, Storage, StorageError};
 
+/// The `nalgebra` this crate's types and the derive's linearizations are
+/// built on (0.35). A factor's fields and residual must use these types:
+/// depend on the same `nalgebra` version, or write `factor_core::nalgebra`.
+/// With another version the vectors are different types and the compiler
+/// reports mismatched types. The generated kernels take plain arrays, so an
+/// embedder on another `nalgebra` calls them directly.
+pub use nalgebra;
+
 /// Re-exports the derive macro's generated code relies on.
 #[doc(hidden)]
 pub mod __private {

@@ -13,7 +13,7 @@ use factor_testing::samples::Sampler;
 const CONFIGURATIONS: usize = 200;
 /// Generated vs dual numbers: both exact, so only rounding differs.
 const VS_DUAL: f64 = 1e-12;
-/// Generated vs central differences (the tolerance of `tests/jacobians.rs`).
+/// Generated vs central differences (the tolerance of `slam-factors/tests/jacobians.rs`).
 const VS_NUMERIC: f64 = 1e-6;
 /// `f32` vs `f64` instantiation of the same kernel, relative to the `f64`
 /// output's norm or 1, whichever is larger (a residual of 0.02 px is known to
