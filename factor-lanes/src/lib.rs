@@ -94,6 +94,9 @@
 //! | `pulp` `V3`/`V4`, loop chosen at run time | 8 × `f32` | 77 ns (0.33×) | 3.3 ns (7.7×) |
 //! | `pulp` `V4`, loop chosen at run time | 8 × `f64` | 88 ns (0.29×) | 5.2 ns (4.9×) |
 //!
+//! The same figures as a chart: `factor-lanes/doc/candidates.png`, drawn from
+//! the benchmark's output by `benches/plot_candidates.py`.
+//!
 //! Runtime dispatch (a batch loop compiled with `#[target_feature(enable =
 //! "avx2,fma")]` or AVX-512 and chosen by `is_x86_feature_detected!`, the
 //! `+avx2`/`+avx512` rows of the benchmark) gains nothing in the default build
