@@ -63,8 +63,8 @@
 //! `|x| ≤ 2²⁸` are reduced and evaluated in vector registers, except the rare
 //! ones within `k·2⁻⁴⁶` of a multiple `k·π/2` (where the three-part reduction
 //! would lose digits to cancellation); those and larger arguments are computed
-//! lane by lane by `std` (a cold path, taken by a fraction ≈ `k·2⁻⁴⁵` of
-//! uniformly random arguments: below 10⁻¹⁰ for `|x| ≤ 1000`). `F32x8` evaluates `sin`/`cos` in `f64` lanes.
+//! lane by lane by `std` (a cold path, taken by a fraction ≈ `1.3·k·2⁻⁴⁶`
+//! of uniformly random arguments: below 10⁻¹⁰ for `|x| ≤ 1000`). `F32x8` evaluates `sin`/`cos` in `f64` lanes.
 //! Special values match `std`: ±0 keep their sign, ±∞ and NaN give what
 //! `std` gives (NaN for `sin(∞)`, `±π/2` for `atan(±∞)`, `atan2`'s signed
 //! zeros and `±π`, `±3π/4` on the axes and at infinities, `−∞` for `ln(0)`, NaN

@@ -8,9 +8,11 @@
 //!   (Cody–Waite), exact in the first two for `k < 2²⁸`, leaving an absolute
 //!   error of about `k·2⁻¹⁰⁶` in the reduced argument `r`. Lanes with
 //!   `|x| > 2²⁸` or with `r` so close to zero that this error would show
-//!   (`|r| < k·2⁻⁴⁶`, a fraction ≈ `k·2⁻⁴⁶` of random inputs) go to `std`.
-//! - `sin`/`cos` of `f32` reduce in `f32` and fail above ≈ 2¹²: they are
-//!   computed in `f64` lanes instead and rounded.
+//!   (`|r| < k·2⁻⁴⁶`, a fraction ≈ `1.3·k·2⁻⁴⁶` of random inputs) go to
+//!   `std`.
+//! - `sin`/`cos` of `f32` reduce in `f32` and lose accuracy above ≈ 2¹¹
+//!   (hundreds of ulp at 2¹², millions at 2¹⁵): they are computed in `f64`
+//!   lanes instead and rounded.
 //! - `ln` of a subnormal (of either sign) returns garbage: those lanes go to
 //!   `std`.
 //!
