@@ -1,0 +1,30 @@
+//! Candidate `wide`: this crate's lane types (thin wrappers of `wide`'s
+//! `f64x4`, `f32x8`, `f64x8`, whose instruction set is fixed when `wide` is
+//! compiled), through `impl_real!` as a generated crate would use them.
+
+use factor_lanes::{F32x8, F64x4, F64x8};
+
+use crate::batch::Batchable;
+
+factor_lanes::impl_real!(crate::real::Real);
+
+macro_rules! batchable {
+    ($t:ty, $s:ty, $n:literal) => {
+        impl Batchable for $t {
+            type Scalar = $s;
+            const LANES: usize = $n;
+            #[inline(always)]
+            fn load(s: &[$s]) -> Self {
+                <$t>::load(s[..$n].try_into().expect("a whole group"))
+            }
+            #[inline(always)]
+            fn store(self, s: &mut [$s]) {
+                <$t>::store(self, (&mut s[..$n]).try_into().expect("a whole group"))
+            }
+        }
+    };
+}
+
+batchable!(F64x4, f64, 4);
+batchable!(F32x8, f32, 8);
+batchable!(F64x8, f64, 8);
