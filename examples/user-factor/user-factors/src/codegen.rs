@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
 
-use crate::{PointToPlane, RelativePose, ScaledRangeBearing};
+use crate::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
 
 /// What the generated files say about where they come from.
 pub const PROVENANCE: Provenance = Provenance::new(
@@ -27,6 +27,8 @@ pub fn kernel_specs() -> Vec<KernelSpec> {
         KernelSpec::of::<RelativePose>(),
         KernelSpec::of::<PointToPlane>(),
         KernelSpec::of::<ScaledRangeBearing>(),
+        KernelSpec::of::<Direction>(),
+        KernelSpec::of::<RelativeSim3>(),
     ]
 }
 

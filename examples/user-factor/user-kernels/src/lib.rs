@@ -17,14 +17,20 @@
 //! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 |
 //! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 |
 //! | [`scaled_range_bearing`](scaled_range_bearing::scaled_range_bearing) | `user_factors::ScaledRangeBearing` | 92 | 62 |
+//! | [`direction`](direction::direction) | `user_factors::manifold_factors::Direction` | 155 | 67 |
+//! | [`relative_sim3`](relative_sim3::relative_sim3) | `user_factors::manifold_factors::RelativeSim3` | 2326 | 566 |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 #[rustfmt::skip]
+pub mod direction;
+#[rustfmt::skip]
 pub mod point_to_plane;
 #[rustfmt::skip]
 pub mod relative_pose;
+#[rustfmt::skip]
+pub mod relative_sim3;
 #[rustfmt::skip]
 pub mod scaled_range_bearing;
 #[rustfmt::skip]
