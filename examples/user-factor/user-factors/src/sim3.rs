@@ -6,7 +6,7 @@
 //! (rotation first, as for SE(3)), `ξ^ = [[[ω]× + σ I, ρ], [0, 0]]`, and:
 //!
 //! - `Exp([ω, ρ, σ]) = (Exp(ω), W(ω, σ) ρ, σ)` with
-//!   `W(ω, σ) = ∫₀¹ e^{tσ} Exp(tω) dt` ([`w_matrix`]); `Log` its inverse for
+//!   `W(ω, σ) = ∫₀¹ e^{tσ} Exp(tω) dt` ([`w_matrix()`]); `Log` its inverse for
 //!   rotation angles `θ ≤ π`;
 //! - `(R₁, t₁, σ₁)(R₂, t₂, σ₂) = (R₁ R₂, s₁ R₁ t₂ + t₁, σ₁ + σ₂)`,
 //!   `S⁻¹ = (Rᵀ, −s⁻¹ Rᵀ t, −σ)`;
