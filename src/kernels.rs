@@ -24,12 +24,21 @@ pub const PROVENANCE: Provenance = Provenance {
 /// them, each naming the document section its residual comes from.
 pub fn document_kernels() -> Vec<KernelSpec> {
     vec![
-        KernelSpec::of::<PointReprojection>().with_source("document 000 §II (2)–(5)"),
-        KernelSpec::of::<LineReprojection>().with_source("document 000 §III (6)–(12)"),
+        KernelSpec::of::<PointReprojection>()
+            .with_source("document 000 §II (2)–(5)")
+            .with_normal_equations(),
+        KernelSpec::of::<LineReprojection>()
+            .with_source("document 000 §III (6)–(12)")
+            .with_normal_equations(),
         KernelSpec::of::<PluckerLineReprojection>()
-            .with_source("document 000 §III (6)–(8), raw Plücker [n, v]"),
-        KernelSpec::of::<PlaneFactor>().with_source("document 000 §IV (13)"),
-        KernelSpec::of::<FreeLineFactor>().with_source("document 001 §3–4"),
+            .with_source("document 000 §III (6)–(8), raw Plücker [n, v]")
+            .with_normal_equations(),
+        KernelSpec::of::<PlaneFactor>()
+            .with_source("document 000 §IV (13)")
+            .with_normal_equations(),
+        KernelSpec::of::<FreeLineFactor>()
+            .with_source("document 001 §3–4")
+            .with_normal_equations(),
     ]
 }
 

@@ -13,6 +13,8 @@
 //!   what a user writes.
 //! - [`factor`]: the factor model, numerical linearization and errors;
 //!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
+//! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
+//!   kernel, for batch evaluators.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
 //! - [`validation`]: NaN-rejecting comparisons for validation code.
 //!
@@ -29,6 +31,7 @@
 
 pub mod factor;
 pub mod geometry;
+pub mod kernel;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
@@ -39,6 +42,7 @@ pub mod validation;
 pub use factor::{
     DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, first_non_finite,
 };
+pub use kernel::WithKernel;
 pub use manifold::{Manifold, Perturbation};
 pub use scalar::Scalar;
 pub use storage::{Layout, Storage, StorageError};

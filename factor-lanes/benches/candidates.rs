@@ -1,6 +1,7 @@
 //! Which SIMD library the lane types are built on, measured on the generated
-//! point-reprojection kernel itself (`generated/src/point_reprojection.rs`,
-//! compiled here against the generated `Real` trait of `generated/src/real.rs`).
+//! point-reprojection kernel itself (`factor_generated::point_reprojection`,
+//! with the crate's `lanes` feature; the other candidates implement its
+//! `Real` here).
 //!
 //! Each candidate runs the kernel with both Jacobian blocks over 4096 sampled
 //! configurations held as structure-of-arrays columns (16 input and 20 output
@@ -25,22 +26,6 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use factor_testing::samples::Sampler;
 
-// The point kernel calls only some of the trait's methods.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/real.rs"]
-mod real;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/shape.rs"]
-mod shape;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/point_reprojection.rs"]
-mod point_reprojection;
-
 #[path = "candidates/batch.rs"]
 mod batch;
 #[path = "candidates/cpu_time.rs"]
@@ -58,10 +43,8 @@ mod pulp_lanes;
 
 use batch::{Batchable, INPUTS, OUTPUTS, point_batch, point_batch_avx2, point_batch_avx512};
 use cpu_time::ThreadCpuTime;
-use real::Real;
-// The generated modules name `crate::Shape`.
-#[allow(unused_imports)]
-use shape::Shape;
+// The candidates implement `crate::Real`: the generated crate's.
+use factor_generated::Real;
 
 const CONFIGURATIONS: usize = 4096;
 

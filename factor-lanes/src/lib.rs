@@ -128,9 +128,13 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod generic;
+mod kernel;
 mod lanes;
 mod math;
 mod memory;
 mod real;
 
+pub use generic::Lanes;
+pub use kernel::{Array, Kernel, NormalKernel};
 pub use lanes::{F32x8, F64x4, F64x8};

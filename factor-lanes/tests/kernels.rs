@@ -1,8 +1,7 @@
 //! The generated kernels in lanes against the same kernels one configuration
 //! at a time, for every lane type: the point-reprojection kernel and the plane
-//! kernel of `generated/`, compiled here against the generated `Real` trait
-//! (`generated/src/real.rs` itself), which `factor_lanes::impl_real!`
-//! implements for the lane types exactly as a generated crate would.
+//! kernel of `factor-generated` with its `lanes` feature, whose `Real` is
+//! implemented for the lane types by `factor_lanes::impl_real!`.
 //!
 //! Tolerances:
 //!
@@ -22,27 +21,6 @@
 //!   the ulp scale.) The run prints the largest relative difference from
 //!   `std` per output that this allows in practice.
 
-// The kernels included here call only some of the trait's methods.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/real.rs"]
-mod real;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/shape.rs"]
-mod shape;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/point_reprojection.rs"]
-mod point_reprojection;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../generated/src/plane.rs"]
-mod plane;
-
 #[path = "support/configurations.rs"]
 mod configurations;
 #[path = "support/lanes.rs"]
@@ -58,17 +36,14 @@ mod scalar_reference;
 #[path = "support/ulp.rs"]
 mod ulp;
 
+use factor_generated::{plane, point_reprojection};
 use factor_lanes::{F32x8, F64x4, F64x8};
 use factor_testing::samples::Sampler;
 use lanes::Lanes;
-use real::Real;
-// The generated modules name `crate::Shape`.
+// The support modules name `crate::Real`: here the generated crate's.
+use factor_generated::Real;
 use scalar_reference::{NudgedAtan2, Std, ThroughLanes, set_atan2_steps, take_selections};
-#[allow(unused_imports)]
-use shape::Shape;
 use ulp::Ulp;
-
-factor_lanes::impl_real!(crate::Real);
 
 /// Configurations per kernel and lane type, per set.
 const PER_SET: usize = 4096;

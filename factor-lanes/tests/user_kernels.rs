@@ -1,29 +1,10 @@
 //! `factor_lanes::impl_real!` on a user's kernel crate: the kernels of
 //! `examples/user-factor/user-kernels` (whose `Real` is that crate's own
-//! copy), compiled here against that crate's `real.rs` itself, in lanes
-//! against the same kernels one configuration at a time with the lane type's
-//! own `sin`, `cos` and `atan2`: bit for bit, for the reason given in
+//! copy) with its `lanes` feature, in lanes against the same kernels one
+//! configuration at a time with the lane type's own `sin`, `cos` and
+//! `atan2`: bit for bit, for the reason given in
 //! `tests/kernels.rs`. `relative_pose` uses `sqrt`, `sin`, `cos`, `atan2` and
 //! `select_lt`; `point_to_plane` only arithmetic.
-
-#[rustfmt::skip]
-#[path = "../../examples/user-factor/user-kernels/src/real.rs"]
-mod real;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../examples/user-factor/user-kernels/src/shape.rs"]
-mod shape;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../examples/user-factor/user-kernels/src/relative_pose.rs"]
-mod relative_pose;
-// Only the array kernels are exercised here, not `SHAPE` nor the slice entry.
-#[allow(dead_code)]
-#[rustfmt::skip]
-#[path = "../../examples/user-factor/user-kernels/src/point_to_plane.rs"]
-mod point_to_plane;
 
 // Only `scalars` of the configurations is needed here.
 #[allow(dead_code)]
@@ -51,14 +32,11 @@ use factor_lanes::{F32x8, F64x4, F64x8};
 use factor_testing::samples::Sampler;
 use lanes::Lanes;
 use nalgebra::Vector6;
-use real::Real;
-// The generated modules name `crate::Shape`.
 use scalar_reference::ThroughLanes;
-#[allow(unused_imports)]
-use shape::Shape;
 use ulp::Ulp;
-
-factor_lanes::impl_real!(crate::Real);
+// The support modules name `crate::Real`: here the user's kernel crate's.
+use user_kernels::Real;
+use user_kernels::{point_to_plane, relative_pose};
 
 const CONFIGURATIONS: usize = 8192;
 

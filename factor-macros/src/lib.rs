@@ -105,11 +105,13 @@ use syn::{DeriveInput, parse_macro_input};
 /// …)`, one array per field in declaration order holding its stored scalars,
 /// the residual, then one optional row-major block per variable. Its module
 /// also holds `SHAPE` (the lengths it was generated for) and
-/// `<name>_slices`, the same kernel over slices, which the derive calls. The
-/// derive then also emits `linearize_generated()` and
-/// `linearize_generated_into()`, makes `linearize()` and `linearize_into()`
-/// go through them, and sets `Factor::KERNEL` and
-/// `Factor::linearize_generated_dyn`. When `SHAPE` no longer matches the
+/// `<name>_slices`, the same kernel over slices, which the derive calls, and
+/// the marker type `Kernel`. The derive then also emits
+/// `linearize_generated()` and `linearize_generated_into()`, makes
+/// `linearize()` and `linearize_into()` go through them, sets
+/// `Factor::KERNEL` and `Factor::linearize_generated_dyn`, and implements
+/// `factor_core::WithKernel` with the marker as `Kernel` (the entry of the
+/// batch evaluators of `factor-batch`). When `SHAPE` no longer matches the
 /// factor (the kernel is stale), the build fails at `path` with a message
 /// naming the `regenerate` command.
 #[proc_macro_derive(Factor, attributes(factor, variable))]

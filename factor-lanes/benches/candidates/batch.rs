@@ -2,7 +2,7 @@
 //! structure-of-arrays columns, `LANES` configurations per call.
 
 use crate::Real;
-use crate::point_reprojection::point_reprojection;
+use factor_generated::point_reprojection::point_reprojection;
 
 /// Scalars per configuration of the point kernel's inputs: intrinsics (4),
 /// observed (2), pose (7), point (3).

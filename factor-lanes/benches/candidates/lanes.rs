@@ -1,12 +1,10 @@
 //! Candidate `wide`: this crate's lane types (thin wrappers of `wide`'s
 //! `f64x4`, `f32x8`, `f64x8`, whose instruction set is fixed when `wide` is
-//! compiled), through `impl_real!` as a generated crate would use them.
+//! compiled), through `impl_real!` in the generated crate's `lanes` feature.
 
 use factor_lanes::{F32x8, F64x4, F64x8};
 
 use crate::batch::Batchable;
-
-factor_lanes::impl_real!(crate::real::Real);
 
 macro_rules! batchable {
     ($t:ty, $s:ty, $n:literal) => {

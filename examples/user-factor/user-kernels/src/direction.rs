@@ -30,15 +30,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 55 | 94 | 2 | 2 | 0 | 0 | 2 | 155 |
 //! | residual only | 26 | 38 | 1 | 1 | 0 | 0 | 1 | 67 |
+//! | normal equations | 76 | 148 | 2 | 1 | 0 | 0 | 2 | 229 |
+//! | normal equations, cost only | 27 | 42 | 1 | 0 | 0 | 0 | 1 | 71 |
+//!
+//! # Normal equations
+//!
+//! `direction_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_orientation: [T; 3]`: `J_orientationᵀ w r`
+//! - `g_direction: [T; 2]`: `J_directionᵀ w r`
+//! - `h_orientation_orientation: [T; 6]`: `J_orientationᵀ w J_orientation`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//! - `h_orientation_direction: [T; 6]`: `J_orientationᵀ w J_direction`, 3 × 2 row-major
+//! - `h_direction_direction: [T; 3]`: `J_directionᵀ w J_direction`, its upper triangle row by row (2 × 2, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `user_factors::manifold_factors::Direction` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn direction<T: Real>(
     measured: &[T; 3],
     orientation: &[T; 4],
@@ -278,4 +297,493 @@ pub fn direction_slices<T: Real>(
         d_direction,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `user_factors::manifold_factors::Direction` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`direction`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn direction_normal<T: Real>(
+    measured: &[T; 3],
+    orientation: &[T; 4],
+    direction: &[T; 3],
+    weight: T,
+    cost: &mut T,
+    g_orientation: Option<&mut [T; 3]>,
+    g_direction: Option<&mut [T; 2]>,
+    h_orientation_orientation: Option<&mut [T; 6]>,
+    h_orientation_direction: Option<&mut [T; 6]>,
+    h_direction_direction: Option<&mut [T; 3]>,
+) {
+    let v0 = orientation[0] * orientation[0];
+    let v1 = orientation[1] * orientation[1];
+    let v2 = v0 - v1;
+    let v3 = orientation[2] * orientation[2];
+    let v4 = orientation[3] * orientation[3];
+    let v5 = v3 - v4;
+    let v6 = v2 + v5;
+    let v7 = direction[1] * v6;
+    let v8 = orientation[0] * orientation[1];
+    let v9 = orientation[2] * orientation[3];
+    let v10 = v8 + v9;
+    let v11 = orientation[1] * orientation[2];
+    let v12 = orientation[0] * orientation[3];
+    let v13 = v11 - v12;
+    let v14 = T::constant(2.0) * direction[2];
+    let v15 = direction[0] * v10;
+    let v16 = direction[2] * v13;
+    let v17 = v15 + v16;
+    let v18 = T::constant(2.0) * v17;
+    let v19 = v7 - v18;
+    let v20 = T::select_lt(
+        measured[2],
+        T::constant(0.0),
+        T::constant(-1.0),
+        T::constant(1.0),
+    );
+    let v21 = measured[0] * v20;
+    let v22 = measured[2] + v20;
+    let v23 = T::constant(1.0) / v22;
+    let v24 = measured[1] * v23;
+    let v25 = v21 * v24;
+    let v26 = v19 * v25;
+    let v27 = measured[0] * v21;
+    let v28 = v23 * v27;
+    let v29 = v28 - T::constant(1.0);
+    let v30 = v2 - v5;
+    let v31 = direction[0] * v30;
+    let v32 = v8 - v9;
+    let v33 = direction[1] * T::constant(2.0);
+    let v34 = v32 * v33;
+    let v35 = orientation[0] * orientation[2];
+    let v36 = orientation[1] * orientation[3];
+    let v37 = v35 + v36;
+    let v38 = v14 * v37;
+    let v39 = v34 + v38;
+    let v40 = v31 + v39;
+    let v41 = v29 * v40;
+    let v42 = v0 + v1;
+    let v43 = v3 + v4;
+    let v44 = v42 - v43;
+    let v45 = direction[2] * T::constant(0.5);
+    let v46 = v44 * v45;
+    let v47 = v11 + v12;
+    let v48 = direction[1] * v47;
+    let v49 = v35 - v36;
+    let v50 = direction[0] * v49;
+    let v51 = v48 + v50;
+    let v52 = v51 - v46;
+    let v53 = T::constant(2.0) * v21;
+    let v54 = v52 * v53;
+    let v55 = v26 - v54;
+    let v56 = v55 - v41;
+    let v57 = measured[1] * v24;
+    let v58 = v20 - v57;
+    let v59 = v19 * v58;
+    let v60 = measured[0] * v24;
+    let v61 = v40 * v60;
+    let v62 = T::constant(2.0) * measured[1];
+    let v63 = v52 * v62;
+    let v64 = v61 + v63;
+    let v65 = v59 + v64;
+    let v66 = v56 * v56;
+    let v67 = v65 * v65;
+    let v68 = v66 + v67;
+    let v69 = weight * v68;
+    let v70 = T::constant(0.5) * v69;
+    *cost = v70;
+    let (v74, v77, v80, v83, v86, v89) = if g_orientation.is_some()
+        || h_orientation_orientation.is_some() || h_orientation_direction.is_some()
+    {
+        let v71 = v19 * v21;
+        let v72 = T::constant(2.0) * v52;
+        let v73 = v25 * v72;
+        let v74 = v71 + v73;
+        let v75 = v21 * v40;
+        let v76 = v29 * v72;
+        let v77 = v75 - v76;
+        let v78 = v25 * v40;
+        let v79 = v19 * v29;
+        let v80 = v78 + v79;
+        let v81 = v19 * measured[1];
+        let v82 = v58 * v72;
+        let v83 = v81 - v82;
+        let v84 = measured[1] * v40;
+        let v85 = v60 * v72;
+        let v86 = v84 - v85;
+        let v87 = v40 * v58;
+        let v88 = v19 * v60;
+        let v89 = v87 - v88;
+        (v74, v77, v80, v83, v86, v89)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v123, v147, v152, v157, v158, v159, v160, v161) = if g_direction.is_some()
+        || h_orientation_direction.is_some() || h_direction_direction.is_some()
+    {
+        let v90 = T::select_lt(
+            direction[2],
+            T::constant(0.0),
+            T::constant(-1.0),
+            T::constant(1.0),
+        );
+        let v91 = direction[2] + v90;
+        let v92 = T::constant(1.0) / v91;
+        let v93 = direction[1] * v92;
+        let v94 = direction[0] * v90;
+        let v95 = v93 * v94;
+        let v96 = v6 * v95;
+        let v97 = direction[0] * v94;
+        let v98 = v92 * v97;
+        let v99 = v98 - T::constant(1.0);
+        let v100 = v10 * T::constant(2.0);
+        let v101 = T::constant(2.0) * v94;
+        let v102 = v10 * v99;
+        let v103 = v13 * v94;
+        let v104 = v102 + v103;
+        let v105 = T::constant(2.0) * v104;
+        let v106 = v96 - v105;
+        let v107 = v25 * v106;
+        let v108 = v30 * v99;
+        let v109 = T::constant(2.0) * v32;
+        let v110 = v95 * v109;
+        let v111 = v37 * v101;
+        let v112 = v110 + v111;
+        let v113 = v108 + v112;
+        let v114 = v29 * v113;
+        let v115 = T::constant(0.5) * v94;
+        let v116 = v44 * v115;
+        let v117 = v47 * v95;
+        let v118 = v49 * v99;
+        let v119 = v117 - v116;
+        let v120 = v118 + v119;
+        let v121 = v53 * v120;
+        let v122 = v114 + v121;
+        let v123 = v122 - v107;
+        let v124 = direction[1] * v93;
+        let v125 = v90 - v124;
+        let v126 = v6 * v125;
+        let v127 = direction[0] * v93;
+        let v128 = v100 * v127;
+        let v129 = v13 * v33;
+        let v130 = v128 + v129;
+        let v131 = v126 + v130;
+        let v132 = v25 * v131;
+        let v133 = v30 * v127;
+        let v134 = v109 * v125;
+        let v135 = v33 * v37;
+        let v136 = v135 - v134;
+        let v137 = v133 + v136;
+        let v138 = v29 * v137;
+        let v139 = direction[1] * T::constant(0.5);
+        let v140 = v44 * v139;
+        let v141 = v47 * v125;
+        let v142 = v49 * v127;
+        let v143 = v140 - v142;
+        let v144 = v141 + v143;
+        let v145 = v53 * v144;
+        let v146 = v132 - v145;
+        let v147 = v138 + v146;
+        let v148 = v58 * v106;
+        let v149 = v60 * v113;
+        let v150 = v62 * v120;
+        let v151 = v149 + v150;
+        let v152 = v148 + v151;
+        let v153 = v58 * v131;
+        let v154 = v60 * v137;
+        let v155 = v62 * v144;
+        let v156 = v153 + v155;
+        let v157 = v154 - v156;
+        let v158 = v123 * weight;
+        let v159 = v147 * weight;
+        let v160 = v152 * weight;
+        let v161 = v157 * weight;
+        (v123, v147, v152, v157, v158, v159, v160, v161)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v162, v163, v164, v165, v166, v167) = if g_orientation.is_some()
+        || h_orientation_orientation.is_some()
+    {
+        let v162 = v74 * weight;
+        let v163 = v77 * weight;
+        let v164 = v80 * weight;
+        let v165 = v83 * weight;
+        let v166 = v86 * weight;
+        let v167 = v89 * weight;
+        (v162, v163, v164, v165, v166, v167)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_orientation) = g_orientation {
+        let v168 = v56 * v162;
+        let v169 = v65 * v165;
+        let v170 = v168 - v169;
+        let v171 = v56 * v163;
+        let v172 = v65 * v166;
+        let v173 = v171 - v172;
+        let v174 = v56 * v164;
+        let v175 = v65 * v167;
+        let v176 = v174 + v175;
+        let v177 = -v176;
+        g_orientation[0] = v170;
+        g_orientation[1] = v173;
+        g_orientation[2] = v177;
+    }
+    if let Some(g_direction) = g_direction {
+        let v178 = v56 * v158;
+        let v179 = v65 * v160;
+        let v180 = v178 - v179;
+        let v181 = v56 * v159;
+        let v182 = v65 * v161;
+        let v183 = v181 - v182;
+        g_direction[0] = v180;
+        g_direction[1] = v183;
+    }
+    if let Some(h_orientation_orientation) = h_orientation_orientation {
+        let v184 = v74 * v162;
+        let v185 = v83 * v165;
+        let v186 = v184 + v185;
+        let v187 = v74 * v163;
+        let v188 = v83 * v166;
+        let v189 = v187 + v188;
+        let v190 = v74 * v164;
+        let v191 = v83 * v167;
+        let v192 = v191 - v190;
+        let v193 = v77 * v163;
+        let v194 = v86 * v166;
+        let v195 = v193 + v194;
+        let v196 = v77 * v164;
+        let v197 = v86 * v167;
+        let v198 = v197 - v196;
+        let v199 = v80 * v164;
+        let v200 = v89 * v167;
+        let v201 = v199 + v200;
+        h_orientation_orientation[0] = v186;
+        h_orientation_orientation[1] = v189;
+        h_orientation_orientation[2] = v192;
+        h_orientation_orientation[3] = v195;
+        h_orientation_orientation[4] = v198;
+        h_orientation_orientation[5] = v201;
+    }
+    if let Some(h_orientation_direction) = h_orientation_direction {
+        let v202 = v74 * v158;
+        let v203 = v83 * v160;
+        let v204 = v202 + v203;
+        let v205 = v74 * v159;
+        let v206 = v83 * v161;
+        let v207 = v205 + v206;
+        let v208 = v77 * v158;
+        let v209 = v86 * v160;
+        let v210 = v208 + v209;
+        let v211 = v77 * v159;
+        let v212 = v86 * v161;
+        let v213 = v211 + v212;
+        let v214 = v80 * v158;
+        let v215 = v89 * v160;
+        let v216 = v215 - v214;
+        let v217 = v80 * v159;
+        let v218 = v89 * v161;
+        let v219 = v218 - v217;
+        h_orientation_direction[0] = v204;
+        h_orientation_direction[1] = v207;
+        h_orientation_direction[2] = v210;
+        h_orientation_direction[3] = v213;
+        h_orientation_direction[4] = v216;
+        h_orientation_direction[5] = v219;
+    }
+    if let Some(h_direction_direction) = h_direction_direction {
+        let v220 = v123 * v158;
+        let v221 = v152 * v160;
+        let v222 = v220 + v221;
+        let v223 = v123 * v159;
+        let v224 = v152 * v161;
+        let v225 = v223 + v224;
+        let v226 = v147 * v159;
+        let v227 = v157 * v161;
+        let v228 = v226 + v227;
+        h_direction_direction[0] = v222;
+        h_direction_direction[1] = v225;
+        h_direction_direction[2] = v228;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[3, 4, 3],
+    tangents: &[3, 2],
+    gradient: &[3, 2],
+    hessian: &[6, 6, 3],
+};
+
+/// [`direction_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn direction_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [measured, orientation, direction] = inputs else {
+        return false;
+    };
+    let (Ok(measured), Ok(orientation), Ok(direction)) = (
+        <&[T; 3]>::try_from(*measured),
+        <&[T; 4]>::try_from(*orientation),
+        <&[T; 3]>::try_from(*direction),
+    ) else {
+        return false;
+    };
+    let [g_orientation, g_direction] = gradient else {
+        return false;
+    };
+    let [h_orientation_orientation, h_orientation_direction, h_direction_direction] = hessian
+    else {
+        return false;
+    };
+    let g_orientation = match g_orientation.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_direction = match g_direction.as_deref_mut().map(<&mut [T; 2]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_orientation_orientation = match h_orientation_orientation
+        .as_deref_mut()
+        .map(<&mut [T; 6]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_orientation_direction = match h_orientation_direction
+        .as_deref_mut()
+        .map(<&mut [T; 6]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_direction_direction = match h_direction_direction
+        .as_deref_mut()
+        .map(<&mut [T; 3]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::direction_normal(
+        measured,
+        orientation,
+        direction,
+        weight,
+        cost,
+        g_orientation,
+        g_direction,
+        h_orientation_orientation,
+        h_orientation_direction,
+        h_direction_direction,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`direction`] and [`direction_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 10];
+    type Outputs = [T; 12];
+    const FIELDS: &'static [usize] = &[3, 4, 3];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[3, 2];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 10], outputs: &mut [T; 12], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_orientation, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((d_direction, _)) = rest.split_first_chunk_mut::<4>() else {
+            return;
+        };
+        direction(
+            &[inputs[0], inputs[1], inputs[2]],
+            &[inputs[3], inputs[4], inputs[5], inputs[6]],
+            &[inputs[7], inputs[8], inputs[9]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_orientation),
+            matches!(blocks.get(1), Some(true)).then_some(d_direction),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 21];
+    #[inline(always)]
+    fn normal(inputs: &[T; 10], weight: T, outputs: &mut [T; 21], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_orientation, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((g_direction, rest)) = rest.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((h_orientation_orientation, rest)) = rest.split_first_chunk_mut::<6>()
+        else {
+            return;
+        };
+        let Some((h_orientation_direction, rest)) = rest.split_first_chunk_mut::<6>()
+        else {
+            return;
+        };
+        let Some((h_direction_direction, _)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        direction_normal(
+            &[inputs[0], inputs[1], inputs[2]],
+            &[inputs[3], inputs[4], inputs[5], inputs[6]],
+            &[inputs[7], inputs[8], inputs[9]],
+            weight,
+            cost,
+            free_0.then_some(g_orientation),
+            free_1.then_some(g_direction),
+            free_0.then_some(h_orientation_orientation),
+            (free_0 && free_1).then_some(h_orientation_direction),
+            free_1.then_some(h_direction_direction),
+        );
+    }
 }

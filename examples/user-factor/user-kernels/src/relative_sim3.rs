@@ -30,6 +30,10 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 866 | 1349 | 10 | 43 | 2 | 8 | 48 | 2326 |
 //! | residual only | 225 | 291 | 8 | 23 | 2 | 6 | 11 | 566 |
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
@@ -38,7 +42,7 @@ use crate::{Real, Shape};
 /// The residual of `user_factors::manifold_factors::RelativeSim3` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn relative_sim3<T: Real>(
     measured: &[T; 8],
     sim_i: &[T; 8],
@@ -2707,4 +2711,64 @@ pub fn relative_sim3_slices<T: Real>(
     };
     self::relative_sim3(measured, sim_i, sim_j, residual, d_sim_i, d_sim_j);
     true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` over every `T: Real`, which calls [`relative_sim3`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 24];
+    type Outputs = [T; 105];
+    const FIELDS: &'static [usize] = &[8, 8, 8];
+    const RESIDUAL: usize = 7;
+    const TANGENTS: &'static [usize] = &[7, 7];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 24], outputs: &mut [T; 105], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<7>() else {
+            return;
+        };
+        let Some((d_sim_i, rest)) = rest.split_first_chunk_mut::<49>() else {
+            return;
+        };
+        let Some((d_sim_j, _)) = rest.split_first_chunk_mut::<49>() else {
+            return;
+        };
+        relative_sim3(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+            ],
+            &[
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+            ],
+            &[
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+                inputs[20],
+                inputs[21],
+                inputs[22],
+                inputs[23],
+            ],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_sim_i),
+            matches!(blocks.get(1), Some(true)).then_some(d_sim_j),
+        );
+    }
 }
