@@ -10,8 +10,9 @@
 //! ns/factor is that time / 4096. Candidates:
 //!
 //! - `scalar`: `f64` and `f32`, the baseline;
-//! - `wide`: this crate's `F64x4`, `F32x8`, `F64x8` (wrappers of `wide`'s);
-//! - `portable`: aligned arrays with lane-loop operations;
+//! - `wide`: `wide`'s `f64x4`, `f32x8`, `f64x8` as they are;
+//! - `portable`: this crate's `F64x4`, `F32x8`, `F64x8`, aligned arrays with
+//!   lane-loop operations;
 //! - `pulp`: `V3` / `V4` vectors (only in the AVX2 / AVX-512 loops);
 //!
 //! each as the build compiles it (plain name) and, where the CPU has them,
@@ -34,12 +35,13 @@ mod cpu_time;
 #[allow(dead_code)]
 #[path = "../tests/support/configurations.rs"]
 mod configurations;
-#[path = "candidates/lanes.rs"]
-mod lanes;
+// The crate's lane types as a candidate: `Batchable` impls only.
 #[path = "candidates/portable.rs"]
 mod portable;
 #[path = "candidates/pulp_lanes.rs"]
 mod pulp_lanes;
+#[path = "candidates/wide_lanes.rs"]
+mod wide_lanes;
 
 use batch::{Batchable, INPUTS, OUTPUTS, point_batch, point_batch_avx2, point_batch_avx512};
 use cpu_time::ThreadCpuTime;
@@ -133,12 +135,12 @@ fn candidates(c: &mut Criterion<ThreadCpuTime>) {
     for isa in [Isa::Build, Isa::Avx2, Isa::Avx512] {
         bench_lanes::<f64>(&mut group, "scalar/f64", isa, &f64_columns);
         bench_lanes::<f32>(&mut group, "scalar/f32", isa, &f32_columns);
-        bench_lanes::<factor_lanes::F64x4>(&mut group, "wide/f64x4", isa, &f64_columns);
-        bench_lanes::<factor_lanes::F32x8>(&mut group, "wide/f32x8", isa, &f32_columns);
-        bench_lanes::<factor_lanes::F64x8>(&mut group, "wide/f64x8", isa, &f64_columns);
-        bench_lanes::<portable::F64x4>(&mut group, "portable/f64x4", isa, &f64_columns);
-        bench_lanes::<portable::F32x8>(&mut group, "portable/f32x8", isa, &f32_columns);
-        bench_lanes::<portable::F64x8>(&mut group, "portable/f64x8", isa, &f64_columns);
+        bench_lanes::<wide_lanes::WideF64x4>(&mut group, "wide/f64x4", isa, &f64_columns);
+        bench_lanes::<wide_lanes::WideF32x8>(&mut group, "wide/f32x8", isa, &f32_columns);
+        bench_lanes::<wide_lanes::WideF64x8>(&mut group, "wide/f64x8", isa, &f64_columns);
+        bench_lanes::<factor_lanes::F64x4>(&mut group, "portable/f64x4", isa, &f64_columns);
+        bench_lanes::<factor_lanes::F32x8>(&mut group, "portable/f32x8", isa, &f32_columns);
+        bench_lanes::<factor_lanes::F64x8>(&mut group, "portable/f64x8", isa, &f64_columns);
     }
     if Isa::Avx2.available() && pulp::x86::V3::try_new().is_some() {
         bench_lanes::<pulp_lanes::PulpF64<pulp::x86::V3>>(

@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 CONFIGURATIONS = 4096
 LANES = ["f64x4", "f32x8", "f64x8"]
-CANDIDATES = [("wide", "wide (chosen)"), ("portable", "portable arrays"), ("pulp", "pulp, dispatched")]
+CANDIDATES = [("wide", "wide"), ("portable", "portable arrays (chosen)"), ("pulp", "pulp, dispatched")]
 
 
 def fastest(criterion_dir, baselines):

@@ -9,7 +9,7 @@ use crate::{F32x8, F64x4, F64x8};
 /// structure-of-arrays columns with it and stores its outputs.
 pub trait Lanes: Copy + Send + Sync + 'static {
     /// The scalar of one lane.
-    type Scalar: Lanes<Scalar = Self::Scalar> + PartialEq + core::fmt::Debug;
+    type Scalar: Lanes<Scalar = Self::Scalar> + Default + From<f32> + PartialEq + core::fmt::Debug;
     /// Lanes per value.
     const LANES: usize;
 

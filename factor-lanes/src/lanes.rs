@@ -1,15 +1,23 @@
 //! The lane types: arithmetic, literals, square root and the lane-wise
 //! select, each lane computed exactly as the scalar type computes it.
+//!
+//! A lane type is an aligned array whose operations are loops over its
+//! lanes, which LLVM vectorises for the instruction set of the function they
+//! are inlined into: the build's target by default, or AVX2 / AVX-512 in a
+//! `#[target_feature]` function chosen at run time (what `factor-batch`
+//! does), with no `-C target-cpu`. `wide` supplies the vectorised
+//! elementary functions ([`crate::math`]).
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-/// Defines a lane type over a `wide` vector of `$n` lanes of `$s`.
+/// Defines a lane type of `$n` lanes of `$s`, aligned to `$align` bytes (its
+/// size: one vector register of that width).
 macro_rules! lane_type {
-    ($(#[$doc:meta])* $name:ident, $wide:ty, $s:ty, $n:literal) => {
+    ($(#[$doc:meta])* $name:ident, $s:ty, $n:literal, $align:literal) => {
         $(#[$doc])*
-        #[derive(Clone, Copy, Debug, Default)]
-        #[repr(transparent)]
-        pub struct $name(pub(crate) $wide);
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #[repr(C, align($align))]
+        pub struct $name(pub(crate) [$s; $n]);
 
         impl $name {
             /// Lanes per value.
@@ -19,7 +27,7 @@ macro_rules! lane_type {
             #[inline(always)]
             #[must_use]
             pub fn splat(value: $s) -> Self {
-                Self(<$wide>::splat(value))
+                Self([value; $n])
             }
 
             /// The literal `c` rounded to the lane scalar (as `c as` the
@@ -35,14 +43,26 @@ macro_rules! lane_type {
             #[inline(always)]
             #[must_use]
             pub fn from_array(lanes: [$s; $n]) -> Self {
-                Self(<$wide>::new(lanes))
+                Self(lanes)
             }
 
             /// The lanes, in order.
             #[inline(always)]
             #[must_use]
             pub fn to_array(self) -> [$s; $n] {
-                self.0.to_array()
+                self.0
+            }
+
+            /// `f` of each lane.
+            #[inline(always)]
+            fn map(self, f: impl Fn($s) -> $s) -> Self {
+                Self(core::array::from_fn(|k| f(self.0[k])))
+            }
+
+            /// `f` of each pair of lanes.
+            #[inline(always)]
+            fn zip(self, rhs: Self, f: impl Fn($s, $s) -> $s) -> Self {
+                Self(core::array::from_fn(|k| f(self.0[k], rhs.0[k])))
             }
 
             /// Lane-wise square root, correctly rounded (IEEE 754), as the
@@ -50,7 +70,7 @@ macro_rules! lane_type {
             #[inline(always)]
             #[must_use]
             pub fn sqrt(self) -> Self {
-                Self(self.0.sqrt())
+                self.map(<$s>::sqrt)
             }
 
             /// Lane-wise `if lhs < rhs { if_less } else { otherwise }`; a NaN
@@ -58,7 +78,13 @@ macro_rules! lane_type {
             #[inline(always)]
             #[must_use]
             pub fn select_lt(lhs: Self, rhs: Self, if_less: Self, otherwise: Self) -> Self {
-                Self(lhs.0.simd_lt(rhs.0).select(if_less.0, otherwise.0))
+                Self(core::array::from_fn(|k| {
+                    if lhs.0[k] < rhs.0[k] {
+                        if_less.0[k]
+                    } else {
+                        otherwise.0[k]
+                    }
+                }))
             }
         }
 
@@ -76,16 +102,16 @@ macro_rules! lane_type {
             }
         }
 
-        lane_binary_op!($name, Add, add);
-        lane_binary_op!($name, Sub, sub);
-        lane_binary_op!($name, Mul, mul);
-        lane_binary_op!($name, Div, div);
+        lane_binary_op!($name, Add, add, +);
+        lane_binary_op!($name, Sub, sub, -);
+        lane_binary_op!($name, Mul, mul, *);
+        lane_binary_op!($name, Div, div, /);
 
         impl Neg for $name {
             type Output = Self;
             #[inline(always)]
             fn neg(self) -> Self {
-                Self(-self.0)
+                self.map(|a| -a)
             }
         }
     };
@@ -93,41 +119,42 @@ macro_rules! lane_type {
 
 /// Implements a lane-wise IEEE 754 operator (correctly rounded per lane).
 macro_rules! lane_binary_op {
-    ($name:ident, $trait:ident, $method:ident) => {
+    ($name:ident, $trait:ident, $method:ident, $op:tt) => {
         impl $trait for $name {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: Self) -> Self {
-                Self($trait::$method(self.0, rhs.0))
+                self.zip(rhs, |a, b| a $op b)
             }
         }
     };
 }
 
 lane_type!(
-    /// Four `f64` lanes: one 256-bit AVX register where the build targets AVX
-    /// (`-C target-cpu=native` or `x86-64-v3`), two SSE2 halves otherwise.
+    /// Four `f64` lanes: one 256-bit register in code compiled for AVX2
+    /// (`-C target-cpu=native`, `x86-64-v3`, or a `#[target_feature]`
+    /// function), two SSE2 halves otherwise.
     F64x4,
-    wide::f64x4,
     f64,
-    4
+    4,
+    32
 );
 
 lane_type!(
-    /// Eight `f32` lanes: one 256-bit AVX register where the build targets
-    /// AVX, two SSE halves otherwise.
+    /// Eight `f32` lanes: one 256-bit register in code compiled for AVX2,
+    /// two SSE halves otherwise.
     F32x8,
-    wide::f32x8,
     f32,
-    8
+    8,
+    32
 );
 
 lane_type!(
-    /// Eight `f64` lanes: one 512-bit register where the build targets
-    /// AVX-512F (`-C target-cpu=native` on this machine, or `x86-64-v4`),
-    /// two [`F64x4`]-like halves otherwise (AVX2 or SSE2).
+    /// Eight `f64` lanes: one 512-bit register in code compiled for
+    /// AVX-512F (`x86-64-v4`, or a `#[target_feature]` function), two
+    /// [`F64x4`]-like halves otherwise (AVX2 or SSE2).
     F64x8,
-    wide::f64x8,
     f64,
-    8
+    8,
+    64
 );

@@ -4,17 +4,20 @@
 //!
 //! # Types
 //!
-//! | type | lanes | `-C target-cpu=native` here (AVX-512) | `x86-64-v3` (AVX2 + FMA) | default `x86-64` (SSE2) |
+//! | type | lanes | code compiled for AVX-512 | for AVX2 + FMA | default `x86-64` (SSE2) |
 //! | --- | --- | --- | --- | --- |
 //! | [`F64x4`] | 4 × `f64` | one 256-bit register | one 256-bit register | two 128-bit halves |
 //! | [`F32x8`] | 8 × `f32` | one 256-bit register | one 256-bit register | two 128-bit halves |
 //! | [`F64x8`] | 8 × `f64` | one 512-bit register | two 256-bit halves | four 128-bit quarters |
 //!
-//! The instruction set is chosen when the crate is compiled (by
-//! `cfg(target_feature)` in `wide`): every build is correct on any x86_64
-//! (and on other targets `wide` supports, down to plain arrays), and fast
-//! when compiled for the machine, `RUSTFLAGS="-C target-cpu=native"` (or
-//! `-C target-cpu=x86-64-v3` / `x86-64-v4` for binaries that travel).
+//! A lane type is an aligned array whose arithmetic, square root and select
+//! are loops over the lanes, which LLVM vectorises for the instruction set
+//! of the function they are inlined into: the build's target, or a
+//! `#[target_feature]` function chosen at run time, which is how the batch
+//! evaluators of `factor-batch` reach AVX2 and AVX-512 without
+//! `-C target-cpu` (see "Choice of SIMD library" below). Every build is
+//! correct on any target. The elementary functions are `wide`'s
+//! (vectorised, compiled for the build's target).
 //!
 //! # Operations
 //!
@@ -41,6 +44,13 @@
 //!   vectorised, with the accuracy below.
 //! - [`impl_real!`]: implements a generated crate's own `Real` trait for all
 //!   three types.
+//! - [`Lanes`]: the lane types and `f64`, `f32` (one lane) behind one trait,
+//!   with loads and stores of structure-of-arrays columns, for batch code
+//!   generic over the lane type.
+//! - [`Kernel`], [`NormalKernel`] (with [`Array`]): a generated kernel over
+//!   any number type of its crate's `Real`, inputs and outputs each in one
+//!   fixed-size array, which a generated crate's `lanes` feature implements
+//!   for each kernel module's marker type `Kernel`.
 //!
 //! # Accuracy of the elementary functions
 //!
@@ -111,7 +121,7 @@
 //! while `wide`, whose instruction set is fixed when it is compiled, stays at
 //! 2.9–3.1×.
 //!
-//! Chosen: **`wide`** (1.7). Compiled for the machine it is the fastest or
+//! Chosen at first: **`wide`** (1.7). Compiled for the machine it is the fastest or
 //! level with the fastest for `f64` (4 lanes 3.6×, 8 lanes 5.1×) and within
 //! 20% of `pulp` for `f32` (6.5× against 7.7×); it is correct on every target
 //! with no `unsafe` here, and it is the only candidate that brings the
@@ -124,6 +134,23 @@
 //! newtypes, so a later batch API that wants runtime dispatch without
 //! `target-cpu` can move their arithmetic to portable arrays (and have the
 //! generator emit `#[inline(always)]`) without changing this interface.
+//!
+//! **Revisited with the batch API: portable arrays, `wide` for the
+//! elementary functions.** The batch evaluators of `factor-batch` must be
+//! fast on a machine of unknown features without `RUSTFLAGS`, so they
+//! compile their loop for the build's target, AVX2 + FMA and AVX-512 and
+//! pick one at run time; the generator now emits the kernels
+//! `#[inline(always)]` (the scalar path through the derive measured the same
+//! either way, 28.0 vs 28.1 ns for the point factor and 75.0 vs 75.5 ns for
+//! the Plücker factor, A/B-alternated), so they are inlined into those
+//! loops. Measured in the batch loop, `wide`'s build-time instruction set
+//! left the AVX2 and AVX-512 instances no faster than the baseline, as the
+//! table above found, while portable arrays took the instruction set of the
+//! instance (`benches/candidates.rs`, `portable` rows; the batch figures
+//! are in `factor-batch`'s documentation). So the lane types' arithmetic,
+//! `sqrt` and `select_lt` are now loops over aligned arrays, bit for bit as
+//! before (IEEE 754 per lane), and their `sin`, `cos`, `atan2`, `exp`, `ln`,
+//! `acos`, `asin`, `atan` are still `wide`'s, with the accuracy above.
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

@@ -54,7 +54,7 @@ macro_rules! f64_trig {
             #[inline(always)]
             #[must_use]
             pub fn sin_cos(self) -> (Self, Self) {
-                let x = self.0;
+                let x = <$wide>::new(self.0);
                 let (s, c) = x.sin_cos();
                 let ax = x.abs();
                 let k = (ax * <$wide>::splat(core::f64::consts::FRAC_2_PI)).round();
@@ -62,7 +62,7 @@ macro_rules! f64_trig {
                 let keep = ax.simd_le(<$wide>::splat(TRIG_REDUCTION_LIMIT))
                     & r.abs().simd_ge(k * <$wide>::splat(TRIG_CANCELLATION));
                 if keep.all() {
-                    return (Self(s), Self(c));
+                    return (Self(s.to_array()), Self(c.to_array()));
                 }
                 let mut out: [(f64, f64); $n] = {
                     let (s, c) = (s.to_array(), c.to_array());
@@ -112,12 +112,12 @@ macro_rules! ln_impl {
             #[inline(always)]
             #[must_use]
             pub fn ln(self) -> Self {
-                let x = self.0;
+                let x = <$wide>::new(self.0);
                 let y = x.ln();
                 let subnormal = x.abs().simd_lt(<$wide>::splat(<$s>::MIN_POSITIVE))
                     & x.simd_ne(<$wide>::splat(0.0));
                 if subnormal.none() {
-                    return Self(y);
+                    return Self(y.to_array());
                 }
                 let mut out = y.to_array();
                 let keep = subnormal.to_array().map(|m| m.to_bits() == 0);
@@ -135,7 +135,7 @@ ln_impl!(F32x8, wide::f32x8, f32);
 /// Implements the functions taken from `wide` as they are, and `sin`/`cos`
 /// from `sin_cos`.
 macro_rules! lane_math {
-    ($name:ident) => {
+    ($name:ident, $wide:ty) => {
         impl $name {
             /// Lane-wise sine (radians).
             #[inline(always)]
@@ -157,40 +157,40 @@ macro_rules! lane_math {
             #[inline(always)]
             #[must_use]
             pub fn atan2(self, x: Self) -> Self {
-                Self(self.0.atan2(x.0))
+                Self(<$wide>::new(self.0).atan2(<$wide>::new(x.0)).to_array())
             }
 
             /// Lane-wise arc tangent, in `[−π/2, π/2]`.
             #[inline(always)]
             #[must_use]
             pub fn atan(self) -> Self {
-                Self(self.0.atan())
+                Self(<$wide>::new(self.0).atan().to_array())
             }
 
             /// Lane-wise arc sine, in `[−π/2, π/2]`; NaN outside `[−1, 1]`.
             #[inline(always)]
             #[must_use]
             pub fn asin(self) -> Self {
-                Self(self.0.asin())
+                Self(<$wide>::new(self.0).asin().to_array())
             }
 
             /// Lane-wise arc cosine, in `[0, π]`; NaN outside `[−1, 1]`.
             #[inline(always)]
             #[must_use]
             pub fn acos(self) -> Self {
-                Self(self.0.acos())
+                Self(<$wide>::new(self.0).acos().to_array())
             }
 
             /// Lane-wise `eˣ` (subnormal results included, `+∞` on overflow).
             #[inline(always)]
             #[must_use]
             pub fn exp(self) -> Self {
-                Self(self.0.exp())
+                Self(<$wide>::new(self.0).exp().to_array())
             }
         }
     };
 }
 
-lane_math!(F64x4);
-lane_math!(F32x8);
-lane_math!(F64x8);
+lane_math!(F64x4, wide::f64x4);
+lane_math!(F32x8, wide::f32x8);
+lane_math!(F64x8, wide::f64x8);

@@ -38,6 +38,7 @@ mod ulp;
 
 use factor_generated::{plane, point_reprojection};
 use factor_lanes::{F32x8, F64x4, F64x8};
+use factor_testing::branch_points;
 use factor_testing::samples::Sampler;
 use lanes::Lanes;
 // The support modules name `crate::Real`: here the generated crate's.
@@ -145,15 +146,15 @@ fn plane_configurations() -> Vec<Vec<f64>> {
         .concat()
     }));
     for _ in 0..PER_SET {
-        let angle = configurations::near(&mut s, configurations::plane_series_threshold());
+        let angle = branch_points::near(&mut s, branch_points::PLANE_SERIES_ANGLE);
         out.push(configurations::plane_at_angle(&mut s, angle));
     }
     for _ in 0..PER_SET {
-        let angle = configurations::near(&mut s, configurations::PLANE_W_ZERO);
+        let angle = branch_points::near(&mut s, branch_points::PLANE_W_ZERO);
         out.push(configurations::plane_at_angle(&mut s, angle));
     }
     for _ in 0..PER_SET {
-        let angle = s.uniform(0.0, 2.0 * configurations::PLANE_W_ZERO);
+        let angle = s.uniform(0.0, 2.0 * branch_points::PLANE_W_ZERO);
         out.push(configurations::plane_at_angle(&mut s, angle));
     }
     out

@@ -6,8 +6,11 @@
 //! - [`assert_generated_matches_dual`] ([`generated`]): the generated kernel
 //!   agrees with dual numbers to rounding;
 //! - [`samples`]: seeded, well-conditioned configurations of the shipped
-//!   factors (and the poses, rotations and vectors they are built from).
+//!   factors (and the poses, rotations and vectors they are built from);
+//! - [`branch_points`]: configurations straddling the kernels' branch
+//!   points (the plane factor's two selects).
 
+pub mod branch_points;
 pub mod generated;
 pub mod numeric;
 pub mod samples;
