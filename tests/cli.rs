@@ -867,6 +867,26 @@ fn audit_writes_reports_and_gates_on_unexpected_disagreements() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A huge `--samples` is refused with one line naming the bound; it used to
+/// panic allocating the samples ("capacity overflow", exit 101) or abort.
+#[test]
+fn audit_bounds_the_number_of_samples() {
+    for (samples, shown) in [
+        ("18446744073709551615", "18446744073709551615"),
+        ("100001", "100001"),
+        ("4000000000", "4000000000"),
+    ] {
+        let output = slamjac(&["audit", "--samples", samples], "");
+        assert_error(
+            &output,
+            2,
+            &[&format!(
+                "error: --samples: {shown} is out of range: must be between 1 and 100000"
+            )],
+        );
+    }
+}
+
 /// Asserts that stderr holds no raw control or line-separator character
 /// besides its final newline.
 fn assert_printable(output: &Output) {
