@@ -40,9 +40,13 @@ pub enum FactorError {
     /// Numerical differentiation ([`Factor::linearize_numeric`]) could not
     /// estimate a Jacobian block to [`crate::numeric::NUMERIC_TOLERANCE`].
     #[error(
-        "{factor}: numerical differentiation w.r.t. `{variable}` did not converge: estimated \
-         relative error {} (worst at tangent coordinate {coordinate}), above the tolerance {}",
-        number_text(*.estimate),
+        "{factor}: numerical differentiation w.r.t. `{variable}` did not converge: {} \
+         (worst at tangent coordinate {coordinate}), above the tolerance {}",
+        if .estimate.is_finite() {
+            format!("estimated relative error {}", number_text(*.estimate))
+        } else {
+            "no error estimate could be formed".to_string()
+        },
         number_text(crate::numeric::NUMERIC_TOLERANCE)
     )]
     NumericNotConverged {
@@ -52,8 +56,8 @@ pub enum FactorError {
         variable: &'static str,
         /// The tangent coordinate (column) with the largest estimated error.
         coordinate: usize,
-        /// The block's estimated relative error (Frobenius); infinite when
-        /// no estimate could be formed.
+        /// The block's estimated relative error (Frobenius); infinite (or
+        /// NaN) when no estimate could be formed.
         estimate: f64,
     },
 }

@@ -8,10 +8,11 @@
 //! antipodal and 99 % for a free-line anchor 1e6 from the origin, all with
 //! success, and refused a point at depth 1e-4 (its step crossed the image
 //! plane); now they are within 2e-9.
-//! Measured here (the README quotes it): every block returned is within
-//! 1.1e-7 of the reference (relative Frobenius), within 1e-11 on the sampled
-//! configurations, and within 16 times its own estimate; where the estimate
-//! cannot reach the tolerance, the method fails with `NumericNotConverged`.
+//! Asserted here (the README quotes it): every block returned is within
+//! 1e-7 of the reference (relative Frobenius; measured 5.8e-8 at worst),
+//! within 1e-11 on the sampled configurations (measured 2.3e-13), and within
+//! 4 times its own estimate (measured 2.8); where the estimate cannot reach
+//! the tolerance, the method fails with `NumericNotConverged`.
 
 use factor_core::factor::relative_frobenius_error;
 use factor_core::numeric::NUMERIC_TOLERANCE;
@@ -48,7 +49,7 @@ fn errors<F: Factor>(factor: &F) -> Option<Vec<(f64, f64)>> {
 }
 
 /// Asserts the accepted blocks are within `bound` of the reference and
-/// within 16 times their estimate; returns how many configurations did not
+/// within 4 times their estimate; returns how many configurations did not
 /// converge.
 fn check<F: Factor>(label: &str, factors: impl IntoIterator<Item = F>, bound: f64) -> usize {
     let mut refused = 0;
@@ -63,7 +64,7 @@ fn check<F: Factor>(label: &str, factors: impl IntoIterator<Item = F>, bound: f6
                 "{label} {i} block {k}: off by {actual:e} (estimate {estimate:e})"
             );
             assert!(
-                actual <= 16.0 * estimate.max(1e-14),
+                actual <= 4.0 * estimate.max(1e-14),
                 "{label} {i} block {k}: off by {actual:e}, estimated {estimate:e}"
             );
         }
@@ -100,7 +101,7 @@ fn the_issue_configurations_are_accurate() {
     for (label, blocks) in cases {
         for (k, (actual, estimate)) in blocks.into_iter().enumerate() {
             assert!(
-                actual <= 1e-8 && actual <= 16.0 * estimate,
+                actual <= 1e-8 && actual <= 4.0 * estimate,
                 "{label}, block {k}: off by {actual:e}, estimated {estimate:e}"
             );
         }
@@ -125,7 +126,7 @@ fn sampled_configurations_are_accurate_to_1e_11() {
 
 #[test]
 fn near_degenerate_configurations_are_accurate_or_refused() {
-    let bound = 1.1e-7;
+    let bound = NUMERIC_TOLERANCE;
     let refused = [
         check(
             "point depth",
@@ -149,7 +150,7 @@ fn near_degenerate_configurations_are_accurate_or_refused() {
         ),
     ];
     // Refused only where the f64 residual is too noisy for the tolerance:
-    // the most extreme configurations of each sweep (measured: 2, 3, 2, 1).
+    // the most extreme configurations of each sweep (measured: 2, 3, 2, 2).
     assert!(
         refused.iter().all(|&r| r <= 3),
         "refused {refused:?} of 17 each"
