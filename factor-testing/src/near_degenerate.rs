@@ -3,7 +3,7 @@
 //! sample ([`Sampler`]) by moving one thing: for accuracy tests of the
 //! numerical method and of the factors' accuracy envelopes.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Unit, Vector3};
 
 use factor_core::geometry::{FreeLine, OrthonormalLine, PluckerLine};
 use factor_core::lie::{Quaternion, So3};
@@ -43,8 +43,8 @@ pub fn line_at_distance(seed: u64, distance: f64) -> LineReprojection {
 pub fn plane_near_antipodal(seed: u64, angle: f64) -> PlaneFactor {
     let mut f = Sampler::new(seed).plane_with_error(0.0);
     let rotation = So3::exp(&(Vector3::new(0.3, -0.5, 0.8).normalize() * angle)).quaternion;
-    let measured = Quaternion::from_coords(f.measured.normalize());
-    f.measured = -rotation.mul(&measured).coords();
+    let measured = Quaternion::from_coords(f.measured.into_inner());
+    f.measured = Unit::new_normalize(-rotation.mul(&measured).coords());
     f
 }
 
