@@ -8,7 +8,7 @@ use factor_core::factor::{Factor, relative_frobenius_error};
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 /// How far one linearization of a factor is from a reference: dual numbers
-/// from central differences ([`check_jacobians`]), or a generated kernel from
+/// from numerical differentiation ([`check_jacobians`]), or a generated kernel from
 /// dual numbers ([`crate::check_generated`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct JacobianCheck {
