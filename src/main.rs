@@ -81,7 +81,7 @@ enum Command {
     /// against the toolchain's derivatives; exit 1 when a formula that is not
     /// a known erratum disagrees.
     Audit {
-        /// Sampled points per formula.
+        /// Sampled points per formula, 1 to 100000.
         #[arg(long, default_value_t = 100)]
         samples: usize,
         /// Also write a Markdown report here.

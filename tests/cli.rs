@@ -574,21 +574,23 @@ fn zero_norm_plane_and_line_vectors_are_rejected() {
 /// A zero measured plane or bearing vector is a vector like any other as
 /// input; the factor finds the geometry degenerate (exit 1), naming it.
 #[test]
-fn zero_measurement_vectors_are_degenerate_geometry() {
+fn zero_measurement_vectors_are_rejected() {
+    // Stored at unit norm (any other scale is normalised): a zero vector has
+    // no direction to store.
     let cases: [(&str, Edit, &str); 2] = [
         (
             "plane",
             |v| v["constants"]["measured"] = json!([0, 0, 0, 0.0]),
-            "measured plane vector has zero norm",
+            "constants.measured: zero vector: it has no direction",
         ),
         (
             "free_line",
             |v| v["constants"]["bearing_end"] = json!([0, 0, 0]),
-            "bearing vectors are parallel or zero",
+            "constants.bearing_end: zero vector: it has no direction",
         ),
     ];
     for (factor, edit, message) in cases {
-        assert_eval_error(&edited(factor, edit), DEGENERATE, &[factor, message]);
+        assert_eval_error(&edited(factor, edit), BAD_INPUT, &[message]);
     }
 }
 
@@ -867,6 +869,26 @@ fn audit_writes_reports_and_gates_on_unexpected_disagreements() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A huge `--samples` is refused with one line naming the bound; it used to
+/// panic allocating the samples ("capacity overflow", exit 101) or abort.
+#[test]
+fn audit_bounds_the_number_of_samples() {
+    for (samples, shown) in [
+        ("18446744073709551615", "18446744073709551615"),
+        ("100001", "100001"),
+        ("4000000000", "4000000000"),
+    ] {
+        let output = slamjac(&["audit", "--samples", samples], "");
+        assert_error(
+            &output,
+            2,
+            &[&format!(
+                "error: --samples: {shown} is out of range: must be between 1 and 100000"
+            )],
+        );
+    }
+}
+
 /// Asserts that stderr holds no raw control or line-separator character
 /// besides its final newline.
 fn assert_printable(output: &Output) {
@@ -1124,4 +1146,34 @@ fn generate_refuses_a_directory_that_is_not_a_generated_crate() {
     );
     assert!(!dir.join("src/lib.rs").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Where numerical differentiation cannot reach its tolerance (a point 1e-8
+/// in front of a camera 5 from it, whose depth rounding leaves the residual
+/// noisy), `eval --method numeric` exits 1 with one line naming the variable
+/// and the estimate; the exact methods evaluate the same input.
+#[test]
+fn numeric_method_that_does_not_converge_is_an_error() {
+    let input = json!({
+        "factor": "point_reprojection",
+        "variables": {
+            "pose": {"rotation": [0, 0, 0, 1], "translation": [0.1, 0.2, -5]},
+            "point": [0.3, -0.2, 5.00000001]
+        },
+        "constants": {"intrinsics": [500, 500, 320, 240], "observed": [300, 200]}
+    })
+    .to_string();
+    let output = slamjac(&["eval", "-", "--method", "numeric"], &input);
+    assert_error(
+        &output,
+        DEGENERATE,
+        &[
+            "error: point_reprojection: numerical differentiation w.r.t. `pose` did not \
+             converge: estimated relative error ",
+            "above the tolerance 1e-7",
+        ],
+    );
+    for method in ["generated", "dual"] {
+        eval_ok(&input, method);
+    }
 }

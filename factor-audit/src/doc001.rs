@@ -15,7 +15,7 @@
 //! - line `[q_WL, d_L]`: anchor `p_L = R(q_WL) [0, 0, d_L]`, direction
 //!   `x_L = R(q_WL) [1, 0, 0]`; `v = (p_C − p_L)/‖p_C − p_L‖` (4.7).
 
-use nalgebra::{DMatrix, Matrix3, RowVector3, Vector3};
+use nalgebra::{DMatrix, Matrix3, RowVector3, Unit, Vector3};
 
 use crate::derivation::{Claim, Derivation, Label, Printed, truth};
 use crate::transcription::{matrix, pose_from, vec3};
@@ -52,8 +52,8 @@ fn factor_from<S: Scalar>(p: &[S]) -> FreeLineFactor<S> {
         body_pose: pose_from(&p[0..7]),
         extrinsics: pose_from(&p[7..14]),
         line: line_from(&p[14..19]),
-        bearing_start: vec3(&p[19..22]),
-        bearing_end: vec3(&p[22..25]),
+        bearing_start: Unit::new_unchecked(vec3(&p[19..22])),
+        bearing_end: Unit::new_unchecked(vec3(&p[22..25])),
     }
 }
 

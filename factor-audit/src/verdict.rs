@@ -144,8 +144,6 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
     let mut sampler = Sampler::new(seed);
     let first = sample(&mut sampler);
     let label = first.label();
-    let mut instances = vec![first];
-    instances.extend((1..samples).map(|_| sample(&mut sampler)));
 
     let mut worst: f64 = 0.0;
     let mut worst_pair: Option<(DMatrix<f64>, DMatrix<f64>)> = None;
@@ -153,7 +151,16 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
     let mut conventions: Option<Vec<&'static str>> = None;
     let mut halves_swapped = true;
     let mut homogeneous = true;
-    for d in &instances {
+    // The samples are drawn and judged one at a time (nothing is kept per
+    // sample), so the memory does not grow with `samples`.
+    for index in 0..samples.max(1) {
+        let drawn;
+        let d = if index == 0 {
+            &first
+        } else {
+            drawn = sample(&mut sampler);
+            &drawn
+        };
         let t = truth(d);
         let p = match d.printed() {
             Printed::Evaluated(p) => p,
@@ -162,7 +169,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
                     label,
                     verdict: Verdict::Malformed(reason),
                     max_relative_error: None,
-                    corrected_latex: Some(corrected_latex(&instances[0])),
+                    corrected_latex: Some(corrected_latex(&first)),
                     samples,
                     localisation: None,
                 };
@@ -210,8 +217,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
         let (p, t) = worst_pair.expect("at least one sample");
         Verdict::Wrong(suspected_erratum(&p, &t))
     };
-    let corrected_latex =
-        matches!(verdict, Verdict::Wrong(_)).then(|| corrected_latex(&instances[0]));
+    let corrected_latex = matches!(verdict, Verdict::Wrong(_)).then(|| corrected_latex(&first));
     Finding {
         label,
         verdict,

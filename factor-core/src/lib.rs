@@ -11,8 +11,10 @@
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
 //! - [`storage`]: how a value is stored as named scalars, and read from
 //!   what a user writes.
-//! - [`factor`]: the factor model, numerical linearization and errors;
-//!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
+//! - [`factor`]: the factor model and its errors; `#[derive(Factor)]`
+//!   (crate `factor-macros`) implements it.
+//! - [`numeric`]: numerical differentiation with an error estimate, the
+//!   independent reference for the exact Jacobians.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
 //! - [`validation`]: NaN-rejecting comparisons for validation code.
 //!
@@ -32,6 +34,7 @@ pub mod geometry;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
+pub mod numeric;
 pub mod scalar;
 pub mod storage;
 pub mod validation;
@@ -40,6 +43,7 @@ pub use factor::{
     DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, first_non_finite,
 };
 pub use manifold::{Manifold, Perturbation};
+pub use numeric::{NumericLinearization, NumericLinearize};
 pub use scalar::Scalar;
 pub use storage::{Layout, Storage, StorageError};
 
