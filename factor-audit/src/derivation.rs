@@ -76,12 +76,15 @@ pub trait Derivation {
     fn label(&self) -> Label;
     /// Where the map is differentiated.
     fn point(&self) -> Vec<f64>;
-    /// The map's parameters: names (LaTeX) and values at this sample.
-    fn parameters(&self) -> Vec<(&'static str, f64)>;
+    /// The map's parameters: names (LaTeX) and values at this sample
+    /// ([`crate::transcription::Parameters`] writes stored values and names
+    /// them from their layouts).
+    fn parameters(&self) -> Vec<(String, f64)>;
     /// Names (LaTeX) of the map's inputs.
-    fn input_names(&self) -> Vec<&'static str>;
+    fn input_names(&self) -> Vec<String>;
     /// The map, generic over the scalar: `x` the input, `p` the parameters in
-    /// the order of [`Derivation::parameters`].
+    /// the order of [`Derivation::parameters`] (read back value by value with
+    /// [`factor_core::storage::ScalarReader`]).
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S>;
     /// The document's formula, as printed, at this sample.
     fn printed(&self) -> Printed;

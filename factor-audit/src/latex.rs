@@ -46,8 +46,8 @@ pub fn corrected_latex<D: Derivation>(d: &D) -> String {
             .collect(),
     };
     let graph = tracer.finish();
-    let mut names: Vec<String> = d.input_names().iter().map(|s| s.to_string()).collect();
-    names.extend(d.parameters().iter().map(|(n, _)| n.to_string()));
+    let mut names = d.input_names();
+    names.extend(d.parameters().into_iter().map(|(n, _)| n));
     let rows: Vec<String> = entries
         .iter()
         .map(|row| {
