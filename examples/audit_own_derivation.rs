@@ -29,13 +29,13 @@ struct RotatedPoint {
 
 impl Derivation for RotatedPoint {
     fn label(&self) -> Label {
-        Label {
-            document: "my-notes.md",
-            equation: "(7)",
-            claim: "∂(R p)/∂δ = −R ⌊p⌋× under R ← R Exp(δ)",
-            convention: "right perturbation of R, p fixed",
-            known_erratum: None,
-        }
+        Label::new(
+            "my-notes.md",
+            "(7)",
+            "∂(R p)/∂δ = −R ⌊p⌋× under R ← R Exp(δ)",
+            "right perturbation of R, p fixed",
+            None,
+        )
     }
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]

@@ -568,7 +568,7 @@ impl Derivation for PlaneErrorLogJacobian {
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.de_du()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         let u = self.0.u();
         let landmark = self.0.landmark;
         let left = dual_jacobian(&[0.0; 3], |d| {
@@ -583,7 +583,8 @@ impl Derivation for PlaneErrorLogJacobian {
         });
         vec![(
             "right for a left perturbation of exp(u), exp(u) ← exp(δu) ⊗ exp(u) (the document's \
-             difference quotient), not for the additive u the chain rule (13) needs",
+             difference quotient), not for the additive u the chain rule (13) needs"
+                .into(),
             left,
         )]
     }
@@ -830,19 +831,21 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(11)",
-            links: vec!["(6)", "(7)", "(8)", "(9)"],
+            document: DOCUMENT.into(),
+            composed: "(11)".into(),
+            links: ["(6)", "(7)", "(8)", "(9)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(12)",
-            links: vec!["(6)", "(7)", "(10)"],
+            document: DOCUMENT.into(),
+            composed: "(12)".into(),
+            links: ["(6)", "(7)", "(10)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(13)",
-            links: vec!["§IV-A ∂E/∂u", "§IV-A ∂u/∂φ", "§IV-A ∂φ/∂y", "§IV-A ∂y/∂ξ"],
+            document: DOCUMENT.into(),
+            composed: "(13)".into(),
+            links: ["§IV-A ∂E/∂u", "§IV-A ∂u/∂φ", "§IV-A ∂φ/∂y", "§IV-A ∂y/∂ξ"]
+                .map(String::from)
+                .to_vec(),
         },
     ]
 }

@@ -487,14 +487,14 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(5) ∂ρ/∂^wP",
-            links: vec!["(2)", "(3)"],
+            document: DOCUMENT.into(),
+            composed: "(5) ∂ρ/∂^wP".into(),
+            links: ["(2)", "(3)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(5) ∂ρ/∂ξ",
-            links: vec!["(2)", "(4)"],
+            document: DOCUMENT.into(),
+            composed: "(5) ∂ρ/∂ξ".into(),
+            links: ["(2)", "(4)"].map(String::from).to_vec(),
         },
     ]
 }

@@ -192,9 +192,9 @@ impl FreeLineContext {
 
 /// The alternative truth of a body-pose Jacobian: the same map with `T_BW`
 /// perturbed on the left.
-fn left_convention<D: Derivation>(alt: D) -> Vec<(&'static str, DMatrix<f64>)> {
+fn left_convention<D: Derivation>(alt: D) -> Vec<(String, DMatrix<f64>)> {
     vec![(
-        "left perturbation T_BW ← Exp(δ) T_BW (tangent [δφ, δt])",
+        "left perturbation T_BW ← Exp(δ) T_BW (tangent [δφ, δt])".into(),
         truth(&alt),
     )]
 }
@@ -296,7 +296,7 @@ impl Derivation for ParallelRotationJacobian {
         let row: RowVector3<f64> = -(c.n_c().transpose() * c.c_cb() * c.c_bw() * hat(&c.x_l()));
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -328,7 +328,7 @@ impl Derivation for ParallelTranslationJacobian {
     fn printed(&self) -> Printed {
         Printed::Evaluated(DMatrix::zeros(1, 3))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -510,7 +510,7 @@ impl Derivation for CameraPositionRotationJacobian {
         let c = &self.0;
         Printed::Evaluated(matrix(-hat(&(c.w_t_cb() + c.w_t_bw()))))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -543,7 +543,7 @@ impl Derivation for CameraPositionTranslationJacobian {
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(-Matrix3::<f64>::identity()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -581,7 +581,7 @@ impl Derivation for DistanceRotationJacobian {
         let row: RowVector3<f64> = -(c.n_w().transpose() * inner);
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -616,7 +616,7 @@ impl Derivation for DistanceTranslationJacobian {
         let row: RowVector3<f64> = -(c.n_w().transpose() * c.projector()) / c.distance();
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -655,14 +655,14 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(4.33)",
-            links: vec!["(4.17)", "(4.26)"],
+            document: DOCUMENT.into(),
+            composed: "(4.33)".into(),
+            links: ["(4.17)", "(4.26)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(4.38)",
-            links: vec!["(4.17)", "(4.27)"],
+            document: DOCUMENT.into(),
+            composed: "(4.38)".into(),
+            links: ["(4.17)", "(4.27)"].map(String::from).to_vec(),
         },
     ]
 }

@@ -28,7 +28,7 @@ fn document_000_preliminaries_and_point_factor() {
         .iter()
         .filter(|f| f.label.document == factor_audit::doc000_point::DOCUMENT)
         .take(10) // §I–§II; §III–§IV have a test of their own
-        .map(|f| (f.label.equation, f.verdict.keyword()))
+        .map(|f| (f.label.equation.as_str(), f.verdict.keyword()))
         .collect();
     assert_eq!(
         verdicts,
@@ -81,13 +81,13 @@ struct RotatedPoint {
 
 impl Derivation for RotatedPoint {
     fn label(&self) -> Label {
-        Label {
-            document: "user notes",
-            equation: "(7)",
-            claim: "∂(R p)/∂δ under R ← Exp(δ) R",
-            convention: "left perturbation",
-            known_erratum: None,
-        }
+        Label::new(
+            "user notes",
+            "(7)",
+            "∂(R p)/∂δ under R ← Exp(δ) R",
+            "left perturbation",
+            None,
+        )
     }
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
@@ -119,10 +119,10 @@ impl Derivation for RotatedPoint {
         } * self.printed_sign;
         Printed::Evaluated(DMatrix::from_column_slice(3, 3, m.as_slice()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         let right = -self.rotation.matrix() * hat(&self.point);
         vec![(
-            "right perturbation R ← R Exp(δ)",
+            "right perturbation R ← R Exp(δ)".into(),
             DMatrix::from_column_slice(3, 3, right.as_slice()),
         )]
     }
@@ -182,7 +182,7 @@ fn document_001_free_line_body_pose_jacobians() {
         .collect();
     let verdicts: Vec<(&str, &str)> = ours
         .iter()
-        .map(|f| (f.label.equation, f.verdict.keyword()))
+        .map(|f| (f.label.equation.as_str(), f.verdict.keyword()))
         .collect();
     assert_eq!(
         verdicts,
