@@ -48,27 +48,27 @@ pub fn run(
     }
 }
 
-/// One object per formula: document, equation, claim, verdict (`correct`,
+/// One object per formula (see [`finding_json`]).
+fn json_report(findings: &[Finding]) -> String {
+    let entries: Vec<Value> = findings.iter().map(finding_json).collect();
+    serde_json::to_string_pretty(&entries).expect("serialisable") + "\n"
+}
+
+/// A formula's JSON object: document, equation, claim, verdict (`correct`,
 /// `convention`, `wrong` or `malformed`), max relative error, convention
 /// note, known erratum and corrected LaTeX.
-fn json_report(findings: &[Finding]) -> String {
-    let entries: Vec<Value> = findings
-        .iter()
-        .map(|f| {
-            let note = report::note(f);
-            json!({
-                "document": f.label.document,
-                "equation": f.label.equation,
-                "claim": f.label.claim,
-                "verdict": f.verdict.keyword(),
-                "max_relative_error": f.max_relative_error.filter(|e| e.is_finite()),
-                "convention_note": (!note.is_empty()).then_some(note),
-                "known_erratum": f.label.known_erratum,
-                "corrected_latex": f.corrected_latex,
-                "chain_localisation": f.localisation,
-                "samples": f.samples,
-            })
-        })
-        .collect();
-    serde_json::to_string_pretty(&entries).expect("serialisable") + "\n"
+pub fn finding_json(f: &Finding) -> Value {
+    let note = report::note(f);
+    json!({
+        "document": f.label.document,
+        "equation": f.label.equation,
+        "claim": f.label.claim,
+        "verdict": f.verdict.keyword(),
+        "max_relative_error": f.max_relative_error.filter(|e| e.is_finite()),
+        "convention_note": (!note.is_empty()).then_some(note),
+        "known_erratum": f.label.known_erratum,
+        "corrected_latex": f.corrected_latex,
+        "chain_localisation": f.localisation,
+        "samples": f.samples,
+    })
 }

@@ -16,6 +16,7 @@ pub mod derivation;
 pub mod doc000_line_plane;
 pub mod doc000_point;
 pub mod doc001;
+pub mod from_text;
 pub mod latex;
 pub mod report;
 pub mod transcription;
