@@ -295,6 +295,16 @@ pub fn compile(
     document: &str,
 ) -> Result<TextClaim, TextError> {
     let scope = Some(index);
+    let size = super::tree::nodes(&located.rhs).len();
+    if size > super::MAX_FORMULA_NODES {
+        return Err(claim_error(
+            spec,
+            format!(
+                "the formula has {size} nodes; at most {} are audited",
+                super::MAX_FORMULA_NODES
+            ),
+        ));
+    }
     let printed = Lowering::new(&mut ctx.resolver(scope), spec.stacked_fractions)
         .expr(&located.rhs)
         .map_err(|error| TextError::Formula {
@@ -562,6 +572,12 @@ impl<'a> TextDerivation<'a> {
         };
         match got {
             Err(e) => Printed::Malformed(e.0),
+            // 0/0, √ of a negative: no number is what the formula prints.
+            Ok(m) if m.iter().any(|x| !x.is_finite()) => Printed::Malformed(
+                "the printed formula is not finite at a sample (a division by zero, a root or a \
+                 logarithm of a negative)"
+                    .into(),
+            ),
             Ok(m) if m.shape() == expected => Printed::Evaluated(match claim.kind {
                 ClaimKind::Value => DMatrix::from_column_slice(rows * cols, 1, m.as_slice()),
                 _ => m,

@@ -49,6 +49,9 @@ pub struct Context {
     pub table: Table,
     scopes: HashMap<Scope, HashMap<String, SymbolId>>,
     states: Vec<State>,
+    /// How deep each symbol's definitions nest (0 for a symbol not defined
+    /// in terms of others).
+    depths: Vec<usize>,
     building: usize,
     /// Derivative (canonical LaTeX) to the claim stating it.
     pub links: HashMap<String, usize>,
@@ -103,6 +106,7 @@ impl Context {
             table: Table::default(),
             scopes: HashMap::from([(None, HashMap::new())]),
             states: Vec::new(),
+            depths: Vec::new(),
             building: 0,
             links: HashMap::new(),
             printed: Vec::new(),
@@ -211,6 +215,7 @@ impl Context {
         }
         let id = self.table.add(key.clone());
         self.states.push(State::Done);
+        self.depths.push(0);
         self.scopes.entry(scope).or_default().insert(key, id);
         Ok(id)
     }
@@ -238,6 +243,13 @@ impl Context {
                         e.kind, e.fragment
                     ))
                 })?;
+                let size = super::tree::nodes(&e).len();
+                if size > super::MAX_FORMULA_NODES {
+                    return Err(bad(format!(
+                        "the definition has {size} nodes; at most {} are read",
+                        super::MAX_FORMULA_NODES
+                    )));
+                }
                 self.states[id] = State::Pending(Box::new(e), scope);
                 for (index, c) in components.iter().enumerate() {
                     let cid = self.declare(scope, c, equation)?;
@@ -502,8 +514,22 @@ impl Context {
                 self.building -= 1;
                 match term {
                     Ok(t) => {
+                        let depth = 1 + symbols_in(&t)
+                            .iter()
+                            .map(|k| self.depth_of(*k))
+                            .max()
+                            .unwrap_or(0);
                         self.set(id, Meaning::Definition(t));
                         self.states[id] = State::Done;
+                        self.depths[id] = depth;
+                        if depth > MAX_DEFINITION_DEPTH {
+                            return Err(LowerError {
+                                message: format!(
+                                    "definitions nest deeper than {MAX_DEFINITION_DEPTH} levels"
+                                ),
+                                fragment: self.table.key(id).to_string(),
+                            });
+                        }
                         Ok(())
                     }
                     Err(err) => {
@@ -512,6 +538,14 @@ impl Context {
                     }
                 }
             }
+        }
+    }
+
+    /// How deep symbol `id`'s definitions nest.
+    fn depth_of(&self, id: SymbolId) -> usize {
+        match &self.table.entries[id].meaning {
+            Meaning::Component { of, .. } => 1 + self.depths[*of],
+            _ => self.depths[id],
         }
     }
 
@@ -671,6 +705,20 @@ impl Resolver for FrozenResolver<'_> {
     fn link(&self, key: &str) -> Option<usize> {
         self.ctx.links.get(key).copied()
     }
+}
+
+/// The symbols a term refers to.
+fn symbols_in(t: &Term) -> Vec<SymbolId> {
+    let mut out = Vec::new();
+    let mut stack = vec![t];
+    while let Some(t) = stack.pop() {
+        match t {
+            Term::Symbol(id) | Term::Quotient { tangent: id, .. } => out.push(*id),
+            _ => {}
+        }
+        stack.extend(t.children());
+    }
+    out
 }
 
 /// What lowering needs to know of a meaning.

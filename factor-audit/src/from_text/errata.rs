@@ -17,9 +17,11 @@
 //! - a term, an entry or the whole multiplied by 2 or ½.
 //!
 //! Single edits are tried first, then pairs (two edits at places not inside
-//! one another), at most [`MAX_CANDIDATES`] edited formulas in all, each
-//! evaluated at up to [`SEARCH_SAMPLES`] of the audit's samples (stopping at
-//! the first that disagrees). A formula that agrees there is confirmed at
+//! one another), at most [`MAX_CANDIDATES`] edited formulas an equation (and
+//! [`MAX_CANDIDATES_PER_RUN`] in a whole audit), each evaluated at up to
+//! [`SEARCH_SAMPLES`] of the audit's samples (stopping at the first that
+//! disagrees); formulas of more than [`MAX_SEARCHED_NODES`] nodes are not
+//! searched. A formula that agrees there is confirmed at
 //! every sample of the audit. The targets are the truth, then the truths
 //! under the claim's conventions and with the tangent's halves swapped (a
 //! fix that makes the formula right only under one of those says so). When
@@ -44,6 +46,10 @@ use factor_testing::samples::Sampler;
 
 /// Most edited formulas evaluated per equation (singles and pairs).
 pub const MAX_CANDIDATES: usize = 20_000;
+/// Most edited formulas evaluated in one audit, all equations together.
+pub const MAX_CANDIDATES_PER_RUN: usize = 100_000;
+/// Largest printed formula searched, in syntax-tree nodes.
+pub const MAX_SEARCHED_NODES: usize = 400;
 /// Samples an edited formula is evaluated at during the search.
 pub const SEARCH_SAMPLES: usize = 6;
 /// Most alternative fixes reported.
@@ -574,8 +580,9 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
                     .flat_map(|(r, row)| (0..row.len()).map(move |c| (r, c)))
                     .collect();
                 for (k, (r, c)) in cells.iter().enumerate() {
-                    out.push(Edit::Negate(child(&path, k)));
+                    // A printed 0 has no sign to flip and is 0 already.
                     if number(&m.rows[*r][*c]) != Some(0.0) {
+                        out.push(Edit::Negate(child(&path, k)));
                         out.push(Edit::ZeroEntry {
                             matrix: path.clone(),
                             entry: k,
@@ -629,7 +636,15 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
                         });
                     }
                 }
-                for sibling in siblings.iter().filter(|x| x.base == s.base && **x != *s) {
+                // Another symbol of the same letter that is not the same
+                // quantity under another name.
+                let same = ctx
+                    .lookup(claim.scope(), &symbol_key(s))
+                    .map(|id| ctx.alias_of(id));
+                for (sibling, _) in siblings
+                    .iter()
+                    .filter(|(x, target)| x.base == s.base && *x != *s && Some(*target) != same)
+                {
                     out.push(Edit::Replace {
                         path: path.clone(),
                         with: Box::new(sibling.clone()),
@@ -642,8 +657,9 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
     out
 }
 
-/// The symbols in the claim's scope that hold values, as parsed symbols.
-fn siblings(ctx: &Context, claim: &TextClaim) -> Vec<ast::Symbol> {
+/// The symbols in the claim's scope that hold values, as parsed symbols,
+/// with the symbol each is an alias of (itself if none).
+fn siblings(ctx: &Context, claim: &TextClaim) -> Vec<(ast::Symbol, usize)> {
     ctx.visible(claim.scope())
         .into_iter()
         .filter(|(_, id)| {
@@ -655,8 +671,8 @@ fn siblings(ctx: &Context, claim: &TextClaim) -> Vec<ast::Symbol> {
                     | Meaning::Residual(_)
             )
         })
-        .filter_map(|(key, _)| match doc_latex::parse_expr(&key) {
-            Ok(Expr::Symbol(s)) => Some(s),
+        .filter_map(|(key, id)| match doc_latex::parse_expr(&key) {
+            Ok(Expr::Symbol(s)) => Some((s, ctx.alias_of(id))),
             _ => None,
         })
         .collect()
@@ -724,7 +740,7 @@ pub struct Diagnosis {
 pub struct Searched {
     /// The diagnosis, if an edit within the bound fixes (part of) it.
     pub diagnosis: Option<Diagnosis>,
-    /// Edited formulas evaluated (at most [`MAX_CANDIDATES`]).
+    /// Edited formulas evaluated (at most the budget given).
     pub evaluated: usize,
 }
 
@@ -736,6 +752,7 @@ struct Search<'a> {
     derivations: Vec<TextDerivation<'a>>,
     targets: Vec<Target>,
     evaluated: usize,
+    budget: usize,
 }
 
 /// What an edited formula does.
@@ -845,9 +862,15 @@ fn list(columns: &[usize]) -> String {
 }
 
 /// Searches the edits of `claim`'s printed formula (see the module
-/// documentation); `samples` is the audit's sample count, at which a fix
-/// is confirmed.
-pub fn search(audit: &TextAudit, claim: &TextClaim, samples: usize) -> Searched {
+/// documentation), evaluating at most `budget` edited formulas; `samples`
+/// is the audit's sample count, at which a fix is confirmed.
+pub fn search(audit: &TextAudit, claim: &TextClaim, samples: usize, budget: usize) -> Searched {
+    if nodes(&claim.printed_ast).len() > MAX_SEARCHED_NODES {
+        return Searched {
+            diagnosis: None,
+            evaluated: 0,
+        };
+    }
     let ctx = &audit.contexts[claim.context];
     let mut sampler = Sampler::new(TextAudit::seed(claim.index));
     let derivations: Vec<TextDerivation<'_>> = (0..samples.clamp(1, SEARCH_SAMPLES))
@@ -861,6 +884,7 @@ pub fn search(audit: &TextAudit, claim: &TextClaim, samples: usize) -> Searched 
         derivations,
         targets,
         evaluated: 0,
+        budget: budget.min(MAX_CANDIDATES),
     };
     let printed_good = match s.score(&claim.printed, true) {
         Outcome::Columns(good) => good.len(),
@@ -885,7 +909,7 @@ fn diagnose(
     let mut fixes: Vec<(Vec<&Edit>, usize, Expr)> = Vec::new();
     let mut best: Option<(Vec<usize>, &Edit, Expr)> = None;
     for edit in singles {
-        if s.evaluated >= MAX_CANDIDATES {
+        if s.evaluated >= s.budget {
             break;
         }
         match s.try_edits(&[edit], true) {
@@ -902,7 +926,7 @@ fn diagnose(
     if fixes.is_empty() {
         'pairs: for (i, a) in singles.iter().enumerate() {
             for b in &singles[i + 1..] {
-                if s.evaluated >= MAX_CANDIDATES {
+                if s.evaluated >= s.budget {
                     break 'pairs;
                 }
                 let (sa, sb) = (a.site(), b.site());

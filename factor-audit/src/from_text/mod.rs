@@ -46,8 +46,11 @@
 //! [`symbols::MAX_CLAIMS`] claims and [`symbols::MAX_SYMBOLS`] symbols a
 //! context, definitions nested at most [`context::MAX_DEFINITION_DEPTH`]
 //! deep, values at most [`value::MAX_DIMENSION`] rows and columns,
-//! evaluation at most [`eval::MAX_EVAL_DEPTH`] deep, and the erratum search
-//! at most [`errata::MAX_CANDIDATES`] edited formulas per equation.
+//! evaluation at most [`eval::MAX_EVAL_DEPTH`] deep, printed formulas of at
+//! most [`MAX_FORMULA_NODES`] nodes, and the erratum search at most
+//! [`errata::MAX_CANDIDATES`] edited formulas an equation,
+//! [`errata::MAX_CANDIDATES_PER_RUN`] an audit, on formulas of at most
+//! [`errata::MAX_SEARCHED_NODES`] nodes.
 
 pub mod claims;
 pub mod context;
@@ -77,7 +80,9 @@ use symbols::SymbolsFile;
 use term::{Meaning, Variable};
 
 /// Longest document read, in bytes.
-pub const MAX_DOCUMENT_BYTES: usize = 4 << 20;
+pub const MAX_DOCUMENT_BYTES: usize = 1 << 20;
+/// Largest printed formula audited, in syntax-tree nodes.
+pub const MAX_FORMULA_NODES: usize = 2000;
 
 /// Why a document and its symbols file cannot be audited; one line each,
 /// naming the equation, the symbol or the fragment at fault.
@@ -273,6 +278,9 @@ impl TextAudit {
             let value = TextDerivation::new(claim, ctx, stored.clone())
                 .map_value()
                 .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
+            if value.iter().any(|x| !x.is_finite()) {
+                return Err(error("its map is not finite at a sample".into()));
+            }
             claim.value_shape = value.shape();
         }
         Ok(())
@@ -316,12 +324,17 @@ impl TextAudit {
             })
             .collect();
         localise(&mut findings, &self.chains());
+        let mut budget = errata::MAX_CANDIDATES_PER_RUN;
         findings
             .into_iter()
             .zip(&self.claims)
             .map(|(mut finding, claim)| {
                 let searched = matches!(finding.verdict, Verdict::Wrong(_) | Verdict::Malformed(_))
-                    .then(|| errata::search(self, claim, samples));
+                    .then(|| {
+                        let s = errata::search(self, claim, samples, budget);
+                        budget -= s.evaluated.min(budget);
+                        s
+                    });
                 let diagnosis = searched.as_ref().and_then(|s| s.diagnosis.clone());
                 if let (Verdict::Wrong(words), Some(d)) = (&mut finding.verdict, &diagnosis) {
                     *words = Some(d.words.clone());

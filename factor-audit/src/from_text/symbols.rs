@@ -35,7 +35,7 @@ use super::TextError;
 /// Longest symbols file read, in bytes.
 pub const MAX_SYMBOLS_BYTES: usize = 1 << 20;
 /// Most claims a symbols file may state.
-pub const MAX_CLAIMS: usize = 1000;
+pub const MAX_CLAIMS: usize = 200;
 /// Most symbols a context (with its claims' own) may define.
 pub const MAX_SYMBOLS: usize = 2000;
 
