@@ -149,6 +149,29 @@ fn hostile_input_is_bounded() {
     chain.push_str("[[claim]]\nid = \"(1)\"\ncontext = \"c\"\nlabel = \"(1)\"\nkind = \"value\"\nof = \"d_{39}\"\n");
     let e: TextError = TextAudit::load("h.md", "$$x = x \\quad (1)$$\n", &chain).unwrap_err();
     assert!(e.to_string().contains("nest deeper"), "{e}");
+    // Definitions within the bound whose formulas nest deep: evaluation
+    // stops at its depth bound (on the audit's own large stack).
+    let mut deep = String::from(
+        "[context.c]\n[context.c.symbols]\n\"x\" = { sample = \"vector3\" }\n\"d_0\" = \"|x|\"\n",
+    );
+    for k in 1..=15 {
+        deep.push_str(&format!(
+            "\"d_{{{k}}}\" = \"{}d_{{{}}}\"\n",
+            "-".repeat(40),
+            k - 1
+        ));
+    }
+    deep.push_str(
+        "[[claim]]\nid = \"(1)\"\ncontext = \"c\"\nlabel = \"(1)\"\nkind = \"value\"\nof = \"x\"\n",
+    );
+    let f = TextAudit::load("h.md", "$$x = |d_{15}| x \\quad (1)$$\n", &deep)
+        .unwrap()
+        .run(2);
+    assert!(
+        matches!(&f[0].finding.verdict, factor_audit::Verdict::Malformed(m) if m.contains("deeper than 400")),
+        "{:?}",
+        f[0].finding.verdict
+    );
     // An oversized document.
     let big = "x".repeat(factor_audit::from_text::MAX_DOCUMENT_BYTES + 1);
     assert!(matches!(

@@ -51,6 +51,9 @@
 //! [`errata::MAX_CANDIDATES`] edited formulas an equation,
 //! [`errata::MAX_CANDIDATES_PER_RUN`] an audit, on formulas of at most
 //! [`errata::MAX_SEARCHED_NODES`] nodes.
+//! Loading and auditing run on a thread with a [`STACK_BYTES`] stack, so the
+//! depth bounds are reached (and reported as errors) without overflowing the
+//! stack, in a debug build too.
 
 pub mod claims;
 pub mod context;
@@ -83,6 +86,32 @@ use term::{Meaning, Variable};
 pub const MAX_DOCUMENT_BYTES: usize = 1 << 20;
 /// Largest printed formula audited, in syntax-tree nodes.
 pub const MAX_FORMULA_NODES: usize = 2000;
+/// Stack of the thread a document is loaded and audited on: lowering and
+/// evaluation recurse as deep as formulas and definitions nest (bounded by
+/// [`context::MAX_DEFINITION_DEPTH`], `doc_latex::MAX_DEPTH` and
+/// [`eval::MAX_EVAL_DEPTH`]), and a debug build's frames are large.
+pub const STACK_BYTES: usize = 64 << 20;
+
+/// `f` on a thread with a [`STACK_BYTES`] stack (inline if none can be
+/// started).
+fn on_large_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    let task = std::sync::Mutex::new(Some(f));
+    let take = || task.lock().ok().and_then(|mut t| t.take());
+    let spawned = std::thread::scope(|scope| {
+        let handle = std::thread::Builder::new()
+            .stack_size(STACK_BYTES)
+            .spawn_scoped(scope, || take().map(|f| f()))
+            .ok()?;
+        match handle.join() {
+            Ok(value) => value,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    });
+    match spawned {
+        Some(value) => value,
+        None => take().map_or_else(|| unreachable!("the task runs once"), |f| f()),
+    }
+}
 
 /// Why a document and its symbols file cannot be audited; one line each,
 /// naming the equation, the symbol or the fragment at fault.
@@ -159,6 +188,10 @@ pub struct TextAudit {
 impl TextAudit {
     /// Reads `document` (named `name` in reports) and its symbols file.
     pub fn load(name: &str, document: &str, symbols: &str) -> Result<Self, TextError> {
+        on_large_stack(|| Self::load_here(name, document, symbols))
+    }
+
+    fn load_here(name: &str, document: &str, symbols: &str) -> Result<Self, TextError> {
         if document.len() > MAX_DOCUMENT_BYTES {
             return Err(TextError::TooLarge {
                 what: "document",
@@ -311,6 +344,10 @@ impl TextAudit {
     /// Audits every claim at `samples` points, localises the chain rules
     /// and diagnoses the errata.
     pub fn run(&self, samples: usize) -> Vec<TextFinding> {
+        on_large_stack(|| self.run_here(samples))
+    }
+
+    fn run_here(&self, samples: usize) -> Vec<TextFinding> {
         let mut findings: Vec<Finding> = self
             .claims
             .iter()
