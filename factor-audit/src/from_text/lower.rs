@@ -499,3 +499,72 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
         Term::Call(_, args) => args.iter().all(free).then_some(0),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    /// Symbols by key, all values but `δφ` (a tangent) and `f` (a function).
+    struct Symbols(HashMap<String, SymbolId>);
+
+    impl Resolver for Symbols {
+        fn symbol(&mut self, key: &str) -> Result<Option<(SymbolId, Found)>, LowerError> {
+            Ok(self.0.get(key).map(|id| {
+                let found = match key {
+                    "\\delta \\phi" => Found::Tangent(Vec::new()),
+                    "f" => Found::Function(Builtin::Normalize),
+                    _ => Found::Value,
+                };
+                (*id, found)
+            }))
+        }
+        fn link(&self, _: &str) -> Option<usize> {
+            None
+        }
+    }
+
+    fn lower(latex: &str) -> Result<Term, LowerError> {
+        let keys = ["P_{z}", "y", "\\delta \\phi", "f"];
+        let mut symbols = Symbols(
+            keys.iter()
+                .enumerate()
+                .map(|(i, k)| (k.to_string(), i))
+                .collect(),
+        );
+        Lowering::new(&mut symbols, false).expr(&doc_latex::parse_expr(latex).unwrap())
+    }
+
+    #[test]
+    fn readings_the_symbols_file_does_not_spell_out() {
+        // A numeric superscript on a defined symbol is a power.
+        assert_eq!(
+            lower("P_z^2").unwrap(),
+            Term::Power(Box::new(Term::Symbol(0)), 2.0)
+        );
+        assert_eq!(lower("I_{3 \\times 3}").unwrap(), Term::Identity(Some(3)));
+        // A function symbol applies; a value symbol before parentheses of a
+        // non-variable multiplies.
+        assert_eq!(
+            lower("f(y)").unwrap(),
+            Term::Call(Builtin::Normalize, vec![Term::Symbol(1)])
+        );
+        assert!(matches!(lower("y(y + y)").unwrap(), Term::Product(_)));
+        // A difference quotient must be linear in its tangent.
+        assert!(matches!(
+            lower("\\frac{y \\delta\\phi}{\\delta\\phi}").unwrap(),
+            Term::Quotient { tangent: 2, .. }
+        ));
+        let e = lower("\\frac{\\sin(\\delta\\phi)}{\\delta\\phi}").unwrap_err();
+        assert!(e.message.contains("not linear"), "{e}");
+        let e = lower("\\operatorname{frobnicate}(y)").unwrap_err();
+        assert!(
+            e.message.starts_with("unknown function `frobnicate`"),
+            "{e}"
+        );
+        assert_eq!(
+            lower("z").unwrap_err().to_string(),
+            "undefined symbol at `z`"
+        );
+    }
+}

@@ -37,7 +37,7 @@
 //!   through a formula of the document.
 //! - [`claims`]: each claim located, compiled and sampled as a
 //!   [`crate::Derivation`].
-//! - [`errata`]: the erratum search.
+//! - [`errata`]: the erratum search, over the edits of [`edits`].
 //! - [`report`]: findings with the quote, its place, the formula as
 //!   understood, and the diagnosis.
 //!
@@ -57,6 +57,7 @@
 
 pub mod claims;
 pub mod context;
+pub mod edits;
 pub mod errata;
 pub mod eval;
 pub mod factors;
