@@ -25,6 +25,7 @@
 //!   geometry or non-finite result, 2 rejected input).
 
 pub mod audit;
+pub mod audit_text;
 pub mod decode;
 pub mod error;
 pub mod eval;

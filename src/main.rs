@@ -5,6 +5,8 @@
 //! slamjac list [--json]
 //! slamjac generate [--out DIR]   # rewrite generated/ from the factor definitions
 //! slamjac check [--dir DIR]      # exit 1 when generated/ is stale
+//! slamjac audit [--samples N] [--markdown F] [--json F]          # the transcribed catalogues
+//! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]   # a document, from its text
 //! ```
 //!
 //! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
@@ -19,7 +21,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use slamjac::{Method, audit, eval, generate, list, pretty};
+use slamjac::{Method, audit, audit_text, eval, generate, list, pretty};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -79,9 +81,20 @@ enum Command {
     },
     /// Audit the hand-derived formulas of the specification documents
     /// against the toolchain's derivatives; exit 1 when a formula that is not
-    /// a known erratum disagrees.
+    /// a known erratum disagrees. With a DOCUMENT and --symbols, audit that
+    /// Markdown/LaTeX document straight from its text instead; exit 1 when
+    /// a verdict is not the one the symbols file expects.
     Audit {
-        /// Sampled points per formula.
+        /// A Markdown/LaTeX document to audit from its text (needs
+        /// --symbols); without it, the transcribed formulas of the two
+        /// specification documents are audited.
+        #[arg(value_name = "DOCUMENT", requires = "symbols")]
+        document: Option<PathBuf>,
+        /// The symbols file (TOML) giving the document's symbols their
+        /// meaning and stating what each audited equation claims.
+        #[arg(long, value_name = "FILE", requires = "document")]
+        symbols: Option<PathBuf>,
+        /// Sampled points per formula, 1 to 100000.
         #[arg(long, default_value_t = 100)]
         samples: usize,
         /// Also write a Markdown report here.
@@ -102,9 +115,23 @@ fn main() -> ExitCode {
         Command::Generate { out } => generate::run_generate(out.as_deref()),
         Command::Check { dir } => generate::run_check(dir.as_deref()),
         Command::Audit {
+            document: Some(document),
+            symbols: Some(symbols),
             samples,
             markdown,
             json,
+        } => audit_text::run(
+            &document,
+            &symbols,
+            samples,
+            markdown.as_deref(),
+            json.as_deref(),
+        ),
+        Command::Audit {
+            samples,
+            markdown,
+            json,
+            ..
         } => audit::run(samples, markdown.as_deref(), json.as_deref()),
     };
     match output {

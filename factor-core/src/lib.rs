@@ -11,10 +11,12 @@
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
 //! - [`storage`]: how a value is stored as named scalars, and read from
 //!   what a user writes.
-//! - [`factor`]: the factor model, numerical linearization and errors;
-//!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
+//! - [`factor`]: the factor model and its errors; `#[derive(Factor)]`
+//!   (crate `factor-macros`) implements it.
 //! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
 //!   kernel, for batch evaluators.
+//! - [`numeric`]: numerical differentiation with an error estimate, the
+//!   independent reference for the exact Jacobians.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
 //! - [`validation`]: NaN-rejecting comparisons for validation code.
 //!
@@ -35,6 +37,7 @@ pub mod kernel;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
+pub mod numeric;
 pub mod scalar;
 pub mod storage;
 pub mod validation;
@@ -44,6 +47,7 @@ pub use factor::{
 };
 pub use kernel::WithKernel;
 pub use manifold::{Manifold, Perturbation};
+pub use numeric::{NumericLinearization, NumericLinearize};
 pub use scalar::Scalar;
 pub use storage::{Layout, Storage, StorageError};
 

@@ -253,12 +253,6 @@ impl<S: Scalar> LieGroup<S> for So3<S> {
     fn left_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
         left_jacobian_inverse(tau)
     }
-    fn right_jacobian(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian(tau)
-    }
-    fn right_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian_inverse(tau)
-    }
 }
 
 /// Perturbs a unit quaternion by `exp(δ)` on the given side.
