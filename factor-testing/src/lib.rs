@@ -5,7 +5,7 @@
 //!   agree with numerical differentiation on the variables' manifolds;
 //! - [`assert_generated_matches_dual`] ([`generated`]): the generated kernel
 //!   agrees with dual numbers to rounding;
-//! - [`reference`]: a factor's residual and Jacobians in double-double
+//! - [`mod@reference`]: a factor's residual and Jacobians in double-double
 //!   arithmetic, to measure the accuracy of an `f64` evaluation;
 //! - [`near_degenerate`]: configurations a given distance from a factor's
 //!   degeneracy;

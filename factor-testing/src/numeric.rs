@@ -1,5 +1,5 @@
 //! Dual-number Jacobians against numerical differentiation on the manifolds
-//! ([`Factor::linearize_numeric`]: Ridders' extrapolation of central
+//! ([`NumericLinearize::linearize_numeric`]: Ridders' extrapolation of central
 //! differences, with an error estimate).
 
 use factor_core::NumericLinearize;
