@@ -11,7 +11,7 @@ use core::f64::consts::PI;
 
 use factor_core::geometry::plane::transpose_transform;
 use factor_core::lie::Quaternion;
-use nalgebra::Vector3;
+use nalgebra::{Unit, Vector3};
 use slam_factors::PlaneFactor;
 
 use crate::samples::Sampler;
@@ -26,7 +26,7 @@ pub const PLANE_W_ZERO: f64 = PI;
 
 /// A plane factor whose residual has norm `angle` (up to rounding) about a
 /// random axis: the measured plane `π_c` is chosen so that
-/// `Tᵀ π_c = exp(angle · axis) ⊗ q_w`, scaled by a factor in `[0.5, 3)`.
+/// `Tᵀ π_c ∝ exp(angle · axis) ⊗ q_w`.
 pub fn plane_at_angle(sampler: &mut Sampler, angle: f64) -> PlaneFactor {
     let mut f = sampler.plane_with_error(0.0);
     let axis = sampler.rotation().rotate(&Vector3::z());
@@ -34,7 +34,7 @@ pub fn plane_at_angle(sampler: &mut Sampler, angle: f64) -> PlaneFactor {
         .mul(&f.plane.quaternion)
         .coords();
     // `transpose_transform(T⁻¹, ·)` is `T⁻ᵀ`, the inverse of `Tᵀ`.
-    f.measured = transpose_transform(&f.pose.inverse(), &y) * sampler.uniform(0.5, 3.0);
+    f.measured = Unit::new_normalize(transpose_transform(&f.pose.inverse(), &y));
     f
 }
 
