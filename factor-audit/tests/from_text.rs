@@ -276,6 +276,15 @@ fn errors_name_the_equation_the_symbol_and_the_fragment() {
         e.starts_with("equation (1), symbol `a`: cannot read"),
         "{e}"
     );
+    // A definition quoted in an error stays on one line (a newline inside it,
+    // found by the fuzz test), and a control character is escaped.
+    let e = load_error(
+        NOTE,
+        &symbols_with("\"a\" = \"\"\"\\\\begin{bmatrix} 1 \\\\\n\\u001b d{bmatrix}\"\"\"\n"),
+    );
+    assert!(e.starts_with("symbol `a`: cannot read"), "{e}");
+    assert!(!e.contains('\n') && !e.contains('\u{1b}'), "{e}");
+    assert!(e.contains("\\u{1b}"), "{e}");
     // A wrong key, an unknown sampler, a missing label, TOML syntax.
     assert!(load_error(NOTE, &symbols_with("\"a\" = { feld = 1 }")).contains("symbol `a`"));
     assert!(

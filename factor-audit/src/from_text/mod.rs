@@ -80,7 +80,7 @@ use context::Context;
 use eval::{Env, Space};
 use lower::LowerError;
 use report::TextFinding;
-use symbols::SymbolsFile;
+use symbols::{SymbolsFile, one_line};
 use term::{Meaning, Variable};
 
 /// Longest document read, in bytes.
@@ -135,7 +135,7 @@ pub enum TextError {
         message: String,
     },
     /// A symbol's meaning is wrong.
-    #[error("{}symbol `{symbol}`: {message}", equation.as_ref().map(|e| format!("equation {e}, ")).unwrap_or_default())]
+    #[error("{}symbol `{}`: {}", equation.as_ref().map(|e| format!("equation {}, ", one_line(e))).unwrap_or_default(), one_line(symbol), one_line(message))]
     Symbol {
         /// The symbol as written.
         symbol: String,
@@ -145,7 +145,7 @@ pub enum TextError {
         message: String,
     },
     /// A context is wrong.
-    #[error("context `{context}`: {message}")]
+    #[error("context `{}`: {}", one_line(context), one_line(message))]
     Context {
         /// The context.
         context: String,
@@ -153,7 +153,7 @@ pub enum TextError {
         message: String,
     },
     /// A claim is wrong.
-    #[error("equation {claim}: {message}")]
+    #[error("equation {}: {}", one_line(claim), one_line(message))]
     Claim {
         /// The claim's id.
         claim: String,
@@ -161,7 +161,7 @@ pub enum TextError {
         message: String,
     },
     /// A formula of the document means nothing to the symbols file.
-    #[error("equation {claim}, line {line}: {error}")]
+    #[error("equation {}, line {line}: {}", one_line(claim), one_line(&error.to_string()))]
     Formula {
         /// The claim's id.
         claim: String,

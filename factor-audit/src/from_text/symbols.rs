@@ -293,9 +293,22 @@ impl SymbolSpec {
     }
 }
 
-/// `s` on one line.
+/// `s` on one line: runs of white space become one space, other control
+/// characters are escaped (`\u{1b}`), so an error quoting the input keeps its
+/// one-line shape and cannot drive a terminal.
 pub fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
+    s.split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+        .chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 impl SymbolsFile {
