@@ -1,7 +1,7 @@
 """Operation counts of SymForce (PyPI) generating the document factors into C++.
 
 Four functions, each returning the residual and its Jacobian blocks in this
-project's conventions (SPEC.md, "Conventions"):
+project's conventions (README, "Conventions"):
 
 - `point_reprojection`: pose (left, `[dw, drho]`), point (additive);
 - `line_reprojection`: pose (left), orthonormal line `(U, W)` with
@@ -177,7 +177,7 @@ def plane(pose: sf.Pose3, plane: sf.Rot3, measured: sf.V4):
 # tangent spaces (Pose3: product manifold SO(3) x R3 with the rotation
 # perturbed on the RIGHT and the translation additively; Rot3, Rot2: right).
 # Not this project's conventions: recorded because they are what a SymForce
-# user gets by default, and to compare with the figures quoted in SPEC.md.
+# user gets by default, and to compare with the figures quoted in the README.
 NATIVE = {
     "point_reprojection": (point_reprojection_residual, ["pose", "point"]),
     "line_reprojection": (line_reprojection_residual, ["pose", "u", "w"]),

@@ -9,14 +9,14 @@ exact SE(3) exponential, `T <- Exp([dw, drho]) T`, i.e. `R <- Exp(dw) R`,
 differentiated with `sym.jacobian` w.r.t. the symbolic perturbation, which is
 then substituted by zero. Additive variables are differentiated directly.
 
-Conventions are this project's (SPEC.md, "Conventions"): quaternion stored
+Conventions are this project's (README, "Conventions"): quaternion stored
 `[x, y, z, w]`, Hamilton, active rotation; `X_c = R X_w + t`; pose tangent
 `[dw, drho]`, rotation first; Jacobians row-major, rows = residual entries.
 
 Only the two `BENCHMARKED` functions are written to Rust. Equivalent
 formulations a user might write instead are generated too, for their
 operation counts only (`variants` in the JSON): wrenfold's counts depend on how
-the expression is written, and SPEC.md's quoted figures (150 / 556) are those
+the expression is written, and the README's quoted figures (150 / 556) are those
 of the first-order perturbation with `n_c = R n + [t]x R v`.
 
 Usage: python wrenfold_factors.py OUT_DIR

@@ -1,7 +1,7 @@
 //! Per-factor linearization cost, in one run: the hand-written analytic
 //! Jacobians (`slam_factors::analytic`), the generated kernel, dual numbers in
 //! one pass over the whole tangent, dual numbers one pass per variable block,
-//! and central differences, for the point, line (orthonormal), Plücker-line,
+//! and numerical differentiation, for the point, line (orthonormal), Plücker-line,
 //! plane and free-line factors.
 //!
 //! `cargo bench --bench linearize`. Each factor is evaluated at 64 sampled
@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use factor_core::Factor;
+use factor_core::{Factor, NumericLinearize};
 use factor_testing::samples::Sampler;
 use slam_factors::analytic;
 
@@ -30,7 +30,8 @@ fn samples<F>(seed: u64, make: impl Fn(&mut Sampler) -> F) -> Vec<F> {
 /// `dual_one_pass` (`linearize_dual()`) and `dual_per_block`
 /// (`linearize_dual_per_block()`), the derive-emitted typed methods, each
 /// including the factor's validation and finiteness check, and `numeric`
-/// (`Factor::linearize_numeric_dyn()`, central differences on the manifold).
+/// (`Factor::linearize_numeric_dyn()`, Ridders' extrapolation of central
+/// differences on the manifold).
 macro_rules! bench_factor {
     ($c:expr, $name:literal, $factors:expr, $hand:path) => {{
         let factors = $factors;

@@ -10,12 +10,14 @@
 //! the Markdown report; `cargo test` runs the same audit.
 
 use factor_audit::report::{markdown, table};
+use factor_audit::transcription::Parameters;
 use factor_audit::verdict::audit;
 use factor_audit::{Derivation, Finding, Label, Printed};
 use factor_core::Scalar;
+use factor_core::lie::So3;
 use factor_core::lie::so3::hat;
-use factor_core::lie::{Quaternion, So3};
 use factor_core::manifold::{Manifold, Perturbation};
+use factor_core::storage::{ScalarReader, Storage};
 use factor_testing::samples::Sampler;
 use nalgebra::{DMatrix, Vector3};
 
@@ -27,40 +29,38 @@ struct RotatedPoint {
 
 impl Derivation for RotatedPoint {
     fn label(&self) -> Label {
-        Label {
-            document: "my-notes.md",
-            equation: "(7)",
-            claim: "∂(R p)/∂δ = −R ⌊p⌋× under R ← R Exp(δ)",
-            convention: "right perturbation of R, p fixed",
-            known_erratum: None,
-        }
+        Label::new(
+            "my-notes.md",
+            "(7)",
+            "∂(R p)/∂δ = −R ⌊p⌋× under R ← R Exp(δ)",
+            "right perturbation of R, p fixed",
+            None,
+        )
     }
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let (q, p) = (self.rotation.quaternion, self.point);
-        vec![
-            ("q_x", q.x),
-            ("q_y", q.y),
-            ("q_z", q.z),
-            ("q_w", q.w),
-            ("p_x", p.x),
-            ("p_y", p.y),
-            ("p_z", p.z),
-        ]
+    fn parameters(&self) -> Vec<(String, f64)> {
+        // The stored scalars of R and p, named from their layouts (R_{qx}, …).
+        Parameters::new()
+            .with("R", &self.rotation)
+            .with("p", &self.point)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["\\delta_1", "\\delta_2", "\\delta_3"]
+    fn input_names(&self) -> Vec<String> {
+        ["\\delta_1", "\\delta_2", "\\delta_3"]
+            .map(String::from)
+            .to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let rotation = So3::from_quaternion(Quaternion::new(p[0], p[1], p[2], p[3]));
-        let point = Vector3::new(p[4], p[5], p[6]);
+        // Read back in the order written: R, then p.
+        let mut r = ScalarReader::new(p);
+        let rotation: So3<S> = r.read();
+        let point: Vector3<S> = r.read();
         rotation
             .retract(x, Perturbation::Right)
             .rotate(&point)
-            .as_slice()
-            .to_vec()
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         let m = -self.rotation.matrix() * hat(&self.point);

@@ -3,7 +3,7 @@
 //! | exit | meaning |
 //! | --- | --- |
 //! | 0 | success |
-//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry reported by the factor's `validate()` (with a hint when an input quaternion looks written `[w, x, y, z]`), or a non-finite residual or Jacobian; or `check` found stale generated files |
+//! | 1 | the input is well formed but the factor cannot be evaluated there: degenerate geometry, or a configuration outside the factor's accuracy envelope, reported by the factor's `validate()` (with a hint when an input quaternion looks written `[w, x, y, z]`), a non-finite residual or Jacobian, or numerical differentiation that does not converge (`--method numeric`); or `check` found stale generated files |
 //! | 2 | the input is rejected: unreadable file, input over 16 MiB or not UTF-8, invalid JSON (nesting deeper than 128 included), duplicate key, unknown factor, missing, unknown or mistyped field, wrong length, non-finite number, non-unit quaternion, zero-norm vector, Plücker constraint violated (and, from clap, a command-line usage error); or the generated crate is not found or a file of it cannot be read, `generate --out` names a directory that is not a generated crate, or `generate` cannot write it |
 //!
 //! Every error is printed as one line, `error: <where>: <what>`, where

@@ -1,62 +1,15 @@
 //! `slamjac eval`: evaluate a factor at a point given as JSON and write the
 //! residual and its tangent-space Jacobians as JSON.
 
-use factor_core::{DynLinearization, Factor, FactorError, VariableInfo};
+use factor_core::{DynLinearization, FactorError, VariableInfo};
 use serde_json::{Map, Value};
 
 use crate::error::CliError;
 use crate::input::{Object, QuaternionReading};
+use crate::method::Method;
 use crate::source::read_source;
 use crate::strict_json::parse_json;
 use crate::{pretty, registry, w_first};
-
-/// How the Jacobians are computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
-pub enum Method {
-    /// The checked-in generated kernel of `generated/` (straight-line code,
-    /// exact to rounding); dual numbers for a factor without one.
-    #[default]
-    Generated,
-    /// Dual numbers (num-dual) through the generic residual: exact.
-    Dual,
-    /// Central differences through each variable's exact retraction, with
-    /// Richardson extrapolation: an independent reference, accurate to ~1e-8.
-    Numeric,
-}
-
-impl Method {
-    /// The name used on the command line and in the output.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Method::Generated => "generated",
-            Method::Dual => "dual",
-            Method::Numeric => "numeric",
-        }
-    }
-}
-
-/// Validates `factor` and linearizes it with `method`; a degenerate
-/// configuration or a non-finite output is an error. Returns the method
-/// actually used: [`Method::Generated`] falls back to [`Method::Dual`] for a
-/// factor without a generated kernel (or a build without the `kernels`
-/// feature).
-pub fn linearize<F: Factor>(
-    factor: &F,
-    method: Method,
-) -> Result<(DynLinearization, Method), FactorError> {
-    factor.validate()?;
-    let (linearization, used) = match method {
-        Method::Generated => match factor.linearize_generated_dyn() {
-            Some(result) => (result?, Method::Generated),
-            None => (factor.linearize_dual_dyn()?, Method::Dual),
-        },
-        Method::Dual => (factor.linearize_dual_dyn()?, Method::Dual),
-        Method::Numeric => (factor.linearize_numeric_dyn()?, Method::Numeric),
-    };
-    let variables = F::variables();
-    let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
-    Ok((linearization.ensure_finite(F::NAME, &names)?, used))
-}
 
 /// A factor evaluated at a point.
 #[derive(Debug, Clone, PartialEq)]

@@ -18,7 +18,8 @@
 //! - `generate` writes into a generated crate, or into a directory that does
 //!   not exist yet or is empty: there it first writes a minimal standalone
 //!   `Cargo.toml` naming `factor-generated` (the kernels need no
-//!   dependencies), so that the directory becomes one. Any other directory is
+//!   dependencies; its feature `lanes` adds `factor-lanes` from this
+//!   workspace), so that the directory becomes one. Any other directory is
 //!   refused untouched, since writing removes the `.rs` files of `src/` that
 //!   it did not generate.
 
@@ -55,6 +56,16 @@ const STANDALONE_MANIFEST: &str = concat!(
     "[lib]\n",
     "name = \"factor_generated\"\n",
     "path = \"src/lib.rs\"\n",
+    "\n",
+    "# The kernels have no dependencies; the feature `lanes` runs them on the\n",
+    "# SIMD lane types of `factor-lanes` (from the workspace that wrote this file).\n",
+    "[dependencies]\n",
+    "factor-lanes = { path = \"",
+    env!("CARGO_MANIFEST_DIR"),
+    "/factor-lanes\", optional = true }\n",
+    "\n",
+    "[features]\n",
+    "lanes = [\"dep:factor-lanes\"]\n",
     "\n",
     "# A workspace of its own; remove this table to make the crate a member of\n",
     "# an enclosing one.\n",

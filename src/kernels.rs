@@ -27,17 +27,29 @@ pub const PROVENANCE: Provenance = Provenance {
 /// factors, then the three of `slamjac solve`.
 pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
-        KernelSpec::of::<PointReprojection>().with_source("document 000 §II (2)–(5)"),
-        KernelSpec::of::<LineReprojection>().with_source("document 000 §III (6)–(12)"),
+        KernelSpec::of::<PointReprojection>()
+            .with_source("document 000 §II (2)–(5)")
+            .with_normal_equations(),
+        KernelSpec::of::<LineReprojection>()
+            .with_source("document 000 §III (6)–(12)")
+            .with_normal_equations(),
         KernelSpec::of::<PluckerLineReprojection>()
-            .with_source("document 000 §III (6)–(8), raw Plücker [n, v]"),
-        KernelSpec::of::<PlaneFactor>().with_source("document 000 §IV (13)"),
-        KernelSpec::of::<FreeLineFactor>().with_source("document 001 §3–4"),
-        KernelSpec::of::<SnavelyReprojection>().with_source(
-            "the BAL / Bundler camera model (Snavely; Ceres' SnavelyReprojectionError)",
-        ),
+            .with_source("document 000 §III (6)–(8), raw Plücker [n, v]")
+            .with_normal_equations(),
+        KernelSpec::of::<PlaneFactor>()
+            .with_source("document 000 §IV (13)")
+            .with_normal_equations(),
+        KernelSpec::of::<FreeLineFactor>()
+            .with_source("document 001 §3–4")
+            .with_normal_equations(),
+        KernelSpec::of::<SnavelyReprojection>()
+            .with_source(
+                "the BAL / Bundler camera model (Snavely; Ceres' SnavelyReprojectionError)",
+            )
+            .with_normal_equations(),
         KernelSpec::of::<StereoReprojection>()
-            .with_source("rectified stereo (GTSAM's GenericStereoFactor3D, Cal3_S2Stereo)"),
+            .with_source("rectified stereo (GTSAM's GenericStereoFactor3D, Cal3_S2Stereo)")
+            .with_normal_equations(),
         KernelSpec::of::<BetweenFactor>()
             .with_source("pose-graph relative pose (GTSAM's BetweenFactor<Pose3>), whitened"),
     ]

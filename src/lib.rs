@@ -1,6 +1,9 @@
 //! `slamjac`, the command line of the factor toolchain: list the registered
 //! factors and evaluate any of them, residual and tangent-space Jacobians, at
-//! a point given as JSON (SPEC.md, "The `eval` JSON interface").
+//! a point given as JSON (the README's "Command line"); generate and check
+//! the document factors' kernels; audit the documents' derivations. It is a
+//! user of the public APIs of `slam-factors`, `factor-codegen` and
+//! `factor-audit`, like any other.
 //!
 //! - [`source`]: reading an input file or standard input (16 MiB at most, UTF-8);
 //! - [`strict_json`]: JSON text → value tree, rejecting duplicate keys and
@@ -10,10 +13,13 @@
 //!   escaped, cut);
 //! - [`decode`]: each factor's `variables` and `constants` → the factor;
 //! - [`registry`]: the table of factors;
+//! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
 //! - [`eval`]: evaluation and the output JSON;
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
 //! - [`list`]: the factor table, text or JSON;
+//! - [`kernels`]: the document factors' kernel specs and provenance;
 //! - [`generate`]: `generate` and `check` of the generated kernels;
+//! - [`audit`]: `audit` of the documents' derivations;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
 //! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
 //! - `solve` (feature `solve`): real estimation problems solved by
@@ -22,6 +28,7 @@
 //!   geometry or non-finite result, 2 rejected input).
 
 pub mod audit;
+pub mod audit_text;
 pub mod decode;
 pub mod error;
 pub mod eval;
@@ -30,6 +37,7 @@ pub mod generate;
 pub mod input;
 pub mod kernels;
 pub mod list;
+pub mod method;
 pub mod pretty;
 pub mod registry;
 #[cfg(feature = "solve")]
@@ -40,4 +48,5 @@ pub mod synth;
 pub mod w_first;
 
 pub use error::{CliError, InputError};
-pub use eval::{Evaluation, Method};
+pub use eval::Evaluation;
+pub use method::Method;

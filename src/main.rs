@@ -8,6 +8,8 @@
 //! slamjac solve FILE [--format F] [--kernels generated|dual] [--max-iterations N]
 //!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
 //! slamjac synth-bal --cameras N --points M [--views V] [--seed S] [--outliers F] [--noise σ] --output FILE
+//! slamjac audit [--samples N] [--markdown F] [--json F]          # the transcribed catalogues
+//! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]   # a document, from its text
 //! ```
 //!
 //! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
@@ -22,7 +24,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use slamjac::{CliError, Method, audit, eval, generate, list, pretty, synth};
+use slamjac::{CliError, Method, audit, audit_text, eval, generate, list, pretty, synth};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -83,9 +85,20 @@ enum Command {
     },
     /// Audit the hand-derived formulas of the specification documents
     /// against the toolchain's derivatives; exit 1 when a formula that is not
-    /// a known erratum disagrees.
+    /// a known erratum disagrees. With a DOCUMENT and --symbols, audit that
+    /// Markdown/LaTeX document straight from its text instead; exit 1 when
+    /// a verdict is not the one the symbols file expects.
     Audit {
-        /// Sampled points per formula.
+        /// A Markdown/LaTeX document to audit from its text (needs
+        /// --symbols); without it, the transcribed formulas of the two
+        /// specification documents are audited.
+        #[arg(value_name = "DOCUMENT", requires = "symbols")]
+        document: Option<PathBuf>,
+        /// The symbols file (TOML) giving the document's symbols their
+        /// meaning and stating what each audited equation claims.
+        #[arg(long, value_name = "FILE", requires = "document")]
+        symbols: Option<PathBuf>,
+        /// Sampled points per formula, 1 to 100000.
         #[arg(long, default_value_t = 100)]
         samples: usize,
         /// Also write a Markdown report here.
@@ -229,9 +242,23 @@ fn main() -> ExitCode {
         Command::Generate { out } => generate::run_generate(out.as_deref()),
         Command::Check { dir } => generate::run_check(dir.as_deref()),
         Command::Audit {
+            document: Some(document),
+            symbols: Some(symbols),
             samples,
             markdown,
             json,
+        } => audit_text::run(
+            &document,
+            &symbols,
+            samples,
+            markdown.as_deref(),
+            json.as_deref(),
+        ),
+        Command::Audit {
+            samples,
+            markdown,
+            json,
+            ..
         } => audit::run(samples, markdown.as_deref(), json.as_deref()),
         Command::Solve {
             file,

@@ -11,9 +11,9 @@ use slam_factors::{
 
 use crate::decode::{decode, json_shape};
 use crate::error::{CliError, InputError};
-use crate::eval::{Method, linearize};
 use crate::field_path::quoted;
 use crate::input::Object;
+use crate::method::{Method, linearize};
 
 /// One registered factor, its description and how to evaluate it from JSON.
 #[derive(Debug, Clone, Copy)]

@@ -44,7 +44,7 @@ fn read_bounded(reader: impl Read, name: &str) -> Result<String, InputError> {
     let invalid_utf8 = |at: usize| {
         InputError::new(
             name,
-            format!("invalid UTF-8 at byte {at}: input must be UTF-8 JSON"),
+            format!("invalid UTF-8 at byte {at}: input must be UTF-8"),
         )
     };
     let mut bytes = Vec::new();

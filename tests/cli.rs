@@ -581,21 +581,23 @@ fn zero_norm_plane_and_line_vectors_are_rejected() {
 /// A zero measured plane or bearing vector is a vector like any other as
 /// input; the factor finds the geometry degenerate (exit 1), naming it.
 #[test]
-fn zero_measurement_vectors_are_degenerate_geometry() {
+fn zero_measurement_vectors_are_rejected() {
+    // Stored at unit norm (any other scale is normalised): a zero vector has
+    // no direction to store.
     let cases: [(&str, Edit, &str); 2] = [
         (
             "plane",
             |v| v["constants"]["measured"] = json!([0, 0, 0, 0.0]),
-            "measured plane vector has zero norm",
+            "constants.measured: zero vector: it has no direction",
         ),
         (
             "free_line",
             |v| v["constants"]["bearing_end"] = json!([0, 0, 0]),
-            "bearing vectors are parallel or zero",
+            "constants.bearing_end: zero vector: it has no direction",
         ),
     ];
     for (factor, edit, message) in cases {
-        assert_eval_error(&edited(factor, edit), DEGENERATE, &[factor, message]);
+        assert_eval_error(&edited(factor, edit), BAD_INPUT, &[message]);
     }
 }
 
@@ -874,6 +876,26 @@ fn audit_writes_reports_and_gates_on_unexpected_disagreements() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A huge `--samples` is refused with one line naming the bound; it used to
+/// panic allocating the samples ("capacity overflow", exit 101) or abort.
+#[test]
+fn audit_bounds_the_number_of_samples() {
+    for (samples, shown) in [
+        ("18446744073709551615", "18446744073709551615"),
+        ("100001", "100001"),
+        ("4000000000", "4000000000"),
+    ] {
+        let output = slamjac(&["audit", "--samples", samples], "");
+        assert_error(
+            &output,
+            2,
+            &[&format!(
+                "error: --samples: {shown} is out of range: must be between 1 and 100000"
+            )],
+        );
+    }
+}
+
 /// Asserts that stderr holds no raw control or line-separator character
 /// besides its final newline.
 fn assert_printable(output: &Output) {
@@ -1131,4 +1153,149 @@ fn generate_refuses_a_directory_that_is_not_a_generated_crate() {
     );
     assert!(!dir.join("src/lib.rs").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Where numerical differentiation cannot reach its tolerance (a point 1e-8
+/// in front of a camera 5 from it, whose depth rounding leaves the residual
+/// noisy), `eval --method numeric` exits 1 with one line naming the variable
+/// and the estimate; the exact methods evaluate the same input.
+#[test]
+fn numeric_method_that_does_not_converge_is_an_error() {
+    let input = json!({
+        "factor": "point_reprojection",
+        "variables": {
+            "pose": {"rotation": [0, 0, 0, 1], "translation": [0.1, 0.2, -5]},
+            "point": [0.3, -0.2, 5.00000001]
+        },
+        "constants": {"intrinsics": [500, 500, 320, 240], "observed": [300, 200]}
+    })
+    .to_string();
+    let output = slamjac(&["eval", "-", "--method", "numeric"], &input);
+    assert_error(
+        &output,
+        DEGENERATE,
+        &[
+            "error: point_reprojection: numerical differentiation w.r.t. `pose` did not \
+             converge: estimated relative error ",
+            "above the tolerance 1e-7",
+        ],
+    );
+    for method in ["generated", "dual"] {
+        eval_ok(&input, method);
+    }
+}
+
+/// `audit DOC --symbols FILE` audits a document straight from its text:
+/// both specification documents pass their gates with the verdict
+/// vocabulary, and the reports quote each formula with its line, what was
+/// understood and the engine's suggested correction.
+#[test]
+fn audit_from_a_documents_text_writes_reports_and_gates_on_expected_verdicts() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("slamjac-audit-text-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (name, count) in [("000_29653f4af9b68bb8", 23), ("001_85032ab900231dbd", 14)] {
+        let document = root.join(format!("documents/{name}.txt"));
+        let symbols = root.join(format!("documents/{name}.symbols.toml"));
+        let json_path = dir.join(format!("{name}.json"));
+        let markdown_path = dir.join(format!("{name}.md"));
+        let output = slamjac(
+            &[
+                "audit",
+                document.to_str().unwrap(),
+                "--symbols",
+                symbols.to_str().unwrap(),
+                "--samples",
+                "20",
+                "--json",
+                json_path.to_str().unwrap(),
+                "--markdown",
+                markdown_path.to_str().unwrap(),
+            ],
+            "",
+        );
+        assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+        let table = String::from_utf8(output.stdout).expect("UTF-8");
+        assert!(
+            table.contains(&format!("{count} formulas audited from the text")),
+            "{table}"
+        );
+        let report: Value =
+            serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+        let entries = report.as_array().expect("array");
+        assert_eq!(entries.len(), count);
+        for entry in entries {
+            let verdict = entry["verdict"].as_str().expect("verdict");
+            assert_eq!(Some(verdict), entry["expected_verdict"].as_str());
+            for key in [
+                "line",
+                "printed_latex",
+                "understood_latex",
+                "suggested_correction",
+            ] {
+                assert!(entry.get(key).is_some(), "missing {key}");
+            }
+        }
+        let markdown = std::fs::read_to_string(&markdown_path).unwrap();
+        assert!(markdown.contains("As printed:") && markdown.contains("As understood:"));
+    }
+    let report: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("000_29653f4af9b68bb8.json")).unwrap(),
+    )
+    .unwrap();
+    let dphi = report
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["equation"] == "§IV-A ∂φ/∂y")
+        .expect("∂φ/∂y");
+    assert_eq!(
+        dphi["suggested_correction"]["words"],
+        "exponent 3/2 of |y| should be 3"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A user's notes with a mistake fail the gate (exit 1) after the table;
+/// a symbols file that does not fit, or a missing one, is rejected input.
+#[test]
+fn audit_from_text_rejects_bad_input_and_fails_on_unexpected_verdicts() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let data = root.join("factor-audit/tests/data");
+    let notes = data.join("icp_notes.md");
+    let symbols = data.join("icp_notes.symbols.toml");
+    let output = slamjac(
+        &[
+            "audit",
+            notes.to_str().unwrap(),
+            "--symbols",
+            symbols.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(output.status.code(), Some(1), "stderr: {}", stderr(&output));
+    let table = String::from_utf8_lossy(&output.stdout);
+    assert!(table.contains("should be flipped"), "{table}");
+    assert!(stderr(&output).contains("icp_notes.md (2) (wrong where correct is expected)"));
+    // An undefined symbol: the equation and the fragment, on one line.
+    let bad = temp_path("symbols").with_extension("toml");
+    let text = std::fs::read_to_string(&symbols)
+        .unwrap()
+        .replace("\"n\" = { sample = \"vector3\" }\n", "");
+    std::fs::write(&bad, text).unwrap();
+    let output = slamjac(
+        &[
+            "audit",
+            notes.to_str().unwrap(),
+            "--symbols",
+            bad.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_error(&output, 2, &["undefined symbol", "`n`"]);
+    std::fs::remove_file(&bad).ok();
+    // The document needs its symbols file.
+    let output = slamjac(&["audit", notes.to_str().unwrap()], "");
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("--symbols"));
 }

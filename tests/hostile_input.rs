@@ -11,7 +11,8 @@
 //! JSON whose residual and Jacobians are numbers (never a silent NaN, which
 //! JSON would print as `null`) and stderr is empty; on failure stdout is
 //! empty and stderr is exactly one line, `error: …`, free of control and
-//! line-separator characters.
+//! line-separator characters and of `NaN` and `inf` (no number computed from
+//! finite input may be printed non-finite).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -94,6 +95,14 @@ fn unprintable(c: char) -> bool {
     c.is_control() || matches!(c, '\u{2028}' | '\u{2029}' | '\u{202a}'..='\u{202e}')
 }
 
+/// Whether a message shows `NaN` or an infinity as a number: no input
+/// literal can be either (they are rejected as such), so one there was
+/// computed from finite input.
+fn prints_non_finite(line: &str) -> bool {
+    line.split(|c: char| !(c.is_alphanumeric() || c == '-'))
+        .any(|word| matches!(word, "NaN" | "inf" | "-inf"))
+}
+
 /// The contract of the module docs; returns the exit code.
 fn assert_contract(run: &Run, label: &str) -> i32 {
     let code = run
@@ -133,6 +142,10 @@ fn assert_contract(run: &Run, label: &str) -> i32 {
             assert!(
                 !line.chars().any(unprintable),
                 "{label}: raw control or separator character: {line:?}"
+            );
+            assert!(
+                !prints_non_finite(line),
+                "{label}: a non-finite number in the message: {line:?}"
             );
         }
         other => panic!("{label}: exit code {other}; stderr: {}", run.stderr),
@@ -513,5 +526,127 @@ fn hostile_files_keep_the_contract() {
     for (label, input, needles) in cases {
         let run = eval(&input, label);
         assert_error(&run, BAD_INPUT, needles, label);
+    }
+}
+
+/// `eval` on `input` (a JSON value) with `method`, under the contract.
+fn eval_value(input: &Value, method: &str, label: &str) -> (i32, Run) {
+    let run = run(
+        &["eval", "-", "--method", method],
+        input.to_string().as_bytes(),
+        label,
+    );
+    (assert_contract(&run, label), run)
+}
+
+/// The residual and Jacobian entries of a successful run, in order.
+fn outputs(run: &Run) -> Vec<f64> {
+    let output: Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    let mut numbers: Vec<f64> = output["residual"]
+        .as_array()
+        .expect("residual")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect();
+    for block in output["jacobians"].as_object().expect("jacobians").values() {
+        for row in block.as_array().expect("rows") {
+            numbers.extend(
+                row.as_array()
+                    .expect("row")
+                    .iter()
+                    .map(|x| x.as_f64().expect("number")),
+            );
+        }
+    }
+    numbers
+}
+
+/// Multiplies every number in `value` by `scale`.
+fn scaled(value: &Value, scale: f64) -> Value {
+    match value {
+        Value::Number(n) => Value::from(n.as_f64().expect("finite") * scale),
+        Value::Array(items) => items.iter().map(|v| scaled(v, scale)).collect(),
+        Value::Object(map) => map
+            .iter()
+            .map(|(k, v)| (k.clone(), scaled(v, scale)))
+            .collect(),
+        other => other.clone(),
+    }
+}
+
+/// The scales of issue 9: the whole f64 range, by factors of 1e50.
+const SCALES: [f64; 12] = [
+    1e-300, 1e-250, 1e-200, 1e-150, 1e-100, 1e-50, 1e50, 1e100, 1e150, 1e200, 1e250, 1e300,
+];
+
+/// Inputs the README says may have any scale (the plane landmark and the
+/// measured plane, the Plücker coordinates of an orthonormal line, the
+/// bearing vectors) give the same output at every scale of the f64 range.
+/// Before, planes failed outside about [1e-100, 1e150] of scale (a
+/// non-finite Jacobian at 1e-120, "norm 0" at 1e160), a measured plane at
+/// 1e160 gave a zero residual and zero Jacobians with exit 0, and a line at
+/// 1e200 was refused with "n · v = NaN".
+#[test]
+fn scale_invariant_inputs_work_over_the_whole_f64_range() {
+    let example = |name: &str| -> Value {
+        let path =
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("examples/inputs/{name}.json"));
+        serde_json::from_slice(&std::fs::read(path).expect("example")).expect("JSON")
+    };
+    let cases: [(&str, &[&[&str]]); 4] = [
+        ("plane", &[&["variables", "plane"]]),
+        ("plane", &[&["constants", "measured"]]),
+        ("line_reprojection", &[&["variables", "line"]]),
+        (
+            "free_line",
+            &[
+                &["constants", "bearing_start"],
+                &["constants", "bearing_end"],
+            ],
+        ),
+    ];
+    for (name, fields) in cases {
+        let original = example(name);
+        for method in ["generated", "dual"] {
+            let (code, run) = eval_value(&original, method, name);
+            assert_eq!(code, 0, "{name}: {}", run.stderr);
+            let expected = outputs(&run);
+            for scale in SCALES {
+                let mut input = original.clone();
+                for path in fields {
+                    let field = &mut input[path[0]][path[1]];
+                    *field = scaled(field, scale);
+                }
+                let label = format!("{name} {fields:?} × {scale:e} ({method})");
+                let (code, run) = eval_value(&input, method, &label);
+                assert_eq!(code, 0, "{label}: {}", run.stderr);
+                let got = outputs(&run);
+                let size = expected.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+                let worst = got
+                    .iter()
+                    .zip(&expected)
+                    .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(worst <= 1e-12 * size, "{label}: differs by {worst:e}");
+            }
+        }
+    }
+}
+
+/// Every number of every example scaled by the same factor, over the whole
+/// f64 range: the contract holds (no panic, no non-finite output or
+/// message), whether the factor accepts the result or not.
+#[test]
+fn every_number_scaled_keeps_the_contract() {
+    for (name, text) in examples() {
+        let original: Value = serde_json::from_slice(&text).expect("example is JSON");
+        for scale in SCALES {
+            let mut input = original.clone();
+            for part in ["variables", "constants"] {
+                input[part] = scaled(&input[part], scale);
+            }
+            for method in ["generated", "numeric"] {
+                eval_value(&input, method, &format!("{name} × {scale:e} ({method})"));
+            }
+        }
     }
 }

@@ -6,6 +6,7 @@
 //! its left side is the last chain head of that run of displays.
 
 use std::ops::Range;
+use std::sync::OnceLock;
 
 use crate::ast::{Expr, Statement};
 use crate::error::{Lines, LookupError, ParseError};
@@ -19,6 +20,9 @@ pub struct Document {
     text: String,
     lines: Lines,
     formulas: Vec<Formula>,
+    /// Every formula's claims, read run by run on the first lookup that
+    /// needs them, so that lookups stay linear in the document together.
+    read: OnceLock<Vec<Result<Vec<Claim>, ParseError>>>,
 }
 
 /// One formula of a document, as printed.
@@ -131,6 +135,7 @@ impl Document {
             text: text.to_string(),
             lines,
             formulas,
+            read: OnceLock::new(),
         })
     }
 
@@ -221,13 +226,25 @@ impl Document {
 
     /// The claims of a formula of this document, one per line.
     pub fn claims(&self, formula: &Formula) -> Result<Vec<Claim>, ParseError> {
-        let run = self.run_of(formula.index);
-        let mut claims = self.run_claims(run);
-        let (_, mine) = claims
-            .drain(..)
-            .find(|(i, _)| *i == formula.index)
-            .expect("a formula is in its own run");
-        mine
+        self.all_claims()[formula.index].clone()
+    }
+
+    /// Every formula's claims, read once.
+    fn all_claims(&self) -> &[Result<Vec<Claim>, ParseError>] {
+        self.read.get_or_init(|| {
+            let mut all = Vec::with_capacity(self.formulas.len());
+            while all.len() < self.formulas.len() {
+                let run = self.run_of(all.len());
+                all.extend(self.read_run(run).into_iter().map(|(_, c)| c));
+            }
+            all
+        })
+    }
+
+    /// The claims of every formula of a run (read once, see [`Document::all_claims`]).
+    fn run_claims(&self, run: Range<usize>) -> Vec<(usize, Result<Vec<Claim>, ParseError>)> {
+        let all = self.all_claims();
+        run.map(|i| (i, all[i].clone())).collect()
     }
 
     /// The one line (of any formula) whose LaTeX contains the anchor, read.
@@ -326,7 +343,7 @@ impl Document {
     }
 
     /// The claims of every formula of a run, chain heads carried along.
-    fn run_claims(&self, run: Range<usize>) -> Vec<(usize, Result<Vec<Claim>, ParseError>)> {
+    fn read_run(&self, run: Range<usize>) -> Vec<(usize, Result<Vec<Claim>, ParseError>)> {
         let mut head: Option<Expr> = None;
         run.map(|i| {
             let f = &self.formulas[i];

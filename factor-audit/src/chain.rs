@@ -11,11 +11,11 @@ use crate::verdict::{Finding, Verdict};
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Chain {
     /// The document's file name.
-    pub document: &'static str,
+    pub document: String,
     /// The composed formula's equation label.
-    pub composed: &'static str,
+    pub composed: String,
     /// The links' equation labels, in the order they are multiplied.
-    pub links: Vec<&'static str>,
+    pub links: Vec<String>,
 }
 
 /// Sets [`Finding::localisation`] on every composed formula of `chains` that

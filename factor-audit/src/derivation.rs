@@ -16,33 +16,33 @@ use factor_testing::samples::Sampler;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Label {
     /// The document's file name.
-    pub document: &'static str,
+    pub document: String,
     /// The equation number or section, as printed (`"(4)"`, `"§IV-A ∂u/∂φ"`).
-    pub equation: &'static str,
+    pub equation: String,
     /// What the formula claims to be, in words.
-    pub claim: &'static str,
+    pub claim: String,
     /// The variables and convention the document states for it.
-    pub convention: &'static str,
+    pub convention: String,
     /// A known erratum: the audit still reports it, but it does not fail the
     /// run (`slamjac audit` exits non-zero only for unexpected disagreements).
-    pub known_erratum: Option<&'static str>,
+    pub known_erratum: Option<String>,
 }
 
 impl Label {
     /// A label; `known_erratum` is `Some` only once the audit has found it.
     pub fn new(
-        document: &'static str,
-        equation: &'static str,
-        claim: &'static str,
-        convention: &'static str,
-        known_erratum: Option<&'static str>,
+        document: impl Into<String>,
+        equation: impl Into<String>,
+        claim: impl Into<String>,
+        convention: impl Into<String>,
+        known_erratum: Option<&str>,
     ) -> Self {
         Label {
-            document,
-            equation,
-            claim,
-            convention,
-            known_erratum,
+            document: document.into(),
+            equation: equation.into(),
+            claim: claim.into(),
+            convention: convention.into(),
+            known_erratum: known_erratum.map(str::to_string),
         }
     }
 }
@@ -76,12 +76,15 @@ pub trait Derivation {
     fn label(&self) -> Label;
     /// Where the map is differentiated.
     fn point(&self) -> Vec<f64>;
-    /// The map's parameters: names (LaTeX) and values at this sample.
-    fn parameters(&self) -> Vec<(&'static str, f64)>;
+    /// The map's parameters: names (LaTeX) and values at this sample
+    /// ([`crate::transcription::Parameters`] writes stored values and names
+    /// them from their layouts).
+    fn parameters(&self) -> Vec<(String, f64)>;
     /// Names (LaTeX) of the map's inputs.
-    fn input_names(&self) -> Vec<&'static str>;
+    fn input_names(&self) -> Vec<String>;
     /// The map, generic over the scalar: `x` the input, `p` the parameters in
-    /// the order of [`Derivation::parameters`].
+    /// the order of [`Derivation::parameters`] (read back value by value with
+    /// [`factor_core::storage::ScalarReader`]).
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S>;
     /// The document's formula, as printed, at this sample.
     fn printed(&self) -> Printed;
@@ -91,7 +94,7 @@ pub trait Derivation {
     }
     /// Truths under other conventions the document might have meant (tangent
     /// ordering, perturbation side, normalisation), with a description each.
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         Vec::new()
     }
 }

@@ -15,14 +15,15 @@ use num_dual::DualSVec64;
 use crate::derivation::dual_jacobian;
 use crate::derivation::{Derivation, Label, Printed};
 use crate::doc000_point::DOCUMENT;
-use crate::transcription::{matrix, pose_from, pose_parameters, quaternion, vec3};
+use crate::transcription::{Parameters, matrix, stored_names};
 use factor_core::geometry::plane::transpose_transform;
 use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine, PluckerLine};
 use factor_core::lie::so3::{hat, left_jacobian_inverse, right_jacobian_inverse};
-use factor_core::lie::{Quaternion, Se3, So2, So3};
+use factor_core::lie::{Quaternion, Se3};
 use factor_core::linalg::normalized;
 use factor_core::manifold::{Manifold, Perturbation};
 use factor_core::scalar::Scalar;
+use factor_core::storage::{ScalarReader, Storage};
 use factor_testing::samples::Sampler;
 
 fn label(
@@ -52,10 +53,6 @@ const LINE_TANGENT_NAMES: [&str; 4] = [
     "\\delta\\Theta_2",
     "\\delta\\Theta_3",
     "\\delta\\rho",
-];
-
-const WORLD_LINE_NAMES: [&str; 6] = [
-    "n_{w,1}", "n_{w,2}", "n_{w,3}", "v_{w,1}", "v_{w,2}", "v_{w,3}",
 ];
 
 /// A camera pose, a world line in view, intrinsics and two observed endpoint
@@ -158,36 +155,13 @@ impl LineContext {
         m.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-hat(&rv)));
         m
     }
-    fn intrinsic_parameters(&self) -> Vec<(&'static str, f64)> {
-        let k = &self.intrinsics;
-        vec![("f_u", k.fu), ("f_v", k.fv), ("c_u", k.cu), ("c_v", k.cv)]
+    /// `p` followed by the observed endpoints `p'`, `q'` (what [`gamma_at`] reads).
+    fn with_endpoints(&self, p: Parameters) -> Vec<(String, f64)> {
+        p.with("p'", &self.start).with("q'", &self.end).into()
     }
-    fn endpoint_parameters(&self) -> Vec<(&'static str, f64)> {
-        vec![
-            ("p^{1'}", self.start.x),
-            ("p^{2'}", self.start.y),
-            ("q^{1'}", self.end.x),
-            ("q^{2'}", self.end.y),
-        ]
-    }
-    fn line_parameters(&self) -> Vec<(&'static str, f64)> {
-        let q = self.line.u.quaternion;
-        vec![
-            ("U_x", q.x),
-            ("U_y", q.y),
-            ("U_z", q.z),
-            ("U_w", q.w),
-            ("\\omega_1", self.line.w.cos),
-            ("\\omega_2", self.line.w.sin),
-        ]
-    }
-    fn world_line_parameters(&self) -> Vec<(&'static str, f64)> {
-        let w = self.world_line();
-        WORLD_LINE_NAMES
-            .iter()
-            .copied()
-            .zip(w.normal.iter().chain(w.direction.iter()).copied())
-            .collect()
+    /// `p` followed by `K` and the endpoints (what [`gamma_of_camera_line`] reads).
+    fn with_projection(&self, p: Parameters) -> Vec<(String, f64)> {
+        self.with_endpoints(p.with("K", &self.intrinsics))
     }
 }
 
@@ -196,30 +170,25 @@ fn homogeneous(p: &Vector2<f64>) -> Vector3<f64> {
     Vector3::new(p.x, p.y, 1.0)
 }
 
-fn intrinsics_from<S: Scalar>(p: &[S]) -> Intrinsics<S> {
-    Intrinsics::new(p[0], p[1], p[2], p[3])
-}
-
-/// `(U, W)` from `[U_x, U_y, U_z, U_w, ω₁, ω₂]`.
-fn orthonormal_line_from<S: Scalar>(p: &[S]) -> OrthonormalLine<S> {
-    OrthonormalLine::new(So3::from_quaternion(quaternion(p)), So2::new(p[4], p[5]))
-}
-
-fn plucker_from<S: Scalar>(p: &[S]) -> PluckerLine<S> {
-    PluckerLine::new(vec3(p), vec3(&p[3..6]))
-}
-
-fn plucker_coordinates<S: Scalar>(l: &PluckerLine<S>) -> Vec<S> {
-    l.normal.iter().chain(l.direction.iter()).copied().collect()
-}
-
-/// `γ = [lᵀp, lᵀq] / √(l₁² + l₂²)` with `p = [e₀, e₁, 1]`, `q = [e₂, e₃, 1]`.
-fn gamma<S: Scalar>(l: &Vector3<S>, e: &[S]) -> Vec<S> {
+/// `γ = [lᵀp', lᵀq'] / √(l₁² + l₂²)` with `p' = [p, 1]`, `q' = [q, 1]`.
+fn gamma<S: Scalar>(l: &Vector3<S>, p: &Vector2<S>, q: &Vector2<S>) -> Vec<S> {
     let inv = (l.x * l.x + l.y * l.y).sqrt().recip();
     vec![
-        (l.x * e[0] + l.y * e[1] + l.z) * inv,
-        (l.x * e[2] + l.y * e[3] + l.z) * inv,
+        (l.x * p.x + l.y * p.y + l.z) * inv,
+        (l.x * q.x + l.y * q.y + l.z) * inv,
     ]
+}
+
+/// [`gamma`] of `l` at the endpoints read from `r`.
+fn gamma_at<S: Scalar>(l: &Vector3<S>, r: &mut ScalarReader<S>) -> Vec<S> {
+    let start: Vector2<S> = r.read();
+    gamma(l, &start, &r.read())
+}
+
+/// `γ` of the camera line `L_c`, with `K` and the endpoints read from `r`.
+fn gamma_of_camera_line<S: Scalar>(camera: &PluckerLine<S>, r: &mut ScalarReader<S>) -> Vec<S> {
+    let intrinsics: Intrinsics<S> = r.read();
+    gamma_at(&intrinsics.project_line(&camera.normal), r)
 }
 
 /// (6): `∂γ/∂l`.
@@ -236,16 +205,16 @@ impl Derivation for LineDistanceJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.image_line().as_slice().to_vec()
+        self.0.image_line().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        self.0.endpoint_parameters()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.0.with_endpoints(Parameters::new())
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["l_1", "l_2", "l_3"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("l")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        gamma(&vec3(x), p)
+        gamma_at(&Vector3::from_scalars(x), &mut ScalarReader::new(p))
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.dgamma_dl()))
@@ -265,21 +234,18 @@ impl Derivation for ImageLineJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        plucker_coordinates(&self.0.camera_line())
+        self.0.camera_line().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        self.0.intrinsic_parameters()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("K", &self.0.intrinsics).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec![
-            "n_{c,1}", "n_{c,2}", "n_{c,3}", "v_{c,1}", "v_{c,2}", "v_{c,3}",
-        ]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<PluckerLine<f64>>("L_c")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        intrinsics_from(p)
-            .project_line(&vec3(x))
-            .as_slice()
-            .to_vec()
+        Intrinsics::from_scalars(p)
+            .project_line(&PluckerLine::from_scalars(x).normal)
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.dl_dlc()))
@@ -299,16 +265,18 @@ impl Derivation for LineTransformJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        plucker_coordinates(&self.0.world_line())
+        self.0.world_line().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        pose_parameters(&self.0.pose)
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("T", &self.0.pose).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        WORLD_LINE_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<PluckerLine<f64>>("L_w")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        plucker_coordinates(&plucker_from(x).transform(&pose_from(p)))
+        PluckerLine::from_scalars(x)
+            .transform(&Se3::from_scalars(p))
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.h()))
@@ -330,18 +298,17 @@ impl Derivation for OrthonormalLineJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 4]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        self.0.line_parameters()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("L", &self.0.line).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        LINE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        LINE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        plucker_coordinates(
-            &orthonormal_line_from(p)
-                .retract(x, Perturbation::Left)
-                .to_plucker(),
-        )
+        OrthonormalLine::from_scalars(p)
+            .retract(x, Perturbation::Left)
+            .to_plucker()
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.dlw_dphi()))
@@ -370,17 +337,21 @@ impl Derivation for CameraLinePoseJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.world_line_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with("T", &self.0.pose)
+            .with("L_w", &self.0.world_line())
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        POSE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        POSE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let pose = pose_from(p).retract(x, Perturbation::Left);
-        plucker_coordinates(&plucker_from(&p[7..13]).transform(&pose))
+        let mut r = ScalarReader::new(p);
+        let pose: Se3<S> = r.read();
+        let line: PluckerLine<S> = r.read();
+        line.transform(&pose.retract(x, Perturbation::Left))
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Malformed(
@@ -407,25 +378,22 @@ impl Derivation for LineResidualLineJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 4]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.line_parameters());
-        p.extend(self.0.intrinsic_parameters());
-        p.extend(self.0.endpoint_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let c = &self.0;
+        c.with_projection(Parameters::new().with("T", &c.pose).with("L", &c.line))
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        LINE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        LINE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let line = orthonormal_line_from(&p[7..13])
+        let mut r = ScalarReader::new(p);
+        let pose: Se3<S> = r.read();
+        let line: OrthonormalLine<S> = r.read();
+        let camera = line
             .retract(x, Perturbation::Left)
-            .to_plucker();
-        let camera = line.transform(&pose_from(p));
-        gamma(
-            &intrinsics_from(&p[13..17]).project_line(&camera.normal),
-            &p[17..21],
-        )
+            .to_plucker()
+            .transform(&pose);
+        gamma_of_camera_line(&camera, &mut r)
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -448,23 +416,23 @@ impl Derivation for LineResidualPoseJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.world_line_parameters());
-        p.extend(self.0.intrinsic_parameters());
-        p.extend(self.0.endpoint_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let c = &self.0;
+        c.with_projection(
+            Parameters::new()
+                .with("T", &c.pose)
+                .with("L_w", &c.world_line()),
+        )
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        POSE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        POSE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let pose = pose_from(p).retract(x, Perturbation::Left);
-        let camera = plucker_from(&p[7..13]).transform(&pose);
-        gamma(
-            &intrinsics_from(&p[13..17]).project_line(&camera.normal),
-            &p[17..21],
-        )
+        let mut r = ScalarReader::new(p);
+        let pose: Se3<S> = r.read();
+        let line: PluckerLine<S> = r.read();
+        let camera = line.transform(&pose.retract(x, Perturbation::Left));
+        gamma_of_camera_line(&camera, &mut r)
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -475,10 +443,6 @@ impl Derivation for LineResidualPoseJacobian {
 // ---------------------------------------------------------------------------
 // §IV: the plane factor.
 // ---------------------------------------------------------------------------
-
-const MEASURED_NAMES: [&str; 4] = ["\\hat{q}_1", "\\hat{q}_2", "\\hat{q}_3", "\\hat{q}_4"];
-const LANDMARK_NAMES: [&str; 4] = ["q_{w,1}", "q_{w,2}", "q_{w,3}", "q_{w,4}"];
-const PHI_NAMES: [&str; 4] = ["\\phi_1", "\\phi_2", "\\phi_3", "\\phi_4"];
 
 /// A camera pose, a measured camera-frame plane and a world plane landmark:
 /// the context of §IV.
@@ -554,19 +518,11 @@ impl PlaneContext {
             .copy_from(&(self.pose.translation.transpose() * hat(&qv)));
         m
     }
-    fn measured_parameters(&self) -> Vec<(&'static str, f64)> {
-        MEASURED_NAMES
-            .iter()
-            .copied()
-            .zip(self.measured.coords().iter().copied())
-            .collect()
-    }
-    fn landmark_parameters(&self) -> Vec<(&'static str, f64)> {
-        LANDMARK_NAMES
-            .iter()
-            .copied()
-            .zip(self.landmark.coords().iter().copied())
-            .collect()
+    /// The pose and `q(ω̂)`, the parameters [`perturbed_y`] reads.
+    fn pose_and_measured(&self) -> Parameters {
+        Parameters::new()
+            .with("T", &self.pose)
+            .with("\\hat{q}", &self.measured)
     }
 }
 
@@ -598,27 +554,27 @@ impl Derivation for PlaneErrorLogJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.u().as_slice().to_vec()
+        self.0.u().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        self.0.landmark_parameters()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("q_w", &self.0.landmark).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["u_1", "u_2", "u_3"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("u")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        error_of_u(&vec3(x), &quaternion(p))
+        error_of_u(&Vector3::from_scalars(x), &Quaternion::from_scalars(p))
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.de_du()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         let u = self.0.u();
         let landmark = self.0.landmark;
         let left = dual_jacobian(&[0.0; 3], |d| {
             let exp_u = Quaternion::exp(&u.map(DualSVec64::from_re));
             let landmark = Quaternion::from_coords(landmark.coords().map(DualSVec64::from_re));
-            Quaternion::exp(&vec3(d))
+            Quaternion::exp(&Vector3::from_scalars(d))
                 .mul(&exp_u)
                 .mul(&landmark.conjugate())
                 .log()
@@ -627,16 +583,17 @@ impl Derivation for PlaneErrorLogJacobian {
         });
         vec![(
             "right for a left perturbation of exp(u), exp(u) ← exp(δu) ⊗ exp(u) (the document's \
-             difference quotient), not for the additive u the chain rule (13) needs",
+             difference quotient), not for the additive u the chain rule (13) needs"
+                .into(),
             left,
         )]
     }
 }
 
 /// `2 cos⁻¹(φ₄)/|φ_v| φ_v`, with `cos⁻¹ x = atan2(√(1 − x²), x)`.
-fn document_log<S: Scalar>(phi: &[S]) -> Vec<S> {
-    let v = vec3(phi);
-    let w = phi[3];
+fn document_log<S: Scalar>(phi: &Quaternion<S>) -> Vec<S> {
+    let v = phi.vector();
+    let w = phi.w;
     let acos = (S::one() - w * w).sqrt().atan2(w);
     let k = S::from_f64(2.0) * acos * (v.x * v.x + v.y * v.y + v.z * v.z).sqrt().recip();
     vec![k * v.x, k * v.y, k * v.z]
@@ -661,16 +618,16 @@ impl Derivation for QuaternionLogJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.phi().coords().as_slice().to_vec()
+        self.0.phi().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        PHI_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Quaternion<f64>>("\\phi")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        document_log(x)
+        document_log(&Quaternion::from_scalars(x))
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.du_dphi()))
@@ -690,28 +647,27 @@ impl Derivation for NormalisationJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.y().as_slice().to_vec()
+        self.0.y().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["y_1", "y_2", "y_3", "y_4"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector4<f64>>("y")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        normalized(&Vector4::new(x[0], x[1], x[2], x[3]))
-            .as_slice()
-            .to_vec()
+        normalized(&Vector4::from_scalars(x)).to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.dphi_dy()))
     }
 }
 
-/// `y = (Exp(δξ) T)ᵀ q(ω̂)` with the pose in `p[0..7]`, `q(ω̂)` in `p[7..11]`.
-fn perturbed_y<S: Scalar>(x: &[S], p: &[S]) -> Vector4<S> {
-    let pose = pose_from(p).retract(x, Perturbation::Left);
-    transpose_transform(&pose, &Vector4::new(p[7], p[8], p[9], p[10]))
+/// `y = (Exp(δξ) T)ᵀ q(ω̂)`, the pose and `q(ω̂)` read from `r`.
+fn perturbed_y<S: Scalar>(x: &[S], r: &mut ScalarReader<S>) -> Vector4<S> {
+    let pose: Se3<S> = r.read();
+    let measured: Quaternion<S> = r.read();
+    transpose_transform(&pose.retract(x, Perturbation::Left), &measured.coords())
 }
 
 /// `2 atan2(|e_v|, e₄)/|e_v| · e_v`: the quaternion logarithm of §I on unit
@@ -748,16 +704,14 @@ impl Derivation for PlaneTransformJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.measured_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.0.pose_and_measured().into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        POSE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        POSE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        perturbed_y(x, p).as_slice().to_vec()
+        perturbed_y(x, &mut ScalarReader::new(p)).to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.dy_dxi()))
@@ -784,22 +738,24 @@ impl Derivation for PlanePoseJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.measured_parameters());
-        p.extend(self.0.landmark_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.0
+            .pose_and_measured()
+            .with("q_w", &self.0.landmark)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        POSE_TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        POSE_TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
         // q(y) = y/|y| is a positive scaling and the logarithm is homogeneous
         // of degree 0, so E = log(y ⊕ q(ω)⁻¹) without it; that, and the
         // branch-free logarithm, keep the corrected LaTeX some 20× shorter
         // (it is still large: E expanded in the pose, q(ω̂) and q(ω)).
-        let e = Quaternion::from_coords(perturbed_y(x, p)).mul(&quaternion(&p[11..15]).conjugate());
-        branch_free_log(&e)
+        let mut r = ScalarReader::new(p);
+        let y = Quaternion::from_coords(perturbed_y(x, &mut r));
+        let landmark: Quaternion<S> = r.read();
+        branch_free_log(&y.mul(&landmark.conjugate()))
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -823,29 +779,27 @@ impl Derivation for PlaneLandmarkJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p: Vec<(&'static str, f64)> = PHI_NAMES
-            .iter()
-            .copied()
-            .zip(self.0.phi().coords().iter().copied())
-            .collect();
-        p.extend(self.0.landmark_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with("\\phi", &self.0.phi())
+            .with("q_w", &self.0.landmark)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["\\delta\\omega_1", "\\delta\\omega_2", "\\delta\\omega_3"]
+    fn input_names(&self) -> Vec<String> {
+        POSE_TANGENT_NAMES[..3]
+            .iter()
+            .map(|n| n.to_string())
+            .collect()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
+        let mut r = ScalarReader::new(p);
+        let phi: Quaternion<S> = r.read();
         let landmark = InfinitePlane {
-            quaternion: quaternion(&p[4..8]),
+            quaternion: r.read(),
         }
         .retract(x, Perturbation::Left)
         .quaternion;
-        quaternion(p)
-            .mul(&landmark.conjugate())
-            .log()
-            .as_slice()
-            .to_vec()
+        phi.mul(&landmark.conjugate()).log().to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(-right_jacobian_inverse(&self.0.beta())))
@@ -877,19 +831,21 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(11)",
-            links: vec!["(6)", "(7)", "(8)", "(9)"],
+            document: DOCUMENT.into(),
+            composed: "(11)".into(),
+            links: ["(6)", "(7)", "(8)", "(9)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(12)",
-            links: vec!["(6)", "(7)", "(10)"],
+            document: DOCUMENT.into(),
+            composed: "(12)".into(),
+            links: ["(6)", "(7)", "(10)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(13)",
-            links: vec!["§IV-A ∂E/∂u", "§IV-A ∂u/∂φ", "§IV-A ∂φ/∂y", "§IV-A ∂y/∂ξ"],
+            document: DOCUMENT.into(),
+            composed: "(13)".into(),
+            links: ["§IV-A ∂E/∂u", "§IV-A ∂u/∂φ", "§IV-A ∂φ/∂y", "§IV-A ∂y/∂ξ"]
+                .map(String::from)
+                .to_vec(),
         },
     ]
 }

@@ -4,7 +4,7 @@
 use nalgebra::{DMatrix, Matrix2x3, Matrix3, Vector3};
 
 use crate::derivation::{Claim, Derivation, Label, Printed};
-use crate::transcription::{matrix, pose_from, pose_parameters, vec3};
+use crate::transcription::{Parameters, matrix, stored_names};
 use factor_core::geometry::Intrinsics;
 use factor_core::lie::so3::{
     hat, left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse,
@@ -12,6 +12,7 @@ use factor_core::lie::so3::{
 use factor_core::lie::{Quaternion, Se3, So3};
 use factor_core::manifold::{Manifold, Perturbation};
 use factor_core::scalar::Scalar;
+use factor_core::storage::{ScalarReader, Storage};
 use factor_testing::samples::Sampler;
 
 /// The document's file name.
@@ -47,16 +48,16 @@ impl Derivation for QuaternionExp {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.as_slice().to_vec()
+        self.0.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["\\omega_1", "\\omega_2", "\\omega_3"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("\\omega")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        Quaternion::exp(&vec3(x)).coords().as_slice().to_vec()
+        Quaternion::exp(&Vector3::from_scalars(x)).to_scalars()
     }
     fn printed(&self) -> Printed {
         let theta = self.0.norm();
@@ -86,19 +87,16 @@ impl Derivation for QuaternionLog {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.coords().as_slice().to_vec()
+        self.0.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["q_1", "q_2", "q_3", "q_4"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Quaternion<f64>>("q")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        Quaternion::new(x[0], x[1], x[2], x[3])
-            .log()
-            .as_slice()
-            .to_vec()
+        Quaternion::from_scalars(x).log().to_scalars()
     }
     fn printed(&self) -> Printed {
         let v = self.0.vector();
@@ -131,22 +129,18 @@ macro_rules! bch {
             fn point(&self) -> Vec<f64> {
                 vec![0.0; 3]
             }
-            fn parameters(&self) -> Vec<(&'static str, f64)> {
-                vec![
-                    ("\\omega_1", self.0.x),
-                    ("\\omega_2", self.0.y),
-                    ("\\omega_3", self.0.z),
-                ]
+            fn parameters(&self) -> Vec<(String, f64)> {
+                Parameters::new().with("\\omega", &self.0).into()
             }
-            fn input_names(&self) -> Vec<&'static str> {
-                vec!["\\delta_1", "\\delta_2", "\\delta_3"]
+            fn input_names(&self) -> Vec<String> {
+                DELTA_NAMES.map(String::from).to_vec()
             }
             fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
                 let compose: fn(So3<S>, So3<S>) -> So3<S> = $compose;
-                compose(So3::exp(&vec3(x)), So3::exp(&vec3(p)))
+                let (small, fixed) = (Vector3::from_scalars(x), Vector3::from_scalars(p));
+                compose(So3::exp(&small), So3::exp(&fixed))
                     .log()
-                    .as_slice()
-                    .to_vec()
+                    .to_scalars()
             }
             fn printed(&self) -> Printed {
                 let printed: fn(&Vector3<f64>) -> Matrix3<f64> = $printed;
@@ -184,16 +178,16 @@ impl Derivation for LeftRightJacobians {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.as_slice().to_vec()
+        self.0.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["\\omega_1", "\\omega_2", "\\omega_3"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("\\omega")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        left_jacobian(&vec3(x)).as_slice().to_vec()
+        left_jacobian(&Vector3::from_scalars(x)).to_scalars()
     }
     fn printed(&self) -> Printed {
         let m = So3::exp(&self.0).matrix() * right_jacobian(&self.0);
@@ -229,6 +223,10 @@ impl PointContext {
     fn camera_point(&self) -> Vector3<f64> {
         self.pose.transform_point(&self.point)
     }
+    /// `K` as intrinsics.
+    fn intrinsics(&self) -> Intrinsics<f64> {
+        Intrinsics::from_scalars(&self.k)
+    }
     /// `[f_u 0 c_u; 0 f_v c_v]`.
     fn k23(&self) -> Matrix2x3<f64> {
         Matrix2x3::new(self.k[0], 0.0, self.k[2], 0.0, self.k[1], self.k[3])
@@ -248,22 +246,16 @@ impl PointContext {
             0.0,
         )
     }
-    fn intrinsic_parameters(&self) -> Vec<(&'static str, f64)> {
-        vec![
-            ("f_u", self.k[0]),
-            ("f_v", self.k[1]),
-            ("c_u", self.k[2]),
-            ("c_v", self.k[3]),
-        ]
-    }
 }
 
-/// The pinhole projection `[f_u X/Z + c_u, f_v Y/Z + c_v]` with `K = p[0..4]`.
-fn project<S: Scalar>(k: &[S], p: &Vector3<S>) -> Vec<S> {
-    Intrinsics::new(k[0], k[1], k[2], k[3])
-        .project(p)
-        .as_slice()
-        .to_vec()
+/// The pinhole projection `[f_u X/Z + c_u, f_v Y/Z + c_v]`.
+fn project<S: Scalar>(k: &Intrinsics<S>, p: &Vector3<S>) -> Vec<S> {
+    k.project(p).to_scalars()
+}
+
+/// `−v`, element-wise.
+fn negated<S: Scalar>(v: Vec<S>) -> Vec<S> {
+    v.into_iter().map(|x| -x).collect()
 }
 
 /// (2): `∂p'/∂(P_x, P_y, P_z) = [f_u 0 c_u; 0 f_v c_v] · [[1/P_z, 0, −P_x/P_z²], …, [0, 0, 0]]`.
@@ -279,16 +271,16 @@ impl Derivation for ProjectionJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.camera_point().as_slice().to_vec()
+        self.0.camera_point().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        self.0.intrinsic_parameters()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("K", &self.0.intrinsics()).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["P_x", "P_y", "P_z"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("P")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        project(p, &vec3(x))
+        project(&Intrinsics::from_scalars(p), &Vector3::from_scalars(x))
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.k23() * self.0.projection_derivative()))
@@ -308,34 +300,38 @@ impl Derivation for PointTransformJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.point.as_slice().to_vec()
+        self.0.point.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        pose_parameters(&self.0.pose)
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("T", &self.0.pose).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["x", "y", "z"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("X")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        pose_from(p).transform_point(&vec3(x)).as_slice().to_vec()
+        Se3::from_scalars(p)
+            .transform_point(&Vector3::from_scalars(x))
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(self.0.pose.rotation.matrix()))
     }
 }
 
-/// `X ↦ R X + t` for a pose perturbed on the left by the tangent `x`.
-fn perturbed_point<S: Scalar>(x: &[S], p: &[S]) -> Vector3<S> {
-    pose_from(p)
-        .retract(x, Perturbation::Left)
-        .transform_point(&vec3(&p[7..10]))
+/// `X ↦ R X + t` for a pose perturbed on the left by the tangent `x`, the
+/// pose and the point read from `r`.
+fn perturbed_point<S: Scalar>(x: &[S], r: &mut ScalarReader<S>) -> Vector3<S> {
+    let pose: Se3<S> = r.read();
+    let point: Vector3<S> = r.read();
+    pose.retract(x, Perturbation::Left).transform_point(&point)
 }
 
-fn pose_and_point_parameters(c: &PointContext) -> Vec<(&'static str, f64)> {
-    let mut p = pose_parameters(&c.pose);
-    p.extend([("x", c.point.x), ("y", c.point.y), ("z", c.point.z)]);
-    p
+/// The pose `T` and the world point `X`, the parameters [`perturbed_point`] reads.
+fn pose_and_point(c: &PointContext) -> Parameters {
+    Parameters::new().with("T", &c.pose).with("X", &c.point)
 }
+
+const DELTA_NAMES: [&str; 3] = ["\\delta_1", "\\delta_2", "\\delta_3"];
 
 const TANGENT_NAMES: [&str; 6] = [
     "\\delta\\omega_1",
@@ -361,14 +357,14 @@ impl Derivation for PoseTransformJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        pose_and_point_parameters(&self.0)
+    fn parameters(&self) -> Vec<(String, f64)> {
+        pose_and_point(&self.0).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        perturbed_point(x, p).as_slice().to_vec()
+        perturbed_point(x, &mut ScalarReader::new(p)).to_scalars()
     }
     fn printed(&self) -> Printed {
         let mut m = DMatrix::zeros(3, 6);
@@ -392,22 +388,23 @@ impl Derivation for PointResidualJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.point.as_slice().to_vec()
+        self.0.point.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_parameters(&self.0.pose);
-        p.extend(self.0.intrinsic_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with("T", &self.0.pose)
+            .with("K", &self.0.intrinsics())
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["x", "y", "z"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("X")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
         // ρ = p_obs − p': the observation is a constant, so ∂ρ = −∂p'.
-        project(&p[7..11], &pose_from(p).transform_point(&vec3(x)))
-            .into_iter()
-            .map(|v| -v)
-            .collect()
+        let mut r = ScalarReader::new(p);
+        let pose: Se3<S> = r.read();
+        let camera_point = pose.transform_point(&Vector3::from_scalars(x));
+        negated(project(&r.read(), &camera_point))
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -435,19 +432,18 @@ impl Derivation for PointPoseResidualJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let mut p = pose_and_point_parameters(&self.0);
-        p.extend(self.0.intrinsic_parameters());
-        p
+    fn parameters(&self) -> Vec<(String, f64)> {
+        pose_and_point(&self.0)
+            .with("K", &self.0.intrinsics())
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        TANGENT_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        TANGENT_NAMES.map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        project(&p[10..14], &perturbed_point(x, p))
-            .into_iter()
-            .map(|v| -v)
-            .collect()
+        let mut r = ScalarReader::new(p);
+        let camera_point = perturbed_point(x, &mut r);
+        negated(project(&r.read(), &camera_point))
     }
     fn printed(&self) -> Printed {
         // [f_u 0 c_u; 0 f_v c_v] (2 × 3) · M (4 × 3, as printed) does not multiply.
@@ -491,14 +487,14 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(5) ∂ρ/∂^wP",
-            links: vec!["(2)", "(3)"],
+            document: DOCUMENT.into(),
+            composed: "(5) ∂ρ/∂^wP".into(),
+            links: ["(2)", "(3)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(5) ∂ρ/∂ξ",
-            links: vec!["(2)", "(4)"],
+            document: DOCUMENT.into(),
+            composed: "(5) ∂ρ/∂ξ".into(),
+            links: ["(2)", "(4)"].map(String::from).to_vec(),
         },
     ]
 }

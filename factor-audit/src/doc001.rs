@@ -18,13 +18,14 @@
 use nalgebra::{DMatrix, Matrix3, RowVector3, Vector3};
 
 use crate::derivation::{Claim, Derivation, Label, Printed, truth};
-use crate::transcription::{matrix, pose_from, vec3};
+use crate::transcription::{Parameters, matrix, stored_names};
 use factor_core::geometry::{FreeLine, bearing_plane_normal};
+use factor_core::lie::Se3;
 use factor_core::lie::so3::hat;
-use factor_core::lie::{Quaternion, Se3};
 use factor_core::linalg::{norm, scale};
 use factor_core::manifold::{Manifold, Perturbation};
 use factor_core::scalar::Scalar;
+use factor_core::storage::Storage;
 use factor_testing::samples::Sampler;
 use slam_factors::FreeLineFactor;
 use slam_factors::free_line::free_line_residual;
@@ -41,59 +42,15 @@ fn label(
     Label::new(DOCUMENT, equation, claim, convention, erratum)
 }
 
-/// A line `[q_WL, d_L]` from parameters `[qx, qy, qz, qw, d]`.
-fn line_from<S: Scalar>(p: &[S]) -> FreeLine<S> {
-    FreeLine::new(Quaternion::new(p[0], p[1], p[2], p[3]), p[4])
+/// Every quantity of the factor, as it stores them (25 scalars), named by
+/// its layout (`body_pose.rotation.qx`).
+fn factor_parameters(f: &FreeLineFactor<f64>) -> Vec<(String, f64)> {
+    Parameters::new().with("", f).into()
 }
 
-/// The free-line factor from the parameters of [`factor_parameters`].
-fn factor_from<S: Scalar>(p: &[S]) -> FreeLineFactor<S> {
-    FreeLineFactor {
-        body_pose: pose_from(&p[0..7]),
-        extrinsics: pose_from(&p[7..14]),
-        line: line_from(&p[14..19]),
-        bearing_start: vec3(&p[19..22]),
-        bearing_end: vec3(&p[22..25]),
-    }
-}
-
-fn pose_values(pose: &Se3<f64>) -> [f64; 7] {
-    let (q, t) = (pose.rotation.quaternion, pose.translation);
-    [q.x, q.y, q.z, q.w, t.x, t.y, t.z]
-}
-
-fn line_values(line: &FreeLine<f64>) -> [f64; 5] {
-    let q = line.rotation;
-    [q.x, q.y, q.z, q.w, line.distance]
-}
-
-const BODY_POSE_NAMES: [&str; 7] = [
-    "q_{BW,x}", "q_{BW,y}", "q_{BW,z}", "q_{BW,w}", "t_{BW,x}", "t_{BW,y}", "t_{BW,z}",
-];
-const EXTRINSICS_NAMES: [&str; 7] = [
-    "q_{CB,x}", "q_{CB,y}", "q_{CB,z}", "q_{CB,w}", "t_{CB,x}", "t_{CB,y}", "t_{CB,z}",
-];
-const LINE_NAMES: [&str; 5] = ["q_{WL,x}", "q_{WL,y}", "q_{WL,z}", "q_{WL,w}", "d_L"];
-const BEARING_NAMES: [&str; 6] = [
-    "f_{1,x}", "f_{1,y}", "f_{1,z}", "f_{2,x}", "f_{2,y}", "f_{2,z}",
-];
-
-/// Every quantity of the factor: body pose, extrinsics, line, bearings (25).
-fn factor_parameters(f: &FreeLineFactor<f64>) -> Vec<(&'static str, f64)> {
-    let values = pose_values(&f.body_pose)
-        .into_iter()
-        .chain(pose_values(&f.extrinsics))
-        .chain(line_values(&f.line))
-        .chain(f.bearing_start.iter().copied())
-        .chain(f.bearing_end.iter().copied());
-    BODY_POSE_NAMES
-        .into_iter()
-        .chain(EXTRINSICS_NAMES)
-        .chain(LINE_NAMES)
-        .chain(BEARING_NAMES)
-        .zip(values)
-        .collect()
-}
+/// The body pose `T_BW` and the extrinsics `T_CB`.
+const BODY_POSE: &str = "T_{BW}";
+const EXTRINSICS: &str = "T_{CB}";
 
 /// The camera centre in the world, `p_C = −C_BWᵀ (C_CBᵀ _C t_CB + _B t_BW)`:
 /// the point with `X_C = 0`.
@@ -124,11 +81,13 @@ impl Half {
             Half::Translation => [z, z, z, x[0], x[1], x[2]],
         }
     }
-    fn names(self) -> Vec<&'static str> {
+    fn names(self) -> Vec<String> {
         match self {
-            Half::Rotation => ROTATION_TANGENT.to_vec(),
-            Half::Translation => TRANSLATION_TANGENT.to_vec(),
+            Half::Rotation => ROTATION_TANGENT,
+            Half::Translation => TRANSLATION_TANGENT,
         }
+        .map(String::from)
+        .to_vec()
     }
 }
 
@@ -225,7 +184,7 @@ impl FreeLineContext {
     /// The factor with its body pose perturbed by `half` = `x` on
     /// [`FreeLineContext::side`].
     fn perturbed<S: Scalar>(&self, half: Half, x: &[S], p: &[S]) -> FreeLineFactor<S> {
-        let mut f = factor_from(p);
+        let mut f = FreeLineFactor::from_scalars(p);
         f.body_pose = f.body_pose.retract(&half.tangent(x), self.side);
         f
     }
@@ -233,9 +192,9 @@ impl FreeLineContext {
 
 /// The alternative truth of a body-pose Jacobian: the same map with `T_BW`
 /// perturbed on the left.
-fn left_convention<D: Derivation>(alt: D) -> Vec<(&'static str, DMatrix<f64>)> {
+fn left_convention<D: Derivation>(alt: D) -> Vec<(String, DMatrix<f64>)> {
     vec![(
-        "left perturbation T_BW ← Exp(δ) T_BW (tangent [δφ, δt])",
+        "left perturbation T_BW ← Exp(δ) T_BW (tangent [δφ, δt])".into(),
         truth(&alt),
     )]
 }
@@ -281,21 +240,18 @@ impl Derivation for CameraPosition {
         }
     }
     fn point(&self) -> Vec<f64> {
-        pose_values(&self.0.factor.body_pose).to_vec()
+        self.0.factor.body_pose.to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        EXTRINSICS_NAMES
-            .into_iter()
-            .zip(pose_values(&self.0.factor.extrinsics))
-            .collect()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with(EXTRINSICS, &self.0.factor.extrinsics)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        BODY_POSE_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Se3<f64>>(BODY_POSE)
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        camera_centre(&pose_from(x), &pose_from(p))
-            .as_slice()
-            .to_vec()
+        camera_centre(&Se3::from_scalars(x), &Se3::from_scalars(p)).to_scalars()
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -326,10 +282,10 @@ impl Derivation for ParallelRotationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Rotation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
@@ -340,7 +296,7 @@ impl Derivation for ParallelRotationJacobian {
         let row: RowVector3<f64> = -(c.n_c().transpose() * c.c_cb() * c.c_bw() * hat(&c.x_l()));
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -360,10 +316,10 @@ impl Derivation for ParallelTranslationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Translation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
@@ -372,7 +328,7 @@ impl Derivation for ParallelTranslationJacobian {
     fn printed(&self) -> Printed {
         Printed::Evaluated(DMatrix::zeros(1, 3))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -387,8 +343,6 @@ fn nonzero_vector(s: &mut Sampler) -> Vector3<f64> {
     }
 }
 
-const W_NAMES: [&str; 3] = ["w_1", "w_2", "w_3"];
-
 /// (4.14): `d‖w‖/dw = wᵀ/‖w‖`.
 pub struct NormJacobian(pub Vector3<f64>);
 
@@ -399,14 +353,14 @@ impl Derivation for NormJacobian {
     fn point(&self) -> Vec<f64> {
         self.0.as_slice().to_vec()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        W_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("w")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        vec![norm(&vec3(x))]
+        vec![norm(&Vector3::from_scalars(x))]
     }
     fn printed(&self) -> Printed {
         let w = self.0;
@@ -424,14 +378,14 @@ impl Derivation for InverseNormJacobian {
     fn point(&self) -> Vec<f64> {
         self.0.as_slice().to_vec()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        W_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("w")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        vec![norm(&vec3(x)).recip()]
+        vec![norm(&Vector3::from_scalars(x)).recip()]
     }
     fn printed(&self) -> Printed {
         let w = self.0;
@@ -471,15 +425,15 @@ impl Derivation for NormalisationJacobian {
     fn point(&self) -> Vec<f64> {
         self.0.as_slice().to_vec()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        W_NAMES.to_vec()
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("w")
     }
     fn map<S: Scalar>(&self, x: &[S], _p: &[S]) -> Vec<S> {
-        let w = vec3(x);
-        scale(norm(&w).recip(), &w).as_slice().to_vec()
+        let w = Vector3::from_scalars(x);
+        scale(norm(&w).recip(), &w).to_scalars()
     }
     fn printed(&self) -> Printed {
         let w = self.0;
@@ -509,20 +463,17 @@ impl Derivation for BearingToAnchorJacobian {
         )
     }
     fn point(&self) -> Vec<f64> {
-        self.0.p_c().as_slice().to_vec()
+        self.0.p_c().to_scalars()
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        LINE_NAMES
-            .into_iter()
-            .zip(line_values(&self.0.factor.line))
-            .collect()
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new().with("l", &self.0.factor.line).into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["p_{C,x}", "p_{C,y}", "p_{C,z}"]
+    fn input_names(&self) -> Vec<String> {
+        stored_names::<Vector3<f64>>("p_C")
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let ray = vec3(x) - line_from(p).anchor();
-        scale(norm(&ray).recip(), &ray).as_slice().to_vec()
+        let ray = Vector3::from_scalars(x) - FreeLine::from_scalars(p).anchor();
+        scale(norm(&ray).recip(), &ray).to_scalars()
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
@@ -545,23 +496,21 @@ impl Derivation for CameraPositionRotationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Rotation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
         let f = self.0.perturbed(Half::Rotation, x, p);
-        camera_centre(&f.body_pose, &f.extrinsics)
-            .as_slice()
-            .to_vec()
+        camera_centre(&f.body_pose, &f.extrinsics).to_scalars()
     }
     fn printed(&self) -> Printed {
         let c = &self.0;
         Printed::Evaluated(matrix(-hat(&(c.w_t_cb() + c.w_t_bw()))))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -581,22 +530,20 @@ impl Derivation for CameraPositionTranslationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Translation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
         let f = self.0.perturbed(Half::Translation, x, p);
-        camera_centre(&f.body_pose, &f.extrinsics)
-            .as_slice()
-            .to_vec()
+        camera_centre(&f.body_pose, &f.extrinsics).to_scalars()
     }
     fn printed(&self) -> Printed {
         Printed::Evaluated(matrix(-Matrix3::<f64>::identity()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -619,10 +566,10 @@ impl Derivation for DistanceRotationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Rotation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
@@ -634,7 +581,7 @@ impl Derivation for DistanceRotationJacobian {
         let row: RowVector3<f64> = -(c.n_w().transpose() * inner);
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -655,10 +602,10 @@ impl Derivation for DistanceTranslationJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
+    fn parameters(&self) -> Vec<(String, f64)> {
         factor_parameters(&self.0.factor)
     }
-    fn input_names(&self) -> Vec<&'static str> {
+    fn input_names(&self) -> Vec<String> {
         Half::Translation.names()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
@@ -669,7 +616,7 @@ impl Derivation for DistanceTranslationJacobian {
         let row: RowVector3<f64> = -(c.n_w().transpose() * c.projector()) / c.distance();
         Printed::Evaluated(matrix(row))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         left_convention(Self(self.0.on_the_left()))
     }
 }
@@ -708,14 +655,14 @@ pub fn chains() -> Vec<crate::chain::Chain> {
     use crate::chain::Chain;
     vec![
         Chain {
-            document: DOCUMENT,
-            composed: "(4.33)",
-            links: vec!["(4.17)", "(4.26)"],
+            document: DOCUMENT.into(),
+            composed: "(4.33)".into(),
+            links: ["(4.17)", "(4.26)"].map(String::from).to_vec(),
         },
         Chain {
-            document: DOCUMENT,
-            composed: "(4.38)",
-            links: vec!["(4.17)", "(4.27)"],
+            document: DOCUMENT.into(),
+            composed: "(4.38)".into(),
+            links: ["(4.17)", "(4.27)"].map(String::from).to_vec(),
         },
     ]
 }

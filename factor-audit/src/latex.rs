@@ -46,8 +46,8 @@ pub fn corrected_latex<D: Derivation>(d: &D) -> String {
             .collect(),
     };
     let graph = tracer.finish();
-    let mut names: Vec<String> = d.input_names().iter().map(|s| s.to_string()).collect();
-    names.extend(d.parameters().iter().map(|(n, _)| n.to_string()));
+    let mut names = d.input_names();
+    names.extend(d.parameters().into_iter().map(|(n, _)| n));
     let rows: Vec<String> = entries
         .iter()
         .map(|row| {
@@ -65,18 +65,20 @@ pub fn corrected_latex<D: Derivation>(d: &D) -> String {
         typeset
     } else {
         format!(
-            "\\text{{the expanded expression has {} characters and is not typeset; it is the \
-             product of the corrected links of its chain rule}}",
-            typeset.len()
+            "\\text{{the expanded expression has more than {MAX_TYPESET_CHARS} characters and is \
+             not typeset; it is the product of the corrected links of its chain rule}}"
         )
     }
 }
 
 /// Longest correction typeset in full: a fully expanded chain rule (document
 /// 000 (13) expands to half a megabyte) says nothing a reader can use.
+/// Rendering stops soon after it, so an expression whose tree is
+/// exponentially larger than its graph costs no more.
 pub const MAX_TYPESET_CHARS: usize = 16_000;
 
-/// `e` as LaTeX; input `i` is `names[i]`.
+/// `e` as LaTeX; input `i` is `names[i]`. Past [`MAX_TYPESET_CHARS`] the
+/// text is cut short (the caller sees it is too long).
 pub fn latex(graph: &Graph, e: Expr, names: &[String]) -> String {
     let mut out = String::new();
     write_latex(graph, e, names, &mut out);
@@ -134,6 +136,9 @@ fn function_name(node: &Node) -> &'static str {
 }
 
 fn write_latex(graph: &Graph, e: Expr, names: &[String], out: &mut String) {
+    if out.len() > MAX_TYPESET_CHARS {
+        return;
+    }
     match graph.node(e) {
         Node::Const(c) => out.push_str(&number(c.get())),
         Node::Input(i) => out.push_str(names.get(*i as usize).map_or("?", String::as_str)),

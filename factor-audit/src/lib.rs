@@ -10,12 +10,18 @@
 //! A user audits a derivation of their own the same way: implement
 //! [`Derivation`] for a type holding a sampled configuration, and call
 //! [`verdict::audit`] (or [`Audit::of`] to add it to a report).
+//!
+//! Or with no transcription at all: [`from_text`] reads the formulas of a
+//! Markdown/LaTeX document, gives its symbols meaning through a symbols
+//! file, audits them with the same verdicts, and diagnoses errata by
+//! searching small edits of the printed formula.
 
 pub mod chain;
 pub mod derivation;
 pub mod doc000_line_plane;
 pub mod doc000_point;
 pub mod doc001;
+pub mod from_text;
 pub mod latex;
 pub mod report;
 pub mod transcription;

@@ -79,7 +79,7 @@ pub fn markdown(findings: &[Finding]) -> String {
             f.verdict.keyword(),
             note(f)
         );
-        if let Some(known) = f.label.known_erratum {
+        if let Some(known) = &f.label.known_erratum {
             let _ = writeln!(out, "- known erratum: {known}");
         }
         if let Some(localisation) = &f.localisation {

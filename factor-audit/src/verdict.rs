@@ -140,20 +140,31 @@ fn suspected_erratum(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<Str
 }
 
 /// Audits a derivation type at `samples` points drawn from `sample`.
-pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed: u64) -> Finding {
+pub fn audit<D: Derivation>(
+    mut sample: impl FnMut(&mut Sampler) -> D,
+    samples: usize,
+    seed: u64,
+) -> Finding {
     let mut sampler = Sampler::new(seed);
     let first = sample(&mut sampler);
     let label = first.label();
-    let mut instances = vec![first];
-    instances.extend((1..samples).map(|_| sample(&mut sampler)));
 
     let mut worst: f64 = 0.0;
     let mut worst_pair: Option<(DMatrix<f64>, DMatrix<f64>)> = None;
     // Conventions that have held at every sample so far (by description).
-    let mut conventions: Option<Vec<&'static str>> = None;
+    let mut conventions: Option<Vec<String>> = None;
     let mut halves_swapped = true;
     let mut homogeneous = true;
-    for d in &instances {
+    // The samples are drawn and judged one at a time (nothing is kept per
+    // sample), so the memory does not grow with `samples`.
+    for index in 0..samples.max(1) {
+        let drawn;
+        let d = if index == 0 {
+            &first
+        } else {
+            drawn = sample(&mut sampler);
+            &drawn
+        };
         let t = truth(d);
         let p = match d.printed() {
             Printed::Evaluated(p) => p,
@@ -162,7 +173,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
                     label,
                     verdict: Verdict::Malformed(reason),
                     max_relative_error: None,
-                    corrected_latex: Some(corrected_latex(&instances[0])),
+                    corrected_latex: Some(corrected_latex(&first)),
                     samples,
                     localisation: None,
                 };
@@ -177,7 +188,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
             worst = worst.max(error);
             worst_pair = Some((p.clone(), t.clone()));
         }
-        let holding: Vec<&'static str> = d
+        let holding: Vec<String> = d
             .conventions()
             .into_iter()
             .filter(|(_, alt)| agree(&p, alt))
@@ -196,7 +207,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
     let verdict = if worst <= TOLERANCE {
         Verdict::Correct
     } else if let Some(name) = conventions.unwrap_or_default().first() {
-        Verdict::Convention((*name).to_string())
+        Verdict::Convention(name.clone())
     } else if homogeneous {
         Verdict::Convention(
             "right with the homogeneous coordinate kept (an extra zero last row)".into(),
@@ -210,8 +221,7 @@ pub fn audit<D: Derivation>(sample: fn(&mut Sampler) -> D, samples: usize, seed:
         let (p, t) = worst_pair.expect("at least one sample");
         Verdict::Wrong(suspected_erratum(&p, &t))
     };
-    let corrected_latex =
-        matches!(verdict, Verdict::Wrong(_)).then(|| corrected_latex(&instances[0]));
+    let corrected_latex = matches!(verdict, Verdict::Wrong(_)).then(|| corrected_latex(&first));
     Finding {
         label,
         verdict,

@@ -2,12 +2,14 @@
 //! and on derivations built to be right, wrong or right under another
 //! convention, so the engine itself is shown to discriminate.
 
+use factor_audit::transcription::Parameters;
 use factor_audit::verdict::audit;
 use factor_audit::{Derivation, Label, Printed, Verdict, audit_documents};
 use factor_core::Scalar;
 use factor_core::lie::So3;
 use factor_core::lie::so3::hat;
 use factor_core::manifold::{Manifold, Perturbation};
+use factor_core::storage::{ScalarReader, Storage};
 use factor_testing::samples::Sampler;
 use nalgebra::{DMatrix, Vector3};
 
@@ -26,7 +28,7 @@ fn document_000_preliminaries_and_point_factor() {
         .iter()
         .filter(|f| f.label.document == factor_audit::doc000_point::DOCUMENT)
         .take(10) // §I–§II; §III–§IV have a test of their own
-        .map(|f| (f.label.equation, f.verdict.keyword()))
+        .map(|f| (f.label.equation.as_str(), f.verdict.keyword()))
         .collect();
     assert_eq!(
         verdicts,
@@ -79,42 +81,36 @@ struct RotatedPoint {
 
 impl Derivation for RotatedPoint {
     fn label(&self) -> Label {
-        Label {
-            document: "user notes",
-            equation: "(7)",
-            claim: "∂(R p)/∂δ under R ← Exp(δ) R",
-            convention: "left perturbation",
-            known_erratum: None,
-        }
+        Label::new(
+            "user notes",
+            "(7)",
+            "∂(R p)/∂δ under R ← Exp(δ) R",
+            "left perturbation",
+            None,
+        )
     }
     fn point(&self) -> Vec<f64> {
         vec![0.0; 3]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let q = self.rotation.quaternion;
-        let p = self.point;
-        vec![
-            ("q_x", q.x),
-            ("q_y", q.y),
-            ("q_z", q.z),
-            ("q_w", q.w),
-            ("p_x", p.x),
-            ("p_y", p.y),
-            ("p_z", p.z),
-        ]
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with("R", &self.rotation)
+            .with("p", &self.point)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["\\delta_1", "\\delta_2", "\\delta_3"]
+    fn input_names(&self) -> Vec<String> {
+        ["\\delta_1", "\\delta_2", "\\delta_3"]
+            .map(String::from)
+            .to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let rotation =
-            So3::from_quaternion(factor_core::lie::Quaternion::new(p[0], p[1], p[2], p[3]));
-        let point = Vector3::new(p[4], p[5], p[6]);
+        let mut r = ScalarReader::new(p);
+        let rotation: So3<S> = r.read();
+        let point: Vector3<S> = r.read();
         rotation
             .retract(x, Perturbation::Left)
             .rotate(&point)
-            .as_slice()
-            .to_vec()
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         let m = match self.printed_side {
@@ -123,10 +119,10 @@ impl Derivation for RotatedPoint {
         } * self.printed_sign;
         Printed::Evaluated(DMatrix::from_column_slice(3, 3, m.as_slice()))
     }
-    fn conventions(&self) -> Vec<(&'static str, DMatrix<f64>)> {
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         let right = -self.rotation.matrix() * hat(&self.point);
         vec![(
-            "right perturbation R ← R Exp(δ)",
+            "right perturbation R ← R Exp(δ)".into(),
             DMatrix::from_column_slice(3, 3, right.as_slice()),
         )]
     }
@@ -186,7 +182,7 @@ fn document_001_free_line_body_pose_jacobians() {
         .collect();
     let verdicts: Vec<(&str, &str)> = ours
         .iter()
-        .map(|f| (f.label.equation, f.verdict.keyword()))
+        .map(|f| (f.label.equation.as_str(), f.verdict.keyword()))
         .collect();
     assert_eq!(
         verdicts,
@@ -339,34 +335,22 @@ impl Derivation for HomogeneousPoseJacobian {
     fn point(&self) -> Vec<f64> {
         vec![0.0; 6]
     }
-    fn parameters(&self) -> Vec<(&'static str, f64)> {
-        let q = self.0.pose.rotation.quaternion;
-        let (t, x) = (self.0.pose.translation, self.0.point);
-        vec![
-            ("q_x", q.x),
-            ("q_y", q.y),
-            ("q_z", q.z),
-            ("q_w", q.w),
-            ("t_x", t.x),
-            ("t_y", t.y),
-            ("t_z", t.z),
-            ("x", x.x),
-            ("y", x.y),
-            ("z", x.z),
-        ]
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Parameters::new()
+            .with("T", &self.0.pose)
+            .with("X", &self.0.point)
+            .into()
     }
-    fn input_names(&self) -> Vec<&'static str> {
-        vec!["a", "b", "c", "d", "e", "f"]
+    fn input_names(&self) -> Vec<String> {
+        ["a", "b", "c", "d", "e", "f"].map(String::from).to_vec()
     }
     fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
-        let pose = factor_core::lie::Se3::new(
-            So3::from_quaternion(factor_core::lie::Quaternion::new(p[0], p[1], p[2], p[3])),
-            Vector3::new(p[4], p[5], p[6]),
-        );
+        let mut r = ScalarReader::new(p);
+        let pose: factor_core::lie::Se3<S> = r.read();
+        let point: Vector3<S> = r.read();
         pose.retract(x, Perturbation::Left)
-            .transform_point(&Vector3::new(p[7], p[8], p[9]))
-            .as_slice()
-            .to_vec()
+            .transform_point(&point)
+            .to_scalars()
     }
     fn printed(&self) -> Printed {
         let p = self.0.pose.transform_point(&self.0.point);

@@ -3,9 +3,24 @@
 //! `src/<module>.rs` per kernel, written or compared with what is on disk
 //! ([`GeneratedCrate`]).
 //!
-//! `Cargo.toml` (package `factor-generated`, no dependencies; a user's crate
-//! likewise) and any other file outside `src/` are hand-written and left
-//! alone. The files name the generator of the modules' [`Provenance`].
+//! `Cargo.toml` and any other file outside `src/` are hand-written and left
+//! alone. The sources use one feature the manifest declares, `lanes`, which
+//! brings the optional dependency `factor-lanes` (package `factor-generated`
+//! and a user's kernel crate alike):
+//!
+//! ```toml
+//! [dependencies]
+//! factor-lanes = { path = "…/factor-lanes", optional = true }
+//!
+//! [features]
+//! lanes = ["dep:factor-lanes"]
+//! ```
+//!
+//! With it, `real.rs` implements `Real` for the lane types
+//! (`factor_lanes::impl_real!`) and each module's marker `Kernel` implements
+//! `factor_lanes::Kernel` (and `NormalKernel`); without it the crate has no
+//! dependencies. The files name the generator of the modules'
+//! [`Provenance`].
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -20,7 +35,8 @@ const REAL_BODY: &str = r#"
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A number the kernels compute with: `f32`, `f64`, or a SIMD type whose
-/// lanes hold several configurations.
+/// lanes hold several configurations (with the crate's `lanes` feature, the
+/// lane types of `factor-lanes`).
 ///
 /// Beyond the arithmetic operators a kernel needs literals, square roots,
 /// the math-library functions `sin`, `cos`, `atan2`, `exp`, `ln`, `acos`,
@@ -153,6 +169,11 @@ impl Real for f32 {
         if lhs < rhs { if_less } else { otherwise }
     }
 }
+
+// The SIMD lane types of `factor-lanes` (`F64x4`, `F32x8`, `F64x8`), with the
+// crate's `lanes` feature.
+#[cfg(feature = "lanes")]
+factor_lanes::impl_real!(crate::Real);
 "#;
 
 /// `src/real.rs`: the float trait and its `f32` and `f64` implementations.
@@ -192,15 +213,38 @@ fn lib_source(provenance: &Provenance, modules: &[GeneratedModule]) -> String {
          //! (row-major, residual rows × tangent columns), sharing common subexpressions\n\
          //! and skipping the work of the blocks passed as `None`. The crate has no\n\
          //! dependencies, no `unsafe`, no allocation and no panics; the kernels are\n\
-         //! generic over [`Real`], implemented for `f32` and `f64` (implement it for a\n\
-         //! SIMD type to evaluate several configurations at once).\n\
-         //!\n\
-         //! | kernel | factor | operations | residual only |\n\
-         //! | --- | --- | --- | --- |\n",
+         //! generic over [`Real`], implemented for `f32` and `f64`. The feature\n\
+         //! `lanes` (optional dependency `factor-lanes`) implements it for the SIMD\n\
+         //! lane types `F64x4`, `F32x8` and `F64x8`, which evaluate several\n\
+         //! configurations at once, and makes each module's marker `Kernel` a\n\
+         //! `factor_lanes::Kernel`, the entry of batch evaluators (`factor-batch`).\n",
     );
+    let normal = modules.iter().any(|m| m.normal_counts.is_some());
+    if normal {
+        out.push_str(
+            "//!\n\
+             //! A module generated with normal equations also holds `<name>_normal`: the\n\
+             //! cost `½ w rᵀr`, the gradient blocks `Jᵢᵀ w r` and the upper triangle of\n\
+             //! `JᵀwJ` for a per-factor weight `w`, fused with the Jacobian.\n",
+        );
+    }
+    out.push_str(if normal {
+        "//!\n\
+         //! | kernel | factor | operations | residual only | normal equations |\n\
+         //! | --- | --- | --- | --- | --- |\n"
+    } else {
+        "//!\n\
+         //! | kernel | factor | operations | residual only |\n\
+         //! | --- | --- | --- | --- |\n"
+    });
     for m in modules {
+        let normal = match (normal, m.normal_counts) {
+            (false, _) => String::new(),
+            (true, Some(counts)) => format!(" {} |", counts.total()),
+            (true, None) => " — |".to_string(),
+        };
         out.push_str(&format!(
-            "//! | [`{0}`]({0}::{0}) | `{1}` | {2} | {3} |\n",
+            "//! | [`{0}`]({0}::{0}) | `{1}` | {2} | {3} |{normal}\n",
             m.name,
             m.source_type,
             m.counts.total(),
@@ -213,17 +257,23 @@ fn lib_source(provenance: &Provenance, modules: &[GeneratedModule]) -> String {
     }
     out.push_str(
         "#[rustfmt::skip]\nmod real;\n#[rustfmt::skip]\nmod shape;\n\n\
-         pub use real::Real;\npub use shape::Shape;\n",
+         pub use real::Real;\n",
     );
+    out.push_str(if normal {
+        "pub use shape::{NormalShape, Shape};\n"
+    } else {
+        "pub use shape::Shape;\n"
+    });
     out
 }
 
 /// The crate's own files besides the kernels' modules.
 const OWN_FILES: [&str; 3] = ["lib", "real", "shape"];
 
-/// `src/shape.rs`: the type of each kernel module's `SHAPE`.
-fn shape_source(provenance: &Provenance) -> String {
-    format!(
+/// `src/shape.rs`: the type of each kernel module's `SHAPE`, and with
+/// `normal` of `NORMAL_SHAPE`.
+fn shape_source(provenance: &Provenance, normal: bool) -> String {
+    let mut source = format!(
         "//! The array lengths of a kernel, which `#[derive(Factor)]` compares with the\n\
          //! factor it was generated from, at compile time.\n\
          //!\n\
@@ -240,7 +290,26 @@ fn shape_source(provenance: &Provenance) -> String {
              pub blocks: &'static [usize],\n\
          }}\n",
         provenance.generate
-    )
+    );
+    if normal {
+        source.push_str(
+            "\n\
+             /// The lengths of a normal-equation kernel's arrays.\n\
+             #[derive(Debug, Clone, Copy, PartialEq, Eq)]\n\
+             pub struct NormalShape {\n    \
+                 /// Each field's stored scalars, in declaration order.\n    \
+                 pub inputs: &'static [usize],\n    \
+                 /// Each variable's tangent dimension, in variable order.\n    \
+                 pub tangents: &'static [usize],\n    \
+                 /// Each gradient block's length, in variable order.\n    \
+                 pub gradient: &'static [usize],\n    \
+                 /// Each Hessian block's length, pairs `a ≤ b` in the order `(0, 0), (0, 1),\n    \
+                 /// …, (1, 1), …` (a diagonal block as its upper triangle).\n    \
+                 pub hessian: &'static [usize],\n\
+             }\n",
+        );
+    }
+    source
 }
 
 /// A crate of generated kernels: the provenance its files name and one
@@ -305,7 +374,13 @@ impl GeneratedCrate {
                 lib_source(&self.provenance, &self.modules),
             ),
             ("real.rs".to_string(), real_source(&self.provenance)),
-            ("shape.rs".to_string(), shape_source(&self.provenance)),
+            (
+                "shape.rs".to_string(),
+                shape_source(
+                    &self.provenance,
+                    self.modules.iter().any(|m| m.normal_counts.is_some()),
+                ),
+            ),
         ];
         for m in &self.modules {
             files.push((format!("{}.rs", m.name), m.source.clone()));

@@ -21,6 +21,19 @@ pub enum CodegenError {
     /// A kernel is named like a file the crate writes for itself.
     #[error("a kernel cannot be named `{0}`: the generated crate's own `src/{0}.rs` has that name")]
     ReservedName(&'static str),
+    /// A normal-equation kernel of too many variables.
+    #[error(
+        "kernel `{kernel}`: {variables} variables are too many for a normal-equation kernel \
+         (at most {max}: its gradient and Hessian blocks are scheduled as at most 63 optional \
+         outputs); generate it without `with_normal_equations()`",
+        max = crate::normal::MAX_VARIABLES
+    )]
+    TooManyVariables {
+        /// The kernel.
+        kernel: &'static str,
+        /// Its variables.
+        variables: usize,
+    },
     /// A crate of no kernels.
     #[error("a generated crate needs at least one kernel")]
     Empty,

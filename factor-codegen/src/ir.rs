@@ -171,6 +171,17 @@ pub struct Program {
 }
 
 impl Program {
+    /// A program of `instrs` (no two equal, operands before their users, as
+    /// a compiled program's), to extend with [`Program::push`].
+    pub fn from_instrs(instrs: Vec<Instr>) -> Program {
+        let interned = instrs
+            .iter()
+            .enumerate()
+            .map(|(i, instr)| (*instr, Value(i as u32)))
+            .collect();
+        Program { instrs, interned }
+    }
+
     /// Interns an instruction, ordering the operands of `+` and `·`.
     pub fn push(&mut self, instr: Instr) -> Value {
         let instr = match instr {

@@ -88,6 +88,7 @@ pub mod ir;
 pub mod kernel;
 pub mod lower;
 pub mod module;
+pub mod normal;
 pub mod schedule;
 pub mod spec;
 

@@ -1,10 +1,11 @@
 //! A factor's kernel from its trace to its formatted module source.
 
-use crate::emit::module_source;
+use crate::emit::{ModuleParts, module_source};
 use crate::error::CodegenError;
 use crate::ir::OpCounts;
 use crate::kernel::SymbolicKernel;
 use crate::lower::lower;
+use crate::normal::{MAX_VARIABLES, lower_normal};
 use crate::schedule::schedule;
 use crate::spec::{KernelSpec, Provenance};
 
@@ -21,6 +22,9 @@ pub struct GeneratedModule {
     pub counts: OpCounts,
     /// Operation counts when every Jacobian argument is `None`.
     pub residual_counts: OpCounts,
+    /// Operation counts of the whole normal-equation kernel, when the spec
+    /// asks for it ([`KernelSpec::with_normal_equations`]).
+    pub normal_counts: Option<OpCounts>,
 }
 
 /// Operation counts of `spec`'s kernel without emitting it: the whole kernel
@@ -46,7 +50,8 @@ fn lower_kernel(kernel: &SymbolicKernel) -> crate::lower::LoweredKernel {
 /// # Errors
 ///
 /// [`CodegenError::NameCollision`] when a field's name is one the kernel
-/// uses for itself.
+/// uses for itself; [`CodegenError::TooManyVariables`] for a normal-equation
+/// kernel of more than [`MAX_VARIABLES`](crate::normal::MAX_VARIABLES) variables.
 pub fn generate_module(
     kernel: &SymbolicKernel,
     spec: &KernelSpec,
@@ -54,12 +59,41 @@ pub fn generate_module(
 ) -> Result<GeneratedModule, CodegenError> {
     let lowered = lower_kernel(kernel);
     let schedule = schedule(&lowered);
+    let normal = if spec.normal_equations {
+        let variables = kernel.blocks.len();
+        if variables > MAX_VARIABLES {
+            return Err(CodegenError::TooManyVariables {
+                kernel: spec.name,
+                variables,
+            });
+        }
+        let tangents: Vec<usize> = kernel
+            .blocks
+            .iter()
+            .map(|b| b.variable.tangent_dim)
+            .collect();
+        let weight = u32::try_from(kernel.input_len()).expect("fewer than 2³² inputs");
+        let normal = lower_normal(&lowered, weight, &tangents);
+        let normal_schedule = crate::schedule::schedule(&normal);
+        Some((normal, normal_schedule))
+    } else {
+        None
+    };
+    let parts = ModuleParts {
+        kernel,
+        spec,
+        provenance,
+        lowered: &lowered,
+        schedule: &schedule,
+        normal: normal.as_ref().map(|(n, s)| (n, s)),
+    };
     Ok(GeneratedModule {
         name: spec.name,
         source_type: spec.source_type,
-        source: module_source(kernel, spec, provenance, &lowered, &schedule)?,
+        source: module_source(&parts)?,
         counts: lowered.counts(&lowered.outputs()),
         residual_counts: lowered.counts(&lowered.residual),
+        normal_counts: normal.as_ref().map(|(n, _)| n.counts(&n.outputs())),
     })
 }
 

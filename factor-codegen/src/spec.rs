@@ -21,6 +21,9 @@ pub struct KernelSpec {
     pub source: &'static str,
     /// Traces the factor type.
     pub trace: fn() -> SymbolicKernel,
+    /// Whether the module also holds the fused normal-equation kernel
+    /// ([`KernelSpec::with_normal_equations`]).
+    pub normal_equations: bool,
 }
 
 impl KernelSpec {
@@ -31,6 +34,7 @@ impl KernelSpec {
             source_type: F::TYPE_PATH,
             source: F::DESCRIPTION,
             trace: trace::<F>,
+            normal_equations: false,
         }
     }
 
@@ -38,6 +42,17 @@ impl KernelSpec {
     /// where the residual comes from.
     pub const fn with_source(self, source: &'static str) -> KernelSpec {
         KernelSpec { source, ..self }
+    }
+
+    /// The same spec with the fused normal-equation kernel
+    /// `<name>_normal` beside the Jacobian kernel ([`crate::normal`]): for a
+    /// per-factor weight `w`, the cost `½ w rᵀr`, the gradient blocks
+    /// `Jᵢᵀ w r` and the upper triangle of `JᵀwJ`, block by block.
+    pub const fn with_normal_equations(self) -> KernelSpec {
+        KernelSpec {
+            normal_equations: true,
+            ..self
+        }
     }
 }
 

@@ -13,6 +13,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::manifold::Perturbation;
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
+use crate::validation::number_text;
 
 /// Why a factor has no meaningful value at a configuration.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -34,6 +35,32 @@ pub enum FactorError {
         factor: &'static str,
         /// Which output (`residual` or the Jacobian of a variable).
         what: String,
+    },
+    /// Numerical differentiation
+    /// ([`NumericLinearize::linearize_numeric`](crate::NumericLinearize::linearize_numeric))
+    /// could not estimate a Jacobian block to its tolerance.
+    #[error(
+        "{factor}: numerical differentiation w.r.t. `{variable}` did not converge: {} \
+         (worst at tangent coordinate {coordinate}), above the tolerance {}",
+        if .estimate.is_finite() {
+            format!("estimated relative error {}", number_text(*.estimate))
+        } else {
+            "no error estimate could be formed".to_string()
+        },
+        number_text(*.tolerance)
+    )]
+    NumericNotConverged {
+        /// The factor's name.
+        factor: &'static str,
+        /// The variable whose block did not converge.
+        variable: &'static str,
+        /// The tangent coordinate (column) with the largest estimated error.
+        coordinate: usize,
+        /// The block's estimated relative error (Frobenius); infinite (or
+        /// NaN) when no estimate could be formed.
+        estimate: f64,
+        /// The largest estimate the method accepts.
+        tolerance: f64,
     },
 }
 
@@ -139,11 +166,6 @@ impl DynLinearization {
         Ok(self)
     }
 }
-
-/// Step of the central differences in [`Factor::linearize_numeric_dyn`], in
-/// tangent units; Richardson extrapolation over `h` and `h/2` makes the
-/// truncation error `O(h⁴)`.
-pub const NUMERIC_STEP: f64 = 1e-3;
 
 /// A factor at a configuration of its variables (the `f64` instance).
 ///
@@ -265,40 +287,6 @@ pub trait Factor: Storage<f64> + Sized {
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;
-
-    /// Residual and Jacobians by central differences through the exact
-    /// retraction of each variable: an independent reference for the dual and
-    /// generated Jacobians.
-    fn linearize_numeric_dyn(&self) -> Result<DynLinearization, FactorError> {
-        self.validate()?;
-        let residual = self.residual_dyn()?;
-        let central =
-            |index: usize, coord: usize, dim: usize, h: f64| -> Result<DVector<f64>, FactorError> {
-                let mut delta = vec![0.0; dim];
-                delta[coord] = h;
-                let plus = self.with_retracted(index, &delta).residual_dyn()?;
-                delta[coord] = -h;
-                let minus = self.with_retracted(index, &delta).residual_dyn()?;
-                Ok((plus - minus) / (2.0 * h))
-            };
-        let variables = Self::variables();
-        let mut jacobians = Vec::with_capacity(variables.len());
-        for (index, variable) in variables.iter().enumerate() {
-            let mut block = DMatrix::zeros(Self::RESIDUAL_DIM, variable.tangent_dim);
-            for coord in 0..variable.tangent_dim {
-                let coarse = central(index, coord, variable.tangent_dim, NUMERIC_STEP)?;
-                let fine = central(index, coord, variable.tangent_dim, NUMERIC_STEP / 2.0)?;
-                block.set_column(coord, &((4.0 * fine - coarse) / 3.0));
-            }
-            jacobians.push(block);
-        }
-        let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
-        DynLinearization {
-            residual,
-            jacobians,
-        }
-        .ensure_finite(Self::NAME, &names)
-    }
 }
 
 /// `‖a − b‖_F / max(‖b‖_F, floor)`: the relative Frobenius error used by every

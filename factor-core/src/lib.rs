@@ -11,8 +11,12 @@
 //! - [`manifold`]: tangent dimensions, retractions and perturbation sides.
 //! - [`storage`]: how a value is stored as named scalars, and read from
 //!   what a user writes.
-//! - [`factor`]: the factor model, numerical linearization and errors;
-//!   `#[derive(Factor)]` (crate `factor-macros`) implements it.
+//! - [`factor`]: the factor model and its errors; `#[derive(Factor)]`
+//!   (crate `factor-macros`) implements it.
+//! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
+//!   kernel, for batch evaluators.
+//! - [`numeric`]: numerical differentiation with an error estimate, the
+//!   independent reference for the exact Jacobians.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
 //! - [`validation`]: NaN-rejecting comparisons for validation code.
 //!
@@ -29,9 +33,11 @@
 
 pub mod factor;
 pub mod geometry;
+pub mod kernel;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
+pub mod numeric;
 pub mod scalar;
 pub mod storage;
 pub mod validation;
@@ -39,9 +45,19 @@ pub mod validation;
 pub use factor::{
     DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, first_non_finite,
 };
+pub use kernel::WithKernel;
 pub use manifold::{Manifold, Perturbation};
+pub use numeric::{NumericLinearization, NumericLinearize};
 pub use scalar::Scalar;
 pub use storage::{Layout, Storage, StorageError};
+
+/// The `nalgebra` this crate's types and the derive's linearizations are
+/// built on (0.35). A factor's fields and residual must use these types:
+/// depend on the same `nalgebra` version, or write `factor_core::nalgebra`.
+/// With another version the vectors are different types and the compiler
+/// reports mismatched types. The generated kernels take plain arrays, so an
+/// embedder on another `nalgebra` calls them directly.
+pub use nalgebra;
 
 /// Re-exports the derive macro's generated code relies on.
 #[doc(hidden)]

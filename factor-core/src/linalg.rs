@@ -1,7 +1,9 @@
 //! Small vector helpers that need only [`Scalar`] arithmetic (nalgebra's own
-//! `norm` and `normalize` require `RealField`).
+//! `norm` and `normalize` require `RealField`), and `f64` helpers for values
+//! of any magnitude ([`scaled_norm`], [`unit_of`], [`norm_ratio`]).
 
-use nalgebra::{SMatrix, Vector3};
+use nalgebra::storage::RawStorage;
+use nalgebra::{Dim, Matrix, SMatrix, SVector, Vector3};
 
 use crate::scalar::Scalar;
 
@@ -45,4 +47,88 @@ pub fn scale<S: Scalar, const R: usize, const C: usize>(
     v: &SMatrix<S, R, C>,
 ) -> SMatrix<S, R, C> {
     v.map(|x| c * x)
+}
+
+/// `v / ‖v‖` for an `f64` vector of any magnitude: scaled by its largest
+/// magnitude first, so no square overflows or underflows (a plain norm is
+/// infinite beyond about `1e154` and zero below `1e-162`). `None` for a zero
+/// or non-finite vector.
+pub fn unit_of<const R: usize>(v: &SVector<f64, R>) -> Option<SVector<f64, R>> {
+    let largest = v.amax();
+    if !(largest > 0.0 && largest.is_finite()) {
+        return None;
+    }
+    let scaled = v / largest;
+    Some(scaled / scaled.norm())
+}
+
+/// `‖v‖` for an `f64` array of any magnitude, scaled by its largest
+/// magnitude first: infinite only when the norm itself exceeds `f64::MAX`,
+/// zero only for a zero array.
+pub fn scaled_norm<R: Dim, C: Dim, St: RawStorage<f64, R, C>>(v: &Matrix<f64, R, C, St>) -> f64 {
+    let largest = v.amax();
+    if largest > 0.0 && largest.is_finite() {
+        largest * v.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
+    } else {
+        largest
+    }
+}
+
+/// `‖a‖ / ‖b‖` for `f64` arrays of any magnitude: only the ratio itself can
+/// overflow or underflow, not the norms. `0` when `a` is zero, infinite when
+/// only `b` is.
+pub fn norm_ratio<const R: usize, const C: usize>(
+    a: &SMatrix<f64, R, C>,
+    b: &SMatrix<f64, R, C>,
+) -> f64 {
+    let (ma, mb) = (a.amax(), b.amax());
+    if ma == 0.0 {
+        0.0
+    } else if mb == 0.0 {
+        f64::INFINITY
+    } else {
+        (ma / mb) * ((a / ma).norm() / (b / mb).norm())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector4;
+
+    #[test]
+    fn units_and_ratios_hold_over_the_whole_f64_range() {
+        let v = Vector4::new(3.0, -4.0, 0.0, 12.0);
+        let unit = Vector4::new(3.0, -4.0, 0.0, 12.0) / 13.0;
+        let scales = (-300..=300)
+            .step_by(20)
+            .map(|e| 10f64.powi(e))
+            .chain([1e-320]);
+        for scale in scales {
+            let exponent = scale.log10().round();
+            let scaled = v * scale;
+            let got = unit_of(&scaled).expect("non-zero");
+            // Subnormal inputs hold fewer bits: their scaled copy less exactly.
+            let tolerance = if scale * 3.0 < f64::MIN_POSITIVE {
+                1e-3
+            } else {
+                1e-15
+            };
+            assert!((got - unit).amax() <= tolerance, "1e{exponent}: {got}");
+            let ratio = norm_ratio(&scaled, &Vector4::new(0.0, 0.0, 5.0 * scale, 0.0));
+            assert!(
+                (ratio - 13.0 / 5.0).abs() <= 13.0 / 5.0 * tolerance,
+                "1e{exponent}: {ratio}"
+            );
+            let norm = scaled_norm(&scaled);
+            assert!(
+                (norm / (13.0 * scale) - 1.0).abs() <= tolerance,
+                "1e{exponent}: {norm}"
+            );
+        }
+        assert_eq!(unit_of(&Vector4::<f64>::zeros()), None);
+        assert_eq!(unit_of(&Vector4::new(1.0, f64::INFINITY, 0.0, 0.0)), None);
+        assert_eq!(norm_ratio(&Vector4::zeros(), &v), 0.0);
+        assert_eq!(norm_ratio(&v, &Vector4::zeros()), f64::INFINITY);
+    }
 }

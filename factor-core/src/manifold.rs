@@ -15,6 +15,12 @@
 //!   small-angle branch and costs a handful of operations. The result may be
 //!   off the manifold by `O(|δ|²)` (a quaternion of norm `1 + O(|δ|²)`), which
 //!   changes no first derivative of a smooth residual.
+//!
+//! A type of your own becomes a variable by implementing [`Manifold`] (and
+//! [`crate::Storage`]); the rules its retractions must follow to be
+//! differentiated by dual numbers and traced by the symbolic engine are in
+//! the trait's documentation. `examples/user-factor/` has two, a unit vector
+//! on S² and Sim(3).
 
 use nalgebra::{SMatrix, Scalar as NalgebraScalar};
 
@@ -42,6 +48,75 @@ impl Perturbation {
 }
 
 /// A manifold with a retraction on a tangent space of dimension [`Manifold::DIM`].
+///
+/// A factor's Jacobian w.r.t. a variable is `∂r(x ⊞ δ)/∂δ` at `δ = 0`, with
+/// `⊞` the variable's [`Manifold::retract_first_order`]; dual numbers
+/// evaluate it and the symbolic tracer records it for the generated kernels.
+/// Central differences (`factor_testing::assert_correct_jacobians`) and
+/// solvers step with the exact [`Manifold::retract`].
+///
+/// # Rules for a retraction that is traced
+///
+/// 1. **Generic over `S: Scalar`.** One body runs on `f64`, `f32`, dual
+///    numbers and the symbolic scalar, using only [`Scalar`]'s arithmetic and
+///    functions (`sqrt`, `sin`, `cos`, `atan2`, `exp`, `ln`, `acos`, `asin`,
+///    `atan`).
+/// 2. **No comparison but [`Scalar::select_lt`].** No `<`, `if`, `match`,
+///    `is_finite` or `f64` conversion on a value: a symbolic scalar has no
+///    value to compare, and `select_lt` is what the tracer keeps as a
+///    branch of the generated kernel ([`Scalar::abs`] is built on it).
+/// 3. **Both arms are evaluated.** Every scalar type computes both arms of a
+///    `select_lt` (a kernel evaluates both, then selects) and returns the
+///    chosen one whole, value and derivative. The unselected arm may
+///    therefore be non-finite (a closed form at `θ = 0`, `1/(s + z)` on the
+///    wrong hemisphere) but must not panic (no `unwrap`, `assert!`, indexing
+///    by a value). Select with `select_lt`, never with an arithmetic mask
+///    `m a + (1 − m) b`, through which `0 · NaN = NaN` leaks.
+/// 4. **Ties take `otherwise`.** `select_lt(a, b, x, y)` is `a < b`: at
+///    `a == b` (including `−0 == 0`) and for a NaN it returns `y`, in every
+///    scalar type (dual numbers compare real parts, the tracer folds
+///    constant conditions with `<`, kernels use `<`). The `otherwise` arm must
+///    be valid on the boundary itself.
+/// 5. **`retract_first_order` agrees with `retract` to first order at
+///    `δ = 0`**: the same point at `δ = 0` and the same derivative there,
+///    which defines the tangent basis, hence the Jacobian's columns. Dual
+///    numbers and generated kernels both use only `retract_first_order`, so
+///    they agree with each other even when it is wrong; only
+///    `assert_correct_jacobians`, whose central differences go through
+///    `retract`, sees a disagreement. `retract` stays on the manifold;
+///    `retract_first_order` may leave it by `O(|δ|²)`.
+/// 6. **Every branch is decided by the point, not by `δ`.** A basis, a
+///    chart or a sheet (`q` or `−q`) is chosen from `self`, so both
+///    retractions use the same one and the map is smooth in `δ` near 0. A
+///    condition on `δ` is allowed only where it holds strictly at `δ = 0`
+///    (the small-angle case `θ² <` threshold); one tied at `δ = 0` gives a
+///    one-sided derivative.
+/// 7. **Small-angle branches on `θ²`, never on `θ`.** `θ = √(δ·δ)` has an
+///    infinite derivative at `δ = 0`: a series in `θ` or a condition on it
+///    makes the dual Jacobian `0 · ∞ = NaN` (reported as
+///    [`crate::FactorError::NonFinite`]). Decide on `θ²` and write the series
+///    in `θ²`, taking `√θ²` only in the exact arm:
+///    [`crate::lie::so3::angle_coefficient`] does this, and
+///    [`crate::lie::so3::sin_over_theta`] and
+///    [`crate::lie::so3::one_minus_cos_over_theta2`] are ready-made.
+/// 8. **The storage order is fixed.** [`crate::Storage::map_scalars`] and
+///    [`crate::Storage::read_scalars`] visit the scalars in the order
+///    [`crate::Storage::layout`] names them; that order is the layout of a
+///    generated kernel's input arrays and of what users write. Changing it
+///    changes every kernel's meaning: regenerate, and convert stored inputs.
+/// 9. **The tangent is ordered as documented.** `delta[k]` is column `k` of
+///    every Jacobian block of the variable; [`Manifold::tangent_description`]
+///    names the columns in that order, and [`Manifold::DIM`] is how many are
+///    read.
+/// 10. **No allocation is needed.** Values are fixed-size (`nalgebra`'s
+///     static matrices, arrays of scalars) and `delta` is read by index, so
+///     a retraction costs no heap traffic in a solver's inner loop.
+///
+/// A manifold that is not a group (S²) ignores the side and says so in its
+/// description. Where no basis is continuous everywhere (on S², by the
+/// hairy-ball theorem), a branch chooses one per region: the Jacobian is
+/// exact in that region's basis, and Jacobians on either side of a boundary
+/// differ by the change of basis between them.
 pub trait Manifold<S: Scalar>: Sized {
     /// Tangent dimension.
     const DIM: usize;
@@ -49,7 +124,9 @@ pub trait Manifold<S: Scalar>: Sized {
     /// Exact retraction `x ⊞ δ` on the given side. `delta.len() == DIM`.
     fn retract(&self, delta: &[S], side: Perturbation) -> Self;
 
-    /// A map that agrees with [`Manifold::retract`] to first order at `δ = 0`.
+    /// A map that agrees with [`Manifold::retract`] to first order at `δ = 0`
+    /// (rule 5); the default is `retract` itself, which is then traced and
+    /// must follow the rules too.
     fn retract_first_order(&self, delta: &[S], side: Perturbation) -> Self {
         self.retract(delta, side)
     }

@@ -20,7 +20,7 @@
 
 use std::fmt;
 
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector, Unit};
 
 use crate::scalar::Scalar;
 
@@ -290,6 +290,30 @@ impl<S: Scalar, const R: usize, const C: usize> Storage<S> for SMatrix<S, R, C> 
     }
     fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
         SMatrix::<S, R, C>::from_iterator(std::iter::repeat_with(next).take(R * C))
+    }
+}
+
+/// A unit vector stores its entries as a vector does (and is read back as
+/// stored, unchecked); users give it at any non-zero scale, normalised by
+/// [`crate::linalg::unit_of`] over the whole `f64` range: a direction (a
+/// bearing) or a homogeneous vector (a plane `[a, b, c, d]`).
+impl<S: Scalar, const R: usize> Storage<S> for Unit<SVector<S, R>> {
+    type With<T: Scalar> = Unit<SVector<T, R>>;
+    const SCALARS: usize = R;
+    fn layout() -> Layout {
+        <SVector<S, R> as Storage<S>>::layout()
+    }
+    fn map_scalars<T: Scalar>(&self, f: &mut impl FnMut(S) -> T) -> Unit<SVector<T, R>> {
+        Unit::new_unchecked(self.as_ref().map_scalars(f))
+    }
+    fn read_scalars(next: &mut impl FnMut() -> S) -> Self {
+        Unit::new_unchecked(SVector::read_scalars(next))
+    }
+    fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
+        let v = SVector::<f64, R>::from_column_slice(input);
+        crate::linalg::unit_of(&v)
+            .map(|unit| unit.as_slice().to_vec())
+            .ok_or_else(|| StorageError::new("zero vector: it has no direction"))
     }
 }
 

@@ -25,6 +25,17 @@ pub fn number_text(x: f64) -> String {
     }
 }
 
+/// A magnitude computed without overflow ([`crate::linalg::scaled_norm`]) as
+/// messages print it: [`number_text`], or `above 1.8e308` when even the
+/// magnitude exceeds the `f64` range.
+pub fn magnitude_text(x: f64) -> String {
+    if x.is_finite() {
+        number_text(x)
+    } else {
+        format!("above {}", number_text(f64::MAX))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::number_text;

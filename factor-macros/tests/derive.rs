@@ -346,6 +346,9 @@ pub fn weighted_residual<S: Scalar>(f: &Weighted<S>) -> Vector2<S> {
 
 /// What a generated module of `Weighted` would hold.
 mod weighted {
+    /// The module's marker type, which the derive names in `WithKernel`.
+    pub struct Kernel;
+
     /// The array lengths of a kernel.
     pub struct Shape {
         pub inputs: &'static [usize],
@@ -411,6 +414,10 @@ fn a_kernel_is_what_linearize_goes_through() {
         y: Vector2::new(0.5, -1.0),
     };
     assert_eq!(<Weighted as Factor>::KERNEL, Some("weighted::weighted"));
+    assert_eq!(
+        std::any::type_name::<<Weighted as factor_core::WithKernel>::Kernel>(),
+        std::any::type_name::<weighted::Kernel>()
+    );
     let generated = f.linearize_generated().unwrap();
     assert_eq!(f.linearize().unwrap(), generated);
     assert_eq!(generated, f.linearize_dual().unwrap());

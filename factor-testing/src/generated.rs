@@ -39,6 +39,7 @@ pub fn compare<F: Factor>(factor: &F, a: &DynLinearization, b: &DynLinearization
     JacobianCheck {
         residual_error,
         block_errors,
+        reference_errors: Vec::new(),
     }
 }
 

@@ -2,14 +2,23 @@
 //! `EXPECT_CORRECT_FACTOR_JACOBIANS`: one line in a test checks a factor.
 //!
 //! - [`assert_correct_jacobians`] ([`numeric`]): the dual-number Jacobians
-//!   agree with central differences on the variables' manifolds;
+//!   agree with numerical differentiation on the variables' manifolds;
 //! - [`assert_generated_matches_dual`] ([`generated`]): the generated kernel
 //!   agrees with dual numbers to rounding;
+//! - [`mod@reference`]: a factor's residual and Jacobians in double-double
+//!   arithmetic, to measure the accuracy of an `f64` evaluation;
+//! - [`near_degenerate`]: configurations a given distance from a factor's
+//!   degeneracy;
 //! - [`samples`]: seeded, well-conditioned configurations of the shipped
-//!   factors (and the poses, rotations and vectors they are built from).
+//!   factors (and the poses, rotations and vectors they are built from);
+//! - [`branch_points`]: configurations straddling the kernels' branch
+//!   points (the plane factor's two selects).
 
+pub mod branch_points;
 pub mod generated;
+pub mod near_degenerate;
 pub mod numeric;
+pub mod reference;
 pub mod samples;
 
 pub use generated::{GENERATED_TOLERANCE, assert_generated_matches_dual, check_generated};

@@ -8,7 +8,7 @@
 //! (a few pixels, a few degrees) and no configuration is near a degeneracy.
 //! Samples are reproducible from a seed.
 
-use nalgebra::{Matrix3, Matrix6, Vector2, Vector3, Vector4, Vector6};
+use nalgebra::{Matrix3, Matrix6, Unit, Vector2, Vector3, Vector4, Vector6};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -166,7 +166,7 @@ impl Sampler {
 
     /// A plane factor: the measured camera-frame plane is the landmark seen
     /// from the pose, rotated by up to `max_error` radians on the quaternion
-    /// sphere and scaled by a factor in `[0.5, 3)`.
+    /// sphere (drawn at a scale in `[0.5, 3)`, stored at unit norm).
     pub fn plane_with_error(&mut self, max_error: f64) -> PlaneFactor {
         let pose = self.pose();
         let normal = self.rotation().rotate(&Vector3::z());
@@ -178,7 +178,8 @@ impl Sampler {
             .quaternion
             .mul(&Quaternion::from_coords(pi_c.normalize()));
         PlaneFactor {
-            measured: noisy.coords() * self.uniform(0.5, 3.0),
+            // Given at a random scale, stored at unit norm.
+            measured: Unit::new_normalize(noisy.coords() * self.uniform(0.5, 3.0)),
             pose,
             plane: InfinitePlane::from_coefficients(&pi_w),
         }
@@ -209,8 +210,8 @@ impl Sampler {
             let z = anchor / d;
             let frame = Matrix3::from_columns(&[x, z.cross(&x), z]);
             let line = FreeLine::new(So3::from_matrix(&frame).quaternion, d);
-            let bearing_start = (p_c + self.vector3(0.01)).normalize();
-            let bearing_end = (q_c + self.vector3(0.01)).normalize();
+            let bearing_start = Unit::new_normalize(p_c + self.vector3(0.01));
+            let bearing_end = Unit::new_normalize(q_c + self.vector3(0.01));
             return FreeLineFactor {
                 extrinsics,
                 bearing_start,

@@ -31,6 +31,10 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 616 | 980 | 7 | 24 | 2 | 3 | 26 | 1658 |
 //! | residual only | 109 | 158 | 5 | 8 | 2 | 3 | 7 | 292 |
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
@@ -39,7 +43,7 @@ use crate::{Real, Shape};
 /// The residual of `slam_factors::between::BetweenFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn between<T: Real>(
     sqrt_information: &[T; 21],
     measured: &[T; 7],
@@ -2020,4 +2024,84 @@ pub fn between_slices<T: Real>(
         d_pose_j,
     );
     true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` over every `T: Real`, which calls [`between`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 42];
+    type Outputs = [T; 78];
+    const FIELDS: &'static [usize] = &[21, 7, 7, 7];
+    const RESIDUAL: usize = 6;
+    const TANGENTS: &'static [usize] = &[6, 6];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 42], outputs: &mut [T; 78], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((d_pose_i, rest)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        let Some((d_pose_j, _)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        between(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+                inputs[20],
+            ],
+            &[
+                inputs[21],
+                inputs[22],
+                inputs[23],
+                inputs[24],
+                inputs[25],
+                inputs[26],
+                inputs[27],
+            ],
+            &[
+                inputs[28],
+                inputs[29],
+                inputs[30],
+                inputs[31],
+                inputs[32],
+                inputs[33],
+                inputs[34],
+            ],
+            &[
+                inputs[35],
+                inputs[36],
+                inputs[37],
+                inputs[38],
+                inputs[39],
+                inputs[40],
+                inputs[41],
+            ],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose_i),
+            matches!(blocks.get(1), Some(true)).then_some(d_pose_j),
+        );
+    }
 }

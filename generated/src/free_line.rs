@@ -32,15 +32,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 113 | 197 | 3 | 7 | 2 | 0 | 0 | 322 |
 //! | residual only | 75 | 110 | 2 | 3 | 2 | 0 | 0 | 192 |
+//! | normal equations | 141 | 291 | 3 | 18 | 2 | 0 | 0 | 455 |
+//! | normal equations, cost only | 76 | 114 | 2 | 2 | 2 | 0 | 0 | 196 |
+//!
+//! # Normal equations
+//!
+//! `free_line_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_body_pose: [T; 6]`: `J_body_poseᵀ w r`
+//! - `g_line: [T; 4]`: `J_lineᵀ w r`
+//! - `h_body_pose_body_pose: [T; 21]`: `J_body_poseᵀ w J_body_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_body_pose_line: [T; 24]`: `J_body_poseᵀ w J_line`, 6 × 4 row-major
+//! - `h_line_line: [T; 10]`: `J_lineᵀ w J_line`, its upper triangle row by row (4 × 4, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::free_line::FreeLineFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn free_line<T: Real>(
     extrinsics: &[T; 7],
     bearing_start: &[T; 3],
@@ -474,4 +493,828 @@ pub fn free_line_slices<T: Real>(
         d_line,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::free_line::FreeLineFactor` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`free_line`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn free_line_normal<T: Real>(
+    extrinsics: &[T; 7],
+    bearing_start: &[T; 3],
+    bearing_end: &[T; 3],
+    body_pose: &[T; 7],
+    line: &[T; 5],
+    weight: T,
+    cost: &mut T,
+    g_body_pose: Option<&mut [T; 6]>,
+    g_line: Option<&mut [T; 4]>,
+    h_body_pose_body_pose: Option<&mut [T; 21]>,
+    h_body_pose_line: Option<&mut [T; 24]>,
+    h_line_line: Option<&mut [T; 10]>,
+) {
+    let v0 = body_pose[0] * body_pose[0];
+    let v1 = body_pose[1] * body_pose[1];
+    let v2 = v0 - v1;
+    let v3 = body_pose[2] * body_pose[2];
+    let v4 = body_pose[3] * body_pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = extrinsics[0] * extrinsics[0];
+    let v8 = extrinsics[1] * extrinsics[1];
+    let v9 = v7 - v8;
+    let v10 = extrinsics[2] * extrinsics[2];
+    let v11 = extrinsics[3] * extrinsics[3];
+    let v12 = v10 - v11;
+    let v13 = v9 - v12;
+    let v14 = bearing_start[1] * bearing_end[2];
+    let v15 = bearing_start[2] * bearing_end[1];
+    let v16 = v14 - v15;
+    let v17 = v16 * v16;
+    let v18 = bearing_start[2] * bearing_end[0];
+    let v19 = bearing_end[2] * bearing_start[0];
+    let v20 = v18 - v19;
+    let v21 = v20 * v20;
+    let v22 = bearing_end[1] * bearing_start[0];
+    let v23 = bearing_start[1] * bearing_end[0];
+    let v24 = v22 - v23;
+    let v25 = v24 * v24;
+    let v26 = v17 + v21;
+    let v27 = v25 + v26;
+    let v28 = T::sqrt(v27);
+    let v29 = T::constant(1.0) / v28;
+    let v30 = v16 * v29;
+    let v31 = v13 * v30;
+    let v32 = extrinsics[0] * extrinsics[1];
+    let v33 = extrinsics[2] * extrinsics[3];
+    let v34 = v32 + v33;
+    let v35 = v20 * v29;
+    let v36 = extrinsics[0] * extrinsics[2];
+    let v37 = extrinsics[1] * extrinsics[3];
+    let v38 = v36 - v37;
+    let v39 = v24 * v29;
+    let v40 = v34 * v35;
+    let v41 = v38 * v39;
+    let v42 = v40 + v41;
+    let v43 = T::constant(2.0) * v42;
+    let v44 = v31 + v43;
+    let v45 = v6 * v44;
+    let v46 = body_pose[0] * body_pose[1];
+    let v47 = body_pose[2] * body_pose[3];
+    let v48 = v46 + v47;
+    let v49 = v9 + v12;
+    let v50 = v35 * v49;
+    let v51 = v32 - v33;
+    let v52 = extrinsics[1] * extrinsics[2];
+    let v53 = extrinsics[0] * extrinsics[3];
+    let v54 = v52 + v53;
+    let v55 = v30 * v51;
+    let v56 = v39 * v54;
+    let v57 = v55 + v56;
+    let v58 = T::constant(2.0) * v57;
+    let v59 = v50 - v58;
+    let v60 = T::constant(2.0) * v48;
+    let v61 = v59 * v60;
+    let v62 = body_pose[0] * body_pose[2];
+    let v63 = body_pose[1] * body_pose[3];
+    let v64 = v62 - v63;
+    let v65 = v7 + v8;
+    let v66 = v10 + v11;
+    let v67 = v65 - v66;
+    let v68 = v67 * T::constant(0.5);
+    let v69 = v39 * v68;
+    let v70 = v52 - v53;
+    let v71 = v35 * v70;
+    let v72 = v36 + v37;
+    let v73 = v30 * v72;
+    let v74 = v71 - v69;
+    let v75 = v73 + v74;
+    let v76 = v64 * T::constant(4.0);
+    let v77 = v75 * v76;
+    let v78 = v45 + v77;
+    let v79 = v78 - v61;
+    let v80 = line[0] * line[0];
+    let v81 = line[2] * line[2];
+    let v82 = v80 - v81;
+    let v83 = line[1] * line[1];
+    let v84 = line[3] * line[3];
+    let v85 = v83 - v84;
+    let v86 = v82 - v85;
+    let v87 = v79 * v86;
+    let v88 = v2 + v5;
+    let v89 = v59 * v88;
+    let v90 = v46 - v47;
+    let v91 = T::constant(2.0) * v90;
+    let v92 = v44 * v91;
+    let v93 = body_pose[1] * body_pose[2];
+    let v94 = body_pose[0] * body_pose[3];
+    let v95 = v93 + v94;
+    let v96 = T::constant(4.0) * v95;
+    let v97 = v75 * v96;
+    let v98 = v89 + v97;
+    let v99 = v92 + v98;
+    let v100 = line[0] * line[1];
+    let v101 = line[2] * line[3];
+    let v102 = v100 + v101;
+    let v103 = T::constant(2.0) * v102;
+    let v104 = v99 * v103;
+    let v105 = v93 - v94;
+    let v106 = v59 * v105;
+    let v107 = v62 + v63;
+    let v108 = v44 * v107;
+    let v109 = v0 + v1;
+    let v110 = v3 + v4;
+    let v111 = v109 - v110;
+    let v112 = v75 * v111;
+    let v113 = v106 + v112;
+    let v114 = v113 - v108;
+    let v115 = line[0] * line[2];
+    let v116 = line[1] * line[3];
+    let v117 = v115 - v116;
+    let v118 = T::constant(4.0) * v117;
+    let v119 = v114 * v118;
+    let v120 = v87 + v104;
+    let v121 = v120 - v119;
+    let v122 = v115 + v116;
+    let v123 = line[4] * v122;
+    let v124 = v13 * extrinsics[4];
+    let v125 = T::constant(2.0) * extrinsics[5];
+    let v126 = v34 * v125;
+    let v127 = T::constant(2.0) * extrinsics[6];
+    let v128 = v38 * v127;
+    let v129 = v126 + v128;
+    let v130 = body_pose[4] + v124;
+    let v131 = v129 + v130;
+    let v132 = v6 * v131;
+    let v133 = v49 * extrinsics[5];
+    let v134 = T::constant(2.0) * extrinsics[4];
+    let v135 = v51 * v134;
+    let v136 = v54 * v127;
+    let v137 = v135 + v136;
+    let v138 = body_pose[5] - v133;
+    let v139 = v137 + v138;
+    let v140 = v60 * v139;
+    let v141 = v132 + v140;
+    let v142 = T::constant(0.5) * v141;
+    let v143 = v67 * extrinsics[6];
+    let v144 = v70 * v125;
+    let v145 = v72 * v134;
+    let v146 = v144 + v145;
+    let v147 = body_pose[6] - v143;
+    let v148 = v146 + v147;
+    let v149 = v64 * v148;
+    let v150 = v142 + v149;
+    let v151 = v123 + v150;
+    let v152 = T::constant(2.0) * v151;
+    let v153 = v79 * v152;
+    let v154 = line[2] * line[1];
+    let v155 = line[0] * line[3];
+    let v156 = v154 - v155;
+    let v157 = line[4] * v156;
+    let v158 = v88 * v139;
+    let v159 = v91 * v131;
+    let v160 = v158 - v159;
+    let v161 = T::constant(0.5) * v160;
+    let v162 = v95 * v148;
+    let v163 = v162 - v161;
+    let v164 = v157 + v163;
+    let v165 = T::constant(2.0) * v164;
+    let v166 = -v165;
+    let v167 = v99 * v166;
+    let v168 = v82 + v85;
+    let v169 = line[4] * v168;
+    let v170 = v111 * v148;
+    let v171 = v105 * v139;
+    let v172 = v107 * v131;
+    let v173 = v171 + v172;
+    let v174 = T::constant(2.0) * v173;
+    let v175 = v170 - v174;
+    let v176 = v169 + v175;
+    let v177 = T::constant(0.5) * v176;
+    let v178 = -v177;
+    let v179 = T::constant(4.0) * v178;
+    let v180 = v114 * v179;
+    let v181 = v153 - v167;
+    let v182 = v181 - v180;
+    let v183 = v152 * v152;
+    let v184 = v166 * v166;
+    let v185 = v178 * v179;
+    let v186 = v183 + v184;
+    let v187 = v185 + v186;
+    let v188 = T::sqrt(v187);
+    let v189 = T::constant(1.0) / v188;
+    let v190 = v182 * v189;
+    let v191 = v121 * v121;
+    let v192 = v190 * v190;
+    let v193 = v191 + v192;
+    let v194 = weight * v193;
+    let v195 = T::constant(0.5) * v194;
+    *cost = v195;
+    let (v200, v204, v207, v211, v214, v217, v218, v219, v220) = if g_body_pose.is_some()
+        || g_line.is_some() || h_body_pose_body_pose.is_some()
+        || h_body_pose_line.is_some() || h_line_line.is_some()
+    {
+        let v196 = T::constant(2.0) * v117;
+        let v197 = v99 * v196;
+        let v198 = T::constant(4.0) * v102;
+        let v199 = v114 * v198;
+        let v200 = v197 + v199;
+        let v201 = T::constant(2.0) * v86;
+        let v202 = v114 * v201;
+        let v203 = v79 * v196;
+        let v204 = v202 + v203;
+        let v205 = v86 * v99;
+        let v206 = v79 * v103;
+        let v207 = v205 - v206;
+        let v208 = v99 * v189;
+        let v209 = v190 / v187;
+        let v210 = v166 * v209;
+        let v211 = v208 + v210;
+        let v212 = v114 * v189;
+        let v213 = v178 * v209;
+        let v214 = v212 + v213;
+        let v215 = v79 * v189;
+        let v216 = v152 * v209;
+        let v217 = v215 - v216;
+        let v218 = v200 * weight;
+        let v219 = v204 * weight;
+        let v220 = v207 * weight;
+        (v200, v204, v207, v211, v214, v217, v218, v219, v220)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v234, v243, v251, v276, v293, v307) = if g_body_pose.is_some()
+        || h_body_pose_body_pose.is_some() || h_body_pose_line.is_some()
+    {
+        let v221 = T::constant(2.0) * v150;
+        let v222 = T::constant(2.0) * v163;
+        let v223 = T::constant(0.5) * v175;
+        let v224 = v114 * v166;
+        let v225 = v99 * v178;
+        let v226 = v224 - v225;
+        let v227 = -v223;
+        let v228 = -v222;
+        let v229 = v189 * v226;
+        let v230 = v227 * v211;
+        let v231 = v228 * v214;
+        let v232 = v229 + v230;
+        let v233 = v231 - v232;
+        let v234 = T::constant(2.0) * v233;
+        let v235 = v114 * v152;
+        let v236 = v79 * v178;
+        let v237 = v235 + v236;
+        let v238 = v189 * v237;
+        let v239 = v227 * v217;
+        let v240 = v221 * v214;
+        let v241 = v239 - v238;
+        let v242 = v240 + v241;
+        let v243 = T::constant(2.0) * v242;
+        let v244 = v99 * v152;
+        let v245 = v79 * v166;
+        let v246 = v244 + v245;
+        let v247 = v189 * v246;
+        let v248 = v228 * v217;
+        let v249 = v221 * v211;
+        let v250 = v248 - v247;
+        let v251 = v249 + v250;
+        let v252 = v6 * v6;
+        let v253 = v48 * v48;
+        let v254 = v64 * v64;
+        let v255 = v253 + v254;
+        let v256 = T::constant(4.0) * v255;
+        let v257 = v252 + v256;
+        let v258 = v217 * v257;
+        let v259 = v48 * v88;
+        let v260 = v6 * v90;
+        let v261 = T::constant(2.0) * v64;
+        let v262 = v95 * v261;
+        let v263 = v259 - v260;
+        let v264 = v263 - v262;
+        let v265 = T::constant(2.0) * v264;
+        let v266 = v211 * v265;
+        let v267 = v6 * v107;
+        let v268 = v64 * v111;
+        let v269 = v267 - v268;
+        let v270 = T::constant(0.5) * v269;
+        let v271 = v48 * v105;
+        let v272 = v270 + v271;
+        let v273 = v272 * T::constant(8.0);
+        let v274 = v214 * v273;
+        let v275 = v266 - v258;
+        let v276 = v274 + v275;
+        let v277 = v88 * v88;
+        let v278 = v90 * v90;
+        let v279 = v95 * v95;
+        let v280 = v278 + v279;
+        let v281 = T::constant(4.0) * v280;
+        let v282 = v277 + v281;
+        let v283 = v211 * v282;
+        let v284 = v217 * v265;
+        let v285 = v88 * v105;
+        let v286 = v95 * v111;
+        let v287 = v91 * v107;
+        let v288 = v285 + v286;
+        let v289 = v288 - v287;
+        let v290 = T::constant(4.0) * v289;
+        let v291 = v214 * v290;
+        let v292 = v284 - v283;
+        let v293 = v292 - v291;
+        let v294 = T::constant(2.0) * v289;
+        let v295 = v211 * v294;
+        let v296 = T::constant(4.0) * v272;
+        let v297 = v217 * v296;
+        let v298 = v111 * T::constant(0.25);
+        let v299 = v111 * v298;
+        let v300 = v105 * v105;
+        let v301 = v107 * v107;
+        let v302 = v300 + v301;
+        let v303 = v299 + v302;
+        let v304 = T::constant(8.0) * v303;
+        let v305 = v214 * v304;
+        let v306 = v295 - v297;
+        let v307 = v305 + v306;
+        (v234, v243, v251, v276, v293, v307)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v313, v317, v320, v326, v327, v328, v329, v330) = if g_line.is_some()
+        || h_body_pose_line.is_some() || h_line_line.is_some()
+    {
+        let v308 = T::constant(2.0) * v123;
+        let v309 = T::constant(2.0) * v157;
+        let v310 = v169 * v211;
+        let v311 = T::constant(4.0) * v157;
+        let v312 = v214 * v311;
+        let v313 = v312 - v310;
+        let v314 = v169 * v217;
+        let v315 = T::constant(4.0) * v123;
+        let v316 = v214 * v315;
+        let v317 = v314 - v316;
+        let v318 = v309 * v217;
+        let v319 = v308 * v211;
+        let v320 = v318 - v319;
+        let v321 = v122 * v217;
+        let v322 = v156 * v211;
+        let v323 = v168 * v214;
+        let v324 = v321 + v322;
+        let v325 = v323 + v324;
+        let v326 = T::constant(2.0) * v325;
+        let v327 = v313 * weight;
+        let v328 = v317 * weight;
+        let v329 = v320 * weight;
+        let v330 = v326 * weight;
+        (v313, v317, v320, v326, v327, v328, v329, v330)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v331, v332, v333, v334, v335, v336) = if h_body_pose_body_pose.is_some()
+        || h_body_pose_line.is_some() || h_line_line.is_some()
+    {
+        let v331 = v200 * v218;
+        let v332 = v200 * v219;
+        let v333 = v200 * v220;
+        let v334 = v204 * v219;
+        let v335 = v204 * v220;
+        let v336 = v207 * v220;
+        (v331, v332, v333, v334, v335, v336)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v337, v338, v339) = if g_body_pose.is_some() || g_line.is_some() {
+        let v337 = v121 * v218;
+        let v338 = v121 * v219;
+        let v339 = v121 * v220;
+        (v337, v338, v339)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (v340, v341, v342, v343, v344, v345) = if g_body_pose.is_some()
+        || h_body_pose_body_pose.is_some()
+    {
+        let v340 = v234 * weight;
+        let v341 = v243 * weight;
+        let v342 = v251 * weight;
+        let v343 = v276 * weight;
+        let v344 = v293 * weight;
+        let v345 = v307 * weight;
+        (v340, v341, v342, v343, v344, v345)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_body_pose) = g_body_pose {
+        let v346 = v190 * v340;
+        let v347 = v337 + v346;
+        let v348 = -v347;
+        let v349 = v190 * v341;
+        let v350 = v338 - v349;
+        let v351 = v190 * v342;
+        let v352 = v339 - v351;
+        let v353 = v190 * v343;
+        let v354 = -v353;
+        let v355 = v190 * v344;
+        let v356 = -v355;
+        let v357 = v190 * v345;
+        let v358 = -v357;
+        g_body_pose[0] = v348;
+        g_body_pose[1] = v350;
+        g_body_pose[2] = v352;
+        g_body_pose[3] = v354;
+        g_body_pose[4] = v356;
+        g_body_pose[5] = v358;
+    }
+    if let Some(g_line) = g_line {
+        let v359 = v190 * v327;
+        let v360 = v337 + v359;
+        let v361 = -v360;
+        let v362 = v190 * v328;
+        let v363 = v338 - v362;
+        let v364 = v190 * v329;
+        let v365 = v339 - v364;
+        let v366 = v190 * v330;
+        g_line[0] = v361;
+        g_line[1] = v363;
+        g_line[2] = v365;
+        g_line[3] = v366;
+    }
+    if let Some(h_body_pose_body_pose) = h_body_pose_body_pose {
+        let v367 = v234 * v340;
+        let v368 = v331 + v367;
+        let v369 = v234 * v341;
+        let v370 = v369 - v332;
+        let v371 = v234 * v342;
+        let v372 = v371 - v333;
+        let v373 = v234 * v343;
+        let v374 = v234 * v344;
+        let v375 = v234 * v345;
+        let v376 = v243 * v341;
+        let v377 = v334 + v376;
+        let v378 = v243 * v342;
+        let v379 = v335 + v378;
+        let v380 = v243 * v343;
+        let v381 = v243 * v344;
+        let v382 = v243 * v345;
+        let v383 = v251 * v342;
+        let v384 = v336 + v383;
+        let v385 = v251 * v343;
+        let v386 = v251 * v344;
+        let v387 = v251 * v345;
+        let v388 = v276 * v343;
+        let v389 = v276 * v344;
+        let v390 = v276 * v345;
+        let v391 = v293 * v344;
+        let v392 = v293 * v345;
+        let v393 = v307 * v345;
+        h_body_pose_body_pose[0] = v368;
+        h_body_pose_body_pose[1] = v370;
+        h_body_pose_body_pose[2] = v372;
+        h_body_pose_body_pose[3] = v373;
+        h_body_pose_body_pose[4] = v374;
+        h_body_pose_body_pose[5] = v375;
+        h_body_pose_body_pose[6] = v377;
+        h_body_pose_body_pose[7] = v379;
+        h_body_pose_body_pose[8] = v380;
+        h_body_pose_body_pose[9] = v381;
+        h_body_pose_body_pose[10] = v382;
+        h_body_pose_body_pose[11] = v384;
+        h_body_pose_body_pose[12] = v385;
+        h_body_pose_body_pose[13] = v386;
+        h_body_pose_body_pose[14] = v387;
+        h_body_pose_body_pose[15] = v388;
+        h_body_pose_body_pose[16] = v389;
+        h_body_pose_body_pose[17] = v390;
+        h_body_pose_body_pose[18] = v391;
+        h_body_pose_body_pose[19] = v392;
+        h_body_pose_body_pose[20] = v393;
+    }
+    if let Some(h_body_pose_line) = h_body_pose_line {
+        let v394 = v234 * v327;
+        let v395 = v331 + v394;
+        let v396 = v234 * v328;
+        let v397 = v396 - v332;
+        let v398 = v234 * v329;
+        let v399 = v398 - v333;
+        let v400 = v234 * v330;
+        let v401 = -v400;
+        let v402 = v204 * v218;
+        let v403 = v243 * v327;
+        let v404 = v403 - v402;
+        let v405 = v243 * v328;
+        let v406 = v334 + v405;
+        let v407 = v243 * v329;
+        let v408 = v335 + v407;
+        let v409 = v243 * v330;
+        let v410 = -v409;
+        let v411 = v207 * v218;
+        let v412 = v251 * v327;
+        let v413 = v412 - v411;
+        let v414 = v207 * v219;
+        let v415 = v251 * v328;
+        let v416 = v414 + v415;
+        let v417 = v251 * v329;
+        let v418 = v336 + v417;
+        let v419 = v251 * v330;
+        let v420 = -v419;
+        let v421 = v276 * v327;
+        let v422 = v276 * v328;
+        let v423 = v276 * v329;
+        let v424 = v276 * v330;
+        let v425 = -v424;
+        let v426 = v293 * v327;
+        let v427 = v293 * v328;
+        let v428 = v293 * v329;
+        let v429 = v293 * v330;
+        let v430 = -v429;
+        let v431 = v307 * v327;
+        let v432 = v307 * v328;
+        let v433 = v307 * v329;
+        let v434 = v307 * v330;
+        let v435 = -v434;
+        h_body_pose_line[0] = v395;
+        h_body_pose_line[1] = v397;
+        h_body_pose_line[2] = v399;
+        h_body_pose_line[3] = v401;
+        h_body_pose_line[4] = v404;
+        h_body_pose_line[5] = v406;
+        h_body_pose_line[6] = v408;
+        h_body_pose_line[7] = v410;
+        h_body_pose_line[8] = v413;
+        h_body_pose_line[9] = v416;
+        h_body_pose_line[10] = v418;
+        h_body_pose_line[11] = v420;
+        h_body_pose_line[12] = v421;
+        h_body_pose_line[13] = v422;
+        h_body_pose_line[14] = v423;
+        h_body_pose_line[15] = v425;
+        h_body_pose_line[16] = v426;
+        h_body_pose_line[17] = v427;
+        h_body_pose_line[18] = v428;
+        h_body_pose_line[19] = v430;
+        h_body_pose_line[20] = v431;
+        h_body_pose_line[21] = v432;
+        h_body_pose_line[22] = v433;
+        h_body_pose_line[23] = v435;
+    }
+    if let Some(h_line_line) = h_line_line {
+        let v436 = v313 * v327;
+        let v437 = v331 + v436;
+        let v438 = v313 * v328;
+        let v439 = v438 - v332;
+        let v440 = v313 * v329;
+        let v441 = v440 - v333;
+        let v442 = v313 * v330;
+        let v443 = -v442;
+        let v444 = v317 * v328;
+        let v445 = v334 + v444;
+        let v446 = v317 * v329;
+        let v447 = v335 + v446;
+        let v448 = v317 * v330;
+        let v449 = -v448;
+        let v450 = v320 * v329;
+        let v451 = v336 + v450;
+        let v452 = v320 * v330;
+        let v453 = -v452;
+        let v454 = v326 * v330;
+        h_line_line[0] = v437;
+        h_line_line[1] = v439;
+        h_line_line[2] = v441;
+        h_line_line[3] = v443;
+        h_line_line[4] = v445;
+        h_line_line[5] = v447;
+        h_line_line[6] = v449;
+        h_line_line[7] = v451;
+        h_line_line[8] = v453;
+        h_line_line[9] = v454;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[7, 3, 3, 7, 5],
+    tangents: &[6, 4],
+    gradient: &[6, 4],
+    hessian: &[21, 24, 10],
+};
+
+/// [`free_line_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn free_line_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [extrinsics, bearing_start, bearing_end, body_pose, line] = inputs else {
+        return false;
+    };
+    let (Ok(extrinsics), Ok(bearing_start), Ok(bearing_end), Ok(body_pose), Ok(line)) = (
+        <&[T; 7]>::try_from(*extrinsics),
+        <&[T; 3]>::try_from(*bearing_start),
+        <&[T; 3]>::try_from(*bearing_end),
+        <&[T; 7]>::try_from(*body_pose),
+        <&[T; 5]>::try_from(*line),
+    ) else {
+        return false;
+    };
+    let [g_body_pose, g_line] = gradient else {
+        return false;
+    };
+    let [h_body_pose_body_pose, h_body_pose_line, h_line_line] = hessian else {
+        return false;
+    };
+    let g_body_pose = match g_body_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_line = match g_line.as_deref_mut().map(<&mut [T; 4]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_body_pose_body_pose = match h_body_pose_body_pose
+        .as_deref_mut()
+        .map(<&mut [T; 21]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_body_pose_line = match h_body_pose_line
+        .as_deref_mut()
+        .map(<&mut [T; 24]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_line_line = match h_line_line.as_deref_mut().map(<&mut [T; 10]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::free_line_normal(
+        extrinsics,
+        bearing_start,
+        bearing_end,
+        body_pose,
+        line,
+        weight,
+        cost,
+        g_body_pose,
+        g_line,
+        h_body_pose_body_pose,
+        h_body_pose_line,
+        h_line_line,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`free_line`] and [`free_line_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 25];
+    type Outputs = [T; 22];
+    const FIELDS: &'static [usize] = &[7, 3, 3, 7, 5];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[6, 4];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 25], outputs: &mut [T; 22], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_body_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        let Some((d_line, _)) = rest.split_first_chunk_mut::<8>() else {
+            return;
+        };
+        free_line(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+            ],
+            &[inputs[7], inputs[8], inputs[9]],
+            &[inputs[10], inputs[11], inputs[12]],
+            &[
+                inputs[13],
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+            ],
+            &[inputs[20], inputs[21], inputs[22], inputs[23], inputs[24]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_body_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_line),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 66];
+    #[inline(always)]
+    fn normal(inputs: &[T; 25], weight: T, outputs: &mut [T; 66], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_body_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_line, rest)) = rest.split_first_chunk_mut::<4>() else {
+            return;
+        };
+        let Some((h_body_pose_body_pose, rest)) = rest.split_first_chunk_mut::<21>()
+        else {
+            return;
+        };
+        let Some((h_body_pose_line, rest)) = rest.split_first_chunk_mut::<24>() else {
+            return;
+        };
+        let Some((h_line_line, _)) = rest.split_first_chunk_mut::<10>() else {
+            return;
+        };
+        free_line_normal(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+            ],
+            &[inputs[7], inputs[8], inputs[9]],
+            &[inputs[10], inputs[11], inputs[12]],
+            &[
+                inputs[13],
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+            ],
+            &[inputs[20], inputs[21], inputs[22], inputs[23], inputs[24]],
+            weight,
+            cost,
+            free_0.then_some(g_body_pose),
+            free_1.then_some(g_line),
+            free_0.then_some(h_body_pose_body_pose),
+            (free_0 && free_1).then_some(h_body_pose_line),
+            free_1.then_some(h_line_line),
+        );
+    }
 }

@@ -9,19 +9,26 @@
 //! (row-major, residual rows × tangent columns), sharing common subexpressions
 //! and skipping the work of the blocks passed as `None`. The crate has no
 //! dependencies, no `unsafe`, no allocation and no panics; the kernels are
-//! generic over [`Real`], implemented for `f32` and `f64` (implement it for a
-//! SIMD type to evaluate several configurations at once).
+//! generic over [`Real`], implemented for `f32` and `f64`. The feature
+//! `lanes` (optional dependency `factor-lanes`) implements it for the SIMD
+//! lane types `F64x4`, `F32x8` and `F64x8`, which evaluate several
+//! configurations at once, and makes each module's marker `Kernel` a
+//! `factor_lanes::Kernel`, the entry of batch evaluators (`factor-batch`).
 //!
-//! | kernel | factor | operations | residual only |
-//! | --- | --- | --- | --- |
-//! | [`point_reprojection`](point_reprojection::point_reprojection) | `slam_factors::point_reprojection::PointReprojection` | 96 | 54 |
-//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::line_reprojection::LineReprojection` | 393 | 128 |
-//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::plucker_line_reprojection::PluckerLineReprojection` | 271 | 102 |
-//! | [`plane`](plane::plane) | `slam_factors::plane::PlaneFactor` | 447 | 107 |
-//! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 322 | 192 |
-//! | [`snavely_reprojection`](snavely_reprojection::snavely_reprojection) | `slam_factors::snavely::SnavelyReprojection` | 238 | 64 |
-//! | [`stereo_reprojection`](stereo_reprojection::stereo_reprojection) | `slam_factors::stereo::StereoReprojection` | 206 | 64 |
-//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1658 | 292 |
+//! A module generated with normal equations also holds `<name>_normal`: the
+//! cost `½ w rᵀr`, the gradient blocks `Jᵢᵀ w r` and the upper triangle of
+//! `JᵀwJ` for a per-factor weight `w`, fused with the Jacobian.
+//!
+//! | kernel | factor | operations | residual only | normal equations |
+//! | --- | --- | --- | --- | --- |
+//! | [`point_reprojection`](point_reprojection::point_reprojection) | `slam_factors::point_reprojection::PointReprojection` | 96 | 54 | 254 |
+//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::line_reprojection::LineReprojection` | 393 | 128 | 614 |
+//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::plucker_line_reprojection::PluckerLineReprojection` | 271 | 102 | 572 |
+//! | [`plane`](plane::plane) | `slam_factors::plane::PlaneFactor` | 447 | 107 | 751 |
+//! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 322 | 192 | 455 |
+//! | [`snavely_reprojection`](snavely_reprojection::snavely_reprojection) | `slam_factors::snavely::SnavelyReprojection` | 238 | 64 | 502 |
+//! | [`stereo_reprojection`](stereo_reprojection::stereo_reprojection) | `slam_factors::stereo::StereoReprojection` | 206 | 64 | 510 |
+//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1658 | 292 | — |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -48,4 +55,4 @@ mod real;
 mod shape;
 
 pub use real::Real;
-pub use shape::Shape;
+pub use shape::{NormalShape, Shape};

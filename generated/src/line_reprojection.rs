@@ -32,15 +32,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 122 | 263 | 2 | 5 | 1 | 0 | 0 | 393 |
 //! | residual only | 48 | 77 | 1 | 1 | 1 | 0 | 0 | 128 |
+//! | normal equations | 188 | 417 | 2 | 6 | 1 | 0 | 0 | 614 |
+//! | normal equations, cost only | 49 | 81 | 1 | 0 | 1 | 0 | 0 | 132 |
+//!
+//! # Normal equations
+//!
+//! `line_reprojection_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_line: [T; 4]`: `J_lineᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_line: [T; 24]`: `J_poseᵀ w J_line`, 6 × 4 row-major
+//! - `h_line_line: [T; 10]`: `J_lineᵀ w J_line`, its upper triangle row by row (4 × 4, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::line_reprojection::LineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn line_reprojection<T: Real>(
     intrinsics: &[T; 4],
     start: &[T; 2],
@@ -535,4 +554,992 @@ pub fn line_reprojection_slices<T: Real>(
         d_line,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::line_reprojection::LineReprojection` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`line_reprojection`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn line_reprojection_normal<T: Real>(
+    intrinsics: &[T; 4],
+    start: &[T; 2],
+    end: &[T; 2],
+    pose: &[T; 7],
+    line: &[T; 6],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_line: Option<&mut [T; 4]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_line: Option<&mut [T; 24]>,
+    h_line_line: Option<&mut [T; 10]>,
+) {
+    let v0 = line[0] * line[0];
+    let v1 = line[1] * line[1];
+    let v2 = v0 - v1;
+    let v3 = line[2] * line[2];
+    let v4 = line[3] * line[3];
+    let v5 = v3 - v4;
+    let v6 = v2 + v5;
+    let v7 = pose[0] * pose[0];
+    let v8 = pose[1] * pose[1];
+    let v9 = v7 - v8;
+    let v10 = pose[2] * pose[2];
+    let v11 = pose[3] * pose[3];
+    let v12 = v10 - v11;
+    let v13 = v9 + v12;
+    let v14 = v6 * v13;
+    let v15 = line[0] * line[1];
+    let v16 = line[2] * line[3];
+    let v17 = v15 - v16;
+    let v18 = pose[0] * pose[1];
+    let v19 = pose[2] * pose[3];
+    let v20 = v18 + v19;
+    let v21 = line[1] * line[2];
+    let v22 = line[0] * line[3];
+    let v23 = v21 + v22;
+    let v24 = pose[1] * pose[2];
+    let v25 = pose[0] * pose[3];
+    let v26 = v24 - v25;
+    let v27 = v17 * v20;
+    let v28 = v23 * v26;
+    let v29 = v27 + v28;
+    let v30 = T::constant(4.0) * v29;
+    let v31 = v14 + v30;
+    let v32 = line[5] * v31;
+    let v33 = pose[6] * v32;
+    let v34 = v2 - v5;
+    let v35 = v9 - v12;
+    let v36 = v34 * v35;
+    let v37 = v15 + v16;
+    let v38 = v18 - v19;
+    let v39 = line[0] * line[2];
+    let v40 = line[1] * line[3];
+    let v41 = v39 - v40;
+    let v42 = pose[0] * pose[2];
+    let v43 = pose[1] * pose[3];
+    let v44 = v42 + v43;
+    let v45 = v37 * v38;
+    let v46 = v41 * v44;
+    let v47 = v45 + v46;
+    let v48 = T::constant(4.0) * v47;
+    let v49 = v36 + v48;
+    let v50 = line[4] * v49;
+    let v51 = v24 + v25;
+    let v52 = v6 * v51;
+    let v53 = v7 + v8;
+    let v54 = v10 + v11;
+    let v55 = v53 - v54;
+    let v56 = v23 * v55;
+    let v57 = v42 - v43;
+    let v58 = v17 * T::constant(2.0);
+    let v59 = v57 * v58;
+    let v60 = v52 + v56;
+    let v61 = v60 - v59;
+    let v62 = line[5] * v61;
+    let v63 = pose[5] * T::constant(2.0);
+    let v64 = v62 * v63;
+    let v65 = v50 - v33;
+    let v66 = v65 - v64;
+    let v67 = intrinsics[1] * v66;
+    let v68 = v67 * v67;
+    let v69 = v6 * v38;
+    let v70 = v17 * v35;
+    let v71 = v44 * T::constant(2.0);
+    let v72 = v23 * v71;
+    let v73 = v69 - v70;
+    let v74 = v73 - v72;
+    let v75 = line[5] * v74;
+    let v76 = pose[6] * v75;
+    let v77 = v62 * pose[4];
+    let v78 = v13 * v37;
+    let v79 = v20 * v34;
+    let v80 = v41 * T::constant(2.0);
+    let v81 = v26 * v80;
+    let v82 = v78 - v79;
+    let v83 = v82 - v81;
+    let v84 = line[4] * v83;
+    let v85 = v76 + v84;
+    let v86 = v85 - v77;
+    let v87 = intrinsics[0] * v86;
+    let v88 = T::constant(4.0) * v87;
+    let v89 = v87 * v88;
+    let v90 = v68 + v89;
+    let v91 = T::sqrt(v90);
+    let v92 = T::constant(1.0) / v91;
+    let v93 = intrinsics[2] - start[0];
+    let v94 = v67 * v93;
+    let v95 = intrinsics[3] - start[1];
+    let v96 = T::constant(2.0) * v95;
+    let v97 = v87 * v96;
+    let v98 = pose[4] * T::constant(0.25);
+    let v99 = v32 * v98;
+    let v100 = pose[5] * T::constant(0.5);
+    let v101 = v75 * v100;
+    let v102 = v34 * v57;
+    let v103 = v41 * v55;
+    let v104 = v102 - v103;
+    let v105 = T::constant(0.5) * v104;
+    let v106 = v37 * v51;
+    let v107 = v105 + v106;
+    let v108 = line[4] * v107;
+    let v109 = v99 + v101;
+    let v110 = v108 + v109;
+    let v111 = intrinsics[1] * intrinsics[0];
+    let v112 = v110 * v111;
+    let v113 = T::constant(4.0) * v112;
+    let v114 = v94 - v97;
+    let v115 = v114 - v113;
+    let v116 = v92 * v115;
+    let v117 = intrinsics[2] - end[0];
+    let v118 = T::constant(0.25) * v117;
+    let v119 = v67 * v118;
+    let v120 = intrinsics[3] - end[1];
+    let v121 = T::constant(0.5) * v120;
+    let v122 = v87 * v121;
+    let v123 = v112 - v119;
+    let v124 = v122 + v123;
+    let v125 = T::constant(4.0) * v124;
+    let v126 = v92 * v125;
+    let v127 = v116 * v116;
+    let v128 = v126 * v126;
+    let v129 = v127 + v128;
+    let v130 = weight * v129;
+    let v131 = T::constant(0.5) * v130;
+    *cost = v131;
+    let (v132, v139, v143, v149, v153) = if g_pose.is_some() || g_line.is_some()
+        || h_pose_pose.is_some() || h_pose_line.is_some() || h_line_line.is_some()
+    {
+        let v132 = v92 * v111;
+        let v133 = v95 * T::constant(0.5);
+        let v134 = T::constant(1.0) / v90;
+        let v135 = v115 * v134;
+        let v136 = v87 * v135;
+        let v137 = v133 + v136;
+        let v138 = v92 * v137;
+        let v139 = intrinsics[0] * v138;
+        let v140 = v67 * v135;
+        let v141 = v140 - v93;
+        let v142 = v92 * v141;
+        let v143 = intrinsics[1] * v142;
+        let v144 = v120 * T::constant(0.125);
+        let v145 = v124 * v134;
+        let v146 = v87 * v145;
+        let v147 = v146 - v144;
+        let v148 = v92 * v147;
+        let v149 = intrinsics[0] * v148;
+        let v150 = v67 * v145;
+        let v151 = v118 + v150;
+        let v152 = v92 * v151;
+        let v153 = intrinsics[1] * v152;
+        (v132, v139, v143, v149, v153)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v158, v162, v166, v170, v175, v179, v182, v185, v189, v192, v195, v200) = if g_pose
+        .is_some() || h_pose_pose.is_some() || h_pose_line.is_some()
+    {
+        let v154 = v86 * v132;
+        let v155 = T::constant(2.0) * v154;
+        let v156 = v110 * T::constant(8.0);
+        let v157 = v139 * v156;
+        let v158 = v157 - v155;
+        let v159 = v66 * v132;
+        let v160 = T::constant(4.0) * v110;
+        let v161 = v143 * v160;
+        let v162 = v161 - v159;
+        let v163 = v86 * v143;
+        let v164 = v66 * v139;
+        let v165 = v163 - v164;
+        let v166 = T::constant(2.0) * v165;
+        let v167 = v32 * v132;
+        let v168 = T::constant(4.0) * v62;
+        let v169 = v139 * v168;
+        let v170 = v167 - v169;
+        let v171 = v75 * v132;
+        let v172 = T::constant(2.0) * v171;
+        let v173 = v62 * v143;
+        let v174 = v171 - v173;
+        let v175 = T::constant(2.0) * v174;
+        let v176 = v32 * v143;
+        let v177 = T::constant(4.0) * v75;
+        let v178 = v139 * v177;
+        let v179 = v178 - v176;
+        let v180 = v110 * T::constant(32.0);
+        let v181 = v149 * v180;
+        let v182 = v155 + v181;
+        let v183 = v110 * T::constant(16.0);
+        let v184 = v153 * v183;
+        let v185 = v159 + v184;
+        let v186 = v86 * v153;
+        let v187 = v66 * v149;
+        let v188 = v187 - v186;
+        let v189 = T::constant(8.0) * v188;
+        let v190 = v62 * T::constant(16.0);
+        let v191 = v149 * v190;
+        let v192 = v167 + v191;
+        let v193 = v62 * T::constant(8.0);
+        let v194 = v153 * v193;
+        let v195 = v172 + v194;
+        let v196 = T::constant(4.0) * v32;
+        let v197 = v153 * v196;
+        let v198 = v75 * T::constant(16.0);
+        let v199 = v149 * v198;
+        let v200 = v197 - v199;
+        (v158, v162, v166, v170, v175, v179, v182, v185, v189, v192, v195, v200)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v253,
+        v300,
+        v345,
+        v370,
+        v375,
+        v381,
+        v386,
+        v392,
+        v393,
+        v394,
+        v395,
+        v396,
+        v397,
+        v398,
+        v399,
+        v400,
+    ) = if g_line.is_some() || h_pose_line.is_some() || h_line_line.is_some() {
+        let v201 = T::constant(4.0) * v37;
+        let v202 = v57 * T::constant(0.5);
+        let v203 = v13 * v23;
+        let v204 = v6 * v26;
+        let v205 = v203 - v204;
+        let v206 = line[5] * v205;
+        let v207 = pose[6] * T::constant(0.5);
+        let v208 = v206 * v207;
+        let v209 = v6 * T::constant(0.25);
+        let v210 = v55 * v209;
+        let v211 = v23 * v51;
+        let v212 = v211 - v210;
+        let v213 = line[5] * v212;
+        let v214 = pose[5] * v213;
+        let v215 = v38 * v41;
+        let v216 = v37 * v44;
+        let v217 = v215 - v216;
+        let v218 = line[4] * v217;
+        let v219 = v208 + v218;
+        let v220 = v214 + v219;
+        let v221 = v13 * v41;
+        let v222 = v37 * T::constant(2.0);
+        let v223 = v26 * v222;
+        let v224 = v221 + v223;
+        let v225 = line[4] * v224;
+        let v226 = v44 * T::constant(0.5);
+        let v227 = v6 * v226;
+        let v228 = v23 * v38;
+        let v229 = v227 + v228;
+        let v230 = line[5] * v229;
+        let v231 = pose[6] * T::constant(2.0);
+        let v232 = pose[6] * v230;
+        let v233 = pose[4] * v213;
+        let v234 = v233 - v232;
+        let v235 = T::constant(2.0) * v234;
+        let v236 = v225 + v235;
+        let v237 = pose[4] * T::constant(0.5);
+        let v238 = v206 * v237;
+        let v239 = pose[5] * v230;
+        let v240 = v37 * T::constant(0.5);
+        let v241 = v55 * v240;
+        let v242 = v41 * v51;
+        let v243 = v241 + v242;
+        let v244 = line[4] * v243;
+        let v245 = v244 - v238;
+        let v246 = v245 - v239;
+        let v247 = v132 * v246;
+        let v248 = T::constant(4.0) * v247;
+        let v249 = v143 * v220;
+        let v250 = v139 * v236;
+        let v251 = v247 + v249;
+        let v252 = v250 + v251;
+        let v253 = T::constant(4.0) * v252;
+        let v254 = v35 * v41;
+        let v255 = v34 * v44;
+        let v256 = v254 - v255;
+        let v257 = line[4] * v256;
+        let v258 = v20 * v23;
+        let v259 = v17 * v26;
+        let v260 = v258 - v259;
+        let v261 = line[5] * v260;
+        let v262 = v231 * v261;
+        let v263 = v17 * T::constant(0.5);
+        let v264 = v55 * v263;
+        let v265 = v23 * v57;
+        let v266 = v264 + v265;
+        let v267 = line[5] * v266;
+        let v268 = v63 * v267;
+        let v269 = v268 - v262;
+        let v270 = v257 + v269;
+        let v271 = T::constant(2.0) * v270;
+        let v272 = v143 * v271;
+        let v273 = v23 * v35;
+        let v274 = v17 * v71;
+        let v275 = v273 - v274;
+        let v276 = line[5] * v275;
+        let v277 = v100 * v276;
+        let v278 = pose[4] * v261;
+        let v279 = v34 * T::constant(0.25);
+        let v280 = v55 * v279;
+        let v281 = v41 * v57;
+        let v282 = v280 + v281;
+        let v283 = line[4] * v282;
+        let v284 = v278 - v277;
+        let v285 = v283 + v284;
+        let v286 = v132 * v285;
+        let v287 = T::constant(4.0) * v286;
+        let v288 = v207 * v276;
+        let v289 = pose[4] * v267;
+        let v290 = v26 * T::constant(0.5);
+        let v291 = v34 * v290;
+        let v292 = v20 * v41;
+        let v293 = v292 - v291;
+        let v294 = line[4] * v293;
+        let v295 = v288 + v294;
+        let v296 = v295 - v289;
+        let v297 = T::constant(8.0) * v296;
+        let v298 = v139 * v297;
+        let v299 = v272 + v287;
+        let v300 = v299 - v298;
+        let v301 = v13 * v17;
+        let v302 = v6 * v20;
+        let v303 = v301 - v302;
+        let v304 = line[5] * v303;
+        let v305 = pose[6] * v304;
+        let v306 = v35 * v37;
+        let v307 = v34 * v38;
+        let v308 = v306 - v307;
+        let v309 = line[4] * v308;
+        let v310 = v6 * v202;
+        let v311 = v17 * v51;
+        let v312 = v310 + v311;
+        let v313 = line[5] * v312;
+        let v314 = v63 * v313;
+        let v315 = v309 - v305;
+        let v316 = v315 - v314;
+        let v317 = v13 * v34;
+        let v318 = v20 * v201;
+        let v319 = v317 + v318;
+        let v320 = line[4] * v319;
+        let v321 = v35 * T::constant(0.25);
+        let v322 = v6 * v321;
+        let v323 = v17 * v38;
+        let v324 = v322 + v323;
+        let v325 = line[5] * v324;
+        let v326 = pose[6] * v325;
+        let v327 = pose[4] * v313;
+        let v328 = v327 - v326;
+        let v329 = T::constant(4.0) * v328;
+        let v330 = v320 + v329;
+        let v331 = pose[4] * v304;
+        let v332 = v34 * v51;
+        let v333 = v57 * v222;
+        let v334 = v332 - v333;
+        let v335 = line[4] * v334;
+        let v336 = v63 * v325;
+        let v337 = v335 - v331;
+        let v338 = v337 - v336;
+        let v339 = v132 * v338;
+        let v340 = T::constant(2.0) * v339;
+        let v341 = v143 * v316;
+        let v342 = v139 * v330;
+        let v343 = v339 - v341;
+        let v344 = v342 + v343;
+        let v345 = T::constant(2.0) * v344;
+        let v346 = v31 * line[4];
+        let v347 = pose[6] * v346;
+        let v348 = line[5] * v49;
+        let v349 = line[4] * v61;
+        let v350 = v63 * v349;
+        let v351 = v347 + v348;
+        let v352 = v350 + v351;
+        let v353 = v143 * v352;
+        let v354 = line[4] * v74;
+        let v355 = pose[6] * v354;
+        let v356 = pose[4] * v349;
+        let v357 = line[5] * v83;
+        let v358 = v357 - v355;
+        let v359 = v356 + v358;
+        let v360 = v98 * v346;
+        let v361 = v100 * v354;
+        let v362 = line[5] * v107;
+        let v363 = v360 + v361;
+        let v364 = v362 - v363;
+        let v365 = v132 * v364;
+        let v366 = T::constant(4.0) * v365;
+        let v367 = v139 * v359;
+        let v368 = v365 + v367;
+        let v369 = T::constant(4.0) * v368;
+        let v370 = v353 + v369;
+        let v371 = v153 * v220;
+        let v372 = v149 * v236;
+        let v373 = v371 + v372;
+        let v374 = T::constant(16.0) * v373;
+        let v375 = v374 - v248;
+        let v376 = T::constant(8.0) * v270;
+        let v377 = v153 * v376;
+        let v378 = T::constant(32.0) * v296;
+        let v379 = v149 * v378;
+        let v380 = v287 - v377;
+        let v381 = v379 + v380;
+        let v382 = v153 * v316;
+        let v383 = v149 * v330;
+        let v384 = v382 - v383;
+        let v385 = T::constant(8.0) * v384;
+        let v386 = v340 + v385;
+        let v387 = T::constant(4.0) * v352;
+        let v388 = v153 * v387;
+        let v389 = v388 - v366;
+        let v390 = T::constant(16.0) * v359;
+        let v391 = v149 * v390;
+        let v392 = v389 + v391;
+        let v393 = v253 * weight;
+        let v394 = v300 * weight;
+        let v395 = v345 * weight;
+        let v396 = v370 * weight;
+        let v397 = v375 * weight;
+        let v398 = v381 * weight;
+        let v399 = v386 * weight;
+        let v400 = v392 * weight;
+        (
+            v253,
+            v300,
+            v345,
+            v370,
+            v375,
+            v381,
+            v386,
+            v392,
+            v393,
+            v394,
+            v395,
+            v396,
+            v397,
+            v398,
+            v399,
+            v400,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v401, v402, v403, v404, v405, v406, v407, v408, v409, v410, v411, v412) = if g_pose
+        .is_some() || h_pose_pose.is_some()
+    {
+        let v401 = v158 * weight;
+        let v402 = v162 * weight;
+        let v403 = v166 * weight;
+        let v404 = v170 * weight;
+        let v405 = v175 * weight;
+        let v406 = v179 * weight;
+        let v407 = v182 * weight;
+        let v408 = v185 * weight;
+        let v409 = v189 * weight;
+        let v410 = v192 * weight;
+        let v411 = v195 * weight;
+        let v412 = v200 * weight;
+        (v401, v402, v403, v404, v405, v406, v407, v408, v409, v410, v411, v412)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v413 = v116 * v401;
+        let v414 = v126 * v407;
+        let v415 = v413 + v414;
+        let v416 = -v415;
+        let v417 = v116 * v402;
+        let v418 = v126 * v408;
+        let v419 = v417 + v418;
+        let v420 = -v419;
+        let v421 = v116 * v403;
+        let v422 = v126 * v409;
+        let v423 = v422 - v421;
+        let v424 = v116 * v404;
+        let v425 = v126 * v410;
+        let v426 = v425 - v424;
+        let v427 = v116 * v405;
+        let v428 = v126 * v411;
+        let v429 = v428 - v427;
+        let v430 = v116 * v406;
+        let v431 = v126 * v412;
+        let v432 = v431 - v430;
+        g_pose[0] = v416;
+        g_pose[1] = v420;
+        g_pose[2] = v423;
+        g_pose[3] = v426;
+        g_pose[4] = v429;
+        g_pose[5] = v432;
+    }
+    if let Some(g_line) = g_line {
+        let v433 = v116 * v393;
+        let v434 = v126 * v397;
+        let v435 = v433 + v434;
+        let v436 = v116 * v394;
+        let v437 = v126 * v398;
+        let v438 = v437 - v436;
+        let v439 = v116 * v395;
+        let v440 = v126 * v399;
+        let v441 = v440 - v439;
+        let v442 = v116 * v396;
+        let v443 = v126 * v400;
+        let v444 = v442 + v443;
+        g_line[0] = v435;
+        g_line[1] = v438;
+        g_line[2] = v441;
+        g_line[3] = v444;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v445 = v158 * v401;
+        let v446 = v182 * v407;
+        let v447 = v445 + v446;
+        let v448 = v158 * v402;
+        let v449 = v182 * v408;
+        let v450 = v448 + v449;
+        let v451 = v158 * v403;
+        let v452 = v182 * v409;
+        let v453 = v451 - v452;
+        let v454 = v158 * v404;
+        let v455 = v182 * v410;
+        let v456 = v454 - v455;
+        let v457 = v158 * v405;
+        let v458 = v182 * v411;
+        let v459 = v457 - v458;
+        let v460 = v158 * v406;
+        let v461 = v182 * v412;
+        let v462 = v460 - v461;
+        let v463 = v162 * v402;
+        let v464 = v185 * v408;
+        let v465 = v463 + v464;
+        let v466 = v162 * v403;
+        let v467 = v185 * v409;
+        let v468 = v466 - v467;
+        let v469 = v162 * v404;
+        let v470 = v185 * v410;
+        let v471 = v469 - v470;
+        let v472 = v162 * v405;
+        let v473 = v185 * v411;
+        let v474 = v472 - v473;
+        let v475 = v162 * v406;
+        let v476 = v185 * v412;
+        let v477 = v475 - v476;
+        let v478 = v166 * v403;
+        let v479 = v189 * v409;
+        let v480 = v478 + v479;
+        let v481 = v166 * v404;
+        let v482 = v189 * v410;
+        let v483 = v481 + v482;
+        let v484 = v166 * v405;
+        let v485 = v189 * v411;
+        let v486 = v484 + v485;
+        let v487 = v166 * v406;
+        let v488 = v189 * v412;
+        let v489 = v487 + v488;
+        let v490 = v170 * v404;
+        let v491 = v192 * v410;
+        let v492 = v490 + v491;
+        let v493 = v170 * v405;
+        let v494 = v192 * v411;
+        let v495 = v493 + v494;
+        let v496 = v170 * v406;
+        let v497 = v192 * v412;
+        let v498 = v496 + v497;
+        let v499 = v175 * v405;
+        let v500 = v195 * v411;
+        let v501 = v499 + v500;
+        let v502 = v175 * v406;
+        let v503 = v195 * v412;
+        let v504 = v502 + v503;
+        let v505 = v179 * v406;
+        let v506 = v200 * v412;
+        let v507 = v505 + v506;
+        h_pose_pose[0] = v447;
+        h_pose_pose[1] = v450;
+        h_pose_pose[2] = v453;
+        h_pose_pose[3] = v456;
+        h_pose_pose[4] = v459;
+        h_pose_pose[5] = v462;
+        h_pose_pose[6] = v465;
+        h_pose_pose[7] = v468;
+        h_pose_pose[8] = v471;
+        h_pose_pose[9] = v474;
+        h_pose_pose[10] = v477;
+        h_pose_pose[11] = v480;
+        h_pose_pose[12] = v483;
+        h_pose_pose[13] = v486;
+        h_pose_pose[14] = v489;
+        h_pose_pose[15] = v492;
+        h_pose_pose[16] = v495;
+        h_pose_pose[17] = v498;
+        h_pose_pose[18] = v501;
+        h_pose_pose[19] = v504;
+        h_pose_pose[20] = v507;
+    }
+    if let Some(h_pose_line) = h_pose_line {
+        let v508 = v158 * v393;
+        let v509 = v182 * v397;
+        let v510 = v508 + v509;
+        let v511 = -v510;
+        let v512 = v158 * v394;
+        let v513 = v182 * v398;
+        let v514 = v512 - v513;
+        let v515 = v158 * v395;
+        let v516 = v182 * v399;
+        let v517 = v515 - v516;
+        let v518 = v158 * v396;
+        let v519 = v182 * v400;
+        let v520 = v518 + v519;
+        let v521 = -v520;
+        let v522 = v162 * v393;
+        let v523 = v185 * v397;
+        let v524 = v522 + v523;
+        let v525 = -v524;
+        let v526 = v162 * v394;
+        let v527 = v185 * v398;
+        let v528 = v526 - v527;
+        let v529 = v162 * v395;
+        let v530 = v185 * v399;
+        let v531 = v529 - v530;
+        let v532 = v162 * v396;
+        let v533 = v185 * v400;
+        let v534 = v532 + v533;
+        let v535 = -v534;
+        let v536 = v166 * v393;
+        let v537 = v189 * v397;
+        let v538 = v537 - v536;
+        let v539 = v166 * v394;
+        let v540 = v189 * v398;
+        let v541 = v539 + v540;
+        let v542 = v166 * v395;
+        let v543 = v189 * v399;
+        let v544 = v542 + v543;
+        let v545 = v166 * v396;
+        let v546 = v189 * v400;
+        let v547 = v546 - v545;
+        let v548 = v170 * v393;
+        let v549 = v192 * v397;
+        let v550 = v549 - v548;
+        let v551 = v170 * v394;
+        let v552 = v192 * v398;
+        let v553 = v551 + v552;
+        let v554 = v170 * v395;
+        let v555 = v192 * v399;
+        let v556 = v554 + v555;
+        let v557 = v170 * v396;
+        let v558 = v192 * v400;
+        let v559 = v558 - v557;
+        let v560 = v175 * v393;
+        let v561 = v195 * v397;
+        let v562 = v561 - v560;
+        let v563 = v175 * v394;
+        let v564 = v195 * v398;
+        let v565 = v563 + v564;
+        let v566 = v175 * v395;
+        let v567 = v195 * v399;
+        let v568 = v566 + v567;
+        let v569 = v175 * v396;
+        let v570 = v195 * v400;
+        let v571 = v570 - v569;
+        let v572 = v179 * v393;
+        let v573 = v200 * v397;
+        let v574 = v573 - v572;
+        let v575 = v179 * v394;
+        let v576 = v200 * v398;
+        let v577 = v575 + v576;
+        let v578 = v179 * v395;
+        let v579 = v200 * v399;
+        let v580 = v578 + v579;
+        let v581 = v179 * v396;
+        let v582 = v200 * v400;
+        let v583 = v582 - v581;
+        h_pose_line[0] = v511;
+        h_pose_line[1] = v514;
+        h_pose_line[2] = v517;
+        h_pose_line[3] = v521;
+        h_pose_line[4] = v525;
+        h_pose_line[5] = v528;
+        h_pose_line[6] = v531;
+        h_pose_line[7] = v535;
+        h_pose_line[8] = v538;
+        h_pose_line[9] = v541;
+        h_pose_line[10] = v544;
+        h_pose_line[11] = v547;
+        h_pose_line[12] = v550;
+        h_pose_line[13] = v553;
+        h_pose_line[14] = v556;
+        h_pose_line[15] = v559;
+        h_pose_line[16] = v562;
+        h_pose_line[17] = v565;
+        h_pose_line[18] = v568;
+        h_pose_line[19] = v571;
+        h_pose_line[20] = v574;
+        h_pose_line[21] = v577;
+        h_pose_line[22] = v580;
+        h_pose_line[23] = v583;
+    }
+    if let Some(h_line_line) = h_line_line {
+        let v584 = v253 * v393;
+        let v585 = v375 * v397;
+        let v586 = v584 + v585;
+        let v587 = v253 * v394;
+        let v588 = v375 * v398;
+        let v589 = v588 - v587;
+        let v590 = v253 * v395;
+        let v591 = v375 * v399;
+        let v592 = v591 - v590;
+        let v593 = v253 * v396;
+        let v594 = v375 * v400;
+        let v595 = v593 + v594;
+        let v596 = v300 * v394;
+        let v597 = v381 * v398;
+        let v598 = v596 + v597;
+        let v599 = v300 * v395;
+        let v600 = v381 * v399;
+        let v601 = v599 + v600;
+        let v602 = v300 * v396;
+        let v603 = v381 * v400;
+        let v604 = v603 - v602;
+        let v605 = v345 * v395;
+        let v606 = v386 * v399;
+        let v607 = v605 + v606;
+        let v608 = v345 * v396;
+        let v609 = v386 * v400;
+        let v610 = v609 - v608;
+        let v611 = v370 * v396;
+        let v612 = v392 * v400;
+        let v613 = v611 + v612;
+        h_line_line[0] = v586;
+        h_line_line[1] = v589;
+        h_line_line[2] = v592;
+        h_line_line[3] = v595;
+        h_line_line[4] = v598;
+        h_line_line[5] = v601;
+        h_line_line[6] = v604;
+        h_line_line[7] = v607;
+        h_line_line[8] = v610;
+        h_line_line[9] = v613;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[4, 2, 2, 7, 6],
+    tangents: &[6, 4],
+    gradient: &[6, 4],
+    hessian: &[21, 24, 10],
+};
+
+/// [`line_reprojection_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn line_reprojection_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, start, end, pose, line] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(start), Ok(end), Ok(pose), Ok(line)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*start),
+        <&[T; 2]>::try_from(*end),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 6]>::try_from(*line),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_line] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_line, h_line_line] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_line = match g_line.as_deref_mut().map(<&mut [T; 4]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_line = match h_pose_line.as_deref_mut().map(<&mut [T; 24]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_line_line = match h_line_line.as_deref_mut().map(<&mut [T; 10]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::line_reprojection_normal(
+        intrinsics,
+        start,
+        end,
+        pose,
+        line,
+        weight,
+        cost,
+        g_pose,
+        g_line,
+        h_pose_pose,
+        h_pose_line,
+        h_line_line,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`line_reprojection`] and [`line_reprojection_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 21];
+    type Outputs = [T; 22];
+    const FIELDS: &'static [usize] = &[4, 2, 2, 7, 6];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[6, 4];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 21], outputs: &mut [T; 22], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        let Some((d_line, _)) = rest.split_first_chunk_mut::<8>() else {
+            return;
+        };
+        line_reprojection(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[inputs[6], inputs[7]],
+            &[
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+            ],
+            &[inputs[15], inputs[16], inputs[17], inputs[18], inputs[19], inputs[20]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_line),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 66];
+    #[inline(always)]
+    fn normal(inputs: &[T; 21], weight: T, outputs: &mut [T; 66], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_line, rest)) = rest.split_first_chunk_mut::<4>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_line, rest)) = rest.split_first_chunk_mut::<24>() else {
+            return;
+        };
+        let Some((h_line_line, _)) = rest.split_first_chunk_mut::<10>() else {
+            return;
+        };
+        line_reprojection_normal(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[inputs[6], inputs[7]],
+            &[
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+            ],
+            &[inputs[15], inputs[16], inputs[17], inputs[18], inputs[19], inputs[20]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_line),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_line),
+            free_1.then_some(h_line_line),
+        );
+    }
 }

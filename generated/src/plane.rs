@@ -30,15 +30,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 149 | 267 | 4 | 15 | 1 | 1 | 10 | 447 |
 //! | residual only | 38 | 61 | 2 | 2 | 1 | 1 | 2 | 107 |
+//! | normal equations | 259 | 461 | 4 | 15 | 1 | 1 | 10 | 751 |
+//! | normal equations, cost only | 40 | 66 | 2 | 0 | 1 | 1 | 2 | 112 |
+//!
+//! # Normal equations
+//!
+//! `plane_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_plane: [T; 3]`: `J_planeᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_plane: [T; 18]`: `J_poseᵀ w J_plane`, 6 × 3 row-major
+//! - `h_plane_plane: [T; 6]`: `J_planeᵀ w J_plane`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::plane::PlaneFactor` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn plane<T: Real>(
     measured: &[T; 4],
     pose: &[T; 7],
@@ -589,4 +608,1204 @@ pub fn plane_slices<T: Real>(
     };
     self::plane(measured, pose, plane, residual, d_pose, d_plane);
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::plane::PlaneFactor` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`plane`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn plane_normal<T: Real>(
+    measured: &[T; 4],
+    pose: &[T; 7],
+    plane: &[T; 4],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_plane: Option<&mut [T; 3]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_plane: Option<&mut [T; 18]>,
+    h_plane_plane: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[0] * pose[0];
+    let v1 = pose[1] * pose[1];
+    let v2 = v0 - v1;
+    let v3 = pose[2] * pose[2];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = measured[0] * v6;
+    let v8 = pose[0] * pose[1];
+    let v9 = pose[2] * pose[3];
+    let v10 = v8 + v9;
+    let v11 = measured[1] * T::constant(2.0);
+    let v12 = v10 * v11;
+    let v13 = pose[0] * pose[2];
+    let v14 = pose[1] * pose[3];
+    let v15 = v13 - v14;
+    let v16 = T::constant(2.0) * measured[2];
+    let v17 = v15 * v16;
+    let v18 = v12 + v17;
+    let v19 = v7 + v18;
+    let v20 = plane[3] * v19;
+    let v21 = measured[0] * pose[4];
+    let v22 = measured[1] * pose[5];
+    let v23 = measured[2] * pose[6];
+    let v24 = measured[3] + v21;
+    let v25 = v22 + v23;
+    let v26 = v24 + v25;
+    let v27 = plane[0] * v26;
+    let v28 = v2 + v5;
+    let v29 = measured[1] * v28;
+    let v30 = v8 - v9;
+    let v31 = measured[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = pose[1] * pose[2];
+    let v34 = pose[0] * pose[3];
+    let v35 = v33 + v34;
+    let v36 = v16 * v35;
+    let v37 = v32 + v36;
+    let v38 = v29 - v37;
+    let v39 = plane[2] * v38;
+    let v40 = v0 + v1;
+    let v41 = v3 + v4;
+    let v42 = v40 - v41;
+    let v43 = measured[2] * T::constant(0.5);
+    let v44 = v42 * v43;
+    let v45 = v33 - v34;
+    let v46 = measured[1] * v45;
+    let v47 = v13 + v14;
+    let v48 = measured[0] * v47;
+    let v49 = v46 + v48;
+    let v50 = v49 - v44;
+    let v51 = T::constant(2.0) * plane[1];
+    let v52 = v50 * v51;
+    let v53 = v20 - v27;
+    let v54 = v39 + v52;
+    let v55 = v53 + v54;
+    let v56 = plane[3] * v26;
+    let v57 = v19 * plane[0];
+    let v58 = v38 * plane[1];
+    let v59 = T::constant(2.0) * plane[2];
+    let v60 = v50 * v59;
+    let v61 = v56 + v57;
+    let v62 = v60 - v58;
+    let v63 = v61 + v62;
+    let v64 = T::constant(1.0) / v63;
+    let v65 = v26 * plane[2];
+    let v66 = plane[0] * v38;
+    let v67 = v19 * plane[1];
+    let v68 = plane[3] * T::constant(2.0);
+    let v69 = v50 * v68;
+    let v70 = v65 + v66;
+    let v71 = v67 - v69;
+    let v72 = v70 + v71;
+    let v73 = v72 * v72;
+    let v74 = v55 * v55;
+    let v75 = v26 * plane[1];
+    let v76 = plane[3] * v38;
+    let v77 = v19 * plane[2];
+    let v78 = T::constant(2.0) * plane[0];
+    let v79 = v50 * v78;
+    let v80 = v75 + v76;
+    let v81 = v79 - v77;
+    let v82 = v80 + v81;
+    let v83 = v82 * v82;
+    let v84 = v74 + v83;
+    let v85 = v73 + v84;
+    let v86 = v64 * v85;
+    let v87 = v64 * v86;
+    let v88 = v87 * T::constant(0.6000000000000001);
+    let v89 = T::constant(1.0) - v88;
+    let v90 = v85 * v89;
+    let v91 = v64 * v90;
+    let v92 = v64 * v91;
+    let v93 = v92 - T::constant(3.0);
+    let v94 = v64 * v93;
+    let v95 = v94 * T::constant(-0.6666666666666666);
+    let v96 = T::sqrt(v85);
+    let v97 = T::atan2(v96, v63);
+    let v98 = v97 / v96;
+    let v99 = T::constant(2.0) * v98;
+    let v100 = T::select_lt(v87, T::constant(1e-6), v95, v99);
+    let v101 = T::select_lt(T::constant(0.0), v63, v100, v99);
+    let v102 = v55 * v101;
+    let v103 = v82 * v101;
+    let v104 = v72 * v101;
+    let v105 = v102 * v102;
+    let v106 = v103 * v103;
+    let v107 = v104 * v104;
+    let v108 = v105 + v106;
+    let v109 = v107 + v108;
+    let v110 = weight * v109;
+    let v111 = T::constant(0.5) * v110;
+    *cost = v111;
+    let (v125, v129, v131, v136, v140, v145, v149, v160, v162, v164) = if g_pose
+        .is_some() || g_plane.is_some() || h_pose_pose.is_some()
+        || h_pose_plane.is_some() || h_plane_plane.is_some()
+    {
+        let v112 = v87 * T::constant(1.2000000000000002);
+        let v113 = T::constant(1.0) - v112;
+        let v114 = v64 * v113;
+        let v115 = v64 * v114;
+        let v116 = v55 * v115;
+        let v117 = v64 * T::constant(-1.3333333333333333);
+        let v118 = v116 * v117;
+        let v119 = v63 * v63;
+        let v120 = v85 + v119;
+        let v121 = T::constant(1.0) / v120;
+        let v122 = v63 * v121;
+        let v123 = v98 - v122;
+        let v124 = v123 / v85;
+        let v125 = T::constant(2.0) * v55;
+        let v126 = v124 * v125;
+        let v127 = -v126;
+        let v128 = T::select_lt(v87, T::constant(1e-6), v118, v127);
+        let v129 = T::select_lt(T::constant(0.0), v63, v128, v127);
+        let v130 = v55 * v129;
+        let v131 = v101 + v130;
+        let v132 = v72 * v113;
+        let v133 = v64 * v132;
+        let v134 = v64 * v133;
+        let v135 = v117 * v134;
+        let v136 = T::constant(2.0) * v72;
+        let v137 = v124 * v136;
+        let v138 = -v137;
+        let v139 = T::select_lt(v87, T::constant(1e-6), v135, v138);
+        let v140 = T::select_lt(T::constant(0.0), v63, v139, v138);
+        let v141 = v82 * v113;
+        let v142 = v64 * v141;
+        let v143 = v64 * v142;
+        let v144 = v117 * v143;
+        let v145 = T::constant(2.0) * v82;
+        let v146 = v124 * v145;
+        let v147 = -v146;
+        let v148 = T::select_lt(v87, T::constant(1e-6), v144, v147);
+        let v149 = T::select_lt(T::constant(0.0), v63, v148, v147);
+        let v150 = v85 * v113;
+        let v151 = v64 * v150;
+        let v152 = v64 * v151;
+        let v153 = v64 * v152;
+        let v154 = T::constant(2.0) * v153;
+        let v155 = v94 + v154;
+        let v156 = v64 * T::constant(0.6666666666666666);
+        let v157 = v155 * v156;
+        let v158 = v121 * T::constant(-2.0);
+        let v159 = T::select_lt(v87, T::constant(1e-6), v157, v158);
+        let v160 = T::select_lt(T::constant(0.0), v63, v159, v158);
+        let v161 = v82 * v149;
+        let v162 = v101 + v161;
+        let v163 = v72 * v140;
+        let v164 = v101 + v163;
+        (v125, v129, v131, v136, v140, v145, v149, v160, v162, v164)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v218,
+        v269,
+        v322,
+        v331,
+        v332,
+        v333,
+        v340,
+        v347,
+        v354,
+        v361,
+        v362,
+        v363,
+        v367,
+        v371,
+        v375,
+        v380,
+        v381,
+        v382,
+    ) = if g_pose.is_some() || h_pose_pose.is_some() || h_pose_plane.is_some() {
+        let v165 = measured[1] * pose[6];
+        let v166 = measured[2] * pose[5];
+        let v167 = v165 - v166;
+        let v168 = plane[0] * T::constant(0.5);
+        let v169 = measured[1] * v42;
+        let v170 = v16 * v45;
+        let v171 = v169 + v170;
+        let v172 = plane[1] * T::constant(0.5);
+        let v173 = plane[0] * v167;
+        let v174 = plane[1] * v171;
+        let v175 = v173 + v174;
+        let v176 = T::constant(0.5) * v175;
+        let v177 = measured[1] * v15;
+        let v178 = v10 * measured[2];
+        let v179 = v177 - v178;
+        let v180 = plane[3] * v179;
+        let v181 = v28 * v43;
+        let v182 = measured[1] * v35;
+        let v183 = v181 + v182;
+        let v184 = plane[2] * v183;
+        let v185 = v180 - v184;
+        let v186 = v185 - v176;
+        let v187 = T::constant(2.0) * v186;
+        let v188 = v131 * v187;
+        let v189 = plane[2] * v167;
+        let v190 = plane[3] * v171;
+        let v191 = v78 * v183;
+        let v192 = v51 * v179;
+        let v193 = v192 - v191;
+        let v194 = v189 + v190;
+        let v195 = v193 + v194;
+        let v196 = v195 * v140;
+        let v197 = plane[1] * v167;
+        let v198 = plane[0] * v171;
+        let v199 = v68 * v183;
+        let v200 = v59 * v179;
+        let v201 = v199 + v200;
+        let v202 = v197 - v198;
+        let v203 = v202 - v201;
+        let v204 = v203 * v149;
+        let v205 = plane[3] * v167;
+        let v206 = plane[2] * v171;
+        let v207 = v78 * v179;
+        let v208 = v51 * v183;
+        let v209 = v207 + v208;
+        let v210 = v205 - v206;
+        let v211 = v209 + v210;
+        let v212 = v211 * v160;
+        let v213 = v204 + v212;
+        let v214 = T::constant(0.5) * v213;
+        let v215 = v196 + v213;
+        let v216 = T::constant(0.5) * v215;
+        let v217 = v125 * v216;
+        let v218 = v188 + v217;
+        let v219 = measured[0] * pose[6];
+        let v220 = measured[2] * pose[4];
+        let v221 = v219 - v220;
+        let v222 = v168 * v221;
+        let v223 = measured[0] * v42;
+        let v224 = v16 * v47;
+        let v225 = v223 + v224;
+        let v226 = v172 * v225;
+        let v227 = v222 + v226;
+        let v228 = v6 * v43;
+        let v229 = measured[0] * v15;
+        let v230 = v229 - v228;
+        let v231 = plane[3] * v230;
+        let v232 = measured[0] * v35;
+        let v233 = measured[2] * v30;
+        let v234 = v232 - v233;
+        let v235 = plane[2] * v234;
+        let v236 = v231 - v235;
+        let v237 = v236 - v227;
+        let v238 = T::constant(2.0) * v237;
+        let v239 = v131 * v238;
+        let v240 = plane[2] * v221;
+        let v241 = plane[3] * v225;
+        let v242 = v78 * v234;
+        let v243 = v51 * v230;
+        let v244 = v243 - v242;
+        let v245 = v240 + v241;
+        let v246 = v244 + v245;
+        let v247 = v140 * v246;
+        let v248 = plane[1] * v221;
+        let v249 = plane[0] * v225;
+        let v250 = v68 * v234;
+        let v251 = v59 * v230;
+        let v252 = v250 + v251;
+        let v253 = v248 - v249;
+        let v254 = v253 - v252;
+        let v255 = v149 * v254;
+        let v256 = plane[3] * v221;
+        let v257 = plane[2] * v225;
+        let v258 = v78 * v230;
+        let v259 = v51 * v234;
+        let v260 = v258 + v259;
+        let v261 = v256 - v257;
+        let v262 = v260 + v261;
+        let v263 = v160 * v262;
+        let v264 = v255 + v263;
+        let v265 = T::constant(0.5) * v264;
+        let v266 = v247 + v264;
+        let v267 = T::constant(0.5) * v266;
+        let v268 = v125 * v267;
+        let v269 = v239 + v268;
+        let v270 = measured[0] * pose[5];
+        let v271 = measured[1] * pose[4];
+        let v272 = v270 - v271;
+        let v273 = v168 * v272;
+        let v274 = measured[1] * T::constant(0.5);
+        let v275 = v6 * v274;
+        let v276 = measured[0] * v10;
+        let v277 = v276 - v275;
+        let v278 = plane[3] * v277;
+        let v279 = measured[0] * T::constant(0.5);
+        let v280 = v28 * v279;
+        let v281 = measured[1] * v30;
+        let v282 = v280 + v281;
+        let v283 = plane[2] * v282;
+        let v284 = measured[1] * v47;
+        let v285 = measured[0] * v45;
+        let v286 = v284 - v285;
+        let v287 = plane[1] * v286;
+        let v288 = v273 + v287;
+        let v289 = v278 + v283;
+        let v290 = v289 - v288;
+        let v291 = T::constant(2.0) * v290;
+        let v292 = v131 * v291;
+        let v293 = plane[2] * v272;
+        let v294 = v68 * v286;
+        let v295 = v78 * v282;
+        let v296 = v51 * v277;
+        let v297 = v294 + v295;
+        let v298 = v296 + v297;
+        let v299 = v293 + v298;
+        let v300 = v140 * v299;
+        let v301 = plane[1] * v272;
+        let v302 = v68 * v282;
+        let v303 = v78 * v286;
+        let v304 = v59 * v277;
+        let v305 = v302 - v303;
+        let v306 = v305 - v304;
+        let v307 = v301 + v306;
+        let v308 = v149 * v307;
+        let v309 = plane[3] * v272;
+        let v310 = v78 * v277;
+        let v311 = v51 * v282;
+        let v312 = v59 * v286;
+        let v313 = v310 - v312;
+        let v314 = v313 - v311;
+        let v315 = v309 + v314;
+        let v316 = v160 * v315;
+        let v317 = v308 + v316;
+        let v318 = T::constant(0.5) * v317;
+        let v319 = v300 + v317;
+        let v320 = T::constant(0.5) * v319;
+        let v321 = v125 * v320;
+        let v322 = v292 + v321;
+        let v323 = plane[0] * v131;
+        let v324 = plane[2] * v140;
+        let v325 = plane[1] * v149;
+        let v326 = plane[3] * v160;
+        let v327 = v325 + v326;
+        let v328 = v324 + v327;
+        let v329 = v55 * v328;
+        let v330 = v323 - v329;
+        let v331 = measured[0] * v330;
+        let v332 = measured[1] * v330;
+        let v333 = measured[2] * v330;
+        let v334 = v203 * v162;
+        let v335 = v196 + v212;
+        let v336 = T::constant(0.5) * v335;
+        let v337 = v186 * v129;
+        let v338 = v336 + v337;
+        let v339 = v145 * v338;
+        let v340 = v334 + v339;
+        let v341 = v254 * v162;
+        let v342 = v247 + v263;
+        let v343 = T::constant(0.5) * v342;
+        let v344 = v129 * v237;
+        let v345 = v343 + v344;
+        let v346 = v145 * v345;
+        let v347 = v341 + v346;
+        let v348 = v307 * v162;
+        let v349 = v300 + v316;
+        let v350 = T::constant(0.5) * v349;
+        let v351 = v129 * v290;
+        let v352 = v350 + v351;
+        let v353 = v145 * v352;
+        let v354 = v348 + v353;
+        let v355 = plane[1] * v162;
+        let v356 = plane[0] * v129;
+        let v357 = v324 + v326;
+        let v358 = v356 - v357;
+        let v359 = v82 * v358;
+        let v360 = v359 - v355;
+        let v361 = measured[0] * v360;
+        let v362 = measured[1] * v360;
+        let v363 = measured[2] * v360;
+        let v364 = v195 * v164;
+        let v365 = v214 + v337;
+        let v366 = v136 * v365;
+        let v367 = v364 + v366;
+        let v368 = v246 * v164;
+        let v369 = v265 + v344;
+        let v370 = v136 * v369;
+        let v371 = v368 + v370;
+        let v372 = v299 * v164;
+        let v373 = v318 + v351;
+        let v374 = v136 * v373;
+        let v375 = v372 + v374;
+        let v376 = plane[2] * v164;
+        let v377 = v356 - v327;
+        let v378 = v72 * v377;
+        let v379 = v378 - v376;
+        let v380 = measured[0] * v379;
+        let v381 = measured[1] * v379;
+        let v382 = measured[2] * v379;
+        (
+            v218,
+            v269,
+            v322,
+            v331,
+            v332,
+            v333,
+            v340,
+            v347,
+            v354,
+            v361,
+            v362,
+            v363,
+            v367,
+            v371,
+            v375,
+            v380,
+            v381,
+            v382,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v393,
+        v402,
+        v411,
+        v417,
+        v423,
+        v429,
+        v433,
+        v437,
+        v441,
+        v442,
+        v443,
+        v444,
+        v445,
+        v446,
+        v447,
+        v448,
+        v449,
+        v450,
+    ) = if g_plane.is_some() || h_pose_plane.is_some() || h_plane_plane.is_some() {
+        let v383 = T::constant(0.5) * v63;
+        let v384 = v82 * v140;
+        let v385 = v72 * v149;
+        let v386 = v55 * v160;
+        let v387 = v385 - v386;
+        let v388 = v387 - v384;
+        let v389 = T::constant(0.5) * v55;
+        let v390 = v63 * v131;
+        let v391 = v55 * v388;
+        let v392 = v390 + v391;
+        let v393 = T::constant(0.5) * v392;
+        let v394 = T::constant(0.5) * v72;
+        let v395 = v131 * v394;
+        let v396 = v55 * v140;
+        let v397 = v82 * v160;
+        let v398 = v63 * v149;
+        let v399 = v397 - v398;
+        let v400 = v399 - v396;
+        let v401 = v389 * v400;
+        let v402 = v395 + v401;
+        let v403 = T::constant(0.5) * v82;
+        let v404 = v131 * v403;
+        let v405 = v63 * v140;
+        let v406 = v72 * v160;
+        let v407 = v55 * v149;
+        let v408 = v406 + v407;
+        let v409 = v408 - v405;
+        let v410 = v389 * v409;
+        let v411 = v404 - v410;
+        let v412 = v162 * v394;
+        let v413 = v63 * v129;
+        let v414 = v384 + v386;
+        let v415 = v413 - v414;
+        let v416 = v403 * v415;
+        let v417 = v412 + v416;
+        let v418 = v162 * v383;
+        let v419 = v72 * v129;
+        let v420 = v396 - v397;
+        let v421 = v420 - v419;
+        let v422 = v403 * v421;
+        let v423 = v418 + v422;
+        let v424 = v162 * v389;
+        let v425 = v82 * v129;
+        let v426 = v406 - v405;
+        let v427 = v426 - v425;
+        let v428 = v403 * v427;
+        let v429 = v424 + v428;
+        let v430 = v164 * v403;
+        let v431 = v387 + v413;
+        let v432 = v394 * v431;
+        let v433 = v432 - v430;
+        let v434 = v164 * v389;
+        let v435 = v399 + v419;
+        let v436 = v394 * v435;
+        let v437 = v436 - v434;
+        let v438 = v164 * v383;
+        let v439 = v408 - v425;
+        let v440 = v394 * v439;
+        let v441 = v440 - v438;
+        let v442 = v393 * weight;
+        let v443 = v402 * weight;
+        let v444 = v411 * weight;
+        let v445 = v417 * weight;
+        let v446 = v423 * weight;
+        let v447 = v429 * weight;
+        let v448 = v433 * weight;
+        let v449 = v437 * weight;
+        let v450 = v441 * weight;
+        (
+            v393,
+            v402,
+            v411,
+            v417,
+            v423,
+            v429,
+            v433,
+            v437,
+            v441,
+            v442,
+            v443,
+            v444,
+            v445,
+            v446,
+            v447,
+            v448,
+            v449,
+            v450,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v451,
+        v452,
+        v453,
+        v454,
+        v455,
+        v456,
+        v457,
+        v458,
+        v459,
+        v460,
+        v461,
+        v462,
+        v463,
+        v464,
+        v465,
+        v466,
+        v467,
+        v468,
+    ) = if g_pose.is_some() || h_pose_pose.is_some() {
+        let v451 = v218 * weight;
+        let v452 = v269 * weight;
+        let v453 = v322 * weight;
+        let v454 = v331 * weight;
+        let v455 = v332 * weight;
+        let v456 = v333 * weight;
+        let v457 = v340 * weight;
+        let v458 = v347 * weight;
+        let v459 = v354 * weight;
+        let v460 = v361 * weight;
+        let v461 = v362 * weight;
+        let v462 = v363 * weight;
+        let v463 = v367 * weight;
+        let v464 = v371 * weight;
+        let v465 = v375 * weight;
+        let v466 = v380 * weight;
+        let v467 = v381 * weight;
+        let v468 = v382 * weight;
+        (
+            v451,
+            v452,
+            v453,
+            v454,
+            v455,
+            v456,
+            v457,
+            v458,
+            v459,
+            v460,
+            v461,
+            v462,
+            v463,
+            v464,
+            v465,
+            v466,
+            v467,
+            v468,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v469 = v102 * v451;
+        let v470 = v103 * v457;
+        let v471 = v104 * v463;
+        let v472 = v469 + v470;
+        let v473 = v471 + v472;
+        let v474 = -v473;
+        let v475 = v102 * v452;
+        let v476 = v103 * v458;
+        let v477 = v104 * v464;
+        let v478 = v475 + v476;
+        let v479 = v477 + v478;
+        let v480 = v102 * v453;
+        let v481 = v103 * v459;
+        let v482 = v104 * v465;
+        let v483 = v480 + v481;
+        let v484 = v482 + v483;
+        let v485 = -v484;
+        let v486 = v102 * v454;
+        let v487 = v103 * v460;
+        let v488 = v104 * v466;
+        let v489 = v486 + v487;
+        let v490 = v488 + v489;
+        let v491 = -v490;
+        let v492 = v102 * v455;
+        let v493 = v103 * v461;
+        let v494 = v104 * v467;
+        let v495 = v492 + v493;
+        let v496 = v494 + v495;
+        let v497 = -v496;
+        let v498 = v102 * v456;
+        let v499 = v103 * v462;
+        let v500 = v104 * v468;
+        let v501 = v498 + v499;
+        let v502 = v500 + v501;
+        let v503 = -v502;
+        g_pose[0] = v474;
+        g_pose[1] = v479;
+        g_pose[2] = v485;
+        g_pose[3] = v491;
+        g_pose[4] = v497;
+        g_pose[5] = v503;
+    }
+    if let Some(g_plane) = g_plane {
+        let v504 = v102 * v442;
+        let v505 = v103 * v445;
+        let v506 = v104 * v448;
+        let v507 = v504 + v505;
+        let v508 = v506 + v507;
+        let v509 = -v508;
+        let v510 = v102 * v443;
+        let v511 = v103 * v446;
+        let v512 = v104 * v449;
+        let v513 = v511 - v510;
+        let v514 = v513 - v512;
+        let v515 = v102 * v444;
+        let v516 = v103 * v447;
+        let v517 = v104 * v450;
+        let v518 = v515 - v516;
+        let v519 = v518 - v517;
+        g_plane[0] = v509;
+        g_plane[1] = v514;
+        g_plane[2] = v519;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v520 = v218 * v451;
+        let v521 = v340 * v457;
+        let v522 = v367 * v463;
+        let v523 = v520 + v521;
+        let v524 = v522 + v523;
+        let v525 = v218 * v452;
+        let v526 = v340 * v458;
+        let v527 = v367 * v464;
+        let v528 = v525 + v526;
+        let v529 = v527 + v528;
+        let v530 = -v529;
+        let v531 = v218 * v453;
+        let v532 = v340 * v459;
+        let v533 = v367 * v465;
+        let v534 = v531 + v532;
+        let v535 = v533 + v534;
+        let v536 = v218 * v454;
+        let v537 = v340 * v460;
+        let v538 = v367 * v466;
+        let v539 = v536 + v537;
+        let v540 = v538 + v539;
+        let v541 = v218 * v455;
+        let v542 = v340 * v461;
+        let v543 = v367 * v467;
+        let v544 = v541 + v542;
+        let v545 = v543 + v544;
+        let v546 = v218 * v456;
+        let v547 = v340 * v462;
+        let v548 = v367 * v468;
+        let v549 = v546 + v547;
+        let v550 = v548 + v549;
+        let v551 = v269 * v452;
+        let v552 = v347 * v458;
+        let v553 = v371 * v464;
+        let v554 = v551 + v552;
+        let v555 = v553 + v554;
+        let v556 = v269 * v453;
+        let v557 = v347 * v459;
+        let v558 = v371 * v465;
+        let v559 = v556 + v557;
+        let v560 = v558 + v559;
+        let v561 = -v560;
+        let v562 = v269 * v454;
+        let v563 = v347 * v460;
+        let v564 = v371 * v466;
+        let v565 = v562 + v563;
+        let v566 = v564 + v565;
+        let v567 = -v566;
+        let v568 = v269 * v455;
+        let v569 = v347 * v461;
+        let v570 = v371 * v467;
+        let v571 = v568 + v569;
+        let v572 = v570 + v571;
+        let v573 = -v572;
+        let v574 = v269 * v456;
+        let v575 = v347 * v462;
+        let v576 = v371 * v468;
+        let v577 = v574 + v575;
+        let v578 = v576 + v577;
+        let v579 = -v578;
+        let v580 = v322 * v453;
+        let v581 = v354 * v459;
+        let v582 = v375 * v465;
+        let v583 = v580 + v581;
+        let v584 = v582 + v583;
+        let v585 = v322 * v454;
+        let v586 = v354 * v460;
+        let v587 = v375 * v466;
+        let v588 = v585 + v586;
+        let v589 = v587 + v588;
+        let v590 = v322 * v455;
+        let v591 = v354 * v461;
+        let v592 = v375 * v467;
+        let v593 = v590 + v591;
+        let v594 = v592 + v593;
+        let v595 = v322 * v456;
+        let v596 = v354 * v462;
+        let v597 = v375 * v468;
+        let v598 = v595 + v596;
+        let v599 = v597 + v598;
+        let v600 = v331 * v454;
+        let v601 = v361 * v460;
+        let v602 = v380 * v466;
+        let v603 = v600 + v601;
+        let v604 = v602 + v603;
+        let v605 = v331 * v455;
+        let v606 = v361 * v461;
+        let v607 = v380 * v467;
+        let v608 = v605 + v606;
+        let v609 = v607 + v608;
+        let v610 = v331 * v456;
+        let v611 = v361 * v462;
+        let v612 = v380 * v468;
+        let v613 = v610 + v611;
+        let v614 = v612 + v613;
+        let v615 = v332 * v455;
+        let v616 = v362 * v461;
+        let v617 = v381 * v467;
+        let v618 = v615 + v616;
+        let v619 = v617 + v618;
+        let v620 = v332 * v456;
+        let v621 = v362 * v462;
+        let v622 = v381 * v468;
+        let v623 = v620 + v621;
+        let v624 = v622 + v623;
+        let v625 = v333 * v456;
+        let v626 = v363 * v462;
+        let v627 = v382 * v468;
+        let v628 = v625 + v626;
+        let v629 = v627 + v628;
+        h_pose_pose[0] = v524;
+        h_pose_pose[1] = v530;
+        h_pose_pose[2] = v535;
+        h_pose_pose[3] = v540;
+        h_pose_pose[4] = v545;
+        h_pose_pose[5] = v550;
+        h_pose_pose[6] = v555;
+        h_pose_pose[7] = v561;
+        h_pose_pose[8] = v567;
+        h_pose_pose[9] = v573;
+        h_pose_pose[10] = v579;
+        h_pose_pose[11] = v584;
+        h_pose_pose[12] = v589;
+        h_pose_pose[13] = v594;
+        h_pose_pose[14] = v599;
+        h_pose_pose[15] = v604;
+        h_pose_pose[16] = v609;
+        h_pose_pose[17] = v614;
+        h_pose_pose[18] = v619;
+        h_pose_pose[19] = v624;
+        h_pose_pose[20] = v629;
+    }
+    if let Some(h_pose_plane) = h_pose_plane {
+        let v630 = v218 * v442;
+        let v631 = v340 * v445;
+        let v632 = v367 * v448;
+        let v633 = v630 + v631;
+        let v634 = v632 + v633;
+        let v635 = v218 * v443;
+        let v636 = v340 * v446;
+        let v637 = v367 * v449;
+        let v638 = v635 - v636;
+        let v639 = v637 + v638;
+        let v640 = v218 * v444;
+        let v641 = v340 * v447;
+        let v642 = v367 * v450;
+        let v643 = v641 - v640;
+        let v644 = v642 + v643;
+        let v645 = v269 * v442;
+        let v646 = v347 * v445;
+        let v647 = v371 * v448;
+        let v648 = v645 + v646;
+        let v649 = v647 + v648;
+        let v650 = -v649;
+        let v651 = v269 * v443;
+        let v652 = v347 * v446;
+        let v653 = v371 * v449;
+        let v654 = v652 - v651;
+        let v655 = v654 - v653;
+        let v656 = v269 * v444;
+        let v657 = v347 * v447;
+        let v658 = v371 * v450;
+        let v659 = v656 - v657;
+        let v660 = v659 - v658;
+        let v661 = v322 * v442;
+        let v662 = v354 * v445;
+        let v663 = v375 * v448;
+        let v664 = v661 + v662;
+        let v665 = v663 + v664;
+        let v666 = v322 * v443;
+        let v667 = v354 * v446;
+        let v668 = v375 * v449;
+        let v669 = v666 - v667;
+        let v670 = v668 + v669;
+        let v671 = v322 * v444;
+        let v672 = v354 * v447;
+        let v673 = v375 * v450;
+        let v674 = v672 - v671;
+        let v675 = v673 + v674;
+        let v676 = v331 * v442;
+        let v677 = v361 * v445;
+        let v678 = v380 * v448;
+        let v679 = v676 + v677;
+        let v680 = v678 + v679;
+        let v681 = v331 * v443;
+        let v682 = v361 * v446;
+        let v683 = v380 * v449;
+        let v684 = v681 - v682;
+        let v685 = v683 + v684;
+        let v686 = v331 * v444;
+        let v687 = v361 * v447;
+        let v688 = v380 * v450;
+        let v689 = v687 - v686;
+        let v690 = v688 + v689;
+        let v691 = v332 * v442;
+        let v692 = v362 * v445;
+        let v693 = v381 * v448;
+        let v694 = v691 + v692;
+        let v695 = v693 + v694;
+        let v696 = v332 * v443;
+        let v697 = v362 * v446;
+        let v698 = v381 * v449;
+        let v699 = v696 - v697;
+        let v700 = v698 + v699;
+        let v701 = v332 * v444;
+        let v702 = v362 * v447;
+        let v703 = v381 * v450;
+        let v704 = v702 - v701;
+        let v705 = v703 + v704;
+        let v706 = v333 * v442;
+        let v707 = v363 * v445;
+        let v708 = v382 * v448;
+        let v709 = v706 + v707;
+        let v710 = v708 + v709;
+        let v711 = v333 * v443;
+        let v712 = v363 * v446;
+        let v713 = v382 * v449;
+        let v714 = v711 - v712;
+        let v715 = v713 + v714;
+        let v716 = v333 * v444;
+        let v717 = v363 * v447;
+        let v718 = v382 * v450;
+        let v719 = v717 - v716;
+        let v720 = v718 + v719;
+        h_pose_plane[0] = v634;
+        h_pose_plane[1] = v639;
+        h_pose_plane[2] = v644;
+        h_pose_plane[3] = v650;
+        h_pose_plane[4] = v655;
+        h_pose_plane[5] = v660;
+        h_pose_plane[6] = v665;
+        h_pose_plane[7] = v670;
+        h_pose_plane[8] = v675;
+        h_pose_plane[9] = v680;
+        h_pose_plane[10] = v685;
+        h_pose_plane[11] = v690;
+        h_pose_plane[12] = v695;
+        h_pose_plane[13] = v700;
+        h_pose_plane[14] = v705;
+        h_pose_plane[15] = v710;
+        h_pose_plane[16] = v715;
+        h_pose_plane[17] = v720;
+    }
+    if let Some(h_plane_plane) = h_plane_plane {
+        let v721 = v393 * v442;
+        let v722 = v417 * v445;
+        let v723 = v433 * v448;
+        let v724 = v721 + v722;
+        let v725 = v723 + v724;
+        let v726 = v393 * v443;
+        let v727 = v417 * v446;
+        let v728 = v433 * v449;
+        let v729 = v726 - v727;
+        let v730 = v728 + v729;
+        let v731 = v393 * v444;
+        let v732 = v417 * v447;
+        let v733 = v433 * v450;
+        let v734 = v732 - v731;
+        let v735 = v733 + v734;
+        let v736 = v402 * v443;
+        let v737 = v423 * v446;
+        let v738 = v437 * v449;
+        let v739 = v736 + v737;
+        let v740 = v738 + v739;
+        let v741 = v402 * v444;
+        let v742 = v423 * v447;
+        let v743 = v437 * v450;
+        let v744 = v743 - v741;
+        let v745 = v744 - v742;
+        let v746 = v411 * v444;
+        let v747 = v429 * v447;
+        let v748 = v441 * v450;
+        let v749 = v746 + v747;
+        let v750 = v748 + v749;
+        h_plane_plane[0] = v725;
+        h_plane_plane[1] = v730;
+        h_plane_plane[2] = v735;
+        h_plane_plane[3] = v740;
+        h_plane_plane[4] = v745;
+        h_plane_plane[5] = v750;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[4, 7, 4],
+    tangents: &[6, 3],
+    gradient: &[6, 3],
+    hessian: &[21, 18, 6],
+};
+
+/// [`plane_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn plane_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [measured, pose, plane] = inputs else {
+        return false;
+    };
+    let (Ok(measured), Ok(pose), Ok(plane)) = (
+        <&[T; 4]>::try_from(*measured),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 4]>::try_from(*plane),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_plane] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_plane, h_plane_plane] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_plane = match g_plane.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_plane = match h_pose_plane.as_deref_mut().map(<&mut [T; 18]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_plane_plane = match h_plane_plane.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::plane_normal(
+        measured,
+        pose,
+        plane,
+        weight,
+        cost,
+        g_pose,
+        g_plane,
+        h_pose_pose,
+        h_pose_plane,
+        h_plane_plane,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`plane`] and [`plane_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 15];
+    type Outputs = [T; 30];
+    const FIELDS: &'static [usize] = &[4, 7, 4];
+    const RESIDUAL: usize = 3;
+    const TANGENTS: &'static [usize] = &[6, 3];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 15], outputs: &mut [T; 30], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((d_plane, _)) = rest.split_first_chunk_mut::<9>() else {
+            return;
+        };
+        plane(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+            ],
+            &[inputs[11], inputs[12], inputs[13], inputs[14]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_plane),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 55];
+    #[inline(always)]
+    fn normal(inputs: &[T; 15], weight: T, outputs: &mut [T; 55], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_plane, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_plane, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((h_plane_plane, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        plane_normal(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+            ],
+            &[inputs[11], inputs[12], inputs[13], inputs[14]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_plane),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_plane),
+            free_1.then_some(h_plane_plane),
+        );
+    }
 }

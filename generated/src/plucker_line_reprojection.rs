@@ -32,15 +32,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 89 | 173 | 2 | 6 | 1 | 0 | 0 | 271 |
 //! | residual only | 40 | 59 | 1 | 1 | 1 | 0 | 0 | 102 |
+//! | normal equations | 180 | 381 | 2 | 8 | 1 | 0 | 0 | 572 |
+//! | normal equations, cost only | 41 | 63 | 1 | 0 | 1 | 0 | 0 | 106 |
+//!
+//! # Normal equations
+//!
+//! `plucker_line_reprojection_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_line: [T; 6]`: `J_lineᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_line: [T; 36]`: `J_poseᵀ w J_line`, 6 × 6 row-major
+//! - `h_line_line: [T; 21]`: `J_lineᵀ w J_line`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::plucker_line_reprojection::PluckerLineReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn plucker_line_reprojection<T: Real>(
     intrinsics: &[T; 4],
     start: &[T; 2],
@@ -417,4 +436,999 @@ pub fn plucker_line_reprojection_slices<T: Real>(
         d_line,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::plucker_line_reprojection::PluckerLineReprojection` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`plucker_line_reprojection`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn plucker_line_reprojection_normal<T: Real>(
+    intrinsics: &[T; 4],
+    start: &[T; 2],
+    end: &[T; 2],
+    pose: &[T; 7],
+    line: &[T; 6],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_line: Option<&mut [T; 6]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_line: Option<&mut [T; 36]>,
+    h_line_line: Option<&mut [T; 21]>,
+) {
+    let v0 = pose[0] * pose[0];
+    let v1 = pose[1] * pose[1];
+    let v2 = v0 - v1;
+    let v3 = pose[2] * pose[2];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = line[0] * v6;
+    let v8 = v2 + v5;
+    let v9 = line[4] * v8;
+    let v10 = pose[0] * pose[1];
+    let v11 = pose[2] * pose[3];
+    let v12 = v10 + v11;
+    let v13 = line[3] * T::constant(2.0);
+    let v14 = v12 * v13;
+    let v15 = pose[1] * pose[2];
+    let v16 = pose[0] * pose[3];
+    let v17 = v15 - v16;
+    let v18 = T::constant(2.0) * line[5];
+    let v19 = v17 * v18;
+    let v20 = v14 + v19;
+    let v21 = v9 - v20;
+    let v22 = pose[6] * v21;
+    let v23 = v10 - v11;
+    let v24 = T::constant(2.0) * line[1];
+    let v25 = v23 * v24;
+    let v26 = pose[0] * pose[2];
+    let v27 = pose[1] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = T::constant(2.0) * line[2];
+    let v30 = v28 * v29;
+    let v31 = v0 + v1;
+    let v32 = v3 + v4;
+    let v33 = v31 - v32;
+    let v34 = line[5] * T::constant(0.5);
+    let v35 = v33 * v34;
+    let v36 = v15 + v16;
+    let v37 = line[4] * v36;
+    let v38 = v26 - v27;
+    let v39 = line[3] * v38;
+    let v40 = v37 + v39;
+    let v41 = v40 - v35;
+    let v42 = T::constant(2.0) * pose[5];
+    let v43 = v41 * v42;
+    let v44 = v25 + v30;
+    let v45 = v43 + v44;
+    let v46 = v7 + v22;
+    let v47 = v45 + v46;
+    let v48 = intrinsics[1] * v47;
+    let v49 = v48 * v48;
+    let v50 = v8 * line[1];
+    let v51 = v6 * line[3];
+    let v52 = line[4] * T::constant(2.0);
+    let v53 = v23 * v52;
+    let v54 = v18 * v28;
+    let v55 = v53 + v54;
+    let v56 = v51 + v55;
+    let v57 = pose[6] * v56;
+    let v58 = line[0] * T::constant(2.0);
+    let v59 = v12 * v58;
+    let v60 = v17 * v29;
+    let v61 = T::constant(2.0) * pose[4];
+    let v62 = v41 * v61;
+    let v63 = v59 + v60;
+    let v64 = v62 - v63;
+    let v65 = v50 - v57;
+    let v66 = v64 + v65;
+    let v67 = intrinsics[0] * v66;
+    let v68 = v67 * v67;
+    let v69 = v49 + v68;
+    let v70 = T::sqrt(v69);
+    let v71 = T::constant(1.0) / v70;
+    let v72 = intrinsics[2] - start[0];
+    let v73 = v48 * v72;
+    let v74 = intrinsics[3] - start[1];
+    let v75 = v67 * v74;
+    let v76 = line[2] * v33;
+    let v77 = pose[5] * v56;
+    let v78 = v21 * pose[4];
+    let v79 = v76 + v77;
+    let v80 = v78 + v79;
+    let v81 = T::constant(0.5) * v80;
+    let v82 = line[1] * v36;
+    let v83 = line[0] * v38;
+    let v84 = v82 + v83;
+    let v85 = v84 - v81;
+    let v86 = intrinsics[1] * intrinsics[0];
+    let v87 = v85 * v86;
+    let v88 = T::constant(2.0) * v87;
+    let v89 = v73 - v75;
+    let v90 = v89 - v88;
+    let v91 = v71 * v90;
+    let v92 = intrinsics[2] - end[0];
+    let v93 = intrinsics[3] - end[1];
+    let v94 = v48 * v92;
+    let v95 = v67 * v93;
+    let v96 = v95 - v94;
+    let v97 = T::constant(0.5) * v96;
+    let v98 = v87 + v97;
+    let v99 = T::constant(2.0) * v98;
+    let v100 = v71 * v99;
+    let v101 = v91 * v91;
+    let v102 = v100 * v100;
+    let v103 = v101 + v102;
+    let v104 = weight * v103;
+    let v105 = T::constant(0.5) * v104;
+    *cost = v105;
+    let (v109, v116, v120, v124, v127) = if g_pose.is_some() || g_line.is_some()
+        || h_pose_pose.is_some() || h_pose_line.is_some() || h_line_line.is_some()
+    {
+        let v106 = T::constant(0.5) * v92;
+        let v107 = T::constant(0.5) * v93;
+        let v108 = intrinsics[1] * v71;
+        let v109 = intrinsics[0] * v108;
+        let v110 = T::constant(1.0) / v69;
+        let v111 = v90 * v110;
+        let v112 = intrinsics[0] * v71;
+        let v113 = v67 * v112;
+        let v114 = v111 * v113;
+        let v115 = v74 * v112;
+        let v116 = v114 + v115;
+        let v117 = v48 * v108;
+        let v118 = v111 * v117;
+        let v119 = v72 * v108;
+        let v120 = v118 - v119;
+        let v121 = v107 * v112;
+        let v122 = v98 * v110;
+        let v123 = v113 * v122;
+        let v124 = v123 - v121;
+        let v125 = v106 * v108;
+        let v126 = v117 * v122;
+        let v127 = v125 + v126;
+        (v109, v116, v120, v124, v127)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v131, v134, v137, v141, v144, v147, v150, v152, v156, v159, v161, v165) = if g_pose
+        .is_some() || h_pose_pose.is_some() || h_pose_line.is_some()
+    {
+        let v128 = v66 * v109;
+        let v129 = T::constant(2.0) * v85;
+        let v130 = v116 * v129;
+        let v131 = v130 - v128;
+        let v132 = v47 * v109;
+        let v133 = v129 * v120;
+        let v134 = v133 - v132;
+        let v135 = v66 * v120;
+        let v136 = v47 * v116;
+        let v137 = v135 - v136;
+        let v138 = v21 * v109;
+        let v139 = T::constant(2.0) * v41;
+        let v140 = v116 * v139;
+        let v141 = v140 - v138;
+        let v142 = v56 * v109;
+        let v143 = v120 * v139;
+        let v144 = v143 - v142;
+        let v145 = v21 * v120;
+        let v146 = v56 * v116;
+        let v147 = v145 - v146;
+        let v148 = v85 * T::constant(4.0);
+        let v149 = v124 * v148;
+        let v150 = v128 + v149;
+        let v151 = v148 * v127;
+        let v152 = v132 + v151;
+        let v153 = v66 * v127;
+        let v154 = v47 * v124;
+        let v155 = v154 - v153;
+        let v156 = T::constant(2.0) * v155;
+        let v157 = v41 * T::constant(4.0);
+        let v158 = v124 * v157;
+        let v159 = v138 + v158;
+        let v160 = v127 * v157;
+        let v161 = v142 + v160;
+        let v162 = v21 * v127;
+        let v163 = v56 * v124;
+        let v164 = v163 - v162;
+        let v165 = T::constant(2.0) * v164;
+        (v131, v134, v137, v141, v144, v147, v150, v152, v156, v159, v161, v165)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v173,
+        v180,
+        v186,
+        v201,
+        v218,
+        v235,
+        v241,
+        v247,
+        v252,
+        v258,
+        v263,
+        v269,
+        v270,
+        v271,
+        v272,
+        v273,
+        v274,
+        v275,
+        v276,
+        v277,
+        v278,
+        v279,
+        v280,
+        v281,
+    ) = if g_line.is_some() || h_pose_line.is_some() || h_line_line.is_some() {
+        let v166 = T::constant(0.5) * pose[4];
+        let v167 = v6 * v120;
+        let v168 = v38 * v109;
+        let v169 = T::constant(2.0) * v168;
+        let v170 = v12 * v116;
+        let v171 = v168 - v170;
+        let v172 = T::constant(2.0) * v171;
+        let v173 = v167 + v172;
+        let v174 = v8 * v116;
+        let v175 = v36 * v109;
+        let v176 = T::constant(2.0) * v175;
+        let v177 = v23 * v120;
+        let v178 = v175 + v177;
+        let v179 = T::constant(2.0) * v178;
+        let v180 = v174 + v179;
+        let v181 = v33 * v109;
+        let v182 = v28 * v120;
+        let v183 = v17 * v116;
+        let v184 = v182 - v183;
+        let v185 = T::constant(2.0) * v184;
+        let v186 = v185 - v181;
+        let v187 = v6 * pose[6];
+        let v188 = v38 * v61;
+        let v189 = v187 - v188;
+        let v190 = v116 * v189;
+        let v191 = v6 * pose[5];
+        let v192 = v12 * v61;
+        let v193 = v191 - v192;
+        let v194 = v109 * v193;
+        let v195 = pose[5] * v38;
+        let v196 = pose[6] * v12;
+        let v197 = v195 - v196;
+        let v198 = T::constant(2.0) * v197;
+        let v199 = v120 * v198;
+        let v200 = v190 + v194;
+        let v201 = v199 - v200;
+        let v202 = pose[6] * T::constant(0.5);
+        let v203 = v8 * v202;
+        let v204 = pose[5] * v36;
+        let v205 = v203 + v204;
+        let v206 = pose[6] * v23;
+        let v207 = v36 * pose[4];
+        let v208 = v206 - v207;
+        let v209 = v8 * v166;
+        let v210 = v23 * pose[5];
+        let v211 = v209 + v210;
+        let v212 = v109 * v211;
+        let v213 = T::constant(2.0) * v212;
+        let v214 = v120 * v205;
+        let v215 = v116 * v208;
+        let v216 = v214 - v212;
+        let v217 = v216 - v215;
+        let v218 = T::constant(2.0) * v217;
+        let v219 = pose[5] * v33;
+        let v220 = pose[6] * T::constant(2.0);
+        let v221 = v17 * v220;
+        let v222 = v219 + v221;
+        let v223 = v120 * v222;
+        let v224 = v33 * v166;
+        let v225 = pose[6] * v28;
+        let v226 = v224 + v225;
+        let v227 = v28 * pose[5];
+        let v228 = v17 * pose[4];
+        let v229 = v227 - v228;
+        let v230 = v109 * v229;
+        let v231 = T::constant(2.0) * v230;
+        let v232 = v116 * v226;
+        let v233 = v230 + v232;
+        let v234 = T::constant(2.0) * v233;
+        let v235 = v223 + v234;
+        let v236 = v6 * T::constant(2.0);
+        let v237 = v127 * v236;
+        let v238 = v169 - v237;
+        let v239 = v12 * T::constant(4.0);
+        let v240 = v124 * v239;
+        let v241 = v238 + v240;
+        let v242 = v8 * T::constant(2.0);
+        let v243 = v124 * v242;
+        let v244 = v176 - v243;
+        let v245 = v23 * T::constant(4.0);
+        let v246 = v127 * v245;
+        let v247 = v244 - v246;
+        let v248 = v28 * v127;
+        let v249 = v17 * v124;
+        let v250 = v249 - v248;
+        let v251 = T::constant(4.0) * v250;
+        let v252 = v251 - v181;
+        let v253 = T::constant(2.0) * v189;
+        let v254 = v124 * v253;
+        let v255 = T::constant(4.0) * v197;
+        let v256 = v127 * v255;
+        let v257 = v254 - v194;
+        let v258 = v257 - v256;
+        let v259 = v127 * v205;
+        let v260 = v124 * v208;
+        let v261 = v260 - v259;
+        let v262 = T::constant(4.0) * v261;
+        let v263 = v262 - v213;
+        let v264 = T::constant(2.0) * v222;
+        let v265 = v127 * v264;
+        let v266 = v265 - v231;
+        let v267 = T::constant(4.0) * v226;
+        let v268 = v124 * v267;
+        let v269 = v266 + v268;
+        let v270 = v173 * weight;
+        let v271 = v180 * weight;
+        let v272 = v186 * weight;
+        let v273 = v201 * weight;
+        let v274 = v218 * weight;
+        let v275 = v235 * weight;
+        let v276 = v241 * weight;
+        let v277 = v247 * weight;
+        let v278 = v252 * weight;
+        let v279 = v258 * weight;
+        let v280 = v263 * weight;
+        let v281 = v269 * weight;
+        (
+            v173,
+            v180,
+            v186,
+            v201,
+            v218,
+            v235,
+            v241,
+            v247,
+            v252,
+            v258,
+            v263,
+            v269,
+            v270,
+            v271,
+            v272,
+            v273,
+            v274,
+            v275,
+            v276,
+            v277,
+            v278,
+            v279,
+            v280,
+            v281,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v282, v283, v284, v285, v286, v287, v288, v289, v290, v291, v292, v293) = if g_pose
+        .is_some() || h_pose_pose.is_some()
+    {
+        let v282 = v131 * weight;
+        let v283 = v134 * weight;
+        let v284 = v137 * weight;
+        let v285 = v141 * weight;
+        let v286 = v144 * weight;
+        let v287 = v147 * weight;
+        let v288 = v150 * weight;
+        let v289 = v152 * weight;
+        let v290 = v156 * weight;
+        let v291 = v159 * weight;
+        let v292 = v161 * weight;
+        let v293 = v165 * weight;
+        (v282, v283, v284, v285, v286, v287, v288, v289, v290, v291, v292, v293)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v294 = v91 * v282;
+        let v295 = v100 * v288;
+        let v296 = v294 + v295;
+        let v297 = -v296;
+        let v298 = v91 * v283;
+        let v299 = v100 * v289;
+        let v300 = v298 + v299;
+        let v301 = -v300;
+        let v302 = v91 * v284;
+        let v303 = v100 * v290;
+        let v304 = v303 - v302;
+        let v305 = v91 * v285;
+        let v306 = v100 * v291;
+        let v307 = v305 + v306;
+        let v308 = -v307;
+        let v309 = v91 * v286;
+        let v310 = v100 * v292;
+        let v311 = v309 + v310;
+        let v312 = -v311;
+        let v313 = v91 * v287;
+        let v314 = v100 * v293;
+        let v315 = v314 - v313;
+        g_pose[0] = v297;
+        g_pose[1] = v301;
+        g_pose[2] = v304;
+        g_pose[3] = v308;
+        g_pose[4] = v312;
+        g_pose[5] = v315;
+    }
+    if let Some(g_line) = g_line {
+        let v316 = v91 * v270;
+        let v317 = v100 * v276;
+        let v318 = v317 - v316;
+        let v319 = v91 * v271;
+        let v320 = v100 * v277;
+        let v321 = v320 - v319;
+        let v322 = v91 * v272;
+        let v323 = v100 * v278;
+        let v324 = v323 - v322;
+        let v325 = v91 * v273;
+        let v326 = v100 * v279;
+        let v327 = v326 - v325;
+        let v328 = v91 * v274;
+        let v329 = v100 * v280;
+        let v330 = v329 - v328;
+        let v331 = v91 * v275;
+        let v332 = v100 * v281;
+        let v333 = v331 + v332;
+        g_line[0] = v318;
+        g_line[1] = v321;
+        g_line[2] = v324;
+        g_line[3] = v327;
+        g_line[4] = v330;
+        g_line[5] = v333;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v334 = v131 * v282;
+        let v335 = v150 * v288;
+        let v336 = v334 + v335;
+        let v337 = v131 * v283;
+        let v338 = v150 * v289;
+        let v339 = v337 + v338;
+        let v340 = v131 * v284;
+        let v341 = v150 * v290;
+        let v342 = v340 - v341;
+        let v343 = v131 * v285;
+        let v344 = v150 * v291;
+        let v345 = v343 + v344;
+        let v346 = v131 * v286;
+        let v347 = v150 * v292;
+        let v348 = v346 + v347;
+        let v349 = v131 * v287;
+        let v350 = v150 * v293;
+        let v351 = v349 - v350;
+        let v352 = v134 * v283;
+        let v353 = v152 * v289;
+        let v354 = v352 + v353;
+        let v355 = v134 * v284;
+        let v356 = v152 * v290;
+        let v357 = v355 - v356;
+        let v358 = v134 * v285;
+        let v359 = v152 * v291;
+        let v360 = v358 + v359;
+        let v361 = v134 * v286;
+        let v362 = v152 * v292;
+        let v363 = v361 + v362;
+        let v364 = v134 * v287;
+        let v365 = v152 * v293;
+        let v366 = v364 - v365;
+        let v367 = v137 * v284;
+        let v368 = v156 * v290;
+        let v369 = v367 + v368;
+        let v370 = v137 * v285;
+        let v371 = v156 * v291;
+        let v372 = v370 - v371;
+        let v373 = v137 * v286;
+        let v374 = v156 * v292;
+        let v375 = v373 - v374;
+        let v376 = v137 * v287;
+        let v377 = v156 * v293;
+        let v378 = v376 + v377;
+        let v379 = v141 * v285;
+        let v380 = v159 * v291;
+        let v381 = v379 + v380;
+        let v382 = v141 * v286;
+        let v383 = v159 * v292;
+        let v384 = v382 + v383;
+        let v385 = v141 * v287;
+        let v386 = v159 * v293;
+        let v387 = v385 - v386;
+        let v388 = v144 * v286;
+        let v389 = v161 * v292;
+        let v390 = v388 + v389;
+        let v391 = v144 * v287;
+        let v392 = v161 * v293;
+        let v393 = v391 - v392;
+        let v394 = v147 * v287;
+        let v395 = v165 * v293;
+        let v396 = v394 + v395;
+        h_pose_pose[0] = v336;
+        h_pose_pose[1] = v339;
+        h_pose_pose[2] = v342;
+        h_pose_pose[3] = v345;
+        h_pose_pose[4] = v348;
+        h_pose_pose[5] = v351;
+        h_pose_pose[6] = v354;
+        h_pose_pose[7] = v357;
+        h_pose_pose[8] = v360;
+        h_pose_pose[9] = v363;
+        h_pose_pose[10] = v366;
+        h_pose_pose[11] = v369;
+        h_pose_pose[12] = v372;
+        h_pose_pose[13] = v375;
+        h_pose_pose[14] = v378;
+        h_pose_pose[15] = v381;
+        h_pose_pose[16] = v384;
+        h_pose_pose[17] = v387;
+        h_pose_pose[18] = v390;
+        h_pose_pose[19] = v393;
+        h_pose_pose[20] = v396;
+    }
+    if let Some(h_pose_line) = h_pose_line {
+        let v397 = v131 * v270;
+        let v398 = v150 * v276;
+        let v399 = v397 - v398;
+        let v400 = v131 * v271;
+        let v401 = v150 * v277;
+        let v402 = v400 - v401;
+        let v403 = v131 * v272;
+        let v404 = v150 * v278;
+        let v405 = v403 - v404;
+        let v406 = v131 * v273;
+        let v407 = v150 * v279;
+        let v408 = v406 - v407;
+        let v409 = v131 * v274;
+        let v410 = v150 * v280;
+        let v411 = v409 - v410;
+        let v412 = v131 * v275;
+        let v413 = v150 * v281;
+        let v414 = v412 + v413;
+        let v415 = -v414;
+        let v416 = v134 * v270;
+        let v417 = v152 * v276;
+        let v418 = v416 - v417;
+        let v419 = v134 * v271;
+        let v420 = v152 * v277;
+        let v421 = v419 - v420;
+        let v422 = v134 * v272;
+        let v423 = v152 * v278;
+        let v424 = v422 - v423;
+        let v425 = v134 * v273;
+        let v426 = v152 * v279;
+        let v427 = v425 - v426;
+        let v428 = v134 * v274;
+        let v429 = v152 * v280;
+        let v430 = v428 - v429;
+        let v431 = v134 * v275;
+        let v432 = v152 * v281;
+        let v433 = v431 + v432;
+        let v434 = -v433;
+        let v435 = v137 * v270;
+        let v436 = v156 * v276;
+        let v437 = v435 + v436;
+        let v438 = v137 * v271;
+        let v439 = v156 * v277;
+        let v440 = v438 + v439;
+        let v441 = v137 * v272;
+        let v442 = v156 * v278;
+        let v443 = v441 + v442;
+        let v444 = v137 * v273;
+        let v445 = v156 * v279;
+        let v446 = v444 + v445;
+        let v447 = v137 * v274;
+        let v448 = v156 * v280;
+        let v449 = v447 + v448;
+        let v450 = v137 * v275;
+        let v451 = v156 * v281;
+        let v452 = v451 - v450;
+        let v453 = v141 * v270;
+        let v454 = v159 * v276;
+        let v455 = v453 - v454;
+        let v456 = v141 * v271;
+        let v457 = v159 * v277;
+        let v458 = v456 - v457;
+        let v459 = v141 * v272;
+        let v460 = v159 * v278;
+        let v461 = v459 - v460;
+        let v462 = v141 * v273;
+        let v463 = v159 * v279;
+        let v464 = v462 - v463;
+        let v465 = v141 * v274;
+        let v466 = v159 * v280;
+        let v467 = v465 - v466;
+        let v468 = v141 * v275;
+        let v469 = v159 * v281;
+        let v470 = v468 + v469;
+        let v471 = -v470;
+        let v472 = v144 * v270;
+        let v473 = v161 * v276;
+        let v474 = v472 - v473;
+        let v475 = v144 * v271;
+        let v476 = v161 * v277;
+        let v477 = v475 - v476;
+        let v478 = v144 * v272;
+        let v479 = v161 * v278;
+        let v480 = v478 - v479;
+        let v481 = v144 * v273;
+        let v482 = v161 * v279;
+        let v483 = v481 - v482;
+        let v484 = v144 * v274;
+        let v485 = v161 * v280;
+        let v486 = v484 - v485;
+        let v487 = v144 * v275;
+        let v488 = v161 * v281;
+        let v489 = v487 + v488;
+        let v490 = -v489;
+        let v491 = v147 * v270;
+        let v492 = v165 * v276;
+        let v493 = v491 + v492;
+        let v494 = v147 * v271;
+        let v495 = v165 * v277;
+        let v496 = v494 + v495;
+        let v497 = v147 * v272;
+        let v498 = v165 * v278;
+        let v499 = v497 + v498;
+        let v500 = v147 * v273;
+        let v501 = v165 * v279;
+        let v502 = v500 + v501;
+        let v503 = v147 * v274;
+        let v504 = v165 * v280;
+        let v505 = v503 + v504;
+        let v506 = v147 * v275;
+        let v507 = v165 * v281;
+        let v508 = v507 - v506;
+        h_pose_line[0] = v399;
+        h_pose_line[1] = v402;
+        h_pose_line[2] = v405;
+        h_pose_line[3] = v408;
+        h_pose_line[4] = v411;
+        h_pose_line[5] = v415;
+        h_pose_line[6] = v418;
+        h_pose_line[7] = v421;
+        h_pose_line[8] = v424;
+        h_pose_line[9] = v427;
+        h_pose_line[10] = v430;
+        h_pose_line[11] = v434;
+        h_pose_line[12] = v437;
+        h_pose_line[13] = v440;
+        h_pose_line[14] = v443;
+        h_pose_line[15] = v446;
+        h_pose_line[16] = v449;
+        h_pose_line[17] = v452;
+        h_pose_line[18] = v455;
+        h_pose_line[19] = v458;
+        h_pose_line[20] = v461;
+        h_pose_line[21] = v464;
+        h_pose_line[22] = v467;
+        h_pose_line[23] = v471;
+        h_pose_line[24] = v474;
+        h_pose_line[25] = v477;
+        h_pose_line[26] = v480;
+        h_pose_line[27] = v483;
+        h_pose_line[28] = v486;
+        h_pose_line[29] = v490;
+        h_pose_line[30] = v493;
+        h_pose_line[31] = v496;
+        h_pose_line[32] = v499;
+        h_pose_line[33] = v502;
+        h_pose_line[34] = v505;
+        h_pose_line[35] = v508;
+    }
+    if let Some(h_line_line) = h_line_line {
+        let v509 = v173 * v270;
+        let v510 = v241 * v276;
+        let v511 = v509 + v510;
+        let v512 = v173 * v271;
+        let v513 = v241 * v277;
+        let v514 = v512 + v513;
+        let v515 = v173 * v272;
+        let v516 = v241 * v278;
+        let v517 = v515 + v516;
+        let v518 = v173 * v273;
+        let v519 = v241 * v279;
+        let v520 = v518 + v519;
+        let v521 = v173 * v274;
+        let v522 = v241 * v280;
+        let v523 = v521 + v522;
+        let v524 = v173 * v275;
+        let v525 = v241 * v281;
+        let v526 = v525 - v524;
+        let v527 = v180 * v271;
+        let v528 = v247 * v277;
+        let v529 = v527 + v528;
+        let v530 = v180 * v272;
+        let v531 = v247 * v278;
+        let v532 = v530 + v531;
+        let v533 = v180 * v273;
+        let v534 = v247 * v279;
+        let v535 = v533 + v534;
+        let v536 = v180 * v274;
+        let v537 = v247 * v280;
+        let v538 = v536 + v537;
+        let v539 = v180 * v275;
+        let v540 = v247 * v281;
+        let v541 = v540 - v539;
+        let v542 = v186 * v272;
+        let v543 = v252 * v278;
+        let v544 = v542 + v543;
+        let v545 = v186 * v273;
+        let v546 = v252 * v279;
+        let v547 = v545 + v546;
+        let v548 = v186 * v274;
+        let v549 = v252 * v280;
+        let v550 = v548 + v549;
+        let v551 = v186 * v275;
+        let v552 = v252 * v281;
+        let v553 = v552 - v551;
+        let v554 = v201 * v273;
+        let v555 = v258 * v279;
+        let v556 = v554 + v555;
+        let v557 = v201 * v274;
+        let v558 = v258 * v280;
+        let v559 = v557 + v558;
+        let v560 = v201 * v275;
+        let v561 = v258 * v281;
+        let v562 = v561 - v560;
+        let v563 = v218 * v274;
+        let v564 = v263 * v280;
+        let v565 = v563 + v564;
+        let v566 = v218 * v275;
+        let v567 = v263 * v281;
+        let v568 = v567 - v566;
+        let v569 = v235 * v275;
+        let v570 = v269 * v281;
+        let v571 = v569 + v570;
+        h_line_line[0] = v511;
+        h_line_line[1] = v514;
+        h_line_line[2] = v517;
+        h_line_line[3] = v520;
+        h_line_line[4] = v523;
+        h_line_line[5] = v526;
+        h_line_line[6] = v529;
+        h_line_line[7] = v532;
+        h_line_line[8] = v535;
+        h_line_line[9] = v538;
+        h_line_line[10] = v541;
+        h_line_line[11] = v544;
+        h_line_line[12] = v547;
+        h_line_line[13] = v550;
+        h_line_line[14] = v553;
+        h_line_line[15] = v556;
+        h_line_line[16] = v559;
+        h_line_line[17] = v562;
+        h_line_line[18] = v565;
+        h_line_line[19] = v568;
+        h_line_line[20] = v571;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[4, 2, 2, 7, 6],
+    tangents: &[6, 6],
+    gradient: &[6, 6],
+    hessian: &[21, 36, 21],
+};
+
+/// [`plucker_line_reprojection_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn plucker_line_reprojection_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, start, end, pose, line] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(start), Ok(end), Ok(pose), Ok(line)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*start),
+        <&[T; 2]>::try_from(*end),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 6]>::try_from(*line),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_line] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_line, h_line_line] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_line = match g_line.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_line = match h_pose_line.as_deref_mut().map(<&mut [T; 36]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_line_line = match h_line_line.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::plucker_line_reprojection_normal(
+        intrinsics,
+        start,
+        end,
+        pose,
+        line,
+        weight,
+        cost,
+        g_pose,
+        g_line,
+        h_pose_pose,
+        h_pose_line,
+        h_line_line,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`plucker_line_reprojection`] and [`plucker_line_reprojection_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 21];
+    type Outputs = [T; 26];
+    const FIELDS: &'static [usize] = &[4, 2, 2, 7, 6];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[6, 6];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 21], outputs: &mut [T; 26], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        let Some((d_line, _)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        plucker_line_reprojection(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[inputs[6], inputs[7]],
+            &[
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+            ],
+            &[inputs[15], inputs[16], inputs[17], inputs[18], inputs[19], inputs[20]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_line),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 91];
+    #[inline(always)]
+    fn normal(inputs: &[T; 21], weight: T, outputs: &mut [T; 91], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_line, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_line, rest)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        let Some((h_line_line, _)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        plucker_line_reprojection_normal(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[inputs[6], inputs[7]],
+            &[
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+            ],
+            &[inputs[15], inputs[16], inputs[17], inputs[18], inputs[19], inputs[20]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_line),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_line),
+            free_1.then_some(h_line_line),
+        );
+    }
 }

@@ -31,15 +31,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 34 | 54 | 1 | 7 | 0 | 0 | 0 | 96 |
 //! | residual only | 26 | 27 | 1 | 0 | 0 | 0 | 0 | 54 |
+//! | normal equations | 70 | 162 | 1 | 21 | 0 | 0 | 0 | 254 |
+//! | normal equations, cost only | 27 | 31 | 1 | 0 | 0 | 0 | 0 | 59 |
+//!
+//! # Normal equations
+//!
+//! `point_reprojection_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_point: [T; 3]`: `J_pointᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_point: [T; 18]`: `J_poseᵀ w J_point`, 6 × 3 row-major
+//! - `h_point_point: [T; 6]`: `J_pointᵀ w J_point`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::point_reprojection::PointReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn point_reprojection<T: Real>(
     intrinsics: &[T; 4],
     observed: &[T; 2],
@@ -226,4 +245,566 @@ pub fn point_reprojection_slices<T: Real>(
         d_point,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::point_reprojection::PointReprojection` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`point_reprojection`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn point_reprojection_normal<T: Real>(
+    intrinsics: &[T; 4],
+    observed: &[T; 2],
+    pose: &[T; 7],
+    point: &[T; 3],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_point: Option<&mut [T; 3]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_point: Option<&mut [T; 18]>,
+    h_point_point: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[0] * pose[0];
+    let v1 = pose[1] * pose[1];
+    let v2 = v0 - v1;
+    let v3 = pose[2] * pose[2];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = point[0] * v6;
+    let v8 = pose[0] * pose[1];
+    let v9 = pose[2] * pose[3];
+    let v10 = v8 - v9;
+    let v11 = point[1] * T::constant(2.0);
+    let v12 = pose[0] * pose[2];
+    let v13 = pose[1] * pose[3];
+    let v14 = v12 + v13;
+    let v15 = T::constant(2.0) * point[2];
+    let v16 = point[1] * v10;
+    let v17 = point[2] * v14;
+    let v18 = v16 + v17;
+    let v19 = T::constant(2.0) * v18;
+    let v20 = pose[4] + v7;
+    let v21 = v19 + v20;
+    let v22 = v0 + v1;
+    let v23 = v3 + v4;
+    let v24 = v22 - v23;
+    let v25 = point[2] * v24;
+    let v26 = pose[1] * pose[2];
+    let v27 = pose[0] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v11 * v28;
+    let v30 = v12 - v13;
+    let v31 = point[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = v29 + v32;
+    let v34 = pose[6] - v25;
+    let v35 = v33 + v34;
+    let v36 = T::constant(1.0) / v35;
+    let v37 = intrinsics[0] * v36;
+    let v38 = v21 * v37;
+    let v39 = observed[0] - intrinsics[2];
+    let v40 = v39 - v38;
+    let v41 = v2 + v5;
+    let v42 = point[1] * v41;
+    let v43 = v8 + v9;
+    let v44 = v31 * v43;
+    let v45 = v26 - v27;
+    let v46 = v15 * v45;
+    let v47 = v44 + v46;
+    let v48 = pose[5] - v42;
+    let v49 = v47 + v48;
+    let v50 = v36 * intrinsics[1];
+    let v51 = v49 * v50;
+    let v52 = observed[1] - intrinsics[3];
+    let v53 = v52 - v51;
+    let v54 = v40 * v40;
+    let v55 = v53 * v53;
+    let v56 = v54 + v55;
+    let v57 = weight * v56;
+    let v58 = T::constant(0.5) * v57;
+    *cost = v58;
+    let (v59, v60, v61) = if g_pose.is_some() || g_point.is_some()
+        || h_pose_pose.is_some() || h_pose_point.is_some() || h_point_point.is_some()
+    {
+        let v59 = v21 * v36;
+        let v60 = v37 * v59;
+        let v61 = v36 * v51;
+        (v59, v60, v61)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (v62, v64, v65, v67, v68, v69) = if g_pose.is_some() || h_pose_pose.is_some()
+        || h_pose_point.is_some()
+    {
+        let v62 = v49 * v60;
+        let v63 = v21 * v60;
+        let v64 = intrinsics[0] + v63;
+        let v65 = v37 * v49;
+        let v66 = v49 * v61;
+        let v67 = intrinsics[1] + v66;
+        let v68 = v51 * v59;
+        let v69 = v21 * v50;
+        (v62, v64, v65, v67, v68, v69)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v73, v78, v82, v86, v89, v93, v94, v95, v96, v97, v98, v99) = if g_point
+        .is_some() || h_pose_point.is_some() || h_point_point.is_some()
+    {
+        let v70 = v6 * v37;
+        let v71 = T::constant(2.0) * v30;
+        let v72 = v60 * v71;
+        let v73 = v72 - v70;
+        let v74 = T::constant(2.0) * v28;
+        let v75 = v10 * v37;
+        let v76 = v28 * v60;
+        let v77 = v76 - v75;
+        let v78 = T::constant(2.0) * v77;
+        let v79 = v24 * v60;
+        let v80 = T::constant(2.0) * v14;
+        let v81 = v37 * v80;
+        let v82 = v79 + v81;
+        let v83 = T::constant(2.0) * v43;
+        let v84 = v50 * v83;
+        let v85 = v61 * v71;
+        let v86 = v85 - v84;
+        let v87 = v41 * v50;
+        let v88 = v61 * v74;
+        let v89 = v87 + v88;
+        let v90 = v24 * v61;
+        let v91 = T::constant(2.0) * v45;
+        let v92 = v50 * v91;
+        let v93 = v90 + v92;
+        let v94 = v73 * weight;
+        let v95 = v78 * weight;
+        let v96 = v82 * weight;
+        let v97 = v86 * weight;
+        let v98 = v89 * weight;
+        let v99 = v93 * weight;
+        (v73, v78, v82, v86, v89, v93, v94, v95, v96, v97, v98, v99)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v100, v101, v102, v103, v104, v105, v106, v107, v108, v109) = if g_pose
+        .is_some() || h_pose_pose.is_some()
+    {
+        let v100 = v62 * weight;
+        let v101 = v64 * weight;
+        let v102 = v65 * weight;
+        let v103 = v37 * weight;
+        let v104 = v60 * weight;
+        let v105 = v67 * weight;
+        let v106 = v68 * weight;
+        let v107 = v69 * weight;
+        let v108 = v50 * weight;
+        let v109 = v61 * weight;
+        (v100, v101, v102, v103, v104, v105, v106, v107, v108, v109)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v110 = v40 * v100;
+        let v111 = v53 * v105;
+        let v112 = v110 + v111;
+        let v113 = v40 * v101;
+        let v114 = v53 * v106;
+        let v115 = v113 + v114;
+        let v116 = -v115;
+        let v117 = v40 * v102;
+        let v118 = v53 * v107;
+        let v119 = v117 - v118;
+        let v120 = v40 * v103;
+        let v121 = -v120;
+        let v122 = v53 * v108;
+        let v123 = -v122;
+        let v124 = v40 * v104;
+        let v125 = v53 * v109;
+        let v126 = v124 + v125;
+        g_pose[0] = v112;
+        g_pose[1] = v116;
+        g_pose[2] = v119;
+        g_pose[3] = v121;
+        g_pose[4] = v123;
+        g_pose[5] = v126;
+    }
+    if let Some(g_point) = g_point {
+        let v127 = v40 * v94;
+        let v128 = v53 * v97;
+        let v129 = v127 + v128;
+        let v130 = v40 * v95;
+        let v131 = v53 * v98;
+        let v132 = v130 + v131;
+        let v133 = v40 * v96;
+        let v134 = v53 * v99;
+        let v135 = v133 + v134;
+        let v136 = -v135;
+        g_point[0] = v129;
+        g_point[1] = v132;
+        g_point[2] = v136;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v137 = v62 * v100;
+        let v138 = v67 * v105;
+        let v139 = v137 + v138;
+        let v140 = v62 * v101;
+        let v141 = v67 * v106;
+        let v142 = v140 + v141;
+        let v143 = -v142;
+        let v144 = v62 * v102;
+        let v145 = v67 * v107;
+        let v146 = v144 - v145;
+        let v147 = v62 * v103;
+        let v148 = -v147;
+        let v149 = v67 * v108;
+        let v150 = -v149;
+        let v151 = v62 * v104;
+        let v152 = v67 * v109;
+        let v153 = v151 + v152;
+        let v154 = v64 * v101;
+        let v155 = v68 * v106;
+        let v156 = v154 + v155;
+        let v157 = v64 * v102;
+        let v158 = v68 * v107;
+        let v159 = v158 - v157;
+        let v160 = v64 * v103;
+        let v161 = v68 * v108;
+        let v162 = v64 * v104;
+        let v163 = v68 * v109;
+        let v164 = v162 + v163;
+        let v165 = -v164;
+        let v166 = v65 * v102;
+        let v167 = v69 * v107;
+        let v168 = v166 + v167;
+        let v169 = v65 * v103;
+        let v170 = -v169;
+        let v171 = v69 * v108;
+        let v172 = v65 * v104;
+        let v173 = v69 * v109;
+        let v174 = v172 - v173;
+        let v175 = v37 * v103;
+        let v176 = v37 * v104;
+        let v177 = -v176;
+        let v178 = v50 * v108;
+        let v179 = v50 * v109;
+        let v180 = -v179;
+        let v181 = v60 * v104;
+        let v182 = v61 * v109;
+        let v183 = v181 + v182;
+        h_pose_pose[0] = v139;
+        h_pose_pose[1] = v143;
+        h_pose_pose[2] = v146;
+        h_pose_pose[3] = v148;
+        h_pose_pose[4] = v150;
+        h_pose_pose[5] = v153;
+        h_pose_pose[6] = v156;
+        h_pose_pose[7] = v159;
+        h_pose_pose[8] = v160;
+        h_pose_pose[9] = v161;
+        h_pose_pose[10] = v165;
+        h_pose_pose[11] = v168;
+        h_pose_pose[12] = v170;
+        h_pose_pose[13] = v171;
+        h_pose_pose[14] = v174;
+        h_pose_pose[15] = v175;
+        h_pose_pose[16] = T::constant(0.0);
+        h_pose_pose[17] = v177;
+        h_pose_pose[18] = v178;
+        h_pose_pose[19] = v180;
+        h_pose_pose[20] = v183;
+    }
+    if let Some(h_pose_point) = h_pose_point {
+        let v184 = v62 * v94;
+        let v185 = v67 * v97;
+        let v186 = v184 + v185;
+        let v187 = v62 * v95;
+        let v188 = v67 * v98;
+        let v189 = v187 + v188;
+        let v190 = v62 * v96;
+        let v191 = v67 * v99;
+        let v192 = v190 + v191;
+        let v193 = -v192;
+        let v194 = v64 * v94;
+        let v195 = v68 * v97;
+        let v196 = v194 + v195;
+        let v197 = -v196;
+        let v198 = v64 * v95;
+        let v199 = v68 * v98;
+        let v200 = v198 + v199;
+        let v201 = -v200;
+        let v202 = v64 * v96;
+        let v203 = v68 * v99;
+        let v204 = v202 + v203;
+        let v205 = v65 * v94;
+        let v206 = v69 * v97;
+        let v207 = v205 - v206;
+        let v208 = v65 * v95;
+        let v209 = v69 * v98;
+        let v210 = v208 - v209;
+        let v211 = v65 * v96;
+        let v212 = v69 * v99;
+        let v213 = v212 - v211;
+        let v214 = v37 * v94;
+        let v215 = -v214;
+        let v216 = v37 * v95;
+        let v217 = -v216;
+        let v218 = v37 * v96;
+        let v219 = v50 * v97;
+        let v220 = -v219;
+        let v221 = v50 * v98;
+        let v222 = -v221;
+        let v223 = v50 * v99;
+        let v224 = v60 * v94;
+        let v225 = v61 * v97;
+        let v226 = v224 + v225;
+        let v227 = v60 * v95;
+        let v228 = v61 * v98;
+        let v229 = v227 + v228;
+        let v230 = v60 * v96;
+        let v231 = v61 * v99;
+        let v232 = v230 + v231;
+        let v233 = -v232;
+        h_pose_point[0] = v186;
+        h_pose_point[1] = v189;
+        h_pose_point[2] = v193;
+        h_pose_point[3] = v197;
+        h_pose_point[4] = v201;
+        h_pose_point[5] = v204;
+        h_pose_point[6] = v207;
+        h_pose_point[7] = v210;
+        h_pose_point[8] = v213;
+        h_pose_point[9] = v215;
+        h_pose_point[10] = v217;
+        h_pose_point[11] = v218;
+        h_pose_point[12] = v220;
+        h_pose_point[13] = v222;
+        h_pose_point[14] = v223;
+        h_pose_point[15] = v226;
+        h_pose_point[16] = v229;
+        h_pose_point[17] = v233;
+    }
+    if let Some(h_point_point) = h_point_point {
+        let v234 = v73 * v94;
+        let v235 = v86 * v97;
+        let v236 = v234 + v235;
+        let v237 = v73 * v95;
+        let v238 = v86 * v98;
+        let v239 = v237 + v238;
+        let v240 = v73 * v96;
+        let v241 = v86 * v99;
+        let v242 = v240 + v241;
+        let v243 = -v242;
+        let v244 = v78 * v95;
+        let v245 = v89 * v98;
+        let v246 = v244 + v245;
+        let v247 = v78 * v96;
+        let v248 = v89 * v99;
+        let v249 = v247 + v248;
+        let v250 = -v249;
+        let v251 = v82 * v96;
+        let v252 = v93 * v99;
+        let v253 = v251 + v252;
+        h_point_point[0] = v236;
+        h_point_point[1] = v239;
+        h_point_point[2] = v243;
+        h_point_point[3] = v246;
+        h_point_point[4] = v250;
+        h_point_point[5] = v253;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[4, 2, 7, 3],
+    tangents: &[6, 3],
+    gradient: &[6, 3],
+    hessian: &[21, 18, 6],
+};
+
+/// [`point_reprojection_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn point_reprojection_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [intrinsics, observed, pose, point] = inputs else {
+        return false;
+    };
+    let (Ok(intrinsics), Ok(observed), Ok(pose), Ok(point)) = (
+        <&[T; 4]>::try_from(*intrinsics),
+        <&[T; 2]>::try_from(*observed),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 3]>::try_from(*point),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_point] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_point, h_point_point] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_point = match g_point.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_point = match h_pose_point.as_deref_mut().map(<&mut [T; 18]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_point_point = match h_point_point.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::point_reprojection_normal(
+        intrinsics,
+        observed,
+        pose,
+        point,
+        weight,
+        cost,
+        g_pose,
+        g_point,
+        h_pose_pose,
+        h_pose_point,
+        h_point_point,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`point_reprojection`] and [`point_reprojection_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 16];
+    type Outputs = [T; 20];
+    const FIELDS: &'static [usize] = &[4, 2, 7, 3];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[6, 3];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 16], outputs: &mut [T; 20], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        let Some((d_point, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        point_reprojection(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+            ],
+            &[inputs[13], inputs[14], inputs[15]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_point),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 55];
+    #[inline(always)]
+    fn normal(inputs: &[T; 16], weight: T, outputs: &mut [T; 55], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_point, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_point, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((h_point_point, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        point_reprojection_normal(
+            &[inputs[0], inputs[1], inputs[2], inputs[3]],
+            &[inputs[4], inputs[5]],
+            &[
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+            ],
+            &[inputs[13], inputs[14], inputs[15]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_point),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_point),
+            free_1.then_some(h_point_point),
+        );
+    }
 }

@@ -5,7 +5,8 @@
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A number the kernels compute with: `f32`, `f64`, or a SIMD type whose
-/// lanes hold several configurations.
+/// lanes hold several configurations (with the crate's `lanes` feature, the
+/// lane types of `factor-lanes`).
 ///
 /// Beyond the arithmetic operators a kernel needs literals, square roots,
 /// the math-library functions `sin`, `cos`, `atan2`, `exp`, `ln`, `acos`,
@@ -138,3 +139,8 @@ impl Real for f32 {
         if lhs < rhs { if_less } else { otherwise }
     }
 }
+
+// The SIMD lane types of `factor-lanes` (`F64x4`, `F32x8`, `F64x8`), with the
+// crate's `lanes` feature.
+#[cfg(feature = "lanes")]
+factor_lanes::impl_real!(crate::Real);

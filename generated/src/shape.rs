@@ -13,3 +13,17 @@ pub struct Shape {
     /// Each Jacobian block's length (row-major), in variable order.
     pub blocks: &'static [usize],
 }
+
+/// The lengths of a normal-equation kernel's arrays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NormalShape {
+    /// Each field's stored scalars, in declaration order.
+    pub inputs: &'static [usize],
+    /// Each variable's tangent dimension, in variable order.
+    pub tangents: &'static [usize],
+    /// Each gradient block's length, in variable order.
+    pub gradient: &'static [usize],
+    /// Each Hessian block's length, pairs `a ≤ b` in the order `(0, 0), (0, 1),
+    /// …, (1, 1), …` (a diagonal block as its upper triangle).
+    pub hessian: &'static [usize],
+}

@@ -32,15 +32,38 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 74 | 150 | 1 | 13 | 0 | 0 | 0 | 238 |
 //! | residual only | 27 | 34 | 1 | 2 | 0 | 0 | 0 | 64 |
+//! | normal equations | 150 | 322 | 1 | 29 | 0 | 0 | 0 | 502 |
+//! | normal equations, cost only | 28 | 38 | 1 | 0 | 0 | 0 | 0 | 67 |
+//!
+//! # Normal equations
+//!
+//! `snavely_reprojection_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_intrinsics: [T; 3]`: `J_intrinsicsᵀ w r`
+//! - `g_point: [T; 3]`: `J_pointᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_intrinsics: [T; 18]`: `J_poseᵀ w J_intrinsics`, 6 × 3 row-major
+//! - `h_pose_point: [T; 18]`: `J_poseᵀ w J_point`, 6 × 3 row-major
+//! - `h_intrinsics_intrinsics: [T; 6]`: `J_intrinsicsᵀ w J_intrinsics`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//! - `h_intrinsics_point: [T; 9]`: `J_intrinsicsᵀ w J_point`, 3 × 3 row-major
+//! - `h_point_point: [T; 6]`: `J_pointᵀ w J_point`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::snavely::SnavelyReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn snavely_reprojection<T: Real>(
     observed: &[T; 2],
     pose: &[T; 7],
@@ -407,4 +430,982 @@ pub fn snavely_reprojection_slices<T: Real>(
         d_point,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::snavely::SnavelyReprojection` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`snavely_reprojection`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn snavely_reprojection_normal<T: Real>(
+    observed: &[T; 2],
+    pose: &[T; 7],
+    intrinsics: &[T; 3],
+    point: &[T; 3],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_intrinsics: Option<&mut [T; 3]>,
+    g_point: Option<&mut [T; 3]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_intrinsics: Option<&mut [T; 18]>,
+    h_pose_point: Option<&mut [T; 18]>,
+    h_intrinsics_intrinsics: Option<&mut [T; 6]>,
+    h_intrinsics_point: Option<&mut [T; 9]>,
+    h_point_point: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[0] * pose[0];
+    let v1 = pose[1] * pose[1];
+    let v2 = v0 - v1;
+    let v3 = pose[2] * pose[2];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = point[0] * v6;
+    let v8 = pose[0] * pose[1];
+    let v9 = pose[2] * pose[3];
+    let v10 = v8 - v9;
+    let v11 = point[1] * T::constant(2.0);
+    let v12 = pose[0] * pose[2];
+    let v13 = pose[1] * pose[3];
+    let v14 = v12 + v13;
+    let v15 = T::constant(2.0) * point[2];
+    let v16 = point[1] * v10;
+    let v17 = point[2] * v14;
+    let v18 = v16 + v17;
+    let v19 = T::constant(2.0) * v18;
+    let v20 = pose[4] + v7;
+    let v21 = v19 + v20;
+    let v22 = v0 + v1;
+    let v23 = v3 + v4;
+    let v24 = v22 - v23;
+    let v25 = point[2] * v24;
+    let v26 = pose[1] * pose[2];
+    let v27 = pose[0] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v11 * v28;
+    let v30 = v12 - v13;
+    let v31 = point[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = v29 + v32;
+    let v34 = pose[6] - v25;
+    let v35 = v33 + v34;
+    let v36 = T::constant(1.0) / v35;
+    let v37 = v36 * v36;
+    let v38 = v21 * v37;
+    let v39 = v21 * v38;
+    let v40 = v2 + v5;
+    let v41 = point[1] * v40;
+    let v42 = v8 + v9;
+    let v43 = v31 * v42;
+    let v44 = v26 - v27;
+    let v45 = v15 * v44;
+    let v46 = v43 + v45;
+    let v47 = pose[5] - v41;
+    let v48 = v46 + v47;
+    let v49 = v37 * v48;
+    let v50 = v48 * v49;
+    let v51 = v39 + v50;
+    let v52 = v51 * intrinsics[2];
+    let v53 = intrinsics[1] + v52;
+    let v54 = v51 * v53;
+    let v55 = T::constant(1.0) + v54;
+    let v56 = v36 * intrinsics[0];
+    let v57 = v55 * v56;
+    let v58 = v21 * v57;
+    let v59 = observed[0] + v58;
+    let v60 = v48 * v57;
+    let v61 = observed[1] + v60;
+    let v62 = v59 * v59;
+    let v63 = v61 * v61;
+    let v64 = v62 + v63;
+    let v65 = weight * v64;
+    let v66 = T::constant(0.5) * v65;
+    *cost = v66;
+    let (v67, v68, v69, v70) = if g_pose.is_some() || g_intrinsics.is_some()
+        || g_point.is_some() || h_pose_pose.is_some() || h_pose_intrinsics.is_some()
+        || h_pose_point.is_some() || h_intrinsics_intrinsics.is_some()
+        || h_intrinsics_point.is_some() || h_point_point.is_some()
+    {
+        let v67 = v21 * v36;
+        let v68 = v36 * v48;
+        let v69 = v21 * v56;
+        let v70 = v48 * v56;
+        (v67, v68, v69, v70)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (v72, v77, v84, v90, v103, v105, v111, v118, v120, v125, v128, v131, v137) = if g_pose
+        .is_some() || g_point.is_some() || h_pose_pose.is_some()
+        || h_pose_intrinsics.is_some() || h_pose_point.is_some()
+        || h_intrinsics_point.is_some() || h_point_point.is_some()
+    {
+        let v71 = v6 * v57;
+        let v72 = v57 * v67;
+        let v73 = T::constant(2.0) * v30;
+        let v74 = v6 * v38;
+        let v75 = v38 * v67;
+        let v76 = v49 * v68;
+        let v77 = v75 + v76;
+        let v78 = T::constant(2.0) * v77;
+        let v79 = v30 * v78;
+        let v80 = T::constant(2.0) * v42;
+        let v81 = v49 * v80;
+        let v82 = v74 + v81;
+        let v83 = v82 - v79;
+        let v84 = v52 + v53;
+        let v85 = v83 * v84;
+        let v86 = v30 * v72;
+        let v87 = v85 * v69;
+        let v88 = v86 - v87;
+        let v89 = T::constant(2.0) * v88;
+        let v90 = v89 - v71;
+        let v91 = T::constant(2.0) * v28;
+        let v92 = v10 * v57;
+        let v93 = v28 * v72;
+        let v94 = v93 - v92;
+        let v95 = T::constant(2.0) * v94;
+        let v96 = v40 * T::constant(0.5);
+        let v97 = v49 * v96;
+        let v98 = v10 * v38;
+        let v99 = v28 * v77;
+        let v100 = v98 - v97;
+        let v101 = v100 - v99;
+        let v102 = v84 * v101;
+        let v103 = v69 * T::constant(4.0);
+        let v104 = v102 * v103;
+        let v105 = v95 - v104;
+        let v106 = v24 * v72;
+        let v107 = T::constant(2.0) * v14;
+        let v108 = v57 * v107;
+        let v109 = v14 * v38;
+        let v110 = v44 * v49;
+        let v111 = v77 * T::constant(0.5);
+        let v112 = v24 * v111;
+        let v113 = v109 + v110;
+        let v114 = v112 + v113;
+        let v115 = v84 * v114;
+        let v116 = v103 * v115;
+        let v117 = v108 + v116;
+        let v118 = v106 + v117;
+        let v119 = v57 * v80;
+        let v120 = v57 * v68;
+        let v121 = v73 * v120;
+        let v122 = T::constant(2.0) * v70;
+        let v123 = v85 * v122;
+        let v124 = v119 + v123;
+        let v125 = v121 - v124;
+        let v126 = v40 * v57;
+        let v127 = v91 * v120;
+        let v128 = T::constant(4.0) * v70;
+        let v129 = v102 * v128;
+        let v130 = v126 - v129;
+        let v131 = v127 + v130;
+        let v132 = v24 * v120;
+        let v133 = T::constant(2.0) * v44;
+        let v134 = v57 * v133;
+        let v135 = v115 * v128;
+        let v136 = v134 + v135;
+        let v137 = v132 + v136;
+        (v72, v77, v84, v90, v103, v105, v111, v118, v120, v125, v128, v131, v137)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v138, v139, v140, v141, v142, v143) = if g_pose.is_some() || g_point.is_some()
+        || h_pose_pose.is_some() || h_pose_point.is_some()
+        || h_intrinsics_point.is_some() || h_point_point.is_some()
+    {
+        let v138 = v90 * weight;
+        let v139 = v105 * weight;
+        let v140 = v118 * weight;
+        let v141 = v125 * weight;
+        let v142 = v131 * weight;
+        let v143 = v137 * weight;
+        (v138, v139, v140, v141, v142, v143)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v165, v186, v210, v216, v222, v228) = if g_pose.is_some()
+        || h_pose_pose.is_some() || h_pose_intrinsics.is_some() || h_pose_point.is_some()
+    {
+        let v144 = point[1] * v24;
+        let v145 = v15 * v28;
+        let v146 = v144 + v145;
+        let v147 = v72 * v146;
+        let v148 = point[1] * v14;
+        let v149 = v10 * point[2];
+        let v150 = v148 - v149;
+        let v151 = T::constant(2.0) * v150;
+        let v152 = v57 * v151;
+        let v153 = v38 * v150;
+        let v154 = point[2] * T::constant(0.5);
+        let v155 = v40 * v154;
+        let v156 = point[1] * v44;
+        let v157 = v155 + v156;
+        let v158 = v49 * v157;
+        let v159 = v111 * v146;
+        let v160 = v153 + v158;
+        let v161 = v159 + v160;
+        let v162 = v84 * v161;
+        let v163 = v103 * v162;
+        let v164 = v152 + v163;
+        let v165 = v147 + v164;
+        let v166 = point[0] * v24;
+        let v167 = v15 * v30;
+        let v168 = v166 + v167;
+        let v169 = v72 * v168;
+        let v170 = v6 * v154;
+        let v171 = point[0] * v14;
+        let v172 = v171 - v170;
+        let v173 = T::constant(2.0) * v172;
+        let v174 = v57 * v173;
+        let v175 = v38 * v172;
+        let v176 = point[0] * v44;
+        let v177 = point[2] * v42;
+        let v178 = v176 - v177;
+        let v179 = v49 * v178;
+        let v180 = v111 * v168;
+        let v181 = v175 + v179;
+        let v182 = v180 + v181;
+        let v183 = v84 * v182;
+        let v184 = v103 * v183;
+        let v185 = v174 + v184;
+        let v186 = v169 + v185;
+        let v187 = point[1] * T::constant(0.5);
+        let v188 = v6 * v187;
+        let v189 = point[0] * v10;
+        let v190 = v189 - v188;
+        let v191 = point[1] * v30;
+        let v192 = point[0] * v28;
+        let v193 = v191 - v192;
+        let v194 = T::constant(2.0) * v193;
+        let v195 = v57 * v190;
+        let v196 = v72 * v193;
+        let v197 = v195 + v196;
+        let v198 = T::constant(2.0) * v197;
+        let v199 = v38 * v190;
+        let v200 = point[0] * T::constant(0.5);
+        let v201 = v40 * v200;
+        let v202 = point[1] * v42;
+        let v203 = v201 + v202;
+        let v204 = v49 * v203;
+        let v205 = v77 * v193;
+        let v206 = v199 - v204;
+        let v207 = v205 + v206;
+        let v208 = v84 * v207;
+        let v209 = v103 * v208;
+        let v210 = v198 + v209;
+        let v211 = v146 * v120;
+        let v212 = T::constant(2.0) * v157;
+        let v213 = v57 * v212;
+        let v214 = v162 * v128;
+        let v215 = v213 + v214;
+        let v216 = v211 + v215;
+        let v217 = v168 * v120;
+        let v218 = T::constant(2.0) * v178;
+        let v219 = v57 * v218;
+        let v220 = v183 * v128;
+        let v221 = v219 + v220;
+        let v222 = v217 + v221;
+        let v223 = T::constant(2.0) * v203;
+        let v224 = v57 * v223;
+        let v225 = v194 * v120;
+        let v226 = v224 - v225;
+        let v227 = v208 * v128;
+        let v228 = v226 - v227;
+        (v165, v186, v210, v216, v222, v228)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v229, v230, v232, v233, v234, v235) = if g_intrinsics.is_some()
+        || h_pose_intrinsics.is_some() || h_intrinsics_intrinsics.is_some()
+        || h_intrinsics_point.is_some()
+    {
+        let v229 = v55 * v67;
+        let v230 = v51 * v69;
+        let v231 = v51 * v51;
+        let v232 = v69 * v231;
+        let v233 = v55 * v68;
+        let v234 = v51 * v70;
+        let v235 = v70 * v231;
+        (v229, v230, v232, v233, v234, v235)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v236, v237, v238, v239, v240, v241) = if g_intrinsics.is_some()
+        || h_pose_intrinsics.is_some() || h_intrinsics_intrinsics.is_some()
+    {
+        let v236 = v229 * weight;
+        let v237 = v230 * weight;
+        let v238 = v232 * weight;
+        let v239 = v233 * weight;
+        let v240 = v234 * weight;
+        let v241 = v235 * weight;
+        (v236, v237, v238, v239, v240, v241)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v244, v247, v251, v254, v258, v261) = if h_pose_pose.is_some()
+        || h_pose_point.is_some() || h_point_point.is_some()
+    {
+        let v242 = v90 * v138;
+        let v243 = v125 * v141;
+        let v244 = v242 + v243;
+        let v245 = v90 * v139;
+        let v246 = v125 * v142;
+        let v247 = v245 + v246;
+        let v248 = v90 * v140;
+        let v249 = v125 * v143;
+        let v250 = v248 + v249;
+        let v251 = -v250;
+        let v252 = v105 * v139;
+        let v253 = v131 * v142;
+        let v254 = v252 + v253;
+        let v255 = v105 * v140;
+        let v256 = v131 * v143;
+        let v257 = v255 + v256;
+        let v258 = -v257;
+        let v259 = v118 * v140;
+        let v260 = v137 * v143;
+        let v261 = v259 + v260;
+        (v244, v247, v251, v254, v258, v261)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v265, v269, v272) = if g_pose.is_some() || g_point.is_some() {
+        let v262 = v59 * v138;
+        let v263 = v61 * v141;
+        let v264 = v262 + v263;
+        let v265 = -v264;
+        let v266 = v59 * v139;
+        let v267 = v61 * v142;
+        let v268 = v266 + v267;
+        let v269 = -v268;
+        let v270 = v59 * v140;
+        let v271 = v61 * v143;
+        let v272 = v270 + v271;
+        (v265, v269, v272)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (v273, v274, v275, v276, v277, v278) = if g_pose.is_some()
+        || h_pose_pose.is_some()
+    {
+        let v273 = v165 * weight;
+        let v274 = v186 * weight;
+        let v275 = v210 * weight;
+        let v276 = v216 * weight;
+        let v277 = v222 * weight;
+        let v278 = v228 * weight;
+        (v273, v274, v275, v276, v277, v278)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v279 = v59 * v273;
+        let v280 = v61 * v276;
+        let v281 = v279 + v280;
+        let v282 = v59 * v274;
+        let v283 = v61 * v277;
+        let v284 = v282 + v283;
+        let v285 = -v284;
+        let v286 = v59 * v275;
+        let v287 = v61 * v278;
+        let v288 = v286 - v287;
+        g_pose[0] = v265;
+        g_pose[1] = v269;
+        g_pose[2] = v272;
+        g_pose[3] = v281;
+        g_pose[4] = v285;
+        g_pose[5] = v288;
+    }
+    if let Some(g_intrinsics) = g_intrinsics {
+        let v289 = v59 * v236;
+        let v290 = v61 * v239;
+        let v291 = v289 + v290;
+        let v292 = v59 * v237;
+        let v293 = v61 * v240;
+        let v294 = v292 + v293;
+        let v295 = v59 * v238;
+        let v296 = v61 * v241;
+        let v297 = v295 + v296;
+        g_intrinsics[0] = v291;
+        g_intrinsics[1] = v294;
+        g_intrinsics[2] = v297;
+    }
+    if let Some(g_point) = g_point {
+        g_point[0] = v265;
+        g_point[1] = v269;
+        g_point[2] = v272;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v298 = v90 * v273;
+        let v299 = v125 * v276;
+        let v300 = v298 + v299;
+        let v301 = -v300;
+        let v302 = v90 * v274;
+        let v303 = v125 * v277;
+        let v304 = v302 + v303;
+        let v305 = v90 * v275;
+        let v306 = v125 * v278;
+        let v307 = v306 - v305;
+        let v308 = v105 * v273;
+        let v309 = v131 * v276;
+        let v310 = v308 + v309;
+        let v311 = -v310;
+        let v312 = v105 * v274;
+        let v313 = v131 * v277;
+        let v314 = v312 + v313;
+        let v315 = v105 * v275;
+        let v316 = v131 * v278;
+        let v317 = v316 - v315;
+        let v318 = v118 * v273;
+        let v319 = v137 * v276;
+        let v320 = v318 + v319;
+        let v321 = v118 * v274;
+        let v322 = v137 * v277;
+        let v323 = v321 + v322;
+        let v324 = -v323;
+        let v325 = v118 * v275;
+        let v326 = v137 * v278;
+        let v327 = v325 - v326;
+        let v328 = v165 * v273;
+        let v329 = v216 * v276;
+        let v330 = v328 + v329;
+        let v331 = v165 * v274;
+        let v332 = v216 * v277;
+        let v333 = v331 + v332;
+        let v334 = -v333;
+        let v335 = v165 * v275;
+        let v336 = v216 * v278;
+        let v337 = v335 - v336;
+        let v338 = v186 * v274;
+        let v339 = v222 * v277;
+        let v340 = v338 + v339;
+        let v341 = v186 * v275;
+        let v342 = v222 * v278;
+        let v343 = v342 - v341;
+        let v344 = v210 * v275;
+        let v345 = v228 * v278;
+        let v346 = v344 + v345;
+        h_pose_pose[0] = v244;
+        h_pose_pose[1] = v247;
+        h_pose_pose[2] = v251;
+        h_pose_pose[3] = v301;
+        h_pose_pose[4] = v304;
+        h_pose_pose[5] = v307;
+        h_pose_pose[6] = v254;
+        h_pose_pose[7] = v258;
+        h_pose_pose[8] = v311;
+        h_pose_pose[9] = v314;
+        h_pose_pose[10] = v317;
+        h_pose_pose[11] = v261;
+        h_pose_pose[12] = v320;
+        h_pose_pose[13] = v324;
+        h_pose_pose[14] = v327;
+        h_pose_pose[15] = v330;
+        h_pose_pose[16] = v334;
+        h_pose_pose[17] = v337;
+        h_pose_pose[18] = v340;
+        h_pose_pose[19] = v343;
+        h_pose_pose[20] = v346;
+    }
+    if let Some(h_pose_intrinsics) = h_pose_intrinsics {
+        let v347 = v90 * v236;
+        let v348 = v125 * v239;
+        let v349 = v347 + v348;
+        let v350 = -v349;
+        let v351 = v90 * v237;
+        let v352 = v125 * v240;
+        let v353 = v351 + v352;
+        let v354 = -v353;
+        let v355 = v90 * v238;
+        let v356 = v125 * v241;
+        let v357 = v355 + v356;
+        let v358 = -v357;
+        let v359 = v105 * v236;
+        let v360 = v131 * v239;
+        let v361 = v359 + v360;
+        let v362 = -v361;
+        let v363 = v105 * v237;
+        let v364 = v131 * v240;
+        let v365 = v363 + v364;
+        let v366 = -v365;
+        let v367 = v105 * v238;
+        let v368 = v131 * v241;
+        let v369 = v367 + v368;
+        let v370 = -v369;
+        let v371 = v118 * v236;
+        let v372 = v137 * v239;
+        let v373 = v371 + v372;
+        let v374 = v118 * v237;
+        let v375 = v137 * v240;
+        let v376 = v374 + v375;
+        let v377 = v118 * v238;
+        let v378 = v137 * v241;
+        let v379 = v377 + v378;
+        let v380 = v165 * v236;
+        let v381 = v216 * v239;
+        let v382 = v380 + v381;
+        let v383 = v165 * v237;
+        let v384 = v216 * v240;
+        let v385 = v383 + v384;
+        let v386 = v165 * v238;
+        let v387 = v216 * v241;
+        let v388 = v386 + v387;
+        let v389 = v186 * v236;
+        let v390 = v222 * v239;
+        let v391 = v389 + v390;
+        let v392 = -v391;
+        let v393 = v186 * v237;
+        let v394 = v222 * v240;
+        let v395 = v393 + v394;
+        let v396 = -v395;
+        let v397 = v186 * v238;
+        let v398 = v222 * v241;
+        let v399 = v397 + v398;
+        let v400 = -v399;
+        let v401 = v210 * v236;
+        let v402 = v228 * v239;
+        let v403 = v401 - v402;
+        let v404 = v210 * v237;
+        let v405 = v228 * v240;
+        let v406 = v404 - v405;
+        let v407 = v210 * v238;
+        let v408 = v228 * v241;
+        let v409 = v407 - v408;
+        h_pose_intrinsics[0] = v350;
+        h_pose_intrinsics[1] = v354;
+        h_pose_intrinsics[2] = v358;
+        h_pose_intrinsics[3] = v362;
+        h_pose_intrinsics[4] = v366;
+        h_pose_intrinsics[5] = v370;
+        h_pose_intrinsics[6] = v373;
+        h_pose_intrinsics[7] = v376;
+        h_pose_intrinsics[8] = v379;
+        h_pose_intrinsics[9] = v382;
+        h_pose_intrinsics[10] = v385;
+        h_pose_intrinsics[11] = v388;
+        h_pose_intrinsics[12] = v392;
+        h_pose_intrinsics[13] = v396;
+        h_pose_intrinsics[14] = v400;
+        h_pose_intrinsics[15] = v403;
+        h_pose_intrinsics[16] = v406;
+        h_pose_intrinsics[17] = v409;
+    }
+    if let Some(h_pose_point) = h_pose_point {
+        let v410 = v105 * v138;
+        let v411 = v131 * v141;
+        let v412 = v410 + v411;
+        let v413 = v118 * v138;
+        let v414 = v137 * v141;
+        let v415 = v413 + v414;
+        let v416 = -v415;
+        let v417 = v118 * v139;
+        let v418 = v137 * v142;
+        let v419 = v417 + v418;
+        let v420 = -v419;
+        let v421 = v165 * v138;
+        let v422 = v216 * v141;
+        let v423 = v421 + v422;
+        let v424 = -v423;
+        let v425 = v165 * v139;
+        let v426 = v216 * v142;
+        let v427 = v425 + v426;
+        let v428 = -v427;
+        let v429 = v165 * v140;
+        let v430 = v216 * v143;
+        let v431 = v429 + v430;
+        let v432 = v186 * v138;
+        let v433 = v222 * v141;
+        let v434 = v432 + v433;
+        let v435 = v186 * v139;
+        let v436 = v222 * v142;
+        let v437 = v435 + v436;
+        let v438 = v186 * v140;
+        let v439 = v222 * v143;
+        let v440 = v438 + v439;
+        let v441 = -v440;
+        let v442 = v210 * v138;
+        let v443 = v228 * v141;
+        let v444 = v443 - v442;
+        let v445 = v210 * v139;
+        let v446 = v228 * v142;
+        let v447 = v446 - v445;
+        let v448 = v210 * v140;
+        let v449 = v228 * v143;
+        let v450 = v448 - v449;
+        h_pose_point[0] = v244;
+        h_pose_point[1] = v247;
+        h_pose_point[2] = v251;
+        h_pose_point[3] = v412;
+        h_pose_point[4] = v254;
+        h_pose_point[5] = v258;
+        h_pose_point[6] = v416;
+        h_pose_point[7] = v420;
+        h_pose_point[8] = v261;
+        h_pose_point[9] = v424;
+        h_pose_point[10] = v428;
+        h_pose_point[11] = v431;
+        h_pose_point[12] = v434;
+        h_pose_point[13] = v437;
+        h_pose_point[14] = v441;
+        h_pose_point[15] = v444;
+        h_pose_point[16] = v447;
+        h_pose_point[17] = v450;
+    }
+    if let Some(h_intrinsics_intrinsics) = h_intrinsics_intrinsics {
+        let v451 = v229 * v236;
+        let v452 = v233 * v239;
+        let v453 = v451 + v452;
+        let v454 = v229 * v237;
+        let v455 = v233 * v240;
+        let v456 = v454 + v455;
+        let v457 = v229 * v238;
+        let v458 = v233 * v241;
+        let v459 = v457 + v458;
+        let v460 = v230 * v237;
+        let v461 = v234 * v240;
+        let v462 = v460 + v461;
+        let v463 = v230 * v238;
+        let v464 = v234 * v241;
+        let v465 = v463 + v464;
+        let v466 = v232 * v238;
+        let v467 = v235 * v241;
+        let v468 = v466 + v467;
+        h_intrinsics_intrinsics[0] = v453;
+        h_intrinsics_intrinsics[1] = v456;
+        h_intrinsics_intrinsics[2] = v459;
+        h_intrinsics_intrinsics[3] = v462;
+        h_intrinsics_intrinsics[4] = v465;
+        h_intrinsics_intrinsics[5] = v468;
+    }
+    if let Some(h_intrinsics_point) = h_intrinsics_point {
+        let v469 = v229 * v138;
+        let v470 = v233 * v141;
+        let v471 = v469 + v470;
+        let v472 = -v471;
+        let v473 = v229 * v139;
+        let v474 = v233 * v142;
+        let v475 = v473 + v474;
+        let v476 = -v475;
+        let v477 = v229 * v140;
+        let v478 = v233 * v143;
+        let v479 = v477 + v478;
+        let v480 = v230 * v138;
+        let v481 = v234 * v141;
+        let v482 = v480 + v481;
+        let v483 = -v482;
+        let v484 = v230 * v139;
+        let v485 = v234 * v142;
+        let v486 = v484 + v485;
+        let v487 = -v486;
+        let v488 = v230 * v140;
+        let v489 = v234 * v143;
+        let v490 = v488 + v489;
+        let v491 = v232 * v138;
+        let v492 = v235 * v141;
+        let v493 = v491 + v492;
+        let v494 = -v493;
+        let v495 = v232 * v139;
+        let v496 = v235 * v142;
+        let v497 = v495 + v496;
+        let v498 = -v497;
+        let v499 = v232 * v140;
+        let v500 = v235 * v143;
+        let v501 = v499 + v500;
+        h_intrinsics_point[0] = v472;
+        h_intrinsics_point[1] = v476;
+        h_intrinsics_point[2] = v479;
+        h_intrinsics_point[3] = v483;
+        h_intrinsics_point[4] = v487;
+        h_intrinsics_point[5] = v490;
+        h_intrinsics_point[6] = v494;
+        h_intrinsics_point[7] = v498;
+        h_intrinsics_point[8] = v501;
+    }
+    if let Some(h_point_point) = h_point_point {
+        h_point_point[0] = v244;
+        h_point_point[1] = v247;
+        h_point_point[2] = v251;
+        h_point_point[3] = v254;
+        h_point_point[4] = v258;
+        h_point_point[5] = v261;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[2, 7, 3, 3],
+    tangents: &[6, 3, 3],
+    gradient: &[6, 3, 3],
+    hessian: &[21, 18, 18, 6, 9, 6],
+};
+
+/// [`snavely_reprojection_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn snavely_reprojection_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [observed, pose, intrinsics, point] = inputs else {
+        return false;
+    };
+    let (Ok(observed), Ok(pose), Ok(intrinsics), Ok(point)) = (
+        <&[T; 2]>::try_from(*observed),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 3]>::try_from(*intrinsics),
+        <&[T; 3]>::try_from(*point),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_intrinsics, g_point] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_intrinsics, h_pose_point, h_intrinsics_intrinsics,
+    h_intrinsics_point, h_point_point] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_intrinsics = match g_intrinsics.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_point = match g_point.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_intrinsics = match h_pose_intrinsics
+        .as_deref_mut()
+        .map(<&mut [T; 18]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_point = match h_pose_point.as_deref_mut().map(<&mut [T; 18]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_intrinsics_intrinsics = match h_intrinsics_intrinsics
+        .as_deref_mut()
+        .map(<&mut [T; 6]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_intrinsics_point = match h_intrinsics_point
+        .as_deref_mut()
+        .map(<&mut [T; 9]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_point_point = match h_point_point.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::snavely_reprojection_normal(
+        observed,
+        pose,
+        intrinsics,
+        point,
+        weight,
+        cost,
+        g_pose,
+        g_intrinsics,
+        g_point,
+        h_pose_pose,
+        h_pose_intrinsics,
+        h_pose_point,
+        h_intrinsics_intrinsics,
+        h_intrinsics_point,
+        h_point_point,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`snavely_reprojection`] and [`snavely_reprojection_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 15];
+    type Outputs = [T; 26];
+    const FIELDS: &'static [usize] = &[2, 7, 3, 3];
+    const RESIDUAL: usize = 2;
+    const TANGENTS: &'static [usize] = &[6, 3, 3];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 15], outputs: &mut [T; 26], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<2>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+            return;
+        };
+        let Some((d_intrinsics, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((d_point, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        snavely_reprojection(
+            &[inputs[0], inputs[1]],
+            &[
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+            ],
+            &[inputs[9], inputs[10], inputs[11]],
+            &[inputs[12], inputs[13], inputs[14]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_intrinsics),
+            matches!(blocks.get(2), Some(true)).then_some(d_point),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 91];
+    #[inline(always)]
+    fn normal(inputs: &[T; 15], weight: T, outputs: &mut [T; 91], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let free_2 = matches!(free.get(2), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_intrinsics, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((g_point, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_intrinsics, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((h_pose_point, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((h_intrinsics_intrinsics, rest)) = rest.split_first_chunk_mut::<6>()
+        else {
+            return;
+        };
+        let Some((h_intrinsics_point, rest)) = rest.split_first_chunk_mut::<9>() else {
+            return;
+        };
+        let Some((h_point_point, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        snavely_reprojection_normal(
+            &[inputs[0], inputs[1]],
+            &[
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+            ],
+            &[inputs[9], inputs[10], inputs[11]],
+            &[inputs[12], inputs[13], inputs[14]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_intrinsics),
+            free_2.then_some(g_point),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_intrinsics),
+            (free_0 && free_2).then_some(h_pose_point),
+            free_1.then_some(h_intrinsics_intrinsics),
+            (free_1 && free_2).then_some(h_intrinsics_point),
+            free_2.then_some(h_point_point),
+        );
+    }
 }

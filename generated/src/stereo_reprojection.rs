@@ -31,15 +31,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 70 | 126 | 1 | 9 | 0 | 0 | 0 | 206 |
 //! | residual only | 29 | 33 | 1 | 1 | 0 | 0 | 0 | 64 |
+//! | normal equations | 180 | 318 | 1 | 11 | 0 | 0 | 0 | 510 |
+//! | normal equations, cost only | 31 | 38 | 1 | 0 | 0 | 0 | 0 | 70 |
+//!
+//! # Normal equations
+//!
+//! `stereo_reprojection_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose: [T; 6]`: `J_poseᵀ w r`
+//! - `g_landmark: [T; 3]`: `J_landmarkᵀ w r`
+//! - `h_pose_pose: [T; 21]`: `J_poseᵀ w J_pose`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_landmark: [T; 18]`: `J_poseᵀ w J_landmark`, 6 × 3 row-major
+//! - `h_landmark_landmark: [T; 6]`: `J_landmarkᵀ w J_landmark`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::stereo::StereoReprojection` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn stereo_reprojection<T: Real>(
     calibration: &[T; 6],
     observed: &[T; 3],
@@ -363,4 +382,930 @@ pub fn stereo_reprojection_slices<T: Real>(
         d_landmark,
     );
     true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::stereo::StereoReprojection` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`stereo_reprojection`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn stereo_reprojection_normal<T: Real>(
+    calibration: &[T; 6],
+    observed: &[T; 3],
+    pose: &[T; 7],
+    landmark: &[T; 3],
+    weight: T,
+    cost: &mut T,
+    g_pose: Option<&mut [T; 6]>,
+    g_landmark: Option<&mut [T; 3]>,
+    h_pose_pose: Option<&mut [T; 21]>,
+    h_pose_landmark: Option<&mut [T; 18]>,
+    h_landmark_landmark: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[5] - landmark[1];
+    let v1 = pose[0] * pose[0];
+    let v2 = pose[1] * pose[1];
+    let v3 = v1 - v2;
+    let v4 = pose[2] * pose[2];
+    let v5 = pose[3] * pose[3];
+    let v6 = v4 - v5;
+    let v7 = v3 + v6;
+    let v8 = v0 * v7;
+    let v9 = pose[4] - landmark[0];
+    let v10 = pose[0] * pose[1];
+    let v11 = pose[2] * pose[3];
+    let v12 = v10 - v11;
+    let v13 = pose[6] - landmark[2];
+    let v14 = pose[1] * pose[2];
+    let v15 = pose[0] * pose[3];
+    let v16 = v14 + v15;
+    let v17 = v9 * v12;
+    let v18 = v13 * v16;
+    let v19 = v17 + v18;
+    let v20 = T::constant(2.0) * v19;
+    let v21 = v8 - v20;
+    let v22 = v1 + v2;
+    let v23 = v4 + v5;
+    let v24 = v22 - v23;
+    let v25 = v13 * T::constant(0.5);
+    let v26 = v24 * v25;
+    let v27 = v14 - v15;
+    let v28 = v0 * v27;
+    let v29 = pose[0] * pose[2];
+    let v30 = pose[1] * pose[3];
+    let v31 = v29 + v30;
+    let v32 = v9 * v31;
+    let v33 = v28 + v32;
+    let v34 = v33 - v26;
+    let v35 = T::constant(1.0) / v34;
+    let v36 = v35 * calibration[2];
+    let v37 = v21 * v36;
+    let v38 = v3 - v6;
+    let v39 = v9 * T::constant(0.5);
+    let v40 = v38 * v39;
+    let v41 = v10 + v11;
+    let v42 = v0 * v41;
+    let v43 = v29 - v30;
+    let v44 = v13 * v43;
+    let v45 = v42 + v44;
+    let v46 = v40 + v45;
+    let v47 = v35 * calibration[0];
+    let v48 = v46 * v47;
+    let v49 = calibration[3] + v48;
+    let v50 = T::constant(2.0) * v49;
+    let v51 = v37 - v50;
+    let v52 = T::constant(0.5) * v51;
+    let v53 = v52 + observed[0];
+    let v54 = v47 * calibration[5];
+    let v55 = v54 - v51;
+    let v56 = T::constant(0.5) * v55;
+    let v57 = v56 - observed[1];
+    let v58 = v35 * calibration[1];
+    let v59 = v21 * T::constant(0.5);
+    let v60 = v58 * v59;
+    let v61 = calibration[4] - observed[2];
+    let v62 = v61 - v60;
+    let v63 = v53 * v53;
+    let v64 = v57 * v57;
+    let v65 = v62 * v62;
+    let v66 = v63 + v64;
+    let v67 = v65 + v66;
+    let v68 = weight * v67;
+    let v69 = T::constant(0.5) * v68;
+    *cost = v69;
+    let (v73, v74, v77, v78, v84, v92, v101, v104, v107, v109, v110, v113, v116, v119) = if g_pose
+        .is_some() || g_landmark.is_some() || h_pose_pose.is_some()
+        || h_pose_landmark.is_some() || h_landmark_landmark.is_some()
+    {
+        let v70 = v38 * v47;
+        let v71 = v35 * v35;
+        let v72 = calibration[0] * v71;
+        let v73 = v46 * v72;
+        let v74 = T::constant(2.0) * v31;
+        let v75 = v73 * v74;
+        let v76 = v70 - v75;
+        let v77 = v21 * v71;
+        let v78 = calibration[2] * v77;
+        let v79 = T::constant(0.5) * v31;
+        let v80 = v78 * v79;
+        let v81 = v12 * v36;
+        let v82 = v80 + v81;
+        let v83 = T::constant(2.0) * v82;
+        let v84 = v76 + v83;
+        let v85 = v7 * v36;
+        let v86 = v27 * v78;
+        let v87 = v85 - v86;
+        let v88 = T::constant(0.5) * v87;
+        let v89 = v41 * v47;
+        let v90 = v27 * v73;
+        let v91 = v89 - v90;
+        let v92 = v91 - v88;
+        let v93 = v24 * T::constant(0.5);
+        let v94 = v73 * v93;
+        let v95 = v43 * v47;
+        let v96 = v94 + v95;
+        let v97 = v24 * T::constant(0.25);
+        let v98 = v78 * v97;
+        let v99 = v16 * v36;
+        let v100 = v99 - v98;
+        let v101 = v96 + v100;
+        let v102 = calibration[5] * v72;
+        let v103 = v31 * v102;
+        let v104 = v84 - v103;
+        let v105 = T::constant(0.5) * v27;
+        let v106 = v102 * v105;
+        let v107 = v92 - v106;
+        let v108 = v97 * v102;
+        let v109 = v101 + v108;
+        let v110 = calibration[1] * v77;
+        let v111 = v79 * v110;
+        let v112 = v12 * v58;
+        let v113 = v111 + v112;
+        let v114 = v7 * v58;
+        let v115 = v27 * v110;
+        let v116 = v114 - v115;
+        let v117 = v97 * v110;
+        let v118 = v16 * v58;
+        let v119 = v118 - v117;
+        (v73, v74, v77, v78, v84, v92, v101, v104, v107, v109, v110, v113, v116, v119)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v128,
+        v134,
+        v140,
+        v148,
+        v154,
+        v157,
+        v162,
+        v167,
+        v172,
+        v175,
+        v178,
+        v183,
+        v190,
+        v195,
+        v198,
+        v199,
+        v200,
+    ) = if g_pose.is_some() || h_pose_pose.is_some() || h_pose_landmark.is_some() {
+        let v120 = T::constant(0.5) * v38;
+        let v121 = v84 * v120;
+        let v122 = T::constant(2.0) * v41;
+        let v123 = T::constant(2.0) * v43;
+        let v124 = v41 * v92;
+        let v125 = v43 * v101;
+        let v126 = v124 + v125;
+        let v127 = T::constant(2.0) * v126;
+        let v128 = v121 + v127;
+        let v129 = v12 * v84;
+        let v130 = v7 * v92;
+        let v131 = T::constant(2.0) * v16;
+        let v132 = v101 * v131;
+        let v133 = v129 + v132;
+        let v134 = v133 - v130;
+        let v135 = v31 * v84;
+        let v136 = v24 * v101;
+        let v137 = T::constant(2.0) * v27;
+        let v138 = v92 * v137;
+        let v139 = v135 - v136;
+        let v140 = v138 + v139;
+        let v141 = v21 * v78;
+        let v142 = calibration[0] * v77;
+        let v143 = T::constant(0.5) * v46;
+        let v144 = v142 * v143;
+        let v145 = calibration[2] - v144;
+        let v146 = v145 * T::constant(4.0);
+        let v147 = v141 + v146;
+        let v148 = T::constant(0.25) * v147;
+        let v149 = v46 * v78;
+        let v150 = v46 * v73;
+        let v151 = calibration[0] + v150;
+        let v152 = T::constant(2.0) * v151;
+        let v153 = v149 - v152;
+        let v154 = T::constant(0.5) * v153;
+        let v155 = v47 * v59;
+        let v156 = v36 * v46;
+        let v157 = v155 + v156;
+        let v158 = v120 * v104;
+        let v159 = v122 * v107;
+        let v160 = v123 * v109;
+        let v161 = v159 + v160;
+        let v162 = v158 + v161;
+        let v163 = v12 * v104;
+        let v164 = v7 * v107;
+        let v165 = v131 * v109;
+        let v166 = v163 + v165;
+        let v167 = v166 - v164;
+        let v168 = v31 * v104;
+        let v169 = v24 * v109;
+        let v170 = v137 * v107;
+        let v171 = v168 - v169;
+        let v172 = v170 + v171;
+        let v173 = calibration[5] * v142;
+        let v174 = v147 - v173;
+        let v175 = T::constant(0.25) * v174;
+        let v176 = calibration[5] * v73;
+        let v177 = v153 - v176;
+        let v178 = T::constant(0.5) * v177;
+        let v179 = v38 * v113;
+        let v180 = v41 * v116;
+        let v181 = v123 * v119;
+        let v182 = v179 - v180;
+        let v183 = v181 + v182;
+        let v184 = v7 * T::constant(0.5);
+        let v185 = v116 * v184;
+        let v186 = v12 * T::constant(2.0);
+        let v187 = v113 * v186;
+        let v188 = v131 * v119;
+        let v189 = v187 + v188;
+        let v190 = v185 + v189;
+        let v191 = v27 * v116;
+        let v192 = v24 * v119;
+        let v193 = v74 * v113;
+        let v194 = v191 + v192;
+        let v195 = v193 - v194;
+        let v196 = v21 * T::constant(0.25);
+        let v197 = v110 * v196;
+        let v198 = calibration[1] + v197;
+        let v199 = v143 * v110;
+        let v200 = v46 * v58;
+        (
+            v128,
+            v134,
+            v140,
+            v148,
+            v154,
+            v157,
+            v162,
+            v167,
+            v172,
+            v175,
+            v178,
+            v183,
+            v190,
+            v195,
+            v198,
+            v199,
+            v200,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v201, v202, v203, v204, v205, v206, v207, v208, v209, v210, v211, v212) = if g_landmark
+        .is_some() || h_pose_landmark.is_some() || h_landmark_landmark.is_some()
+    {
+        let v201 = v84 * T::constant(-0.5);
+        let v202 = v104 * T::constant(-0.5);
+        let v203 = T::constant(0.5) * v116;
+        let v204 = v201 * weight;
+        let v205 = v92 * weight;
+        let v206 = v101 * weight;
+        let v207 = v202 * weight;
+        let v208 = v107 * weight;
+        let v209 = v109 * weight;
+        let v210 = v113 * weight;
+        let v211 = v203 * weight;
+        let v212 = v119 * weight;
+        (v201, v202, v203, v204, v205, v206, v207, v208, v209, v210, v211, v212)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v213,
+        v214,
+        v215,
+        v216,
+        v217,
+        v218,
+        v219,
+        v220,
+        v221,
+        v222,
+        v223,
+        v224,
+        v225,
+        v226,
+        v227,
+        v228,
+        v229,
+    ) = if g_pose.is_some() || h_pose_pose.is_some() {
+        let v213 = v128 * weight;
+        let v214 = v134 * weight;
+        let v215 = v140 * weight;
+        let v216 = v148 * weight;
+        let v217 = v154 * weight;
+        let v218 = v157 * weight;
+        let v219 = v162 * weight;
+        let v220 = v167 * weight;
+        let v221 = v172 * weight;
+        let v222 = v175 * weight;
+        let v223 = v178 * weight;
+        let v224 = v183 * weight;
+        let v225 = v190 * weight;
+        let v226 = v195 * weight;
+        let v227 = v198 * weight;
+        let v228 = v199 * weight;
+        let v229 = v200 * weight;
+        (
+            v213,
+            v214,
+            v215,
+            v216,
+            v217,
+            v218,
+            v219,
+            v220,
+            v221,
+            v222,
+            v223,
+            v224,
+            v225,
+            v226,
+            v227,
+            v228,
+            v229,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose) = g_pose {
+        let v230 = v53 * v213;
+        let v231 = v57 * v219;
+        let v232 = v62 * v224;
+        let v233 = v231 - v230;
+        let v234 = v232 + v233;
+        let v235 = v53 * v214;
+        let v236 = v57 * v220;
+        let v237 = v62 * v225;
+        let v238 = v236 - v235;
+        let v239 = v237 + v238;
+        let v240 = v53 * v215;
+        let v241 = v57 * v221;
+        let v242 = v62 * v226;
+        let v243 = v241 - v240;
+        let v244 = v242 + v243;
+        let v245 = v53 * v216;
+        let v246 = v57 * v222;
+        let v247 = v62 * v227;
+        let v248 = v246 - v245;
+        let v249 = v247 + v248;
+        let v250 = v53 * v217;
+        let v251 = v57 * v223;
+        let v252 = v62 * v228;
+        let v253 = v251 - v250;
+        let v254 = v252 + v253;
+        let v255 = v53 * v218;
+        let v256 = v57 * v218;
+        let v257 = v62 * v229;
+        let v258 = v255 - v256;
+        let v259 = v258 - v257;
+        g_pose[0] = v234;
+        g_pose[1] = v239;
+        g_pose[2] = v244;
+        g_pose[3] = v249;
+        g_pose[4] = v254;
+        g_pose[5] = v259;
+    }
+    if let Some(g_landmark) = g_landmark {
+        let v260 = v53 * v204;
+        let v261 = v57 * v207;
+        let v262 = v62 * v210;
+        let v263 = v261 - v260;
+        let v264 = v263 - v262;
+        let v265 = v53 * v205;
+        let v266 = v57 * v208;
+        let v267 = v62 * v211;
+        let v268 = v265 - v266;
+        let v269 = v267 + v268;
+        let v270 = v53 * v206;
+        let v271 = v57 * v209;
+        let v272 = v62 * v212;
+        let v273 = v270 - v271;
+        let v274 = v273 - v272;
+        g_landmark[0] = v264;
+        g_landmark[1] = v269;
+        g_landmark[2] = v274;
+    }
+    if let Some(h_pose_pose) = h_pose_pose {
+        let v275 = v128 * v213;
+        let v276 = v162 * v219;
+        let v277 = v183 * v224;
+        let v278 = v275 + v276;
+        let v279 = v277 + v278;
+        let v280 = v128 * v214;
+        let v281 = v162 * v220;
+        let v282 = v183 * v225;
+        let v283 = v280 + v281;
+        let v284 = v282 + v283;
+        let v285 = v128 * v215;
+        let v286 = v162 * v221;
+        let v287 = v183 * v226;
+        let v288 = v285 + v286;
+        let v289 = v287 + v288;
+        let v290 = v128 * v216;
+        let v291 = v162 * v222;
+        let v292 = v183 * v227;
+        let v293 = v290 + v291;
+        let v294 = v292 + v293;
+        let v295 = v128 * v217;
+        let v296 = v162 * v223;
+        let v297 = v183 * v228;
+        let v298 = v295 + v296;
+        let v299 = v297 + v298;
+        let v300 = v128 * v218;
+        let v301 = v162 * v218;
+        let v302 = v183 * v229;
+        let v303 = v300 + v301;
+        let v304 = v302 + v303;
+        let v305 = -v304;
+        let v306 = v134 * v214;
+        let v307 = v167 * v220;
+        let v308 = v190 * v225;
+        let v309 = v306 + v307;
+        let v310 = v308 + v309;
+        let v311 = v134 * v215;
+        let v312 = v167 * v221;
+        let v313 = v190 * v226;
+        let v314 = v311 + v312;
+        let v315 = v313 + v314;
+        let v316 = v134 * v216;
+        let v317 = v167 * v222;
+        let v318 = v190 * v227;
+        let v319 = v316 + v317;
+        let v320 = v318 + v319;
+        let v321 = v134 * v217;
+        let v322 = v167 * v223;
+        let v323 = v190 * v228;
+        let v324 = v321 + v322;
+        let v325 = v323 + v324;
+        let v326 = v134 * v218;
+        let v327 = v167 * v218;
+        let v328 = v190 * v229;
+        let v329 = v326 + v327;
+        let v330 = v328 + v329;
+        let v331 = -v330;
+        let v332 = v140 * v215;
+        let v333 = v172 * v221;
+        let v334 = v195 * v226;
+        let v335 = v332 + v333;
+        let v336 = v334 + v335;
+        let v337 = v140 * v216;
+        let v338 = v172 * v222;
+        let v339 = v195 * v227;
+        let v340 = v337 + v338;
+        let v341 = v339 + v340;
+        let v342 = v140 * v217;
+        let v343 = v172 * v223;
+        let v344 = v195 * v228;
+        let v345 = v342 + v343;
+        let v346 = v344 + v345;
+        let v347 = v140 * v218;
+        let v348 = v172 * v218;
+        let v349 = v195 * v229;
+        let v350 = v347 + v348;
+        let v351 = v349 + v350;
+        let v352 = -v351;
+        let v353 = v148 * v216;
+        let v354 = v175 * v222;
+        let v355 = v198 * v227;
+        let v356 = v353 + v354;
+        let v357 = v355 + v356;
+        let v358 = v148 * v217;
+        let v359 = v175 * v223;
+        let v360 = v198 * v228;
+        let v361 = v358 + v359;
+        let v362 = v360 + v361;
+        let v363 = v148 * v218;
+        let v364 = v175 * v218;
+        let v365 = v198 * v229;
+        let v366 = v363 + v364;
+        let v367 = v365 + v366;
+        let v368 = -v367;
+        let v369 = v154 * v217;
+        let v370 = v178 * v223;
+        let v371 = v199 * v228;
+        let v372 = v369 + v370;
+        let v373 = v371 + v372;
+        let v374 = v154 * v218;
+        let v375 = v178 * v218;
+        let v376 = v199 * v229;
+        let v377 = v374 + v375;
+        let v378 = v376 + v377;
+        let v379 = -v378;
+        let v380 = v157 * v218;
+        let v381 = v200 * v229;
+        let v382 = v380 + v380;
+        let v383 = v381 + v382;
+        h_pose_pose[0] = v279;
+        h_pose_pose[1] = v284;
+        h_pose_pose[2] = v289;
+        h_pose_pose[3] = v294;
+        h_pose_pose[4] = v299;
+        h_pose_pose[5] = v305;
+        h_pose_pose[6] = v310;
+        h_pose_pose[7] = v315;
+        h_pose_pose[8] = v320;
+        h_pose_pose[9] = v325;
+        h_pose_pose[10] = v331;
+        h_pose_pose[11] = v336;
+        h_pose_pose[12] = v341;
+        h_pose_pose[13] = v346;
+        h_pose_pose[14] = v352;
+        h_pose_pose[15] = v357;
+        h_pose_pose[16] = v362;
+        h_pose_pose[17] = v368;
+        h_pose_pose[18] = v373;
+        h_pose_pose[19] = v379;
+        h_pose_pose[20] = v383;
+    }
+    if let Some(h_pose_landmark) = h_pose_landmark {
+        let v384 = v128 * v204;
+        let v385 = v162 * v207;
+        let v386 = v183 * v210;
+        let v387 = v384 + v385;
+        let v388 = v387 - v386;
+        let v389 = v128 * v205;
+        let v390 = v162 * v208;
+        let v391 = v183 * v211;
+        let v392 = v391 - v389;
+        let v393 = v392 - v390;
+        let v394 = v128 * v206;
+        let v395 = v162 * v209;
+        let v396 = v183 * v212;
+        let v397 = v394 + v395;
+        let v398 = v396 + v397;
+        let v399 = -v398;
+        let v400 = v134 * v204;
+        let v401 = v167 * v207;
+        let v402 = v190 * v210;
+        let v403 = v400 + v401;
+        let v404 = v403 - v402;
+        let v405 = v134 * v205;
+        let v406 = v167 * v208;
+        let v407 = v190 * v211;
+        let v408 = v407 - v405;
+        let v409 = v408 - v406;
+        let v410 = v134 * v206;
+        let v411 = v167 * v209;
+        let v412 = v190 * v212;
+        let v413 = v410 + v411;
+        let v414 = v412 + v413;
+        let v415 = -v414;
+        let v416 = v140 * v204;
+        let v417 = v172 * v207;
+        let v418 = v195 * v210;
+        let v419 = v416 + v417;
+        let v420 = v419 - v418;
+        let v421 = v140 * v205;
+        let v422 = v172 * v208;
+        let v423 = v195 * v211;
+        let v424 = v423 - v421;
+        let v425 = v424 - v422;
+        let v426 = v140 * v206;
+        let v427 = v172 * v209;
+        let v428 = v195 * v212;
+        let v429 = v426 + v427;
+        let v430 = v428 + v429;
+        let v431 = -v430;
+        let v432 = v148 * v204;
+        let v433 = v175 * v207;
+        let v434 = v198 * v210;
+        let v435 = v432 + v433;
+        let v436 = v435 - v434;
+        let v437 = v148 * v205;
+        let v438 = v175 * v208;
+        let v439 = v198 * v211;
+        let v440 = v439 - v437;
+        let v441 = v440 - v438;
+        let v442 = v148 * v206;
+        let v443 = v175 * v209;
+        let v444 = v198 * v212;
+        let v445 = v442 + v443;
+        let v446 = v444 + v445;
+        let v447 = -v446;
+        let v448 = v154 * v204;
+        let v449 = v178 * v207;
+        let v450 = v199 * v210;
+        let v451 = v448 + v449;
+        let v452 = v451 - v450;
+        let v453 = v154 * v205;
+        let v454 = v178 * v208;
+        let v455 = v199 * v211;
+        let v456 = v455 - v453;
+        let v457 = v456 - v454;
+        let v458 = v154 * v206;
+        let v459 = v178 * v209;
+        let v460 = v199 * v212;
+        let v461 = v458 + v459;
+        let v462 = v460 + v461;
+        let v463 = -v462;
+        let v464 = v157 * v204;
+        let v465 = v157 * v207;
+        let v466 = v200 * v210;
+        let v467 = v466 - v464;
+        let v468 = v467 - v465;
+        let v469 = v157 * v205;
+        let v470 = v157 * v208;
+        let v471 = v200 * v211;
+        let v472 = v469 + v470;
+        let v473 = v472 - v471;
+        let v474 = v157 * v206;
+        let v475 = v157 * v209;
+        let v476 = v200 * v212;
+        let v477 = v474 + v475;
+        let v478 = v476 + v477;
+        h_pose_landmark[0] = v388;
+        h_pose_landmark[1] = v393;
+        h_pose_landmark[2] = v399;
+        h_pose_landmark[3] = v404;
+        h_pose_landmark[4] = v409;
+        h_pose_landmark[5] = v415;
+        h_pose_landmark[6] = v420;
+        h_pose_landmark[7] = v425;
+        h_pose_landmark[8] = v431;
+        h_pose_landmark[9] = v436;
+        h_pose_landmark[10] = v441;
+        h_pose_landmark[11] = v447;
+        h_pose_landmark[12] = v452;
+        h_pose_landmark[13] = v457;
+        h_pose_landmark[14] = v463;
+        h_pose_landmark[15] = v468;
+        h_pose_landmark[16] = v473;
+        h_pose_landmark[17] = v478;
+    }
+    if let Some(h_landmark_landmark) = h_landmark_landmark {
+        let v479 = v201 * v204;
+        let v480 = v202 * v207;
+        let v481 = v113 * v210;
+        let v482 = v479 + v480;
+        let v483 = v481 + v482;
+        let v484 = v201 * v205;
+        let v485 = v202 * v208;
+        let v486 = v113 * v211;
+        let v487 = v484 + v485;
+        let v488 = v486 + v487;
+        let v489 = -v488;
+        let v490 = v201 * v206;
+        let v491 = v202 * v209;
+        let v492 = v113 * v212;
+        let v493 = v492 - v490;
+        let v494 = v493 - v491;
+        let v495 = v92 * v205;
+        let v496 = v107 * v208;
+        let v497 = v203 * v211;
+        let v498 = v495 + v496;
+        let v499 = v497 + v498;
+        let v500 = v92 * v206;
+        let v501 = v107 * v209;
+        let v502 = v203 * v212;
+        let v503 = v500 + v501;
+        let v504 = v503 - v502;
+        let v505 = v101 * v206;
+        let v506 = v109 * v209;
+        let v507 = v119 * v212;
+        let v508 = v505 + v506;
+        let v509 = v507 + v508;
+        h_landmark_landmark[0] = v483;
+        h_landmark_landmark[1] = v489;
+        h_landmark_landmark[2] = v494;
+        h_landmark_landmark[3] = v499;
+        h_landmark_landmark[4] = v504;
+        h_landmark_landmark[5] = v509;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[6, 3, 7, 3],
+    tangents: &[6, 3],
+    gradient: &[6, 3],
+    hessian: &[21, 18, 6],
+};
+
+/// [`stereo_reprojection_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn stereo_reprojection_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [calibration, observed, pose, landmark] = inputs else {
+        return false;
+    };
+    let (Ok(calibration), Ok(observed), Ok(pose), Ok(landmark)) = (
+        <&[T; 6]>::try_from(*calibration),
+        <&[T; 3]>::try_from(*observed),
+        <&[T; 7]>::try_from(*pose),
+        <&[T; 3]>::try_from(*landmark),
+    ) else {
+        return false;
+    };
+    let [g_pose, g_landmark] = gradient else {
+        return false;
+    };
+    let [h_pose_pose, h_pose_landmark, h_landmark_landmark] = hessian else {
+        return false;
+    };
+    let g_pose = match g_pose.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_landmark = match g_landmark.as_deref_mut().map(<&mut [T; 3]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_pose = match h_pose_pose.as_deref_mut().map(<&mut [T; 21]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_landmark = match h_pose_landmark
+        .as_deref_mut()
+        .map(<&mut [T; 18]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_landmark_landmark = match h_landmark_landmark
+        .as_deref_mut()
+        .map(<&mut [T; 6]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::stereo_reprojection_normal(
+        calibration,
+        observed,
+        pose,
+        landmark,
+        weight,
+        cost,
+        g_pose,
+        g_landmark,
+        h_pose_pose,
+        h_pose_landmark,
+        h_landmark_landmark,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`stereo_reprojection`] and [`stereo_reprojection_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 19];
+    type Outputs = [T; 30];
+    const FIELDS: &'static [usize] = &[6, 3, 7, 3];
+    const RESIDUAL: usize = 3;
+    const TANGENTS: &'static [usize] = &[6, 3];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 19], outputs: &mut [T; 30], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((d_landmark, _)) = rest.split_first_chunk_mut::<9>() else {
+            return;
+        };
+        stereo_reprojection(
+            &[inputs[0], inputs[1], inputs[2], inputs[3], inputs[4], inputs[5]],
+            &[inputs[6], inputs[7], inputs[8]],
+            &[
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+            ],
+            &[inputs[16], inputs[17], inputs[18]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_landmark),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 55];
+    #[inline(always)]
+    fn normal(inputs: &[T; 19], weight: T, outputs: &mut [T; 55], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_landmark, rest)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((h_pose_pose, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_landmark, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((h_landmark_landmark, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        stereo_reprojection_normal(
+            &[inputs[0], inputs[1], inputs[2], inputs[3], inputs[4], inputs[5]],
+            &[inputs[6], inputs[7], inputs[8]],
+            &[
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+            ],
+            &[inputs[16], inputs[17], inputs[18]],
+            weight,
+            cost,
+            free_0.then_some(g_pose),
+            free_1.then_some(g_landmark),
+            free_0.then_some(h_pose_pose),
+            (free_0 && free_1).then_some(h_pose_landmark),
+            free_1.then_some(h_landmark_landmark),
+        );
+    }
 }

@@ -20,9 +20,13 @@
 //! serves them to it), so their generated kernels emit the solver's
 //! Jacobian columns as they are.
 //!
-//! Degenerate configurations are rejected by each factor's `validate` with
-//! [`factor_core::FactorError::Degenerate`] before anything is evaluated; no factor
-//! returns a NaN, an infinity or a panic for them.
+//! Degenerate configurations, and those near a degeneracy where the `f64`
+//! inputs no longer determine the outputs to 1e-6 (each factor's accuracy
+//! envelope, measured against a double-double evaluation in
+//! `tests/accuracy_envelope.rs`), are rejected by each factor's `validate`
+//! with [`factor_core::FactorError::Degenerate`] before anything is
+//! evaluated; no factor returns a NaN, an infinity, an inaccurate number or
+//! a panic for them.
 
 //!
 //! With the default feature `kernels`, each factor's `linearize()` goes
@@ -56,6 +60,35 @@ use factor_core::FactorError;
 /// Relative threshold below which a length counts as zero in the validations
 /// (`|x| ≤ DEGENERACY_TOLERANCE · scale`).
 pub const DEGENERACY_TOLERANCE: f64 = 1e-9;
+
+/// The largest magnitude (and the inverse of the smallest) of a quantity a
+/// residual squares or cubes (the image line `l` of the line factors, the
+/// ray of the free line): within
+/// `[1e-100, 1e100]` those powers stay normal `f64` numbers. Beyond it they
+/// overflow to infinity or lose digits in subnormals, and a kernel returns
+/// zeros or worse, so the validations reject it.
+pub const MAGNITUDE_LIMIT: f64 = 1e100;
+
+/// Rejects `magnitude` (of `what`, a max-abs norm) outside
+/// `[1/MAGNITUDE_LIMIT, MAGNITUDE_LIMIT]`; `why` says what makes it so.
+pub(crate) fn check_magnitude(
+    factor: &'static str,
+    what: &str,
+    magnitude: f64,
+    why: &str,
+) -> Result<(), FactorError> {
+    if (MAGNITUDE_LIMIT.recip()..=MAGNITUDE_LIMIT).contains(&magnitude) {
+        return Ok(());
+    }
+    Err(degenerate(
+        factor,
+        format!(
+            "{what} has magnitude {}, outside [1e-100, 1e100] where the residual is evaluated \
+             accurately ({why})",
+            factor_core::validation::magnitude_text(magnitude)
+        ),
+    ))
+}
 
 /// A [`FactorError::Degenerate`].
 pub(crate) fn degenerate(factor: &'static str, reason: String) -> FactorError {

@@ -2,11 +2,11 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::{DEGENERACY_TOLERANCE, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_magnitude, degenerate};
 use factor_core::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
 use factor_core::lie::Se3;
-use factor_core::linalg::dot;
-use factor_core::validation::{exceeds, number_text};
+use factor_core::linalg::{dot, norm_ratio, scaled_norm};
+use factor_core::validation::{exceeds, magnitude_text, number_text};
 use factor_core::{Factor, FactorError, Scalar};
 
 /// The distances of the observed endpoints to the projected line,
@@ -20,7 +20,10 @@ use factor_core::{Factor, FactorError, Scalar};
 ///
 /// Degenerate: the line through the optical centre (`n_c = 0`: it projects to
 /// a point) or in the focal plane `Z = 0` (`l₁ = l₂ = 0`: it projects to the
-/// line at infinity).
+/// line at infinity), each to `1e-9` of the magnitudes it is computed from,
+/// and an image line `l` outside [`crate::MAGNITUDE_LIMIT`]: where the
+/// outputs would not be accurate to 1e-6 (`n_c` below `1e-9` of the terms
+/// it sums leaves a relative error of about `1e-7` and more).
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = line_reprojection_residual, dim = 2, validate = validate_line_reprojection)]
 #[cfg_attr(
@@ -75,36 +78,74 @@ pub(crate) fn endpoint_distances<S: Scalar>(
     )
 }
 
-/// Rejects a line through the optical centre or in the focal plane.
+/// Rejects a line through the optical centre or in the focal plane, and an
+/// image line of a magnitude the residual cannot square.
 pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), FactorError> {
-    let camera_line = f.line.to_plucker().transform(&f.pose);
-    validate_camera_line(LineReprojection::NAME, &f.intrinsics, &camera_line)
+    validate_camera_line(
+        LineReprojection::NAME,
+        &f.intrinsics,
+        &f.pose,
+        &f.line.to_plucker(),
+    )
 }
 
-/// Rejects a camera-frame line that passes through the optical centre
-/// (`n_c = 0`: it projects to a point) or lies in the focal plane
-/// (`l₁ = l₂ = 0` for `l = 𝒦 n_c`: it projects to the line at infinity).
+/// Rejects a world line that, seen from `pose`, passes through the optical
+/// centre (`n_c = 0`: it projects to a point) or lies in the focal plane
+/// (`l₁ = l₂ = 0` for `l = 𝒦 n_c`: it projects to the line at infinity), each
+/// to `1e-9` of the magnitudes it is computed from, or whose image line `l`
+/// is outside [`crate::MAGNITUDE_LIMIT`].
+///
+/// `n_c = R n + t × R v` is a sum of terms of magnitude `|n|` and `|t| |v|`:
+/// when `|n_c|` falls below `1e-9` of that, rounding leaves it (and the
+/// residual) with a relative error of about `1e-7` and more.
 pub(crate) fn validate_camera_line(
     factor: &'static str,
     intrinsics: &Intrinsics<f64>,
-    camera_line: &PluckerLine<f64>,
+    pose: &Se3<f64>,
+    world_line: &PluckerLine<f64>,
 ) -> Result<(), FactorError> {
-    let (n, v) = (camera_line.normal.norm(), camera_line.direction.norm());
-    if !exceeds(n, DEGENERACY_TOLERANCE * v) {
+    let camera_line = world_line.transform(pose);
+    let (n, v) = (camera_line.normal, camera_line.direction);
+    let l = intrinsics.project_line(&n);
+    if !n
+        .iter()
+        .chain(v.iter())
+        .chain(l.iter())
+        .all(|x| x.is_finite())
+    {
+        return Err(degenerate(
+            factor,
+            "the camera-frame line or its image overflows f64".into(),
+        ));
+    }
+    // Magnitudes scaled first: finite over the whole f64 range.
+    let terms = scaled_norm(&world_line.normal)
+        + scaled_norm(&pose.translation) * scaled_norm(&world_line.direction);
+    if !exceeds(scaled_norm(&n), DEGENERACY_TOLERANCE * terms) {
         return Err(degenerate(
             factor,
             format!(
-                "line passes through the optical centre (distance |n_c|/|v_c| = {})",
-                number_text(n / v)
+                "line passes through the optical centre (distance |n_c|/|v_c| = {}; |n_c| is \
+                 below 1e-9 of the |n| + |t| |v| = {} it is computed from)",
+                number_text(norm_ratio(&n, &v)),
+                magnitude_text(terms)
             ),
         ));
     }
-    let l = intrinsics.project_line(&camera_line.normal);
-    if !exceeds(l.xy().norm(), DEGENERACY_TOLERANCE * l.norm()) {
+    if !exceeds(
+        norm_ratio(&Vector3::new(l.x, l.y, 0.0), &l),
+        DEGENERACY_TOLERANCE,
+    ) {
         return Err(degenerate(
             factor,
             "line lies in the focal plane Z = 0 and projects to the line at infinity".into(),
         ));
     }
-    Ok(())
+    check_magnitude(
+        factor,
+        "the image line l = 𝒦 n_c",
+        l.amax(),
+        "the camera is too far from the line for its focal lengths, or the line's \
+         coordinates are too large or too small",
+    )
 }

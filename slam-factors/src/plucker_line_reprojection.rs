@@ -21,7 +21,8 @@ use factor_core::{Factor, FactorError, Scalar};
 ///   the Plücker constraint ignored).
 ///
 /// Degenerate: `v = 0`, or the line through the optical centre or in the
-/// focal plane.
+/// focal plane, or an image line outside [`crate::MAGNITUDE_LIMIT`] (which
+/// bounds the scale of `[n, v]` too), as for [`crate::LineReprojection`].
 #[derive(Debug, Clone, Factor)]
 #[factor(
     residual = plucker_line_residual,
@@ -63,7 +64,7 @@ pub fn plucker_line_residual<S: Scalar>(f: &PluckerLineReprojection<S>) -> Vecto
 
 /// Rejects `v = 0`, a line through the optical centre or in the focal plane.
 pub fn validate_plucker_line(f: &PluckerLineReprojection<f64>) -> Result<(), FactorError> {
-    if !exceeds(f.line.direction.norm(), 0.0) {
+    if !exceeds(f.line.direction.amax(), 0.0) {
         return Err(degenerate(
             PluckerLineReprojection::NAME,
             "line direction v has zero norm".into(),
@@ -72,6 +73,7 @@ pub fn validate_plucker_line(f: &PluckerLineReprojection<f64>) -> Result<(), Fac
     validate_camera_line(
         PluckerLineReprojection::NAME,
         &f.intrinsics,
-        &f.line.transform(&f.pose),
+        &f.pose,
+        &f.line,
     )
 }

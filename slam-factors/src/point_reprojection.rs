@@ -49,6 +49,12 @@ pub fn point_reprojection_residual<S: Scalar>(f: &PointReprojection<S>) -> Vecto
 /// Rejects a point at or behind the camera.
 pub fn validate_point_reprojection(f: &PointReprojection<f64>) -> Result<(), FactorError> {
     let p_c = f.pose.transform_point(&f.point);
+    if !p_c.iter().all(|x| x.is_finite()) {
+        return Err(degenerate(
+            PointReprojection::NAME,
+            "the point's camera-frame coordinates R X + t overflow f64".into(),
+        ));
+    }
     // The depth is compared with the magnitudes it is computed from (max-abs
     // norms, which cannot overflow), so a point at the centre up to rounding
     // (`P_c ≈ 1e-16`) is caught too.

@@ -3,9 +3,9 @@
 
 use factor_core::geometry::{FreeLine, OrthonormalLine, PluckerLine};
 use factor_core::lie::{Quaternion, Se3, So3};
-use factor_core::{Factor, FactorError};
+use factor_core::{Factor, FactorError, NumericLinearize};
 use factor_testing::samples::Sampler;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Unit, Vector3};
 use slam_factors::{FreeLineFactor, LineReprojection, PlaneFactor, PointReprojection};
 
 /// Asserts that all entry points fail with a degenerate-geometry error whose
@@ -78,11 +78,45 @@ fn plucker_input_with_zero_normal_or_not_a_line() {
     assert!(e.message.contains("n · v"), "{e}");
 }
 
+/// Plücker coordinates are homogeneous: any common scale of the f64 range
+/// gives the same line (it gave "n · v = NaN" from 1e154 on, and "zero
+/// norm" below 1e-162); only a distance `|n| / |v|` beyond the range is
+/// refused.
 #[test]
-fn plane_with_zero_measured_vector() {
+fn plucker_input_at_any_scale() {
+    let line = PluckerLine::new(Vector3::new(0.0, -3.0, 2.0), Vector3::new(1.0, 2.0, 3.0));
+    let unit = OrthonormalLine::try_from_plucker(&line).expect("a line");
+    for exponent in (-300..=300).step_by(25) {
+        let s = 10f64.powi(exponent);
+        let scaled = PluckerLine::new(line.normal * s, line.direction * s);
+        let got = OrthonormalLine::try_from_plucker(&scaled).expect("a line at any scale");
+        let diff = (got.u.quaternion.coords() - unit.u.quaternion.coords())
+            .amax()
+            .max((got.w.cos - unit.w.cos).abs())
+            .max((got.w.sin - unit.w.sin).abs());
+        assert!(diff <= 1e-15, "scale 1e{exponent}: differs by {diff:e}");
+    }
+    let far = PluckerLine::new(line.normal * 1e300, line.direction * 1e-300);
+    let e = OrthonormalLine::try_from_plucker(&far).unwrap_err();
+    assert!(e.message.contains("beyond the range of f64"), "{e}");
+    let skew = PluckerLine::new(
+        Vector3::new(1e300, 0.0, 0.0),
+        Vector3::new(1e300, 1e300, 0.0),
+    );
+    let e = OrthonormalLine::try_from_plucker(&skew).unwrap_err();
+    assert!(
+        e.message.contains("n · v ≠ 0 (cosine 0.7071067811865475)"),
+        "{e}"
+    );
+}
+
+#[test]
+fn plane_with_zero_or_unnormalised_measured_vector() {
     let mut f = Sampler::new(13).plane();
-    f.measured = nalgebra::Vector4::zeros();
-    assert_degenerate(&f, "zero norm");
+    f.measured = Unit::new_unchecked(nalgebra::Vector4::zeros());
+    assert_degenerate(&f, "measured plane vector has norm 0, expected 1");
+    f.measured = Unit::new_unchecked(f.plane.coefficients() * 1e200);
+    assert_degenerate(&f, "measured plane vector has norm 1e200, expected 1");
 }
 
 #[test]
@@ -93,14 +127,16 @@ fn plane_with_antipodal_error_quaternion() {
 }
 
 #[test]
-fn free_line_with_parallel_or_zero_bearings() {
+fn free_line_with_parallel_zero_or_unnormalised_bearings() {
     let mut f: FreeLineFactor = Sampler::new(15).free_line();
-    f.bearing_end = f.bearing_start * 2.5;
+    f.bearing_end = f.bearing_start;
     assert_degenerate(&f, "parallel");
     f.bearing_end = -f.bearing_start;
     assert_degenerate(&f, "parallel");
-    f.bearing_end = Vector3::zeros();
-    assert_degenerate(&f, "parallel or zero");
+    f.bearing_end = Unit::new_unchecked(Vector3::zeros());
+    assert_degenerate(&f, "bearing vector f₂ has norm 0, expected 1");
+    f.bearing_end = Unit::new_unchecked(f.bearing_start.into_inner() * 2.5);
+    assert_degenerate(&f, "bearing vector f₂ has norm 2.5, expected 1");
 }
 
 #[test]

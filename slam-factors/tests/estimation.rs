@@ -5,7 +5,7 @@
 //! their degenerate configurations.
 
 use factor_core::lie::{Se3, Se3RhoTheta, So3};
-use factor_core::{Factor, FactorError};
+use factor_core::{Factor, FactorError, NumericLinearize};
 use factor_testing::samples::Sampler;
 use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
 use nalgebra::{Matrix6, Rotation3, Vector2, Vector3, Vector6};

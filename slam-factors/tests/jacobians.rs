@@ -4,7 +4,7 @@
 //! to catch a wrong block.
 
 use factor_core::factor::relative_frobenius_error;
-use factor_core::{DynLinearization, Factor};
+use factor_core::{DynLinearization, Factor, NumericLinearize};
 use factor_testing::check_jacobians;
 use factor_testing::samples::Sampler;
 

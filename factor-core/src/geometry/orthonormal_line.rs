@@ -10,11 +10,11 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::geometry::PluckerLine;
 use crate::lie::{So2, So3};
-use crate::linalg::{cross, dot, norm, scale};
+use crate::linalg::{cross, dot, norm, norm_ratio, scale, unit_of};
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
-use crate::validation::{exceeds, number_text, within};
+use crate::validation::{number_text, within};
 
 /// A line as `(U, W)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,8 +36,17 @@ impl<S: Scalar> OrthonormalLine<S> {
     pub fn from_plucker(line: &PluckerLine<S>) -> Self {
         let (n, v) = (line.normal, line.direction);
         let (n_norm, v_norm) = (norm(&n), norm(&v));
-        let u1 = scale(n_norm.recip(), &n);
-        let u2 = scale(v_norm.recip(), &v);
+        Self::from_parts(
+            scale(n_norm.recip(), &n),
+            scale(v_norm.recip(), &v),
+            n_norm,
+            v_norm,
+        )
+    }
+
+    /// From the unit directions `u₁ = n/|n|`, `u₂ = v/|v|` and any positive
+    /// multiple of `(|n|, |v|)`.
+    fn from_parts(u1: Vector3<S>, u2: Vector3<S>, n_norm: S, v_norm: S) -> Self {
         let u3 = cross(&u1, &u2);
         let u = Matrix3::from_columns(&[u1, u2, u3]);
         let sigma = (n_norm * n_norm + v_norm * v_norm).sqrt().recip();
@@ -58,29 +67,50 @@ impl<S: Scalar> OrthonormalLine<S> {
 
 impl OrthonormalLine<f64> {
     /// Checked conversion: `n` and `v` non-zero and orthogonal to `1e-9`
-    /// relative (`|n · v| ≤ 1e-9 |n| |v|`); any common scale is accepted.
+    /// relative (`|n · v| ≤ 1e-9 |n| |v|`); any common scale is accepted,
+    /// over the whole `f64` range (each vector is normalised by its largest
+    /// magnitude first, and only the distance `|n| / |v|` must be a finite,
+    /// non-zero `f64`).
     pub fn try_from_plucker(line: &PluckerLine<f64>) -> Result<Self, StorageError> {
         let (n, v) = (line.normal, line.direction);
-        let (n_norm, v_norm) = (n.norm(), v.norm());
-        if !exceeds(v_norm, 0.0) {
+        let Some(u2) = unit_of(&v) else {
             return Err(StorageError::new("line direction v has zero norm").within("direction"));
-        }
-        if !exceeds(n_norm, 0.0) {
+        };
+        let Some(u1) = unit_of(&n) else {
             return Err(StorageError::new(
                 "line normal n has zero norm (the line passes through the world origin, where \
                  the orthonormal representation is undefined)",
             )
             .within("normal"));
-        }
-        let cosine = dot(&n, &v) / (n_norm * v_norm);
+        };
+        let cosine = dot(&u1, &u2);
         if !within(cosine, 1e-9) {
+            // `n · v` itself overflows or underflows at extreme scales: then
+            // only the cosine is shown.
+            let product = dot(&n, &v);
+            let shown = if product.is_normal() {
+                format!(
+                    "n · v = {} (cosine {})",
+                    number_text(product),
+                    number_text(cosine)
+                )
+            } else {
+                format!("n · v ≠ 0 (cosine {})", number_text(cosine))
+            };
             return Err(StorageError::new(format!(
-                "not a Plücker line: n · v = {} (cosine {}), must be 0",
-                number_text(dot(&n, &v)),
-                number_text(cosine)
+                "not a Plücker line: {shown}, must be 0"
             )));
         }
-        Ok(Self::from_plucker(line))
+        // The line's distance from the origin, `|n| / |v|`, scales `u₁` and
+        // `u₂` into `W`.
+        let distance = norm_ratio(&n, &v);
+        if !(distance.is_normal() && distance < f64::MAX) {
+            return Err(StorageError::new(
+                "the line's distance from the origin, |n| / |v|, is beyond the range of f64 \
+                 (n and v differ in scale by a factor beyond 1e308)",
+            ));
+        }
+        Ok(Self::from_parts(u1, u2, distance, 1.0))
     }
 }
 

@@ -11,11 +11,10 @@ use nalgebra::Vector4;
 use crate::lie::Quaternion;
 use crate::lie::Se3;
 use crate::lie::so3::perturb_quaternion;
-use crate::linalg::dot;
+use crate::linalg::{dot, unit_of};
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
-use crate::validation::exceeds;
 
 /// An infinite plane stored as a unit quaternion.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +52,8 @@ pub fn transpose_transform<S: Scalar>(pose: &Se3<S>, pi: &Vector4<S>) -> Vector4
 }
 
 /// Stored as the unit quaternion `q(π)`, named `[a, b, c, d]`; users give
-/// any non-zero scale, normalised.
+/// any non-zero scale, normalised over the whole `f64` range
+/// ([`crate::linalg::unit_of`]).
 impl<S: Scalar> Storage<S> for InfinitePlane<S> {
     type With<T: Scalar> = InfinitePlane<T>;
     const SCALARS: usize = 4;
@@ -71,11 +71,9 @@ impl<S: Scalar> Storage<S> for InfinitePlane<S> {
         }
     }
     fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
-        let norm = input.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !exceeds(norm, 0.0) {
-            return Err(StorageError::new("plane vector [a, b, c, d] has zero norm"));
-        }
-        Ok(input.iter().map(|x| x / norm).collect())
+        unit_of(&Vector4::from_column_slice(input))
+            .map(|unit| unit.as_slice().to_vec())
+            .ok_or_else(|| StorageError::new("plane vector [a, b, c, d] has zero norm"))
     }
 }
 

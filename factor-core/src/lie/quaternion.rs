@@ -9,10 +9,10 @@
 use nalgebra::{Matrix3, Vector3, Vector4};
 
 use crate::lie::SMALL_ANGLE_SQUARED;
-use crate::linalg::{cross, dot, scale, squared_norm};
+use crate::linalg::{cross, dot, scale, scaled_norm, squared_norm};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, QUATERNION_NORM_TOLERANCE, Storage, StorageError};
-use crate::validation::number_text;
+use crate::validation::magnitude_text;
 
 /// A quaternion `x i + y j + z k + w`, stored vector part first.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -257,14 +257,16 @@ impl<S: Scalar> Storage<S> for Quaternion<S> {
         Quaternion::new(next(), next(), next(), next())
     }
     fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
-        let norm = input.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // Computed without overflow or underflow, so a message never shows
+        // `inf` or `0` for a finite, non-zero input.
+        let norm = scaled_norm(&Vector4::from_column_slice(input));
         if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE {
             Ok(input.iter().map(|x| x / norm).collect())
         } else {
             Err(StorageError::new(format!(
                 "quaternion [x, y, z, w] has norm {}, expected 1 \
                  (within {QUATERNION_NORM_TOLERANCE:e})",
-                number_text(norm)
+                magnitude_text(norm)
             )))
         }
     }

@@ -33,8 +33,17 @@ pub fn vee<S: Scalar>(m: &Matrix3<S>) -> Vector3<S> {
 }
 
 /// Evaluates `f(θ)` exactly, or its Taylor series in `θ²` below the small-angle
-/// threshold. `series` gets `θ²`, `exact` gets `θ`.
-pub(crate) fn angle_coefficient<S: Scalar>(
+/// threshold [`SMALL_ANGLE_SQUARED`]. `series` gets `θ²`, `exact` gets `θ`.
+///
+/// This is how a small-angle case is written so that dual numbers and the
+/// symbolic tracer can differentiate it (the rules of [`crate::manifold`]):
+/// the branch is decided on `θ²`, a smooth function of its argument, and the
+/// series is in `θ²`, so `θ = √θ²`, whose derivative is infinite at zero, is
+/// only taken in the exact arm, which is not selected there (both arms are
+/// evaluated; the unselected one may be non-finite). `series` must be accurate
+/// to machine precision below the threshold (terms up to `θ⁴` suffice when its
+/// first omitted term is `O(θ⁶)`).
+pub fn angle_coefficient<S: Scalar>(
     theta2: S,
     series: impl Fn(S) -> S,
     exact: impl Fn(S) -> S,
@@ -53,8 +62,9 @@ fn quadratic_in_hat<S: Scalar>(w: &Vector3<S>, a: S, b: S) -> Matrix3<S> {
     Matrix3::identity() + h.map(|x| a * x) + (h * h).map(|x| b * x)
 }
 
-/// `(1 − cos θ)/θ²`, written `2 sin²(θ/2)/θ²` to avoid cancellation.
-fn one_minus_cos_over_theta2<S: Scalar>(theta2: S) -> S {
+/// `(1 − cos θ)/θ²` from `θ²`, written `2 sin²(θ/2)/θ²` to avoid
+/// cancellation (`cos θ = 1 − θ² · this`).
+pub fn one_minus_cos_over_theta2<S: Scalar>(theta2: S) -> S {
     angle_coefficient(
         theta2,
         |t2| S::from_f64(0.5) - t2 / S::from_f64(24.0) + t2 * t2 / S::from_f64(720.0),
@@ -74,8 +84,8 @@ pub(crate) fn theta_minus_sin_over_theta3<S: Scalar>(theta2: S) -> S {
     )
 }
 
-/// `sin θ / θ`.
-fn sin_over_theta<S: Scalar>(theta2: S) -> S {
+/// `sin θ / θ` from `θ²`.
+pub fn sin_over_theta<S: Scalar>(theta2: S) -> S {
     angle_coefficient(
         theta2,
         |t2| S::one() - t2 / S::from_f64(6.0) + t2 * t2 / S::from_f64(120.0),
@@ -242,12 +252,6 @@ impl<S: Scalar> LieGroup<S> for So3<S> {
     }
     fn left_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
         left_jacobian_inverse(tau)
-    }
-    fn right_jacobian(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian(tau)
-    }
-    fn right_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian_inverse(tau)
     }
 }
 

@@ -10,9 +10,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::lie::so3::{
-    left_jacobian, left_jacobian_inverse, right_jacobian, right_jacobian_inverse,
-};
+use crate::lie::so3::{left_jacobian, left_jacobian_inverse};
 use crate::lie::{LieGroup, Quaternion};
 use crate::scalar::Scalar;
 
@@ -51,11 +49,5 @@ impl<S: Scalar> LieGroup<S> for Quaternion<S> {
     }
     fn left_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
         left_jacobian_inverse(tau)
-    }
-    fn right_jacobian(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian(tau)
-    }
-    fn right_jacobian_inverse(tau: &Vector3<S>) -> Matrix3<S> {
-        right_jacobian_inverse(tau)
     }
 }

@@ -7,7 +7,9 @@
 //! The derive calls the slice entry, so a kernel generated for another
 //! layout of the factor is never a type error; instead a constant compares
 //! `SHAPE` with the factor's own layout and fails the build with a message
-//! that says the kernel is stale and how to regenerate it.
+//! that says the kernel is stale and how to regenerate it. The module's
+//! marker type `Kernel` becomes the factor's `WithKernel::Kernel`, the entry
+//! of batch evaluators (crate `factor-batch`).
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
@@ -32,7 +34,8 @@ fn sibling(path: &Path, last: &syn::Ident) -> Path {
     sibling
 }
 
-/// `impl Foo<f64> { linearize_generated_into, linearize_generated }` and the
+/// `impl Foo<f64> { linearize_generated_into, linearize_generated }`,
+/// `impl WithKernel` naming the kernel module's marker type `Kernel`, and the
 /// compile-time check that the kernel is current, or nothing without a kernel.
 pub fn emit(cx: &Context) -> TokenStream {
     let Some(kernel) = &cx.model.kernel else {
@@ -51,6 +54,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         .map_or_else(|| format_ident!("kernel"), |s| s.ident.clone());
     let shape = sibling(kernel, &format_ident!("SHAPE", span = span));
     let slices = sibling(kernel, &format_ident!("{}_slices", last, span = span));
+    let marker = sibling(kernel, &format_ident!("Kernel", span = span));
 
     let field_count = cx.model.fields.len();
     let scalars: Vec<_> = (0..field_count)
@@ -118,6 +122,10 @@ pub fn emit(cx: &Context) -> TokenStream {
     );
     quote! {
         #check
+
+        impl #krate::WithKernel for #ident<f64> {
+            type Kernel = #marker;
+        }
 
         impl #ident<f64> {
             #[doc = #into_doc]

@@ -21,6 +21,8 @@ fn prior<S: Scalar>(f: &Prior<S>) -> Vector3<S> {
 
 /// What the generator wrote for the old `Prior` with `x: Vector2<S>`.
 mod prior_kernel {
+    pub struct Kernel;
+
     pub struct Shape {
         pub inputs: &'static [usize],
         pub residual: usize,

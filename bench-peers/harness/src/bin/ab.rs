@@ -9,7 +9,7 @@
 //! records the ratio contender / wrenfold of that round. Printed: the
 //! minimum ns/call of each side over all rounds, and the median and
 //! quartiles of the per-round ratios. Contenders: this project's generated
-//! kernel (the SPEC comparison), and for reference the hand-written
+//! kernel (the comparison the README's benchmarks name), and for reference the hand-written
 //! Jacobians of `slam_factors::analytic` (nalgebra outputs, no validation).
 //! The kernels are first checked against each other (and wrenfold against
 //! `linearize_dual()`) exactly as in `benches/peers.rs`.

@@ -113,7 +113,7 @@ fn main() {
             let q = f.plane.quaternion;
             json!({
                 "inputs": {"rotation": rotation, "translation": translation,
-                           "plane": [q.x, q.y, q.z, q.w], "measured": column(&f.measured)},
+                           "plane": [q.x, q.y, q.z, q.w], "measured": column(f.measured.as_ref())},
                 "outputs": {"residual": matrix(&lin.residual), "d_pose": matrix(&lin.pose),
                             "d_plane": matrix(&lin.plane)},
             })

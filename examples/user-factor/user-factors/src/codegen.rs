@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
 
-use crate::{PointToPlane, RelativePose, ScaledRangeBearing};
+use crate::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
 
 /// What the generated files say about where they come from.
 pub const PROVENANCE: Provenance = Provenance::new(
@@ -21,12 +21,16 @@ pub const PROVENANCE: Provenance = Provenance::new(
 );
 
 /// One spec per factor with a kernel: the module headers take each input's
-/// layout and description from the factor's own definition.
+/// layout and description from the factor's own definition. Two also get
+/// the fused normal-equation kernel (`<name>_normal`), which the batch
+/// evaluators of `factor-batch` use for `JᵀwJ` and `Jᵀwr`.
 pub fn kernel_specs() -> Vec<KernelSpec> {
     vec![
-        KernelSpec::of::<RelativePose>(),
+        KernelSpec::of::<RelativePose>().with_normal_equations(),
         KernelSpec::of::<PointToPlane>(),
         KernelSpec::of::<ScaledRangeBearing>(),
+        KernelSpec::of::<Direction>().with_normal_equations(),
+        KernelSpec::of::<RelativeSim3>(),
     ]
 }
 

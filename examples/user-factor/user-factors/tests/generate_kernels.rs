@@ -42,7 +42,7 @@ fn check_mode_reports_user_kernels_current() {
     let src = codegen::default_dir().join("src");
     assert_eq!(
         stdout,
-        format!("{} is up to date (3 kernels)\n", src.display())
+        format!("{} is up to date (5 kernels)\n", src.display())
     );
 }
 
@@ -65,13 +65,15 @@ fn out_writes_and_check_detects_stale() {
     let out = dir.0.to_str().expect("UTF-8 temporary directory");
     let (code, stdout, stderr) = generate_kernels(&["--out", out]);
     assert_eq!(code, Some(0), "stderr: {stderr}");
-    assert!(stdout.contains("generated 3 kernels into"), "{stdout}");
+    assert!(stdout.contains("generated 5 kernels into"), "{stdout}");
     for file in [
         "lib.rs",
         "real.rs",
         "relative_pose.rs",
         "point_to_plane.rs",
         "scaled_range_bearing.rs",
+        "direction.rs",
+        "relative_sim3.rs",
     ] {
         let written = std::fs::read(dir.0.join("src").join(file)).expect("written");
         let committed =

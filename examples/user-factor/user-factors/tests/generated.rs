@@ -92,7 +92,7 @@ fn scaled_range_bearing(sampler: &mut Sampler, i: usize) -> ScaledRangeBearing {
 }
 
 /// At every sample, the generated kernel against dual numbers (to rounding)
-/// and the dual Jacobians against central differences: one line each.
+/// and the dual Jacobians against numerical differentiation: one line each.
 fn check_agreement<F: Factor>(seed: u64, mut sample: impl FnMut(&mut Sampler, usize) -> F) {
     let mut sampler = Sampler::new(seed);
     for i in 0..CONFIGURATIONS {

@@ -9,22 +9,35 @@
 //! (row-major, residual rows × tangent columns), sharing common subexpressions
 //! and skipping the work of the blocks passed as `None`. The crate has no
 //! dependencies, no `unsafe`, no allocation and no panics; the kernels are
-//! generic over [`Real`], implemented for `f32` and `f64` (implement it for a
-//! SIMD type to evaluate several configurations at once).
+//! generic over [`Real`], implemented for `f32` and `f64`. The feature
+//! `lanes` (optional dependency `factor-lanes`) implements it for the SIMD
+//! lane types `F64x4`, `F32x8` and `F64x8`, which evaluate several
+//! configurations at once, and makes each module's marker `Kernel` a
+//! `factor_lanes::Kernel`, the entry of batch evaluators (`factor-batch`).
 //!
-//! | kernel | factor | operations | residual only |
-//! | --- | --- | --- | --- |
-//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 |
-//! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 |
-//! | [`scaled_range_bearing`](scaled_range_bearing::scaled_range_bearing) | `user_factors::ScaledRangeBearing` | 92 | 62 |
+//! A module generated with normal equations also holds `<name>_normal`: the
+//! cost `½ w rᵀr`, the gradient blocks `Jᵢᵀ w r` and the upper triangle of
+//! `JᵀwJ` for a per-factor weight `w`, fused with the Jacobian.
+//!
+//! | kernel | factor | operations | residual only | normal equations |
+//! | --- | --- | --- | --- | --- |
+//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 | 1794 |
+//! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 | — |
+//! | [`scaled_range_bearing`](scaled_range_bearing::scaled_range_bearing) | `user_factors::ScaledRangeBearing` | 92 | 62 | — |
+//! | [`direction`](direction::direction) | `user_factors::manifold_factors::Direction` | 155 | 67 | 229 |
+//! | [`relative_sim3`](relative_sim3::relative_sim3) | `user_factors::manifold_factors::RelativeSim3` | 2326 | 566 | — |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 #[rustfmt::skip]
+pub mod direction;
+#[rustfmt::skip]
 pub mod point_to_plane;
 #[rustfmt::skip]
 pub mod relative_pose;
+#[rustfmt::skip]
+pub mod relative_sim3;
 #[rustfmt::skip]
 pub mod scaled_range_bearing;
 #[rustfmt::skip]
@@ -33,4 +46,4 @@ mod real;
 mod shape;
 
 pub use real::Real;
-pub use shape::Shape;
+pub use shape::{NormalShape, Shape};

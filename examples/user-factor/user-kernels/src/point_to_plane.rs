@@ -30,6 +30,10 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 30 | 33 | 0 | 1 | 0 | 0 | 0 | 64 |
 //! | residual only | 27 | 27 | 0 | 1 | 0 | 0 | 0 | 55 |
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
@@ -38,7 +42,7 @@ use crate::{Real, Shape};
 /// The residual of `user_factors::PointToPlane` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn point_to_plane<T: Real>(
     point: &[T; 3],
     plane_point: &[T; 3],
@@ -159,4 +163,42 @@ pub fn point_to_plane_slices<T: Real>(
     };
     self::point_to_plane(point, plane_point, normal, pose, residual, d_pose);
     true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` over every `T: Real`, which calls [`point_to_plane`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 16];
+    type Outputs = [T; 7];
+    const FIELDS: &'static [usize] = &[3, 3, 3, 7];
+    const RESIDUAL: usize = 1;
+    const TANGENTS: &'static [usize] = &[6];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 16], outputs: &mut [T; 7], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<1>() else {
+            return;
+        };
+        let Some((d_pose, _)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        point_to_plane(
+            &[inputs[0], inputs[1], inputs[2]],
+            &[inputs[3], inputs[4], inputs[5]],
+            &[inputs[6], inputs[7], inputs[8]],
+            &[
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+            ],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+        );
+    }
 }

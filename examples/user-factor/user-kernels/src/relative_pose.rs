@@ -30,15 +30,34 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 410 | 670 | 7 | 17 | 2 | 3 | 26 | 1135 |
 //! | residual only | 94 | 130 | 5 | 7 | 2 | 3 | 7 | 248 |
+//! | normal equations | 676 | 1065 | 7 | 15 | 2 | 3 | 26 | 1794 |
+//! | normal equations, cost only | 99 | 138 | 5 | 7 | 2 | 3 | 7 | 261 |
+//!
+//! # Normal equations
+//!
+//! `relative_pose_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose_i: [T; 6]`: `J_pose_iᵀ w r`
+//! - `g_pose_j: [T; 6]`: `J_pose_jᵀ w r`
+//! - `h_pose_i_pose_i: [T; 21]`: `J_pose_iᵀ w J_pose_i`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_i_pose_j: [T; 36]`: `J_pose_iᵀ w J_pose_j`, 6 × 6 row-major
+//! - `h_pose_j_pose_j: [T; 21]`: `J_pose_jᵀ w J_pose_j`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `user_factors::RelativePose` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn relative_pose<T: Real>(
     measured: &[T; 7],
     pose_i: &[T; 7],
@@ -1396,4 +1415,2573 @@ pub fn relative_pose_slices<T: Real>(
     };
     self::relative_pose(measured, pose_i, pose_j, residual, d_pose_i, d_pose_j);
     true
+}
+
+/// The cost `½ w rᵀr` of `user_factors::RelativePose` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`relative_pose`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn relative_pose_normal<T: Real>(
+    measured: &[T; 7],
+    pose_i: &[T; 7],
+    pose_j: &[T; 7],
+    weight: T,
+    cost: &mut T,
+    g_pose_i: Option<&mut [T; 6]>,
+    g_pose_j: Option<&mut [T; 6]>,
+    h_pose_i_pose_i: Option<&mut [T; 21]>,
+    h_pose_i_pose_j: Option<&mut [T; 36]>,
+    h_pose_j_pose_j: Option<&mut [T; 21]>,
+) {
+    let v0 = pose_i[3] * pose_j[3];
+    let v1 = pose_i[0] * pose_j[0];
+    let v2 = v0 + v1;
+    let v3 = pose_i[1] * pose_j[1];
+    let v4 = pose_i[2] * pose_j[2];
+    let v5 = v3 + v4;
+    let v6 = v2 + v5;
+    let v7 = measured[3] * v6;
+    let v8 = pose_i[3] * pose_j[0];
+    let v9 = pose_j[3] * pose_i[0];
+    let v10 = v8 - v9;
+    let v11 = pose_i[1] * pose_j[2];
+    let v12 = pose_j[1] * pose_i[2];
+    let v13 = v11 - v12;
+    let v14 = v10 - v13;
+    let v15 = measured[0] * v14;
+    let v16 = pose_i[3] * pose_j[1];
+    let v17 = pose_j[3] * pose_i[1];
+    let v18 = v16 - v17;
+    let v19 = pose_j[0] * pose_i[2];
+    let v20 = pose_i[0] * pose_j[2];
+    let v21 = v19 - v20;
+    let v22 = v18 - v21;
+    let v23 = measured[1] * v22;
+    let v24 = pose_i[3] * pose_j[2];
+    let v25 = pose_j[3] * pose_i[2];
+    let v26 = v24 - v25;
+    let v27 = pose_i[0] * pose_j[1];
+    let v28 = pose_j[0] * pose_i[1];
+    let v29 = v27 - v28;
+    let v30 = v26 - v29;
+    let v31 = measured[2] * v30;
+    let v32 = v7 + v15;
+    let v33 = v23 + v31;
+    let v34 = v32 + v33;
+    let v35 = measured[3] * v14;
+    let v36 = v6 * measured[0];
+    let v37 = measured[1] * v30;
+    let v38 = v22 * measured[2];
+    let v39 = v35 - v36;
+    let v40 = v38 - v37;
+    let v41 = v39 + v40;
+    let v42 = -v41;
+    let v43 = T::select_lt(v34, T::constant(0.0), v42, v41);
+    let v44 = -v34;
+    let v45 = T::select_lt(v34, T::constant(0.0), v44, v34);
+    let v46 = measured[3] * v30;
+    let v47 = v6 * measured[2];
+    let v48 = measured[0] * v22;
+    let v49 = v14 * measured[1];
+    let v50 = v46 - v47;
+    let v51 = v49 - v48;
+    let v52 = v50 + v51;
+    let v53 = -v52;
+    let v54 = T::select_lt(v34, T::constant(0.0), v53, v52);
+    let v55 = v54 * v54;
+    let v56 = v43 * v43;
+    let v57 = measured[3] * v22;
+    let v58 = v6 * measured[1];
+    let v59 = v14 * measured[2];
+    let v60 = measured[0] * v30;
+    let v61 = v57 - v58;
+    let v62 = v60 - v59;
+    let v63 = v61 + v62;
+    let v64 = -v63;
+    let v65 = T::select_lt(v34, T::constant(0.0), v64, v63);
+    let v66 = v65 * v65;
+    let v67 = v56 + v66;
+    let v68 = v55 + v67;
+    let v69 = T::constant(1.0) / v45;
+    let v70 = v69 * v69;
+    let v71 = v68 * v70;
+    let v72 = v69 * v71;
+    let v73 = v69 * v72;
+    let v74 = v68 * v73;
+    let v75 = v74 * T::constant(0.6000000000000001);
+    let v76 = v71 - T::constant(3.0);
+    let v77 = v76 - v75;
+    let v78 = v69 * T::constant(-0.6666666666666666);
+    let v79 = v77 * v78;
+    let v80 = T::sqrt(v68);
+    let v81 = T::constant(1.0) / v80;
+    let v82 = T::atan2(v80, v45);
+    let v83 = v81 * v82;
+    let v84 = v83 * T::constant(2.0);
+    let v85 = T::select_lt(v71, T::constant(1e-6), v79, v84);
+    let v86 = T::select_lt(T::constant(0.0), v45, v85, v84);
+    let v87 = v43 * v86;
+    let v88 = v65 * v86;
+    let v89 = v54 * v86;
+    let v90 = measured[0] * measured[0];
+    let v91 = measured[1] * measured[1];
+    let v92 = v90 - v91;
+    let v93 = measured[2] * measured[2];
+    let v94 = measured[3] * measured[3];
+    let v95 = v93 - v94;
+    let v96 = v92 + v95;
+    let v97 = pose_i[0] * pose_i[0];
+    let v98 = pose_i[1] * pose_i[1];
+    let v99 = v97 - v98;
+    let v100 = pose_i[2] * pose_i[2];
+    let v101 = pose_i[3] * pose_i[3];
+    let v102 = v100 - v101;
+    let v103 = v99 + v102;
+    let v104 = pose_i[5] - pose_j[5];
+    let v105 = v103 * v104;
+    let v106 = pose_i[0] * pose_i[1];
+    let v107 = pose_i[3] * pose_i[2];
+    let v108 = v106 - v107;
+    let v109 = pose_i[4] - pose_j[4];
+    let v110 = T::constant(2.0) * v109;
+    let v111 = v108 * v110;
+    let v112 = -v111;
+    let v113 = pose_i[1] * pose_i[2];
+    let v114 = pose_i[3] * pose_i[0];
+    let v115 = v113 + v114;
+    let v116 = pose_i[6] - pose_j[6];
+    let v117 = T::constant(2.0) * v116;
+    let v118 = v115 * v117;
+    let v119 = -v118;
+    let v120 = v112 + v119;
+    let v121 = v105 + v120;
+    let v122 = measured[5] - v121;
+    let v123 = v96 * v122;
+    let v124 = measured[0] * measured[1];
+    let v125 = measured[3] * measured[2];
+    let v126 = v124 - v125;
+    let v127 = v99 - v102;
+    let v128 = v109 * v127;
+    let v129 = v106 + v107;
+    let v130 = T::constant(2.0) * v104;
+    let v131 = v129 * v130;
+    let v132 = pose_i[0] * pose_i[2];
+    let v133 = pose_i[3] * pose_i[1];
+    let v134 = v132 - v133;
+    let v135 = v117 * v134;
+    let v136 = v131 + v135;
+    let v137 = v128 + v136;
+    let v138 = measured[4] + v137;
+    let v139 = T::constant(2.0) * v138;
+    let v140 = v126 * v139;
+    let v141 = measured[1] * measured[2];
+    let v142 = measured[3] * measured[0];
+    let v143 = v141 + v142;
+    let v144 = v113 - v114;
+    let v145 = v104 * v144;
+    let v146 = v132 + v133;
+    let v147 = v109 * v146;
+    let v148 = v97 + v98;
+    let v149 = v100 + v101;
+    let v150 = v148 - v149;
+    let v151 = v116 * T::constant(0.5);
+    let v152 = v150 * v151;
+    let v153 = -v152;
+    let v154 = v145 + v147;
+    let v155 = v153 + v154;
+    let v156 = T::constant(2.0) * v155;
+    let v157 = measured[6] + v156;
+    let v158 = T::constant(2.0) * v157;
+    let v159 = v143 * v158;
+    let v160 = v123 - v140;
+    let v161 = v160 - v159;
+    let v162 = v86 * v86;
+    let v163 = v43 * v162;
+    let v164 = v54 * v162;
+    let v165 = v54 * v164;
+    let v166 = v43 * v163;
+    let v167 = v66 * v162;
+    let v168 = v166 + v167;
+    let v169 = v165 + v168;
+    let v170 = v169 * T::constant(3.306878306878307e-5);
+    let v171 = v169 * v170;
+    let v172 = v169 * T::constant(0.001388888888888889);
+    let v173 = v172 + T::constant(0.08333333333333333);
+    let v174 = v171 + v173;
+    let v175 = T::sqrt(v169);
+    let v176 = T::constant(1.0) / v175;
+    let v177 = T::constant(0.5) * v175;
+    let v178 = T::cos(v177);
+    let v179 = T::sin(v177);
+    let v180 = v178 / v179;
+    let v181 = T::constant(0.5) * v176;
+    let v182 = v180 * v181;
+    let v183 = T::constant(1.0) / v169;
+    let v184 = v183 - v182;
+    let v185 = T::select_lt(v169, T::constant(1e-6), v174, v184);
+    let v186 = v65 * v185;
+    let v187 = v163 * v186;
+    let v188 = T::constant(2.0) * v187;
+    let v189 = v89 + v188;
+    let v190 = T::constant(0.5) * v161;
+    let v191 = v189 * v190;
+    let v192 = v92 - v95;
+    let v193 = v138 * v192;
+    let v194 = v124 + v125;
+    let v195 = T::constant(2.0) * v122;
+    let v196 = v194 * v195;
+    let v197 = measured[0] * measured[2];
+    let v198 = measured[3] * measured[1];
+    let v199 = v197 - v198;
+    let v200 = v158 * v199;
+    let v201 = v193 + v196;
+    let v202 = v200 + v201;
+    let v203 = v165 + v167;
+    let v204 = v185 * v203;
+    let v205 = v204 - T::constant(1.0);
+    let v206 = v202 * v205;
+    let v207 = v141 - v142;
+    let v208 = v122 * v207;
+    let v209 = v197 + v198;
+    let v210 = v138 * v209;
+    let v211 = v90 + v91;
+    let v212 = v93 + v94;
+    let v213 = v211 - v212;
+    let v214 = T::constant(0.5) * v157;
+    let v215 = v213 * v214;
+    let v216 = v208 + v210;
+    let v217 = v216 - v215;
+    let v218 = v163 * v185;
+    let v219 = v54 * v218;
+    let v220 = T::constant(2.0) * v219;
+    let v221 = v88 - v220;
+    let v222 = v217 * v221;
+    let v223 = v191 + v206;
+    let v224 = v222 + v223;
+    let v225 = v89 - v188;
+    let v226 = T::constant(0.5) * v202;
+    let v227 = v225 * v226;
+    let v228 = v165 + v166;
+    let v229 = v185 * v228;
+    let v230 = v229 - T::constant(1.0);
+    let v231 = v161 * v230;
+    let v232 = v164 * v186;
+    let v233 = T::constant(2.0) * v232;
+    let v234 = v87 + v233;
+    let v235 = v217 * v234;
+    let v236 = v227 - v231;
+    let v237 = v236 - v235;
+    let v238 = v87 - v233;
+    let v239 = v190 * v238;
+    let v240 = v88 + v220;
+    let v241 = v226 * v240;
+    let v242 = v239 + v241;
+    let v243 = v168 * v185;
+    let v244 = v243 - T::constant(1.0);
+    let v245 = T::constant(2.0) * v217;
+    let v246 = v244 * v245;
+    let v247 = v246 - v242;
+    let v248 = v87 * v87;
+    let v249 = v88 * v88;
+    let v250 = v89 * v89;
+    let v251 = v224 * v224;
+    let v252 = v237 * v237;
+    let v253 = v247 * v247;
+    let v254 = v248 + v249;
+    let v255 = v250 + v254;
+    let v256 = v251 + v255;
+    let v257 = v252 + v256;
+    let v258 = v253 + v257;
+    let v259 = weight * v258;
+    let v260 = T::constant(0.5) * v259;
+    *cost = v260;
+    let (
+        v394,
+        v409,
+        v420,
+        v437,
+        v444,
+        v451,
+        v467,
+        v474,
+        v481,
+        v739,
+        v764,
+        v791,
+        v797,
+        v803,
+        v809,
+        v925,
+        v940,
+        v955,
+        v961,
+        v967,
+        v975,
+        v1052,
+        v1066,
+        v1080,
+        v1085,
+        v1090,
+        v1095,
+        v1096,
+        v1097,
+    ) = if g_pose_i.is_some() || g_pose_j.is_some() || h_pose_i_pose_i.is_some()
+        || h_pose_i_pose_j.is_some() || h_pose_j_pose_j.is_some()
+    {
+        let v261 = v2 - v5;
+        let v262 = -measured[3];
+        let v263 = T::select_lt(v34, T::constant(0.0), v262, measured[3]);
+        let v264 = v86 * v263;
+        let v265 = -measured[0];
+        let v266 = T::select_lt(v34, T::constant(0.0), v265, measured[0]);
+        let v267 = v70 * v77;
+        let v268 = v266 * T::constant(0.6666666666666666);
+        let v269 = v267 * v268;
+        let v270 = v69 * T::constant(1.2000000000000002);
+        let v271 = v74 * v270;
+        let v272 = v72 - v271;
+        let v273 = v266 * v272;
+        let v274 = v43 * v263;
+        let v275 = -measured[2];
+        let v276 = T::select_lt(v34, T::constant(0.0), measured[2], v275);
+        let v277 = v65 * v276;
+        let v278 = -measured[1];
+        let v279 = T::select_lt(v34, T::constant(0.0), v278, measured[1]);
+        let v280 = v54 * v279;
+        let v281 = v274 + v277;
+        let v282 = v280 + v281;
+        let v283 = v73 * T::constant(1.2000000000000002);
+        let v284 = v283 - v70;
+        let v285 = v282 * v284;
+        let v286 = v273 + v285;
+        let v287 = v69 * T::constant(1.3333333333333333);
+        let v288 = v286 * v287;
+        let v289 = v269 + v288;
+        let v290 = v83 / v68;
+        let v291 = v45 * v81;
+        let v292 = v282 * v291;
+        let v293 = v80 * v266;
+        let v294 = v292 - v293;
+        let v295 = v45 * v45;
+        let v296 = v68 + v295;
+        let v297 = v81 / v296;
+        let v298 = v282 * v290;
+        let v299 = v294 * v297;
+        let v300 = v299 - v298;
+        let v301 = T::constant(2.0) * v300;
+        let v302 = T::select_lt(v71, T::constant(1e-6), v289, v301);
+        let v303 = T::select_lt(T::constant(0.0), v45, v302, v301);
+        let v304 = v43 * v303;
+        let v305 = v264 + v304;
+        let v306 = v261 * v305;
+        let v307 = v24 + v25;
+        let v308 = v27 + v28;
+        let v309 = v307 - v308;
+        let v310 = T::select_lt(v34, T::constant(0.0), v275, measured[2]);
+        let v311 = v86 * v310;
+        let v312 = T::constant(0.6666666666666666) * v279;
+        let v313 = v267 * v312;
+        let v314 = v272 * v279;
+        let v315 = v43 * v310;
+        let v316 = v65 * v263;
+        let v317 = T::select_lt(v34, T::constant(0.0), measured[0], v265);
+        let v318 = v54 * v317;
+        let v319 = v315 + v316;
+        let v320 = v318 + v319;
+        let v321 = v284 * v320;
+        let v322 = v314 + v321;
+        let v323 = v287 * v322;
+        let v324 = v313 + v323;
+        let v325 = v291 * v320;
+        let v326 = v80 * v279;
+        let v327 = v325 - v326;
+        let v328 = v290 * v320;
+        let v329 = v297 * v327;
+        let v330 = v329 - v328;
+        let v331 = T::constant(2.0) * v330;
+        let v332 = T::select_lt(v71, T::constant(1e-6), v324, v331);
+        let v333 = T::select_lt(T::constant(0.0), v45, v332, v331);
+        let v334 = v43 * v333;
+        let v335 = v311 + v334;
+        let v336 = v309 * v335;
+        let v337 = v16 + v17;
+        let v338 = v19 + v20;
+        let v339 = v337 + v338;
+        let v340 = T::select_lt(v34, T::constant(0.0), measured[1], v278);
+        let v341 = v86 * v340;
+        let v342 = T::constant(0.6666666666666666) * v310;
+        let v343 = v267 * v342;
+        let v344 = v272 * v310;
+        let v345 = v43 * v340;
+        let v346 = v65 * v266;
+        let v347 = v54 * v263;
+        let v348 = v345 + v346;
+        let v349 = v347 + v348;
+        let v350 = v284 * v349;
+        let v351 = v344 + v350;
+        let v352 = v287 * v351;
+        let v353 = v343 + v352;
+        let v354 = v291 * v349;
+        let v355 = v80 * v310;
+        let v356 = v354 - v355;
+        let v357 = v290 * v349;
+        let v358 = v297 * v356;
+        let v359 = v358 - v357;
+        let v360 = T::constant(2.0) * v359;
+        let v361 = T::select_lt(v71, T::constant(1e-6), v353, v360);
+        let v362 = T::select_lt(T::constant(0.0), v45, v361, v360);
+        let v363 = v43 * v362;
+        let v364 = v341 + v363;
+        let v365 = v339 * v364;
+        let v366 = v10 + v13;
+        let v367 = v86 * v317;
+        let v368 = v263 * T::constant(0.6666666666666666);
+        let v369 = v267 * v368;
+        let v370 = v263 * v272;
+        let v371 = v43 * v317;
+        let v372 = v65 * v340;
+        let v373 = v54 * v276;
+        let v374 = v371 + v372;
+        let v375 = v373 + v374;
+        let v376 = v284 * v375;
+        let v377 = v370 + v376;
+        let v378 = v287 * v377;
+        let v379 = v369 + v378;
+        let v380 = v291 * v375;
+        let v381 = v80 * v263;
+        let v382 = v380 - v381;
+        let v383 = v290 * v375;
+        let v384 = v297 * v382;
+        let v385 = v384 - v383;
+        let v386 = T::constant(2.0) * v385;
+        let v387 = T::select_lt(v71, T::constant(1e-6), v379, v386);
+        let v388 = T::select_lt(T::constant(0.0), v45, v387, v386);
+        let v389 = v43 * v388;
+        let v390 = v367 + v389;
+        let v391 = v366 * v390;
+        let v392 = v306 - v336;
+        let v393 = v365 - v391;
+        let v394 = v392 + v393;
+        let v395 = v307 + v308;
+        let v396 = v305 * v395;
+        let v397 = v0 - v1;
+        let v398 = v3 - v4;
+        let v399 = v397 + v398;
+        let v400 = v335 * v399;
+        let v401 = v8 + v9;
+        let v402 = v11 + v12;
+        let v403 = v401 - v402;
+        let v404 = v364 * v403;
+        let v405 = v18 + v21;
+        let v406 = v390 * v405;
+        let v407 = v396 + v400;
+        let v408 = v404 + v406;
+        let v409 = v407 - v408;
+        let v410 = v337 - v338;
+        let v411 = v305 * v410;
+        let v412 = v401 + v402;
+        let v413 = v335 * v412;
+        let v414 = v397 - v398;
+        let v415 = v364 * v414;
+        let v416 = v26 + v29;
+        let v417 = v390 * v416;
+        let v418 = v411 - v413;
+        let v419 = v417 - v415;
+        let v420 = v418 + v419;
+        let v421 = v86 * v276;
+        let v422 = v65 * v303;
+        let v423 = v421 + v422;
+        let v424 = v261 * v423;
+        let v425 = v65 * v333;
+        let v426 = v264 + v425;
+        let v427 = v309 * v426;
+        let v428 = v86 * v266;
+        let v429 = v65 * v362;
+        let v430 = v428 + v429;
+        let v431 = v339 * v430;
+        let v432 = v65 * v388;
+        let v433 = v341 + v432;
+        let v434 = v366 * v433;
+        let v435 = v424 - v427;
+        let v436 = v431 - v434;
+        let v437 = v435 + v436;
+        let v438 = v395 * v423;
+        let v439 = v399 * v426;
+        let v440 = v403 * v430;
+        let v441 = v405 * v433;
+        let v442 = v438 + v439;
+        let v443 = v440 + v441;
+        let v444 = v442 - v443;
+        let v445 = v410 * v423;
+        let v446 = v412 * v426;
+        let v447 = v414 * v430;
+        let v448 = v416 * v433;
+        let v449 = v445 - v446;
+        let v450 = v448 - v447;
+        let v451 = v449 + v450;
+        let v452 = v86 * v279;
+        let v453 = v54 * v303;
+        let v454 = v452 + v453;
+        let v455 = v261 * v454;
+        let v456 = v54 * v333;
+        let v457 = v367 + v456;
+        let v458 = v309 * v457;
+        let v459 = v54 * v362;
+        let v460 = v264 + v459;
+        let v461 = v339 * v460;
+        let v462 = v54 * v388;
+        let v463 = v421 + v462;
+        let v464 = v366 * v463;
+        let v465 = v455 - v458;
+        let v466 = v461 - v464;
+        let v467 = v465 + v466;
+        let v468 = v395 * v454;
+        let v469 = v399 * v457;
+        let v470 = v403 * v460;
+        let v471 = v405 * v463;
+        let v472 = v468 + v469;
+        let v473 = v470 + v471;
+        let v474 = v472 - v473;
+        let v475 = v410 * v454;
+        let v476 = v412 * v457;
+        let v477 = v414 * v460;
+        let v478 = v416 * v463;
+        let v479 = v475 - v476;
+        let v480 = v478 - v477;
+        let v481 = v479 + v480;
+        let v482 = v162 * v186;
+        let v483 = v263 * v482;
+        let v484 = v218 * v276;
+        let v485 = v483 + v484;
+        let v486 = v164 * v279;
+        let v487 = v54 * v89;
+        let v488 = v303 * v487;
+        let v489 = v486 + v488;
+        let v490 = v163 * v263;
+        let v491 = v43 * v87;
+        let v492 = v303 * v491;
+        let v493 = v490 + v492;
+        let v494 = v65 * v162;
+        let v495 = v276 * v494;
+        let v496 = v66 * v86;
+        let v497 = v303 * v496;
+        let v498 = v495 + v497;
+        let v499 = v493 + v498;
+        let v500 = v489 + v499;
+        let v501 = v169 * T::constant(0.00013227513227513228);
+        let v502 = v500 * v501;
+        let v503 = v500 * T::constant(0.002777777777777778);
+        let v504 = v502 + v503;
+        let v505 = v183 - T::constant(0.125);
+        let v506 = v183 * v505;
+        let v507 = v180 * v183;
+        let v508 = v180 * T::constant(0.125);
+        let v509 = v176 * T::constant(0.25);
+        let v510 = v508 + v509;
+        let v511 = v507 * v510;
+        let v512 = v506 - v511;
+        let v513 = T::constant(2.0) * v500;
+        let v514 = v512 * v513;
+        let v515 = -v514;
+        let v516 = T::select_lt(v169, T::constant(1e-6), v504, v515);
+        let v517 = v65 * v163;
+        let v518 = T::constant(0.5) * v517;
+        let v519 = v516 * v518;
+        let v520 = v87 * v186;
+        let v521 = v303 * v520;
+        let v522 = v519 + v521;
+        let v523 = T::constant(2.0) * v522;
+        let v524 = v485 + v523;
+        let v525 = T::constant(2.0) * v524;
+        let v526 = v454 + v525;
+        let v527 = v190 * v526;
+        let v528 = v203 * v516;
+        let v529 = v489 + v498;
+        let v530 = T::constant(2.0) * v529;
+        let v531 = v185 * v530;
+        let v532 = v528 + v531;
+        let v533 = v202 * v532;
+        let v534 = v164 * v185;
+        let v535 = v263 * v534;
+        let v536 = v218 * v279;
+        let v537 = v535 + v536;
+        let v538 = v54 * v163;
+        let v539 = T::constant(0.5) * v538;
+        let v540 = v516 * v539;
+        let v541 = v54 * v87;
+        let v542 = v185 * v541;
+        let v543 = v303 * v542;
+        let v544 = v540 + v543;
+        let v545 = T::constant(2.0) * v544;
+        let v546 = v537 + v545;
+        let v547 = T::constant(2.0) * v546;
+        let v548 = v423 - v547;
+        let v549 = v217 * v548;
+        let v550 = v527 + v533;
+        let v551 = v549 + v550;
+        let v552 = v261 * v551;
+        let v553 = v310 * v482;
+        let v554 = v218 * v263;
+        let v555 = v553 + v554;
+        let v556 = v164 * v317;
+        let v557 = v333 * v487;
+        let v558 = v556 + v557;
+        let v559 = v163 * v310;
+        let v560 = v333 * v491;
+        let v561 = v559 + v560;
+        let v562 = v263 * v494;
+        let v563 = v333 * v496;
+        let v564 = v562 + v563;
+        let v565 = v561 + v564;
+        let v566 = v558 + v565;
+        let v567 = v501 * v566;
+        let v568 = T::constant(0.002777777777777778) * v566;
+        let v569 = v567 + v568;
+        let v570 = T::constant(2.0) * v566;
+        let v571 = v512 * v570;
+        let v572 = -v571;
+        let v573 = T::select_lt(v169, T::constant(1e-6), v569, v572);
+        let v574 = v518 * v573;
+        let v575 = v333 * v520;
+        let v576 = v574 + v575;
+        let v577 = T::constant(2.0) * v576;
+        let v578 = v555 + v577;
+        let v579 = T::constant(2.0) * v578;
+        let v580 = v457 + v579;
+        let v581 = v190 * v580;
+        let v582 = v203 * v573;
+        let v583 = v558 + v564;
+        let v584 = T::constant(2.0) * v583;
+        let v585 = v185 * v584;
+        let v586 = v582 + v585;
+        let v587 = v202 * v586;
+        let v588 = v310 * v534;
+        let v589 = v218 * v317;
+        let v590 = v588 + v589;
+        let v591 = v539 * v573;
+        let v592 = v333 * v542;
+        let v593 = v591 + v592;
+        let v594 = T::constant(2.0) * v593;
+        let v595 = v590 + v594;
+        let v596 = T::constant(2.0) * v595;
+        let v597 = v426 - v596;
+        let v598 = v217 * v597;
+        let v599 = v581 + v587;
+        let v600 = v598 + v599;
+        let v601 = v309 * v600;
+        let v602 = v340 * v482;
+        let v603 = v218 * v266;
+        let v604 = v602 + v603;
+        let v605 = v164 * v263;
+        let v606 = v362 * v487;
+        let v607 = v605 + v606;
+        let v608 = v163 * v340;
+        let v609 = v362 * v491;
+        let v610 = v608 + v609;
+        let v611 = v266 * v494;
+        let v612 = v362 * v496;
+        let v613 = v611 + v612;
+        let v614 = v610 + v613;
+        let v615 = v607 + v614;
+        let v616 = v501 * v615;
+        let v617 = T::constant(0.002777777777777778) * v615;
+        let v618 = v616 + v617;
+        let v619 = T::constant(2.0) * v615;
+        let v620 = v512 * v619;
+        let v621 = -v620;
+        let v622 = T::select_lt(v169, T::constant(1e-6), v618, v621);
+        let v623 = v518 * v622;
+        let v624 = v362 * v520;
+        let v625 = v623 + v624;
+        let v626 = T::constant(2.0) * v625;
+        let v627 = v604 + v626;
+        let v628 = T::constant(2.0) * v627;
+        let v629 = v460 + v628;
+        let v630 = v190 * v629;
+        let v631 = v203 * v622;
+        let v632 = v607 + v613;
+        let v633 = T::constant(2.0) * v632;
+        let v634 = v185 * v633;
+        let v635 = v631 + v634;
+        let v636 = v202 * v635;
+        let v637 = T::constant(0.5) * v430;
+        let v638 = v340 * v534;
+        let v639 = v554 + v638;
+        let v640 = v539 * v622;
+        let v641 = v362 * v542;
+        let v642 = v640 + v641;
+        let v643 = T::constant(2.0) * v642;
+        let v644 = v639 + v643;
+        let v645 = v644 - v637;
+        let v646 = v245 * v645;
+        let v647 = v636 - v646;
+        let v648 = v630 + v647;
+        let v649 = v339 * v648;
+        let v650 = v317 * v482;
+        let v651 = v218 * v340;
+        let v652 = v650 + v651;
+        let v653 = v164 * v276;
+        let v654 = v388 * v487;
+        let v655 = v653 + v654;
+        let v656 = v163 * v317;
+        let v657 = v388 * v491;
+        let v658 = v656 + v657;
+        let v659 = v340 * v494;
+        let v660 = v388 * v496;
+        let v661 = v659 + v660;
+        let v662 = v658 + v661;
+        let v663 = v655 + v662;
+        let v664 = v501 * v663;
+        let v665 = T::constant(0.002777777777777778) * v663;
+        let v666 = v664 + v665;
+        let v667 = T::constant(2.0) * v663;
+        let v668 = v512 * v667;
+        let v669 = -v668;
+        let v670 = T::select_lt(v169, T::constant(1e-6), v666, v669);
+        let v671 = v518 * v670;
+        let v672 = v388 * v520;
+        let v673 = v671 + v672;
+        let v674 = T::constant(2.0) * v673;
+        let v675 = v652 + v674;
+        let v676 = T::constant(2.0) * v675;
+        let v677 = v463 + v676;
+        let v678 = v190 * v677;
+        let v679 = v203 * v670;
+        let v680 = v655 + v661;
+        let v681 = T::constant(2.0) * v680;
+        let v682 = v185 * v681;
+        let v683 = v679 + v682;
+        let v684 = v202 * v683;
+        let v685 = T::constant(0.5) * v433;
+        let v686 = v317 * v534;
+        let v687 = v484 + v686;
+        let v688 = v539 * v670;
+        let v689 = v388 * v542;
+        let v690 = v688 + v689;
+        let v691 = T::constant(2.0) * v690;
+        let v692 = v687 + v691;
+        let v693 = v692 - v685;
+        let v694 = v245 * v693;
+        let v695 = v684 - v694;
+        let v696 = v678 + v695;
+        let v697 = v366 * v696;
+        let v698 = pose_j[5] * v134;
+        let v699 = pose_j[6] * v129;
+        let v700 = v698 - v699;
+        let v701 = v192 * v205;
+        let v702 = v126 * v189;
+        let v703 = v209 * v221;
+        let v704 = v701 - v702;
+        let v705 = v703 + v704;
+        let v706 = pose_j[5] * v150;
+        let v707 = T::constant(2.0) * pose_j[6];
+        let v708 = v144 * v707;
+        let v709 = v706 + v708;
+        let v710 = v213 * T::constant(0.25);
+        let v711 = v221 * v710;
+        let v712 = v143 * T::constant(0.5);
+        let v713 = v189 * v712;
+        let v714 = v199 * v205;
+        let v715 = v714 - v711;
+        let v716 = v715 - v713;
+        let v717 = T::constant(4.0) * v709;
+        let v718 = v700 * v705;
+        let v719 = v709 * v716;
+        let v720 = v719 - v718;
+        let v721 = T::constant(4.0) * v720;
+        let v722 = pose_j[6] * T::constant(0.5);
+        let v723 = v103 * v722;
+        let v724 = pose_j[5] * v115;
+        let v725 = v723 + v724;
+        let v726 = v96 * T::constant(0.25);
+        let v727 = v189 * v726;
+        let v728 = T::constant(0.5) * v207;
+        let v729 = v221 * v728;
+        let v730 = v194 * v205;
+        let v731 = v727 + v730;
+        let v732 = v729 + v731;
+        let v733 = v725 * T::constant(8.0);
+        let v734 = v732 * v733;
+        let v735 = v721 - v734;
+        let v736 = v649 + v735;
+        let v737 = v552 - v697;
+        let v738 = v736 - v601;
+        let v739 = v737 + v738;
+        let v740 = v395 * v551;
+        let v741 = v399 * v600;
+        let v742 = v403 * v648;
+        let v743 = v405 * v696;
+        let v744 = v127 * v722;
+        let v745 = pose_j[4] * v134;
+        let v746 = v745 - v744;
+        let v747 = pose_j[4] * v150;
+        let v748 = v146 * v707;
+        let v749 = v747 + v748;
+        let v750 = T::constant(4.0) * v749;
+        let v751 = v705 * v746;
+        let v752 = v716 * v749;
+        let v753 = v751 - v752;
+        let v754 = T::constant(4.0) * v753;
+        let v755 = pose_j[4] * v115;
+        let v756 = v108 * pose_j[6];
+        let v757 = v755 - v756;
+        let v758 = T::constant(8.0) * v757;
+        let v759 = v732 * v758;
+        let v760 = v754 + v759;
+        let v761 = v760 - v742;
+        let v762 = v740 - v743;
+        let v763 = v741 + v761;
+        let v764 = v762 + v763;
+        let v765 = v410 * v551;
+        let v766 = v412 * v600;
+        let v767 = v414 * v648;
+        let v768 = v416 * v696;
+        let v769 = pose_j[5] * T::constant(0.5);
+        let v770 = v127 * v769;
+        let v771 = pose_j[4] * v129;
+        let v772 = v771 - v770;
+        let v773 = T::constant(4.0) * v772;
+        let v774 = v705 * v773;
+        let v775 = pose_j[4] * T::constant(0.5);
+        let v776 = v103 * v775;
+        let v777 = pose_j[5] * v108;
+        let v778 = v776 + v777;
+        let v779 = pose_j[5] * v146;
+        let v780 = pose_j[4] * v144;
+        let v781 = v779 - v780;
+        let v782 = T::constant(8.0) * v781;
+        let v783 = v732 * v778;
+        let v784 = v716 * v781;
+        let v785 = v783 + v784;
+        let v786 = T::constant(8.0) * v785;
+        let v787 = v774 - v786;
+        let v788 = v787 - v767;
+        let v789 = v765 + v768;
+        let v790 = v788 - v766;
+        let v791 = v789 + v790;
+        let v792 = v127 * v705;
+        let v793 = v108 * v732;
+        let v794 = v146 * v716;
+        let v795 = v793 + v794;
+        let v796 = T::constant(4.0) * v795;
+        let v797 = v792 + v796;
+        let v798 = v129 * v705;
+        let v799 = v103 * v732;
+        let v800 = T::constant(2.0) * v144;
+        let v801 = v716 * v800;
+        let v802 = v798 - v799;
+        let v803 = v801 + v802;
+        let v804 = v134 * v705;
+        let v805 = v150 * v716;
+        let v806 = T::constant(2.0) * v115;
+        let v807 = v732 * v806;
+        let v808 = v804 - v805;
+        let v809 = v807 + v808;
+        let v810 = v454 - v525;
+        let v811 = v226 * v810;
+        let v812 = v228 * v516;
+        let v813 = v489 + v493;
+        let v814 = T::constant(2.0) * v813;
+        let v815 = v185 * v814;
+        let v816 = v812 + v815;
+        let v817 = v161 * v816;
+        let v818 = v276 * v534;
+        let v819 = v279 * v482;
+        let v820 = v818 + v819;
+        let v821 = v65 * v164;
+        let v822 = T::constant(0.5) * v821;
+        let v823 = v516 * v822;
+        let v824 = v89 * v186;
+        let v825 = v303 * v824;
+        let v826 = v823 + v825;
+        let v827 = T::constant(2.0) * v826;
+        let v828 = v820 + v827;
+        let v829 = T::constant(2.0) * v828;
+        let v830 = v305 + v829;
+        let v831 = v217 * v830;
+        let v832 = v817 - v811;
+        let v833 = v831 + v832;
+        let v834 = v261 * v833;
+        let v835 = v457 - v579;
+        let v836 = v226 * v835;
+        let v837 = v228 * v573;
+        let v838 = v558 + v561;
+        let v839 = T::constant(2.0) * v838;
+        let v840 = v185 * v839;
+        let v841 = v837 + v840;
+        let v842 = v161 * v841;
+        let v843 = T::constant(0.5) * v335;
+        let v844 = v535 + v650;
+        let v845 = v573 * v822;
+        let v846 = v333 * v824;
+        let v847 = v845 + v846;
+        let v848 = T::constant(2.0) * v847;
+        let v849 = v844 + v848;
+        let v850 = v843 + v849;
+        let v851 = v245 * v850;
+        let v852 = v842 + v851;
+        let v853 = v852 - v836;
+        let v854 = v309 * v853;
+        let v855 = v460 - v628;
+        let v856 = v226 * v855;
+        let v857 = v228 * v622;
+        let v858 = v607 + v610;
+        let v859 = T::constant(2.0) * v858;
+        let v860 = v185 * v859;
+        let v861 = v857 + v860;
+        let v862 = v161 * v861;
+        let v863 = T::constant(0.5) * v364;
+        let v864 = v266 * v534;
+        let v865 = v483 + v864;
+        let v866 = v622 * v822;
+        let v867 = v362 * v824;
+        let v868 = v866 + v867;
+        let v869 = T::constant(2.0) * v868;
+        let v870 = v865 + v869;
+        let v871 = v863 + v870;
+        let v872 = v245 * v871;
+        let v873 = v862 + v872;
+        let v874 = v873 - v856;
+        let v875 = v339 * v874;
+        let v876 = v463 - v676;
+        let v877 = v226 * v876;
+        let v878 = v228 * v670;
+        let v879 = v655 + v658;
+        let v880 = T::constant(2.0) * v879;
+        let v881 = v185 * v880;
+        let v882 = v878 + v881;
+        let v883 = v161 * v882;
+        let v884 = v276 * v482;
+        let v885 = v638 + v884;
+        let v886 = v670 * v822;
+        let v887 = v388 * v824;
+        let v888 = v886 + v887;
+        let v889 = T::constant(2.0) * v888;
+        let v890 = v885 + v889;
+        let v891 = T::constant(2.0) * v890;
+        let v892 = v390 + v891;
+        let v893 = v217 * v892;
+        let v894 = v883 - v877;
+        let v895 = v893 + v894;
+        let v896 = v366 * v895;
+        let v897 = v96 * v230;
+        let v898 = v194 * v225;
+        let v899 = v207 * v234;
+        let v900 = v897 - v898;
+        let v901 = v899 + v900;
+        let v902 = T::constant(4.0) * v725;
+        let v903 = v901 * v902;
+        let v904 = v234 * v710;
+        let v905 = T::constant(0.5) * v199;
+        let v906 = v225 * v905;
+        let v907 = v143 * v230;
+        let v908 = v904 + v907;
+        let v909 = v906 + v908;
+        let v910 = v717 * v909;
+        let v911 = v903 + v910;
+        let v912 = v192 * T::constant(0.25);
+        let v913 = v225 * v912;
+        let v914 = T::constant(0.5) * v209;
+        let v915 = v234 * v914;
+        let v916 = v126 * v230;
+        let v917 = v913 + v916;
+        let v918 = v917 - v915;
+        let v919 = v700 * T::constant(8.0);
+        let v920 = v918 * v919;
+        let v921 = v920 - v911;
+        let v922 = v921 - v854;
+        let v923 = v834 + v875;
+        let v924 = v922 - v896;
+        let v925 = v923 + v924;
+        let v926 = v395 * v833;
+        let v927 = v399 * v853;
+        let v928 = v403 * v874;
+        let v929 = v405 * v895;
+        let v930 = T::constant(4.0) * v757;
+        let v931 = v901 * v930;
+        let v932 = v750 * v909;
+        let v933 = v931 + v932;
+        let v934 = T::constant(8.0) * v746;
+        let v935 = v918 * v934;
+        let v936 = v933 - v935;
+        let v937 = v927 + v936;
+        let v938 = v926 - v928;
+        let v939 = v937 - v929;
+        let v940 = v938 + v939;
+        let v941 = v410 * v833;
+        let v942 = v412 * v853;
+        let v943 = v414 * v874;
+        let v944 = v416 * v895;
+        let v945 = T::constant(4.0) * v778;
+        let v946 = v901 * v945;
+        let v947 = T::constant(8.0) * v772;
+        let v948 = v918 * v947;
+        let v949 = v782 * v909;
+        let v950 = v949 - v948;
+        let v951 = v950 - v946;
+        let v952 = v951 - v942;
+        let v953 = v941 - v943;
+        let v954 = v944 + v952;
+        let v955 = v953 + v954;
+        let v956 = v127 * v918;
+        let v957 = v108 * v901;
+        let v958 = T::constant(2.0) * v146;
+        let v959 = v909 * v958;
+        let v960 = v956 - v957;
+        let v961 = v959 + v960;
+        let v962 = v103 * T::constant(0.25);
+        let v963 = v901 * v962;
+        let v964 = v129 * v918;
+        let v965 = v144 * v909;
+        let v966 = v963 + v964;
+        let v967 = v965 + v966;
+        let v968 = v115 * T::constant(0.5);
+        let v969 = v150 * T::constant(0.5);
+        let v970 = v115 * v901;
+        let v971 = v150 * v909;
+        let v972 = v970 + v971;
+        let v973 = T::constant(0.5) * v972;
+        let v974 = v134 * v918;
+        let v975 = v974 - v973;
+        let v976 = v305 - v829;
+        let v977 = v161 * v976;
+        let v978 = v423 + v547;
+        let v979 = v202 * v978;
+        let v980 = T::constant(0.5) * v168;
+        let v981 = v516 * v980;
+        let v982 = v185 * v499;
+        let v983 = v981 + v982;
+        let v984 = v217 * T::constant(8.0);
+        let v985 = v983 * v984;
+        let v986 = v977 - v985;
+        let v987 = v979 + v986;
+        let v988 = v261 * v987;
+        let v989 = v390 - v891;
+        let v990 = v161 * v989;
+        let v991 = v685 + v692;
+        let v992 = T::constant(2.0) * v202;
+        let v993 = v991 * v992;
+        let v994 = v670 * v980;
+        let v995 = v185 * v662;
+        let v996 = v994 + v995;
+        let v997 = v984 * v996;
+        let v998 = v993 - v997;
+        let v999 = v990 + v998;
+        let v1000 = v366 * v999;
+        let v1001 = v426 + v596;
+        let v1002 = v226 * v1001;
+        let v1003 = v849 - v843;
+        let v1004 = v161 * v1003;
+        let v1005 = v573 * v980;
+        let v1006 = v185 * v565;
+        let v1007 = v1005 + v1006;
+        let v1008 = v217 * T::constant(4.0);
+        let v1009 = v1007 * v1008;
+        let v1010 = v1004 + v1009;
+        let v1011 = v1010 - v1002;
+        let v1012 = v870 - v863;
+        let v1013 = v161 * v1012;
+        let v1014 = v637 + v644;
+        let v1015 = v202 * v1014;
+        let v1016 = v622 * v980;
+        let v1017 = v185 * v614;
+        let v1018 = v1016 + v1017;
+        let v1019 = v1008 * v1018;
+        let v1020 = v1013 + v1019;
+        let v1021 = v1020 - v1015;
+        let v1022 = v309 * v1011;
+        let v1023 = v339 * v1021;
+        let v1024 = v1022 - v1023;
+        let v1025 = T::constant(2.0) * v1024;
+        let v1026 = v96 * v238;
+        let v1027 = T::constant(2.0) * v194;
+        let v1028 = v240 * v1027;
+        let v1029 = v207 * T::constant(4.0);
+        let v1030 = v244 * v1029;
+        let v1031 = v1026 - v1030;
+        let v1032 = v1028 + v1031;
+        let v1033 = v902 * v1032;
+        let v1034 = v143 * v238;
+        let v1035 = v199 * v240;
+        let v1036 = v213 * v244;
+        let v1037 = v1034 - v1036;
+        let v1038 = v1037 - v1035;
+        let v1039 = v717 * v1038;
+        let v1040 = v1033 + v1039;
+        let v1041 = T::constant(0.5) * v192;
+        let v1042 = v240 * v1041;
+        let v1043 = v126 * v238;
+        let v1044 = T::constant(2.0) * v209;
+        let v1045 = v244 * v1044;
+        let v1046 = v1045 - v1042;
+        let v1047 = v1043 + v1046;
+        let v1048 = v919 * v1047;
+        let v1049 = v1048 - v1040;
+        let v1050 = v1049 - v1000;
+        let v1051 = v988 + v1050;
+        let v1052 = v1025 + v1051;
+        let v1053 = v395 * v987;
+        let v1054 = v405 * v999;
+        let v1055 = v399 * v1011;
+        let v1056 = v403 * v1021;
+        let v1057 = v1056 - v1055;
+        let v1058 = T::constant(2.0) * v1057;
+        let v1059 = v930 * v1032;
+        let v1060 = v750 * v1038;
+        let v1061 = v1059 + v1060;
+        let v1062 = v934 * v1047;
+        let v1063 = v1061 - v1062;
+        let v1064 = v1063 - v1054;
+        let v1065 = v1053 + v1064;
+        let v1066 = v1058 + v1065;
+        let v1067 = v410 * v987;
+        let v1068 = v416 * v999;
+        let v1069 = v412 * v1011;
+        let v1070 = v414 * v1021;
+        let v1071 = v1069 + v1070;
+        let v1072 = T::constant(2.0) * v1071;
+        let v1073 = v945 * v1032;
+        let v1074 = v947 * v1047;
+        let v1075 = v782 * v1038;
+        let v1076 = v1075 - v1074;
+        let v1077 = v1076 - v1073;
+        let v1078 = v1068 + v1077;
+        let v1079 = v1067 + v1078;
+        let v1080 = v1072 + v1079;
+        let v1081 = v127 * v1047;
+        let v1082 = v108 * v1032;
+        let v1083 = v958 * v1038;
+        let v1084 = v1081 - v1082;
+        let v1085 = v1083 + v1084;
+        let v1086 = v962 * v1032;
+        let v1087 = v129 * v1047;
+        let v1088 = v144 * v1038;
+        let v1089 = v1086 + v1087;
+        let v1090 = v1088 + v1089;
+        let v1091 = v968 * v1032;
+        let v1092 = v969 * v1038;
+        let v1093 = v1091 + v1092;
+        let v1094 = v134 * v1047;
+        let v1095 = v1094 - v1093;
+        let v1096 = v797 * weight;
+        let v1097 = v1085 * weight;
+        (
+            v394,
+            v409,
+            v420,
+            v437,
+            v444,
+            v451,
+            v467,
+            v474,
+            v481,
+            v739,
+            v764,
+            v791,
+            v797,
+            v803,
+            v809,
+            v925,
+            v940,
+            v955,
+            v961,
+            v967,
+            v975,
+            v1052,
+            v1066,
+            v1080,
+            v1085,
+            v1090,
+            v1095,
+            v1096,
+            v1097,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v1098,
+        v1099,
+        v1100,
+        v1101,
+        v1102,
+        v1103,
+        v1104,
+        v1105,
+        v1106,
+        v1107,
+        v1108,
+        v1109,
+        v1110,
+        v1111,
+        v1112,
+        v1113,
+        v1114,
+        v1115,
+        v1116,
+        v1117,
+        v1118,
+        v1119,
+        v1120,
+        v1121,
+        v1122,
+    ) = if g_pose_i.is_some() || h_pose_i_pose_i.is_some() || h_pose_i_pose_j.is_some() {
+        let v1098 = v394 * T::constant(-0.5);
+        let v1099 = T::constant(-0.5) * v409;
+        let v1100 = T::constant(0.5) * v420;
+        let v1101 = T::constant(-0.5) * v437;
+        let v1102 = T::constant(-0.5) * v444;
+        let v1103 = T::constant(0.5) * v451;
+        let v1104 = T::constant(-0.5) * v467;
+        let v1105 = T::constant(-0.5) * v474;
+        let v1106 = T::constant(0.5) * v481;
+        let v1107 = T::constant(-0.5) * v739;
+        let v1108 = T::constant(-0.5) * v764;
+        let v1109 = T::constant(0.5) * v791;
+        let v1110 = T::constant(2.0) * v803;
+        let v1111 = T::constant(2.0) * v809;
+        let v1112 = T::constant(0.5) * v925;
+        let v1113 = T::constant(0.5) * v940;
+        let v1114 = T::constant(-0.5) * v955;
+        let v1115 = T::constant(2.0) * v961;
+        let v1116 = T::constant(4.0) * v967;
+        let v1117 = T::constant(4.0) * v975;
+        let v1118 = T::constant(0.25) * v1052;
+        let v1119 = T::constant(0.25) * v1066;
+        let v1120 = v1080 * T::constant(-0.25);
+        let v1121 = T::constant(2.0) * v1090;
+        let v1122 = T::constant(2.0) * v1095;
+        (
+            v1098,
+            v1099,
+            v1100,
+            v1101,
+            v1102,
+            v1103,
+            v1104,
+            v1105,
+            v1106,
+            v1107,
+            v1108,
+            v1109,
+            v1110,
+            v1111,
+            v1112,
+            v1113,
+            v1114,
+            v1115,
+            v1116,
+            v1117,
+            v1118,
+            v1119,
+            v1120,
+            v1121,
+            v1122,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v1123,
+        v1124,
+        v1125,
+        v1126,
+        v1127,
+        v1128,
+        v1129,
+        v1130,
+        v1131,
+        v1132,
+        v1133,
+        v1134,
+        v1135,
+        v1136,
+        v1137,
+        v1138,
+        v1139,
+        v1140,
+        v1141,
+        v1142,
+        v1143,
+        v1144,
+        v1145,
+        v1146,
+        v1147,
+        v1148,
+        v1149,
+        v1150,
+        v1151,
+        v1152,
+        v1153,
+        v1154,
+        v1155,
+        v1156,
+        v1157,
+        v1158,
+        v1159,
+        v1160,
+        v1161,
+        v1162,
+        v1163,
+        v1164,
+        v1165,
+        v1166,
+        v1167,
+        v1168,
+        v1169,
+        v1170,
+        v1171,
+        v1172,
+    ) = if g_pose_j.is_some() || h_pose_i_pose_j.is_some() || h_pose_j_pose_j.is_some() {
+        let v1123 = T::constant(0.5) * v394;
+        let v1124 = T::constant(0.5) * v409;
+        let v1125 = T::constant(-0.5) * v420;
+        let v1126 = T::constant(0.5) * v437;
+        let v1127 = T::constant(0.5) * v444;
+        let v1128 = T::constant(-0.5) * v451;
+        let v1129 = T::constant(0.5) * v467;
+        let v1130 = T::constant(0.5) * v474;
+        let v1131 = T::constant(-0.5) * v481;
+        let v1132 = T::constant(0.5) * v739;
+        let v1133 = T::constant(0.5) * v764;
+        let v1134 = T::constant(-0.5) * v791;
+        let v1135 = v803 * T::constant(-2.0);
+        let v1136 = v809 * T::constant(-2.0);
+        let v1137 = T::constant(-0.5) * v925;
+        let v1138 = T::constant(-0.5) * v940;
+        let v1139 = T::constant(0.5) * v955;
+        let v1140 = v961 * T::constant(-2.0);
+        let v1141 = v967 * T::constant(-4.0);
+        let v1142 = v975 * T::constant(-4.0);
+        let v1143 = v1052 * T::constant(-0.25);
+        let v1144 = v1066 * T::constant(-0.25);
+        let v1145 = T::constant(0.25) * v1080;
+        let v1146 = v1090 * T::constant(-2.0);
+        let v1147 = v1095 * T::constant(-2.0);
+        let v1148 = v1123 * weight;
+        let v1149 = v1124 * weight;
+        let v1150 = v1125 * weight;
+        let v1151 = v1126 * weight;
+        let v1152 = v1127 * weight;
+        let v1153 = v1128 * weight;
+        let v1154 = v1129 * weight;
+        let v1155 = v1130 * weight;
+        let v1156 = v1131 * weight;
+        let v1157 = v1132 * weight;
+        let v1158 = v1133 * weight;
+        let v1159 = v1134 * weight;
+        let v1160 = v1135 * weight;
+        let v1161 = v1136 * weight;
+        let v1162 = v1137 * weight;
+        let v1163 = v1138 * weight;
+        let v1164 = v1139 * weight;
+        let v1165 = v1140 * weight;
+        let v1166 = v1141 * weight;
+        let v1167 = v1142 * weight;
+        let v1168 = v1143 * weight;
+        let v1169 = v1144 * weight;
+        let v1170 = v1145 * weight;
+        let v1171 = v1146 * weight;
+        let v1172 = v1147 * weight;
+        (
+            v1123,
+            v1124,
+            v1125,
+            v1126,
+            v1127,
+            v1128,
+            v1129,
+            v1130,
+            v1131,
+            v1132,
+            v1133,
+            v1134,
+            v1135,
+            v1136,
+            v1137,
+            v1138,
+            v1139,
+            v1140,
+            v1141,
+            v1142,
+            v1143,
+            v1144,
+            v1145,
+            v1146,
+            v1147,
+            v1148,
+            v1149,
+            v1150,
+            v1151,
+            v1152,
+            v1153,
+            v1154,
+            v1155,
+            v1156,
+            v1157,
+            v1158,
+            v1159,
+            v1160,
+            v1161,
+            v1162,
+            v1163,
+            v1164,
+            v1165,
+            v1166,
+            v1167,
+            v1168,
+            v1169,
+            v1170,
+            v1171,
+            v1172,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v1173, v1174) = if h_pose_i_pose_i.is_some() || h_pose_i_pose_j.is_some()
+        || h_pose_j_pose_j.is_some()
+    {
+        let v1173 = v797 * v1096;
+        let v1174 = v1085 * v1097;
+        (v1173, v1174)
+    } else {
+        (T::constant(0.0), T::constant(0.0))
+    };
+    let (v1175, v1176) = if g_pose_i.is_some() || g_pose_j.is_some() {
+        let v1175 = v224 * v1096;
+        let v1176 = v247 * v1097;
+        (v1175, v1176)
+    } else {
+        (T::constant(0.0), T::constant(0.0))
+    };
+    let (
+        v1177,
+        v1178,
+        v1179,
+        v1180,
+        v1181,
+        v1182,
+        v1183,
+        v1184,
+        v1185,
+        v1186,
+        v1187,
+        v1188,
+        v1189,
+        v1190,
+        v1191,
+        v1192,
+        v1193,
+        v1194,
+        v1195,
+        v1196,
+        v1197,
+        v1198,
+        v1199,
+        v1200,
+        v1201,
+    ) = if g_pose_i.is_some() || h_pose_i_pose_i.is_some() {
+        let v1177 = v1098 * weight;
+        let v1178 = v1099 * weight;
+        let v1179 = v1100 * weight;
+        let v1180 = v1101 * weight;
+        let v1181 = v1102 * weight;
+        let v1182 = v1103 * weight;
+        let v1183 = v1104 * weight;
+        let v1184 = v1105 * weight;
+        let v1185 = v1106 * weight;
+        let v1186 = v1107 * weight;
+        let v1187 = v1108 * weight;
+        let v1188 = v1109 * weight;
+        let v1189 = v1110 * weight;
+        let v1190 = v1111 * weight;
+        let v1191 = v1112 * weight;
+        let v1192 = v1113 * weight;
+        let v1193 = v1114 * weight;
+        let v1194 = v1115 * weight;
+        let v1195 = v1116 * weight;
+        let v1196 = v1117 * weight;
+        let v1197 = v1118 * weight;
+        let v1198 = v1119 * weight;
+        let v1199 = v1120 * weight;
+        let v1200 = v1121 * weight;
+        let v1201 = v1122 * weight;
+        (
+            v1177,
+            v1178,
+            v1179,
+            v1180,
+            v1181,
+            v1182,
+            v1183,
+            v1184,
+            v1185,
+            v1186,
+            v1187,
+            v1188,
+            v1189,
+            v1190,
+            v1191,
+            v1192,
+            v1193,
+            v1194,
+            v1195,
+            v1196,
+            v1197,
+            v1198,
+            v1199,
+            v1200,
+            v1201,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v1202, v1203, v1204, v1205, v1206, v1207) = if h_pose_i_pose_i.is_some()
+        || h_pose_i_pose_j.is_some()
+    {
+        let v1202 = v1107 * v1096;
+        let v1203 = v1118 * v1097;
+        let v1204 = v1108 * v1096;
+        let v1205 = v1119 * v1097;
+        let v1206 = v1109 * v1096;
+        let v1207 = v1120 * v1097;
+        (v1202, v1203, v1204, v1205, v1206, v1207)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v1208, v1209, v1210, v1211) = if h_pose_i_pose_j.is_some()
+        || h_pose_j_pose_j.is_some()
+    {
+        let v1208 = v797 * v1160;
+        let v1209 = v1085 * v1171;
+        let v1210 = v797 * v1161;
+        let v1211 = v1085 * v1172;
+        (v1208, v1209, v1210, v1211)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    if let Some(g_pose_i) = g_pose_i {
+        let v1212 = v87 * v1177;
+        let v1213 = v88 * v1180;
+        let v1214 = v89 * v1183;
+        let v1215 = v224 * v1186;
+        let v1216 = v237 * v1191;
+        let v1217 = v247 * v1197;
+        let v1218 = v1212 + v1213;
+        let v1219 = v1214 + v1218;
+        let v1220 = v1215 + v1219;
+        let v1221 = v1216 + v1220;
+        let v1222 = v1217 + v1221;
+        let v1223 = v87 * v1178;
+        let v1224 = v88 * v1181;
+        let v1225 = v89 * v1184;
+        let v1226 = v224 * v1187;
+        let v1227 = v237 * v1192;
+        let v1228 = v247 * v1198;
+        let v1229 = v1223 + v1224;
+        let v1230 = v1225 + v1229;
+        let v1231 = v1226 + v1230;
+        let v1232 = v1227 + v1231;
+        let v1233 = v1228 + v1232;
+        let v1234 = v87 * v1179;
+        let v1235 = v88 * v1182;
+        let v1236 = v89 * v1185;
+        let v1237 = v224 * v1188;
+        let v1238 = v237 * v1193;
+        let v1239 = v247 * v1199;
+        let v1240 = v1234 + v1235;
+        let v1241 = v1236 + v1240;
+        let v1242 = v1237 + v1241;
+        let v1243 = v1238 + v1242;
+        let v1244 = v1239 + v1243;
+        let v1245 = v237 * v1194;
+        let v1246 = v1175 + v1245;
+        let v1247 = v1176 + v1246;
+        let v1248 = v224 * v1189;
+        let v1249 = v237 * v1195;
+        let v1250 = v247 * v1200;
+        let v1251 = v1248 + v1249;
+        let v1252 = v1250 + v1251;
+        let v1253 = v224 * v1190;
+        let v1254 = v237 * v1196;
+        let v1255 = v247 * v1201;
+        let v1256 = v1253 + v1254;
+        let v1257 = v1255 + v1256;
+        g_pose_i[0] = v1222;
+        g_pose_i[1] = v1233;
+        g_pose_i[2] = v1244;
+        g_pose_i[3] = v1247;
+        g_pose_i[4] = v1252;
+        g_pose_i[5] = v1257;
+    }
+    if let Some(g_pose_j) = g_pose_j {
+        let v1258 = v87 * v1148;
+        let v1259 = v88 * v1151;
+        let v1260 = v89 * v1154;
+        let v1261 = v224 * v1157;
+        let v1262 = v237 * v1162;
+        let v1263 = v247 * v1168;
+        let v1264 = v1258 + v1259;
+        let v1265 = v1260 + v1264;
+        let v1266 = v1261 + v1265;
+        let v1267 = v1262 + v1266;
+        let v1268 = v1263 + v1267;
+        let v1269 = v87 * v1149;
+        let v1270 = v88 * v1152;
+        let v1271 = v89 * v1155;
+        let v1272 = v224 * v1158;
+        let v1273 = v237 * v1163;
+        let v1274 = v247 * v1169;
+        let v1275 = v1269 + v1270;
+        let v1276 = v1271 + v1275;
+        let v1277 = v1272 + v1276;
+        let v1278 = v1273 + v1277;
+        let v1279 = v1274 + v1278;
+        let v1280 = v87 * v1150;
+        let v1281 = v88 * v1153;
+        let v1282 = v89 * v1156;
+        let v1283 = v224 * v1159;
+        let v1284 = v237 * v1164;
+        let v1285 = v247 * v1170;
+        let v1286 = v1280 + v1281;
+        let v1287 = v1282 + v1286;
+        let v1288 = v1283 + v1287;
+        let v1289 = v1284 + v1288;
+        let v1290 = v1285 + v1289;
+        let v1291 = v237 * v1165;
+        let v1292 = v1291 - v1175;
+        let v1293 = v1292 - v1176;
+        let v1294 = v224 * v1160;
+        let v1295 = v237 * v1166;
+        let v1296 = v247 * v1171;
+        let v1297 = v1294 + v1295;
+        let v1298 = v1296 + v1297;
+        let v1299 = v224 * v1161;
+        let v1300 = v237 * v1167;
+        let v1301 = v247 * v1172;
+        let v1302 = v1299 + v1300;
+        let v1303 = v1301 + v1302;
+        g_pose_j[0] = v1268;
+        g_pose_j[1] = v1279;
+        g_pose_j[2] = v1290;
+        g_pose_j[3] = v1293;
+        g_pose_j[4] = v1298;
+        g_pose_j[5] = v1303;
+    }
+    if let Some(h_pose_i_pose_i) = h_pose_i_pose_i {
+        let v1304 = v1098 * v1177;
+        let v1305 = v1101 * v1180;
+        let v1306 = v1104 * v1183;
+        let v1307 = v1107 * v1186;
+        let v1308 = v1112 * v1191;
+        let v1309 = v1118 * v1197;
+        let v1310 = v1304 + v1305;
+        let v1311 = v1306 + v1310;
+        let v1312 = v1307 + v1311;
+        let v1313 = v1308 + v1312;
+        let v1314 = v1309 + v1313;
+        let v1315 = v1098 * v1178;
+        let v1316 = v1101 * v1181;
+        let v1317 = v1104 * v1184;
+        let v1318 = v1107 * v1187;
+        let v1319 = v1112 * v1192;
+        let v1320 = v1118 * v1198;
+        let v1321 = v1315 + v1316;
+        let v1322 = v1317 + v1321;
+        let v1323 = v1318 + v1322;
+        let v1324 = v1319 + v1323;
+        let v1325 = v1320 + v1324;
+        let v1326 = v1098 * v1179;
+        let v1327 = v1101 * v1182;
+        let v1328 = v1104 * v1185;
+        let v1329 = v1107 * v1188;
+        let v1330 = v1112 * v1193;
+        let v1331 = v1118 * v1199;
+        let v1332 = v1326 + v1327;
+        let v1333 = v1328 + v1332;
+        let v1334 = v1329 + v1333;
+        let v1335 = v1330 + v1334;
+        let v1336 = v1331 + v1335;
+        let v1337 = v1112 * v1194;
+        let v1338 = v1202 + v1337;
+        let v1339 = v1203 + v1338;
+        let v1340 = v1107 * v1189;
+        let v1341 = v1112 * v1195;
+        let v1342 = v1118 * v1200;
+        let v1343 = v1340 + v1341;
+        let v1344 = v1342 + v1343;
+        let v1345 = v1107 * v1190;
+        let v1346 = v1112 * v1196;
+        let v1347 = v1118 * v1201;
+        let v1348 = v1345 + v1346;
+        let v1349 = v1347 + v1348;
+        let v1350 = v1099 * v1178;
+        let v1351 = v1102 * v1181;
+        let v1352 = v1105 * v1184;
+        let v1353 = v1108 * v1187;
+        let v1354 = v1113 * v1192;
+        let v1355 = v1119 * v1198;
+        let v1356 = v1350 + v1351;
+        let v1357 = v1352 + v1356;
+        let v1358 = v1353 + v1357;
+        let v1359 = v1354 + v1358;
+        let v1360 = v1355 + v1359;
+        let v1361 = v1099 * v1179;
+        let v1362 = v1102 * v1182;
+        let v1363 = v1105 * v1185;
+        let v1364 = v1108 * v1188;
+        let v1365 = v1113 * v1193;
+        let v1366 = v1119 * v1199;
+        let v1367 = v1361 + v1362;
+        let v1368 = v1363 + v1367;
+        let v1369 = v1364 + v1368;
+        let v1370 = v1365 + v1369;
+        let v1371 = v1366 + v1370;
+        let v1372 = v1113 * v1194;
+        let v1373 = v1204 + v1372;
+        let v1374 = v1205 + v1373;
+        let v1375 = v1108 * v1189;
+        let v1376 = v1113 * v1195;
+        let v1377 = v1119 * v1200;
+        let v1378 = v1375 + v1376;
+        let v1379 = v1377 + v1378;
+        let v1380 = v1108 * v1190;
+        let v1381 = v1113 * v1196;
+        let v1382 = v1119 * v1201;
+        let v1383 = v1380 + v1381;
+        let v1384 = v1382 + v1383;
+        let v1385 = v1100 * v1179;
+        let v1386 = v1103 * v1182;
+        let v1387 = v1106 * v1185;
+        let v1388 = v1109 * v1188;
+        let v1389 = v1114 * v1193;
+        let v1390 = v1120 * v1199;
+        let v1391 = v1385 + v1386;
+        let v1392 = v1387 + v1391;
+        let v1393 = v1388 + v1392;
+        let v1394 = v1389 + v1393;
+        let v1395 = v1390 + v1394;
+        let v1396 = v1114 * v1194;
+        let v1397 = v1206 + v1396;
+        let v1398 = v1207 + v1397;
+        let v1399 = v1109 * v1189;
+        let v1400 = v1114 * v1195;
+        let v1401 = v1120 * v1200;
+        let v1402 = v1399 + v1400;
+        let v1403 = v1401 + v1402;
+        let v1404 = v1109 * v1190;
+        let v1405 = v1114 * v1196;
+        let v1406 = v1120 * v1201;
+        let v1407 = v1404 + v1405;
+        let v1408 = v1406 + v1407;
+        let v1409 = v1115 * v1194;
+        let v1410 = v1173 + v1409;
+        let v1411 = v1174 + v1410;
+        let v1412 = v797 * v1189;
+        let v1413 = v1115 * v1195;
+        let v1414 = v1085 * v1200;
+        let v1415 = v1412 + v1413;
+        let v1416 = v1414 + v1415;
+        let v1417 = v797 * v1190;
+        let v1418 = v1115 * v1196;
+        let v1419 = v1085 * v1201;
+        let v1420 = v1417 + v1418;
+        let v1421 = v1419 + v1420;
+        let v1422 = v1110 * v1189;
+        let v1423 = v1116 * v1195;
+        let v1424 = v1121 * v1200;
+        let v1425 = v1422 + v1423;
+        let v1426 = v1424 + v1425;
+        let v1427 = v1110 * v1190;
+        let v1428 = v1116 * v1196;
+        let v1429 = v1121 * v1201;
+        let v1430 = v1427 + v1428;
+        let v1431 = v1429 + v1430;
+        let v1432 = v1111 * v1190;
+        let v1433 = v1117 * v1196;
+        let v1434 = v1122 * v1201;
+        let v1435 = v1432 + v1433;
+        let v1436 = v1434 + v1435;
+        h_pose_i_pose_i[0] = v1314;
+        h_pose_i_pose_i[1] = v1325;
+        h_pose_i_pose_i[2] = v1336;
+        h_pose_i_pose_i[3] = v1339;
+        h_pose_i_pose_i[4] = v1344;
+        h_pose_i_pose_i[5] = v1349;
+        h_pose_i_pose_i[6] = v1360;
+        h_pose_i_pose_i[7] = v1371;
+        h_pose_i_pose_i[8] = v1374;
+        h_pose_i_pose_i[9] = v1379;
+        h_pose_i_pose_i[10] = v1384;
+        h_pose_i_pose_i[11] = v1395;
+        h_pose_i_pose_i[12] = v1398;
+        h_pose_i_pose_i[13] = v1403;
+        h_pose_i_pose_i[14] = v1408;
+        h_pose_i_pose_i[15] = v1411;
+        h_pose_i_pose_i[16] = v1416;
+        h_pose_i_pose_i[17] = v1421;
+        h_pose_i_pose_i[18] = v1426;
+        h_pose_i_pose_i[19] = v1431;
+        h_pose_i_pose_i[20] = v1436;
+    }
+    if let Some(h_pose_i_pose_j) = h_pose_i_pose_j {
+        let v1437 = v1098 * v1148;
+        let v1438 = v1101 * v1151;
+        let v1439 = v1104 * v1154;
+        let v1440 = v1107 * v1157;
+        let v1441 = v1112 * v1162;
+        let v1442 = v1118 * v1168;
+        let v1443 = v1437 + v1438;
+        let v1444 = v1439 + v1443;
+        let v1445 = v1440 + v1444;
+        let v1446 = v1441 + v1445;
+        let v1447 = v1442 + v1446;
+        let v1448 = v1098 * v1149;
+        let v1449 = v1101 * v1152;
+        let v1450 = v1104 * v1155;
+        let v1451 = v1107 * v1158;
+        let v1452 = v1112 * v1163;
+        let v1453 = v1118 * v1169;
+        let v1454 = v1448 + v1449;
+        let v1455 = v1450 + v1454;
+        let v1456 = v1451 + v1455;
+        let v1457 = v1452 + v1456;
+        let v1458 = v1453 + v1457;
+        let v1459 = v1098 * v1150;
+        let v1460 = v1101 * v1153;
+        let v1461 = v1104 * v1156;
+        let v1462 = v1107 * v1159;
+        let v1463 = v1112 * v1164;
+        let v1464 = v1118 * v1170;
+        let v1465 = v1459 + v1460;
+        let v1466 = v1461 + v1465;
+        let v1467 = v1462 + v1466;
+        let v1468 = v1463 + v1467;
+        let v1469 = v1464 + v1468;
+        let v1470 = v1112 * v1165;
+        let v1471 = v1470 - v1202;
+        let v1472 = v1471 - v1203;
+        let v1473 = v1107 * v1160;
+        let v1474 = v1112 * v1166;
+        let v1475 = v1118 * v1171;
+        let v1476 = v1473 + v1474;
+        let v1477 = v1475 + v1476;
+        let v1478 = v1107 * v1161;
+        let v1479 = v1112 * v1167;
+        let v1480 = v1118 * v1172;
+        let v1481 = v1478 + v1479;
+        let v1482 = v1480 + v1481;
+        let v1483 = v1099 * v1148;
+        let v1484 = v1102 * v1151;
+        let v1485 = v1105 * v1154;
+        let v1486 = v1108 * v1157;
+        let v1487 = v1113 * v1162;
+        let v1488 = v1119 * v1168;
+        let v1489 = v1483 + v1484;
+        let v1490 = v1485 + v1489;
+        let v1491 = v1486 + v1490;
+        let v1492 = v1487 + v1491;
+        let v1493 = v1488 + v1492;
+        let v1494 = v1099 * v1149;
+        let v1495 = v1102 * v1152;
+        let v1496 = v1105 * v1155;
+        let v1497 = v1108 * v1158;
+        let v1498 = v1113 * v1163;
+        let v1499 = v1119 * v1169;
+        let v1500 = v1494 + v1495;
+        let v1501 = v1496 + v1500;
+        let v1502 = v1497 + v1501;
+        let v1503 = v1498 + v1502;
+        let v1504 = v1499 + v1503;
+        let v1505 = v1099 * v1150;
+        let v1506 = v1102 * v1153;
+        let v1507 = v1105 * v1156;
+        let v1508 = v1108 * v1159;
+        let v1509 = v1113 * v1164;
+        let v1510 = v1119 * v1170;
+        let v1511 = v1505 + v1506;
+        let v1512 = v1507 + v1511;
+        let v1513 = v1508 + v1512;
+        let v1514 = v1509 + v1513;
+        let v1515 = v1510 + v1514;
+        let v1516 = v1113 * v1165;
+        let v1517 = v1516 - v1204;
+        let v1518 = v1517 - v1205;
+        let v1519 = v1108 * v1160;
+        let v1520 = v1113 * v1166;
+        let v1521 = v1119 * v1171;
+        let v1522 = v1519 + v1520;
+        let v1523 = v1521 + v1522;
+        let v1524 = v1108 * v1161;
+        let v1525 = v1113 * v1167;
+        let v1526 = v1119 * v1172;
+        let v1527 = v1524 + v1525;
+        let v1528 = v1526 + v1527;
+        let v1529 = v1100 * v1148;
+        let v1530 = v1103 * v1151;
+        let v1531 = v1106 * v1154;
+        let v1532 = v1109 * v1157;
+        let v1533 = v1114 * v1162;
+        let v1534 = v1120 * v1168;
+        let v1535 = v1529 + v1530;
+        let v1536 = v1531 + v1535;
+        let v1537 = v1532 + v1536;
+        let v1538 = v1533 + v1537;
+        let v1539 = v1534 + v1538;
+        let v1540 = v1100 * v1149;
+        let v1541 = v1103 * v1152;
+        let v1542 = v1106 * v1155;
+        let v1543 = v1109 * v1158;
+        let v1544 = v1114 * v1163;
+        let v1545 = v1120 * v1169;
+        let v1546 = v1540 + v1541;
+        let v1547 = v1542 + v1546;
+        let v1548 = v1543 + v1547;
+        let v1549 = v1544 + v1548;
+        let v1550 = v1545 + v1549;
+        let v1551 = v1100 * v1150;
+        let v1552 = v1103 * v1153;
+        let v1553 = v1106 * v1156;
+        let v1554 = v1109 * v1159;
+        let v1555 = v1114 * v1164;
+        let v1556 = v1120 * v1170;
+        let v1557 = v1551 + v1552;
+        let v1558 = v1553 + v1557;
+        let v1559 = v1554 + v1558;
+        let v1560 = v1555 + v1559;
+        let v1561 = v1556 + v1560;
+        let v1562 = v1114 * v1165;
+        let v1563 = v1562 - v1206;
+        let v1564 = v1563 - v1207;
+        let v1565 = v1109 * v1160;
+        let v1566 = v1114 * v1166;
+        let v1567 = v1120 * v1171;
+        let v1568 = v1565 + v1566;
+        let v1569 = v1567 + v1568;
+        let v1570 = v1109 * v1161;
+        let v1571 = v1114 * v1167;
+        let v1572 = v1120 * v1172;
+        let v1573 = v1570 + v1571;
+        let v1574 = v1572 + v1573;
+        let v1575 = v797 * v1157;
+        let v1576 = v1115 * v1162;
+        let v1577 = v1085 * v1168;
+        let v1578 = v1575 + v1576;
+        let v1579 = v1577 + v1578;
+        let v1580 = v797 * v1158;
+        let v1581 = v1115 * v1163;
+        let v1582 = v1085 * v1169;
+        let v1583 = v1580 + v1581;
+        let v1584 = v1582 + v1583;
+        let v1585 = v797 * v1159;
+        let v1586 = v1115 * v1164;
+        let v1587 = v1085 * v1170;
+        let v1588 = v1585 + v1586;
+        let v1589 = v1587 + v1588;
+        let v1590 = v1115 * v1165;
+        let v1591 = v1590 - v1173;
+        let v1592 = v1591 - v1174;
+        let v1593 = v1115 * v1166;
+        let v1594 = v1208 + v1593;
+        let v1595 = v1209 + v1594;
+        let v1596 = v1115 * v1167;
+        let v1597 = v1210 + v1596;
+        let v1598 = v1211 + v1597;
+        let v1599 = v1110 * v1157;
+        let v1600 = v1116 * v1162;
+        let v1601 = v1121 * v1168;
+        let v1602 = v1599 + v1600;
+        let v1603 = v1601 + v1602;
+        let v1604 = v1110 * v1158;
+        let v1605 = v1116 * v1163;
+        let v1606 = v1121 * v1169;
+        let v1607 = v1604 + v1605;
+        let v1608 = v1606 + v1607;
+        let v1609 = v1110 * v1159;
+        let v1610 = v1116 * v1164;
+        let v1611 = v1121 * v1170;
+        let v1612 = v1609 + v1610;
+        let v1613 = v1611 + v1612;
+        let v1614 = v1110 * v1096;
+        let v1615 = v1116 * v1165;
+        let v1616 = v1121 * v1097;
+        let v1617 = v1615 - v1614;
+        let v1618 = v1617 - v1616;
+        let v1619 = v1110 * v1160;
+        let v1620 = v1116 * v1166;
+        let v1621 = v1121 * v1171;
+        let v1622 = v1619 + v1620;
+        let v1623 = v1621 + v1622;
+        let v1624 = v1110 * v1161;
+        let v1625 = v1116 * v1167;
+        let v1626 = v1121 * v1172;
+        let v1627 = v1624 + v1625;
+        let v1628 = v1626 + v1627;
+        let v1629 = v1111 * v1157;
+        let v1630 = v1117 * v1162;
+        let v1631 = v1122 * v1168;
+        let v1632 = v1629 + v1630;
+        let v1633 = v1631 + v1632;
+        let v1634 = v1111 * v1158;
+        let v1635 = v1117 * v1163;
+        let v1636 = v1122 * v1169;
+        let v1637 = v1634 + v1635;
+        let v1638 = v1636 + v1637;
+        let v1639 = v1111 * v1159;
+        let v1640 = v1117 * v1164;
+        let v1641 = v1122 * v1170;
+        let v1642 = v1639 + v1640;
+        let v1643 = v1641 + v1642;
+        let v1644 = v1111 * v1096;
+        let v1645 = v1117 * v1165;
+        let v1646 = v1122 * v1097;
+        let v1647 = v1645 - v1644;
+        let v1648 = v1647 - v1646;
+        let v1649 = v1111 * v1160;
+        let v1650 = v1117 * v1166;
+        let v1651 = v1122 * v1171;
+        let v1652 = v1649 + v1650;
+        let v1653 = v1651 + v1652;
+        let v1654 = v1111 * v1161;
+        let v1655 = v1117 * v1167;
+        let v1656 = v1122 * v1172;
+        let v1657 = v1654 + v1655;
+        let v1658 = v1656 + v1657;
+        h_pose_i_pose_j[0] = v1447;
+        h_pose_i_pose_j[1] = v1458;
+        h_pose_i_pose_j[2] = v1469;
+        h_pose_i_pose_j[3] = v1472;
+        h_pose_i_pose_j[4] = v1477;
+        h_pose_i_pose_j[5] = v1482;
+        h_pose_i_pose_j[6] = v1493;
+        h_pose_i_pose_j[7] = v1504;
+        h_pose_i_pose_j[8] = v1515;
+        h_pose_i_pose_j[9] = v1518;
+        h_pose_i_pose_j[10] = v1523;
+        h_pose_i_pose_j[11] = v1528;
+        h_pose_i_pose_j[12] = v1539;
+        h_pose_i_pose_j[13] = v1550;
+        h_pose_i_pose_j[14] = v1561;
+        h_pose_i_pose_j[15] = v1564;
+        h_pose_i_pose_j[16] = v1569;
+        h_pose_i_pose_j[17] = v1574;
+        h_pose_i_pose_j[18] = v1579;
+        h_pose_i_pose_j[19] = v1584;
+        h_pose_i_pose_j[20] = v1589;
+        h_pose_i_pose_j[21] = v1592;
+        h_pose_i_pose_j[22] = v1595;
+        h_pose_i_pose_j[23] = v1598;
+        h_pose_i_pose_j[24] = v1603;
+        h_pose_i_pose_j[25] = v1608;
+        h_pose_i_pose_j[26] = v1613;
+        h_pose_i_pose_j[27] = v1618;
+        h_pose_i_pose_j[28] = v1623;
+        h_pose_i_pose_j[29] = v1628;
+        h_pose_i_pose_j[30] = v1633;
+        h_pose_i_pose_j[31] = v1638;
+        h_pose_i_pose_j[32] = v1643;
+        h_pose_i_pose_j[33] = v1648;
+        h_pose_i_pose_j[34] = v1653;
+        h_pose_i_pose_j[35] = v1658;
+    }
+    if let Some(h_pose_j_pose_j) = h_pose_j_pose_j {
+        let v1659 = v1123 * v1148;
+        let v1660 = v1126 * v1151;
+        let v1661 = v1129 * v1154;
+        let v1662 = v1132 * v1157;
+        let v1663 = v1137 * v1162;
+        let v1664 = v1143 * v1168;
+        let v1665 = v1659 + v1660;
+        let v1666 = v1661 + v1665;
+        let v1667 = v1662 + v1666;
+        let v1668 = v1663 + v1667;
+        let v1669 = v1664 + v1668;
+        let v1670 = v1123 * v1149;
+        let v1671 = v1126 * v1152;
+        let v1672 = v1129 * v1155;
+        let v1673 = v1132 * v1158;
+        let v1674 = v1137 * v1163;
+        let v1675 = v1143 * v1169;
+        let v1676 = v1670 + v1671;
+        let v1677 = v1672 + v1676;
+        let v1678 = v1673 + v1677;
+        let v1679 = v1674 + v1678;
+        let v1680 = v1675 + v1679;
+        let v1681 = v1123 * v1150;
+        let v1682 = v1126 * v1153;
+        let v1683 = v1129 * v1156;
+        let v1684 = v1132 * v1159;
+        let v1685 = v1137 * v1164;
+        let v1686 = v1143 * v1170;
+        let v1687 = v1681 + v1682;
+        let v1688 = v1683 + v1687;
+        let v1689 = v1684 + v1688;
+        let v1690 = v1685 + v1689;
+        let v1691 = v1686 + v1690;
+        let v1692 = v1132 * v1096;
+        let v1693 = v1137 * v1165;
+        let v1694 = v1143 * v1097;
+        let v1695 = v1693 - v1692;
+        let v1696 = v1695 - v1694;
+        let v1697 = v1132 * v1160;
+        let v1698 = v1137 * v1166;
+        let v1699 = v1143 * v1171;
+        let v1700 = v1697 + v1698;
+        let v1701 = v1699 + v1700;
+        let v1702 = v1132 * v1161;
+        let v1703 = v1137 * v1167;
+        let v1704 = v1143 * v1172;
+        let v1705 = v1702 + v1703;
+        let v1706 = v1704 + v1705;
+        let v1707 = v1124 * v1149;
+        let v1708 = v1127 * v1152;
+        let v1709 = v1130 * v1155;
+        let v1710 = v1133 * v1158;
+        let v1711 = v1138 * v1163;
+        let v1712 = v1144 * v1169;
+        let v1713 = v1707 + v1708;
+        let v1714 = v1709 + v1713;
+        let v1715 = v1710 + v1714;
+        let v1716 = v1711 + v1715;
+        let v1717 = v1712 + v1716;
+        let v1718 = v1124 * v1150;
+        let v1719 = v1127 * v1153;
+        let v1720 = v1130 * v1156;
+        let v1721 = v1133 * v1159;
+        let v1722 = v1138 * v1164;
+        let v1723 = v1144 * v1170;
+        let v1724 = v1718 + v1719;
+        let v1725 = v1720 + v1724;
+        let v1726 = v1721 + v1725;
+        let v1727 = v1722 + v1726;
+        let v1728 = v1723 + v1727;
+        let v1729 = v1133 * v1096;
+        let v1730 = v1138 * v1165;
+        let v1731 = v1144 * v1097;
+        let v1732 = v1730 - v1729;
+        let v1733 = v1732 - v1731;
+        let v1734 = v1133 * v1160;
+        let v1735 = v1138 * v1166;
+        let v1736 = v1144 * v1171;
+        let v1737 = v1734 + v1735;
+        let v1738 = v1736 + v1737;
+        let v1739 = v1133 * v1161;
+        let v1740 = v1138 * v1167;
+        let v1741 = v1144 * v1172;
+        let v1742 = v1739 + v1740;
+        let v1743 = v1741 + v1742;
+        let v1744 = v1125 * v1150;
+        let v1745 = v1128 * v1153;
+        let v1746 = v1131 * v1156;
+        let v1747 = v1134 * v1159;
+        let v1748 = v1139 * v1164;
+        let v1749 = v1145 * v1170;
+        let v1750 = v1744 + v1745;
+        let v1751 = v1746 + v1750;
+        let v1752 = v1747 + v1751;
+        let v1753 = v1748 + v1752;
+        let v1754 = v1749 + v1753;
+        let v1755 = v1134 * v1096;
+        let v1756 = v1139 * v1165;
+        let v1757 = v1145 * v1097;
+        let v1758 = v1756 - v1755;
+        let v1759 = v1758 - v1757;
+        let v1760 = v1134 * v1160;
+        let v1761 = v1139 * v1166;
+        let v1762 = v1145 * v1171;
+        let v1763 = v1760 + v1761;
+        let v1764 = v1762 + v1763;
+        let v1765 = v1134 * v1161;
+        let v1766 = v1139 * v1167;
+        let v1767 = v1145 * v1172;
+        let v1768 = v1765 + v1766;
+        let v1769 = v1767 + v1768;
+        let v1770 = v1140 * v1165;
+        let v1771 = v1173 + v1770;
+        let v1772 = v1174 + v1771;
+        let v1773 = v1140 * v1166;
+        let v1774 = v1773 - v1208;
+        let v1775 = v1774 - v1209;
+        let v1776 = v1140 * v1167;
+        let v1777 = v1776 - v1210;
+        let v1778 = v1777 - v1211;
+        let v1779 = v1135 * v1160;
+        let v1780 = v1141 * v1166;
+        let v1781 = v1146 * v1171;
+        let v1782 = v1779 + v1780;
+        let v1783 = v1781 + v1782;
+        let v1784 = v1135 * v1161;
+        let v1785 = v1141 * v1167;
+        let v1786 = v1146 * v1172;
+        let v1787 = v1784 + v1785;
+        let v1788 = v1786 + v1787;
+        let v1789 = v1136 * v1161;
+        let v1790 = v1142 * v1167;
+        let v1791 = v1147 * v1172;
+        let v1792 = v1789 + v1790;
+        let v1793 = v1791 + v1792;
+        h_pose_j_pose_j[0] = v1669;
+        h_pose_j_pose_j[1] = v1680;
+        h_pose_j_pose_j[2] = v1691;
+        h_pose_j_pose_j[3] = v1696;
+        h_pose_j_pose_j[4] = v1701;
+        h_pose_j_pose_j[5] = v1706;
+        h_pose_j_pose_j[6] = v1717;
+        h_pose_j_pose_j[7] = v1728;
+        h_pose_j_pose_j[8] = v1733;
+        h_pose_j_pose_j[9] = v1738;
+        h_pose_j_pose_j[10] = v1743;
+        h_pose_j_pose_j[11] = v1754;
+        h_pose_j_pose_j[12] = v1759;
+        h_pose_j_pose_j[13] = v1764;
+        h_pose_j_pose_j[14] = v1769;
+        h_pose_j_pose_j[15] = v1772;
+        h_pose_j_pose_j[16] = v1775;
+        h_pose_j_pose_j[17] = v1778;
+        h_pose_j_pose_j[18] = v1783;
+        h_pose_j_pose_j[19] = v1788;
+        h_pose_j_pose_j[20] = v1793;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[7, 7, 7],
+    tangents: &[6, 6],
+    gradient: &[6, 6],
+    hessian: &[21, 36, 21],
+};
+
+/// [`relative_pose_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn relative_pose_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [measured, pose_i, pose_j] = inputs else {
+        return false;
+    };
+    let (Ok(measured), Ok(pose_i), Ok(pose_j)) = (
+        <&[T; 7]>::try_from(*measured),
+        <&[T; 7]>::try_from(*pose_i),
+        <&[T; 7]>::try_from(*pose_j),
+    ) else {
+        return false;
+    };
+    let [g_pose_i, g_pose_j] = gradient else {
+        return false;
+    };
+    let [h_pose_i_pose_i, h_pose_i_pose_j, h_pose_j_pose_j] = hessian else {
+        return false;
+    };
+    let g_pose_i = match g_pose_i.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_pose_j = match g_pose_j.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_i_pose_i = match h_pose_i_pose_i
+        .as_deref_mut()
+        .map(<&mut [T; 21]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_i_pose_j = match h_pose_i_pose_j
+        .as_deref_mut()
+        .map(<&mut [T; 36]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_j_pose_j = match h_pose_j_pose_j
+        .as_deref_mut()
+        .map(<&mut [T; 21]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::relative_pose_normal(
+        measured,
+        pose_i,
+        pose_j,
+        weight,
+        cost,
+        g_pose_i,
+        g_pose_j,
+        h_pose_i_pose_i,
+        h_pose_i_pose_j,
+        h_pose_j_pose_j,
+    );
+    true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`relative_pose`] and [`relative_pose_normal`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 21];
+    type Outputs = [T; 78];
+    const FIELDS: &'static [usize] = &[7, 7, 7];
+    const RESIDUAL: usize = 6;
+    const TANGENTS: &'static [usize] = &[6, 6];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 21], outputs: &mut [T; 78], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((d_pose_i, rest)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        let Some((d_pose_j, _)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        relative_pose(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+            ],
+            &[
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+            ],
+            &[
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+                inputs[20],
+            ],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose_i),
+            matches!(blocks.get(1), Some(true)).then_some(d_pose_j),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 91];
+    #[inline(always)]
+    fn normal(inputs: &[T; 21], weight: T, outputs: &mut [T; 91], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose_i, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_pose_j, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((h_pose_i_pose_i, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_i_pose_j, rest)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        let Some((h_pose_j_pose_j, _)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        relative_pose_normal(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+            ],
+            &[
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+            ],
+            &[
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+                inputs[20],
+            ],
+            weight,
+            cost,
+            free_0.then_some(g_pose_i),
+            free_1.then_some(g_pose_j),
+            free_0.then_some(h_pose_i_pose_i),
+            (free_0 && free_1).then_some(h_pose_i_pose_j),
+            free_1.then_some(h_pose_j_pose_j),
+        );
+    }
 }

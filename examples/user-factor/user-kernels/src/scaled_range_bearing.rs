@@ -31,6 +31,10 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 31 | 44 | 5 | 6 | 2 | 4 | 0 | 92 |
 //! | residual only | 27 | 28 | 2 | 0 | 1 | 4 | 0 | 62 |
+//!
+//! # Lanes
+//!
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
@@ -39,7 +43,7 @@ use crate::{Real, Shape};
 /// The residual of `user_factors::ScaledRangeBearing` and, for each `Some` Jacobian argument, its block.
 ///
 /// Work needed only by Jacobian blocks passed as `None` is skipped. See the module documentation for the input layouts and the tangents.
-#[inline]
+#[inline(always)]
 pub fn scaled_range_bearing<T: Real>(
     landmark: &[T; 3],
     measured: &[T; 3],
@@ -221,4 +225,46 @@ pub fn scaled_range_bearing_slices<T: Real>(
         d_log_scale,
     );
     true
+}
+
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` over every `T: Real`, which calls [`scaled_range_bearing`] inlined.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kernel;
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::Kernel<T> for Kernel {
+    type Inputs = [T; 14];
+    type Outputs = [T; 24];
+    const FIELDS: &'static [usize] = &[3, 3, 7, 1];
+    const RESIDUAL: usize = 3;
+    const TANGENTS: &'static [usize] = &[6, 1];
+    #[inline(always)]
+    fn linearize(inputs: &[T; 14], outputs: &mut [T; 24], blocks: &[bool]) {
+        let Some((residual, rest)) = outputs.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+            return;
+        };
+        let Some((d_log_scale, _)) = rest.split_first_chunk_mut::<3>() else {
+            return;
+        };
+        scaled_range_bearing(
+            &[inputs[0], inputs[1], inputs[2]],
+            &[inputs[3], inputs[4], inputs[5]],
+            &[
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+            ],
+            &[inputs[13]],
+            residual,
+            matches!(blocks.first(), Some(true)).then_some(d_pose),
+            matches!(blocks.get(1), Some(true)).then_some(d_log_scale),
+        );
+    }
 }

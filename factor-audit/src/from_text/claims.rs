@@ -1,0 +1,666 @@
+//! Claims: each audited equation located in the document, its printed
+//! right side lowered, and what it claims (the map, the variable, the
+//! conventions to try); per sample, a [`Derivation`] the verdict engine
+//! audits exactly as it audits a transcription.
+
+use doc_latex::ast::{Expr, Rel, Statement};
+use doc_latex::{Document, Locator};
+use nalgebra::DMatrix;
+use num_dual::DualSVec64;
+
+use super::TextError;
+use super::context::{Context, Scope, canonical};
+use super::eval::{Env, Space};
+use super::lower::{Lowering, short, symbol_key};
+use super::symbols::{ClaimKind, ClaimSpec, Side};
+use super::term::{Meaning, Term, Variable};
+use super::tree::derivatives;
+use super::value::{ShapeError, shape_text};
+use crate::derivation::{Claim, Derivation, Label, Printed, dual_jacobian};
+use factor_core::scalar::Scalar;
+
+/// The verdict keywords a claim may expect.
+pub const KEYWORDS: [&str; 4] = ["correct", "convention", "wrong", "malformed"];
+
+/// A convention to try, lowered.
+#[derive(Debug, Clone)]
+pub struct Convention {
+    /// What it is, in words.
+    pub description: String,
+    /// The map under it.
+    pub of: Term,
+    /// The variable under it.
+    pub variable: Option<Variable>,
+}
+
+/// One audited claim, ready to sample.
+#[derive(Debug, Clone)]
+pub struct TextClaim {
+    /// Its index among the file's claims.
+    pub index: usize,
+    /// Its context's index.
+    pub context: usize,
+    /// The report's label.
+    pub label: Label,
+    /// What it claims.
+    pub kind: ClaimKind,
+    /// The map.
+    pub of: Term,
+    /// The variable (none for a value claim).
+    pub variable: Option<Variable>,
+    /// The printed right side, lowered.
+    pub printed: Term,
+    /// The printed right side as parsed.
+    pub printed_ast: Expr,
+    /// The printed left side, when there is one.
+    pub lhs: Option<Expr>,
+    /// The relation between them.
+    pub relation: Rel,
+    /// The document line it starts on.
+    pub line: usize,
+    /// The line as printed.
+    pub quote: String,
+    /// Conventions to try.
+    pub conventions: Vec<Convention>,
+    /// The shape of the map's value.
+    pub value_shape: (usize, usize),
+    /// The verdict the gate expects.
+    pub expected: String,
+    /// The claims its chain rule combines (by index), if it is one.
+    pub links: Vec<usize>,
+    /// Fractions over non-scalars read as stacks.
+    pub stacked_fractions: bool,
+}
+
+impl TextClaim {
+    /// The claim's scope in its context.
+    pub fn scope(&self) -> Scope {
+        Some(self.index)
+    }
+
+    /// The printed formula as the parser understood it: `lhs rel rhs`.
+    pub fn understood(&self) -> String {
+        self.with_rhs(&self.printed_ast)
+    }
+
+    /// `lhs rel rhs` with another right side.
+    pub fn with_rhs(&self, rhs: &Expr) -> String {
+        Statement {
+            implied: false,
+            head: self.lhs.clone(),
+            steps: vec![(self.relation, rhs.clone())],
+        }
+        .to_string()
+    }
+}
+
+/// A claim located in the document: its line, as printed and parsed.
+#[derive(Debug, Clone)]
+pub struct Located {
+    /// The document line.
+    pub line: usize,
+    /// The printed line.
+    pub quote: String,
+    /// The parsed statement.
+    pub statement: Statement,
+    /// The chain's left side.
+    pub lhs: Option<Expr>,
+    /// The right side audited.
+    pub rhs: Expr,
+    /// The relation before it.
+    pub relation: Rel,
+}
+
+fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
+    TextError::Claim {
+        claim: spec.id.clone(),
+        message: message.into(),
+    }
+}
+
+/// Finds a claim's line in the document (by label or anchor, a line of a
+/// formula, the end of a chain, a case of a `cases`).
+pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
+    let lookup = |e: doc_latex::LookupError| claim_error(spec, e.to_string());
+    let pick = |claims: Vec<doc_latex::Claim>| -> Result<doc_latex::Claim, TextError> {
+        let n = claims.len();
+        match spec.line {
+            None if n == 1 => Ok(claims.into_iter().next().expect("one claim")),
+            None => Err(claim_error(
+                spec,
+                format!("the formula has {n} lines: say which with `line`"),
+            )),
+            Some(l) => claims.into_iter().nth(l.wrapping_sub(1)).ok_or_else(|| {
+                claim_error(spec, format!("the formula has {n} line(s), not a line {l}"))
+            }),
+        }
+    };
+    let locator = match (&spec.label, &spec.anchor) {
+        (Some(l), None) => Locator::Label(l),
+        (None, Some(a)) => Locator::Anchor(a),
+        _ => return Err(claim_error(spec, "give one of `label` and `anchor`")),
+    };
+    let claim = if spec.chain {
+        doc.chain(locator)
+            .map_err(lookup)?
+            .pop()
+            .ok_or_else(|| claim_error(spec, "the chain is empty"))?
+    } else if let (Locator::Anchor(a), None) = (locator, spec.line) {
+        doc.claim(a).map_err(lookup)?
+    } else {
+        let formula = doc.find(locator).map_err(lookup)?;
+        pick(
+            doc.claims(formula)
+                .map_err(|e| claim_error(spec, e.to_string()))?,
+        )?
+    };
+    let statement = claim.statement.clone().map_err(TextError::Parse)?;
+    let (relation, rhs) = statement
+        .steps
+        .iter()
+        .rev()
+        .find(|(r, _)| !r.is_membership())
+        .cloned()
+        .ok_or_else(|| claim_error(spec, "the line states no relation"))?;
+    let rhs = match (spec.case, rhs) {
+        (None, Expr::Cases(_)) => {
+            return Err(claim_error(
+                spec,
+                "the right side is a `cases`: say which with `case`",
+            ));
+        }
+        (None, rhs) => rhs,
+        (Some(k), Expr::Cases(cases)) => cases
+            .get(k.wrapping_sub(1))
+            .map(|c| c.value.clone())
+            .ok_or_else(|| claim_error(spec, format!("there is no case {k}")))?,
+        (Some(_), _) => {
+            return Err(claim_error(
+                spec,
+                "`case` is given but the right side has none",
+            ));
+        }
+    };
+    Ok(Located {
+        line: claim.line,
+        quote: claim.source.trim().to_string(),
+        lhs: claim.lhs.clone(),
+        statement,
+        rhs,
+        relation,
+    })
+}
+
+/// The chain-rule links of a located claim: the derivatives written on
+/// its line that are claims of the same context.
+pub fn links(located: &Located, ctx: &Context, own: usize) -> Vec<usize> {
+    let mut out = Vec::new();
+    for (_, step) in &located.statement.steps {
+        for d in derivatives(step) {
+            if let Some(k) = ctx.links.get(&d.to_string())
+                && *k != own
+                && !out.contains(k)
+            {
+                out.push(*k);
+            }
+        }
+    }
+    out
+}
+
+/// Lowers LaTeX written in the symbols file for a claim.
+fn lower_written(
+    ctx: &mut Context,
+    scope: Scope,
+    spec: &ClaimSpec,
+    what: &str,
+    latex: &str,
+) -> Result<(Expr, Term), TextError> {
+    let e = doc_latex::parse_expr(latex).map_err(|e| {
+        claim_error(
+            spec,
+            format!(
+                "cannot read `{what}` = `{latex}`: {} at `{}`",
+                e.kind, e.fragment
+            ),
+        )
+    })?;
+    let t = Lowering::new(&mut ctx.resolver(scope), false)
+        .expr(&e)
+        .map_err(|err| claim_error(spec, format!("`{what}`: {err}")))?;
+    Ok((e, t))
+}
+
+/// The variable a claim differentiates by, written `wrt`.
+fn variable_of(
+    ctx: &mut Context,
+    scope: Scope,
+    wrt: &Expr,
+    side: Option<Side>,
+    at_zero: bool,
+) -> Result<Variable, String> {
+    let target = match wrt {
+        Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
+        Expr::Apply {
+            head: doc_latex::ast::Head::Symbol(s),
+            ..
+        } => ctx.lookup(scope, &symbol_key(s)),
+        Expr::Tuple(items) => {
+            // (P_x, P_y, P_z): every entry of one vector, in order.
+            let ids: Option<Vec<usize>> = items
+                .iter()
+                .map(|i| match i {
+                    Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
+                    _ => None,
+                })
+                .collect();
+            let parts: Option<Vec<(usize, usize)>> = ids.and_then(|ids| {
+                ids.iter()
+                    .map(|id| match ctx.table.entries[*id].meaning {
+                        Meaning::Component { of, index } => Some((of, index)),
+                        _ => None,
+                    })
+                    .collect()
+            });
+            match parts.as_deref() {
+                Some([(of, 0), rest @ ..])
+                    if rest
+                        .iter()
+                        .enumerate()
+                        .all(|(i, (o, k))| o == of && *k == i + 1) =>
+                {
+                    Some(*of)
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    };
+    let Some(target) = target else {
+        return Err(format!(
+            "`{}` is not a variable (a symbol, or the entries of one vector in order)",
+            short(&wrt.to_string())
+        ));
+    };
+    ctx.variable(target, side, None, at_zero)
+}
+
+/// Compiles a located claim in its context.
+pub fn compile(
+    ctx: &mut Context,
+    context_index: usize,
+    index: usize,
+    spec: &ClaimSpec,
+    located: Located,
+    document: &str,
+) -> Result<TextClaim, TextError> {
+    let scope = Some(index);
+    let size = super::tree::nodes(&located.rhs).len();
+    if size > super::MAX_FORMULA_NODES {
+        return Err(claim_error(
+            spec,
+            format!(
+                "the formula has {size} nodes; at most {} are audited",
+                super::MAX_FORMULA_NODES
+            ),
+        ));
+    }
+    let printed = Lowering::new(&mut ctx.resolver(scope), spec.stacked_fractions)
+        .expr(&located.rhs)
+        .map_err(|error| TextError::Formula {
+            claim: spec.id.clone(),
+            line: located.line,
+            error,
+        })?;
+    let derivative = match &located.lhs {
+        Some(Expr::Derivative { of, wrt, .. }) => Some((of.as_ref().clone(), wrt.as_ref().clone())),
+        _ => None,
+    };
+    let kind = spec
+        .kind
+        .unwrap_or(if derivative.is_some() || spec.wrt.is_some() {
+            ClaimKind::Jacobian
+        } else {
+            ClaimKind::Value
+        });
+    let from_lhs = |part: &str| {
+        claim_error(
+            spec,
+            format!("the printed left side is no derivative: give `{part}`"),
+        )
+    };
+    let of = match (&spec.of, &derivative, kind, &located.lhs) {
+        (Some(latex), ..) => lower_written(ctx, scope, spec, "of", latex)?.1,
+        (None, Some((of, _)), _, _) => Lowering::new(&mut ctx.resolver(scope), false)
+            .expr(of)
+            .map_err(|e| {
+                claim_error(
+                    spec,
+                    format!("the differentiated `{}`: {e}", short(&of.to_string())),
+                )
+            })?,
+        (None, None, ClaimKind::Value | ClaimKind::FirstOrder, Some(lhs)) => {
+            Lowering::new(&mut ctx.resolver(scope), false)
+                .expr(lhs)
+                .map_err(|e| claim_error(spec, format!("the left side: {e}")))?
+        }
+        _ => return Err(from_lhs("of")),
+    };
+    let wrt_ast = match (&spec.wrt, &derivative) {
+        (Some(latex), _) => Some(doc_latex::parse_expr(latex).map_err(|e| {
+            claim_error(
+                spec,
+                format!("cannot read `wrt`: {} at `{}`", e.kind, e.fragment),
+            )
+        })?),
+        (None, Some((_, wrt))) => Some(wrt.clone()),
+        (None, None) => None,
+    };
+    let variable = match kind {
+        ClaimKind::Value => None,
+        _ => {
+            let wrt = wrt_ast.as_ref().ok_or_else(|| from_lhs("wrt"))?;
+            Some(
+                variable_of(ctx, scope, wrt, spec.side, spec.at_zero)
+                    .map_err(|m| claim_error(spec, m))?,
+            )
+        }
+    };
+    let mut conventions = Vec::new();
+    for c in &spec.conventions {
+        let of = match &c.of {
+            Some(latex) => lower_written(ctx, scope, spec, "of", latex)?.1,
+            None => of.clone(),
+        };
+        let wrt = match &c.wrt {
+            Some(latex) => Some(
+                doc_latex::parse_expr(latex)
+                    .map_err(|e| claim_error(spec, format!("cannot read `wrt`: {}", e.kind)))?,
+            ),
+            None => wrt_ast.clone(),
+        };
+        let variable = match (kind, &c.update, &wrt) {
+            (ClaimKind::Value, ..) => None,
+            (_, Some(update), Some(Expr::Symbol(s))) => {
+                let symbol = ctx
+                    .lookup(scope, &symbol_key(s))
+                    .ok_or_else(|| claim_error(spec, "the updated variable is not defined"))?;
+                let symbol = ctx.alias_of(symbol);
+                let delta = match ctx.lookup(scope, "\\delta") {
+                    Some(d) => d,
+                    None => {
+                        let d = ctx.declare(scope, "\\delta", Some(&spec.id))?;
+                        ctx.table.entries[d].meaning = Meaning::Bound;
+                        d
+                    }
+                };
+                let update = lower_written(ctx, scope, spec, "update", update)?.1;
+                Some(Variable::Update {
+                    symbol,
+                    update,
+                    delta,
+                    dim: 0,
+                })
+            }
+            (_, Some(_), _) => {
+                return Err(claim_error(
+                    spec,
+                    "an `update` needs `wrt` to be one symbol",
+                ));
+            }
+            (_, None, Some(wrt)) => Some(
+                variable_of(ctx, scope, wrt, c.side.or(spec.side), spec.at_zero)
+                    .map_err(|m| claim_error(spec, m))?,
+            ),
+            (_, None, None) => return Err(from_lhs("wrt")),
+        };
+        conventions.push(Convention {
+            description: c.description.clone(),
+            of,
+            variable,
+        });
+    }
+    let expected = spec.expected.clone().unwrap_or_else(|| "correct".into());
+    if !KEYWORDS.contains(&expected.as_str()) {
+        return Err(claim_error(
+            spec,
+            format!("`expected` is one of {}", KEYWORDS.join(", ")),
+        ));
+    }
+    let lhs_text = located
+        .lhs
+        .as_ref()
+        .map_or_else(|| "the printed value".to_string(), |l| l.to_string());
+    let convention = spec.convention.clone().unwrap_or_else(|| match &variable {
+        Some(Variable::Stored { kind, side, .. }) if !kind.is_additive() => {
+            format!("{} perturbation", side.as_str())
+        }
+        Some(_) => "additive".into(),
+        None => "a value".into(),
+    });
+    let label = Label::new(
+        document.to_string(),
+        spec.id.clone(),
+        spec.claim.clone().unwrap_or(lhs_text),
+        convention,
+        spec.erratum.as_deref(),
+    );
+    Ok(TextClaim {
+        index,
+        context: context_index,
+        label,
+        kind,
+        of,
+        variable,
+        printed,
+        printed_ast: located.rhs.clone(),
+        lhs: located.lhs.clone(),
+        relation: located.relation,
+        line: located.line,
+        quote: located.quote.clone(),
+        conventions,
+        value_shape: (0, 0),
+        expected,
+        links: Vec::new(),
+        stacked_fractions: spec.stacked_fractions,
+    })
+}
+
+/// The canonical LaTeX other formulas write a claim's derivative with.
+pub fn lhs_key(spec: &ClaimSpec, located: &Located) -> Result<Option<String>, TextError> {
+    match &spec.lhs {
+        Some(written) => canonical(written)
+            .map(Some)
+            .map_err(|m| claim_error(spec, format!("`lhs`: {m}"))),
+        None => Ok(located.lhs.as_ref().map(|l| l.to_string())),
+    }
+}
+
+/// One sample of a claim: what the verdict engine audits.
+pub struct TextDerivation<'a> {
+    claim: &'a TextClaim,
+    ctx: &'a Context,
+    stored: Vec<f64>,
+}
+
+/// `x` over another scalar.
+fn lift<S: Scalar>(x: &[f64]) -> Vec<S> {
+    x.iter().map(|v| S::from_f64(*v)).collect()
+}
+
+impl<'a> TextDerivation<'a> {
+    /// The claim at the sample stored as `stored`.
+    pub fn new(claim: &'a TextClaim, ctx: &'a Context, stored: Vec<f64>) -> Self {
+        TextDerivation { claim, ctx, stored }
+    }
+
+    fn space(&self) -> Space<'a> {
+        Space {
+            table: &self.ctx.table,
+            printed: &self.ctx.printed,
+            factor: self.ctx.factor,
+        }
+    }
+
+    /// `term` with the variable perturbed by `x`, over the parameters `p`,
+    /// its entries in column-major order.
+    fn value<S: Scalar>(
+        &self,
+        term: &Term,
+        variable: Option<&Variable>,
+        x: &[S],
+        p: &[S],
+    ) -> Result<DMatrix<S>, ShapeError> {
+        let mut env = Env::new(self.space(), p.to_vec());
+        if let Some(v) = variable {
+            env.perturb(v, x)?;
+        }
+        let hint = (
+            Some(self.claim.value_shape.0),
+            Some(self.claim.value_shape.1),
+        );
+        env.eval(term)?.sized(if self.claim.value_shape.0 == 0 {
+            (None, None)
+        } else {
+            hint
+        })
+    }
+
+    /// The length of the variable's input.
+    pub fn input_len(&self) -> usize {
+        self.claim.variable.as_ref().map_or(0, Variable::dim)
+    }
+
+    /// The map's value at the sample (its shape as computed).
+    pub fn map_value(&self) -> Result<DMatrix<f64>, ShapeError> {
+        let mut env = Env::new(self.space(), self.stored.clone());
+        env.eval(&self.claim.of)?.matrix()
+    }
+
+    /// A printed right side (the claim's, or an edit of it) at this
+    /// sample, as the matrix it claims to be.
+    pub fn printed_term(&self, term: &Term) -> Printed {
+        let claim = self.claim;
+        let (rows, cols) = claim.value_shape;
+        let expected = match claim.kind {
+            ClaimKind::Value => (rows, cols),
+            _ => (rows * cols, self.input_len()),
+        };
+        let got = match claim.kind {
+            ClaimKind::FirstOrder => {
+                let p = lift::<DualSVec64<1>>(&self.stored);
+                let failure = std::cell::RefCell::new(None);
+                let m = dual_jacobian(&vec![0.0; self.input_len()], |x| {
+                    match self.value(term, claim.variable.as_ref(), x, &p) {
+                        Ok(m) => m.as_slice().to_vec(),
+                        Err(e) => {
+                            *failure.borrow_mut() = Some(e);
+                            Vec::new()
+                        }
+                    }
+                });
+                match failure.into_inner() {
+                    Some(e) => Err(e),
+                    None => Ok(m),
+                }
+            }
+            _ => {
+                let mut env = Env::new(self.space(), self.stored.clone());
+                env.eval(term)
+                    .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
+            }
+        };
+        match got {
+            Err(e) => Printed::Malformed(e.0),
+            // 0/0, √ of a negative: no number is what the formula prints.
+            Ok(m) if m.iter().any(|x| !x.is_finite()) => Printed::Malformed(
+                "the printed formula is not finite at a sample (a division by zero, a root or a \
+                 logarithm of a negative)"
+                    .into(),
+            ),
+            Ok(m) if m.shape() == expected => Printed::Evaluated(match claim.kind {
+                ClaimKind::Value => DMatrix::from_column_slice(rows * cols, 1, m.as_slice()),
+                _ => m,
+            }),
+            // A homogeneous coordinate kept: the verdict engine names it.
+            Ok(m) if m.nrows() == expected.0 + 1 && m.ncols() == expected.1 => {
+                Printed::Evaluated(m)
+            }
+            Ok(m) => Printed::Malformed(format!(
+                "the printed matrix is {}, but {} is {}",
+                shape_text(m.shape()),
+                match claim.kind {
+                    ClaimKind::Value => "the value".to_string(),
+                    _ => "the Jacobian".to_string(),
+                },
+                shape_text(expected)
+            )),
+        }
+    }
+
+    /// The truths under the claim's conventions at this sample.
+    fn convention_truths(&self) -> Vec<(String, DMatrix<f64>)> {
+        let p = lift::<DualSVec64<1>>(&self.stored);
+        self.claim
+            .conventions
+            .iter()
+            .filter_map(|c| {
+                let m = match (&c.variable, self.claim.kind) {
+                    (_, ClaimKind::Value) | (None, _) => {
+                        let m = self
+                            .value(&c.of, None, &[], &lift::<f64>(&self.stored))
+                            .ok()?;
+                        DMatrix::from_column_slice(m.len(), 1, m.as_slice())
+                    }
+                    (Some(v), _) => dual_jacobian(&vec![0.0; v.dim()], |x| {
+                        self.value(&c.of, Some(v), x, &p)
+                            .map(|m| m.as_slice().to_vec())
+                            .unwrap_or_default()
+                    }),
+                };
+                Some((c.description.clone(), m))
+            })
+            .collect()
+    }
+}
+
+impl Derivation for TextDerivation<'_> {
+    fn label(&self) -> Label {
+        self.claim.label.clone()
+    }
+    fn point(&self) -> Vec<f64> {
+        vec![0.0; self.input_len()]
+    }
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.ctx
+            .names
+            .iter()
+            .cloned()
+            .zip(self.stored.iter().copied())
+            .collect()
+    }
+    fn input_names(&self) -> Vec<String> {
+        (1..=self.input_len())
+            .map(|k| format!("\\delta_{{{k}}}"))
+            .collect()
+    }
+    fn map<S: Scalar>(&self, x: &[S], p: &[S]) -> Vec<S> {
+        // The map evaluated at load, so its shapes fit; an error here would
+        // give no entries, which no printed formula matches.
+        self.value(&self.claim.of, self.claim.variable.as_ref(), x, p)
+            .map(|m| m.as_slice().to_vec())
+            .unwrap_or_default()
+    }
+    fn printed(&self) -> Printed {
+        self.printed_term(&self.claim.printed)
+    }
+    fn claim(&self) -> Claim {
+        match self.claim.kind {
+            ClaimKind::Value => Claim::Value,
+            _ => Claim::Jacobian,
+        }
+    }
+    fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
+        self.convention_truths()
+    }
+}

@@ -1,0 +1,372 @@
+//! The symbols file (TOML): what a document's symbols mean and what each
+//! audited equation claims. Read with `serde` and `toml`; every error names
+//! the symbol or the claim it is about, on one line.
+//!
+//! ```toml
+//! # Optional: the document this file describes (its file name).
+//! document = "notes.md"
+//!
+//! [context.icp]                 # a set of symbols and how they are sampled
+//! factor = "point_reprojection" # optional: a shipped factor whose samples give the fields
+//!
+//! [context.icp.symbols]
+//! "T" = { sample = "pose" }                 # a sampled free variable
+//! "R" = { field = "pose.rotation" }         # a factor's field, or a part of one
+//! "P_c" = "R X_w + t"                        # a definition: LaTeX over other symbols
+//! "P" = { latex = "\\operatorname{transform}(T, X)", components = ["P_x", "P_y", "P_z"] }
+//! "J_l" = { function = "left_jacobian" }    # a function symbol: J_l(ω)
+//! "\\xi" = { perturbs = "T", side = "left", parts = ["\\delta\\phi", "\\delta\\rho"] }
+//! "\\varepsilon" = { residual = [1] }       # components of the factor's residual
+//!
+//! [[claim]]
+//! id = "(2)"            # the name in the report
+//! context = "icp"
+//! label = "(2)"         # or anchor = "a piece of the formula's LaTeX"
+//! ```
+//!
+//! The module documentation of [`crate::from_text`] lists every key.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+use super::TextError;
+
+/// Longest symbols file read, in bytes.
+pub const MAX_SYMBOLS_BYTES: usize = 1 << 20;
+/// Most claims a symbols file may state.
+pub const MAX_CLAIMS: usize = 200;
+/// Most symbols a context (with its claims' own) may define.
+pub const MAX_SYMBOLS: usize = 2000;
+
+/// The whole file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SymbolsFile {
+    /// The document's file name, when given (informational).
+    pub document: Option<String>,
+    /// The contexts, by name.
+    #[serde(default)]
+    pub context: BTreeMap<String, ContextSpec>,
+    /// The audited claims, in order.
+    #[serde(default, rename = "claim")]
+    pub claims: Vec<ClaimSpec>,
+}
+
+/// A context: the symbols of a part of the document and what samples them.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextSpec {
+    /// A shipped factor (`slamjac list`) whose samples give the fields.
+    pub factor: Option<String>,
+    /// Symbol (LaTeX) to meaning.
+    #[serde(default)]
+    pub symbols: BTreeMap<String, toml::Value>,
+}
+
+/// What a claim says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClaimKind {
+    /// The printed matrix is the Jacobian of `of` w.r.t. `wrt`.
+    Jacobian,
+    /// The printed value is the value of `of`.
+    Value,
+    /// The printed right side agrees with `of` to first order in `wrt`
+    /// (`≈`): their Jacobians w.r.t. `wrt` are compared.
+    FirstOrder,
+}
+
+/// A perturbation side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// `x ← Exp(δ) x`.
+    Left,
+    /// `x ← x Exp(δ)`.
+    Right,
+}
+
+/// One audited claim.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClaimSpec {
+    /// Its name in reports.
+    pub id: String,
+    /// The context whose symbols it uses.
+    pub context: String,
+    /// The printed equation label (`"(5)"`).
+    pub label: Option<String>,
+    /// A piece of the formula's LaTeX (or of the prose just before it).
+    pub anchor: Option<String>,
+    /// Which line of the formula (1-based).
+    pub line: Option<usize>,
+    /// Follow the chain of equalities from the located line to its end.
+    #[serde(default)]
+    pub chain: bool,
+    /// Which row of a `cases` right side (1-based).
+    pub case: Option<usize>,
+    /// What it claims; by default a Jacobian when the left side is a
+    /// derivative, else a value.
+    pub kind: Option<ClaimKind>,
+    /// The map (LaTeX); by default what the left side differentiates.
+    pub of: Option<String>,
+    /// The variable (LaTeX); by default what the left side differentiates by.
+    pub wrt: Option<String>,
+    /// The side a group variable named in `wrt` is perturbed on.
+    pub side: Option<Side>,
+    /// Differentiate at the variable's zero instead of its sampled value.
+    #[serde(default)]
+    pub at_zero: bool,
+    /// How other formulas write this derivative in chain rules (LaTeX); by
+    /// default its printed left side.
+    pub lhs: Option<String>,
+    /// The verdict the gate expects (`correct` unless stated).
+    pub expected: Option<String>,
+    /// A note on a known erratum, recorded by a reader (reports show it
+    /// apart from the engine's own diagnosis).
+    pub erratum: Option<String>,
+    /// The claim in words; by default the printed left side.
+    pub claim: Option<String>,
+    /// The convention the document states, in words.
+    pub convention: Option<String>,
+    /// Read every fraction of the printed right side as the column
+    /// `[above; below]` (documents converted from PDF print stacked blocks
+    /// as `\left(\frac{…}{…}\right)`); a difference quotient over a
+    /// tangent stays one.
+    #[serde(default)]
+    pub stacked_fractions: bool,
+    /// Readings of symbols in this formula only.
+    #[serde(default)]
+    pub symbols: BTreeMap<String, toml::Value>,
+    /// Other conventions to try when the claim is not right as stated.
+    #[serde(default)]
+    pub conventions: Vec<ConventionSpec>,
+}
+
+/// A convention to try: the same claim with the variable perturbed on
+/// another side, updated by another expression, or another map.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConventionSpec {
+    /// What it is, in words (reports say the formula is right under it).
+    pub description: String,
+    /// Perturb the variable on this side instead.
+    pub side: Option<Side>,
+    /// The variable's update, LaTeX in the variable and `\delta` (for
+    /// `u ← log(exp(δ) ⊕ exp(u))`: `"\\log(\\exp(\\delta) \\oplus \\exp(u))"`).
+    pub update: Option<String>,
+    /// Another map.
+    pub of: Option<String>,
+    /// Another variable.
+    pub wrt: Option<String>,
+}
+
+/// A symbol's meaning as the file writes it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SymbolSpec {
+    /// A definition, LaTeX over other symbols; `components` name its entries.
+    Latex {
+        /// The LaTeX.
+        latex: String,
+        /// Symbols for its entries, in order.
+        components: Vec<String>,
+    },
+    /// A field of the context's factor, or a part of one (`pose.rotation`);
+    /// `components` name its entries.
+    Field {
+        /// The layout path.
+        path: String,
+        /// Symbols for its entries, in order.
+        components: Vec<String>,
+    },
+    /// A sampled free variable (`rotation_vector`, `pose`, …).
+    Sample(String),
+    /// A function symbol (`left_jacobian`, `normalize`, …).
+    Function(String),
+    /// A perturbation of another symbol.
+    Tangent {
+        /// The symbol perturbed.
+        perturbs: String,
+        /// On which side (groups only).
+        side: Option<Side>,
+        /// Symbols for equal slices of it (`[δφ, δρ]`).
+        parts: Vec<String>,
+        /// Which tangent coordinates (1-based), by default all.
+        coordinates: Option<Vec<usize>>,
+    },
+    /// Components (1-based) of the context factor's residual.
+    Residual(Vec<usize>),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SymbolTable {
+    latex: Option<String>,
+    #[serde(default)]
+    components: Vec<String>,
+    field: Option<String>,
+    sample: Option<String>,
+    function: Option<String>,
+    perturbs: Option<String>,
+    side: Option<Side>,
+    #[serde(default)]
+    parts: Vec<String>,
+    coordinates: Option<Vec<usize>>,
+    residual: Option<Vec<usize>>,
+}
+
+impl SymbolSpec {
+    /// The meaning of `symbol` written as `value`.
+    pub fn read(symbol: &str, value: &toml::Value) -> Result<Self, TextError> {
+        let bad = |message: String| TextError::Symbol {
+            symbol: symbol.to_string(),
+            equation: None,
+            message,
+        };
+        let table = match value {
+            toml::Value::String(latex) => {
+                return Ok(SymbolSpec::Latex {
+                    latex: latex.clone(),
+                    components: Vec::new(),
+                });
+            }
+            toml::Value::Table(t) => t.clone(),
+            other => {
+                return Err(bad(format!(
+                    "a meaning is a LaTeX string or a table, not a {}",
+                    other.type_str()
+                )));
+            }
+        };
+        let t: SymbolTable = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| bad(one_line(e.message())))?;
+        let given = [
+            t.latex.is_some(),
+            t.field.is_some(),
+            t.sample.is_some(),
+            t.function.is_some(),
+            t.perturbs.is_some(),
+            t.residual.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() != 1 {
+            return Err(bad(
+                "give exactly one of `latex`, `field`, `sample`, `function`, `perturbs`, `residual`"
+                    .into(),
+            ));
+        }
+        if t.perturbs.is_none()
+            && (t.side.is_some() || !t.parts.is_empty() || t.coordinates.is_some())
+        {
+            return Err(bad(
+                "`side`, `parts` and `coordinates` go with `perturbs`".into()
+            ));
+        }
+        if t.latex.is_none() && t.field.is_none() && !t.components.is_empty() {
+            return Err(bad("`components` goes with `latex` or `field`".into()));
+        }
+        Ok(if let Some(latex) = t.latex {
+            SymbolSpec::Latex {
+                latex,
+                components: t.components,
+            }
+        } else if let Some(path) = t.field {
+            SymbolSpec::Field {
+                path,
+                components: t.components,
+            }
+        } else if let Some(s) = t.sample {
+            SymbolSpec::Sample(s)
+        } else if let Some(f) = t.function {
+            SymbolSpec::Function(f)
+        } else if let Some(r) = t.residual {
+            SymbolSpec::Residual(r)
+        } else {
+            SymbolSpec::Tangent {
+                perturbs: t.perturbs.unwrap_or_default(),
+                side: t.side,
+                parts: t.parts,
+                coordinates: t.coordinates,
+            }
+        })
+    }
+}
+
+/// `s` on one line: runs of white space become one space, other control
+/// characters are escaped (`\u{1b}`), so an error quoting the input keeps its
+/// one-line shape and cannot drive a terminal.
+pub fn one_line(s: &str) -> String {
+    s.split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+        .chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+impl SymbolsFile {
+    /// Reads a symbols file; an error names the line of the TOML at fault.
+    pub fn parse(text: &str) -> Result<Self, TextError> {
+        if text.len() > MAX_SYMBOLS_BYTES {
+            return Err(TextError::TooLarge {
+                what: "symbols file",
+                limit: MAX_SYMBOLS_BYTES,
+            });
+        }
+        let file: SymbolsFile = toml::from_str(text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            TextError::Toml {
+                line,
+                message: one_line(e.message()),
+            }
+        })?;
+        if file.claims.len() > MAX_CLAIMS {
+            return Err(TextError::TooLarge {
+                what: "list of claims",
+                limit: MAX_CLAIMS,
+            });
+        }
+        Ok(file)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn meanings_are_read_with_errors_naming_the_symbol() {
+        let v: toml::Value = toml::from_str("a = { field = \"pose\" }").unwrap();
+        assert_eq!(
+            SymbolSpec::read("T", &v["a"]).unwrap(),
+            SymbolSpec::Field {
+                path: "pose".into(),
+                components: Vec::new()
+            }
+        );
+        let v: toml::Value = toml::from_str("a = { field = \"pose\", sample = \"pose\" }").unwrap();
+        let e = SymbolSpec::read("T", &v["a"]).unwrap_err().to_string();
+        assert!(e.contains("`T`") && e.contains("exactly one"), "{e}");
+        let v: toml::Value = toml::from_str("a = { feld = \"pose\" }").unwrap();
+        let e = SymbolSpec::read("T", &v["a"]).unwrap_err().to_string();
+        assert!(e.contains("`T`") && e.contains("feld"), "{e}");
+    }
+
+    #[test]
+    fn toml_errors_give_their_line() {
+        let e = SymbolsFile::parse("document = \"x\"\n[[claim]]\nid = 3\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 3"), "{e}");
+        assert!(!e.contains('\n'));
+    }
+}

@@ -1,0 +1,238 @@
+//! A formula lowered for evaluation: its symbols resolved to entries of a
+//! context's symbol table, its notation to operations on [`super::value::Value`]s.
+
+use super::functions::Builtin;
+use super::stored::Kind;
+use factor_core::manifold::Perturbation;
+
+/// An entry of a context's symbol table.
+pub type SymbolId = usize;
+
+/// A product's operator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Op {
+    /// Juxtaposition, `\cdot`, `*`: a product.
+    Mul,
+    /// `\times`: a cross product of 3-vectors, else a product.
+    Cross,
+    /// `\oplus`, `\otimes`: a quaternion (or group) product.
+    Oplus,
+    /// `/`.
+    Div,
+}
+
+/// A lowered formula.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Term {
+    /// A printed number.
+    Number(f64),
+    /// A symbol's value.
+    Symbol(SymbolId),
+    /// `−x`.
+    Neg(Box<Term>),
+    /// `± a ± b …` (`true` for a minus).
+    Sum(Vec<(bool, Term)>),
+    /// `a ∘ b ∘ …` (the first operator is ignored).
+    Product(Vec<(Op, Term)>),
+    /// `\frac{num}{den}`; with `stack`, the column `[num; den]`.
+    Fraction {
+        /// Above the bar.
+        num: Box<Term>,
+        /// Below the bar.
+        den: Box<Term>,
+        /// Read as a stack.
+        stack: bool,
+    },
+    /// `x^p` for a number `p`.
+    Power(Box<Term>, f64),
+    /// `|x|`, `‖x‖`.
+    Norm(Box<Term>),
+    /// `x^∧`, `⌊x⌋×`.
+    Hat(Box<Term>),
+    /// `x^∨`.
+    Vee(Box<Term>),
+    /// `xᵀ`.
+    Transpose(Box<Term>),
+    /// A function applied.
+    Call(Builtin, Vec<Term>),
+    /// A matrix of blocks as printed.
+    Blocks(Vec<Vec<Term>>),
+    /// A printed `0` inside a matrix: a zero block of the size its place tells.
+    Zero,
+    /// `I`, `I_3`, `I_{3×3}`.
+    Identity(Option<usize>),
+    /// `(…)_{r × c}`: the value, sized (and checked) by the annotation.
+    Shaped(Box<Term>, (usize, usize)),
+    /// `(a, b, …)`: the entries stacked in a column.
+    Stack(Vec<Term>),
+    /// `X / δξ`: the linear map `δξ ↦ X` (X affine in the tangent), as a
+    /// matrix: its columns are X at each unit tangent minus X at zero.
+    Quotient {
+        /// `X`.
+        numerator: Box<Term>,
+        /// The tangent symbol `δξ`.
+        tangent: SymbolId,
+    },
+    /// A derivative in a chain rule: the printed formula of the claim of
+    /// this file (by its index) that states it.
+    Link(usize),
+}
+
+impl Term {
+    /// Every sub-term (children first is not guaranteed).
+    pub fn children(&self) -> Vec<&Term> {
+        match self {
+            Term::Number(_) | Term::Symbol(_) | Term::Zero | Term::Identity(_) | Term::Link(_) => {
+                Vec::new()
+            }
+            Term::Neg(x)
+            | Term::Power(x, _)
+            | Term::Norm(x)
+            | Term::Hat(x)
+            | Term::Vee(x)
+            | Term::Transpose(x)
+            | Term::Shaped(x, _) => vec![x],
+            Term::Quotient { numerator, .. } => vec![numerator],
+            Term::Sum(terms) => terms.iter().map(|(_, t)| t).collect(),
+            Term::Product(factors) => factors.iter().map(|(_, t)| t).collect(),
+            Term::Fraction { num, den, .. } => vec![num, den],
+            Term::Call(_, args) | Term::Stack(args) => args.iter().collect(),
+            Term::Blocks(rows) => rows.iter().flatten().collect(),
+        }
+    }
+
+    /// The claims this term links to (its chain rule's links), in order.
+    pub fn links(&self) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut stack = vec![self];
+        while let Some(t) = stack.pop() {
+            if let Term::Link(k) = t {
+                out.push(*k);
+            }
+            stack.extend(t.children().into_iter().rev());
+        }
+        out
+    }
+}
+
+/// What a derivative is taken by, and how the input enters.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Variable {
+    /// A stored value (a field or a free variable), perturbed by a tangent
+    /// on a side (added to, for an additive kind). `coordinates` are the
+    /// tangent coordinates the input fills (the others stay zero).
+    Stored {
+        /// Its offset in the stored scalars.
+        offset: usize,
+        /// What it is.
+        kind: Kind,
+        /// The side (ignored for an additive kind).
+        side: Perturbation,
+        /// The tangent coordinates (0-based) the input fills.
+        coordinates: Vec<usize>,
+        /// Add the input to zero instead of the sampled value.
+        at_zero: bool,
+    },
+    /// A defined symbol whose value the input is added to (an additive
+    /// variable that is not stored: `u = log φ`, `P = R X + t`).
+    Defined {
+        /// The symbol.
+        symbol: SymbolId,
+        /// Its value's shape.
+        shape: (usize, usize),
+        /// Add the input to zero instead of the sampled value.
+        at_zero: bool,
+    },
+    /// A symbol replaced by an update expression in it and a bound `δ`.
+    Update {
+        /// The symbol updated.
+        symbol: SymbolId,
+        /// The update.
+        update: Term,
+        /// The symbol the input binds.
+        delta: SymbolId,
+        /// The input's length.
+        dim: usize,
+    },
+}
+
+impl Variable {
+    /// The input's length.
+    pub fn dim(&self) -> usize {
+        match self {
+            Variable::Stored { coordinates, .. } => coordinates.len(),
+            Variable::Defined { shape, .. } => shape.0 * shape.1,
+            Variable::Update { dim, .. } => *dim,
+        }
+    }
+}
+
+/// A symbol's meaning, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Meaning {
+    /// Stored scalars of the sample.
+    Stored {
+        /// Offset in the stored scalars.
+        offset: usize,
+        /// What they are.
+        kind: Kind,
+    },
+    /// A definition.
+    Definition(Term),
+    /// Entry `index` (0-based) of another symbol's vector.
+    Component {
+        /// The vector's symbol.
+        of: SymbolId,
+        /// Which entry.
+        index: usize,
+    },
+    /// A function symbol.
+    Function(Builtin),
+    /// A tangent: a perturbation of a stored value or a definition, and the
+    /// symbols of its equal parts.
+    Tangent {
+        /// What a derivative by it perturbs.
+        variable: Variable,
+        /// Symbols of its equal slices (`δφ`, `δρ`), in order.
+        parts: Vec<SymbolId>,
+    },
+    /// Components (0-based) of the factor's residual.
+    Residual(Vec<usize>),
+    /// A name bound only while a quotient or an update is evaluated
+    /// (`δφ` of a difference quotient, `\delta` of an update).
+    Bound,
+    /// Not resolved yet (while the table is built).
+    Pending,
+}
+
+/// One symbol.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    /// Its LaTeX, canonical (as `doc-latex` renders it).
+    pub key: String,
+    /// Its meaning.
+    pub meaning: Meaning,
+}
+
+/// A context's symbols (and its claims' own readings).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table {
+    /// The entries; a [`SymbolId`] indexes them.
+    pub entries: Vec<Entry>,
+}
+
+impl Table {
+    /// A new entry with a pending meaning.
+    pub fn add(&mut self, key: String) -> SymbolId {
+        self.entries.push(Entry {
+            key,
+            meaning: Meaning::Pending,
+        });
+        self.entries.len() - 1
+    }
+
+    /// The LaTeX of a symbol.
+    pub fn key(&self, id: SymbolId) -> &str {
+        &self.entries[id].key
+    }
+}

@@ -1,0 +1,158 @@
+//! The numerical method (`Factor::linearize_numeric`: Ridders' extrapolation
+//! of central differences) against a double-double evaluation of the exact
+//! Jacobian (`factor_testing::reference`), on sampled configurations and on
+//! configurations approaching each factor's degeneracy.
+//!
+//! The fixed step of 1e-3 it replaces returned blocks off by 14 % for a line
+//! 1e-3 from the optical centre, 72 % for an error quaternion 1e-4 from
+//! antipodal and 99 % for a free-line anchor 1e6 from the origin, all with
+//! success, and refused a point at depth 1e-4 (its step crossed the image
+//! plane); now they are within 2e-9.
+//! Asserted here (the README quotes it): every block returned is within
+//! 1e-7 of the reference (relative Frobenius; measured 5.8e-8 at worst),
+//! within 1e-11 on the sampled configurations (measured 2.3e-13), and within
+//! 4 times its own estimate (measured 2.8); where the estimate cannot reach
+//! the tolerance, the method fails with `NumericNotConverged`.
+
+use factor_core::factor::relative_frobenius_error;
+use factor_core::numeric::NUMERIC_TOLERANCE;
+use factor_core::{Factor, FactorError, NumericLinearize};
+use factor_testing::near_degenerate::{
+    free_line_far, line_at_distance, plane_near_antipodal, point_at_depth,
+};
+use factor_testing::reference::reference_linearization;
+use factor_testing::samples::Sampler;
+
+/// Per block of an accepted linearization: the actual error against the
+/// reference and the method's estimate; `None` when it did not converge.
+fn errors<F: Factor>(factor: &F) -> Option<Vec<(f64, f64)>> {
+    let reference = reference_linearization(factor);
+    match factor.linearize_numeric() {
+        Ok(numeric) => Some(
+            (0..reference.jacobians.len())
+                .map(|k| {
+                    let actual = relative_frobenius_error(
+                        &numeric.linearization.jacobians[k],
+                        &reference.jacobians[k],
+                        1e-300,
+                    );
+                    (actual, numeric.relative_block_error(k))
+                })
+                .collect(),
+        ),
+        Err(FactorError::NumericNotConverged { estimate, .. }) => {
+            assert!(estimate > NUMERIC_TOLERANCE, "{estimate}");
+            None
+        }
+        Err(e) => panic!("{}: {e}", F::NAME),
+    }
+}
+
+/// Asserts the accepted blocks are within `bound` of the reference and
+/// within 4 times their estimate; returns how many configurations did not
+/// converge.
+fn check<F: Factor>(label: &str, factors: impl IntoIterator<Item = F>, bound: f64) -> usize {
+    let mut refused = 0;
+    for (i, factor) in factors.into_iter().enumerate() {
+        let Some(blocks) = errors(&factor) else {
+            refused += 1;
+            continue;
+        };
+        for (k, (actual, estimate)) in blocks.into_iter().enumerate() {
+            assert!(
+                actual <= bound,
+                "{label} {i} block {k}: off by {actual:e} (estimate {estimate:e})"
+            );
+            assert!(
+                actual <= 4.0 * estimate.max(1e-14),
+                "{label} {i} block {k}: off by {actual:e}, estimated {estimate:e}"
+            );
+        }
+    }
+    refused
+}
+
+/// `count` values from `10^lo` to `10^hi`, evenly in the exponent.
+fn logspace(lo: f64, hi: f64, count: usize) -> impl Iterator<Item = f64> {
+    (0..count).map(move |i| 10f64.powf(lo + (hi - lo) * i as f64 / (count - 1) as f64))
+}
+
+#[test]
+fn the_issue_configurations_are_accurate() {
+    let cases: Vec<(&str, Vec<(f64, f64)>)> = vec![
+        (
+            "line 1e-3 from the optical centre",
+            errors(&line_at_distance(12, 1e-3)).expect("converges"),
+        ),
+        (
+            "error quaternion 1e-4 from antipodal",
+            errors(&plane_near_antipodal(3, 1e-4)).expect("converges"),
+        ),
+        (
+            "free-line anchor 1e6 from the origin",
+            errors(&free_line_far(5, 1e6)).expect("converges"),
+        ),
+        (
+            // Refused before: the step crossed the image plane.
+            "point at depth 1e-4",
+            errors(&point_at_depth(10, 1e-4)).expect("converges"),
+        ),
+    ];
+    for (label, blocks) in cases {
+        for (k, (actual, estimate)) in blocks.into_iter().enumerate() {
+            assert!(
+                actual <= 1e-8 && actual <= 4.0 * estimate,
+                "{label}, block {k}: off by {actual:e}, estimated {estimate:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn sampled_configurations_are_accurate_to_1e_11() {
+    let mut s = Sampler::new(77);
+    let n = 40;
+    let refused = check("point", (0..n).map(|_| s.point_reprojection()), 1e-11)
+        + check("line", (0..n).map(|_| s.line_reprojection()), 1e-11)
+        + check(
+            "plucker",
+            (0..n).map(|_| s.plucker_line_reprojection()),
+            1e-11,
+        )
+        + check("plane", (0..n).map(|_| s.plane()), 1e-11)
+        + check("free line", (0..n).map(|_| s.free_line()), 1e-11);
+    assert_eq!(refused, 0);
+}
+
+#[test]
+fn near_degenerate_configurations_are_accurate_or_refused() {
+    let bound = NUMERIC_TOLERANCE;
+    let refused = [
+        check(
+            "point depth",
+            logspace(-8.0, 0.0, 17).map(|z| point_at_depth(10, z)),
+            bound,
+        ),
+        check(
+            "line distance",
+            logspace(-8.0, 0.0, 17).map(|d| line_at_distance(12, d)),
+            bound,
+        ),
+        check(
+            "antipodal",
+            logspace(-8.0, 0.0, 17).map(|a| plane_near_antipodal(3, a)),
+            bound,
+        ),
+        check(
+            "far free line",
+            logspace(0.0, 8.0, 17).map(|d| free_line_far(5, d)),
+            bound,
+        ),
+    ];
+    // Refused only where the f64 residual is too noisy for the tolerance:
+    // the most extreme configurations of each sweep (measured: 2, 3, 2, 2).
+    assert!(
+        refused.iter().all(|&r| r <= 3),
+        "refused {refused:?} of 17 each"
+    );
+}

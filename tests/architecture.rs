@@ -1,0 +1,194 @@
+//! The workspace keeps its architecture: the runtime crate an embedder
+//! depends on pulls in nothing the generator needs, and no crate has a cycle
+//! among its modules' imports (`crate::a` using `crate::b` using `crate::a`).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+fn workspace() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The direct `[dependencies]` of a crate's manifest (not dev or build).
+fn dependencies(manifest: &Path) -> BTreeSet<String> {
+    let text = std::fs::read_to_string(manifest).expect("manifest exists");
+    let mut in_dependencies = false;
+    let mut names = BTreeSet::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_dependencies = line == "[dependencies]";
+            continue;
+        }
+        if in_dependencies && let Some((name, _)) = line.split_once('=') {
+            let name = name.trim().trim_end_matches(".workspace");
+            if !name.is_empty() && !name.starts_with('#') {
+                names.insert(name.to_owned());
+            }
+        }
+    }
+    names
+}
+
+#[test]
+fn the_runtime_crate_depends_only_on_what_runs_in_an_estimator() {
+    let runtime = dependencies(&workspace().join("factor-core/Cargo.toml"));
+    let allowed: BTreeSet<String> = [
+        "nalgebra",
+        "num-dual",
+        "num-traits",
+        "thiserror",
+        "factor-macros",
+    ]
+    .map(String::from)
+    .into();
+    assert_eq!(runtime, allowed);
+    let macros = dependencies(&workspace().join("factor-macros/Cargo.toml"));
+    assert!(
+        macros
+            .iter()
+            .all(|d| ["syn", "quote", "proc-macro2"].contains(&d.as_str())),
+        "{macros:?}"
+    );
+}
+
+/// Every `.rs` file under `src` (outside `#[cfg(test)]` modules) as the
+/// top-level module it belongs to and the top-level modules it names as
+/// `crate::name`.
+fn module_imports(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut stack = vec![src.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).expect("readable") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let relative = path.strip_prefix(src).expect("under src");
+            let top = relative
+                .components()
+                .next()
+                .and_then(|c| c.as_os_str().to_str())
+                .expect("a name")
+                .trim_end_matches(".rs")
+                .to_owned();
+            let text = std::fs::read_to_string(&path).expect("readable");
+            let code = text.split("#[cfg(test)]").next().unwrap_or_default();
+            let used = graph.entry(top.clone()).or_default();
+            for line in code.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                used.extend(crate_paths(line).into_iter().filter(|m| *m != top));
+            }
+        }
+    }
+    graph
+}
+
+/// The modules a line names: `crate::a::…` and `use crate::{a, b::c}`.
+fn crate_paths(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = line;
+    while let Some(at) = rest.find("crate::") {
+        rest = &rest[at + "crate::".len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let end = group.find('}').unwrap_or(group.len());
+            for item in group[..end].split(',') {
+                let name: String = item
+                    .trim()
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if !name.is_empty() {
+                    out.push(name);
+                }
+            }
+        } else {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if name.chars().next().is_some_and(char::is_lowercase) {
+                out.push(name);
+            }
+        }
+    }
+    out
+}
+
+/// A cycle of `graph`, if it has one.
+fn cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        node: &str,
+        graph: &BTreeMap<String, BTreeSet<String>>,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(start) = path.iter().position(|n| n == node) {
+            let mut found = path[start..].to_vec();
+            found.push(node.to_owned());
+            return Some(found);
+        }
+        if done.contains(node) {
+            return None;
+        }
+        path.push(node.to_owned());
+        for next in graph.get(node).into_iter().flatten() {
+            if let Some(found) = visit(next, graph, path, done) {
+                return Some(found);
+            }
+        }
+        path.pop();
+        done.insert(node.to_owned());
+        None
+    }
+    let mut done = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|node| visit(node, graph, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn no_crate_has_a_cycle_among_its_modules() {
+    let crates = [
+        "src",
+        "factor-core/src",
+        "factor-macros/src",
+        "factor-symbolic/src",
+        "factor-codegen/src",
+        "factor-testing/src",
+        "factor-audit/src",
+        "slam-factors/src",
+        "slam-data/src",
+        "doc-latex/src",
+    ];
+    for src in crates {
+        let graph = module_imports(&workspace().join(src));
+        assert!(graph.len() > 1, "{src}: no modules found");
+        if let Some(found) = cycle(&graph) {
+            panic!(
+                "{src}: the modules {} import each other in a cycle",
+                found.join(" → ")
+            );
+        }
+    }
+}
+
+#[test]
+fn the_cycle_finder_finds_a_cycle() {
+    let graph: BTreeMap<String, BTreeSet<String>> = [
+        ("a", vec!["b"]),
+        ("b", vec!["c"]),
+        ("c", vec!["a"]),
+        ("d", vec![]),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_owned(), v.into_iter().map(String::from).collect()))
+    .collect();
+    assert_eq!(cycle(&graph).map(|c| c.len()), Some(4));
+    assert_eq!(
+        crate_paths("use crate::{pretty, registry::find, w_first};"),
+        ["pretty", "registry", "w_first"]
+    );
+}
