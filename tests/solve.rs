@@ -83,7 +83,8 @@ fn assert_relative(value: f64, expected: f64, tolerance: f64, what: &str) {
 /// The tolerance on final costs: `solve` stops (by default) when an
 /// accepted step lowers the cost by less than 1e-6 relative, so it ends
 /// within about that of the optimum (run to the optimum, the two agree to
-/// 1e-11 here: `bench-peers/solve_peers.sh`).
+/// 2e-8 or better, KITTI VO to 3e-6 for the reason given at its test: the
+/// `compare` binary of `integrations/apex`, in `bench-peers/README.md`).
 const STOPPING: f64 = 1e-6;
 
 /// GTSAM: 126.92832321247 → 125.16959405405 (camera 0's pose fixed, 6 LM
