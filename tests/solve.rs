@@ -100,6 +100,7 @@ fn balbianello_reaches_gtsams_optimum() {
     let text = stdout(&output);
     assert!(text.contains("converged"), "{text}");
     assert!(text.contains("RMS reprojection error"), "{text}");
+    assert!(text.contains("median reprojection error"), "{text}");
     assert!(text.contains("linearization"), "{text}");
 }
 

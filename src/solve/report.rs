@@ -83,7 +83,24 @@ fn rms(errors: &[f64]) -> (String, usize) {
     )
 }
 
-/// The summary: verdict, costs, RMS reprojection error, where the time
+/// The median of the finite errors, in words (`0.3102 px`): unlike the RMS,
+/// it is not dominated by a few outliers.
+fn median(errors: &[f64]) -> String {
+    let mut finite: Vec<f64> = errors.iter().copied().filter(|e| e.is_finite()).collect();
+    if finite.is_empty() {
+        return "not finite".to_owned();
+    }
+    finite.sort_by(f64::total_cmp);
+    let n = finite.len();
+    let m = if n % 2 == 1 {
+        finite[n / 2]
+    } else {
+        0.5 * (finite[n / 2 - 1] + finite[n / 2])
+    };
+    format!("{m:.4} px")
+}
+
+/// The summary: verdict, costs, RMS and median reprojection errors, where the time
 /// went, rejected evaluations, peak memory, files written.
 pub fn summary(
     built: &Built,
@@ -124,6 +141,11 @@ pub fn summary(
         lines.push(format!(
             "  RMS reprojection error: {b} initially, {a} finally ({n} of {} observations)",
             after.len()
+        ));
+        lines.push(format!(
+            "  median reprojection error: {} initially, {} finally",
+            median(before),
+            median(after)
         ));
     }
     let passes = outcome.history.len().max(1);
@@ -169,4 +191,17 @@ pub fn peak_memory() -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{median, rms};
+
+    #[test]
+    fn median_and_rms_skip_non_finite_errors() {
+        assert_eq!(median(&[3.0, f64::NAN, 1.0, 2.0]), "2.0000 px");
+        assert_eq!(median(&[4.0, 1.0, 2.0, 100.0]), "3.0000 px");
+        assert_eq!(median(&[f64::INFINITY]), "not finite");
+        assert_eq!(rms(&[3.0, 4.0, f64::NAN]), ("3.5355 px".to_owned(), 2));
+    }
 }
