@@ -44,14 +44,14 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
             .with_normal_equations(),
         KernelSpec::of::<SnavelyReprojection>()
             .with_source(
-                "the BAL / Bundler camera model (Snavely; Ceres' SnavelyReprojectionError)",
+                "the BAL / Bundler camera model (Snavely; Ceres' `SnavelyReprojectionError`)",
             )
             .with_normal_equations(),
         KernelSpec::of::<StereoReprojection>()
-            .with_source("rectified stereo (GTSAM's GenericStereoFactor3D, Cal3_S2Stereo)")
+            .with_source("rectified stereo (GTSAM's `GenericStereoFactor3D`, `Cal3_S2Stereo`)")
             .with_normal_equations(),
         KernelSpec::of::<BetweenFactor>()
-            .with_source("pose-graph relative pose (GTSAM's BetweenFactor<Pose3>), whitened"),
+            .with_source("pose-graph relative pose (GTSAM's `BetweenFactor<Pose3>`), whitened"),
     ]
 }
 

@@ -105,7 +105,7 @@ impl<S> Columns<S> {
 
 impl Columns<f64> {
     /// The inputs of a batch of factors of type `F`: one column per stored
-    /// scalar, in [`Storage`] order ([`Factor::fields`] gives the layout),
+    /// scalar, in [`Storage`](factor_core::Storage) order ([`Factor::fields`] gives the layout),
     /// factor `i` at row `i`.
     pub fn from_factors<F: Factor>(factors: &[F]) -> Self {
         let len = factors.len();

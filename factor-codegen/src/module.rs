@@ -51,7 +51,7 @@ fn lower_kernel(kernel: &SymbolicKernel) -> crate::lower::LoweredKernel {
 ///
 /// [`CodegenError::NameCollision`] when a field's name is one the kernel
 /// uses for itself; [`CodegenError::TooManyVariables`] for a normal-equation
-/// kernel of more than [`MAX_VARIABLES`](crate::normal::MAX_VARIABLES) variables.
+/// kernel of more than [`MAX_VARIABLES`] variables.
 pub fn generate_module(
     kernel: &SymbolicKernel,
     spec: &KernelSpec,

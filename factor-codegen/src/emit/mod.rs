@@ -2,7 +2,7 @@
 //!
 //! The module holds, in order:
 //!
-//! - the kernel ([`jacobian`]),
+//! - the kernel (module `jacobian`),
 //!   `pub fn <name><T: Real>(<field>: &[T; N], …, residual: &mut [T; R],
 //!   d_<variable>: Option<&mut [T; R·D]>, …)`, fields in declaration order
 //!   and Jacobians row-major; `SHAPE`, the array lengths it was generated
@@ -11,13 +11,13 @@
 //!   lengths against `SHAPE` (the entry point of the derive and of solvers,
 //!   whose parameter blocks are slices);
 //! - when the spec asks for it, the fused normal-equation kernel
-//!   ([`normal`]), `<name>_normal`, with `NORMAL_SHAPE` and
+//!   (module `normal`), `<name>_normal`, with `NORMAL_SHAPE` and
 //!   `<name>_normal_slices`;
 //! - the marker type `Kernel` and, behind the crate's `lanes` feature, its
-//!   `factor_lanes` trait implementations ([`lanes`]).
+//!   `factor_lanes` trait implementations (module `lanes`).
 //!
-//! Each function's body is its [`crate::schedule::Schedule`] ([`body`]).
-//! The module header ([`header`]) documents all of it.
+//! Each function's body is its [`crate::schedule::Schedule`] (module `body`).
+//! The module header (module `header`) documents all of it.
 
 mod body;
 mod header;
