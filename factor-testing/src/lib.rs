@@ -15,6 +15,8 @@
 //!   points (the plane factor's two selects).
 
 pub mod branch_points;
+#[cfg(feature = "cpu-time")]
+pub mod cpu_time;
 pub mod generated;
 pub mod near_degenerate;
 pub mod numeric;
