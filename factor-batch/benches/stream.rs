@@ -19,7 +19,9 @@
 //! `F64x8`, and the copy. Inputs: 4096 sampled configurations repeated to
 //! 10⁷ rows. Wall time of one pass over the 10⁷ factors; in each round every
 //! method once, in rotating order (the machine is shared); medians over the
-//! rounds, and the median per-round ratio to the copy.
+//! rounds, the median per-round ratio to the copy, and the cores each
+//! method had (the process's CPU time over the wall time: below 2 on 2
+//! threads when another process held a core).
 //!
 //! ```sh
 //! cargo bench -p factor-batch --bench stream -- [--rounds 7] [--factors 10000000]
@@ -36,11 +38,9 @@ use slam_factors::PointReprojection;
 
 #[path = "support/inputs.rs"]
 mod inputs;
-#[path = "support/rounds.rs"]
-mod rounds;
 
+use factor_testing::rounds::{Method, alternate, load_average, median, median_ratio};
 use inputs::tiled;
-use rounds::{Method, alternate, load_average, median, median_ratio};
 
 /// Input and output columns of the point factor.
 const INPUTS: usize = 16;
@@ -191,15 +191,16 @@ fn main() {
     );
     println!("| --- | --- | --- | --- | --- |");
     for (k, name) in names.iter().enumerate() {
-        let t = median(&times[k]);
+        let t = median(&times.wall[k]);
         // The copy on as many threads: method 0 (1 thread) or 3.
         let copy = if k < 3 { 0 } else { 3 };
         println!(
-            "| {name} | {:.1} ms | {:.2} | {:.1} | {:.2} |",
+            "| {name} | {:.1} ms | {:.2} | {:.1} | {:.2} | {:.2} |",
             t * 1e3,
             t / factors as f64 * 1e9,
             gigabytes / t,
-            median_ratio(&times[copy], &times[k]),
+            median_ratio(&times.wall[copy], &times.wall[k]),
+            times.cores(k),
         );
     }
     println!("\nload average after: {}", load_average());

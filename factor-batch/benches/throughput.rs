@@ -18,7 +18,9 @@
 //! rounds every method is measured once, in rotating order (the machine is
 //! shared). Printed: the median factors/s over the rounds, and the medians
 //! over the rounds of the per-round ratios (lanes / scalar, 2 threads /
-//! 1 thread); the load average before and after.
+//! 1 thread), with the cores the 2-thread batch had (the process's CPU
+//! time over the wall time: below 2 when another process held a core); the
+//! load average before and after.
 //!
 //! ```sh
 //! cargo bench -p factor-batch --bench throughput -- [--rounds 7] [--svg docs/throughput.svg]
@@ -38,11 +40,9 @@ use slam_factors::{PluckerLineReprojection, PointReprojection};
 mod inputs;
 #[path = "support/plot.rs"]
 mod plot;
-#[path = "support/rounds.rs"]
-mod rounds;
 
+use factor_testing::rounds::{Method, alternate, load_average, median, median_ratio};
 use inputs::tiled;
-use rounds::{Method, alternate, load_average, median, median_ratio};
 
 /// Distinct sampled configurations, repeated to the batch size.
 const DISTINCT: usize = 4096;
@@ -99,10 +99,10 @@ where
     let mut series: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     println!("\n### {title}: factors per second (median of {rounds} rounds)\n");
     println!(
-        "| factors | {} | 4×f64 / scalar | 8×f64 / scalar | 8×f32 / scalar | 2 threads / 1 |",
+        "| factors | {} | 4×f64 / scalar | 8×f64 / scalar | 8×f32 / scalar | 2 threads / 1 | cores the 2 threads had |",
         names.join(" | ")
     );
-    println!("|{}", " --- |".repeat(names.len() + 5));
+    println!("|{}", " --- |".repeat(names.len() + 6));
     for &n in sizes {
         let inputs = tiled(base, n);
         let inputs32 = inputs.map(|x| *x as f32);
@@ -114,19 +114,20 @@ where
             lanes::<F, F64x8>(&inputs, Some(pool)),
         ];
         let times = alternate(&mut methods, rounds, (WORK / n).max(1));
-        let rates: Vec<f64> = times.iter().map(|t| n as f64 / median(t)).collect();
+        let rates: Vec<f64> = times.wall.iter().map(|t| n as f64 / median(t)).collect();
         for (s, r) in series.iter_mut().zip(&rates) {
             s.push(*r);
         }
         let cells: Vec<String> = rates.iter().map(|r| format!("{:.3e}", r)).collect();
         // Ratios of throughputs: time of the reference / time of the method.
         println!(
-            "| {n} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            "| {n} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
             cells.join(" | "),
-            median_ratio(&times[0], &times[1]),
-            median_ratio(&times[0], &times[2]),
-            median_ratio(&times[0], &times[3]),
-            median_ratio(&times[2], &times[4]),
+            median_ratio(&times.wall[0], &times.wall[1]),
+            median_ratio(&times.wall[0], &times.wall[2]),
+            median_ratio(&times.wall[0], &times.wall[3]),
+            median_ratio(&times.wall[2], &times.wall[4]),
+            times.cores(4),
         );
     }
     plot::Panel {
