@@ -187,9 +187,9 @@ fn main() {
         OUTPUTS * 8
     );
     println!(
-        "| method | time per pass | ns per factor | GB/s | fraction of the copy loop's GB/s |"
+        "| method | time per pass | ns per factor | GB/s | fraction of the copy loop's GB/s | cores it had |"
     );
-    println!("| --- | --- | --- | --- | --- |");
+    println!("| --- | --- | --- | --- | --- | --- |");
     for (k, name) in names.iter().enumerate() {
         let t = median(&times.wall[k]);
         // The copy on as many threads: method 0 (1 thread) or 3.

@@ -57,7 +57,8 @@ fn draw<'a>(area: &Area<'a>, panel: &Panel) -> DrawResult<'a> {
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(x0 - 0.1..x1 + 0.1, low - 0.1..high + 0.1)?;
+        // Room below the lines for the legend.
+        .build_cartesian_2d(x0 - 0.1..x1 + 0.1, low - 0.5..high + 0.1)?;
     chart
         .configure_mesh()
         .light_line_style(TRANSPARENT)
