@@ -98,6 +98,23 @@ def main() -> None:
             vs_wrenfold = f"  {t / times['wrenfold']:6.3f}x wrenfold" if "wrenfold" in times else ""
             print(f"  {factor:28} {method:10} {t:10.1f} ns{vs_dual}{vs_wrenfold}")
 
+    print("\n== batch API, ns per factor (criterion, the configurations repeated; 1 thread) ==")
+    for factor in BENCHMARKED:
+        batch = {}
+        for method_dir in sorted((criterion / f"{factor}_batch").glob("*/new/estimates.json")):
+            method = method_dir.parent.parent.name
+            elements = load(method_dir.parent / "benchmark.json")["throughput"]["Elements"]
+            batch[method] = nanoseconds(load(method_dir)) / elements
+        if not batch:
+            continue
+        calls = factors[factor]["ns_per_call"]
+        factors[factor]["batch_ns_per_factor"] = batch
+        for method, t in batch.items():
+            speedups = "".join(
+                f"  {calls[m] / t:6.2f}x {m} throughput" for m in ("generated", "wrenfold") if m in calls
+            )
+            print(f"  {factor:28} {'batch ' + method:12} {t:8.2f} ns{speedups}")
+
     for factor in COUNTED:
         entry = factors.setdefault(factor, {})
         ours = generated_counts(GENERATED_SRC / f"{factor}.rs")

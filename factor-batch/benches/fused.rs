@@ -1,5 +1,5 @@
 //! The fused normal-equation kernel of the point factor against what it
-//! replaces, in one run, 1024 sampled factors held in cache (the inputs and
+//! replaces, in one run, 1000 sampled factors held in cache (the inputs and
 //! outputs of every method fit in L2):
 //!
 //! - `scalar/fused`: `point_reprojection_normal` one factor at a time: the
@@ -12,7 +12,10 @@
 //!   fused and Jacobian outputs in lanes (structure-of-arrays in and out).
 //!
 //! Time is the benchmark thread's CPU time (the machine is shared), per
-//! batch of 1024; ns per factor is that / 1024.
+//! batch of 1000; ns per factor is that / 1000. (Not 1024: structure-of-arrays
+//! columns of a multiple of 512 `f64` rows, end to end, make every column's
+//! row `i` collide in the same L1 sets, which slows the batch 2–4×; see
+//! `benches/throughput.rs`.)
 //!
 //! `cargo bench -p factor-batch --bench fused`
 
@@ -26,12 +29,9 @@ use factor_testing::samples::Sampler;
 use nalgebra::{SMatrix, SVector};
 use slam_factors::PointReprojection;
 
-#[path = "../../factor-lanes/benches/candidates/cpu_time.rs"]
-mod cpu_time;
+use factor_testing::cpu_time::ThreadCpuTime;
 
-use cpu_time::ThreadCpuTime;
-
-const FACTORS: usize = 1024;
+const FACTORS: usize = 1000;
 
 /// One factor's inputs as the kernels take them.
 struct Arrays {

@@ -29,8 +29,6 @@ use factor_testing::samples::Sampler;
 
 #[path = "candidates/batch.rs"]
 mod batch;
-#[path = "candidates/cpu_time.rs"]
-mod cpu_time;
 // Only the point configurations are measured.
 #[allow(dead_code)]
 #[path = "../tests/support/configurations.rs"]
@@ -44,7 +42,7 @@ mod pulp_lanes;
 mod wide_lanes;
 
 use batch::{Batchable, INPUTS, OUTPUTS, point_batch, point_batch_avx2, point_batch_avx512};
-use cpu_time::ThreadCpuTime;
+use factor_testing::cpu_time::ThreadCpuTime;
 // The candidates implement `crate::Real`: the generated crate's.
 use factor_generated::Real;
 

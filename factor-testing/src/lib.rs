@@ -15,10 +15,14 @@
 //!   points (the plane factor's two selects).
 
 pub mod branch_points;
+#[cfg(feature = "bench")]
+pub mod cpu_time;
 pub mod generated;
 pub mod near_degenerate;
 pub mod numeric;
 pub mod reference;
+#[cfg(feature = "bench")]
+pub mod rounds;
 pub mod samples;
 
 pub use generated::{GENERATED_TOLERANCE, assert_generated_matches_dual, check_generated};

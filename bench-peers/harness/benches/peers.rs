@@ -87,6 +87,11 @@ fn main() {
         generated::plucker(&mut group, &lines);
         group.finish();
     }
+    #[cfg(feature = "generated")]
+    {
+        generated::batch(&mut c, "point_reprojection_batch", &points);
+        generated::batch(&mut c, "plucker_line_reprojection_batch", &lines);
+    }
     c.final_summary();
 }
 
@@ -98,16 +103,65 @@ fn main() {
 // `linearize_dual()`), then timed as "generated": f64, every block requested
 // (`Some`), inputs as plain arrays prepared once per configuration, outputs
 // returned by value, exactly as the wrenfold side.
+//
+// Then the batch API (`factor_batch::linearize`, one thread) on the same
+// configurations repeated to `BATCH` rows as structure-of-arrays columns,
+// every block requested, in groups `<factor>_batch`: `f64` (the scalar
+// kernel in the batch loop), `F64x4`, `F64x8` and `F32x8` (the inputs
+// rounded to `f32`). One iteration is one batch; the group's throughput is
+// `BATCH` elements, which `summarize.py` divides by for ns per factor.
 #[cfg(feature = "generated")]
 mod generated {
     use std::hint::black_box;
 
     use bench_peers_harness::ours::{self, PluckerArrays, PointArrays};
-    use criterion::BenchmarkGroup;
     use criterion::measurement::WallTime;
+    use criterion::{BenchmarkGroup, Criterion, Throughput};
+    use factor_batch::{Columns, JacobianColumns, Options, linearize};
+    use factor_core::{Factor, WithKernel};
+    use factor_lanes::{F32x8, F64x4, F64x8, Kernel, Lanes};
     use slam_factors::{PluckerLineReprojection, PointReprojection};
 
     use super::{CONFIGURATIONS, TOLERANCE};
+
+    /// Rows of a batch: the configurations repeated; in cache (L2), and
+    /// not a multiple of 512 (columns `8·BATCH` bytes long that are a
+    /// multiple of 4 KiB collide in the L1 sets).
+    const BATCH: usize = 1000;
+
+    /// The batch with lanes `L` in `group`.
+    fn lanes<F, L>(group: &mut BenchmarkGroup<'_, WallTime>, name: &str, inputs: &Columns<L::Scalar>)
+    where
+        F: WithKernel,
+        L: Lanes,
+        F::Kernel: Kernel<L> + Kernel<L::Scalar>,
+    {
+        let mut out = JacobianColumns::new::<F>(inputs.len(), &[]);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                linearize::<F, L>(black_box(inputs), &mut out, Options::default())
+                    .expect("shapes fit")
+            })
+        });
+    }
+
+    /// The batch API on `factors` repeated to `BATCH` rows, as group `name`.
+    pub fn batch<F>(c: &mut Criterion, name: &str, factors: &[F])
+    where
+        F: Factor + WithKernel + Clone,
+        F::Kernel: Kernel<f64> + Kernel<f32> + Kernel<F64x4> + Kernel<F64x8> + Kernel<F32x8>,
+    {
+        let rows: Vec<F> = factors.iter().cycle().take(BATCH).cloned().collect();
+        let inputs = Columns::from_factors(&rows);
+        let inputs32 = inputs.map(|x| *x as f32);
+        let mut group = c.benchmark_group(name);
+        group.throughput(Throughput::Elements(BATCH as u64));
+        lanes::<F, f64>(&mut group, "f64", &inputs);
+        lanes::<F, F64x4>(&mut group, "F64x4", &inputs);
+        lanes::<F, F64x8>(&mut group, "F64x8", &inputs);
+        lanes::<F, F32x8>(&mut group, "F32x8", &inputs32);
+        group.finish();
+    }
 
     /// Generated == wrenfold at every configuration of both factors, or no
     /// run.

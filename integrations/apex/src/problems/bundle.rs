@@ -34,7 +34,7 @@ pub fn camera_pose(camera: &BalCamera) -> Se3<f64> {
 }
 
 /// The factor of observation `k` of `bal` at the problem's values.
-fn factor_of(bal: &BalProblem, k: usize) -> SnavelyReprojection {
+pub fn factor_of(bal: &BalProblem, k: usize) -> SnavelyReprojection {
     let o = &bal.observations[k];
     let camera = &bal.cameras[o.camera];
     let SnavelyIntrinsics { focal, k1, k2 } = camera.intrinsics;

@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use cpu_time::ThreadTime;
+use ::cpu_time::ThreadTime;
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 
 /// CPU time of the calling thread, reported in the units of wall time.
