@@ -31,7 +31,7 @@ impl<S: PartialEq> PartialEq for Columns<S> {
 fn padded_stride<S>(len: usize) -> usize {
     let per_line = (64 / core::mem::size_of::<S>().max(1)).max(1);
     let lines = len.div_ceil(per_line);
-    (lines + usize::from(lines % 2 == 0 && lines > 0)) * per_line
+    (lines + usize::from(lines.is_multiple_of(2) && lines > 0)) * per_line
 }
 
 impl<S: Copy + Default> Columns<S> {
