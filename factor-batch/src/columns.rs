@@ -166,7 +166,7 @@ mod tests {
             let mut c = Columns::<f64>::zeros(3, len);
             let gap = c.column(1).as_ptr() as usize - c.column(0).as_ptr() as usize;
             assert!(
-                gap >= 8 * len && gap % 64 == 0 && (gap / 64) % 2 == 1,
+                gap >= 8 * len && gap.is_multiple_of(64) && (gap / 64) % 2 == 1,
                 "{len}: {gap}"
             );
             c.column_mut(2)[len - 1] = 1.0;
