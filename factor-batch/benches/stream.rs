@@ -39,7 +39,10 @@ use slam_factors::PointReprojection;
 #[path = "support/inputs.rs"]
 mod inputs;
 
-use factor_testing::rounds::{Method, alternate, load_average, median, median_ratio};
+use clap::Parser;
+use factor_testing::rounds::{
+    Method, alternate, load_average, median, median_ratio, positive_count,
+};
 use inputs::tiled;
 
 /// Input and output columns of the point factor.
@@ -123,24 +126,23 @@ where
     })
 }
 
+/// The command line (`cargo bench` adds `--bench`).
+#[derive(Parser)]
+struct Args {
+    /// Rounds: every method runs once per round, in rotating order.
+    #[arg(long, default_value_t = 7, value_parser = positive_count)]
+    rounds: usize,
+    /// Point factors per pass.
+    #[arg(long, default_value_t = 10_000_000, value_parser = positive_count)]
+    factors: usize,
+    #[arg(long, hide = true)]
+    bench: bool,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let (mut rounds, mut factors) = (7, 10_000_000);
-    while let Some(arg) = args.next() {
-        let mut count = |flag: &str| {
-            args.next()
-                .and_then(|v| v.parse().ok())
-                .filter(|n: &usize| *n > 0)
-                .unwrap_or_else(|| fail(&format!("{flag} needs a count above 0")))
-        };
-        match arg.as_str() {
-            "--rounds" => rounds = count("--rounds"),
-            "--factors" => factors = count("--factors"),
-            // What `cargo bench` passes.
-            "--bench" => {}
-            other => fail(&format!("unknown argument `{other}`")),
-        }
-    }
+    let Args {
+        rounds, factors, ..
+    } = Args::parse();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
@@ -204,10 +206,4 @@ fn main() {
         );
     }
     println!("\nload average after: {}", load_average());
-}
-
-/// Exits with `message` on one line.
-fn fail(message: &str) -> ! {
-    eprintln!("error: {message}");
-    std::process::exit(2)
 }

@@ -41,7 +41,10 @@ mod inputs;
 #[path = "support/plot.rs"]
 mod plot;
 
-use factor_testing::rounds::{Method, alternate, load_average, median, median_ratio};
+use clap::Parser;
+use factor_testing::rounds::{
+    Method, alternate, fail, load_average, median, median_ratio, positive_count,
+};
 use inputs::tiled;
 
 /// Distinct sampled configurations, repeated to the batch size.
@@ -137,40 +140,31 @@ where
     }
 }
 
+/// The command line (`cargo bench` adds `--bench`).
+#[derive(Parser)]
+struct Args {
+    /// Rounds: every method runs once per round, in rotating order.
+    #[arg(long, default_value_t = 7, value_parser = positive_count)]
+    rounds: usize,
+    /// Write the plot of factors/s against the batch size here.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Batch sizes, comma-separated (default: 10 to 10⁶).
+    #[arg(long, value_delimiter = ',', value_parser = positive_count)]
+    sizes: Vec<usize>,
+    #[arg(long, hide = true)]
+    bench: bool,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let (mut rounds, mut svg, mut sizes) = (7, None::<PathBuf>, SIZES.to_vec());
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--rounds" => {
-                rounds = args
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .filter(|r| *r > 0)
-                    .unwrap_or_else(|| fail("--rounds needs a count above 0"))
-            }
-            "--svg" => {
-                svg = Some(
-                    args.next()
-                        .map(PathBuf::from)
-                        .unwrap_or_else(|| fail("--svg needs a path")),
-                )
-            }
-            "--sizes" => {
-                sizes = args
-                    .next()
-                    .and_then(|v| {
-                        v.split(',')
-                            .map(|n| n.parse().ok().filter(|n| *n > 0))
-                            .collect()
-                    })
-                    .unwrap_or_else(|| fail("--sizes needs batch sizes above 0, comma-separated"))
-            }
-            // What `cargo bench` passes.
-            "--bench" => {}
-            other => fail(&format!("unknown argument `{other}`")),
-        }
-    }
+    let Args {
+        rounds, svg, sizes, ..
+    } = Args::parse();
+    let sizes = if sizes.is_empty() {
+        SIZES.to_vec()
+    } else {
+        sizes
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
@@ -207,10 +201,4 @@ fn main() {
         plot::write(&path, &panels).unwrap_or_else(|e| fail(&e));
         println!("wrote {}", path.display());
     }
-}
-
-/// Exits with `message` on one line.
-fn fail(message: &str) -> ! {
-    eprintln!("error: {message}");
-    std::process::exit(2)
 }

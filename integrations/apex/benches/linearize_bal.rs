@@ -42,11 +42,14 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use clap::Parser;
 use factor_apex::problems::bundle::factor_of;
 use factor_apex::problems::{BuildOptions, FactorChoice, KeptBlock, build};
 use factor_batch::{Columns, JacobianColumns, NormalColumns, Options, linearize, normal};
 use factor_lanes::{F64x4, F64x8, Kernel, Lanes, NormalKernel};
-use factor_testing::rounds::{Method, alternate, load_average, median, median_ratio};
+use factor_testing::rounds::{
+    Method, alternate, fail, load_average, median, median_ratio, positive_count,
+};
 use rayon::ThreadPool;
 use rayon::prelude::*;
 use slam_data::synthetic::{SyntheticConfig, generate};
@@ -125,24 +128,25 @@ where
     })
 }
 
+/// The command line (`cargo bench` adds `--bench`).
+#[derive(Parser)]
+struct Args {
+    /// Observations of the synthetic problem.
+    #[arg(long, default_value_t = 1_000_000, value_parser = positive_count)]
+    observations: usize,
+    /// Rounds: every method runs once per round, in rotating order.
+    #[arg(long, default_value_t = 5, value_parser = positive_count)]
+    rounds: usize,
+    #[arg(long, hide = true)]
+    bench: bool,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let (mut observations, mut rounds) = (1_000_000, 5);
-    while let Some(arg) = args.next() {
-        let mut count = |flag: &str| {
-            args.next()
-                .and_then(|v| v.parse().ok())
-                .filter(|n: &usize| *n > 0)
-                .unwrap_or_else(|| fail(&format!("{flag} needs a count above 0")))
-        };
-        match arg.as_str() {
-            "--observations" => observations = count("--observations"),
-            "--rounds" => rounds = count("--rounds"),
-            // What `cargo bench` passes.
-            "--bench" => {}
-            other => fail(&format!("unknown argument `{other}`")),
-        }
-    }
+    let Args {
+        observations,
+        rounds,
+        ..
+    } = Args::parse();
     let load_before = load_average();
     let started = Instant::now();
     let bal = generate(&SyntheticConfig::with_observations(observations, 1))
@@ -240,10 +244,4 @@ fn main() {
         "\nload average before: {load_before}; after: {}",
         load_average()
     );
-}
-
-/// Exits with `message` on one line.
-fn fail(message: &str) -> ! {
-    eprintln!("error: {message}");
-    std::process::exit(2)
 }

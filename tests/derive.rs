@@ -1,4 +1,5 @@
-//! `#[derive(Factor)]` on small factors over vector spaces (and one pose):
+//! `#[derive(Factor)]` (crate `factor-macros`) checked with the test helpers
+//! of `factor-testing`, on small factors over vector spaces (and one pose):
 //! the single-pass and per-block dual linearizations agree with each other,
 //! with central differences, and with known Jacobians exactly.
 
