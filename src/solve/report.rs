@@ -8,29 +8,29 @@ use factor_apex::solve::{Outcome, Verdict};
 use super::SolveArgs;
 use super::progress::duration;
 
+/// The sizes, factor and gauge of a bundle-adjustment problem (BAL or
+/// Bundler), in words.
+fn bundle_adjustment(
+    cameras: usize,
+    points: usize,
+    observations: usize,
+) -> (String, &'static str, &'static str) {
+    (
+        format!("{cameras} cameras, {points} points, {observations} observations"),
+        "snavely_reprojection",
+        "camera 0's pose fixed (the scale is left to the damping)",
+    )
+}
+
 /// What the problem is, in words: sizes, factors, kernels, gauge, solver.
 pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &SolveArgs) -> String {
     let (sizes, factor, gauge) = match data {
-        slam_data::Problem::Bal(p) => (
-            format!(
-                "{} cameras, {} points, {} observations",
-                p.cameras.len(),
-                p.points.len(),
-                p.observations.len()
-            ),
-            "snavely_reprojection",
-            "camera 0's pose fixed (the scale is left to the damping)",
-        ),
-        slam_data::Problem::Bundler(p) => (
-            format!(
-                "{} cameras, {} points, {} observations",
-                p.cameras.len(),
-                p.points.len(),
-                p.observations.len()
-            ),
-            "snavely_reprojection",
-            "camera 0's pose fixed (the scale is left to the damping)",
-        ),
+        slam_data::Problem::Bal(p) => {
+            bundle_adjustment(p.cameras.len(), p.points.len(), p.observations.len())
+        }
+        slam_data::Problem::Bundler(p) => {
+            bundle_adjustment(p.cameras.len(), p.points.len(), p.observations.len())
+        }
         slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => (
             if g.vertices.is_empty() {
                 format!(
@@ -69,10 +69,15 @@ pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &Solv
     )
 }
 
+/// The finite errors, in order.
+fn finite(errors: &[f64]) -> Vec<f64> {
+    errors.iter().copied().filter(|e| e.is_finite()).collect()
+}
+
 /// `sqrt(mean(e²))` over the finite errors, in words (`0.4209 px`), and
 /// how many there are.
 fn rms(errors: &[f64]) -> (String, usize) {
-    let finite: Vec<f64> = errors.iter().copied().filter(|e| e.is_finite()).collect();
+    let finite = finite(errors);
     if finite.is_empty() {
         return ("not finite".to_owned(), 0);
     }
@@ -86,7 +91,7 @@ fn rms(errors: &[f64]) -> (String, usize) {
 /// The median of the finite errors, in words (`0.3102 px`): unlike the RMS,
 /// it is not dominated by a few outliers.
 fn median(errors: &[f64]) -> String {
-    let mut finite: Vec<f64> = errors.iter().copied().filter(|e| e.is_finite()).collect();
+    let mut finite = finite(errors);
     if finite.is_empty() {
         return "not finite".to_owned();
     }

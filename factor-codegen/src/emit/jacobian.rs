@@ -4,12 +4,20 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use super::body::{Signature, body};
-use super::{ModuleParts, field_idents, field_inputs, jacobian_idents};
+use super::{ModuleParts, field_idents, field_inputs, field_sizes, jacobian_idents};
 use crate::lower::LoweredKernel;
+
+/// `#[allow(unused_variables)]` when some field is not read by `lowered`.
+pub fn allow_unused_fields(parts: &ModuleParts, lowered: &LoweredKernel) -> Option<TokenStream> {
+    fields_read(parts, lowered)
+        .iter()
+        .any(|r| !r)
+        .then(|| quote!(#[allow(unused_variables)]))
+}
 
 /// Whether each field is read by the instructions `outputs` need, in
 /// declaration order.
-pub fn fields_read(parts: &ModuleParts, lowered: &LoweredKernel) -> Vec<bool> {
+fn fields_read(parts: &ModuleParts, lowered: &LoweredKernel) -> Vec<bool> {
     let kernel = parts.kernel;
     let field_of: Vec<usize> = kernel
         .fields
@@ -41,21 +49,14 @@ pub fn items(parts: &ModuleParts) -> TokenStream {
     let name = format_ident!("{}", spec.name);
     let r = Literal::usize_unsuffixed(lowered.residual.len());
     let fields = field_idents(kernel);
-    let sizes: Vec<Literal> = kernel
-        .fields
-        .iter()
-        .map(|f| Literal::usize_unsuffixed(f.scalars))
-        .collect();
+    let sizes = field_sizes(kernel);
     let jacobians = jacobian_idents(kernel);
     let jacobian_sizes: Vec<Literal> = kernel
         .blocks
         .iter()
         .map(|b| Literal::usize_unsuffixed(b.entries.len()))
         .collect();
-    let unused = fields_read(parts, lowered)
-        .iter()
-        .any(|r| !r)
-        .then(|| quote!(#[allow(unused_variables)]));
+    let unused = allow_unused_fields(parts, lowered);
     let doc = [
         format!(
             " The residual of `{}` and, for each `Some` Jacobian argument, its block.",

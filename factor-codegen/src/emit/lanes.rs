@@ -6,7 +6,7 @@
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use super::{ModuleParts, jacobian_idents};
+use super::{ModuleParts, field_sizes, jacobian_idents};
 
 /// `inputs[a], …, inputs[b − 1]` as one array expression per field.
 fn field_arrays(parts: &ModuleParts) -> Vec<TokenStream> {
@@ -66,10 +66,7 @@ pub fn items(parts: &ModuleParts) -> TokenStream {
     let r = lowered.residual.len();
     let output_len =
         Literal::usize_unsuffixed(r + kernel.blocks.iter().map(|b| b.entries.len()).sum::<usize>());
-    let field_sizes = kernel
-        .fields
-        .iter()
-        .map(|f| Literal::usize_unsuffixed(f.scalars));
+    let field_sizes = field_sizes(kernel);
     let tangents: Vec<Literal> = kernel
         .blocks
         .iter()

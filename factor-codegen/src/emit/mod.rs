@@ -25,7 +25,7 @@ mod jacobian;
 mod lanes;
 mod normal;
 
-use proc_macro2::{Ident, TokenStream};
+use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::error::CodegenError;
@@ -81,6 +81,15 @@ fn field_idents(kernel: &SymbolicKernel) -> Vec<Ident> {
         .fields
         .iter()
         .map(|f| format_ident!("{}", f.name))
+        .collect()
+}
+
+/// The fields' scalar counts as literals, in declaration order.
+fn field_sizes(kernel: &SymbolicKernel) -> Vec<Literal> {
+    kernel
+        .fields
+        .iter()
+        .map(|f| Literal::usize_unsuffixed(f.scalars))
         .collect()
 }
 

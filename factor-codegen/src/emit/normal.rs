@@ -5,8 +5,8 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use super::body::{Signature, body};
-use super::jacobian::fields_read;
-use super::{ModuleParts, field_idents, field_inputs};
+use super::jacobian::allow_unused_fields;
+use super::{ModuleParts, field_idents, field_inputs, field_sizes};
 use crate::kernel::SymbolicKernel;
 use crate::lower::LoweredKernel;
 use crate::normal::pairs;
@@ -31,21 +31,14 @@ pub fn items(parts: &ModuleParts, lowered: &LoweredKernel, schedule: &Schedule) 
     let normal = format_ident!("{}_normal", parts.spec.name);
     let normal_slices = format_ident!("{}_normal_slices", parts.spec.name);
     let fields = field_idents(kernel);
-    let sizes: Vec<Literal> = kernel
-        .fields
-        .iter()
-        .map(|f| Literal::usize_unsuffixed(f.scalars))
-        .collect();
+    let sizes = field_sizes(kernel);
     let outputs = output_idents(kernel);
     let output_sizes: Vec<Literal> = lowered
         .blocks
         .iter()
         .map(|b| Literal::usize_unsuffixed(b.len()))
         .collect();
-    let unused = fields_read(parts, lowered)
-        .iter()
-        .any(|r| !r)
-        .then(|| quote!(#[allow(unused_variables)]));
+    let unused = allow_unused_fields(parts, lowered);
     let doc = format!(
         " The cost `½ w rᵀr` of `{}` with weight `w = weight` and, for each `Some` argument, \
          its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the \
