@@ -1,0 +1,23 @@
+//! The guards every command of the toolchain puts between itself and the
+//! user's files and terminal. One small module each, callable from any
+//! crate that reads or writes files:
+//!
+//! - [`atomic`]: a file is written to a temporary file beside it and renamed
+//!   into place only once complete ([`AtomicFile`], [`atomic::write`]), so a
+//!   failed or interrupted write leaves the old file as it was;
+//! - [`distinct`]: before any work, an output path that names an input or
+//!   another output of the same run is refused, and each output's directory
+//!   is checked writable ([`check_paths`]);
+//! - [`replay`]: an input stream (a pipe, `/dev/stdin`) is read once: the
+//!   bytes read to sniff its format are put back in front of the rest
+//!   ([`replay::sniff`]), so no source is opened twice;
+//! - [`printable`]: text echoed from the input made one printable line
+//!   (control, format and separator characters escaped).
+
+pub mod atomic;
+pub mod distinct;
+pub mod printable;
+pub mod replay;
+
+pub use atomic::AtomicFile;
+pub use distinct::{PathError, Role, check_paths};
