@@ -18,7 +18,7 @@ use std::path::Path;
 use nalgebra::{Rotation3, Vector2, Vector3};
 
 use crate::camera::{SnavelyCamera, SnavelyIntrinsics};
-use crate::error::Error;
+use crate::error::{Error, ordinal};
 use crate::input::all_in_range;
 use crate::input::{self, Cursor, Lines, MAX_RESERVED, Tokens};
 use crate::output::{Real, io_error, write_file};
@@ -72,38 +72,60 @@ impl BalProblem {
     /// Fails, saying what is wrong, unless every index is in range, every
     /// value finite and every focal length positive (what a reader accepts).
     pub fn validate(&self) -> Result<(), String> {
+        let (cameras, points) = (self.cameras.len(), self.points.len());
         for (k, o) in self.observations.iter().enumerate() {
-            if o.camera >= self.cameras.len() || o.point >= self.points.len() {
-                return Err(format!(
-                    "observation {k}: camera {} or point {} out of range ({} cameras, {} points)",
-                    o.camera,
-                    o.point,
-                    self.cameras.len(),
-                    self.points.len()
-                ));
-            }
-            if !all_in_range(o.pixel.iter()) {
-                return Err(format!(
-                    "observation {k} has a non-finite or too large pixel"
-                ));
-            }
+            check_observation(o, cameras, points).map_err(|e| {
+                format!(
+                    "{}: {e}",
+                    ordinal("observation", k, self.observations.len())
+                )
+            })?;
         }
         for (i, c) in self.cameras.iter().enumerate() {
-            let values = c.rotation.iter().chain(c.translation.iter());
-            let intrinsics = [c.intrinsics.focal, c.intrinsics.k1, c.intrinsics.k2];
-            if !all_in_range(values.chain(&intrinsics)) {
-                return Err(format!("camera {i} has a non-finite or too large value"));
-            }
-            check_focal(c.intrinsics.focal).map_err(|e| format!("camera {i}: {e}"))?;
+            check_camera(c).map_err(|e| format!("{}: {e}", ordinal("camera", i, cameras)))?;
         }
         for (j, p) in self.points.iter().enumerate() {
-            if !all_in_range(p.iter()) {
-                return Err(format!(
-                    "point {j} has a non-finite or too large coordinate"
-                ));
-            }
+            check_point(p).map_err(|e| format!("{}: {e}", ordinal("point", j, points)))?;
         }
         Ok(())
+    }
+}
+
+/// Fails unless `o` is an observation a reader accepts among `cameras`
+/// cameras and `points` points.
+pub(crate) fn check_observation(
+    o: &Observation,
+    cameras: usize,
+    points: usize,
+) -> Result<(), String> {
+    if o.camera >= cameras || o.point >= points {
+        return Err(format!(
+            "camera index {} or point index {} out of range ({cameras} cameras, {points} points)",
+            o.camera, o.point
+        ));
+    }
+    if !all_in_range(o.pixel.iter()) {
+        return Err("non-finite or too large pixel".into());
+    }
+    Ok(())
+}
+
+/// Fails unless `c` is a camera a reader accepts.
+pub(crate) fn check_camera(c: &BalCamera) -> Result<(), String> {
+    let values = c.rotation.iter().chain(c.translation.iter());
+    let intrinsics = [c.intrinsics.focal, c.intrinsics.k1, c.intrinsics.k2];
+    if !all_in_range(values.chain(&intrinsics)) {
+        return Err("non-finite or too large value".into());
+    }
+    check_focal(c.intrinsics.focal)
+}
+
+/// Fails unless `p` is a point a reader accepts.
+pub(crate) fn check_point(p: &Vector3<f64>) -> Result<(), String> {
+    if all_in_range(p.iter()) {
+        Ok(())
+    } else {
+        Err("non-finite or too large coordinate".into())
     }
 }
 
@@ -204,38 +226,64 @@ pub fn write_to(problem: &BalProblem, out: &mut impl Write, name: &str) -> Resul
 }
 
 fn write_unchecked(problem: &BalProblem, out: &mut impl Write) -> std::io::Result<()> {
-    writeln!(
+    write_header(
         out,
-        "{} {} {}",
         problem.cameras.len(),
         problem.points.len(),
-        problem.observations.len()
+        problem.observations.len(),
     )?;
     for o in &problem.observations {
-        writeln!(
-            out,
-            "{} {} {} {}",
-            o.camera,
-            o.point,
-            Real(o.pixel.x),
-            Real(o.pixel.y)
-        )?;
+        write_observation(out, o)?;
     }
     for c in &problem.cameras {
-        let intrinsics = [c.intrinsics.focal, c.intrinsics.k1, c.intrinsics.k2];
-        for value in c
-            .rotation
-            .iter()
-            .chain(c.translation.iter())
-            .chain(&intrinsics)
-        {
-            writeln!(out, "{}", Real(*value))?;
-        }
+        write_camera(out, c)?;
     }
     for p in &problem.points {
-        for value in p.iter() {
-            writeln!(out, "{}", Real(*value))?;
-        }
+        write_point(out, p)?;
+    }
+    Ok(())
+}
+
+/// The counts line.
+pub(crate) fn write_header(
+    out: &mut impl Write,
+    cameras: usize,
+    points: usize,
+    observations: usize,
+) -> std::io::Result<()> {
+    writeln!(out, "{cameras} {points} {observations}")
+}
+
+/// One observation line.
+pub(crate) fn write_observation(out: &mut impl Write, o: &Observation) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "{} {} {} {}",
+        o.camera,
+        o.point,
+        Real(o.pixel.x),
+        Real(o.pixel.y)
+    )
+}
+
+/// A camera, one value per line.
+pub(crate) fn write_camera(out: &mut impl Write, c: &BalCamera) -> std::io::Result<()> {
+    let intrinsics = [c.intrinsics.focal, c.intrinsics.k1, c.intrinsics.k2];
+    for value in c
+        .rotation
+        .iter()
+        .chain(c.translation.iter())
+        .chain(&intrinsics)
+    {
+        writeln!(out, "{}", Real(*value))?;
+    }
+    Ok(())
+}
+
+/// A point, one coordinate per line.
+pub(crate) fn write_point(out: &mut impl Write, p: &Vector3<f64>) -> std::io::Result<()> {
+    for value in p.iter() {
+        writeln!(out, "{}", Real(*value))?;
     }
     Ok(())
 }

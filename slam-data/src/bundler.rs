@@ -28,7 +28,7 @@ use nalgebra::{Matrix3, Vector2, Vector3};
 use crate::bal::{BalCamera, BalProblem, Observation, check_focal};
 use crate::camera::{SnavelyCamera, SnavelyIntrinsics};
 use crate::checks::{check_rotation_matrix, nearest_rotation};
-use crate::error::Error;
+use crate::error::{Error, ordinal};
 use crate::input::all_in_range;
 use crate::input::{self, Cursor, Lines, MAX_RESERVED, Tokens};
 use crate::output::{Real, io_error, write_file};
@@ -133,23 +133,28 @@ impl BundlerProblem {
                 .chain(c.rotation.iter())
                 .chain(c.translation.iter());
             if !all_in_range(values) {
-                return Err(format!("camera {i} has a non-finite or too large value"));
+                return Err(format!(
+                    "{} has a non-finite or too large value",
+                    ordinal("camera", i, self.cameras.len())
+                ));
             }
             check_focal(c.intrinsics.focal)
                 .and_then(|()| check_rotation_matrix(&c.rotation))
-                .map_err(|e| format!("camera {i}: {e}"))?;
+                .map_err(|e| format!("{}: {e}", ordinal("camera", i, self.cameras.len())))?;
         }
         for (j, p) in self.points.iter().enumerate() {
             if !all_in_range(p.position.iter()) {
                 return Err(format!(
-                    "point {j} has a non-finite or too large coordinate"
+                    "{} has a non-finite or too large coordinate",
+                    ordinal("point", j, self.points.len())
                 ));
             }
         }
         for (k, o) in self.observations.iter().enumerate() {
             if o.camera >= self.cameras.len() || o.point >= self.points.len() {
                 return Err(format!(
-                    "observation {k}: camera {} or point {} out of range ({} cameras, {} points)",
+                    "{}: camera index {} or point index {} out of range ({} cameras, {} points)",
+                    ordinal("observation", k, self.observations.len()),
                     o.camera,
                     o.point,
                     self.cameras.len(),
@@ -158,7 +163,8 @@ impl BundlerProblem {
             }
             if !all_in_range(o.pixel.iter()) {
                 return Err(format!(
-                    "observation {k} has a non-finite or too large pixel"
+                    "{} has a non-finite or too large pixel",
+                    ordinal("observation", k, self.observations.len())
                 ));
             }
         }

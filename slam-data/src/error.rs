@@ -63,21 +63,19 @@ impl Error {
     }
 }
 
-/// `text` with control characters (newlines included) escaped, so that an
-/// error stays on one line whatever the input holds.
+/// `text` with every unprintable character escaped
+/// (`slamjac_io::printable`: controls, separators, format characters such
+/// as a byte-order mark), so that an error stays one printable line
+/// whatever the input holds.
 pub(crate) fn one_line(text: &str) -> String {
-    if !text.chars().any(char::is_control) {
-        return text.to_owned();
-    }
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_default().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+    slamjac_io::printable::escape(text).into_owned()
+}
+
+/// Item `index` (from 0) of `count` in words, counted from 1 as every
+/// message of the readers counts: `ordinal("camera", 0, 3)` is
+/// `camera 1 of 3`. Indices and ids written in a file are shown as written.
+pub(crate) fn ordinal(item: &str, index: usize, count: usize) -> String {
+    format!("{item} {} of {count}", index + 1)
 }
 
 /// A token of the input, quoted for an error message: control characters

@@ -1,8 +1,11 @@
 //! The file formats, by name and by detection.
 
 use std::fmt;
+use std::io::BufRead;
 use std::path::Path;
 use std::str::FromStr;
+
+use slamjac_io::replay::{self, Replayed};
 
 use crate::bundler::HEADER as BUNDLER_HEADER;
 use crate::error::Error;
@@ -44,27 +47,33 @@ impl Format {
         }
     }
 
-    /// The format of the file at `path`: a file named `VO_*.txt` is KITTI
-    /// VO, `*.out` Bundler, `*.g2o` g2o; any other (`.txt` is ambiguous) is
-    /// told by its content: a first line `# Bundle file v0.3` is Bundler,
-    /// and the first record (skipping blank and `#` lines) starting with
-    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o, with `VERTEX3`/`EDGE3`
-    /// EDGE3, and of three integers BAL.
-    pub fn detect(path: &Path) -> Result<Format, Error> {
+    /// The format a file's name tells: `VO_*.txt` is KITTI VO, `*.out`
+    /// Bundler, `*.g2o` g2o; `None` for any other name (`.txt` is
+    /// ambiguous: see [`Format::from_content`]).
+    pub fn from_name(path: &Path) -> Option<Format> {
         let name = path
             .file_name()
             .and_then(|n| n.to_str())
             .unwrap_or_default();
         if name.starts_with("VO_") && name.ends_with(".txt") {
-            return Ok(Format::KittiVo);
+            return Some(Format::KittiVo);
         }
         match path.extension().and_then(|e| e.to_str()) {
-            Some("out") => return Ok(Format::Bundler),
-            Some("g2o") => return Ok(Format::G2o),
-            _ => {}
+            Some("out") => Some(Format::Bundler),
+            Some("g2o") => Some(Format::G2o),
+            _ => None,
         }
-        let (reader, name) = input::open(path)?;
-        let mut lines = Lines::new(reader, &name);
+    }
+
+    /// The format the start of an input tells (at most [`SNIFF_BYTES`] of
+    /// it are looked at): a first line `# Bundle file v0.3` is Bundler, and
+    /// the first record (skipping blank and `#` lines) starting with
+    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o, with `VERTEX3`/`EDGE3`
+    /// EDGE3, and of three integers BAL. `name` names the input in errors.
+    /// [`crate::Problem::read_from`] sniffs a stream this way and reads it
+    /// once.
+    pub fn from_content(reader: impl BufRead, name: &str) -> Result<Format, Error> {
+        let mut lines = Lines::new(reader, name);
         if let Some(first) = lines.next_line()?
             && first.text.trim_end() == BUNDLER_HEADER
         {
@@ -79,7 +88,8 @@ impl Format {
         };
         if !first_is_record && lines.next_record()?.is_none() {
             return Err(lines.error(format!(
-                "no content to tell the format from; give it explicitly ({})",
+                "no record in the first {} to tell the format from; give it with --format ({})",
+                sniff_limit(),
                 names()
             )));
         }
@@ -89,11 +99,40 @@ impl Format {
             ["VERTEX3" | "EDGE3", ..] => Ok(Format::Edge3),
             [a, b, c] if [a, b, c].iter().all(|t| parse_integer(t).is_ok()) => Ok(Format::Bal),
             _ => Err(lines.error(format!(
-                "cannot tell the format from this line; give it explicitly ({})",
+                "cannot tell the format from this line; give it with --format ({})",
                 names()
             ))),
         }
     }
+
+    /// The format of the file at `path`: from its name, else from its
+    /// content ([`Format::from_name`], [`Format::from_content`]).
+    pub fn detect(path: &Path) -> Result<Format, Error> {
+        if let Some(format) = Format::from_name(path) {
+            return Ok(format);
+        }
+        let (reader, name) = input::open(path)?;
+        sniff(reader, &name).0
+    }
+}
+
+/// At most this much of an input is read to tell its format from its
+/// content (1 MiB): an input whose first record lies further needs its
+/// format given.
+pub const SNIFF_BYTES: usize = 1 << 20;
+
+/// [`SNIFF_BYTES`] in words.
+fn sniff_limit() -> String {
+    format!("{} MiB", SNIFF_BYTES >> 20)
+}
+
+/// The format `reader`'s content tells, and the whole input from its first
+/// byte: what was read to tell the format is replayed in front of the rest,
+/// so the input is read once (a pipe cannot be read twice).
+pub(crate) fn sniff<R: BufRead>(reader: R, name: &str) -> (Result<Format, Error>, Replayed<R>) {
+    replay::sniff(reader, SNIFF_BYTES, |start| {
+        Format::from_content(start, name)
+    })
 }
 
 /// The format names, for messages.

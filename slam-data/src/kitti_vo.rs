@@ -23,10 +23,10 @@ use std::path::{Path, PathBuf};
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 
 use crate::checks::{check_rotation_matrix, nearest_rotation};
-use crate::error::Error;
+use crate::error::{Error, ordinal};
 use crate::input::all_in_range;
 use crate::input::{self, Cursor, Lines};
-use crate::output::{Real, io_error, write_file};
+use crate::output::{Real, commit, create, io_error};
 
 /// Stereo intrinsics: `fx fy skew u0 v0 baseline` (pixels, and metres for
 /// the baseline).
@@ -184,16 +184,19 @@ impl StereoVo {
             .map_err(|e| format!("calibration: {e}"))?;
         let mut ids = HashSet::with_capacity(self.poses.len());
         for (k, p) in self.poses.iter().enumerate() {
-            p.check().map_err(|e| format!("pose {k}: {e}"))?;
+            let pose = || ordinal("pose", k, self.poses.len());
+            p.check().map_err(|e| format!("{}: {e}", pose()))?;
             if !ids.insert(p.id) {
-                return Err(format!("pose {k}: id {} defined again", p.id));
+                return Err(format!("{}: id {} defined again", pose(), p.id));
             }
         }
         for (k, o) in self.observations.iter().enumerate() {
-            o.check().map_err(|e| format!("observation {k}: {e}"))?;
+            let observation = || ordinal("observation", k, self.observations.len());
+            o.check().map_err(|e| format!("{}: {e}", observation()))?;
             if !ids.contains(&o.pose) {
                 return Err(format!(
-                    "observation {k}: pose {} is not in the poses",
+                    "{}: pose {} is not in the poses",
+                    observation(),
                     o.pose
                 ));
             }
@@ -218,21 +221,78 @@ const POSES: &str = "VO_camera_poses";
 const FACTORS: &str = "VO_stereo_factors";
 
 impl VoFiles {
-    /// The files of the problem `path` is one file of: `path` is named
-    /// `VO_calibration<S>.txt`, `VO_camera_poses<S>.txt` or
+    /// The files of the problem `path` is one file of, to read: `path` is
+    /// named `VO_calibration<S>.txt`, `VO_camera_poses<S>.txt` or
     /// `VO_stereo_factors<S>.txt` for a suffix `S` (`_large`), and the
     /// others are in the same folder; the calibration is
     /// `VO_calibration<S>.txt` if that exists, else `VO_calibration.txt`
-    /// (GTSAM's `VO_calibration.txt` serves the `_large` set, so name that
-    /// set by its poses or factors file).
+    /// (GTSAM's `VO_calibration.txt` serves the `_large` set). Named by a
+    /// shared `VO_calibration.txt` without poses of its own suffix, the
+    /// problem is the one set in the folder it serves (the poses and
+    /// factors whose suffix has no calibration of its own); when it serves
+    /// several, name one by its poses or factors file.
     pub fn beside(path: &Path) -> Result<VoFiles, Error> {
+        let (prefix, suffix) = Self::parts(path)?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let files = Self::reading(folder, &suffix);
+        if prefix != CALIBRATION || !suffix.is_empty() || files.poses.exists() {
+            return Ok(files);
+        }
+        let served = Self::served_by_shared_calibration(folder);
+        match served.as_slice() {
+            [one] => Ok(Self::reading(folder, one)),
+            [] => Err(Error::file(
+                &path.display().to_string(),
+                format!("no {POSES}*.txt beside it for this calibration to serve"),
+            )),
+            several => Err(Error::file(
+                &path.display().to_string(),
+                format!(
+                    "this calibration serves {} problems here ({}): name one by its \
+                     {POSES}*.txt or {FACTORS}*.txt file",
+                    several.len(),
+                    several
+                        .iter()
+                        .map(|s| format!("{POSES}{s}.txt"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )),
+        }
+    }
+
+    /// The files a problem named by `path` is written to: all three with
+    /// `path`'s suffix (`--output VO_camera_poses_opt.txt` writes
+    /// `VO_calibration_opt.txt`, `VO_camera_poses_opt.txt` and
+    /// `VO_stereo_factors_opt.txt`), so that a written problem reads back
+    /// with its own calibration and never overwrites a shared one.
+    pub fn named(path: &Path) -> Result<VoFiles, Error> {
+        let (_, suffix) = Self::parts(path)?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        Ok(VoFiles {
+            calibration: folder.join(format!("{CALIBRATION}{suffix}.txt")),
+            poses: folder.join(format!("{POSES}{suffix}.txt")),
+            factors: folder.join(format!("{FACTORS}{suffix}.txt")),
+        })
+    }
+
+    /// The three files, in the order read and written.
+    pub fn all(&self) -> [&Path; 3] {
+        [&self.calibration, &self.poses, &self.factors]
+    }
+
+    /// The prefix and the suffix `S` of a file of a problem.
+    fn parts(path: &Path) -> Result<(&'static str, String), Error> {
         let name = path
             .file_name()
             .and_then(|n| n.to_str())
             .unwrap_or_default();
-        let suffix = [CALIBRATION, POSES, FACTORS]
-            .iter()
-            .find_map(|prefix| name.strip_prefix(prefix)?.strip_suffix(".txt"))
+        [CALIBRATION, POSES, FACTORS]
+            .into_iter()
+            .find_map(|prefix| {
+                let suffix = name.strip_prefix(prefix)?.strip_suffix(".txt")?;
+                Some((prefix, suffix.to_owned()))
+            })
             .ok_or_else(|| {
                 Error::file(
                     &path.display().to_string(),
@@ -241,18 +301,44 @@ impl VoFiles {
                          {CALIBRATION}*.txt, {POSES}*.txt or {FACTORS}*.txt"
                     ),
                 )
-            })?;
-        let folder = path.parent().unwrap_or(Path::new(""));
-        let with_suffix = folder.join(format!("{CALIBRATION}{suffix}.txt"));
-        Ok(VoFiles {
-            calibration: if with_suffix.exists() {
-                with_suffix
+            })
+    }
+
+    /// The files of the problem of suffix `suffix` in `folder`, to read.
+    fn reading(folder: &Path, suffix: &str) -> VoFiles {
+        let own = folder.join(format!("{CALIBRATION}{suffix}.txt"));
+        VoFiles {
+            calibration: if own.exists() {
+                own
             } else {
                 folder.join(format!("{CALIBRATION}.txt"))
             },
             poses: folder.join(format!("{POSES}{suffix}.txt")),
             factors: folder.join(format!("{FACTORS}{suffix}.txt")),
-        })
+        }
+    }
+
+    /// The suffixes of the poses files in `folder` without a calibration of
+    /// their own, sorted.
+    fn served_by_shared_calibration(folder: &Path) -> Vec<String> {
+        let listed = if folder.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            folder
+        };
+        let mut suffixes: Vec<String> = std::fs::read_dir(listed)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|entry| {
+                let name = entry.file_name().into_string().ok()?;
+                let suffix = name.strip_prefix(POSES)?.strip_suffix(".txt")?;
+                let own = folder.join(format!("{CALIBRATION}{suffix}.txt"));
+                (!own.exists()).then(|| suffix.to_owned())
+            })
+            .collect();
+        suffixes.sort();
+        suffixes
     }
 }
 
@@ -380,19 +466,22 @@ fn read_observations(
     Ok(observations)
 }
 
-/// Writes `vo` to its three files.
+/// Writes `vo` to its three files: all three are written to temporary files
+/// before the first is renamed into place, so a failure while writing any
+/// of them leaves all three untouched.
 pub fn write(vo: &StereoVo, files: &VoFiles) -> Result<(), Error> {
     vo.validate()
         .map_err(|what| Error::file(&files.factors.display().to_string(), what))?;
-    write_file(&files.calibration, |out, name| {
-        write_calibration(&vo.calibration, out).map_err(|e| io_error(name, e))
-    })?;
-    write_file(&files.poses, |out, name| {
-        write_poses(&vo.poses, out).map_err(|e| io_error(name, e))
-    })?;
-    write_file(&files.factors, |out, name| {
-        write_observations(&vo.observations, out).map_err(|e| io_error(name, e))
-    })
+    let mut calibration = create(&files.calibration)?;
+    write_calibration(&vo.calibration, &mut calibration.0)
+        .map_err(|e| io_error(&calibration.1, e))?;
+    let mut poses = create(&files.poses)?;
+    write_poses(&vo.poses, &mut poses.0).map_err(|e| io_error(&poses.1, e))?;
+    let mut factors = create(&files.factors)?;
+    write_observations(&vo.observations, &mut factors.0).map_err(|e| io_error(&factors.1, e))?;
+    commit(calibration)?;
+    commit(poses)?;
+    commit(factors)
 }
 
 /// Writes `vo` as three texts; each output comes with its name for errors.

@@ -15,11 +15,19 @@
 //! Each module has `read(path)`, `read_from(reader, name)`,
 //! `from_text(text, name)`, `write(problem, path)` and
 //! `write_to(problem, out, name)` (KITTI VO takes its three files together).
-//! [`Problem::read`] reads any of them, the format given or
-//! [detected](Format::detect) (`.txt` is told by its content), and
-//! [`Problem::write`] writes one back in its format. Values are kept exactly
-//! as read and written as the shortest decimals that read back to the same
-//! doubles, so read → write → read gives the same problem bit for bit.
+//! [`Problem::read`] reads any of them, the format given or told by the
+//! file's name ([`Format::from_name`]) or else by its content
+//! ([`Format::from_content`]: `.txt` is ambiguous), opening and reading the
+//! input once, so that a pipe (`/dev/stdin`) reads as a file does
+//! ([`Problem::read_from`] reads any stream). [`Problem::write`] writes one
+//! back in its format, each file to a temporary file renamed into place
+//! once complete, so a failed write leaves the old file as it was.
+//! [`Problem::files_read`] and [`Problem::files_written`] name the files a
+//! path stands for (three for KITTI VO) without touching them, for a
+//! command to check its outputs against its inputs before any work. Values
+//! are kept exactly as read and written as the shortest decimals that read
+//! back to the same doubles, so read → write → read gives the same problem
+//! bit for bit.
 //!
 //! # Conventions
 //!
@@ -47,7 +55,8 @@
 //! # Limits and tolerances
 //!
 //! - Files over [`MAX_FILE_BYTES`] (4 GiB) and lines over
-//!   [`MAX_LINE_BYTES`] (64 MiB) are rejected; input must be UTF-8.
+//!   [`MAX_LINE_BYTES`] (64 MiB) are rejected; input must be UTF-8. The
+//!   format is told from at most the first [`SNIFF_BYTES`] (1 MiB).
 //! - Counts in headers are not trusted: at most 65 536 items are reserved
 //!   ahead, the rest grows as items are actually read, and a body that
 //!   disagrees with its header is an error at the line where it shows.
@@ -67,13 +76,17 @@
 //!   two of them.
 //! - Unknown record tags are errors, not skipped.
 //!
-//! Every error is one line, `FILE:LINE: what` ([`Error`]).
+//! Every error is one line, `FILE:LINE: what` ([`Error`]), unprintable
+//! characters of the input escaped; items are counted from 1 (`observation
+//! 3 of 19`, `camera 1 of 5`), indices and ids shown as the file writes them.
 //!
 //! # Synthetic problems
 //!
 //! [`synthetic::generate`] makes a seeded BAL problem (cameras on a ring
 //! looking at a ball of points, Gaussian pixel noise, uniform outliers,
-//! perturbed initial values), with its ground truth; see [`synthetic`].
+//! perturbed initial values), with its ground truth, and
+//! [`synthetic::write`] streams the same problem to a file in memory that
+//! does not grow with the points; see [`synthetic`].
 
 pub mod bal;
 pub mod bundler;
@@ -96,7 +109,7 @@ pub use bundler::{BundlerCamera, BundlerObservation, BundlerPoint, BundlerProble
 pub use camera::{SnavelyCamera, SnavelyIntrinsics};
 pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
 pub use error::Error;
-pub use format::{Format, UnknownFormat};
+pub use format::{Format, SNIFF_BYTES, UnknownFormat};
 pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
 pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};
 pub use pose_graph::{ChainError, Edge, Pose, PoseGraph, Rotation, Vertex};

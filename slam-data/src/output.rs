@@ -1,9 +1,11 @@
-//! Writing text output: exact number formatting and file creation.
+//! Writing text output: exact number formatting, and files written to a
+//! temporary file renamed into place.
 
 use std::fmt;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::Path;
+
+use slamjac_io::AtomicFile;
 
 use crate::error::Error;
 
@@ -22,17 +24,38 @@ impl fmt::Display for Real {
     }
 }
 
-/// Creates `path` and runs `write` on it, buffered; every failure is an
-/// [`Error`] naming the file.
-pub(crate) fn write_file(
+/// Writes `path` through `write`, buffered, into a temporary file beside it
+/// renamed into place once complete (`slamjac_io::AtomicFile`): on any
+/// failure the file keeps its old contents. Every failure is an [`Error`]
+/// naming the file.
+pub(crate) fn write_file<T>(
     path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>, &str) -> Result<(), Error>,
-) -> Result<(), Error> {
+    write: impl FnOnce(&mut BufWriter<AtomicFile>, &str) -> Result<T, Error>,
+) -> Result<T, Error> {
+    let mut out = create(path)?;
+    let written = write(&mut out.0, &out.1)?;
+    commit(out)?;
+    Ok(written)
+}
+
+/// A file being written, buffered, and its name for errors.
+pub(crate) type Staged = (BufWriter<AtomicFile>, String);
+
+/// Starts writing `path` ([`write_file`] in two steps, for files written
+/// together and committed only once all are written).
+pub(crate) fn create(path: &Path) -> Result<Staged, Error> {
     let name = path.display().to_string();
-    let file = File::create(path).map_err(|e| Error::file(&name, format!("cannot create: {e}")))?;
-    let mut out = BufWriter::with_capacity(1 << 16, file);
-    write(&mut out, &name)?;
-    out.flush().map_err(|e| io_error(&name, e))
+    let file =
+        AtomicFile::create(path).map_err(|e| Error::file(&name, format!("cannot create: {e}")))?;
+    Ok((BufWriter::with_capacity(1 << 16, file), name))
+}
+
+/// Puts a file started by [`create`] in place.
+pub(crate) fn commit((out, name): Staged) -> Result<(), Error> {
+    let file = out
+        .into_inner()
+        .map_err(|e| io_error(&name, e.into_error()))?;
+    file.commit().map_err(|e| io_error(&name, e))
 }
 
 /// A failed write to `file`.

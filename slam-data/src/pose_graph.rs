@@ -10,6 +10,7 @@ use std::collections::hash_map::Entry;
 use nalgebra::{Isometry3, Matrix6, Translation3, UnitQuaternion, Vector3};
 
 use crate::checks::{check_information, check_quaternion, unit_quaternion};
+use crate::error::ordinal;
 use crate::input::all_in_range;
 
 /// A rotation as a pose-graph file writes it.
@@ -160,8 +161,13 @@ impl PoseGraph {
     pub fn validate(&self) -> Result<(), String> {
         match self.find_defect() {
             None => Ok(()),
-            Some((Item::Vertex(k), what)) => Err(format!("vertex {k}: {what}")),
-            Some((Item::Edge(k), what)) => Err(format!("edge {k}: {what}")),
+            Some((Item::Vertex(k), what)) => Err(format!(
+                "{}: {what}",
+                ordinal("vertex", k, self.vertices.len())
+            )),
+            Some((Item::Edge(k), what)) => {
+                Err(format!("{}: {what}", ordinal("edge", k, self.edges.len())))
+            }
         }
     }
 
@@ -175,9 +181,9 @@ impl PoseGraph {
             match ids.entry(v.id) {
                 Entry::Occupied(first) => {
                     let what = format!(
-                        "vertex id {} defined again (first as vertex {})",
+                        "vertex id {} defined again (first as {})",
                         v.id,
-                        first.get()
+                        ordinal("vertex", *first.get(), self.vertices.len())
                     );
                     return Some((Item::Vertex(k), what));
                 }

@@ -21,17 +21,29 @@
 //! and points by N(0, 0.05² I) (0.5% of the ring radius); focal length by a
 //! factor 1 + N(0, 0.01²); k1 by N(0, 0.01²); k2 by N(0, 0.001²).
 //!
-//! One pass over cameras, points and observations: time and memory linear
-//! in the size. The same seed gives the same problem on every platform
-//! (ChaCha8).
+//! The same seed gives the same problem on every platform (ChaCha8; the
+//! cameras, the points, the observations and the points' perturbations each
+//! draw from their own stream of it, so that any of them can be drawn again).
+//! [`write`] streams the problem to a BAL file in one pass, holding only the
+//! cameras in memory (about 300 bytes each, [`MAX_CAMERAS`] at most): any
+//! number of points up to [`MAX_OBSERVATIONS`] takes the same memory.
+//! [`generate`] builds the same problem in memory, with its ground truth.
+
+use std::io::Write;
+use std::path::Path;
 
 use nalgebra::{Rotation3, Vector2, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
-use crate::bal::{BalCamera, BalProblem, Observation};
-use crate::camera::SnavelyIntrinsics;
+use crate::bal::{
+    BalCamera, BalProblem, Observation, check_camera, check_observation, check_point, write_camera,
+    write_header, write_observation, write_point,
+};
+use crate::camera::{SnavelyCamera, SnavelyIntrinsics};
+use crate::error::{Error, ordinal};
+use crate::output::{io_error, write_file};
 
 /// Radius of the ring of cameras.
 pub const RING_RADIUS: f64 = 10.0;
@@ -45,8 +57,12 @@ pub const AIM_JITTER: f64 = 0.3;
 pub const IMAGE_WIDTH: f64 = 1024.0;
 /// Image height in pixels.
 pub const IMAGE_HEIGHT: f64 = 768.0;
-/// Most observations a generated problem may have (10⁸, about 3 GB).
+/// Most observations a generated problem may have (10⁸: a BAL file of
+/// about 6 GB, 3.2 GB in memory as [`generate`] holds them).
 pub const MAX_OBSERVATIONS: usize = 100_000_000;
+/// Most cameras a generated problem may have (10⁶): [`write`] holds them
+/// in memory, truth, model and initial value, about 300 MB at the cap.
+pub const MAX_CAMERAS: usize = 1_000_000;
 
 /// What to generate.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,11 +119,15 @@ impl SyntheticConfig {
         self.points.checked_mul(self.views_per_point)
     }
 
-    fn check(&self) -> Result<(), SyntheticError> {
+    /// Fails, saying why, unless the problem can be generated: counts
+    /// within [`MAX_CAMERAS`] and [`MAX_OBSERVATIONS`] (checked before
+    /// anything is allocated), views from 2 to the cameras, standard
+    /// deviations finite and not negative, the outlier fraction in `[0, 1]`.
+    pub fn check(&self) -> Result<(), SyntheticError> {
         let fail = |what: String| Err(SyntheticError(what));
-        if self.cameras < 2 {
+        if !(2..=MAX_CAMERAS).contains(&self.cameras) {
             return fail(format!(
-                "at least 2 cameras are needed, not {}",
+                "the number of cameras must be from 2 to {MAX_CAMERAS}, not {}",
                 self.cameras
             ));
         }
@@ -168,62 +188,190 @@ pub struct SyntheticBal {
     pub outliers: Vec<usize>,
 }
 
-/// Generates the problem `config` describes.
-pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError> {
-    config.check()?;
-    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
-    let true_cameras: Vec<BalCamera> = (0..config.cameras)
-        .map(|i| ring_camera(i, config.cameras, &mut rng))
-        .collect();
-    let true_points: Vec<Vector3<f64>> = (0..config.points)
-        .map(|_| point_in_ball(&mut rng))
-        .collect();
+/// The random streams of a seed (see the module documentation).
+const CAMERA_STREAM: u64 = 0;
+const POINT_STREAM: u64 = 1;
+const OBSERVATION_STREAM: u64 = 2;
+const POINT_NOISE_STREAM: u64 = 3;
 
-    // Projections go through the rotation matrices, computed once.
-    let models: Vec<_> = true_cameras.iter().map(BalCamera::camera).collect();
-    let stride = view_stride(config.cameras, config.views_per_point);
-    let mut observations = Vec::with_capacity(config.points * config.views_per_point);
-    let mut outliers = Vec::new();
-    for (j, point) in true_points.iter().enumerate() {
-        let first = rng.random_range(0..config.cameras);
-        for v in 0..config.views_per_point {
-            let camera = (first + v * stride) % config.cameras;
-            let pixel = if rng.random_bool(config.outlier_fraction) {
-                outliers.push(observations.len());
-                Vector2::new(
-                    rng.random_range(-0.5..0.5) * IMAGE_WIDTH,
-                    rng.random_range(-0.5..0.5) * IMAGE_HEIGHT,
-                )
-            } else {
-                let exact = models[camera]
-                    .project(point)
-                    .expect("a scene point is in front of every ring camera");
-                exact + gaussian2(&mut rng) * config.pixel_sigma
-            };
-            observations.push(Observation {
-                camera,
-                point: j,
-                pixel,
-            });
+/// Stream `stream` of `seed`'s generator.
+fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream);
+    rng
+}
+
+/// The cameras of a problem, true and initial, and how to draw the rest.
+struct Scene<'a> {
+    config: &'a SyntheticConfig,
+    true_cameras: Vec<BalCamera>,
+    /// The true cameras with their rotation matrices, to project through.
+    models: Vec<SnavelyCamera>,
+    cameras: Vec<BalCamera>,
+    stride: usize,
+}
+
+impl<'a> Scene<'a> {
+    /// The cameras of `config`, which passed [`SyntheticConfig::check`].
+    fn new(config: &'a SyntheticConfig) -> Self {
+        let mut rng = rng(config.seed, CAMERA_STREAM);
+        let true_cameras: Vec<BalCamera> = (0..config.cameras)
+            .map(|i| ring_camera(i, config.cameras, &mut rng))
+            .collect();
+        let cameras = true_cameras
+            .iter()
+            .map(|c| perturb_camera(c, config, &mut rng))
+            .collect();
+        Scene {
+            config,
+            models: true_cameras.iter().map(BalCamera::camera).collect(),
+            true_cameras,
+            cameras,
+            stride: view_stride(config.cameras, config.views_per_point),
         }
     }
 
-    let cameras = true_cameras
-        .iter()
-        .map(|c| perturb_camera(c, config, &mut rng))
-        .collect();
-    let points = true_points
-        .iter()
-        .map(|p| p + gaussian3(&mut rng) * config.position_sigma)
-        .collect();
+    /// The true points, drawn again at each call.
+    fn true_points(&self) -> impl Iterator<Item = Vector3<f64>> + use<> {
+        let mut rng = rng(self.config.seed, POINT_STREAM);
+        (0..self.config.points).map(move |_| point_in_ball(&mut rng))
+    }
+
+    /// The initial points: the true ones perturbed.
+    fn points(&self) -> impl Iterator<Item = Vector3<f64>> + use<> {
+        let mut noise = rng(self.config.seed, POINT_NOISE_STREAM);
+        let sigma = self.config.position_sigma;
+        self.true_points()
+            .map(move |p| p + gaussian3(&mut noise) * sigma)
+    }
+
+    /// The observations, grouped by point, each with whether it is an
+    /// outlier.
+    fn observations(&self) -> impl Iterator<Item = (Observation, bool)> + '_ {
+        let config = self.config;
+        let mut rng = rng(config.seed, OBSERVATION_STREAM);
+        self.true_points().enumerate().flat_map(move |(j, point)| {
+            let first = rng.random_range(0..config.cameras);
+            (0..config.views_per_point)
+                .map(|v| {
+                    let camera = (first + v * self.stride) % config.cameras;
+                    let outlier = rng.random_bool(config.outlier_fraction);
+                    let pixel = if outlier {
+                        Vector2::new(
+                            rng.random_range(-0.5..0.5) * IMAGE_WIDTH,
+                            rng.random_range(-0.5..0.5) * IMAGE_HEIGHT,
+                        )
+                    } else {
+                        let exact = self.models[camera]
+                            .project(&point)
+                            .expect("a scene point is in front of every ring camera");
+                        exact + gaussian2(&mut rng) * config.pixel_sigma
+                    };
+                    let observation = Observation {
+                        camera,
+                        point: j,
+                        pixel,
+                    };
+                    (observation, outlier)
+                })
+                .collect::<Vec<_>>()
+        })
+    }
+}
+
+/// Generates the problem `config` describes, in memory, with its truth.
+pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError> {
+    config.check()?;
+    let scene = Scene::new(config);
+    let observation_count = config.points * config.views_per_point;
+    let mut observations = Vec::with_capacity(observation_count);
+    let mut outliers = Vec::new();
+    for (k, (observation, outlier)) in scene.observations().enumerate() {
+        if outlier {
+            outliers.push(k);
+        }
+        observations.push(observation);
+    }
+    let (points, true_points) = (scene.points().collect(), scene.true_points().collect());
     Ok(SyntheticBal {
         problem: BalProblem {
-            cameras,
+            cameras: scene.cameras,
             points,
             observations,
         },
-        true_cameras,
+        true_cameras: scene.true_cameras,
         true_points,
+        outliers,
+    })
+}
+
+/// What [`write`] wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Written {
+    /// Cameras.
+    pub cameras: usize,
+    /// Points.
+    pub points: usize,
+    /// Observations.
+    pub observations: usize,
+    /// Outlier observations among them.
+    pub outliers: usize,
+}
+
+/// Writes the problem `config` describes as the BAL file at `path`, the
+/// file [`generate`] and [`crate::bal::write`] would write, streamed: only
+/// the cameras are held in memory. The file is written to a temporary file
+/// renamed into place once complete.
+///
+/// # Errors
+///
+/// Settings [`SyntheticConfig::check`] refuses, a generated value a reader
+/// would refuse (a focal length perturbed below zero, a pixel beyond
+/// [`crate::MAX_MAGNITUDE`]), or the file cannot be written; the file at
+/// `path` is then unchanged.
+pub fn write(config: &SyntheticConfig, path: impl AsRef<Path>) -> Result<Written, Error> {
+    write_file(path.as_ref(), |out, name| write_to(config, out, name))
+}
+
+/// [`write`] to `out`; `name` names it in errors.
+///
+/// # Errors
+///
+/// As [`write`]; `out` then holds a part of the file.
+pub fn write_to(
+    config: &SyntheticConfig,
+    out: &mut impl Write,
+    name: &str,
+) -> Result<Written, Error> {
+    config
+        .check()
+        .map_err(|e| Error::file(name, e.to_string()))?;
+    let scene = Scene::new(config);
+    let observations = config.points * config.views_per_point;
+    let invalid = |what: String| Error::file(name, format!("generated {what}"));
+    let io = |e| io_error(name, e);
+    write_header(out, config.cameras, config.points, observations).map_err(io)?;
+    let mut outliers = 0;
+    for (k, (o, outlier)) in scene.observations().enumerate() {
+        check_observation(&o, config.cameras, config.points)
+            .map_err(|e| invalid(format!("{}: {e}", ordinal("observation", k, observations))))?;
+        outliers += usize::from(outlier);
+        write_observation(out, &o).map_err(io)?;
+    }
+    for (i, c) in scene.cameras.iter().enumerate() {
+        check_camera(c)
+            .map_err(|e| invalid(format!("{}: {e}", ordinal("camera", i, config.cameras))))?;
+        write_camera(out, c).map_err(io)?;
+    }
+    for (j, p) in scene.points().enumerate() {
+        check_point(&p)
+            .map_err(|e| invalid(format!("{}: {e}", ordinal("point", j, config.points))))?;
+        write_point(out, &p).map_err(io)?;
+    }
+    Ok(Written {
+        cameras: config.cameras,
+        points: config.points,
+        observations,
         outliers,
     })
 }

@@ -205,7 +205,7 @@ fn pose_graph_structure_is_checked() {
         g2o::from_text(&duplicate, "d.txt"),
         "d.txt",
         3,
-        "vertex id 1 defined again (first as vertex 1)",
+        "vertex id 1 defined again (first as vertex 2 of 5)",
     );
     let dangling = with_line(
         &example,
@@ -577,7 +577,7 @@ fn writers_refuse_problems_a_reader_would_reject() {
         .to_string();
     assert_eq!(
         message,
-        "o.txt: observation 0: camera 0 or point 1 out of range (3 cameras, 1 points)"
+        "o.txt: observation 1 of 1: camera index 0 or point index 1 out of range (3 cameras, 1 points)"
     );
     problem.observations[0].point = 0;
     problem.points[0].y = f64::NAN;
@@ -586,7 +586,7 @@ fn writers_refuse_problems_a_reader_would_reject() {
         .to_string();
     assert_eq!(
         message,
-        "o.txt: point 0 has a non-finite or too large coordinate"
+        "o.txt: point 1 of 1: non-finite or too large coordinate"
     );
     assert!(out.is_empty(), "nothing is written");
 
@@ -597,7 +597,7 @@ fn writers_refuse_problems_a_reader_would_reject() {
         .to_string();
     assert_eq!(
         message,
-        "g.g2o: edge 2: information matrix is not positive definite"
+        "g.g2o: edge 3 of 6: information matrix is not positive definite"
     );
 }
 

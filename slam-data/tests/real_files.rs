@@ -588,16 +588,9 @@ fn formats_are_detected_from_names_and_content() {
     ];
     for (name, format) in expected {
         assert_eq!(Format::detect(&data(name)).unwrap(), format, "{name}");
-        if name != "VO_calibration.txt" {
-            let problem = Problem::read(data(name), None).unwrap();
-            assert_eq!(problem.format(), format, "{name}");
-        }
+        let problem = Problem::read(data(name), None).unwrap();
+        assert_eq!(problem.format(), format, "{name}");
     }
-    // The shared calibration names the set without a suffix, which is not shipped.
-    let err = Problem::read(data("VO_calibration.txt"), None)
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("VO_camera_poses.txt: cannot open: "), "{err}");
     for format in Format::ALL {
         assert_eq!(format.name().parse::<Format>().unwrap(), format);
     }
@@ -610,10 +603,22 @@ fn formats_are_detected_from_names_and_content() {
 
 #[test]
 fn vo_files_are_found_beside_any_of_them() {
-    let files = VoFiles::beside(&data("VO_stereo_factors_large.txt")).unwrap();
-    assert_eq!(files.calibration, data("VO_calibration.txt"));
-    assert_eq!(files.poses, data("VO_camera_poses_large.txt"));
-    assert_eq!(files.factors, data("VO_stereo_factors_large.txt"));
+    // GTSAM's shared calibration serves the `_large` set, the only set
+    // shipped: naming it names that set.
+    for name in [
+        "VO_stereo_factors_large.txt",
+        "VO_camera_poses_large.txt",
+        "VO_calibration.txt",
+    ] {
+        let files = VoFiles::beside(&data(name)).unwrap();
+        assert_eq!(files.calibration, data("VO_calibration.txt"), "{name}");
+        assert_eq!(files.poses, data("VO_camera_poses_large.txt"), "{name}");
+        assert_eq!(files.factors, data("VO_stereo_factors_large.txt"), "{name}");
+    }
+    // A problem is written with a calibration of its own suffix.
+    let written = VoFiles::named(&data("VO_camera_poses_opt.txt")).unwrap();
+    assert_eq!(written.calibration, data("VO_calibration_opt.txt"));
+    assert_eq!(written.factors, data("VO_stereo_factors_opt.txt"));
     let err = VoFiles::beside(&data("sphere2500.txt"))
         .unwrap_err()
         .to_string();

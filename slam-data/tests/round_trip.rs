@@ -74,7 +74,9 @@ fn every_shipped_file_round_trips_exactly_through_files() {
     }
     // The VO set was written as three files.
     let vo_files = VoFiles::beside(&folder.path().join("VO_stereo_factors_large.txt")).unwrap();
-    assert!(vo_files.calibration.ends_with("VO_calibration.txt") && vo_files.calibration.exists());
+    assert!(
+        vo_files.calibration.ends_with("VO_calibration_large.txt") && vo_files.calibration.exists()
+    );
     assert!(vo_files.poses.exists());
 }
 

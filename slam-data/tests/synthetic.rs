@@ -172,7 +172,7 @@ fn impossible_settings_are_refused() {
                 cameras: 1,
                 ..base.clone()
             },
-            "at least 2 cameras are needed, not 1",
+            "the number of cameras must be from 2 to 1000000, not 1",
         ),
         (
             SyntheticConfig {
