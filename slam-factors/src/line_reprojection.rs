@@ -2,7 +2,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::{DEGENERACY_TOLERANCE, check_magnitude, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_magnitude, check_residual_digits, degenerate};
 use factor_core::geometry::{Intrinsics, OrthonormalLine, PluckerLine};
 use factor_core::lie::Se3;
 use factor_core::linalg::{dot, norm_ratio, scaled_norm};
@@ -86,6 +86,7 @@ pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), Facto
         &f.intrinsics,
         &f.pose,
         &f.line.to_plucker(),
+        [&f.start, &f.end],
     )
 }
 
@@ -93,16 +94,21 @@ pub fn validate_line_reprojection(f: &LineReprojection<f64>) -> Result<(), Facto
 /// centre (`n_c = 0`: it projects to a point) or lies in the focal plane
 /// (`l₁ = l₂ = 0` for `l = 𝒦 n_c`: it projects to the line at infinity), each
 /// to `1e-9` of the magnitudes it is computed from, or whose image line `l`
-/// is outside [`crate::MAGNITUDE_LIMIT`].
+/// is outside [`crate::MAGNITUDE_LIMIT`]; and observed endpoints so close to
+/// the image of a line that near the optical centre that their distances
+/// lose their digits ([`crate::check_residual_digits`]).
 ///
 /// `n_c = R n + t × R v` is a sum of terms of magnitude `|n|` and `|t| |v|`:
 /// when `|n_c|` falls below `1e-9` of that, rounding leaves it (and the
-/// residual) with a relative error of about `1e-7` and more.
+/// residual) with a relative error of about `1e-7` and more. The distance
+/// of an endpoint `p`, `n_cᵀ (𝒦ᵀ [p, 1]) / ‖l₁₂‖`, is a sum of terms of
+/// `|n_c| ‖𝒦ᵀ [p, 1]‖ / ‖l₁₂‖` pixels, each carrying that relative error.
 pub(crate) fn validate_camera_line(
     factor: &'static str,
     intrinsics: &Intrinsics<f64>,
     pose: &Se3<f64>,
     world_line: &PluckerLine<f64>,
+    endpoints: [&Vector2<f64>; 2],
 ) -> Result<(), FactorError> {
     let camera_line = world_line.transform(pose);
     let (n, v) = (camera_line.normal, camera_line.direction);
@@ -147,5 +153,13 @@ pub(crate) fn validate_camera_line(
         l.amax(),
         "the camera is too far from the line for its focal lengths, or the line's \
          coordinates are too large or too small",
-    )
+    )?;
+    let k = intrinsics;
+    let through = |p: &Vector2<f64>| {
+        Vector3::new(k.fv * (p.x - k.cu), k.fu * (p.y - k.cv), k.fu * k.fv).norm()
+    };
+    let n_norm = scaled_norm(&n);
+    let pixels = n_norm * (through(endpoints[0]) + through(endpoints[1])) / l.xy().norm();
+    let residual = endpoint_distances(k, &n, endpoints[0], endpoints[1]).norm();
+    check_residual_digits(factor, residual, terms / n_norm, pixels)
 }

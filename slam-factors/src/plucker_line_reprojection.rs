@@ -75,5 +75,6 @@ pub fn validate_plucker_line(f: &PluckerLineReprojection<f64>) -> Result<(), Fac
         &f.intrinsics,
         &f.pose,
         &f.line,
+        [&f.start, &f.end],
     )
 }

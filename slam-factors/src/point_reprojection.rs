@@ -2,7 +2,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::{DEGENERACY_TOLERANCE, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
 use factor_core::geometry::Intrinsics;
 use factor_core::lie::Se3;
 use factor_core::validation::{exceeds, number_text};
@@ -17,7 +17,9 @@ use factor_core::{Factor, FactorError, Scalar};
 /// - `point` `X_w`: **additive** `X_w ← X_w + δ`.
 ///
 /// Degenerate: the point at or behind the camera (`Z ≤ 1e-9` times the
-/// largest coordinate of `P_c`, `X_w` or `t`).
+/// largest coordinate of `P_c`, `X_w` or `t`), or observed so close to a
+/// far off-axis prediction that the residual loses its digits
+/// ([`crate::check_residual_digits`]).
 #[derive(Debug, Clone, Factor)]
 #[factor(residual = point_reprojection_residual, dim = 2, validate = validate_point_reprojection)]
 #[cfg_attr(
@@ -46,7 +48,8 @@ pub fn point_reprojection_residual<S: Scalar>(f: &PointReprojection<S>) -> Vecto
     f.observed - f.intrinsics.project(&p_c)
 }
 
-/// Rejects a point at or behind the camera.
+/// Rejects a point at or behind the camera, and a residual that has lost its
+/// digits to the depth's rounding.
 pub fn validate_point_reprojection(f: &PointReprojection<f64>) -> Result<(), FactorError> {
     let p_c = f.pose.transform_point(&f.point);
     if !p_c.iter().all(|x| x.is_finite()) {
@@ -71,5 +74,11 @@ pub fn validate_point_reprojection(f: &PointReprojection<f64>) -> Result<(), Fac
             ),
         ));
     }
-    Ok(())
+    // The pixel `f X/Z + c` moves by `|f| (1 + |X/Z|)` per relative error of
+    // the depth and of `X`.
+    let (x, y) = (p_c.x / p_c.z, p_c.y / p_c.z);
+    let k = &f.intrinsics;
+    let terms = k.fu.abs() * (1.0 + x.abs()) + k.fv.abs() * (1.0 + y.abs());
+    let residual = (f.observed - k.project(&p_c)).norm();
+    check_residual_digits(PointReprojection::NAME, residual, scale / p_c.z, terms)
 }

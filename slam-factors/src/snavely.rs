@@ -4,7 +4,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::{DEGENERACY_TOLERANCE, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::manifold::{Manifold, Perturbation};
 use factor_core::storage::{Layout, Storage};
@@ -87,7 +87,9 @@ impl<S: Scalar> Manifold<S> for RadialIntrinsics<S> {
 /// `t`); and distortion that folds the image, i.e. a radial map
 /// `ρ ↦ ρ (1 + k1 ρ² + k2 ρ⁴)` that is not increasing on `[0, ‖p‖]`
 /// ([`radial_map_derivative_minimum`]): there two image radii have the same
-/// pixel and the projection's Jacobian is singular or flips orientation.
+/// pixel and the projection's Jacobian is singular or flips orientation;
+/// and an observation so close to a far off-axis prediction that the
+/// residual loses its digits ([`crate::check_residual_digits`]).
 #[derive(Debug, Clone, Factor)]
 #[factor(
     residual = snavely_reprojection_residual,
@@ -146,7 +148,8 @@ pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius2: f64) -> (f64, f6
 }
 
 /// Rejects a focal length that is not positive, a point at or behind the
-/// camera, and distortion that folds the image up to the point's radius.
+/// camera, distortion that folds the image up to the point's radius, and a
+/// residual that has lost its digits to the depth's rounding.
 pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(), FactorError> {
     let name = SnavelyReprojection::NAME;
     let RadialIntrinsics { focal, k1, k2 } = f.intrinsics;
@@ -188,5 +191,11 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
             ),
         ));
     }
-    Ok(())
+    // The pixel `f r(ρ²) p` moves by `f (1 + 3|k1|ρ² + 5|k2|ρ⁴)(1 + ‖p‖)` per
+    // relative error of the depth and of `P_xy`.
+    let radius = radius2.sqrt();
+    let slope = 1.0 + radius2 * (3.0 * k1.abs() + 5.0 * k2.abs() * radius2);
+    let terms = focal * slope * (1.0 + radius);
+    let residual = snavely_reprojection_residual(f).norm();
+    check_residual_digits(name, residual, scale / -p_c.z, terms)
 }

@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use crate::{DEGENERACY_TOLERANCE, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::storage::{Layout, Storage, StorageError};
 use factor_core::validation::{exceeds, number_text};
@@ -99,7 +99,9 @@ impl<S: Scalar> Storage<S> for StereoIntrinsics<S> {
 /// - `landmark` `X` in the world: additive.
 ///
 /// Degenerate: the landmark at or behind the camera (`z ≤ 1e-9` times the
-/// largest coordinate of `X − t`, `X` or `t`).
+/// largest coordinate of `X − t`, `X` or `t`), or observed so close to a
+/// far off-axis prediction that the residual loses its digits
+/// ([`crate::check_residual_digits`]).
 #[derive(Debug, Clone, Factor)]
 #[factor(
     residual = stereo_reprojection_residual,
@@ -136,7 +138,8 @@ pub fn stereo_reprojection_residual<S: Scalar>(f: &StereoReprojection<S>) -> Vec
     f.calibration.project(&landmark_in_camera(f)) - f.observed
 }
 
-/// Rejects a landmark at or behind the camera.
+/// Rejects a landmark at or behind the camera, and a residual that has lost
+/// its digits to the depth's rounding.
 pub fn validate_stereo_reprojection(f: &StereoReprojection<f64>) -> Result<(), FactorError> {
     // Only the depth is needed: the third row of `Rᵀ`, i.e. the third
     // column of `R(q)` written from the quaternion (in the homogeneous form
@@ -163,5 +166,15 @@ pub fn validate_stereo_reprojection(f: &StereoReprojection<f64>) -> Result<(), F
             ),
         ));
     }
-    Ok(())
+    // The pixels move by `(|fx| + |s|)(1 + |x/z| + |y/z|) + |fx b/z|` (the
+    // columns) and `|fy| (1 + |y/z|)` (the row) per relative error of the
+    // depth and of `x`, `y`.
+    let p = landmark_in_camera(f);
+    let c = &f.calibration;
+    let (x, y) = ((p.x / depth).abs(), (p.y / depth).abs());
+    let terms = (c.fx.abs() + c.skew.abs()) * (1.0 + x + y)
+        + (c.fx * c.baseline / depth).abs()
+        + c.fy.abs() * (1.0 + y);
+    let residual = stereo_reprojection_residual(f).norm();
+    check_residual_digits(StereoReprojection::NAME, residual, scale / depth, terms)
 }

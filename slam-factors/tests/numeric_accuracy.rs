@@ -50,10 +50,17 @@ fn errors<F: Factor>(factor: &F) -> Option<Vec<(f64, f64)>> {
 
 /// Asserts the accepted blocks are within `bound` of the reference and
 /// within 4 times their estimate; returns how many configurations did not
-/// converge.
+/// converge. Configurations the factor itself rejects (outside its
+/// accuracy envelope, where no method is accurate) are skipped: only the
+/// most extreme ones of a sweep, which starts at its extreme, may be.
 fn check<F: Factor>(label: &str, factors: impl IntoIterator<Item = F>, bound: f64) -> usize {
     let mut refused = 0;
+    let mut invalid = Vec::new();
     for (i, factor) in factors.into_iter().enumerate() {
+        if factor.validate().is_err() {
+            invalid.push(i);
+            continue;
+        }
         let Some(blocks) = errors(&factor) else {
             refused += 1;
             continue;
@@ -69,6 +76,10 @@ fn check<F: Factor>(label: &str, factors: impl IntoIterator<Item = F>, bound: f6
             );
         }
     }
+    assert!(
+        invalid.iter().enumerate().all(|(k, &i)| k == i),
+        "{label}: rejected {invalid:?}"
+    );
     refused
 }
 
@@ -150,7 +161,10 @@ fn near_degenerate_configurations_are_accurate_or_refused() {
         ),
     ];
     // Refused only where the f64 residual is too noisy for the tolerance:
-    // the most extreme configurations of each sweep (measured: 2, 3, 2, 2).
+    // the most extreme configurations of each sweep (measured: 2, 2, 2, 2;
+    // before them, the line sweep's two most extreme, 1e-8 and 3.2e-8 from
+    // the optical centre, are rejected by the factor itself: observed 74 px
+    // from the line, their residuals have lost their digits).
     assert!(
         refused.iter().all(|&r| r <= 3),
         "refused {refused:?} of 17 each"
