@@ -284,7 +284,7 @@ fn errors_name_the_equation_the_symbol_and_the_fragment() {
     );
     assert!(e.starts_with("symbol `a`: cannot read"), "{e}");
     assert!(!e.contains('\n') && !e.contains('\u{1b}'), "{e}");
-    assert!(e.contains("\\u{1b}"), "{e}");
+    assert!(e.contains("\\u001b"), "{e}");
     // A wrong key, an unknown sampler, a missing label, TOML syntax.
     assert!(load_error(NOTE, &symbols_with("\"a\" = { feld = 1 }")).contains("symbol `a`"));
     assert!(
@@ -306,4 +306,48 @@ fn errors_name_the_equation_the_symbol_and_the_fragment() {
         f[0].finding.verdict,
         Verdict::Malformed("a 1 × 2 matrix times a 3 × 1 matrix".into())
     );
+}
+
+/// A symbols file that states no claim audits nothing, so it would pass
+/// any gate: it is refused; too many claims are counted in claims.
+#[test]
+fn an_empty_or_oversized_list_of_claims_is_refused() {
+    for empty in ["", "document = \"notes.md\"\n", "[context.c]\n"] {
+        assert_eq!(
+            load_error(NOTE, empty),
+            "the symbols file states no claim ([[claim]] tables): nothing to audit"
+        );
+    }
+    let claim = "[[claim]]\nid = \"(1)\"\ncontext = \"c\"\nlabel = \"(1)\"\n";
+    let many = format!(
+        "[context.c]\n{}",
+        claim.repeat(factor_audit::from_text::symbols::MAX_CLAIMS + 1)
+    );
+    assert_eq!(
+        load_error(NOTE, &many),
+        "the symbols file states more than 200 claims"
+    );
+}
+
+/// Claim ids come from the symbols file: the terminal table and the
+/// Markdown report show their control and invisible characters escaped.
+#[test]
+fn claim_ids_are_shown_escaped_in_the_reports() {
+    let symbols = symbols_with("\"a\" = \"1\"").replace(
+        "id = \"(1)\"",
+        "id = \"(1)\\u001b[2J\\u0007\\ufeff\\u200b\"",
+    );
+    let findings = TextAudit::load("notes.md", NOTE, &symbols).unwrap().run(5);
+    let table = factor_audit::from_text::report::table(&findings);
+    let markdown = factor_audit::from_text::report::markdown(&findings);
+    for report in [&table, &markdown] {
+        assert!(
+            report.contains("(1)\\u001b[2J\\u0007\\ufeff\\u200b"),
+            "{report}"
+        );
+        assert!(
+            !report.contains(['\u{1b}', '\u{7}', '\u{feff}', '\u{200b}']),
+            "{report}"
+        );
+    }
 }

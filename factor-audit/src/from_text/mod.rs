@@ -126,6 +126,16 @@ pub enum TextError {
         /// The bound.
         limit: usize,
     },
+    /// The symbols file states more claims than an audit takes.
+    #[error("the symbols file states more than {limit} claims")]
+    TooManyClaims {
+        /// The bound.
+        limit: usize,
+    },
+    /// The symbols file states no claim: an audit of nothing would pass
+    /// any gate.
+    #[error("the symbols file states no claim ([[claim]] tables): nothing to audit")]
+    NoClaims,
     /// The symbols file is not valid TOML, or not in the expected shape.
     #[error("symbols file{}: {message}", line.map(|l| format!(", line {l}")).unwrap_or_default())]
     Toml {

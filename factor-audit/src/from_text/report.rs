@@ -45,6 +45,13 @@ impl TextFinding {
     }
 }
 
+/// Text from the document or the symbols file (a claim id, a file name,
+/// a note quoting them) as one printable line: control, separator and
+/// format characters escaped (`slamjac_io::printable`).
+fn shown(text: &str) -> std::borrow::Cow<'_, str> {
+    slamjac_io::printable::escape(text)
+}
+
 /// A fixed-width table for the terminal, one row per formula.
 pub fn table(findings: &[TextFinding]) -> String {
     let mut out = String::new();
@@ -66,12 +73,12 @@ pub fn table(findings: &[TextFinding]) -> String {
         let _ = writeln!(
             out,
             "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}",
-            f.label.document,
-            f.label.equation,
+            shown(&f.label.document),
+            shown(&f.label.equation),
             t.line,
             f.verdict.keyword(),
             error,
-            t.note(),
+            shown(&t.note()),
             expected
         );
     }
@@ -84,7 +91,7 @@ pub fn markdown(findings: &[TextFinding]) -> String {
     let mut out = String::from(
         "# Derivation audit from the document's text\n\n| document | equation | line | verdict | max relative error | note |\n| --- | --- | --- | --- | --- | --- |\n",
     );
-    let cell = |s: &str| s.replace('|', "\\|");
+    let cell = |s: &str| shown(s).replace('|', "\\|");
     for t in findings {
         let f = &t.finding;
         let _ = writeln!(
@@ -104,8 +111,8 @@ pub fn markdown(findings: &[TextFinding]) -> String {
         let _ = write!(
             out,
             "\n## {} {} (line {})\n\n{}\n\nAs printed:\n\n```latex\n{}\n```\n\nAs understood:\n\n$$\n{}\n$$\n\n- convention: {}\n- verdict: **{}** {}\n",
-            f.label.document,
-            f.label.equation,
+            shown(&f.label.document),
+            shown(&f.label.equation),
             t.line,
             f.label.claim,
             t.quote,

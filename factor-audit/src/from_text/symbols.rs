@@ -293,22 +293,13 @@ impl SymbolSpec {
     }
 }
 
-/// `s` on one line: runs of white space become one space, other control
-/// characters are escaped (`\u{1b}`), so an error quoting the input keeps its
+/// `s` on one line: runs of white space become one space, other
+/// unprintable characters are escaped (`\u001b`, `\ufeff`:
+/// `slamjac_io::printable`), so an error quoting the input keeps its
 /// one-line shape and cannot drive a terminal.
 pub fn one_line(s: &str) -> String {
-    s.split_whitespace()
-        .collect::<Vec<_>>()
-        .join(" ")
-        .chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_unicode().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+    let collapsed = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    slamjac_io::printable::escape(&collapsed).into_owned()
 }
 
 impl SymbolsFile {
@@ -330,10 +321,10 @@ impl SymbolsFile {
             }
         })?;
         if file.claims.len() > MAX_CLAIMS {
-            return Err(TextError::TooLarge {
-                what: "list of claims",
-                limit: MAX_CLAIMS,
-            });
+            return Err(TextError::TooManyClaims { limit: MAX_CLAIMS });
+        }
+        if file.claims.is_empty() {
+            return Err(TextError::NoClaims);
         }
         Ok(file)
     }
