@@ -389,8 +389,9 @@ impl GeneratedCrate {
     }
 
     /// Writes the crate's sources under `dir/src` (created if missing):
-    /// files whose contents differ are rewritten, `.rs` files that are not
-    /// generated are removed. Nothing outside `src/` is touched.
+    /// files whose contents differ are rewritten (each to a temporary file
+    /// renamed into place), `.rs` files that are not generated are removed.
+    /// Nothing outside `src/` is touched.
     ///
     /// # Errors
     ///
@@ -433,7 +434,9 @@ fn write_crate(dir: &Path, files: &[(String, String)]) -> io::Result<()> {
     for (name, contents) in files {
         let path = src.join(name);
         if std::fs::read(&path).ok().as_deref() != Some(contents.as_bytes()) {
-            std::fs::write(&path, contents)?;
+            // A temporary file renamed into place: an interrupted or failed
+            // write leaves the old source whole.
+            slamjac_io::atomic::write(&path, contents)?;
         }
     }
     for path in rust_files(&src)? {
