@@ -21,7 +21,15 @@
 //! above the scale on which the residual is smooth, quotients can agree by
 //! chance. A column the tableau cannot trust on its own, because its
 //! quotients are noise, is judged again against the size of its block
-//! (changes negligible for the block count as converged). A step at which
+//! (changes negligible for the block count as converged). A column whose
+//! quotients are all within their rounding floor over the first steps is
+//! zero to within rounding (a zero column is a legitimate Jacobian: a line's
+//! residual does not change as the camera moves along the normal of its
+//! interpretation plane), returned as 0 with that rounding as its absolute
+//! error; a block made only of such columns counts as converged. (Before,
+//! such a column's noise, or an exactly zero quotient taken for a step too
+//! small to resolve, refused a line 1 m from the camera at some focal
+//! lengths and not others.) A step at which
 //! the factor cannot be evaluated (it crossed a degeneracy, such as the image
 //! plane for a point near the camera) restarts the tableau below it, so no
 //! configuration the exact methods accept is refused for a step's sake.
@@ -65,6 +73,14 @@ const SAFE: f64 = 2.0;
 /// See [`SAFE`].
 const STALL: usize = 4;
 
+/// A quotient within this many times its rounding floor is rounding alone
+/// (the same margin the asymptotic test gives "differ by rounding only").
+const ROUNDING: f64 = 4.0;
+
+/// Rows of quotients all within their rounding floor after which a column
+/// with no trusted estimate is taken as zero to within rounding.
+const ZERO_ROWS: usize = STALL + 2;
+
 /// Residual and Jacobians by numerical differentiation, with the estimated
 /// error of every Jacobian column.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,6 +90,14 @@ pub struct NumericLinearization {
     /// Per variable, the estimated error of each Jacobian column (Euclidean
     /// norm over the residual rows), in the tangent's order.
     pub column_errors: Vec<DVector<f64>>,
+    /// Per variable, whether each column was found zero to within rounding:
+    /// every difference quotient, over [`ZERO_ROWS`] steps from the first,
+    /// within its rounding floor. Its value is then 0 and its error
+    /// estimate absolute: the largest of those quotients and floors. (A
+    /// zero column is a legitimate Jacobian: the residual of a line does
+    /// not change as the camera moves along the normal of its
+    /// interpretation plane, for one.)
+    pub zero_columns: Vec<Vec<bool>>,
 }
 
 impl NumericLinearization {
@@ -83,15 +107,19 @@ impl NumericLinearization {
     }
 
     /// The estimated error of block `k` relative to the block (Frobenius):
-    /// 0 for an exact zero block, infinite for an uncertain one.
+    /// 0 for an exact zero block and for a block whose every column is zero
+    /// to within rounding (an absolute criterion: their estimates are the
+    /// rounding of the residual itself, [`NumericLinearization::zero_columns`]),
+    /// infinite for an uncertain one.
     pub fn relative_block_error(&self, k: usize) -> f64 {
         let error = self.block_error(k);
-        if error == 0.0 {
+        let block = scaled_norm(&self.linearization.jacobians[k]);
+        if error == 0.0 || (block == 0.0 && self.zero_columns[k].iter().all(|z| *z)) {
             0.0
         } else if error.is_infinite() {
             f64::INFINITY
         } else {
-            error / scaled_norm(&self.linearization.jacobians[k])
+            error / block
         }
     }
 }
@@ -112,8 +140,12 @@ enum Step {
 struct Column {
     value: DVector<f64>,
     error: f64,
-    /// Whether `error` comes from rows in the asymptotic regime.
+    /// Whether `error` comes from rows in the asymptotic regime, or from
+    /// rows that are all rounding (`zero`).
     trusted: bool,
+    /// Whether every quotient was within its rounding floor: the column is
+    /// zero to within rounding.
+    zero: bool,
 }
 
 /// One Jacobian column of `rows` entries by Ridders' extrapolation over the
@@ -128,7 +160,12 @@ struct Column {
 /// per row) unless they differ by rounding only, or by a negligible amount
 /// for the block. A step far above the scale on which the residual is
 /// smooth gives quotients of no pattern, which can agree by chance. Without
-/// a trusted entry the error is bounded by the largest quotient seen.
+/// a trusted entry the error is bounded by the largest quotient seen, unless
+/// every quotient over [`ZERO_ROWS`] steps from the first lies within its
+/// rounding floor: then the column is zero to within rounding (a derivative
+/// larger than that would show above the floor at the largest steps), with
+/// the largest of those quotients and floors as its error. An exactly zero
+/// quotient is then no sign that the residual stopped resolving the step.
 fn ridders_column(
     rows: usize,
     first_step: f64,
@@ -147,6 +184,10 @@ fn ridders_column(
     let mut previous_change: Option<f64> = None;
     let mut asymptotic_run = 0;
     let mut seen_nonzero = false;
+    // While every quotient is rounding: how many, and the largest of them
+    // and their floors.
+    let (mut rounding_rows, mut rounding_error) = (0, 0.0_f64);
+    let mut all_rounding = true;
     let mut stalled = 0;
     let mut h = first_step;
     for _ in 0..MAX_STEPS {
@@ -164,7 +205,14 @@ fn ridders_column(
             }
         };
         let zero = quotient.iter().all(|x| *x == 0.0);
-        if zero && seen_nonzero {
+        all_rounding &= quotient.norm() <= ROUNDING * floor;
+        if all_rounding {
+            rounding_rows += 1;
+            rounding_error = rounding_error.max(quotient.norm()).max(floor);
+            if rounding_rows >= ZERO_ROWS && trusted.is_none() {
+                break;
+            }
+        } else if zero && seen_nonzero {
             // The residual no longer resolves the step: smaller ones only lose more.
             break;
         }
@@ -219,7 +267,16 @@ fn ridders_column(
         value,
         error,
         trusted,
+        zero: false,
     };
+    if trusted.is_none() && all_rounding && rounding_rows >= ZERO_ROWS {
+        return Ok(Column {
+            value: DVector::zeros(rows),
+            error: rounding_error,
+            trusted: true,
+            zero: true,
+        });
+    }
     match (trusted, untrusted, last_error) {
         (Some(best), _, _) => Ok(column(best, true)),
         (None, Some((value, error)), _) => Ok(column((value, error.max(largest_quotient)), false)),
@@ -290,6 +347,7 @@ fn linearize_numeric<F: Factor>(factor: &F) -> Result<NumericLinearization, Fact
     let variables = F::variables();
     let mut jacobians = Vec::with_capacity(variables.len());
     let mut column_errors = Vec::with_capacity(variables.len());
+    let mut zero_columns = Vec::with_capacity(variables.len());
     for (index, variable) in variables.iter().enumerate() {
         let scale = variable_scale::<F>(&stored, index);
         let dim = variable.tangent_dim;
@@ -357,6 +415,7 @@ fn linearize_numeric<F: Factor>(factor: &F) -> Result<NumericLinearization, Fact
         }
         jacobians.push(matrix);
         column_errors.push(DVector::from_iterator(dim, columns.iter().map(|c| c.error)));
+        zero_columns.push(columns.iter().map(|c| c.zero).collect());
     }
     let names: Vec<&str> = variables.iter().map(|v| v.name).collect();
     let numeric = NumericLinearization {
@@ -366,6 +425,7 @@ fn linearize_numeric<F: Factor>(factor: &F) -> Result<NumericLinearization, Fact
         }
         .ensure_finite(F::NAME, &names)?,
         column_errors,
+        zero_columns,
     };
     for (k, variable) in variables.iter().enumerate() {
         let estimate = numeric.relative_block_error(k);
