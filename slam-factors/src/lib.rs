@@ -90,7 +90,8 @@ pub(crate) fn check_residual_digits(
     terms: f64,
 ) -> Result<(), FactorError> {
     let rounding = DEGENERACY_TOLERANCE * conditioning * terms;
-    if exceeds(residual.max(1.0), rounding) {
+    // A residual that overflows is the evaluation's to report (non-finite).
+    if !(residual.is_finite() && rounding.is_finite()) || exceeds(residual.max(1.0), rounding) {
         return Ok(());
     }
     Err(degenerate(
