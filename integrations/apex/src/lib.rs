@@ -5,6 +5,8 @@
 //!   kernel ([`Kernels::Generated`]) or dual numbers ([`Kernels::Dual`]);
 //! - [`variables`]: which apex manifold each factor variable is and how
 //!   apex's parameter blocks map to the kernels' input arrays;
+//! - [`losses`]: robust losses that keep their digits (Cauchy's, whose
+//!   apex-solver version rounds its cost to 0 for a large δ);
 //! - [`problems`]: BAL, Bundler, g2o, EDGE3 and KITTI VO problems (crate
 //!   `slam-data`) built as apex problems, with this project's factors or,
 //!   for comparison, apex's own, and the optimized values written back;
@@ -29,6 +31,7 @@
 //! factor whose poses are in another chart is refused by [`ApexFactor::new`].
 
 pub mod adapter;
+pub mod losses;
 pub mod problems;
 pub mod solve;
 pub mod timing;

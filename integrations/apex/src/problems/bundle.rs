@@ -9,7 +9,7 @@ use apex_solver::{ManifoldType, apex_camera_models::CameraModelError};
 use factor_core::Factor;
 use factor_core::lie::{Se3, Se3RhoTheta, So3};
 use nalgebra::{Rotation3, Vector2, Vector3};
-use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics, ordinal};
 use slam_factors::{RadialIntrinsics, SnavelyReprojection};
 use std::sync::Arc;
 
@@ -103,8 +103,10 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
                 let factor = factor_of(bal, k);
                 factor.validate().map_err(|error| BuildError::Degenerate {
                     which: format!(
-                        "observation {k} (camera {}, point {}) at the initial values",
-                        o.camera, o.point
+                        "{} (camera index {}, point index {}) at the initial values",
+                        ordinal("observation", k, bal.observations.len()),
+                        o.camera,
+                        o.point
                     ),
                     error,
                 })?;

@@ -27,7 +27,7 @@ use std::str::FromStr;
 use std::sync::Arc;
 
 use apex_solver::core::VarKey;
-use apex_solver::core::loss_functions::{CauchyLoss, HuberLoss, LossFunction};
+use apex_solver::core::loss_functions::{HuberLoss, LossFunction};
 use apex_solver::core::problem::Problem;
 use apex_solver::core::variable::ManifoldVariable;
 use apex_solver::factors::Factor;
@@ -37,6 +37,7 @@ use factor_core::FactorError;
 use slotmap::SlotMap;
 
 use crate::adapter::{Kernels, Rejections};
+use crate::losses::Cauchy;
 use crate::timing::{Marks, PhaseClock, Timed};
 
 /// The factors a problem is built with.
@@ -68,15 +69,23 @@ pub enum Robust {
 }
 
 impl Robust {
-    /// apex-solver's loss.
+    /// The loss served to apex-solver: apex's Huber, this crate's Cauchy
+    /// (apex's rounds its cost to 0 for a large δ: see [`crate::losses`]).
     fn loss(self) -> Result<Box<dyn LossFunction + Send + Sync>, BuildError> {
-        let loss: Result<Box<dyn LossFunction + Send + Sync>, _> = match self {
-            Robust::Huber(delta) => HuberLoss::new(delta).map(|l| Box::new(l) as _),
-            Robust::Cauchy(delta) => CauchyLoss::new(delta).map(|l| Box::new(l) as _),
-        };
-        loss.map_err(|e| BuildError::Solver(e.to_string()))
+        match self {
+            Robust::Huber(delta) => HuberLoss::new(delta)
+                .map(|l| Box::new(l) as _)
+                .map_err(|e| BuildError::Solver(e.to_string())),
+            Robust::Cauchy(delta) => Cauchy::new(delta)
+                .map(|l| Box::new(l) as _)
+                .map_err(BuildError::Solver),
+        }
     }
 }
+
+/// The range of a robust loss's δ: the readers' range of magnitudes
+/// (`slam_data::MAX_MAGNITUDE`), so that `δ²` stays within `f64`.
+pub const ROBUST_SCALES: (f64, f64) = (1e-100, 1e100);
 
 /// `huber:δ` or `cauchy:δ`.
 impl fmt::Display for Robust {
@@ -88,18 +97,21 @@ impl fmt::Display for Robust {
     }
 }
 
-/// Reads `huber:δ` or `cauchy:δ` with a finite `δ > 0`.
+/// Reads `huber:δ` or `cauchy:δ` with `δ` in [`ROBUST_SCALES`].
 impl FromStr for Robust {
     type Err = String;
     fn from_str(text: &str) -> Result<Self, String> {
         let (name, delta) = text
             .split_once(':')
             .ok_or_else(|| format!("`{text}`: expected huber:δ or cauchy:δ"))?;
+        let (low, high) = ROBUST_SCALES;
         let delta: f64 = delta
             .parse()
             .ok()
-            .filter(|d: &f64| d.is_finite() && *d > 0.0)
-            .ok_or_else(|| format!("`{text}`: δ must be a finite number above 0"))?;
+            .filter(|d: &f64| (low..=high).contains(d))
+            .ok_or_else(|| {
+                format!("`{text}`: δ must be a number above 0, from {low:e} to {high:e}")
+            })?;
         match name {
             "huber" => Ok(Robust::Huber(delta)),
             "cauchy" => Ok(Robust::Cauchy(delta)),
@@ -184,6 +196,9 @@ pub struct Built {
 /// validated as they are built), data that cannot make a problem, factors
 /// apex does not have for it, or apex's refusal.
 pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built, BuildError> {
+    if let Some(empty) = nothing_to_solve(data) {
+        return Err(BuildError::Data(empty));
+    }
     match data {
         slam_data::Problem::Bal(bal) => bundle::build(bal, options),
         slam_data::Problem::Bundler(bundler) => bundle::build(&bundler.to_bal(), options),
@@ -192,6 +207,18 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
         }
         slam_data::Problem::KittiVo(vo) => stereo::build(vo, options),
     }
+}
+
+/// Why `data` has nothing to solve, if it has not: no observation or no
+/// edge makes a cost that is identically 0, with no step to take.
+fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
+    let (blocks, what) = match data {
+        slam_data::Problem::Bal(p) => (p.observations.len(), "observations"),
+        slam_data::Problem::Bundler(p) => (p.observations.len(), "observations"),
+        slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => (g.edges.len(), "edges"),
+        slam_data::Problem::KittiVo(vo) => (vo.observations.len(), "observations"),
+    };
+    (blocks == 0).then(|| format!("nothing to solve: the problem has no {what}"))
 }
 
 impl Built {

@@ -10,7 +10,7 @@ use apex_solver::manifold::LieGroup;
 use apex_solver::{ManifoldType, NoiseModel, SE3};
 use factor_core::Factor;
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
-use slam_data::{Edge, Pose, PoseGraph, Rotation, Vertex};
+use slam_data::{Edge, Pose, PoseGraph, Rotation, Vertex, ordinal};
 use slam_factors::{BetweenFactor, SqrtInformation6};
 
 use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
@@ -84,8 +84,10 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
             (Some(i), Some(j)) => (*i, *j),
             _ => {
                 return Err(BuildError::Data(format!(
-                    "edge {index} joins poses {} and {}, not both initialised",
-                    e.from, e.to
+                    "{} joins poses {} and {}, not both initialised",
+                    ordinal("edge", index, graph.edges.len()),
+                    e.from,
+                    e.to
                 )));
             }
         };
@@ -93,7 +95,12 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
         match options.factors {
             FactorChoice::Ours(kernels) => {
                 factor.validate().map_err(|error| BuildError::Degenerate {
-                    which: format!("edge {index} ({} → {}) at the initial values", e.from, e.to),
+                    which: format!(
+                        "{} (pose {} → pose {}) at the initial values",
+                        ordinal("edge", index, graph.edges.len()),
+                        e.from,
+                        e.to
+                    ),
                     error,
                 })?;
                 let served =

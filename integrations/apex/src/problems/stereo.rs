@@ -10,7 +10,7 @@ use apex_solver::linalg::LinearSolverType;
 use factor_core::Factor;
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use nalgebra::Vector3;
-use slam_data::{CameraPose, StereoCalibration, StereoObservation, StereoVo};
+use slam_data::{CameraPose, StereoCalibration, StereoObservation, StereoVo, ordinal};
 use slam_factors::{StereoIntrinsics, StereoReprojection};
 
 use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
@@ -124,8 +124,10 @@ pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, Buil
                 (FactorChoice::Ours(kernels), _) => {
                     factor.validate().map_err(|error| BuildError::Degenerate {
                         which: format!(
-                            "observation {k} (pose {}, landmark {}) at the initial values",
-                            o.pose, o.landmark
+                            "{} (pose {}, landmark {}) at the initial values",
+                            ordinal("observation", k, vo.observations.len()),
+                            o.pose,
+                            o.landmark
                         ),
                         error,
                     })?;
