@@ -74,7 +74,7 @@ pub(crate) fn one_line(text: &str) -> String {
 /// Item `index` (from 0) of `count` in words, counted from 1 as every
 /// message of the readers counts: `ordinal("camera", 0, 3)` is
 /// `camera 1 of 3`. Indices and ids written in a file are shown as written.
-pub(crate) fn ordinal(item: &str, index: usize, count: usize) -> String {
+pub fn ordinal(item: &str, index: usize, count: usize) -> String {
     format!("{item} {} of {count}", index + 1)
 }
 

@@ -108,7 +108,7 @@ pub use bal::{BalCamera, BalProblem, Observation};
 pub use bundler::{BundlerCamera, BundlerObservation, BundlerPoint, BundlerProblem};
 pub use camera::{SnavelyCamera, SnavelyIntrinsics};
 pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
-pub use error::Error;
+pub use error::{Error, ordinal};
 pub use format::{Format, SNIFF_BYTES, UnknownFormat};
 pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
 pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};

@@ -90,10 +90,11 @@ impl Problem {
     }
 
     /// The files [`Problem::write`] writes for `path`, a problem in
-    /// `format`: the three files of a KITTI VO problem ([`VoFiles::named`]),
-    /// else `path` itself. Nothing is written.
-    pub fn files_written(path: &Path, format: Format) -> Result<Vec<PathBuf>, Error> {
-        if format == Format::KittiVo {
+    /// `format` (`None`: a format of one file, not yet told): the three
+    /// files of a KITTI VO problem ([`VoFiles::named`]), else `path`
+    /// itself. Nothing is written.
+    pub fn files_written(path: &Path, format: Option<Format>) -> Result<Vec<PathBuf>, Error> {
+        if format == Some(Format::KittiVo) {
             Ok(VoFiles::named(path)?.all().map(Path::to_path_buf).into())
         } else {
             Ok(vec![path.to_path_buf()])

@@ -119,8 +119,8 @@ impl SyntheticConfig {
         self.points.checked_mul(self.views_per_point)
     }
 
-    /// Fails, saying why, unless the problem can be generated: counts
-    /// within [`MAX_CAMERAS`] and [`MAX_OBSERVATIONS`] (checked before
+    /// Fails, saying why, unless the problem can be generated: at least one
+    /// point, counts within [`MAX_CAMERAS`] and [`MAX_OBSERVATIONS`] (checked before
     /// anything is allocated), views from 2 to the cameras, standard
     /// deviations finite and not negative, the outlier fraction in `[0, 1]`.
     pub fn check(&self) -> Result<(), SyntheticError> {
@@ -130,6 +130,9 @@ impl SyntheticConfig {
                 "the number of cameras must be from 2 to {MAX_CAMERAS}, not {}",
                 self.cameras
             ));
+        }
+        if self.points == 0 {
+            return fail("at least 1 point is needed, not 0".into());
         }
         if !(2..=self.cameras).contains(&self.views_per_point) {
             return fail(format!(
