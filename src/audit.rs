@@ -6,7 +6,10 @@ use std::path::Path;
 use factor_audit::{Finding, audit_documents, report};
 use serde_json::{Value, json};
 
+use slamjac_io::Role;
+
 use crate::error::{CliError, InputError};
+use crate::outputs;
 
 /// The most sampled points per formula `audit` accepts. The samples are
 /// streamed (memory does not grow with them), so the bound is on time: a run
@@ -38,16 +41,13 @@ pub fn run(
     json: Option<&Path>,
 ) -> Result<String, CliError> {
     check_samples(samples)?;
+    outputs::check(&[], &report_roles(markdown, json))?;
     let findings = audit_documents(samples);
-    let write = |path: &Path, text: String| {
-        std::fs::write(path, text)
-            .map_err(|e| CliError::from(InputError::new(path.display().to_string(), e.to_string())))
-    };
     if let Some(path) = markdown {
-        write(path, report::markdown(&findings))?;
+        outputs::write(path, report::markdown(&findings))?;
     }
     if let Some(path) = json {
-        write(path, json_report(&findings))?;
+        outputs::write(path, json_report(&findings))?;
     }
     let table = report::table(&findings);
     let unexpected: Vec<String> = findings
@@ -65,6 +65,13 @@ pub fn run(
         let _ = write!(std::io::stdout().lock(), "{table}");
         Err(CliError::Disagreement(unexpected))
     }
+}
+
+/// The report files asked for, as `--markdown` and `--json`.
+pub fn report_roles<'a>(markdown: Option<&'a Path>, json: Option<&'a Path>) -> Vec<Role<'a>> {
+    let markdown = markdown.map(|p| Role::new("--markdown", p));
+    let json = json.map(|p| Role::new("--json", p));
+    markdown.into_iter().chain(json).collect()
 }
 
 /// One object per formula (see [`finding_json`]).

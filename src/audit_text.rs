@@ -9,8 +9,11 @@ use factor_audit::from_text::report::{self, TextFinding};
 use factor_audit::from_text::{TextAudit, TextError};
 use serde_json::{Value, json};
 
-use crate::audit::{check_samples, finding_json};
+use slamjac_io::Role;
+
+use crate::audit::{check_samples, finding_json, report_roles};
 use crate::error::{CliError, InputError};
+use crate::outputs;
 use crate::source::{read_source, source_name};
 
 /// Audits the claims the symbols file states about the document at
@@ -26,6 +29,13 @@ pub fn run(
     json: Option<&Path>,
 ) -> Result<String, CliError> {
     check_samples(samples)?;
+    outputs::check(
+        &[
+            Role::new("DOCUMENT", document),
+            Role::new("--symbols", symbols),
+        ],
+        &report_roles(markdown, json),
+    )?;
     let (doc_path, sym_path) = (
         document.display().to_string(),
         symbols.display().to_string(),
@@ -46,15 +56,11 @@ pub fn run(
         InputError::new(source_name(at), e.to_string())
     })?;
     let findings = audit.run(samples);
-    let write = |path: &Path, text: String| {
-        std::fs::write(path, text)
-            .map_err(|e| CliError::from(InputError::new(path.display().to_string(), e.to_string())))
-    };
     if let Some(path) = markdown {
-        write(path, report::markdown(&findings))?;
+        outputs::write(path, report::markdown(&findings))?;
     }
     if let Some(path) = json {
-        write(path, json_report(&findings))?;
+        outputs::write(path, json_report(&findings))?;
     }
     let table = report::table(&findings);
     let unexpected: Vec<String> = findings

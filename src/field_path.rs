@@ -15,53 +15,22 @@
 
 use std::borrow::Cow;
 
+pub use slamjac_io::printable::{escape as escape_unprintable, is_unprintable};
+
 /// How many characters of a key, string or literal from the input an error shows.
 pub const MAX_SHOWN_CHARS: usize = 64;
 
-/// Whether `c` would break a one-line message or steer a terminal: the
-/// control characters (C0, DEL and C1, such as U+0085), the line and paragraph
-/// separators U+2028 and U+2029, and the bidirectional controls.
-pub fn is_unprintable(c: char) -> bool {
-    c.is_control()
-        || matches!(
-            c,
-            '\u{2028}'
-                | '\u{2029}'
-                | '\u{061c}'
-                | '\u{200e}'
-                | '\u{200f}'
-                | '\u{202a}'..='\u{202e}'
-                | '\u{2066}'..='\u{2069}'
-        )
-}
-
-/// Pushes `c` JSON-escaped: unprintable characters always, `"` and `\` when
-/// `quoting` (inside a quoted string).
+/// Pushes `c` JSON-escaped: unprintable characters always
+/// ([`is_unprintable`]: controls, separators, format characters such as a
+/// byte-order mark or a zero-width space), `"` and `\` when `quoting`
+/// (inside a quoted string).
 fn push_escaped(out: &mut String, c: char, quoting: bool) {
-    match c {
-        '\n' => out.push_str("\\n"),
-        '\r' => out.push_str("\\r"),
-        '\t' => out.push_str("\\t"),
-        '"' | '\\' if quoting => {
-            out.push('\\');
-            out.push(c);
-        }
-        c if is_unprintable(c) => out.push_str(&format!("\\u{:04x}", u32::from(c))),
-        c => out.push(c),
+    if quoting && matches!(c, '"' | '\\') {
+        out.push('\\');
+        out.push(c);
+    } else {
+        slamjac_io::printable::push(out, c);
     }
-}
-
-/// `text` with its unprintable characters escaped (and nothing else): the
-/// last guard that keeps a message on one printable line.
-pub fn escape_unprintable(text: &str) -> Cow<'_, str> {
-    if !text.chars().any(is_unprintable) {
-        return Cow::Borrowed(text);
-    }
-    let mut out = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        push_escaped(&mut out, c, false);
-    }
-    Cow::Owned(out)
 }
 
 /// `text` cut after [`MAX_SHOWN_CHARS`] characters, the cut marked with `…`.
@@ -135,6 +104,7 @@ mod tests {
             ("\u{7f}\u{85}", r#""\u007f\u0085""#),
             ("\u{2028}\u{2029}", r#""\u2028\u2029""#),
             ("\u{202e}evil", r#""\u202eevil""#),
+            ("\u{feff}x\u{200b}", r#""\ufeffx\u200b""#),
             ("say \"hi\" \\", r#""say \"hi\" \\""#),
             ("ü", "\"ü\""),
         ];

@@ -233,7 +233,7 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
     if new_crate {
         let manifest = dir.join("Cargo.toml");
         std::fs::create_dir_all(&dir)
-            .and_then(|()| std::fs::write(&manifest, STANDALONE_MANIFEST))
+            .and_then(|()| slamjac_io::atomic::write(&manifest, STANDALONE_MANIFEST))
             .map_err(cannot_write)?;
         lines.push(format!("new crate: wrote {}", manifest.display()));
     }

@@ -22,6 +22,8 @@
 //! - [`audit`]: `audit` of the documents' derivations;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
 //! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
+//! - [`outputs`]: the files a command writes, checked before any work;
+//! - [`usage`]: clap's usage errors as one line;
 //! - `solve` (feature `solve`): real estimation problems solved by
 //!   apex-solver through the factors' generated kernels;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
@@ -38,6 +40,7 @@ pub mod input;
 pub mod kernels;
 pub mod list;
 pub mod method;
+pub mod outputs;
 pub mod pretty;
 pub mod registry;
 #[cfg(feature = "solve")]
@@ -45,6 +48,7 @@ pub mod solve;
 pub mod source;
 pub mod strict_json;
 pub mod synth;
+pub mod usage;
 pub mod w_first;
 
 pub use error::{CliError, InputError};

@@ -24,6 +24,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use slamjac::usage::{self, Output};
 use slamjac::{CliError, Method, audit, audit_text, eval, generate, list, pretty, synth};
 
 #[derive(Debug, Parser)]
@@ -88,6 +89,7 @@ enum Command {
     /// a known erratum disagrees. With a DOCUMENT and --symbols, audit that
     /// Markdown/LaTeX document straight from its text instead; exit 1 when
     /// a verdict is not the one the symbols file expects.
+    #[command(allow_negative_numbers = true)]
     Audit {
         /// A Markdown/LaTeX document to audit from its text (needs
         /// --symbols); without it, the transcribed formulas of the two
@@ -114,6 +116,7 @@ enum Command {
     /// the first pose fixed), stereo visual odometry (KITTI VO files: the
     /// first pose fixed). Prints a line per iteration and a summary. Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
+    #[command(allow_negative_numbers = true)]
     Solve {
         /// The data file; a KITTI VO problem is named by any of its three
         /// `VO_*.txt` files.
@@ -142,9 +145,11 @@ enum Command {
     },
     /// Write a seeded synthetic bundle-adjustment problem as a BAL file:
     /// cameras on a ring looking at a ball of points, Gaussian pixel noise,
-    /// uniform outliers, perturbed initial values.
+    /// uniform outliers, perturbed initial values. The file is streamed:
+    /// only the cameras are held in memory.
+    #[command(allow_negative_numbers = true)]
     SynthBal {
-        /// Cameras (at least 2).
+        /// Cameras (2 to 1000000).
         #[arg(long)]
         cameras: usize,
         /// Points.
@@ -234,7 +239,17 @@ fn solve(
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            let (output, code) = usage::report(&error);
+            match output {
+                Output::Stdout(text) => print!("{text}"),
+                Output::Stderr(line) => eprintln!("{line}"),
+            }
+            return ExitCode::from(code);
+        }
+    };
     let output = match cli.command {
         Command::Eval { file, method } => eval::run(&file, method),
         Command::List { json: true } => Ok(pretty::to_string(&list::json())),

@@ -1,13 +1,15 @@
 //! `slamjac synth-bal`: a seeded synthetic bundle-adjustment problem with
-//! realistic noise and outliers, written as a BAL file (the generator is
-//! `slam_data::synthetic`).
+//! realistic noise and outliers, streamed to a BAL file (the generator is
+//! `slam_data::synthetic`: memory holds the cameras, at most 10⁶, whatever
+//! the number of points).
 
 use std::path::Path;
 
-use slam_data::bal;
-use slam_data::synthetic::{SyntheticConfig, generate};
+use slam_data::synthetic::{self, SyntheticConfig};
+use slamjac_io::Role;
 
 use crate::error::CliError;
+use crate::outputs;
 
 /// What to generate, as the command line gives it.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,12 +28,16 @@ pub struct SynthArgs {
     pub noise: f64,
 }
 
-/// Generates the problem, writes it to `output` and describes it in one line.
+/// Checks the settings and the output path, then streams the problem to
+/// `output` (only the cameras are held in memory) and describes it in one
+/// line. Nothing is written, and an existing file is left as it was, when
+/// anything fails.
 ///
 /// # Errors
 ///
-/// Settings the generator refuses ([`CliError::Usage`]), or the file cannot
-/// be written ([`CliError::Data`]).
+/// Settings the generator refuses, or an output that cannot be written
+/// ([`CliError::Usage`], before anything is generated); a generated value
+/// a reader would refuse or a failed write ([`CliError::Data`]).
 pub fn run(args: &SynthArgs, output: &Path) -> Result<String, CliError> {
     let config = SyntheticConfig {
         cameras: args.cameras,
@@ -42,16 +48,16 @@ pub fn run(args: &SynthArgs, output: &Path) -> Result<String, CliError> {
         outlier_fraction: args.outliers,
         ..SyntheticConfig::with_observations(0, args.seed)
     };
-    let synthetic = generate(&config).map_err(|e| CliError::Usage(e.to_string()))?;
-    bal::write(&synthetic.problem, output)?;
-    let p = &synthetic.problem;
+    config.check().map_err(|e| CliError::Usage(e.to_string()))?;
+    outputs::check(&[], &[Role::new("--output", output)])?;
+    let written = synthetic::write(&config, output)?;
     Ok(format!(
         "wrote {}: {} cameras, {} points, {} observations ({} outliers), seed {}",
         output.display(),
-        p.cameras.len(),
-        p.points.len(),
-        p.observations.len(),
-        synthetic.outliers.len(),
+        written.cameras,
+        written.points,
+        written.observations,
+        written.outliers,
         args.seed
     ))
 }

@@ -22,6 +22,9 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
+mod common;
+use common::Rng;
+
 /// A run slower than this is a hang or a blow-up (see the module docs).
 const CASE_TIMEOUT: Duration = Duration::from_secs(10);
 /// The input cap of `slamjac eval` (`slamjac::input::MAX_INPUT_BYTES`).
@@ -90,9 +93,20 @@ fn eval(input: &[u8], label: &str) -> Run {
     run(&["eval", "-"], input, label)
 }
 
-/// Whether `c` would break a one-line message or drive a terminal.
+/// Whether `c` would break a one-line message, drive a terminal or print
+/// nothing (a byte-order mark, a zero-width character, a soft hyphen).
 fn unprintable(c: char) -> bool {
-    c.is_control() || matches!(c, '\u{2028}' | '\u{2029}' | '\u{202a}'..='\u{202e}')
+    c.is_control()
+        || matches!(
+            c,
+            '\u{2028}'
+                | '\u{2029}'
+                | '\u{202a}'..='\u{202e}'
+                | '\u{feff}'
+                | '\u{200b}'..='\u{200f}'
+                | '\u{2060}'..='\u{2064}'
+                | '\u{ad}'
+        )
 }
 
 /// Whether a message shows `NaN` or an infinity as a number: no input
@@ -245,28 +259,6 @@ fn the_input_cap_is_exact() {
         &["error: <stdin>: input is larger than 16 MiB (16777216 bytes)"],
         "over the cap",
     );
-}
-
-/// SplitMix64: a small seeded generator, so that every run fuzzes the same cases.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..n` (`n > 0`).
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
 }
 
 /// Text spliced into inputs: JSON that is hostile to a reader, and bytes that are not JSON.
@@ -647,6 +639,108 @@ fn every_number_scaled_keeps_the_contract() {
             for method in ["generated", "numeric"] {
                 eval_value(&input, method, &format!("{name} × {scale:e} ({method})"));
             }
+        }
+    }
+}
+
+/// Values given to `synth-bal`'s options: counts at and beyond every cap and
+/// type limit, negative, non-finite and malformed numbers, and text with
+/// characters that must not reach the terminal raw.
+const SYNTH_VALUES: &[&str] = &[
+    "0",
+    "1",
+    "2",
+    "3",
+    "7",
+    "-1",
+    "-0",
+    "0.5",
+    "1e3",
+    "1e300",
+    "-1e300",
+    "nan",
+    "inf",
+    "-inf",
+    "1000001",
+    "1000000000",
+    "100000001",
+    "18446744073709551615",
+    "18446744073709551616",
+    "0x10",
+    "+5",
+    " 5",
+    "",
+    "\u{feff}3",
+    "3\u{200b}",
+    "\u{1b}[2J",
+    "a\nb",
+];
+
+/// `synth-bal` with fuzzed option values: exit 0 with a BAL file whose
+/// counts line is the one reported, or exit 2 with one printable line and
+/// no file (cameras and points stay small enough, when accepted, for the
+/// file to be written in milliseconds: a run that would write more is
+/// refused by the observation cap before anything is generated).
+#[test]
+fn fuzzed_synth_bal_arguments_keep_the_contract() {
+    let mut rng = Rng(0x05e1_7ba1);
+    let options = [
+        "--cameras",
+        "--points",
+        "--views",
+        "--seed",
+        "--outliers",
+        "--noise",
+    ];
+    for case in 0..160 {
+        let out = temp_path("synth").with_extension("txt");
+        let out_text = out.to_str().expect("UTF-8").to_owned();
+        let mut values = vec!["5", "40", "3", "1", "0.05", "1"];
+        for _ in 0..1 + rng.below(2) {
+            let slot = rng.below(values.len());
+            values[slot] = *rng.pick(SYNTH_VALUES);
+        }
+        // Keep accepted runs small: at most 1000 points.
+        if values[1]
+            .parse::<u64>()
+            .is_ok_and(|p| (1001..=20_000_000).contains(&p))
+        {
+            values[1] = "1000";
+        }
+        let mut args = vec!["synth-bal"];
+        for (option, value) in options.iter().zip(&values) {
+            args.extend_from_slice(&[option, value]);
+        }
+        args.extend_from_slice(&["--output", &out_text]);
+        let label = format!("synth-bal case {case}: {values:?}");
+        let result = run(&args, b"", &label);
+        let code = result.code.unwrap_or_else(|| panic!("{label}: signal"));
+        let line = result.stderr.strip_suffix('\n').unwrap_or(&result.stderr);
+        match code {
+            0 => {
+                let written = std::fs::read_to_string(&out).expect("the file is written");
+                let counts = written.lines().next().expect("a counts line");
+                let report = String::from_utf8_lossy(&result.stdout);
+                let [c, p, o]: [&str; 3] = counts
+                    .split(' ')
+                    .collect::<Vec<_>>()
+                    .try_into()
+                    .unwrap_or_else(|_| panic!("{label}: counts {counts}"));
+                assert!(
+                    report.contains(&format!("{c} cameras, {p} points, {o} observations")),
+                    "{label}: {report}"
+                );
+                let _ = std::fs::remove_file(&out);
+            }
+            BAD_INPUT => {
+                assert!(
+                    line.starts_with("error: ") && !line.contains('\n'),
+                    "{label}: {line}"
+                );
+                assert!(!line.chars().any(unprintable), "{label}: {line:?}");
+                assert!(!out.exists(), "{label}: a file after an error");
+            }
+            other => panic!("{label}: exit {other}: {line}"),
         }
     }
 }

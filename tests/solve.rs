@@ -8,9 +8,13 @@
 //! holds it), computed independently of this project.
 #![cfg(feature = "solve")]
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+mod common;
+use common::Rng;
 
 fn slamjac(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_slamjac"))
@@ -271,7 +275,14 @@ fn degenerate_initial_values_exit_1() {
     // One camera at the identity, looking down −z, and a point at +z.
     std::fs::write(&bal, "1 1 1\n0 0 10 20\n0 0 0 0 0 0 500 0 0\n0.1 0.2 3\n").unwrap();
     let output = slamjac(&["solve", bal.to_str().unwrap()]);
-    assert_error(&output, 1, &["observation 0", "behind the camera"]);
+    assert_error(
+        &output,
+        1,
+        &[
+            "observation 1 of 1 (camera index 0, point index 0)",
+            "behind the camera",
+        ],
+    );
 }
 
 /// Values within the readers' range (magnitudes up to 1e100) whose
@@ -383,4 +394,326 @@ fn synthetic_problems_are_generated_and_solved() {
         dir.join("x.txt").to_str().unwrap(),
     ]);
     assert_error(&output, 2, &["cameras"]);
+}
+
+/// `slamjac solve` with `stdin` piped in.
+fn slamjac_piped(args: &[&str], stdin: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("slamjac starts");
+    let _ = child.stdin.take().expect("piped").write_all(stdin);
+    child.wait_with_output().expect("slamjac runs")
+}
+
+/// A copy of the shipped file `name` in `dir`.
+fn copied(name: &str, dir: &Path) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::copy(data(name), &path).expect("copied");
+    path
+}
+
+/// Issue 17: an output that names an input (the KITTI VO triple included)
+/// or another output is refused before anything is read, and an output
+/// that cannot be written before the solve starts; the input is untouched.
+#[test]
+fn outputs_naming_inputs_or_each_other_are_refused_before_any_work() {
+    let dir = temp_dir("collide");
+    let input = copied("Balbianello.out", &dir);
+    let original = std::fs::read(&input).unwrap();
+    let (input_text, svg) = (
+        input.to_str().unwrap().to_owned(),
+        dir.join("plot.svg").to_str().unwrap().to_owned(),
+    );
+    let respelled = dir.join(".").join("Balbianello.out");
+    let nowhere = dir.join("nowhere/x.out");
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--output", &input_text],
+            "--output names the same file as the input",
+        ),
+        (
+            &["--plot", &input_text],
+            "--plot names the same file as the input",
+        ),
+        (
+            &["--output", respelled.to_str().unwrap()],
+            "--output names the same file as the input",
+        ),
+        (
+            &["--plot", &svg, "--output", &svg],
+            "--plot names the same file as --output",
+        ),
+        (
+            &["--output", nowhere.to_str().unwrap()],
+            "--output: cannot write here",
+        ),
+    ];
+    for (options, message) in cases {
+        let mut args = vec!["solve", &input_text];
+        args.extend_from_slice(options);
+        let output = slamjac(&args);
+        assert_error(&output, 2, &[message]);
+        assert!(output.stdout.is_empty(), "nothing was read or solved");
+    }
+    assert_eq!(std::fs::read(&input).unwrap(), original);
+    // The KITTI VO set: an output named `VO_calibration.txt` writes the
+    // shared calibration the input reads.
+    let vo = temp_dir("collide-vo");
+    for name in [
+        "VO_calibration.txt",
+        "VO_camera_poses_large.txt",
+        "VO_stereo_factors_large.txt",
+    ] {
+        copied(name, &vo);
+    }
+    let output = slamjac(&[
+        "solve",
+        vo.join("VO_stereo_factors_large.txt").to_str().unwrap(),
+        "--output",
+        vo.join("VO_calibration.txt").to_str().unwrap(),
+    ]);
+    assert_error(&output, 2, &["--output names the same file as the input"]);
+    assert_eq!(
+        std::fs::read(vo.join("VO_calibration.txt")).unwrap(),
+        std::fs::read(data("VO_calibration.txt")).unwrap()
+    );
+}
+
+/// Issue 17: a pipe is read once, its format told from what was read: the
+/// same problem, the same costs as from the file.
+#[test]
+fn piped_problems_are_read_once() {
+    for name in [
+        "pose3example.txt",
+        "sphere2500.txt",
+        "dubrovnik-3-7-pre.txt",
+    ] {
+        let from_file = costs(&solve_ok(&["solve", &data(name), "--max-iterations", "2"]));
+        let piped = slamjac_piped(
+            &["solve", "/dev/stdin", "--max-iterations", "2"],
+            &std::fs::read(data(name)).unwrap(),
+        );
+        assert_eq!(piped.status.code(), Some(0), "{name}: {}", stderr(&piped));
+        assert_eq!(costs(&piped), from_file, "{name}");
+    }
+}
+
+/// Issue 17: a problem without a single observation or edge has nothing to
+/// solve (it reported a cost of `-0` and exit 0).
+#[test]
+fn empty_problems_are_errors() {
+    let dir = temp_dir("empty");
+    let cases = [
+        (
+            "bal.txt",
+            "1 1 0\n0 0 0 0 0 0 500 0 0\n0 0 -3\n",
+            None,
+            "observations",
+        ),
+        (
+            "graph.g2o",
+            "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n",
+            None,
+            "edges",
+        ),
+        ("sphere.txt", "", Some("edge3"), "edges"),
+    ];
+    for (name, text, format, what) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let mut args = vec!["solve", path.to_str().unwrap()];
+        if let Some(format) = format {
+            args.extend_from_slice(&["--format", format]);
+        }
+        assert_error(
+            &slamjac(&args),
+            2,
+            &[&format!("nothing to solve: the problem has no {what}")],
+        );
+    }
+}
+
+/// Issue 17: Cauchy's loss with a large δ is least squares (apex-solver's
+/// rounded its cost to 0); δ is bounded to the readers' range.
+#[test]
+fn a_large_cauchy_scale_is_least_squares() {
+    let plain = costs(&solve_ok(&["solve", &data("Balbianello.out")]));
+    let cauchy = costs(&solve_ok(&[
+        "solve",
+        &data("Balbianello.out"),
+        "--robust",
+        "cauchy:1e10",
+    ]));
+    assert_relative(cauchy.0, plain.0, 1e-12, "initial cost");
+    assert_relative(cauchy.1, plain.1, STOPPING, "final cost");
+    let output = slamjac(&[
+        "solve",
+        &data("Balbianello.out"),
+        "--robust",
+        "cauchy:1e200",
+    ]);
+    assert_error(&output, 2, &["--robust", "from 1e-100 to 1e100"]);
+}
+
+/// Issue 17: the README's "name any of the three": the shared calibration
+/// names the set it serves.
+#[test]
+fn the_shared_calibration_names_the_kitti_set() {
+    let output = solve_ok(&[
+        "solve",
+        &data("VO_calibration.txt"),
+        "--max-iterations",
+        "1",
+    ]);
+    assert!(
+        stdout(&output).contains("8189 stereo observations"),
+        "{}",
+        stdout(&output)
+    );
+}
+
+/// A shipped file's text with `count` seeded edits: a line dropped,
+/// doubled or truncated, a field replaced by a hostile token, bytes
+/// flipped.
+fn mutated(text: &[u8], rng: &mut Rng, count: usize) -> Vec<u8> {
+    const TOKENS: &[&str] = &[
+        "0",
+        "-1",
+        "1e999",
+        "nan",
+        "inf",
+        "-0",
+        "1e100",
+        "1e101",
+        "4.9e-324",
+        "1e-300",
+        "18446744073709551616",
+        "999999999",
+        "x",
+        "\u{feff}",
+        "\u{200b}",
+        "\u{1b}[2J",
+        "",
+        "VERTEX3",
+        "EDGE_SE3:QUAT",
+        "#",
+    ];
+    let mut lines: Vec<Vec<u8>> = text.split(|b| *b == b'\n').map(<[u8]>::to_vec).collect();
+    for _ in 0..count {
+        let at = rng.below(lines.len());
+        match rng.below(5) {
+            0 => {
+                lines.remove(at);
+            }
+            1 => {
+                let line = lines[at].clone();
+                lines.insert(at, line);
+            }
+            2 => {
+                let keep = rng.below(lines[at].len() + 1);
+                lines[at].truncate(keep);
+            }
+            3 => {
+                let mut fields: Vec<Vec<u8>> = lines[at]
+                    .split(|b| *b == b' ')
+                    .map(<[u8]>::to_vec)
+                    .collect();
+                let field = rng.below(fields.len());
+                fields[field] = rng.pick(TOKENS).as_bytes().to_vec();
+                lines[at] = fields.join(&b' ');
+            }
+            _ if !lines[at].is_empty() => {
+                let byte = rng.below(lines[at].len());
+                lines[at][byte] = rng.next() as u8;
+            }
+            _ => {}
+        }
+        if lines.is_empty() {
+            lines.push(Vec::new());
+        }
+    }
+    lines.join(&b'\n')
+}
+
+/// Issue 17: `solve`'s five readers fuzzed end to end (seeded mutations of
+/// the shipped files, one solve step each): exit 0 with a summary, or 1 or
+/// 2 with one printable line `error: …` printing no computed `NaN` or
+/// `inf`; never a panic or a signal. A few seconds in all.
+#[test]
+fn fuzzed_problem_files_keep_the_contract() {
+    let mut rng = Rng(0x501e_f022);
+    let dir = temp_dir("fuzz");
+    let singles = [
+        ("dubrovnik-3-7-pre.txt", "bal.txt", 60),
+        ("Balbianello.out", "bundle.out", 40),
+        ("pose3example.txt", "graph.g2o", 60),
+        ("sphere2500.txt", "sphere.txt", 24),
+    ];
+    let mut cases: Vec<(String, PathBuf)> = Vec::new();
+    for (name, target, count) in singles {
+        let text = std::fs::read(data(name)).unwrap();
+        for k in 0..count {
+            let path = dir.join(format!("{k}-{target}"));
+            let edits = 1 + rng.below(3);
+            std::fs::write(&path, mutated(&text, &mut rng, edits)).unwrap();
+            cases.push((format!("{name} #{k}"), path));
+        }
+    }
+    // KITTI VO: one of the three files mutated in a copy of the set.
+    let vo_files = [
+        "VO_calibration.txt",
+        "VO_camera_poses_large.txt",
+        "VO_stereo_factors_large.txt",
+    ];
+    for k in 0..18 {
+        let set = dir.join(format!("vo-{k}"));
+        std::fs::create_dir_all(&set).unwrap();
+        let victim = rng.below(3);
+        for (i, name) in vo_files.iter().enumerate() {
+            let text = std::fs::read(data(name)).unwrap();
+            let edits = 1 + rng.below(3);
+            let text = if i == victim {
+                mutated(&text, &mut rng, edits)
+            } else {
+                text
+            };
+            std::fs::write(set.join(name), text).unwrap();
+        }
+        cases.push((
+            format!("KITTI VO #{k} ({})", vo_files[victim]),
+            set.join(vo_files[2]),
+        ));
+    }
+    for (label, path) in cases {
+        let output = slamjac(&["solve", path.to_str().unwrap(), "--max-iterations", "1"]);
+        let err = stderr(&output);
+        match output.status.code() {
+            Some(0) => assert!(stdout(&output).contains("cost: initial"), "{label}"),
+            Some(1 | 2) => {
+                let line = err.strip_suffix('\n').unwrap_or(&err);
+                assert!(
+                    line.starts_with("error: ") && !line.contains('\n'),
+                    "{label}: {err}"
+                );
+                assert!(
+                    !line.chars().any(slamjac::field_path::is_unprintable),
+                    "{label}: {line:?}"
+                );
+                // Outside the input's own tokens (quoted in backticks), no
+                // number is printed non-finite.
+                let computed = line.split('`').step_by(2).collect::<String>();
+                assert!(
+                    !computed
+                        .split(|c: char| !(c.is_alphanumeric() || c == '-'))
+                        .any(|w| matches!(w, "NaN" | "inf" | "-inf")),
+                    "{label}: {line}"
+                );
+            }
+            other => panic!("{label}: exit {other:?}: {err}"),
+        }
+    }
 }

@@ -23,8 +23,10 @@ use factor_apex::Kernels;
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice, Robust};
 use factor_apex::solve::{SolveOptions, Verdict, solve};
 use slam_data::Format;
+use slamjac_io::Role;
 
 use crate::error::CliError;
+use crate::outputs;
 
 /// What `solve` was asked for.
 #[derive(Debug, Clone)]
@@ -50,16 +52,38 @@ fn at(file: &Path, what: impl std::fmt::Display) -> String {
     format!("{}: {what}", file.display())
 }
 
-/// Reads, builds, solves and reports; prints the header and a line per
-/// iteration as they come and returns the summary.
+/// Refuses, before any work, an output (`--output`, each of the three
+/// files of a KITTI VO output, `--plot`) that names an input file or
+/// another output, or that cannot be written.
+fn check_files(args: &SolveArgs) -> Result<(), CliError> {
+    let format = args.format.or_else(|| Format::from_name(&args.file));
+    let read = slam_data::Problem::files_read(&args.file, format)?;
+    let written = match &args.output {
+        Some(path) => slam_data::Problem::files_written(path, format)?,
+        None => Vec::new(),
+    };
+    let inputs: Vec<Role<'_>> = read.iter().map(|p| Role::new("the input", p)).collect();
+    let mut outputs: Vec<Role<'_>> = written.iter().map(|p| Role::new("--output", p)).collect();
+    if let Some(plot) = &args.plot {
+        outputs.push(Role::new("--plot", plot));
+    }
+    outputs::check(&inputs, &outputs)
+}
+
+/// Checks the output paths, then reads, builds, solves and reports; prints
+/// the header and a line per iteration as they come and returns the
+/// summary. Outputs are written to temporary files renamed into place.
 ///
 /// # Errors
 ///
+/// [`CliError::Usage`] for an output that names an input or another
+/// output, or cannot be written (before anything is read);
 /// [`CliError::Data`] for a file that cannot be read or written,
 /// [`CliError::Usage`] for data that cannot make a problem, and
 /// [`CliError::Solve`] for a problem degenerate at its initial values or a
 /// solve that stopped on a failure (the summary is printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
+    check_files(args)?;
     let data = slam_data::Problem::read(&args.file, args.format)?;
     let options = BuildOptions {
         factors: FactorChoice::Ours(args.kernels),
@@ -86,7 +110,10 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     let after = problems::reprojection_errors(&solved);
     let errors = before.as_deref().zip(after.as_deref());
     if let Some(path) = &args.plot {
-        plot::write(path, built.initial_cost, &outcome.history, errors)?;
+        outputs::write(
+            path,
+            plot::svg(path, built.initial_cost, &outcome.history, errors)?,
+        )?;
     }
     let verdict = outcome.verdict();
     if let Verdict::Failed(why) = &verdict {

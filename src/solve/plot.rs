@@ -15,29 +15,34 @@ const PANEL: (u32, u32) = (640, 440);
 /// Bins of the error histogram.
 const BINS: usize = 40;
 
-/// Writes the plot to `path`.
+/// The plot as SVG text (written by the caller to `path`, named in errors).
 ///
 /// # Errors
 ///
-/// [`CliError::Usage`] naming the file when it cannot be drawn or written.
-pub fn write(
+/// [`CliError::Usage`] naming the file when it cannot be drawn.
+pub fn svg(
     path: &Path,
     initial_cost: f64,
     history: &[Iteration],
     errors: Option<(&[f64], &[f64])>,
-) -> Result<(), CliError> {
+) -> Result<String, CliError> {
     let fail = |e: &dyn std::fmt::Display| {
-        CliError::Usage(format!("{}: cannot write the plot: {e}", path.display()))
+        CliError::Usage(format!("{}: cannot draw the plot: {e}", path.display()))
     };
     let panels = if errors.is_some() { 2 } else { 1 };
-    let root = SVGBackend::new(path, (PANEL.0 * panels, PANEL.1)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| fail(&e))?;
-    let areas = root.split_evenly((1, panels as usize));
-    costs(&areas[0], initial_cost, history).map_err(|e| fail(&e))?;
-    if let (Some((before, after)), Some(area)) = (errors, areas.get(1)) {
-        histogram(area, before, after).map_err(|e| fail(&e))?;
+    let mut text = String::new();
+    {
+        let root =
+            SVGBackend::with_string(&mut text, (PANEL.0 * panels, PANEL.1)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        let areas = root.split_evenly((1, panels as usize));
+        costs(&areas[0], initial_cost, history).map_err(|e| fail(&e))?;
+        if let (Some((before, after)), Some(area)) = (errors, areas.get(1)) {
+            histogram(area, before, after).map_err(|e| fail(&e))?;
+        }
+        root.present().map_err(|e| fail(&e))?;
     }
-    root.present().map_err(|e| fail(&e))
+    Ok(text)
 }
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
