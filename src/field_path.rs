@@ -33,6 +33,12 @@ fn push_escaped(out: &mut String, c: char, quoting: bool) {
     }
 }
 
+/// A path as the output shows it: its unprintable characters escaped (a
+/// file name is input too).
+pub fn shown_path(path: &std::path::Path) -> String {
+    escape_unprintable(&path.display().to_string()).into_owned()
+}
+
 /// `text` cut after [`MAX_SHOWN_CHARS`] characters, the cut marked with `…`.
 pub fn shortened(text: &str) -> Cow<'_, str> {
     match text.char_indices().nth(MAX_SHOWN_CHARS) {

@@ -31,6 +31,7 @@ use factor_codegen::OpCounts;
 use factor_codegen::{self as codegen, CodegenError, GeneratedCrate, GeneratedModule, KernelSpec};
 
 use crate::error::{CliError, InputError};
+use crate::field_path::shown_path;
 use crate::kernels;
 
 /// The workspace's generated crate, as this binary was built.
@@ -235,7 +236,7 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
         std::fs::create_dir_all(&dir)
             .and_then(|()| slamjac_io::atomic::write(&manifest, STANDALONE_MANIFEST))
             .map_err(cannot_write)?;
-        lines.push(format!("new crate: wrote {}", manifest.display()));
+        lines.push(format!("new crate: wrote {}", shown_path(&manifest)));
     }
     generated.write(&dir).map_err(cannot_write)?;
     let width = timed.iter().map(|t| t.module.name.len()).max().unwrap_or(0);
@@ -253,7 +254,7 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
     lines.push(format!(
         "generated {} kernels into {} in {} (trace, lower, emit and format, in process)",
         count,
-        dir.join("src").display(),
+        shown_path(&dir.join("src")),
         milliseconds(generation),
     ));
     Ok(lines.join("\n"))
@@ -286,7 +287,7 @@ pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
     match generated.check(&dir) {
         Ok(()) => Ok(format!(
             "{} is up to date ({} kernels)",
-            src.display(),
+            shown_path(&src),
             generated.modules.len()
         )),
         Err(files) => {

@@ -135,7 +135,9 @@ enum Command {
         #[arg(long, value_name = "LOSS:δ")]
         robust: Option<String>,
         /// Write the optimized problem here, in the input's format (KITTI VO:
-        /// the three files beside this `VO_*.txt` name).
+        /// the three `VO_*<S>.txt` files of this name's suffix `S`). Outputs
+        /// are checked before any work (none may name an input or the other
+        /// output) and written whole or not at all.
         #[arg(long, value_name = "FILE")]
         output: Option<PathBuf>,
         /// Write an SVG plot here: the cost per iteration and, for

@@ -1,6 +1,6 @@
 //! The files a command writes besides its report: checked before any work
-//! ([`check`]: none names an input or another output, each is writable)
-//! and written to a temporary file renamed into place ([`write`]), so a
+//! ([`check()`]: none names an input or another output, each is writable)
+//! and written to a temporary file renamed into place ([`write()`]), so a
 //! command never destroys a file it reads and a failed write leaves the
 //! old file as it was (crate `slamjac-io`).
 

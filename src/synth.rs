@@ -9,6 +9,7 @@ use slam_data::synthetic::{self, SyntheticConfig};
 use slamjac_io::Role;
 
 use crate::error::CliError;
+use crate::field_path::shown_path;
 use crate::outputs;
 
 /// What to generate, as the command line gives it.
@@ -53,7 +54,7 @@ pub fn run(args: &SynthArgs, output: &Path) -> Result<String, CliError> {
     let written = synthetic::write(&config, output)?;
     Ok(format!(
         "wrote {}: {} cameras, {} points, {} observations ({} outliers), seed {}",
-        output.display(),
+        shown_path(output),
         written.cameras,
         written.points,
         written.observations,

@@ -91,7 +91,7 @@ pub struct NumericLinearization {
     /// norm over the residual rows), in the tangent's order.
     pub column_errors: Vec<DVector<f64>>,
     /// Per variable, whether each column was found zero to within rounding:
-    /// every difference quotient, over [`ZERO_ROWS`] steps from the first,
+    /// every difference quotient, over the first six steps,
     /// within its rounding floor. Its value is then 0 and its error
     /// estimate absolute: the largest of those quotients and floors. (A
     /// zero column is a legitimate Jacobian: the residual of a line does

@@ -24,8 +24,8 @@
 //! The same seed gives the same problem on every platform (ChaCha8; the
 //! cameras, the points, the observations and the points' perturbations each
 //! draw from their own stream of it, so that any of them can be drawn again).
-//! [`write`] streams the problem to a BAL file in one pass, holding only the
-//! cameras in memory (about 300 bytes each, [`MAX_CAMERAS`] at most): any
+//! [`write()`] streams the problem to a BAL file in one pass, holding only the
+//! cameras in memory (about 270 bytes each, [`MAX_CAMERAS`] at most): any
 //! number of points up to [`MAX_OBSERVATIONS`] takes the same memory.
 //! [`generate`] builds the same problem in memory, with its ground truth.
 
@@ -60,8 +60,9 @@ pub const IMAGE_HEIGHT: f64 = 768.0;
 /// Most observations a generated problem may have (10⁸: a BAL file of
 /// about 6 GB, 3.2 GB in memory as [`generate`] holds them).
 pub const MAX_OBSERVATIONS: usize = 100_000_000;
-/// Most cameras a generated problem may have (10⁶): [`write`] holds them
-/// in memory, truth, model and initial value, about 300 MB at the cap.
+/// Most cameras a generated problem may have (10⁶): [`write()`] holds them
+/// in memory, truth, model and initial value, 264 bytes each (`synth-bal`
+/// peaks at 256 MiB at the cap).
 pub const MAX_CAMERAS: usize = 1_000_000;
 
 /// What to generate.
@@ -308,7 +309,7 @@ pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError
     })
 }
 
-/// What [`write`] wrote.
+/// What [`write()`] wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Written {
     /// Cameras.
@@ -336,11 +337,11 @@ pub fn write(config: &SyntheticConfig, path: impl AsRef<Path>) -> Result<Written
     write_file(path.as_ref(), |out, name| write_to(config, out, name))
 }
 
-/// [`write`] to `out`; `name` names it in errors.
+/// [`write()`] to `out`; `name` names it in errors.
 ///
 /// # Errors
 ///
-/// As [`write`]; `out` then holds a part of the file.
+/// As [`write()`]; `out` then holds a part of the file.
 pub fn write_to(
     config: &SyntheticConfig,
     out: &mut impl Write,

@@ -140,8 +140,8 @@ fn check_error(error: &Error, inputs: &[(&str, &[u8])]) -> Result<(), TestCaseEr
     Ok(())
 }
 
-/// Runs `read` on mutated copies of `base` (named `name`); `others` are the
-/// other inputs `read` takes, unchanged.
+/// Runs `read` on [`CASES`] mutated copies of `base` (named `name`);
+/// `others` are the other inputs `read` takes, unchanged.
 fn fuzz(
     seed: u64,
     base: &[u8],
@@ -149,8 +149,20 @@ fn fuzz(
     others: &[(&str, &[u8])],
     read: impl Fn(&[u8]) -> Result<(), Error>,
 ) {
+    fuzz_cases(CASES, seed, base, name, others, read);
+}
+
+/// [`fuzz`] with `cases` cases.
+fn fuzz_cases(
+    cases: u32,
+    seed: u64,
+    base: &[u8],
+    name: &str,
+    others: &[(&str, &[u8])],
+    read: impl Fn(&[u8]) -> Result<(), Error>,
+) {
     let config = Config {
-        cases: CASES,
+        cases,
         rng_seed: RngSeed::Fixed(seed),
         failure_persistence: None,
         ..Config::default()
@@ -222,4 +234,31 @@ fn mutated_kitti_vo_files() {
     fuzz(7, f, "f.txt", &[("c.txt", c), ("p.txt", p)], |b| {
         kitti_vo::read_from((c, "c.txt"), (p, "p.txt"), (b, "f.txt")).map(drop)
     });
+}
+
+/// Mutated files read as a stream whose format is told from its content:
+/// through a reader that hands out a few bytes at a time (the sniffer's
+/// replay crossing its buffer many times), the result is exactly that of
+/// reading the same bytes in the format told, or the sniffer's own one-line
+/// error.
+#[test]
+fn mutated_streams_read_once_in_the_format_their_content_tells() {
+    use slam_data::{Format, Problem};
+    use std::io::BufReader;
+    for (seed, name) in [
+        (8, "dubrovnik-3-7-pre.txt"),
+        (9, "Balbianello.out"),
+        (10, "pose3example.txt"),
+    ] {
+        let base = base(name, usize::MAX);
+        fuzz_cases(300, seed, &base, "in", &[], |b| {
+            let told = Format::from_content(b, "in");
+            let streamed = Problem::read_from(BufReader::with_capacity(7, b), "in", None);
+            match told {
+                Ok(format) => assert_eq!(streamed, Problem::read_from(b, "in", Some(format))),
+                Err(error) => assert_eq!(streamed, Err(error)),
+            }
+            streamed.map(drop)
+        });
+    }
 }

@@ -82,8 +82,14 @@ pub const MAGNITUDE_LIMIT: f64 = 1e100;
 /// had a residual off by 34 %). Accepted when
 /// `max(‖r‖, 1)`, the scale the envelope is stated in, exceeds
 /// `DEGENERACY_TOLERANCE · conditioning · terms`; with no cancellation
-/// (`‖r‖ ≈ terms`) this is the depth's own bound.
-pub(crate) fn check_residual_digits(
+/// (`‖r‖ ≈ terms`) this is the depth's own bound. Public for factors of
+/// one's own whose residual is an observation less a prediction.
+///
+/// # Errors
+///
+/// [`FactorError::Degenerate`] naming the factor, the residual and its
+/// rounding.
+pub fn check_residual_digits(
     factor: &'static str,
     residual: f64,
     conditioning: f64,

@@ -7,6 +7,7 @@ use factor_apex::solve::{Outcome, Verdict};
 
 use super::SolveArgs;
 use super::progress::duration;
+use crate::field_path::shown_path;
 
 /// The sizes, factor and gauge of a bundle-adjustment problem (BAL or
 /// Bundler), in words.
@@ -60,7 +61,7 @@ pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &Solv
     format!(
         "{} ({}): {sizes}\n{} {factor} blocks, {} kernels, {robust}; gauge: {gauge}; \
          Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
-        file.display(),
+        shown_path(file),
         data.format(),
         built.blocks,
         args.kernels.name(),
@@ -181,10 +182,10 @@ pub fn summary(
         ));
     }
     if let Some(path) = output {
-        lines.push(format!("  wrote {}", path.display()));
+        lines.push(format!("  wrote {}", shown_path(path)));
     }
     if let Some(path) = plot {
-        lines.push(format!("  plot {}", path.display()));
+        lines.push(format!("  plot {}", shown_path(path)));
     }
     lines.join("\n")
 }
