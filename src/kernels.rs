@@ -2,7 +2,8 @@
 //! `generated/`, through the public generator API of `factor-codegen`, as
 //! any user's generator does.
 
-use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
+use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
+use factor_core::host::{Apex, HostFactor};
 use slam_factors::{
     BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
     PointReprojection, SnavelyReprojection, StereoReprojection,
@@ -24,35 +25,42 @@ pub const PROVENANCE: Provenance = Provenance {
 
 /// The factors of `slam-factors` with kernels, in the order `list` shows
 /// them, each naming where its residual comes from: the five document
-/// factors, then the three of `slamjac solve`.
+/// factors, then the three of `slamjac solve`. Every one also has a kernel
+/// in apex-solver's chart ([`factor_core::host::Apex`]).
 pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
-        KernelSpec::of::<PointReprojection>()
+        with_apex::<PointReprojection>()
             .with_source("document 000 §II (2)–(5)")
             .with_normal_equations(),
-        KernelSpec::of::<LineReprojection>()
+        with_apex::<LineReprojection>()
             .with_source("document 000 §III (6)–(12)")
             .with_normal_equations(),
-        KernelSpec::of::<PluckerLineReprojection>()
+        with_apex::<PluckerLineReprojection>()
             .with_source("document 000 §III (6)–(8), raw Plücker [n, v]")
             .with_normal_equations(),
-        KernelSpec::of::<PlaneFactor>()
+        with_apex::<PlaneFactor>()
             .with_source("document 000 §IV (13)")
             .with_normal_equations(),
-        KernelSpec::of::<FreeLineFactor>()
+        with_apex::<FreeLineFactor>()
             .with_source("document 001 §3–4")
             .with_normal_equations(),
-        KernelSpec::of::<SnavelyReprojection>()
+        with_apex::<SnavelyReprojection>()
             .with_source(
                 "the BAL / Bundler camera model (Snavely; Ceres' `SnavelyReprojectionError`)",
             )
             .with_normal_equations(),
-        KernelSpec::of::<StereoReprojection>()
+        with_apex::<StereoReprojection>()
             .with_source("rectified stereo (GTSAM's `GenericStereoFactor3D`, `Cal3_S2Stereo`)")
             .with_normal_equations(),
-        KernelSpec::of::<BetweenFactor>()
+        with_apex::<BetweenFactor>()
             .with_source("pose-graph relative pose (GTSAM's `BetweenFactor<Pose3>`), whitened"),
     ]
+}
+
+/// Factor `F`'s spec with its kernel in apex-solver's chart beside its own
+/// (`<name>_apex`).
+fn with_apex<F: HostFactor<Apex>>() -> KernelSpec {
+    KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())
 }
 
 /// The spec of the shipped factor named `name`.

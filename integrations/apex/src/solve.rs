@@ -114,6 +114,21 @@ pub enum Verdict {
 }
 
 impl Outcome {
+    /// The solution's value of `variable` (a variable of the solved
+    /// problem, [`crate::builder::ProblemBuilder::add_variable`]).
+    ///
+    /// # Panics
+    ///
+    /// If `variable` is not one of the problem's.
+    pub fn value<
+        V: factor_core::host::HostMap<factor_core::host::Apex> + factor_core::Storage<f64>,
+    >(
+        &self,
+        variable: &crate::builder::Variable<V>,
+    ) -> V {
+        crate::builder::value_of(&self.values, variable)
+    }
+
     /// The verdict of the status (and of a non-finite final cost).
     pub fn verdict(&self) -> Verdict {
         if !self.final_cost.is_finite() {
