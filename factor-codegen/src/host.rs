@@ -27,8 +27,17 @@ pub struct HostInputDoc {
     /// What it holds: a constant's stored layout, or the host manifold with
     /// its parameter layout.
     pub holds: String,
-    /// Whether it is one of a variable's host parts.
-    pub variable: bool,
+    /// Where a solver's entry takes it from.
+    pub source: HostSource,
+}
+
+/// Where the host entry (`<factor>_<host>_host`) takes an input array from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum HostSource {
+    /// A constant: this range of the factor's stored scalars.
+    Stored(std::ops::Range<usize>),
+    /// A host part: the parameter slice of this index.
+    Part(usize),
 }
 
 /// One Jacobian block of a host kernel.
@@ -60,6 +69,8 @@ pub struct HostTrace {
     pub inputs: Vec<HostInputDoc>,
     /// The blocks in order.
     pub blocks: Vec<HostBlockDoc>,
+    /// The factor's stored scalars (the host entry's `stored`).
+    pub stored: usize,
 }
 
 /// Traces factor `F` in host `H`'s chart (see the module documentation).
@@ -103,12 +114,18 @@ pub fn trace_on_host<F: HostFactor<H>, H: Host>() -> HostTrace {
     let mut docs = Vec::with_capacity(layout.inputs.len());
     let mut blocks = Vec::with_capacity(layout.parts.len());
     for input in &layout.inputs {
-        let (field, holds, variable) = match input {
-            HostInput::Constant { field, .. } => {
+        let (field, holds, source) = match input {
+            HostInput::Constant { field, stored } => {
                 let info = field_named(field);
-                (*field, format!("`{}`", info.layout), false)
+                (
+                    *field,
+                    format!("`{}`", info.layout),
+                    HostSource::Stored(stored.clone()),
+                )
             }
-            HostInput::Part { field, part, .. } => {
+            HostInput::Part {
+                field, part, index, ..
+            } => {
                 let holds = format!("{} `{}`", part.manifold, part.manifold.parameter_layout());
                 parts.push(VariableInfo {
                     name: field,
@@ -123,7 +140,7 @@ pub fn trace_on_host<F: HostFactor<H>, H: Host>() -> HostTrace {
                     columns: part.manifold.dof(),
                     tangent: part.manifold.tangent_description(),
                 });
-                (*field, holds, true)
+                (*field, holds, HostSource::Part(*index))
             }
         };
         let info = field_named(field);
@@ -135,7 +152,7 @@ pub fn trace_on_host<F: HostFactor<H>, H: Host>() -> HostTrace {
             name: input.name(),
             scalars: input.len(),
             holds,
-            variable,
+            source,
         });
     }
     HostTrace {
@@ -151,6 +168,7 @@ pub fn trace_on_host<F: HostFactor<H>, H: Host>() -> HostTrace {
         ),
         inputs: docs,
         blocks,
+        stored: layout.stored,
     }
 }
 

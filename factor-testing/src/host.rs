@@ -3,8 +3,8 @@
 
 use factor_core::FactorError;
 use factor_core::host::{
-    Host, HostFactor, HostKernel, HostLayout, HostManifold, host_inputs, host_residual,
-    linearize_host, linearize_host_dual,
+    Host, HostFactor, HostKernel, HostLayout, HostManifold, host_parameters, host_residual,
+    inputs_of, linearize_host, linearize_host_dual,
 };
 
 /// How far a host linearization is from central differences.
@@ -28,53 +28,50 @@ impl HostCheck {
     }
 }
 
-/// One host part's columns by central differences with Richardson's
-/// extrapolation (`(4 D(h/2) − D(h)) / 3`, error `O(h⁴)`), each part stepped
-/// through `retract` (the host's exact retraction: the solver's own, or its
-/// description's [`HostManifold::retract`]).
+/// The Jacobian (column-major, every part's columns in order) by central
+/// differences with Richardson's extrapolation (`(4 D(h/2) − D(h)) / 3`,
+/// error `O(h⁴)`), each host part stepped through `retract` (the host's
+/// exact retraction: the solver's own, or its description's
+/// [`HostManifold::retract`]).
 fn central_differences<F: HostFactor<H>, H: Host>(
     layout: &HostLayout<H::Manifold>,
-    inputs: &[Vec<f64>],
+    template: &[f64],
+    parts: &[Vec<f64>],
     step: f64,
     retract: &impl Fn(H::Manifold, &[f64], &[f64], &mut [f64]),
-) -> Vec<Vec<f64>> {
-    let rows = layout.residual;
+) -> Vec<f64> {
     let zero = vec![0.0; layout.columns()];
-    let residual_at = |inputs: &[Vec<f64>]| {
-        let slices: Vec<&[f64]> = inputs.iter().map(Vec::as_slice).collect();
-        host_residual::<F, H, f64>(layout, &slices, &zero)
+    let residual_at = |parts: &[Vec<f64>]| {
+        let slices: Vec<&[f64]> = parts.iter().map(Vec::as_slice).collect();
+        host_residual::<F, H, f64>(layout, &inputs_of(layout, template, &slices), &zero)
     };
-    let mut blocks = Vec::with_capacity(layout.parts.len());
-    for (index, input) in layout.inputs.iter().enumerate() {
-        let factor_core::host::HostInput::Part { part, .. } = input else {
-            continue;
-        };
+    let mut jacobian = Vec::with_capacity(layout.residual * layout.columns());
+    for (index, part) in layout.parts.iter().enumerate() {
         let dof = part.manifold.dof();
-        let mut block = vec![0.0; rows * dof];
         for c in 0..dof {
             let quotient = |h: f64| {
-                let mut moved = inputs.to_vec();
-                let mut delta = vec![0.0; dof];
-                let mut at = |sign: f64, moved: &mut Vec<Vec<f64>>| {
+                let mut moved = parts.to_vec();
+                let mut at = |sign: f64| {
+                    let mut delta = vec![0.0; dof];
                     delta[c] = sign * h;
-                    retract(part.manifold, &inputs[index], &delta, &mut moved[index]);
-                    residual_at(moved)
+                    retract(part.manifold, &parts[index], &delta, &mut moved[index]);
+                    residual_at(&moved)
                 };
-                let plus = at(1.0, &mut moved);
-                let minus = at(-1.0, &mut moved);
+                let (plus, minus) = (at(1.0), at(-1.0));
                 plus.iter()
                     .zip(&minus)
                     .map(|(p, m)| (p - m) / (2.0 * h))
                     .collect::<Vec<f64>>()
             };
             let (coarse, fine) = (quotient(step), quotient(step / 2.0));
-            for row in 0..rows {
-                block[c * rows + row] = (4.0 * fine[row] - coarse[row]) / 3.0;
-            }
+            jacobian.extend(
+                fine.iter()
+                    .zip(&coarse)
+                    .map(|(fine, coarse)| (4.0 * fine - coarse) / 3.0),
+            );
         }
-        blocks.push(block);
     }
-    blocks
+    jacobian
 }
 
 /// Relative Frobenius error of `a` against `b`, floored at `floor`.
@@ -96,28 +93,28 @@ pub fn check_host_linearization<F: HostFactor<H>, H: Host>(
     factor: &F,
     linearize: impl Fn(
         &HostLayout<H::Manifold>,
+        &[f64],
         &[&[f64]],
         &mut [f64],
-        &mut [Option<&mut [f64]>],
+        Option<&mut [f64]>,
     ) -> Result<(), FactorError>,
     step: f64,
     retract: impl Fn(H::Manifold, &[f64], &[f64], &mut [f64]),
 ) -> Result<HostCheck, FactorError> {
     let layout = HostLayout::of::<F, H>();
-    let inputs = host_inputs::<F, H>(&layout, factor);
-    let slices: Vec<&[f64]> = inputs.iter().map(Vec::as_slice).collect();
+    let template = factor.to_scalars();
+    let parts = host_parameters::<F, H>(&layout, factor);
+    let slices: Vec<&[f64]> = parts.iter().map(Vec::as_slice).collect();
     let rows = layout.residual;
     let mut residual = vec![0.0; rows];
-    let mut blocks: Vec<Vec<f64>> = layout
-        .parts
-        .iter()
-        .map(|p| vec![0.0; rows * p.manifold.dof()])
-        .collect();
-    {
-        let mut outputs: Vec<Option<&mut [f64]>> =
-            blocks.iter_mut().map(|b| Some(b.as_mut_slice())).collect();
-        linearize(&layout, &slices, &mut residual, &mut outputs)?;
-    }
+    let mut jacobian = vec![0.0; rows * layout.columns()];
+    linearize(
+        &layout,
+        &template,
+        &slices,
+        &mut residual,
+        Some(&mut jacobian),
+    )?;
     let expected = factor.residual_dyn()?;
     // As generated kernels are judged: relative to the residual's terms.
     let residual_error = relative_error(
@@ -125,14 +122,23 @@ pub fn check_host_linearization<F: HostFactor<H>, H: Host>(
         expected.as_slice(),
         crate::generated::input_scale(factor),
     );
-    let numeric = central_differences::<F, H>(&layout, &inputs, step, &retract);
+    let numeric = central_differences::<F, H>(&layout, &template, &parts, step, &retract);
     let names = layout.inputs.iter().filter_map(|input| match input {
         factor_core::host::HostInput::Part { .. } => Some(input.name()),
         _ => None,
     });
+    let mut offset = 0;
     let block_errors = names
-        .zip(blocks.iter().zip(&numeric))
-        .map(|(name, (b, n))| (name, relative_error(b, n, 1e-9)))
+        .zip(&layout.parts)
+        .map(|(name, part)| {
+            let len = rows * part.manifold.dof();
+            let range = offset..offset + len;
+            offset += len;
+            (
+                name,
+                relative_error(&jacobian[range.clone()], &numeric[range], 1e-9),
+            )
+        })
         .collect();
     Ok(HostCheck {
         residual_error,

@@ -3980,47 +3980,51 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[36, 36],
 };
 
-/// [`between_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`between_apex`] over what a solver holds: `stored`, the factor's 42 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (6 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn between_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn between_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [sqrt_information, measured, pose_i, pose_j] = inputs else {
+    let ([part_0, part_1], 42) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(sqrt_information), Ok(measured), Ok(pose_i), Ok(pose_j), Ok(residual)) = (
-        <&[T; 21]>::try_from(*sqrt_information),
-        <&[T; 7]>::try_from(*measured),
-        <&[T; 7]>::try_from(*pose_i),
-        <&[T; 7]>::try_from(*pose_j),
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 21]>::try_from(&stored[0..21]),
+        <&[T; 7]>::try_from(&stored[21..28]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 7]>::try_from(*part_1),
         <&mut [T; 6]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose_i, d_pose_j] = blocks else {
-        return false;
-    };
-    let d_pose_i = match d_pose_i.as_deref_mut().map(<&mut [T; 36]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 72]>::try_from) {
+        None => {
+            self::between_apex(input_0, input_1, input_2, input_3, residual, None, None)
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose_i, rest)) = rest.split_first_chunk_mut::<36>() else {
+                return false;
+            };
+            let Some((d_pose_j, rest)) = rest.split_first_chunk_mut::<36>() else {
+                return false;
+            };
+            let _ = rest;
+            self::between_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose_i),
+                Some(d_pose_j),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_pose_j = match d_pose_j.as_deref_mut().map(<&mut [T; 36]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::between_apex(
-        sqrt_information,
-        measured,
-        pose_i,
-        pose_j,
-        residual,
-        d_pose_i,
-        d_pose_j,
-    );
+    }
     true
 }
 

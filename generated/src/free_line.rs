@@ -1629,72 +1629,78 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[12, 6, 2],
 };
 
-/// [`free_line_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`free_line_apex`] over what a solver holds: `stored`, the factor's 25 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn free_line_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn free_line_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [extrinsics, bearing_start, bearing_end, body_pose, line_rotation, line_distance,
-    ] = inputs else {
+    let ([part_0, part_1, part_2], 25) = (parts, stored.len()) else {
         return false;
     };
     let (
-        Ok(extrinsics),
-        Ok(bearing_start),
-        Ok(bearing_end),
-        Ok(body_pose),
-        Ok(line_rotation),
-        Ok(line_distance),
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(input_5),
         Ok(residual),
     ) = (
-        <&[T; 7]>::try_from(*extrinsics),
-        <&[T; 3]>::try_from(*bearing_start),
-        <&[T; 3]>::try_from(*bearing_end),
-        <&[T; 7]>::try_from(*body_pose),
-        <&[T; 4]>::try_from(*line_rotation),
-        <&[T; 1]>::try_from(*line_distance),
+        <&[T; 7]>::try_from(&stored[0..7]),
+        <&[T; 3]>::try_from(&stored[7..10]),
+        <&[T; 3]>::try_from(&stored[10..13]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
+        <&[T; 1]>::try_from(*part_2),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_body_pose, d_line_rotation, d_line_distance] = blocks else {
-        return false;
-    };
-    let d_body_pose = match d_body_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 20]>::try_from) {
+        None => {
+            self::free_line_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_body_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line_rotation, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_line_distance, rest)) = rest.split_first_chunk_mut::<2>() else {
+                return false;
+            };
+            let _ = rest;
+            self::free_line_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                Some(d_body_pose),
+                Some(d_line_rotation),
+                Some(d_line_distance),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_line_rotation = match d_line_rotation
-        .as_deref_mut()
-        .map(<&mut [T; 6]>::try_from)
-    {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    let d_line_distance = match d_line_distance
-        .as_deref_mut()
-        .map(<&mut [T; 2]>::try_from)
-    {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::free_line_apex(
-        extrinsics,
-        bearing_start,
-        bearing_end,
-        body_pose,
-        line_rotation,
-        line_distance,
-        residual,
-        d_body_pose,
-        d_line_rotation,
-        d_line_distance,
-    );
+    }
     true
 }
 

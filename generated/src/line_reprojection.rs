@@ -2080,65 +2080,78 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[12, 6, 2],
 };
 
-/// [`line_reprojection_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`line_reprojection_apex`] over what a solver holds: `stored`, the factor's 21 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn line_reprojection_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn line_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [intrinsics, start, end, pose, line_u, line_w] = inputs else {
+    let ([part_0, part_1, part_2], 21) = (parts, stored.len()) else {
         return false;
     };
     let (
-        Ok(intrinsics),
-        Ok(start),
-        Ok(end),
-        Ok(pose),
-        Ok(line_u),
-        Ok(line_w),
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(input_5),
         Ok(residual),
     ) = (
-        <&[T; 4]>::try_from(*intrinsics),
-        <&[T; 2]>::try_from(*start),
-        <&[T; 2]>::try_from(*end),
-        <&[T; 7]>::try_from(*pose),
-        <&[T; 4]>::try_from(*line_u),
-        <&[T; 1]>::try_from(*line_w),
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 2]>::try_from(&stored[6..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
+        <&[T; 1]>::try_from(*part_2),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose, d_line_u, d_line_w] = blocks else {
-        return false;
-    };
-    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 20]>::try_from) {
+        None => {
+            self::line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line_u, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_line_w, rest)) = rest.split_first_chunk_mut::<2>() else {
+                return false;
+            };
+            let _ = rest;
+            self::line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                Some(d_pose),
+                Some(d_line_u),
+                Some(d_line_w),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_line_u = match d_line_u.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    let d_line_w = match d_line_w.as_deref_mut().map(<&mut [T; 2]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::line_reprojection_apex(
-        intrinsics,
-        start,
-        end,
-        pose,
-        line_u,
-        line_w,
-        residual,
-        d_pose,
-        d_line_u,
-        d_line_w,
-    );
+    }
     true
 }
 

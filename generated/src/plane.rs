@@ -2163,38 +2163,47 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[18, 9],
 };
 
-/// [`plane_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`plane_apex`] over what a solver holds: `stored`, the factor's 15 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (3 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn plane_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn plane_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [measured, pose, plane] = inputs else {
+    let ([part_0, part_1], 15) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(measured), Ok(pose), Ok(plane), Ok(residual)) = (
-        <&[T; 4]>::try_from(*measured),
-        <&[T; 7]>::try_from(*pose),
-        <&[T; 4]>::try_from(*plane),
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(residual)) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
         <&mut [T; 3]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose, d_plane] = blocks else {
-        return false;
-    };
-    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 18]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 27]>::try_from) {
+        None => self::plane_apex(input_0, input_1, input_2, residual, None, None),
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+                return false;
+            };
+            let Some((d_plane, rest)) = rest.split_first_chunk_mut::<9>() else {
+                return false;
+            };
+            let _ = rest;
+            self::plane_apex(
+                input_0,
+                input_1,
+                input_2,
+                residual,
+                Some(d_pose),
+                Some(d_plane),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_plane = match d_plane.as_deref_mut().map(<&mut [T; 9]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::plane_apex(measured, pose, plane, residual, d_pose, d_plane);
+    }
     true
 }
 

@@ -1854,49 +1854,69 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[12, 12],
 };
 
-/// [`plucker_line_reprojection_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`plucker_line_reprojection_apex`] over what a solver holds: `stored`, the factor's 21 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn plucker_line_reprojection_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn plucker_line_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [intrinsics, start, end, pose, line] = inputs else {
+    let ([part_0, part_1], 21) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(intrinsics), Ok(start), Ok(end), Ok(pose), Ok(line), Ok(residual)) = (
-        <&[T; 4]>::try_from(*intrinsics),
-        <&[T; 2]>::try_from(*start),
-        <&[T; 2]>::try_from(*end),
-        <&[T; 7]>::try_from(*pose),
-        <&[T; 6]>::try_from(*line),
+    let (
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(residual),
+    ) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 2]>::try_from(&stored[6..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 6]>::try_from(*part_1),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose, d_line] = blocks else {
-        return false;
-    };
-    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 24]>::try_from) {
+        None => {
+            self::plucker_line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let _ = rest;
+            self::plucker_line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                Some(d_pose),
+                Some(d_line),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_line = match d_line.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::plucker_line_reprojection_apex(
-        intrinsics,
-        start,
-        end,
-        pose,
-        line,
-        residual,
-        d_pose,
-        d_line,
-    );
+    }
     true
 }
 

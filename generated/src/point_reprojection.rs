@@ -934,47 +934,59 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[12, 6],
 };
 
-/// [`point_reprojection_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`point_reprojection_apex`] over what a solver holds: `stored`, the factor's 16 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn point_reprojection_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn point_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [intrinsics, observed, pose, point] = inputs else {
+    let ([part_0, part_1], 16) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(intrinsics), Ok(observed), Ok(pose), Ok(point), Ok(residual)) = (
-        <&[T; 4]>::try_from(*intrinsics),
-        <&[T; 2]>::try_from(*observed),
-        <&[T; 7]>::try_from(*pose),
-        <&[T; 3]>::try_from(*point),
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose, d_point] = blocks else {
-        return false;
-    };
-    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 18]>::try_from) {
+        None => {
+            self::point_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_point, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::point_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose),
+                Some(d_point),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_point = match d_point.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::point_reprojection_apex(
-        intrinsics,
-        observed,
-        pose,
-        point,
-        residual,
-        d_pose,
-        d_point,
-    );
+    }
     true
 }
 

@@ -1633,53 +1633,64 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[12, 6, 6],
 };
 
-/// [`snavely_reprojection_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`snavely_reprojection_apex`] over what a solver holds: `stored`, the factor's 15 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn snavely_reprojection_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn snavely_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [observed, pose, intrinsics, point] = inputs else {
+    let ([part_0, part_1, part_2], 15) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(observed), Ok(pose), Ok(intrinsics), Ok(point), Ok(residual)) = (
-        <&[T; 2]>::try_from(*observed),
-        <&[T; 7]>::try_from(*pose),
-        <&[T; 3]>::try_from(*intrinsics),
-        <&[T; 3]>::try_from(*point),
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 2]>::try_from(&stored[0..2]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
+        <&[T; 3]>::try_from(*part_2),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_pose, d_intrinsics, d_point] = blocks else {
-        return false;
-    };
-    let d_pose = match d_pose.as_deref_mut().map(<&mut [T; 12]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 24]>::try_from) {
+        None => {
+            self::snavely_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_intrinsics, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_point, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::snavely_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose),
+                Some(d_intrinsics),
+                Some(d_point),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_intrinsics = match d_intrinsics.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    let d_point = match d_point.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::snavely_reprojection_apex(
-        observed,
-        pose,
-        intrinsics,
-        point,
-        residual,
-        d_pose,
-        d_intrinsics,
-        d_point,
-    );
+    }
     true
 }
 

@@ -2,11 +2,11 @@
 //! the factor's inputs with each variable as its host parts' parameter
 //! arrays, one column-major block per host part.
 
-use proc_macro2::TokenStream;
-use quote::format_ident;
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
 
-use super::jacobian::{KernelFunction, function_items};
-use crate::host::HostTrace;
+use super::jacobian::{KernelFunction, function_and_shape};
+use crate::host::{HostSource, HostTrace};
 use crate::lower::LoweredKernel;
 use crate::schedule::Schedule;
 
@@ -20,10 +20,10 @@ pub struct HostParts<'a> {
     pub schedule: &'a Schedule,
 }
 
-/// `<name>_<host>`, `SHAPE_<HOST>` and `<name>_<host>_slices`.
+/// `<name>_<host>`, `SHAPE_<HOST>` and `<name>_<host>_host`.
 pub fn items(name: &str, source_type: &str, host: &HostParts) -> TokenStream {
     let trace = host.trace;
-    function_items(&KernelFunction {
+    let function = function_and_shape(&KernelFunction {
         name: format_ident!("{name}_{}", trace.host),
         shape: format_ident!("SHAPE_{}", trace.host.to_uppercase()),
         doc: vec![
@@ -60,7 +60,108 @@ pub fn items(name: &str, source_type: &str, host: &HostParts) -> TokenStream {
         kernel: &trace.kernel,
         lowered: host.lowered,
         schedule: host.schedule,
-    })
+    });
+    let entry = host_entry(name, host);
+    quote! {
+        #function
+
+        #entry
+    }
+}
+
+/// `pub fn <name>_<host>_host(stored, parts, residual, jacobian) -> bool`:
+/// the kernel over what a solver holds (the factor's stored scalars, one
+/// parameter slice per host part, the whole column-major Jacobian), lengths
+/// checked.
+fn host_entry(name: &str, host: &HostParts) -> TokenStream {
+    let trace = host.trace;
+    let function = format_ident!("{name}_{}", trace.host);
+    let entry = format_ident!("{name}_{}_host", trace.host);
+    let rows = host.lowered.residual.len();
+    let r = Literal::usize_unsuffixed(rows);
+    let stored = Literal::usize_unsuffixed(trace.stored);
+    let parts: Vec<_> = (0..trace.blocks.len())
+        .map(|k| format_ident!("part_{k}"))
+        .collect();
+    let inputs: Vec<TokenStream> = trace
+        .inputs
+        .iter()
+        .map(|input| {
+            let n = Literal::usize_unsuffixed(input.scalars);
+            match &input.source {
+                HostSource::Stored(range) => {
+                    let (a, b) = (
+                        Literal::usize_unsuffixed(range.start),
+                        Literal::usize_unsuffixed(range.end),
+                    );
+                    quote!(<&[T; #n]>::try_from(&stored[#a..#b]))
+                }
+                HostSource::Part(k) => {
+                    let part = &parts[*k];
+                    quote!(<&[T; #n]>::try_from(*#part))
+                }
+            }
+        })
+        .collect();
+    let names: Vec<_> = (0..inputs.len())
+        .map(|k| format_ident!("input_{k}"))
+        .collect();
+    let blocks: Vec<_> = trace
+        .blocks
+        .iter()
+        .map(|b| format_ident!("{}", b.name))
+        .collect();
+    let sizes: Vec<Literal> = trace
+        .blocks
+        .iter()
+        .map(|b| Literal::usize_unsuffixed(rows * b.columns))
+        .collect();
+    let total = Literal::usize_unsuffixed(trace.blocks.iter().map(|b| rows * b.columns).sum());
+    let nones = blocks.iter().map(|_| quote!(None));
+    let doc = format!(
+        " [`{function}`] over what a solver holds: `stored`, the factor's {} stored scalars \
+         (its constants are read, its variables' are not), `parts`, one parameter slice per \
+         host part, and `jacobian`, the whole column-major Jacobian ({rows} rows, the parts' \
+         columns in order) or `None`. Returns `false`, computing nothing, when a length \
+         differs from [`SHAPE_{}`].",
+        trace.stored,
+        trace.host.to_uppercase()
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        pub fn #entry<T: Real>(
+            stored: &[T],
+            parts: &[&[T]],
+            residual: &mut [T],
+            jacobian: Option<&mut [T]>,
+        ) -> bool {
+            let ([#(#parts),*], #stored) = (parts, stored.len()) else {
+                return false;
+            };
+            let (#(Ok(#names),)* Ok(residual)) = (
+                #(#inputs,)*
+                <&mut [T; #r]>::try_from(residual),
+            ) else {
+                return false;
+            };
+            match jacobian.map(<&mut [T; #total]>::try_from) {
+                None => self::#function(#(#names,)* residual, #(#nones),*),
+                Some(Ok(jacobian)) => {
+                    let rest = &mut jacobian[..];
+                    #(
+                        let Some((#blocks, rest)) = rest.split_first_chunk_mut::<#sizes>() else {
+                            return false;
+                        };
+                    )*
+                    let _ = rest;
+                    self::#function(#(#names,)* residual, #(Some(#blocks)),*)
+                }
+                Some(Err(_)) => return false,
+            }
+            true
+        }
+    }
 }
 
 /// The header's section on the host kernels.
@@ -90,10 +191,9 @@ pub fn header_section(name: &str, hosts: &[HostParts]) -> Vec<String> {
             String::new(),
         ]);
         for input in &trace.inputs {
-            let role = if input.variable {
-                "variable"
-            } else {
-                "constant"
+            let role = match input.source {
+                HostSource::Part(_) => "variable",
+                HostSource::Stored(_) => "constant",
             };
             lines.push(format!(
                 "- `{}: [T; {}]` ({role}): {}",

@@ -109,6 +109,27 @@ pub fn items(parts: &ModuleParts) -> TokenStream {
 
 /// The function, its shape constant and its slice entry.
 pub fn function_items(f: &KernelFunction) -> TokenStream {
+    let function = function_and_shape(f);
+    let (inputs, sizes): (Vec<Ident>, Vec<usize>) = f.inputs.iter().cloned().unzip();
+    let (blocks, block_sizes): (Vec<Ident>, Vec<usize>) = f.blocks.iter().cloned().unzip();
+    let literals =
+        |n: &[usize]| -> Vec<Literal> { n.iter().map(|n| Literal::usize_unsuffixed(*n)).collect() };
+    let slices = slices_fn(
+        f,
+        &inputs,
+        &literals(&sizes),
+        &blocks,
+        &literals(&block_sizes),
+    );
+    quote! {
+        #function
+
+        #slices
+    }
+}
+
+/// The function and its shape constant.
+pub fn function_and_shape(f: &KernelFunction) -> TokenStream {
     let name = &f.name;
     let r = Literal::usize_unsuffixed(f.lowered.residual.len());
     let (inputs, sizes): (Vec<Ident>, Vec<usize>) = f.inputs.iter().cloned().unzip();
@@ -140,7 +161,6 @@ pub fn function_items(f: &KernelFunction) -> TokenStream {
     );
     let shape = &f.shape;
     let shape_doc = &f.shape_doc;
-    let slices = slices_fn(f, &inputs, &size_literals, &blocks, &block_literals);
     quote! {
         #(#[doc = #doc])*
         #unused
@@ -159,8 +179,6 @@ pub fn function_items(f: &KernelFunction) -> TokenStream {
             residual: #r,
             blocks: &[#(#block_literals),*],
         };
-
-        #slices
     }
 }
 

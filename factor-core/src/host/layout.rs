@@ -56,11 +56,24 @@ impl<M: HostManifold> HostInput<M> {
     }
 }
 
+/// A variable among a host kernel's inputs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HostVariable {
+    /// The variable's index among the factor's variables.
+    pub variable: usize,
+    /// Its stored scalars' range in the factor's storage.
+    pub stored: Range<usize>,
+    /// Its host parts' range among all host parts.
+    pub parts: Range<usize>,
+}
+
 /// The inputs and blocks of factor `F`'s kernel in host `H`'s layout.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct HostLayout<M> {
     /// The input arrays in order.
     pub inputs: Vec<HostInput<M>>,
+    /// The variables, in order, with where their parts are.
+    pub variables: Vec<HostVariable>,
     /// The host parts in order (one Jacobian block each).
     pub parts: Vec<HostPart<M>>,
     /// The factor's stored scalars.
@@ -73,6 +86,7 @@ impl<M: HostManifold> HostLayout<M> {
     /// The layout of factor `F` served to `H`.
     pub fn of<F: HostFactor<H>, H: Host<Manifold = M>>() -> Self {
         let mut inputs = Vec::new();
+        let mut variables = Vec::new();
         let mut parts = Vec::new();
         let (mut offset, mut column) = (0, 0);
         for field in F::fields() {
@@ -83,6 +97,7 @@ impl<M: HostManifold> HostLayout<M> {
                     stored: stored.clone(),
                 }),
                 Some(variable) => {
+                    let first = parts.len();
                     for part in F::host_parts(variable) {
                         let dof = part.manifold.dof();
                         inputs.push(HostInput::Part {
@@ -96,12 +111,18 @@ impl<M: HostManifold> HostLayout<M> {
                         parts.push(*part);
                         column += dof;
                     }
+                    variables.push(HostVariable {
+                        variable,
+                        stored: stored.clone(),
+                        parts: first..parts.len(),
+                    });
                 }
             }
             offset = stored.end;
         }
         HostLayout {
             inputs,
+            variables,
             parts,
             stored: offset,
             residual: F::RESIDUAL_DIM,
@@ -116,19 +137,5 @@ impl<M: HostManifold> HostLayout<M> {
     /// The total number of tangent columns (the host parts' dofs).
     pub fn columns(&self) -> usize {
         self.parts.iter().map(|p| p.manifold.dof()).sum()
-    }
-
-    /// Each variable's host parameters (its parts' concatenated), by
-    /// variable index: how many.
-    pub fn variable_parameters(&self, variable: usize) -> usize {
-        self.inputs
-            .iter()
-            .filter_map(|input| match input {
-                HostInput::Part {
-                    variable: v, part, ..
-                } if *v == variable => Some(part.manifold.parameters()),
-                _ => None,
-            })
-            .sum()
     }
 }

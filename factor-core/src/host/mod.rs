@@ -38,13 +38,17 @@
 //!
 //! # Kernel inputs in a host's layout
 //!
-//! One array per input, in the factor's field order: a constant field is its
-//! stored scalars; a variable is one array per host part, that host
-//! variable's parameters in the host's layout ([`HostLayout`]). The blocks
-//! are one per host part, **column-major** (residual rows × the part's
-//! tangent columns, column after column), so that the blocks of consecutive
-//! parts tile a column-major Jacobian whose columns are the parts' tangents
-//! in order, as apex-solver's factors write it.
+//! The generated function `<factor>_<host>` takes one array per input, in
+//! the factor's field order: a constant field is its stored scalars; a
+//! variable is one array per host part, that host variable's parameters in
+//! the host's layout ([`HostLayout`]). Its blocks are one per host part,
+//! **column-major** (residual rows × the part's tangent columns, column
+//! after column), so that the blocks of consecutive parts tile a
+//! column-major Jacobian whose columns are the parts' tangents in order, as
+//! apex-solver's factors write it. Its entry for solvers,
+//! `<factor>_<host>_host` ([`HostKernel::host_kernel`]), takes what a
+//! solver holds: the factor's stored scalars and one slice per host part,
+//! and writes that whole Jacobian.
 
 pub mod apex;
 mod layout;
@@ -56,10 +60,10 @@ use crate::scalar::Scalar;
 use crate::storage::Layout;
 
 pub use apex::{Apex, ApexManifold};
-pub use layout::{HostInput, HostLayout};
+pub use layout::{HostInput, HostLayout, HostVariable};
 pub use residual::{
-    MAX_STORED, MAX_VARIABLE_PARAMETERS, host_inputs, host_residual, linearize_host,
-    linearize_host_dual, stored_from_host_inputs,
+    MAX_STORED, MAX_VARIABLE_PARAMETERS, host_parameters, host_residual, inputs_of, linearize_host,
+    linearize_host_dual, linearize_host_validated, variables_from_host,
 };
 
 /// A host solver's description: what [`HostMap`], the code generator and
@@ -176,19 +180,23 @@ pub trait HostFactor<H: Host>: Factor {
 }
 
 /// A factor with a kernel generated for host `H`
-/// (`#[factor(kernel = path, hosts(…))]`): residual and column-major blocks
-/// straight from the host's parameter slices.
+/// (`#[factor(kernel = path, hosts(…))]`): residual and column-major
+/// Jacobian straight from the host's parameter slices.
 pub trait HostKernel<H: Host>: HostFactor<H> {
     /// The generated function, for reports.
     const HOST_KERNEL: &'static str;
 
-    /// The generated kernel over slices ([`HostLayout`]'s inputs in order;
-    /// one block per host part, column-major, `None` for a block not
-    /// wanted). Returns `false`, computing nothing, when a length differs
-    /// from what the kernel was generated for. No validation.
+    /// The generated kernel's host entry (`<factor>_<host>_host`): the
+    /// factor's stored scalars `stored` (its constants are read, its
+    /// variables' are not), one parameter slice per host part in the host's
+    /// layout, the residual, and the column-major Jacobian (`rows × Σ dof`,
+    /// the parts' columns in order) or `None`. Returns `false`, computing
+    /// nothing, when a length differs from what the kernel was generated
+    /// for. No validation.
     fn host_kernel(
-        inputs: &[&[f64]],
+        stored: &[f64],
+        parts: &[&[f64]],
         residual: &mut [f64],
-        blocks: &mut [Option<&mut [f64]>],
+        jacobian: Option<&mut [f64]>,
     ) -> bool;
 }

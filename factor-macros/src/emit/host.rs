@@ -7,7 +7,7 @@
 //!   the factor not a `HostFactor` of that host; the bound is spanned at the
 //!   type, and `HostMap`'s diagnostic says what to implement.
 //! - For each host of `#[factor(hosts(…))]`, `impl HostKernel<H>` calling
-//!   the generated `<kernel>_<host>_slices`.
+//!   the generated `<kernel>_<host>_host`.
 
 use proc_macro2::{Group, TokenStream, TokenTree};
 use quote::{format_ident, quote, quote_spanned};
@@ -107,7 +107,7 @@ pub fn emit(cx: &Context) -> TokenStream {
     }
 }
 
-/// `impl HostKernel<H>` through `<kernel>_<name>_slices`, with a
+/// `impl HostKernel<H>` through `<kernel>_<name>_host`, with a
 /// compile-time check that the host type's `NAME` is the attribute's.
 fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
     let krate = &cx.krate;
@@ -122,9 +122,9 @@ fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
         .last()
         .map_or_else(|| format_ident!("kernel"), |s| s.ident.clone());
     let function = format_ident!("{}_{}", last, name, span = span);
-    let slices = sibling(
+    let entry = sibling(
         kernel,
-        &format_ident!("{}_{}_slices", last, name, span = span),
+        &format_ident!("{}_{}_host", last, name, span = span),
     );
     let text = path_text(&sibling(kernel, &function));
     let name_text = name.to_string();
@@ -144,11 +144,12 @@ fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
             const HOST_KERNEL: &'static str = #text;
 
             fn host_kernel(
-                inputs: &[&[f64]],
+                stored: &[f64],
+                parts: &[&[f64]],
                 residual: &mut [f64],
-                blocks: &mut [::core::option::Option<&mut [f64]>],
+                jacobian: ::core::option::Option<&mut [f64]>,
             ) -> bool {
-                #slices(inputs, residual, blocks)
+                #entry(stored, parts, residual, jacobian)
             }
         }
     }

@@ -20,27 +20,22 @@
 //! acceptance threshold) as Ceres rejects a step when a cost function
 //! returns `false`; each such evaluation is counted in [`Rejections`].
 
+use std::any::TypeId;
+use std::collections::HashMap;
 use std::marker::PhantomData;
-use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use apex_solver::core::variable::ManifoldVariable;
 use factor_core::FactorError;
 use factor_core::host::{
-    Apex, ApexManifold, HostFactor, HostInput, HostKernel, HostLayout, HostManifold, MAX_STORED,
-    linearize_host, linearize_host_dual,
+    Apex, ApexManifold, HostFactor, HostKernel, HostLayout, HostManifold, MAX_STORED,
+    MAX_VARIABLE_PARAMETERS, linearize_host, linearize_host_dual, linearize_host_validated,
 };
 use faer::prelude::ReborrowMut;
+use smallvec::SmallVec;
 
 use crate::AdapterError;
-
-/// The most kernel inputs (constant fields and host parts) of a served factor.
-pub const MAX_INPUTS: usize = 16;
-/// The most host parts (apex variables) of a served factor.
-pub const MAX_PARTS: usize = 8;
-/// The most Jacobian entries (residual rows × tangent columns) of a served factor.
-pub const MAX_JACOBIAN: usize = 256;
 
 /// How an [`ApexFactor`] linearizes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -93,61 +88,90 @@ impl Rejections {
     }
 }
 
-/// Where one kernel input comes from at a call.
-#[derive(Debug, Clone)]
-enum Source {
-    /// The factor's stored constants.
-    Constant(Range<usize>),
-    /// apex's parameter slice of this index.
-    Apex(usize),
+/// What every factor of one type shares: its layout in apex's chart.
+/// Computed once per factor type ([`plan_of`]) and shared by reference, so
+/// a problem of a million blocks holds a million references, not a million
+/// layouts, and a linearization pass reads one plan from cache.
+#[derive(Debug)]
+struct Plan {
+    layout: HostLayout<ApexManifold>,
 }
 
-/// The linearization through the host layout: [`linearize_host`] or
-/// [`linearize_host_dual`] for the factor type.
+/// The plan of factor type `F`: built the first time it is asked for and
+/// kept for the process (one per factor type served: a bounded set).
+fn plan_of<F: HostFactor<Apex> + 'static>() -> &'static Plan {
+    static PLANS: OnceLock<Mutex<HashMap<TypeId, &'static Plan>>> = OnceLock::new();
+    let mut plans = PLANS
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner);
+    plans.entry(TypeId::of::<F>()).or_insert_with(|| {
+        Box::leak(Box::new(Plan {
+            layout: HostLayout::of::<F, Apex>(),
+        }))
+    })
+}
+
+/// A linearization through the host layout for the factor type
+/// ([`linearize_host`], [`linearize_validated`], [`linearize_host_dual`]).
 type Linearize = fn(
     &HostLayout<ApexManifold>,
+    &[f64],
     &[&[f64]],
     &mut [f64],
-    &mut [Option<&mut [f64]>],
+    Option<&mut [f64]>,
 ) -> Result<(), FactorError>;
+
+/// A factor's stored scalars, inline up to this many (the shipped
+/// reprojection factors hold 14 to 20): no allocation per block.
+const INLINE_STORED: usize = 24;
 
 /// A derived factor served to apex-solver: register it on the apex keys of
 /// its variables' host parts, in declaration order ([`ApexFactor::parts`]).
 pub struct ApexFactor<F> {
     /// The factor's stored scalars (its variables' are not read).
-    stored: Vec<f64>,
-    layout: HostLayout<ApexManifold>,
-    sources: Vec<Source>,
+    stored: SmallVec<[f64; INLINE_STORED]>,
+    plan: &'static Plan,
+    /// The residual-only evaluation of a trial step: validates.
+    evaluate: Linearize,
+    /// The linearization pass, at a configuration apex has evaluated and
+    /// accepted.
     linearize: Linearize,
     kernels: Kernels,
     rejections: Option<Arc<Rejections>>,
     _factor: PhantomData<fn() -> F>,
 }
 
-impl<F: HostFactor<Apex>> ApexFactor<F> {
+impl<F: HostFactor<Apex> + 'static> ApexFactor<F> {
     /// `factor` (its constants; its variables' values are read from apex at
-    /// each call) served through `linearize`.
-    fn with(factor: &F, linearize: Linearize, kernels: Kernels) -> Result<Self, AdapterError> {
-        let layout = HostLayout::of::<F, Apex>();
+    /// each call) served through `evaluate` (residual only) and `linearize`.
+    fn with(
+        factor: &F,
+        evaluate: Linearize,
+        linearize: Linearize,
+        kernels: Kernels,
+    ) -> Result<Self, AdapterError> {
+        let plan = plan_of::<F>();
+        let layout = &plan.layout;
+        let variable_parameters = layout.variables.iter().map(|v| {
+            layout.parts[v.parts.clone()]
+                .iter()
+                .map(|p| p.manifold.parameters())
+                .sum::<usize>()
+        });
         if layout.stored > MAX_STORED
-            || layout.inputs.len() > MAX_INPUTS
-            || layout.parts.len() > MAX_PARTS
-            || layout.residual * layout.columns() > MAX_JACOBIAN
+            || variable_parameters
+                .clone()
+                .any(|n| n > MAX_VARIABLE_PARAMETERS)
         {
             return Err(AdapterError::TooLarge { factor: F::NAME });
         }
-        let sources = layout
-            .inputs
-            .iter()
-            .map(|input| match input {
-                HostInput::Constant { stored, .. } => Source::Constant(stored.clone()),
-                HostInput::Part { index, .. } => Source::Apex(*index),
-            })
-            .collect();
+        let mut stored = SmallVec::from_elem(0.0, F::SCALARS);
+        factor.write_scalars(&mut stored);
         Ok(ApexFactor {
-            stored: factor.to_scalars(),
-            layout,
-            sources,
+            stored,
+            plan,
+            evaluate,
             linearize,
             kernels,
             rejections: None,
@@ -162,9 +186,10 @@ impl<F: HostFactor<Apex>> ApexFactor<F> {
     /// # Errors
     ///
     /// [`AdapterError::TooLarge`] beyond the adapter's stack buffers
-    /// ([`MAX_INPUTS`], [`MAX_PARTS`], [`MAX_JACOBIAN`], [`MAX_STORED`]).
+    /// ([`MAX_STORED`], [`MAX_VARIABLE_PARAMETERS`]).
     pub fn dual(factor: &F) -> Result<Self, AdapterError> {
-        Self::with(factor, linearize_host_dual::<F, Apex>, Kernels::Dual)
+        let dual = linearize_host_dual::<F, Apex>;
+        Self::with(factor, dual, dual, Kernels::Dual)
     }
 
     /// Counts rejected evaluations in `rejections`.
@@ -176,7 +201,7 @@ impl<F: HostFactor<Apex>> ApexFactor<F> {
     /// The apex variables (host parts) the factor connects, in order: the
     /// keys it is registered on are theirs.
     pub fn parts(&self) -> Vec<ApexManifold> {
-        self.layout.parts.iter().map(|p| p.manifold).collect()
+        self.plan.layout.parts.iter().map(|p| p.manifold).collect()
     }
 
     /// How it linearizes.
@@ -185,7 +210,7 @@ impl<F: HostFactor<Apex>> ApexFactor<F> {
     }
 }
 
-impl<F: HostKernel<Apex>> ApexFactor<F> {
+impl<F: HostKernel<Apex> + 'static> ApexFactor<F> {
     /// `factor` linearized by `kernels`: its generated apex kernel, or dual
     /// numbers in the same chart.
     ///
@@ -194,10 +219,31 @@ impl<F: HostKernel<Apex>> ApexFactor<F> {
     /// As [`ApexFactor::dual`].
     pub fn new(factor: &F, kernels: Kernels) -> Result<Self, AdapterError> {
         match kernels {
-            Kernels::Generated => Self::with(factor, linearize_host::<F, Apex>, kernels),
+            Kernels::Generated => Self::with(
+                factor,
+                linearize_host::<F, Apex>,
+                linearize_validated::<F>,
+                kernels,
+            ),
             Kernels::Dual => Self::dual(factor),
         }
     }
+}
+
+/// The generated kernel without the validation
+/// ([`linearize_host_validated`]): apex linearizes only at configurations
+/// whose residuals it evaluated (validated there: a rejected evaluation is
+/// NaN and its step is refused) or that the problem's builder validated
+/// (the initial values), so the validation is where a configuration is
+/// first met, not repeated in the linearization pass.
+fn linearize_validated<F: HostKernel<Apex>>(
+    layout: &HostLayout<ApexManifold>,
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    jacobian: Option<&mut [f64]>,
+) -> Result<(), FactorError> {
+    linearize_host_validated::<F, Apex>(layout, template, parts, residual, jacobian)
 }
 
 /// apex's column-major Jacobian as one slice, when its columns lie end to
@@ -218,30 +264,6 @@ fn contiguous(jacobian: faer::mat::MatMut<'_, f64>) -> Option<&mut [f64]> {
 }
 
 impl<F: HostFactor<Apex>> ApexFactor<F> {
-    /// The kernel inputs of one call: the constants and apex's slices.
-    fn inputs<'a>(&'a self, params: &[&'a [f64]]) -> [&'a [f64]; MAX_INPUTS] {
-        let mut inputs: [&[f64]; MAX_INPUTS] = [&[]; MAX_INPUTS];
-        for (slot, source) in inputs.iter_mut().zip(&self.sources) {
-            *slot = match source {
-                Source::Constant(range) => &self.stored[range.clone()],
-                Source::Apex(k) => params[*k],
-            };
-        }
-        inputs
-    }
-
-    /// Splits `jacobian` (column-major, the parts' columns in order) into
-    /// one block per part.
-    fn blocks<'a>(&self, mut jacobian: &'a mut [f64]) -> [Option<&'a mut [f64]>; MAX_PARTS] {
-        let mut blocks: [Option<&mut [f64]>; MAX_PARTS] = Default::default();
-        for (block, part) in blocks.iter_mut().zip(&self.layout.parts) {
-            let (head, tail) = jacobian.split_at_mut(self.layout.residual * part.manifold.dof());
-            *block = Some(head);
-            jacobian = tail;
-        }
-        blocks
-    }
-
     fn reject(&self, error: &FactorError, residual: &mut [f64]) {
         residual.fill(f64::NAN);
         if let Some(rejections) = &self.rejections {
@@ -257,44 +279,39 @@ impl<F: HostFactor<Apex>> apex_solver::factors::Factor for ApexFactor<F> {
         residual: &mut [f64],
         jacobian: Option<faer::mat::MatMut<'_, f64>>,
     ) {
-        let inputs = self.inputs(params);
-        let inputs = &inputs[..self.sources.len()];
-        let parts = self.layout.parts.len();
+        let layout = &self.plan.layout;
         let result = match jacobian {
-            None => {
-                let mut none: [Option<&mut [f64]>; MAX_PARTS] = Default::default();
-                (self.linearize)(&self.layout, inputs, residual, &mut none[..parts])
-            }
-            Some(mut jacobian) => {
-                let mut scratch = [0.0; MAX_JACOBIAN];
-                let direct = contiguous(jacobian.rb_mut());
-                let (result, copy_back) = match direct {
-                    Some(slice) => {
-                        let mut blocks = self.blocks(slice);
-                        let result =
-                            (self.linearize)(&self.layout, inputs, residual, &mut blocks[..parts]);
-                        (result, false)
+            None => (self.evaluate)(layout, &self.stored, params, residual, None),
+            Some(mut jacobian) => match contiguous(jacobian.rb_mut()) {
+                Some(slice) => {
+                    let result =
+                        (self.linearize)(layout, &self.stored, params, residual, Some(slice));
+                    if result.is_err() {
+                        jacobian.fill(f64::NAN);
                     }
-                    None => {
-                        let len = self.layout.residual * self.layout.columns();
-                        let mut blocks = self.blocks(&mut scratch[..len]);
-                        let result =
-                            (self.linearize)(&self.layout, inputs, residual, &mut blocks[..parts]);
-                        (result, true)
-                    }
-                };
-                if result.is_err() {
-                    jacobian.fill(f64::NAN);
-                } else if copy_back {
-                    let rows = self.layout.residual;
-                    for (j, column) in scratch.chunks(rows).take(jacobian.ncols()).enumerate() {
+                    result
+                }
+                // A view with other strides (apex never passes one): the
+                // Jacobian goes through a buffer.
+                None => {
+                    let rows = layout.residual;
+                    let mut scratch = vec![0.0; rows * layout.columns()];
+                    let result = (self.linearize)(
+                        layout,
+                        &self.stored,
+                        params,
+                        residual,
+                        Some(&mut scratch),
+                    );
+                    for (j, column) in scratch.chunks(rows).enumerate() {
                         for (r, value) in column.iter().enumerate() {
-                            *jacobian.rb_mut().get_mut(r, j) = *value;
+                            *jacobian.rb_mut().get_mut(r, j) =
+                                if result.is_ok() { *value } else { f64::NAN };
                         }
                     }
+                    result
                 }
-                result
-            }
+            },
         };
         if let Err(error) = result {
             self.reject(&error, residual);
@@ -302,15 +319,15 @@ impl<F: HostFactor<Apex>> apex_solver::factors::Factor for ApexFactor<F> {
     }
 
     fn residual_dim(&self) -> usize {
-        self.layout.residual
+        self.plan.layout.residual
     }
 
     fn jacobian_shape(&self) -> (usize, usize) {
-        (self.layout.residual, self.layout.columns())
+        (self.plan.layout.residual, self.plan.layout.columns())
     }
 
     fn validate_variables(&self, variables: &[&dyn ManifoldVariable]) -> Result<(), String> {
-        let parts = &self.layout.parts;
+        let parts = &self.plan.layout.parts;
         if variables.len() != parts.len() {
             return Err(format!(
                 "{} connects {} apex variables ({}), {} given",

@@ -47,12 +47,9 @@ pub use adapter::{ApexFactor, Kernels, Rejections};
 pub enum AdapterError {
     /// The factor is larger than the adapter's stack buffers.
     #[error(
-        "{factor}: more than {} stored scalars, {} kernel inputs, {} apex variables or {} \
-         Jacobian entries",
+        "{factor}: more than {} stored scalars, or a variable of more than {} apex parameters",
         factor_core::host::MAX_STORED,
-        adapter::MAX_INPUTS,
-        adapter::MAX_PARTS,
-        adapter::MAX_JACOBIAN
+        factor_core::host::MAX_VARIABLE_PARAMETERS
     )]
     TooLarge {
         /// The factor's name.

@@ -17,7 +17,7 @@ use apex_solver::manifold::{LieGroup, Tangent};
 use factor_apex::variables::apex_pose;
 use factor_apex::{ApexFactor, Kernels, Rejections};
 use factor_core::host::{
-    Apex, ApexManifold, HostFactor, HostInput, HostKernel, HostLayout, HostManifold, host_inputs,
+    Apex, ApexManifold, HostFactor, HostKernel, HostLayout, HostManifold, host_parameters,
 };
 use factor_testing::generated::input_scale;
 use factor_testing::samples::Sampler;
@@ -29,13 +29,7 @@ const CONFIGURATIONS: usize = 1000;
 
 /// The apex parameters of each apex variable of `factor`, in order.
 fn apex_parameters<F: HostFactor<Apex>>(factor: &F) -> Vec<Vec<f64>> {
-    let layout = HostLayout::of::<F, Apex>();
-    host_inputs::<F, Apex>(&layout, factor)
-        .into_iter()
-        .zip(&layout.inputs)
-        .filter(|(_, input)| matches!(input, HostInput::Part { .. }))
-        .map(|(params, _)| params)
-        .collect()
+    host_parameters::<F, Apex>(&HostLayout::of::<F, Apex>(), factor)
 }
 
 /// Residual and the column-major `rows × Σ dof` Jacobian of an apex factor.
@@ -148,7 +142,7 @@ fn residual_error<F: factor_core::Factor>(factor: &F, a: &[f64], b: &[f64]) -> f
 /// The adapter's residual and Jacobian (generated apex kernel and dual
 /// numbers) against the factor's own residual and central differences
 /// through apex's own retraction, at every configuration `sample` draws.
-fn check_against_apex_retraction<F: HostKernel<Apex>>(
+fn check_against_apex_retraction<F: HostKernel<Apex> + 'static>(
     seed: u64,
     count: usize,
     mut sample: impl FnMut(&mut Sampler, usize) -> F,
@@ -334,8 +328,10 @@ fn between_equals_apex_between_factor() {
     }
 }
 
-/// A configuration the factor rejects gives NaN (apex rejects the step)
-/// and is counted.
+/// A configuration the factor rejects gives a NaN residual where apex
+/// evaluates a trial step (residual only: apex then refuses the step, so it
+/// never linearizes there), through both kernel choices, and is counted;
+/// dual numbers, which validate in every call, also give a NaN Jacobian.
 #[test]
 fn degenerate_configurations_are_nan_and_counted() {
     let mut factor = Sampler::new(56).snavely_reprojection();
@@ -345,13 +341,17 @@ fn degenerate_configurations_are_nan_and_counted() {
         .inverse()
         .transform_point(&nalgebra::Vector3::new(0.1, 0.2, 3.0));
     let rejections = Rejections::new();
-    let served = ApexFactor::new(&factor, Kernels::Generated)
-        .expect("servable")
-        .with_rejections(rejections.clone());
     let params = apex_parameters(&factor);
-    let (residual, jacobian) = linearize(&served, &params);
+    for kernels in [Kernels::Generated, Kernels::Dual] {
+        let served = ApexFactor::new(&factor, kernels)
+            .expect("servable")
+            .with_rejections(rejections.clone());
+        assert!(residual_of(&served, &params).iter().all(|x| x.is_nan()));
+    }
+    let dual = ApexFactor::new(&factor, Kernels::Dual).expect("servable");
+    let (residual, jacobian) = linearize(&dual, &params);
     assert!(residual.iter().chain(&jacobian).all(|x| x.is_nan()));
-    assert_eq!(rejections.count(), 1);
+    assert_eq!(rejections.count(), 2);
     assert!(
         rejections
             .first()

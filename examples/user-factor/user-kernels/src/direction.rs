@@ -1016,45 +1016,47 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[6, 6],
 };
 
-/// [`direction_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`direction_apex`] over what a solver holds: `stored`, the factor's 10 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn direction_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn direction_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [measured, orientation, direction] = inputs else {
+    let ([part_0, part_1], 10) = (parts, stored.len()) else {
         return false;
     };
-    let (Ok(measured), Ok(orientation), Ok(direction), Ok(residual)) = (
-        <&[T; 3]>::try_from(*measured),
-        <&[T; 4]>::try_from(*orientation),
-        <&[T; 3]>::try_from(*direction),
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(residual)) = (
+        <&[T; 3]>::try_from(&stored[0..3]),
+        <&[T; 4]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_orientation, d_direction] = blocks else {
-        return false;
-    };
-    let d_orientation = match d_orientation.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 12]>::try_from) {
+        None => self::direction_apex(input_0, input_1, input_2, residual, None, None),
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_orientation, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_direction, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::direction_apex(
+                input_0,
+                input_1,
+                input_2,
+                residual,
+                Some(d_orientation),
+                Some(d_direction),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_direction = match d_direction.as_deref_mut().map(<&mut [T; 6]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::direction_apex(
-        measured,
-        orientation,
-        direction,
-        residual,
-        d_orientation,
-        d_direction,
-    );
+    }
     true
 }
 

@@ -5552,75 +5552,79 @@ pub const SHAPE_APEX: Shape = Shape {
     blocks: &[42, 7, 42, 7],
 };
 
-/// [`relative_sim3_apex`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE_APEX`].
+/// [`relative_sim3_apex`] over what a solver holds: `stored`, the factor's 24 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (7 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
 #[inline]
-pub fn relative_sim3_apex_slices<T: Real>(
-    inputs: &[&[T]],
+pub fn relative_sim3_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
     residual: &mut [T],
-    blocks: &mut [Option<&mut [T]>],
+    jacobian: Option<&mut [T]>,
 ) -> bool {
-    let [measured, sim_i_pose, sim_i_log_scale, sim_j_pose, sim_j_log_scale] = inputs
-    else {
+    let ([part_0, part_1, part_2, part_3], 24) = (parts, stored.len()) else {
         return false;
     };
     let (
-        Ok(measured),
-        Ok(sim_i_pose),
-        Ok(sim_i_log_scale),
-        Ok(sim_j_pose),
-        Ok(sim_j_log_scale),
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
         Ok(residual),
     ) = (
-        <&[T; 8]>::try_from(*measured),
-        <&[T; 7]>::try_from(*sim_i_pose),
-        <&[T; 1]>::try_from(*sim_i_log_scale),
-        <&[T; 7]>::try_from(*sim_j_pose),
-        <&[T; 1]>::try_from(*sim_j_log_scale),
+        <&[T; 8]>::try_from(&stored[0..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 1]>::try_from(*part_1),
+        <&[T; 7]>::try_from(*part_2),
+        <&[T; 1]>::try_from(*part_3),
         <&mut [T; 7]>::try_from(residual),
     ) else {
         return false;
     };
-    let [d_sim_i_pose, d_sim_i_log_scale, d_sim_j_pose, d_sim_j_log_scale] = blocks else {
-        return false;
-    };
-    let d_sim_i_pose = match d_sim_i_pose.as_deref_mut().map(<&mut [T; 42]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
+    match jacobian.map(<&mut [T; 98]>::try_from) {
+        None => {
+            self::relative_sim3_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                None,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_sim_i_pose, rest)) = rest.split_first_chunk_mut::<42>() else {
+                return false;
+            };
+            let Some((d_sim_i_log_scale, rest)) = rest.split_first_chunk_mut::<7>() else {
+                return false;
+            };
+            let Some((d_sim_j_pose, rest)) = rest.split_first_chunk_mut::<42>() else {
+                return false;
+            };
+            let Some((d_sim_j_log_scale, rest)) = rest.split_first_chunk_mut::<7>() else {
+                return false;
+            };
+            let _ = rest;
+            self::relative_sim3_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                Some(d_sim_i_pose),
+                Some(d_sim_i_log_scale),
+                Some(d_sim_j_pose),
+                Some(d_sim_j_log_scale),
+            )
+        }
         Some(Err(_)) => return false,
-    };
-    let d_sim_i_log_scale = match d_sim_i_log_scale
-        .as_deref_mut()
-        .map(<&mut [T; 7]>::try_from)
-    {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    let d_sim_j_pose = match d_sim_j_pose.as_deref_mut().map(<&mut [T; 42]>::try_from) {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    let d_sim_j_log_scale = match d_sim_j_log_scale
-        .as_deref_mut()
-        .map(<&mut [T; 7]>::try_from)
-    {
-        None => None,
-        Some(Ok(block)) => Some(block),
-        Some(Err(_)) => return false,
-    };
-    self::relative_sim3_apex(
-        measured,
-        sim_i_pose,
-        sim_i_log_scale,
-        sim_j_pose,
-        sim_j_log_scale,
-        residual,
-        d_sim_i_pose,
-        d_sim_i_log_scale,
-        d_sim_j_pose,
-        d_sim_j_log_scale,
-    );
+    }
     true
 }
 
