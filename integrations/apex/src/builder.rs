@@ -55,6 +55,7 @@ use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};
 use crate::problems::{BuildError, BuildOptions, Built, FactorChoice, KeptBlock, Keys, Robust};
+use crate::solve::Damping;
 use crate::timing::{Marks, PhaseClock, Timed};
 use crate::variables::{manifold_type, to_apex};
 
@@ -169,6 +170,7 @@ pub struct ProblemBuilder {
     cost: f64,
     pending: Vec<Pending>,
     eliminated: bool,
+    damping: Damping,
     rejections: Arc<Rejections>,
 }
 
@@ -199,6 +201,7 @@ impl ProblemBuilder {
             cost: 0.0,
             pending: Vec::new(),
             eliminated: false,
+            damping: Damping::default(),
             rejections: Rejections::new(),
         }
     }
@@ -352,6 +355,12 @@ impl ProblemBuilder {
         self.block_with_loss(&keys, Arc::new(served), noise, loss)
     }
 
+    /// Damps the solve's steps with `damping` (by default
+    /// [`Damping::Diagonal`]).
+    pub fn damping(&mut self, damping: Damping) {
+        self.damping = damping;
+    }
+
     /// The problem, ready for [`crate::solve::solve`]: solved by apex's
     /// sparse Schur solver when a variable was marked for elimination, by
     /// its sparse Cholesky solver otherwise.
@@ -474,6 +483,7 @@ impl ProblemBuilder {
             problem: self.problem,
             keys,
             linear_solver,
+            damping: self.damping,
             blocks: count,
             initial_cost: self.cost,
             clock,

@@ -166,6 +166,8 @@ pub struct Built {
     pub keys: Keys,
     /// The linear solver the problem is meant for.
     pub linear_solver: LinearSolverType,
+    /// How Levenberg–Marquardt damps its steps on this problem.
+    pub damping: crate::solve::Damping,
     /// The residual blocks (observations or edges).
     pub blocks: usize,
     /// The cost at the initial values, `Σ ½ ρ(‖S r‖²)`.

@@ -16,6 +16,7 @@ use slam_factors::{BetweenFactor, SqrtInformation6};
 use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
 use crate::builder::ProblemBuilder;
+use crate::solve::Damping;
 use crate::variables::{apex_pose, from_apex};
 
 /// The variables of a pose graph: each vertex id and its pose's key, in the
@@ -118,6 +119,10 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
     if let Some(&(_, key)) = keys.poses.first() {
         builder.fix(key, 6)?;
     }
+    // Poses are in one unit system (metres and radians, whitened by the
+    // edges' information): uniform damping, which reaches sphere2500's
+    // optimum in a third of the iterations the diagonal one needs.
+    builder.damping(Damping::Uniform);
     builder.finish(Keys::PoseGraph(keys), LinearSolverType::SparseCholesky)
 }
 
