@@ -12,6 +12,30 @@
 //! apex-solver keeps its quaternions unit (it normalises after each step).
 //! Its other manifolds (SE2, Sim3, SE23, SGal3) are not needed by the types
 //! this project ships; a user type needing one adds a variant here.
+//!
+//! # The types this project ships, served to apex
+//!
+//! Each type's [`HostMap<Apex>`](crate::host::HostMap): the apex variables
+//! it becomes and how their parameters give its stored scalars. Whatever
+//! side and tangent order a factor declares for a variable, its Jacobian
+//! columns in apex are the apex variables' tangents, in this order.
+//!
+//! | type | as declared by the shipped factors | apex variables | stored scalars ← apex parameters |
+//! | --- | --- | --- | --- |
+//! | [`Se3`](crate::lie::Se3) (document 000's pose) | left, `[δω, δρ]` | `SE3`, `[ρ, θ]` | `[qx, qy, qz, qw, tx, ty, tz]` ← `[tx, ty, tz, qw, qx, qy, qz]` |
+//! | [`Se3RhoTheta`](crate::lie::Se3RhoTheta) | right, `[δρ, δθ]` | `SE3`, `[ρ, θ]` | as `Se3` |
+//! | [`So3`] | either side, `δ` | `SO3`, `θ` | `[qx, qy, qz, qw]` ← `[qw, qx, qy, qz]` |
+//! | [`InfinitePlane`](crate::geometry::InfinitePlane) (the unit-quaternion plane) | left, `δω` | `SO3`, `θ` | `[a, b, c, d]` ← `[qw, qx, qy, qz]` (`a, b, c` the vector part) |
+//! | [`OrthonormalLine`](crate::geometry::OrthonormalLine) `(U, W)` | left, `[δΘ, δρ]` | `SO3` (`u`) × `SO2` (`w`), `[θ, δ]` | `U`'s quaternion, `W = (cos, sin)` ← `[qw, qx, qy, qz]`, `[angle]` |
+//! | [`FreeLine`](crate::geometry::FreeLine) `[q_WL, d_L]` | left, `[δθ, δd]` | `SO3` (`rotation`) × `Rn(1)` (`distance`) | `q_WL`, `d_L` |
+//! | [`PluckerLine`](crate::geometry::PluckerLine) `[n, v]` | additive | `Rn(6)` | the same |
+//! | [`So2`](crate::lie::So2) | `δ` | `SO2` | `(cos, sin)` ← `[angle]` |
+//! | `nalgebra` vectors and matrices, `f64` | additive | `Rn(n)` | the same |
+//!
+//! A type of one's own maps onto these with its own `HostMap<Apex>`: the
+//! example crate `user-factors` serves its Sim(3) as `SE3 × Rn(1)` and its
+//! S² direction as `Rn(3)`; [`crate::additive_maps!`] serves a vector-space
+//! type as `Rn(n)` in one line.
 
 use std::fmt;
 

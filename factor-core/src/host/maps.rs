@@ -1,14 +1,5 @@
-//! How the types this crate ships are served by [`Apex`].
-//!
-//! | type | apex variables | stored scalars from apex's parameters |
-//! | --- | --- | --- |
-//! | [`Se3`], [`Se3RhoTheta`] (either side, either tangent order) | `SE3` | `[qx, qy, qz, qw, tx, ty, tz]` ← `[tx, ty, tz, qw, qx, qy, qz]` |
-//! | [`So3`], [`InfinitePlane`] (the plane's unit quaternion) | `SO3` | `[qx, qy, qz, qw]` ← `[qw, qx, qy, qz]` |
-//! | [`So2`] | `SO2` | `[cos, sin]` ← `[angle]` |
-//! | [`OrthonormalLine`] `(U, W)` | `SO3` (`u`) × `SO2` (`w`) | `U`'s quaternion and `W`'s `(cos, sin)` |
-//! | [`FreeLine`] `[q_WL, d_L]` | `SO3` (`rotation`) × `Rn(1)` (`distance`) | `q_WL` and `d_L` |
-//! | [`PluckerLine`] (additive `[n, v]`) | `Rn(6)` | the same |
-//! | vectors and matrices, `f64` scalars | `Rn(n)` | the same |
+//! How the types this crate ships are served by [`Apex`] (the table is in
+//! [`crate::host::apex`]'s documentation).
 
 use nalgebra::{SMatrix, Scalar as NalgebraScalar};
 
