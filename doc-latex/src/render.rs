@@ -9,9 +9,9 @@ use crate::ast::{
     Base, Case, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, PostfixOp, Sign,
     Statement, Symbol,
 };
+pub use crate::names::mulop_latex;
 use crate::names::{
-    ACCENT_COMMANDS, FONT_COMMANDS, POSTFIX_OPERATORS, function_command, mulop_latex, name_of,
-    relation_latex,
+    ACCENT_COMMANDS, FONT_COMMANDS, POSTFIX_OPERATORS, function_command, name_of, relation_latex,
 };
 
 impl fmt::Display for Expr {

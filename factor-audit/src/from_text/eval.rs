@@ -5,7 +5,7 @@
 use nalgebra::DMatrix;
 
 use super::factors::FactorKind;
-use super::term::{Meaning, Op, SymbolId, Table, Term, Variable};
+use super::term::{Meaning, Op, SymbolId, Table, Template, Term, Variable};
 use super::value::{Blocks, ShapeError, Value, shape_text};
 use factor_core::scalar::Scalar;
 
@@ -24,6 +24,8 @@ pub struct Space<'a> {
     pub printed: &'a [Option<Term>],
     /// The factor whose residual `residual` symbols are.
     pub factor: Option<FactorKind>,
+    /// The operators and functions the context defines.
+    pub templates: &'a [Template],
 }
 
 /// Sizes the block matrices of a product that their own blocks leave
@@ -57,6 +59,9 @@ pub struct Env<'a, S: Scalar> {
     bound: Vec<Option<Value<S>>>,
     memo: Vec<Option<Value<S>>>,
     depth: usize,
+    /// The values at this sample of the links stated in words, when the
+    /// caller computed them (by context link index).
+    truths: Vec<Option<DMatrix<S>>>,
 }
 
 fn fail<T>(message: impl Into<String>) -> Result<T, ShapeError> {
@@ -73,7 +78,14 @@ impl<'a, S: Scalar> Env<'a, S> {
             bound: vec![None; n],
             memo: vec![None; n],
             depth: 0,
+            truths: Vec::new(),
         }
+    }
+
+    /// The sample with the values of the links stated in words.
+    pub fn with_truths(mut self, truths: Vec<Option<DMatrix<S>>>) -> Self {
+        self.truths = truths;
+        self
     }
 
     /// Binds a symbol to a value (every derived value is recomputed).
@@ -228,11 +240,17 @@ impl<'a, S: Scalar> Env<'a, S> {
                 Ok(Value::Matrix(m))
             }
             Term::Stack(items) => {
-                let mut rows = Vec::with_capacity(items.len());
+                let mut values = Vec::with_capacity(items.len());
                 for x in items {
-                    rows.push(vec![self.eval(x)?]);
+                    values.push(self.eval(x)?);
                 }
-                Blocks::build(rows)
+                // `[I, -P^]`: items with several columns are a block row;
+                // vectors and scalars stack in a column.
+                if values.iter().any(|v| v.shape().is_some_and(|(_, c)| c > 1)) {
+                    Blocks::build(vec![values])
+                } else {
+                    Blocks::build(values.into_iter().map(|v| vec![v]).collect())
+                }
             }
             Term::Quotient { numerator, tangent } => self.quotient(numerator, *tangent),
             Term::Link(k) => {
@@ -242,7 +260,38 @@ impl<'a, S: Scalar> Env<'a, S> {
                     None => fail("a chain rule's link has no printed formula"),
                 }
             }
+            Term::TruthLink(k) => match self.truths.get(*k).and_then(Option::as_ref) {
+                Some(m) => Ok(Value::Matrix(m.clone())),
+                None => fail(
+                    "a link stated in words is evaluated only in a printed formula's own claim",
+                ),
+            },
+            Term::Template(t, args) => self.template(*t, args),
         }
+    }
+
+    /// A template applied: its arguments bound, its body evaluated.
+    fn template(&mut self, t: usize, args: &[Term]) -> Result<Value<S>, ShapeError> {
+        let templates = self.space.templates;
+        let template = &templates[t];
+        if args.len() != template.params.len() {
+            return fail(format!(
+                "`{}` takes {} argument(s)",
+                template.key,
+                template.params.len()
+            ));
+        }
+        let mut values = Vec::with_capacity(args.len());
+        for a in args {
+            values.push(self.eval(a)?);
+        }
+        let saved = (self.bound.clone(), self.memo.clone());
+        for (p, v) in template.params.iter().zip(values) {
+            self.bind(*p, v);
+        }
+        let result = self.eval(&template.body);
+        (self.bound, self.memo) = saved;
+        result
     }
 
     /// `X / δξ`: columns `X(e_j) − X(0)` over the unit tangents `e_j`.
@@ -339,7 +388,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 let picked: Vec<S> = components.iter().map(|c| r[*c]).collect();
                 Value::column(&picked)
             }
-            Meaning::Function(_) => {
+            Meaning::Function(_) | Meaning::Template(_) => {
                 return fail(format!(
                     "`{}` is a function: apply it to an argument",
                     entry.key

@@ -76,15 +76,49 @@ pub enum Term {
     /// A derivative in a chain rule: the printed formula of the claim of
     /// this file (by its index) that states it.
     Link(usize),
+    /// A derivative in a chain rule that the document states in words: the
+    /// true derivative of the context's link `k` ([`TruthLink`]).
+    TruthLink(usize),
+    /// An operator or function the symbols file defines by LaTeX over its
+    /// arguments ([`Template`]), applied.
+    Template(usize, Vec<Term>),
+}
+
+/// An operator or function defined by LaTeX over its arguments.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Template {
+    /// How it is written in the symbols file (`\\boxminus`, `^\\odot`, `H`).
+    pub key: String,
+    /// Its arguments: symbols bound while its body is evaluated.
+    pub params: Vec<SymbolId>,
+    /// Its body, lowered.
+    pub body: Term,
+}
+
+/// A chain-rule link the document states only in words: the derivative of
+/// `of` by `variable`, computed (by dual numbers) where it is used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TruthLink {
+    /// The derivative as the chain rules print it (canonical LaTeX).
+    pub key: String,
+    /// The map.
+    pub of: Term,
+    /// The variable.
+    pub variable: Variable,
+    /// The local coordinates of a group-valued map.
+    pub output: Option<Perturbation>,
 }
 
 impl Term {
     /// Every sub-term (children first is not guaranteed).
     pub fn children(&self) -> Vec<&Term> {
         match self {
-            Term::Number(_) | Term::Symbol(_) | Term::Zero | Term::Identity(_) | Term::Link(_) => {
-                Vec::new()
-            }
+            Term::Number(_)
+            | Term::Symbol(_)
+            | Term::Zero
+            | Term::Identity(_)
+            | Term::Link(_)
+            | Term::TruthLink(_) => Vec::new(),
             Term::Neg(x)
             | Term::Power(x, _)
             | Term::Norm(x)
@@ -96,7 +130,9 @@ impl Term {
             Term::Sum(terms) => terms.iter().map(|(_, t)| t).collect(),
             Term::Product(factors) => factors.iter().map(|(_, t)| t).collect(),
             Term::Fraction { num, den, .. } => vec![num, den],
-            Term::Call(_, args) | Term::Stack(args) => args.iter().collect(),
+            Term::Call(_, args) | Term::Stack(args) | Term::Template(_, args) => {
+                args.iter().collect()
+            }
             Term::Blocks(rows) => rows.iter().flatten().collect(),
         }
     }
@@ -188,6 +224,9 @@ pub enum Meaning {
     },
     /// A function symbol.
     Function(Builtin),
+    /// A function symbol defined by LaTeX over its arguments (a template of
+    /// the context, by index).
+    Template(usize),
     /// A tangent: a perturbation of a stored value or a definition, and the
     /// symbols of its equal parts.
     Tangent {
