@@ -308,7 +308,7 @@ impl Parser<'_> {
             Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => self.call_arguments()?,
             _ => {
                 self.skip_spaces();
-                if !self.starts_operand(self.pos) || self.closes(self.pos) {
+                if !self.starts_operand(self.pos) {
                     if sub.is_none() {
                         return Err(self.error_here(ErrorKind::MissingOperand(name)));
                     }

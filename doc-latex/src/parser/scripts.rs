@@ -61,6 +61,7 @@ fn marker(tok: &Tok) -> Option<Marker> {
 /// four tokens `\font { T }` ending at `end` (exclusive).
 fn fonted_transpose(toks: &[crate::lexer::Token], end: usize) -> bool {
     end >= 4
+        && end <= toks.len()
         && matches!(&toks[end - 4].tok, Tok::Command(c) if ["mathsf", "mathrm", "mathit", "text", "mathbf"].contains(&c.as_str()))
         && toks[end - 3].tok == Tok::LBrace
         && toks[end - 2].tok == Tok::Letter('T')
@@ -75,6 +76,12 @@ impl Parser<'_> {
             return Err(self.unexpected());
         };
         if tok != Tok::LBrace {
+            if sup && fonted_transpose(&self.toks[..self.end], self.pos + 4) {
+                // `^\mathsf{T}`: the transpose in a font, unbraced.
+                arg.markers.push(PostfixOp::Transpose);
+                self.pos += 4;
+                return Ok(arg);
+            }
             match (sup, marker(&tok)) {
                 (true, Some(Marker::Op(op))) => arg.markers.push(op),
                 (true, Some(Marker::Prime)) => arg.primes += 1,

@@ -606,6 +606,9 @@ impl<'a> TextDerivation<'a> {
     /// The true derivative of a link the file states in words, at this
     /// sample.
     fn truth_link(&self, link: &TruthLink) -> Result<DMatrix<f64>, ShapeError> {
+        if let Some(why) = &link.broken {
+            return Err(ShapeError(format!("the link `{}`: {why}", link.key)));
+        }
         let p = lift::<DualSVec64<1>>(&self.stored);
         let failure = std::cell::RefCell::new(None);
         let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
@@ -626,9 +629,14 @@ impl<'a> TextDerivation<'a> {
         }
     }
 
-    /// The values at this sample of the links stated in words `term` uses.
+    /// The values at this sample of the links stated in words `term` uses
+    /// (through the claims it links and the definitions it uses too).
     fn truths<S: Scalar>(&self, term: &Term) -> Result<Vec<Option<DMatrix<S>>>, ShapeError> {
         let mut out = vec![None; self.ctx.truth_links.len()];
+        if out.is_empty() {
+            return Ok(out);
+        }
+        let mut seen = vec![false; self.ctx.table.entries.len()];
         let mut stack = vec![term];
         while let Some(t) = stack.pop() {
             match t {
@@ -639,6 +647,19 @@ impl<'a> TextDerivation<'a> {
                 Term::Link(k) => {
                     if let Some(Some(linked)) = self.ctx.printed.get(*k) {
                         stack.push(linked);
+                    }
+                }
+                Term::Template(k, _) => stack.push(&self.ctx.templates[*k].body),
+                Term::Symbol(id) if !seen[*id] => {
+                    seen[*id] = true;
+                    match &self.ctx.table.entries[*id].meaning {
+                        Meaning::Definition(d) => stack.push(d),
+                        Meaning::Component { of, .. } => {
+                            if let Meaning::Definition(d) = &self.ctx.table.entries[*of].meaning {
+                                stack.push(d);
+                            }
+                        }
+                        _ => {}
                     }
                 }
                 _ => {}

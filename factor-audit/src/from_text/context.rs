@@ -581,6 +581,15 @@ impl Context {
                         Side::Right => Perturbation::Right,
                     };
                 }
+                if at_zero {
+                    match &mut variable {
+                        Variable::Stored {
+                            kind, at_zero: z, ..
+                        } if kind.is_additive() => *z = true,
+                        Variable::Defined { at_zero: z, .. } => *z = true,
+                        _ => return Err(format!("`{key}` has no zero: it is not additive")),
+                    }
+                }
                 Ok(variable)
             }
             Meaning::Component { of, .. } => Err(format!(
@@ -853,10 +862,8 @@ impl Context {
         let wrt = doc_latex::parse_expr_with(&spec.wrt, &self.vocabulary)
             .map_err(|e| format!("cannot read `wrt`: {} at `{}`", e.kind, e.fragment))?;
         let variable = self.variable_of(None, &wrt, spec.side, false)?;
-        if matches!(variable, Variable::Defined { .. } | Variable::Update { .. }) {
-            return Err(
-                "a link stated in words differentiates by a stored or sampled symbol".into(),
-            );
+        if matches!(variable, Variable::Update { .. }) {
+            return Err("a link stated in words differentiates by a symbol, not an update".into());
         }
         let output = spec.output.map(|s| match s {
             Side::Left => Perturbation::Left,
@@ -867,6 +874,7 @@ impl Context {
             of,
             variable,
             output,
+            broken: None,
         });
         Ok(())
     }
@@ -907,6 +915,20 @@ impl Context {
                             parts.len()
                         ),
                     ));
+                }
+            }
+        }
+        // A link whose variable cannot be sized is broken: the claims
+        // using it cannot be read.
+        for k in 0..self.truth_links.len() {
+            if let Variable::Defined { symbol, .. } = self.truth_links[k].variable {
+                match dim_of(self, symbol) {
+                    Ok((s, _)) => {
+                        if let Variable::Defined { shape, .. } = &mut self.truth_links[k].variable {
+                            *shape = s;
+                        }
+                    }
+                    Err(m) => self.truth_links[k].broken = Some(m),
                 }
             }
         }

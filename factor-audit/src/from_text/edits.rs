@@ -93,6 +93,11 @@ pub enum Edit {
         /// Its replacement.
         with: Box<ast::Symbol>,
     },
+    /// The node inverted (`x` to `x^{-1}`), or its inverse undone.
+    Invert(Path),
+    /// A parenthesis misplaced in a sum whose last term is a product:
+    /// `(a − b c)` read as `(a − b) c`.
+    Regroup(Path),
     /// The node multiplied by a constant.
     Scale {
         /// The node.
@@ -114,6 +119,8 @@ impl Edit {
     pub fn site(&self) -> Path {
         match self {
             Edit::Negate(p)
+            | Edit::Invert(p)
+            | Edit::Regroup(p)
             | Edit::Exponent { path: p, .. }
             | Edit::SymbolExponent { path: p, .. }
             | Edit::Transpose(p)
@@ -278,6 +285,24 @@ impl Edit {
                 };
                 true
             }
+            Edit::Invert(_) => {
+                let old = std::mem::replace(node, Expr::Placeholder);
+                *node = match old {
+                    Expr::Power { base, exponent } if number(&exponent) == Some(-1.0) => *base,
+                    other => Expr::Power {
+                        base: Box::new(other),
+                        exponent: Box::new(number_expr(-1.0)),
+                    },
+                };
+                true
+            }
+            Edit::Regroup(_) => match regrouped(node) {
+                Some(e) => {
+                    *node = e;
+                    true
+                }
+                None => false,
+            },
         }
     }
 
@@ -405,6 +430,20 @@ impl Edit {
             Edit::Replace { path, with } => {
                 format!("`{}` should be `{}`", show(path), plain(&symbol_key(with)))
             }
+            Edit::Invert(p) => match at(root, p) {
+                Some(Expr::Power { base, exponent }) if number(exponent) == Some(-1.0) => {
+                    format!("`{}` should not be inverted", plain(&base.to_string()))
+                }
+                _ => format!("`{}` should be inverted", show(p)),
+            },
+            Edit::Regroup(p) => match at(root, p).and_then(regrouped) {
+                Some(e) => format!(
+                    "a parenthesis is misplaced: `{}` should read `{}`",
+                    show(p),
+                    plain(&e.to_string())
+                ),
+                None => "a parenthesis is misplaced".into(),
+            },
             Edit::Scale { path, by } if path.is_empty() => {
                 format!(
                     "the whole formula should be multiplied by {}",
@@ -416,6 +455,43 @@ impl Edit {
             }
         }
     }
+}
+
+/// `(a − b c)` as `(a − b) c`: a sum whose last term is a product of at
+/// least two factors, with that product's last factor taken out.
+fn regrouped(e: &Expr) -> Option<Expr> {
+    let Expr::Sum { first, rest } = e else {
+        return None;
+    };
+    let (sign, last) = rest.last()?;
+    let Expr::Product {
+        first: f0,
+        rest: factors,
+    } = last
+    else {
+        return None;
+    };
+    let ((op, outside), inside) = factors.split_last()?;
+    if *op != MulOp::Implicit {
+        return None;
+    }
+    let kept = if inside.is_empty() {
+        f0.as_ref().clone()
+    } else {
+        Expr::Product {
+            first: f0.clone(),
+            rest: inside.to_vec(),
+        }
+    };
+    let mut terms = rest[..rest.len() - 1].to_vec();
+    terms.push((*sign, kept));
+    Some(Expr::Product {
+        first: Box::new(Expr::Sum {
+            first: first.clone(),
+            rest: terms,
+        }),
+        rest: vec![(MulOp::Implicit, outside.clone())],
+    })
 }
 
 /// LaTeX made lighter for prose: no `\left`/`\right`, bars hugging their
@@ -493,6 +569,14 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
     ];
     let siblings = siblings(ctx, claim);
     for (path, node) in nodes(root) {
+        if matches!(node, Expr::Symbol(_) | Expr::Apply { .. })
+            || matches!(node, Expr::Power { exponent, .. } if number(exponent) == Some(-1.0))
+        {
+            out.push(Edit::Invert(path.clone()));
+        }
+        if regrouped(node).is_some() {
+            out.push(Edit::Regroup(path.clone()));
+        }
         match node {
             Expr::Sum { rest, .. } => {
                 for i in 0..=rest.len() {

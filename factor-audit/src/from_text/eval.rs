@@ -327,14 +327,10 @@ impl<'a, S: Scalar> Env<'a, S> {
                     .collect();
                 env.bind(*slot, Value::column(&part));
             }
+            // A matrix numerator (a differential printed in the algebra)
+            // is read column by column, as a map's matrix value is.
             let v = env.eval(numerator)?.matrix()?;
-            if v.ncols() != 1 {
-                return fail(format!(
-                    "a difference quotient of a {} matrix (a vector is needed)",
-                    shape_text(v.shape())
-                ));
-            }
-            Ok(v)
+            Ok(DMatrix::from_column_slice(v.len(), 1, v.as_slice()))
         };
         let result = (|| {
             let zero = at(self, None)?;

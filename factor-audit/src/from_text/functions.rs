@@ -90,7 +90,8 @@ pub enum Builtin {
     SmallAdjoint,
     /// `ad_τ y`: on a tangent, `ad_τ y`; on algebra matrices, `τ y − y τ`.
     SmallAdjointAct,
-    /// `matrix(X)`: a group element's matrix (`C(Φ)`).
+    /// `matrix(X)`: a group element's matrix (`C(Φ)`); of a 3-vector, the
+    /// matrix of the rotation it is the vector of (`C(φ) = Exp(φ)`).
     MatrixOf,
     /// `inverse(X)`.
     Inverse,
@@ -364,7 +365,10 @@ impl Builtin {
                     _ => Value::Matrix(small_adjoint(x)?).times(y),
                 }
             }
-            Builtin::MatrixOf => Ok(Value::Matrix(x.matrix()?)),
+            Builtin::MatrixOf => match x.shape() {
+                Some((3, 1)) => Ok(Value::Matrix(group_exp(x)?.matrix()?)),
+                _ => Ok(Value::Matrix(x.matrix()?)),
+            },
             Builtin::Inverse => x.inverse(),
             Builtin::Skew => x.hat(),
             Builtin::Trace => {

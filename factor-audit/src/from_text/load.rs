@@ -230,6 +230,16 @@ impl TextAudit {
                 continue;
             };
             let ctx = &contexts[claim.context];
+            if let Some(why) = broken_link(&claim.printed, ctx) {
+                failures.fail(
+                    i,
+                    TextError::Claim {
+                        claim: claim.label.equation.clone(),
+                        message: why,
+                    },
+                )?;
+                continue;
+            }
             if let Err(e) = fix_shapes(claim, ctx, &samples[claim.context]) {
                 failures.fail(i, e)?;
             }
@@ -292,6 +302,23 @@ fn check_links(compiled: &[Option<TextClaim>], failures: &mut Failures) -> Resul
         }
     }
     Ok(())
+}
+
+/// Why a link stated in words that `printed` uses cannot be evaluated.
+fn broken_link(printed: &super::term::Term, ctx: &Context) -> Option<String> {
+    let mut stack = vec![printed];
+    while let Some(t) = stack.pop() {
+        if let super::term::Term::TruthLink(k) = t
+            && let Some(why) = &ctx.truth_links[*k].broken
+        {
+            return Some(format!(
+                "its link `{}` (stated in words) cannot be evaluated: {why}",
+                ctx.truth_links[*k].key
+            ));
+        }
+        stack.extend(t.children());
+    }
+    None
 }
 
 /// Sizes what a sample tells about a claim (its defined variables and its

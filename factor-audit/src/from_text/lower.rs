@@ -347,12 +347,21 @@ impl<'r> Lowering<'r> {
                 other => (None, number(other)),
             };
             if let Some(p) = power {
+                // `P_z^2`, `\hat{v}^2`: a power of what the symbol without
+                // it is, when that is a value.
                 let mut base = s.clone();
                 base.sup = index.map(Box::new);
-                if let Some((id, Found::Stored { .. } | Found::Value)) =
-                    self.resolver.symbol(&symbol_key(&base))?
-                {
-                    return Ok(Term::Power(Box::new(Term::Symbol(id)), p));
+                let defined = self.resolver.symbol(&symbol_key(&base))?;
+                match defined {
+                    Some((id, Found::Stored { .. } | Found::Value)) => {
+                        return Ok(Term::Power(Box::new(Term::Symbol(id)), p));
+                    }
+                    Some(_) => {}
+                    None => {
+                        if let Ok(t) = self.symbol(&base, &Expr::Symbol(base.clone())) {
+                            return Ok(Term::Power(Box::new(t), p));
+                        }
+                    }
                 }
             }
         }
@@ -363,6 +372,19 @@ impl<'r> Lowering<'r> {
         }
         if let Some(size) = identity(s) {
             return size.map(Term::Identity).map_err(|m| LowerError::at(e, m));
+        }
+        // `\hat{v}` undefined: the accent as the file defines it (an
+        // operator `\hat`), on the symbol without it.
+        if let Some(accent) = s.accent {
+            let key = format!("\\{}", accent_name(accent));
+            if let Some((t, 1)) = self.resolver.template(&key)? {
+                let bare = ast::Symbol {
+                    accent: None,
+                    ..s.clone()
+                };
+                let inner = self.symbol(&bare, &Expr::Symbol(bare.clone()))?;
+                return Ok(Term::Template(t, vec![inner]));
+            }
         }
         Err(LowerError::at(e, "undefined symbol"))
     }
@@ -473,6 +495,24 @@ impl<'r> Lowering<'r> {
                         _ => return Err(LowerError::at(e, "one argument is expected")),
                     });
                 }
+                // A function the file defines (its `log`, `between`) comes
+                // before the built-in one of the same name.
+                if f.power.is_none()
+                    && let Some((t, arity)) = self.resolver.template(&f.name)?
+                {
+                    if args.len() != arity {
+                        return Err(LowerError::at(
+                            e,
+                            format!("`{}` takes {arity} argument(s) in the symbols file", f.name),
+                        ));
+                    }
+                    return Ok(Term::Template(
+                        t,
+                        args.iter()
+                            .map(|a| self.expr(a))
+                            .collect::<Result<_, _>>()?,
+                    ));
+                }
                 let count = Builtin::indices(&f.name);
                 let builtin = if count > 0 {
                     let mut k = Vec::with_capacity(count);
@@ -494,22 +534,6 @@ impl<'r> Lowering<'r> {
                 } else {
                     Builtin::named(&f.name)
                 };
-                if builtin.is_none()
-                    && let Some((t, arity)) = self.resolver.template(&f.name)?
-                {
-                    if args.len() != arity || f.power.is_some() {
-                        return Err(LowerError::at(
-                            e,
-                            format!("`{}` takes {arity} argument(s) in the symbols file", f.name),
-                        ));
-                    }
-                    return Ok(Term::Template(
-                        t,
-                        args.iter()
-                            .map(|a| self.expr(a))
-                            .collect::<Result<_, _>>()?,
-                    ));
-                }
                 let Some(mut builtin) = builtin else {
                     return Err(LowerError::at(
                         e,
@@ -684,6 +708,20 @@ fn identity(s: &ast::Symbol) -> Option<Result<Option<usize>, String>> {
             _ => Err("an identity's subscript is its size (`I_3`, `I_{3 \\times 3}`)".into()),
         },
     })
+}
+
+/// The command of an accent (`hat` for `\hat`).
+fn accent_name(a: ast::Accent) -> &'static str {
+    match a {
+        ast::Accent::Hat => "hat",
+        ast::Accent::Tilde => "tilde",
+        ast::Accent::Bar => "bar",
+        ast::Accent::Dot => "dot",
+        ast::Accent::DDot => "ddot",
+        ast::Accent::Vec => "vec",
+        ast::Accent::Check => "check",
+        ast::Accent::Breve => "breve",
+    }
 }
 
 /// Whether `e` is printed as a name the symbols file may define as a whole

@@ -107,6 +107,8 @@ pub struct TruthLink {
     pub variable: Variable,
     /// The local coordinates of a group-valued map.
     pub output: Option<Perturbation>,
+    /// Why it cannot be evaluated, when a sample says so.
+    pub broken: Option<String>,
 }
 
 impl Term {

@@ -225,8 +225,9 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a b`: scalars scale, groups compose, a rotation turns a 3-vector,
-    /// matrices multiply; unsized operands are sized by the other one.
+    /// `a b`: scalars scale, groups compose, a rotation turns a 3-vector
+    /// and a pose (or similarity) moves it, matrices multiply; unsized
+    /// operands are sized by the other one.
     pub fn times(self, b: Self) -> Result<Self, ShapeError> {
         if let Some(c) = self.as_scalar() {
             return b.scale(c);
@@ -240,6 +241,14 @@ impl<S: Scalar> Value<S> {
             (Value::Rotation(p), Value::Rotation(q)) => Ok(Value::Rotation(p.compose(&q))),
             (Value::Pose(p), Value::Pose(q)) => Ok(Value::Pose(p.compose(&q))),
             (Value::Similarity(p), Value::Similarity(q)) => Ok(Value::Similarity(p.compose(&q))),
+            // A pose or similarity acting on a 3-vector: `T p = R p + t`.
+            (Value::Pose(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
+                t.transform_point(&Vector3::from_column_slice(m.as_slice()))
+                    .as_slice(),
+            )),
+            (Value::Similarity(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
+                t.act(&Vector3::from_column_slice(m.as_slice())).as_slice(),
+            )),
             (a, b) => {
                 let a = match a {
                     Value::Blocks(blocks) => blocks.resolve((None, b.shape().map(|s| s.0)))?,
