@@ -195,9 +195,13 @@ pub(crate) fn tokens(src: &str, vocab: &Vocabulary, at: usize) -> Result<Vec<Tok
     Ok(rewrite(toks))
 }
 
-/// A macro's argument at the front of `input`: a braced group's content,
-/// or one token.
+/// A macro's argument at the front of `input` (after spaces): a braced
+/// group's content, or one token.
 fn argument(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
+    // TeX skips spaces before an undelimited argument (`\skew 1p`).
+    while input.front().is_some_and(|t| t.tok == Tok::Space) {
+        input.pop_front();
+    }
     let first = input.pop_front()?;
     if first.tok != Tok::LBrace {
         return (!matches!(first.tok, Tok::RBrace)).then(|| vec![first]);

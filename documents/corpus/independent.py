@@ -11,7 +11,7 @@ broadcast). The verdicts use the audit's vocabulary and tolerance:
 `correct` (relative error at most 1e-6 at every sample), `convention`
 (right under a stated alternative), `wrong`, `malformed`.
 
-Each document's `check.py` lists its claims with the ids of its symbols
+Each document's check script (`check.py`, `check_NAME.py`) lists its claims with the ids of its symbols
 file, prints a table, and fails when a verdict differs from the one the
 symbols file expects (which `slamjac audit` gates on): so the audit and this
 check agree on every formula.
@@ -141,7 +141,8 @@ def judge(printed, truth, samples, alternatives=()):
         except Malformed as e:
             return "malformed", str(e)
         t = np.atleast_2d(truth(s))
-        if p.shape != t.shape and p.T.shape == t.shape and t.shape[1] == 1:
+        if p.shape != t.shape and p.T.shape == t.shape and 1 in t.shape:
+            # A vector either way (numpy's 1-D arrays have no orientation).
             p = p.T
         worst = max(worst, relative_error(p, t))
         holding = {

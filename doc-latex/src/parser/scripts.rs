@@ -8,7 +8,7 @@
 //! \times c` on a non-symbol a shape annotation.
 
 use super::{Parser, Seps};
-use crate::ast::{Expr, PostfixOp, Symbol};
+use crate::ast::{Base, Expr, PostfixOp, Symbol};
 use crate::error::{ErrorKind, ParseError};
 use crate::lexer::Tok;
 use crate::names::postfix_operator;
@@ -86,6 +86,11 @@ impl Parser<'_> {
                 (true, Some(Marker::Op(op))) => arg.markers.push(op),
                 (true, Some(Marker::Prime)) => arg.primes += 1,
                 _ if !sup && tok == Tok::Command("times".into()) => arg.times = true,
+                // `[x]_+`: a subscript sign names a notation (`[ω]_+`, the
+                // plane's restricted cross product), as an index.
+                _ if !sup && tok == Tok::Plus => {
+                    arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
+                }
                 _ => {
                     arg.expr = Some(self.single_token_argument()?);
                     return Ok(arg);
@@ -126,6 +131,9 @@ impl Parser<'_> {
         } else if close == open + 2 && self.toks[open + 1].tok == Tok::Command("times".into()) {
             arg.times = true;
             stop = open + 1;
+        } else if close == open + 2 && self.toks[open + 1].tok == Tok::Plus {
+            arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
+            stop = open + 1;
         }
         if stop > open + 1 {
             self.pos = open + 1;
@@ -134,7 +142,7 @@ impl Parser<'_> {
                 return Err(self.unexpected());
             }
             arg.expr = Some(self.build_group(items)?);
-        } else if arg.markers.is_empty() && arg.primes == 0 && !arg.times {
+        } else if arg.markers.is_empty() && arg.primes == 0 && !arg.times && arg.expr.is_none() {
             return Err(self.error_here(ErrorKind::Empty("script")));
         }
         self.pos = close + 1;

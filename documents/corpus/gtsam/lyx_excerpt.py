@@ -1,7 +1,12 @@
-"""How math.tex was cut from GTSAM's doc/math.lyx: the LyX container markup
-dropped, every LaTeX character of the formulas and macros kept.
+"""How math.tex and LieGroups.tex were cut from GTSAM's LyX documents: the
+LyX container markup dropped, every LaTeX character of the formulas and
+macros kept.
 
-    python3 lyx_excerpt.py math.lyx > math.tex
+    python3 lyx_excerpt.py math GTSAM/doc | cat -s > math.tex.body
+    python3 lyx_excerpt.py LieGroups GTSAM/doc | cat -s > LieGroups.tex.body
+
+(the excerpt is the body after the header comment of the .tex file; `cat -s`
+squeezes the runs of blank lines the dropped markup leaves).
 
 Rules (LyX 2.3 format 544):
 - a `FormulaMacro` inset is its `\\newcommand` line, verbatim (LyX's copy
@@ -14,15 +19,33 @@ Rules (LyX 2.3 format 544):
   `\\cite{…}`, a quote inset `"`, a footnote `\\footnote{…}`;
 - font changes (`\\series`, `\\emph`, `\\family`, …) and page breaks are dropped.
 
-The excerpt is the macros of the preamble (lines 117 to 420), then the
-sections "3D Rotations" (lines 4438 to 4705, without its "Retractions") and
-"3D Rigid Transformations" (lines 4810 to 5606, up to its "Retractions").
+math.tex is the macros of doc/math.lyx's preamble (lines 117 to 420), then
+the sections "3D Rotations" (lines 4438 to 4705, without its "Retractions")
+and "3D Rigid Transformations" (lines 4810 to 5606, up to its
+"Retractions").
+
+LieGroups.tex is doc/macros.lyx (which doc/LieGroups.lyx includes) whole,
+then the "Actions" subsections of doc/LieGroups.lyx's sections "2D
+Rotations" (lines 1390 to 1505), "2D Rigid Transformations" (lines 1775 to
+1871), "3D Rotations" (lines 2479 to 2538), "3D Rigid Transformations"
+(lines 2797 to 2957), and the section "3D Similarity Transformations" (lines
+2958 to 3169).
 """
 
+import os
 import re
 import sys
 
-RANGES = [(117, 420), (4438, 4705), (4810, 5606)]
+RECIPES = {
+    "math": [("math.lyx", [(117, 420), (4438, 4705), (4810, 5606)])],
+    "LieGroups": [
+        ("macros.lyx", [(1, None)]),
+        (
+            "LieGroups.lyx",
+            [(1390, 1505), (1775, 1871), (2479, 2538), (2797, 2957), (2958, 3169)],
+        ),
+    ],
+}
 DROPPED = re.compile(
     r"^\\(series|emph|family|shape|size|bar|strikeout|xout|uuline|uwave|noun|color|lang)\b"
 )
@@ -93,13 +116,15 @@ def convert(lines):
     return "\n".join(out)
 
 
-def main(path):
-    with open(path, encoding="utf-8") as f:
-        lines = f.read().split("\n")
-    for start, end in RANGES:
-        print(f"% [doc/math.lyx, lines {start}-{end}]")
-        print(convert(lines[start - 1 : end]))
+def main(recipe, directory):
+    for name, ranges in RECIPES[recipe]:
+        with open(os.path.join(directory, name), encoding="utf-8") as f:
+            lines = f.read().split("\n")
+        for start, end in ranges:
+            end = end or len(lines)
+            print(f"% [doc/{name}, lines {start}-{end}]")
+            print(convert(lines[start - 1 : end]))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], sys.argv[2])

@@ -222,17 +222,47 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             })?
             .map_err(TextError::Parse)?,
     };
-    let lhs = match spec.statement {
+    let mut lhs = match spec.statement {
         Some(k) if k > 1 => statement.head.clone(),
         _ => claim.lhs.clone(),
     };
-    let (relation, rhs) = statement
-        .steps
-        .iter()
-        .rev()
-        .find(|(r, _)| !r.is_membership())
-        .cloned()
-        .ok_or_else(|| claim_error(spec, "the line states no relation"))?;
+    let (relation, rhs) = match spec.step {
+        // A display that is only a value (`[a^{-1} I_3, -q a^{-2}]` after
+        // "with derivative"), its map named by the file.
+        None if spec.of.is_some()
+            && statement.steps.is_empty()
+            && let Some(head) = &statement.head =>
+        {
+            lhs = None;
+            (Rel::Eq, head.clone())
+        }
+        None => statement
+            .steps
+            .iter()
+            .rev()
+            .find(|(r, _)| !r.is_membership())
+            .cloned()
+            .ok_or_else(|| claim_error(spec, "the line states no relation"))?,
+        Some(k) => statement
+            .steps
+            .iter()
+            .filter(|(r, _)| !r.is_membership())
+            .nth(k.wrapping_sub(1))
+            .cloned()
+            .ok_or_else(|| {
+                claim_error(
+                    spec,
+                    format!(
+                        "the line has {} right side(s), not a step {k}",
+                        statement
+                            .steps
+                            .iter()
+                            .filter(|(r, _)| !r.is_membership())
+                            .count()
+                    ),
+                )
+            })?,
+    };
     let rhs = match (spec.case, rhs) {
         (None, Expr::Cases(_)) => {
             return Err(claim_error(

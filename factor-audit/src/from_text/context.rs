@@ -875,8 +875,52 @@ impl Context {
             variable,
             output,
             broken: None,
+            inline: None,
         });
         Ok(())
+    }
+
+    /// A derivative printed inside a formula that no claim or stated link
+    /// names (`R \frac{\partial}{\partial\omega}(e^{[\omega]_\times} p)`):
+    /// the true derivative of what it prints, read in `scope`, registered
+    /// as a link of its own (the same printed derivative in the same
+    /// scope is one link).
+    fn inline_link(
+        &mut self,
+        scope: Scope,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+    ) -> Result<Link, LowerError> {
+        if let Some(k) = self
+            .truth_links
+            .iter()
+            .position(|l| l.inline == Some(scope) && l.key == key)
+        {
+            return Ok(Link::Truth(k));
+        }
+        if *of == Expr::Placeholder {
+            return Err(LowerError::at(of, "a derivative of nothing"));
+        }
+        let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        let variable = self
+            .variable_of(scope, wrt, None, false)
+            .map_err(|m| LowerError::at(wrt, m))?;
+        if matches!(variable, Variable::Update { .. }) {
+            return Err(LowerError::at(
+                wrt,
+                "a derivative printed in a formula is taken by a symbol, not an update",
+            ));
+        }
+        self.truth_links.push(TruthLink {
+            key: key.to_string(),
+            of,
+            variable,
+            output: None,
+            broken: None,
+            inline: Some(scope),
+        });
+        Ok(Link::Truth(self.truth_links.len() - 1))
     }
 
     /// Sets the input size of every tangent perturbing a definition or by
@@ -949,11 +993,15 @@ impl Context {
         stored
     }
 
-    fn link_of(&self, key: &str) -> Option<Link> {
+    fn link_of(&self, scope: Scope, key: &str) -> Option<Link> {
         if let Some(k) = self.links.get(key) {
             return Some(Link::Claim(*k));
         }
-        if let Some(k) = self.truth_links.iter().position(|l| l.key == key) {
+        if let Some(k) = self
+            .truth_links
+            .iter()
+            .position(|l| l.key == key && l.inline.is_none_or(|s| s == scope))
+        {
             return Some(Link::Truth(k));
         }
         self.link_errors.get(key).map(|m| Link::Broken(m.clone()))
@@ -1055,7 +1103,11 @@ impl Resolver for ScopeResolver<'_> {
     }
 
     fn link(&self, key: &str) -> Option<Link> {
-        self.ctx.link_of(key)
+        self.ctx.link_of(self.scope, key)
+    }
+
+    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
+        self.ctx.inline_link(self.scope, key, of, wrt)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {
@@ -1085,7 +1137,7 @@ impl Resolver for FrozenResolver<'_> {
     }
 
     fn link(&self, key: &str) -> Option<Link> {
-        self.ctx.link_of(key)
+        self.ctx.link_of(self.scope, key)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {

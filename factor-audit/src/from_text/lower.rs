@@ -99,6 +99,15 @@ pub trait Resolver {
     fn symbol(&mut self, key: &str) -> Result<Option<(SymbolId, Found)>, LowerError>;
     /// What the derivative written `key` stands for.
     fn link(&self, key: &str) -> Option<Link>;
+    /// A derivative printed in a formula that no claim or stated link
+    /// names: its true value, when `of` and `wrt` can be read.
+    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
+        let _ = (of, wrt);
+        Err(LowerError {
+            message: "no new derivative is read here".into(),
+            fragment: key.to_string(),
+        })
+    }
     /// The template (and its number of arguments) an operator, word or
     /// symbol written `key` names (its body lowered first).
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError>;
@@ -114,6 +123,20 @@ pub struct Lowering<'r> {
 /// The canonical LaTeX of a symbol: the key of the symbols file.
 pub fn symbol_key(s: &ast::Symbol) -> String {
     Expr::Symbol(s.clone()).to_string()
+}
+
+/// Whether `s` is a plain `e` (a superscript aside): Euler's number where
+/// the file gives it no meaning.
+fn is_bare_e(s: &ast::Symbol) -> bool {
+    s.base == ast::Base::Letter('e')
+        && s.font == ast::Font::Plain
+        && s.accent.is_none()
+        && s.delta.is_none()
+        && s.primes == 0
+        && s.sup_primes == 0
+        && s.sub.is_none()
+        && s.pre_sub.is_none()
+        && s.pre_sup.is_none()
 }
 
 /// The number `e` is, if it is one (`2`, `-1`, `\frac{3}{2}`, `1 + 1`).
@@ -179,24 +202,36 @@ impl<'r> Lowering<'r> {
             ),
             Expr::Product { first, rest } => self.product(first, rest)?,
             Expr::Fraction { num, den } => self.fraction(num, den)?,
-            Expr::Derivative { .. } => match self.resolver.link(&e.to_string()) {
-                Some(Link::Claim(k)) => Term::Link(k),
-                Some(Link::Truth(k)) => Term::TruthLink(k),
-                Some(Link::Broken(why)) => {
-                    return Err(LowerError::at(
-                        e,
-                        format!("the link the symbols file states for it cannot be read: {why}"),
-                    ));
+            Expr::Derivative { of, wrt, .. } => {
+                let key = e.to_string();
+                let link = match self.resolver.link(&key) {
+                    Some(link) => link,
+                    None => self.resolver.inline_link(&key, of, wrt).map_err(|err| {
+                        LowerError::at(
+                            e,
+                            format!(
+                                "this derivative is no claim of the symbols file, and what it \
+                                 prints cannot be differentiated: {} (add a claim, with `lhs` \
+                                 if it is printed differently there, or a \
+                                 `[[context.NAME.link]]`)",
+                                err.message
+                            ),
+                        )
+                    })?,
+                };
+                match link {
+                    Link::Claim(k) => Term::Link(k),
+                    Link::Truth(k) => Term::TruthLink(k),
+                    Link::Broken(why) => {
+                        return Err(LowerError::at(
+                            e,
+                            format!(
+                                "the link the symbols file states for it cannot be read: {why}"
+                            ),
+                        ));
+                    }
                 }
-                None => {
-                    return Err(LowerError::at(
-                        e,
-                        "this derivative is no claim of the symbols file (add one, with `lhs` if \
-                         it is printed differently there, or a `[[context.NAME.link]]` when the \
-                         document states it in words)",
-                    ));
-                }
-            },
+            }
             Expr::Differential(_) => {
                 return Err(LowerError::at(
                     e,
@@ -227,7 +262,18 @@ impl<'r> Lowering<'r> {
             Expr::Power { base, exponent } => {
                 let p = number(exponent)
                     .ok_or_else(|| LowerError::at(e, "the exponent is not a number"))?;
-                Term::Power(Box::new(self.expr(base)?), p)
+                match base.as_ref() {
+                    // `e^{-1}`: the exponential, when the file gives `e` no
+                    // meaning.
+                    Expr::Symbol(s)
+                        if is_bare_e(s)
+                            && s.sup.is_none()
+                            && self.resolver.symbol(&symbol_key(s))?.is_none() =>
+                    {
+                        Term::Call(Builtin::Exp, vec![Term::Number(p)])
+                    }
+                    _ => Term::Power(Box::new(self.expr(base)?), p),
+                }
             }
             Expr::Postfix { base, op } => {
                 if *op == PostfixOp::Transpose && zero_block(base).is_some() {
@@ -384,6 +430,18 @@ impl<'r> Lowering<'r> {
                 };
                 let inner = self.symbol(&bare, &Expr::Symbol(bare.clone()))?;
                 return Ok(Term::Template(t, vec![inner]));
+            }
+        }
+        // `e^{x}`: the exponential, when the file gives `e` no meaning.
+        if let Some(sup) = &s.sup
+            && is_bare_e(s)
+        {
+            let bare = ast::Symbol {
+                sup: None,
+                ..s.clone()
+            };
+            if self.resolver.symbol(&symbol_key(&bare))?.is_none() {
+                return Ok(Term::Call(Builtin::Exp, vec![self.expr(sup)?]));
             }
         }
         Err(LowerError::at(e, "undefined symbol"))

@@ -152,6 +152,9 @@ pub struct ClaimSpec {
     /// Which statement of the line (1-based: the line's claim, then what
     /// follows it after `\\quad`, `,` or words such as `\\mbox{ and }`).
     pub statement: Option<usize>,
+    /// Which right side of a chain of equalities `a = b = c` on the line
+    /// (1-based: `b`, then `c`; by default the last).
+    pub step: Option<usize>,
     /// Follow the chain of equalities from the located line to its end.
     #[serde(default)]
     pub chain: bool,

@@ -109,6 +109,10 @@ pub struct TruthLink {
     pub output: Option<Perturbation>,
     /// Why it cannot be evaluated, when a sample says so.
     pub broken: Option<String>,
+    /// The scope of a derivative printed inside a formula
+    /// (`R \frac{\partial}{\partial\omega}(e^{\omega^\wedge} p)`), read
+    /// with that formula's symbols; `None` for a link the file states.
+    pub inline: Option<Option<usize>>,
 }
 
 impl Term {

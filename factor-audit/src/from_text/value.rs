@@ -549,7 +549,7 @@ impl<S: Scalar> Blocks<S> {
     /// as [`Value::Blocks`] for where it is used to tell the rest.
     pub fn build(rows: Vec<Vec<Value<S>>>) -> Result<Value<S>, ShapeError> {
         let blocks = Blocks { rows };
-        match blocks.clone().resolve((None, None)) {
+        match blocks.clone().sized((None, None), false) {
             Ok(m) => Ok(Value::Matrix(m)),
             Err(e) if e.0.contains("cannot be told") => Ok(Value::Blocks(blocks)),
             Err(e) => Err(e),
@@ -565,18 +565,27 @@ impl<S: Scalar> Blocks<S> {
         Ok(Blocks { rows })
     }
 
-    /// The matrix, its total size (rows, columns) fixed where `hint` gives it.
+    /// The matrix, its total size (rows, columns) fixed where `hint` gives
+    /// it; a block row (column) of zeros nothing sizes is then one row
+    /// (column).
     pub fn resolve(self, hint: Hint) -> Result<DMatrix<S>, ShapeError> {
+        match self.clone().sized(hint, false) {
+            Err(e) if e.0.contains("cannot be told") => self.sized(hint, true),
+            other => other,
+        }
+    }
+
+    fn sized(self, hint: Hint, zeros_are_scalars: bool) -> Result<DMatrix<S>, ShapeError> {
         let n = self.rows.first().map_or(0, Vec::len);
         if self.rows.iter().all(|r| r.len() == n) {
-            return grid(self.rows, hint);
+            return grid(self.rows, hint, zeros_are_scalars);
         }
         // Rows of different lengths: each block row on its own, stacked.
         let count = self.rows.len();
         let mut parts = Vec::with_capacity(count);
         for row in self.rows {
             let one_row_hint = (if count == 1 { hint.0 } else { None }, hint.1);
-            parts.push(grid(vec![row], one_row_hint)?);
+            parts.push(grid(vec![row], one_row_hint, zeros_are_scalars)?);
         }
         stack(&parts)
     }
@@ -605,8 +614,14 @@ fn has_no_size<S: Scalar>(v: &Value<S>) -> bool {
 
 /// A rectangular grid of blocks: heights per block row and widths per
 /// block column from the sized blocks, then identities (square), the
-/// hint's totals, and rows or columns of scalars (size 1).
-fn grid<S: Scalar>(rows: Vec<Vec<Value<S>>>, hint: Hint) -> Result<DMatrix<S>, ShapeError> {
+/// hint's totals, and rows or columns of scalars (size 1); last, when
+/// `zeros_are_scalars`, a block row (column) of zeros nothing else sizes is
+/// one row (column).
+fn grid<S: Scalar>(
+    rows: Vec<Vec<Value<S>>>,
+    hint: Hint,
+    zeros_are_scalars: bool,
+) -> Result<DMatrix<S>, ShapeError> {
     let (nr, nc) = (rows.len(), rows.first().map_or(0, Vec::len));
     if nr == 0 || nc == 0 {
         return fail("an empty matrix");
@@ -668,7 +683,17 @@ fn grid<S: Scalar>(rows: Vec<Vec<Value<S>>>, hint: Hint) -> Result<DMatrix<S>, S
             }
         }
         if (heights.clone(), widths.clone()) == before {
-            break;
+            // Nothing else tells: a block row of zeros printed once is a
+            // row of scalars (`[ω^∧ v; 0 0]`), and so is a column.
+            let zeros = |v: &Value<S>| matches!(v, Value::Zero);
+            let row = (0..nr).find(|&i| heights[i].is_none() && rows[i].iter().all(zeros));
+            let column =
+                (0..nc).find(|&j| widths[j].is_none() && rows.iter().all(|r| zeros(&r[j])));
+            match (row, column) {
+                (Some(i), _) if zeros_are_scalars => heights[i] = Some(1),
+                (_, Some(j)) if zeros_are_scalars => widths[j] = Some(1),
+                _ => break,
+            }
         }
     }
     let unknown = heights

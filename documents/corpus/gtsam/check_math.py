@@ -1,7 +1,7 @@
 """Independent check of every derivative formula of the GTSAM math.lyx excerpt
 (math.tex): numpy and scipy only.
 
-    python3 documents/corpus/gtsam/check.py
+    python3 documents/corpus/gtsam/check_math.py
 
 GTSAM's conventions: R ⊕ ω = R Exp(ω), T ⊕ ξ = T Exp(ξ), ξ = [ω, v]
 (rotation first), a group-valued map read in right local coordinates
