@@ -137,7 +137,14 @@ pub fn expr(e: &Expr) -> String {
                 }
             }
         }
-        Expr::Indexed { base, index } => format!("{}_{{{}}}", script_base(base), expr(index)),
+        // `[p]_x`, `[1]_+`: a symbol or number indexed as a whole was
+        // printed in brackets (braces would make the index its own).
+        Expr::Indexed { base, index } => match base.as_ref() {
+            Expr::Symbol(_) | Expr::Number(_) => {
+                format!("\\left[{}\\right]_{{{}}}", expr(base), expr(index))
+            }
+            _ => format!("{}_{{{}}}", script_base(base), expr(index)),
+        },
         Expr::Shaped { base, rows, cols } => {
             format!("{}_{{{rows} \\times {cols}}}", script_base(base))
         }

@@ -391,8 +391,16 @@ claim(
     df_sim3,
 )
 claim(
-    "Sim(3) q̂ = [Rp + t; s⁻¹] = T p̂",
+    "Sim(3) q̂ = [Rp + t; s⁻¹]",
     lambda s: col(q_sim3(s), 1 / s["s"]),
+    lambda s: S(s) @ np.append(s["p"], 1.0),
+)
+claim(
+    "Sim(3) q̂ = [R t; 0 s⁻¹][p; 1]",
+    lambda s: mul(
+        block([[s["R"], s["t"].reshape(3, 1)], [np.zeros((1, 3)), 1 / s["s"]]]),
+        col(s["p"], 1),
+    ),
     lambda s: S(s) @ np.append(s["p"], 1.0),
 )
 

@@ -137,6 +137,28 @@ claim(
     lambda s: jacobian(right_so3(lambda d: s["R1"] @ s["R2"] @ exp_so3(d)), z3),
 )
 
+claim(
+    "∂(Rp)/∂ω = RH(p)",
+    lambda s: s["R"] @ hat(-s["p"]),
+    lambda s: jacobian(lambda d: s["R"] @ exp_so3(d) @ s["p"], z3),
+)
+claim(
+    "∂(Rᵀp)/∂ω = −H(Rᵀp)",
+    lambda s: -hat(-(s["R"].T @ s["p"])),
+    lambda s: jacobian(lambda d: (s["R"] @ exp_so3(d)).T @ s["p"], z3),
+)
+claim(
+    "∂Rᵀ/∂ω = −Ad_R",
+    # Ad_R by its definition: R ω̂ Rᵀ = (Ad_R ω)^, column by column.
+    lambda s: -np.stack([vee(s["R"] @ hat(e) @ s["R"].T) for e in I3], axis=1),
+    lambda s: jacobian(right_so3(lambda d: (s["R"] @ exp_so3(d)).T), z3),
+)
+claim(
+    "∂(R₁ᵀR₂)/∂ω₁ = −R₂ᵀR₁",
+    lambda s: -(s["R2"].T @ s["R1"]),
+    lambda s: jacobian(right_so3(lambda d: (s["R1"] @ exp_so3(d)).T @ s["R2"]), z3),
+)
+
 # 3D rigid transformations.
 claim(
     "∂(Tp̂)/∂ξ",
@@ -167,6 +189,29 @@ claim(
 )
 
 
+def h_homogeneous(p):
+    """H(p) = [[−p]× I₃; 0 0], as the document defines it."""
+    return np.block([[hat(-p), I3], [np.zeros((1, 3)), np.zeros((1, 3))]])
+
+
+claim(
+    "∂(Tp̂)/∂ξ = TH(p)",
+    lambda s: s["T"] @ h_homogeneous(s["p"]),
+    lambda s: jacobian(lambda d: s["T"] @ exp_se3(d) @ homogeneous(s["p"]), z6),
+)
+claim(
+    "∂(Tp̂)/∂ξ = [R t; 0 1][[−p]× I₃; 0 0]",
+    lambda s: pose(s["T"][:3, :3], s["T"][:3, 3]) @ h_homogeneous(s["p"]),
+    lambda s: jacobian(lambda d: s["T"] @ exp_se3(d) @ homogeneous(s["p"]), z6),
+)
+claim(
+    "∂(T⁻¹p̂)/∂ξ = −H(T⁻¹p̂)",
+    # In R³: H(p) = [−[p]× I₃].
+    lambda s: -np.hstack([hat(-(inv(s["T"]) @ homogeneous(s["p"]))[:3]), I3]),
+    lambda s: jacobian(lambda d: (inv(s["T"] @ exp_se3(d)) @ homogeneous(s["p"]))[:3], z6),
+)
+
+
 def q_of(s):
     return (inv(s["T"]) @ homogeneous(s["p"]))[:3]
 
@@ -178,6 +223,28 @@ def pi_prime(s):
 claim(
     "∂h/∂ξ",
     lambda s: np.hstack([pi_prime(s) @ hat(q_of(s)), -pi_prime(s)]),
+    lambda s: jacobian(
+        lambda d: project((inv(s["T"] @ exp_se3(d)) @ homogeneous(s["p"]))[:3]), z6
+    ),
+)
+claim(
+    "∂h/∂ξ = ∂π(q)/∂q ∂(T⁻¹p)/∂ξ",
+    lambda s: pi_prime(s)
+    @ jacobian(lambda d: (inv(s["T"] @ exp_se3(d)) @ homogeneous(s["p"]))[:3], z6),
+    lambda s: jacobian(
+        lambda d: project((inv(s["T"] @ exp_se3(d)) @ homogeneous(s["p"]))[:3]), z6
+    ),
+)
+
+
+def printed_projection_jacobian(s):
+    x, y, z = q_of(s)
+    return np.array([[1, 0, -x / z], [0, 1, -y / z]]) / z
+
+
+claim(
+    "∂h/∂ξ = (1/z')[1 0 −x'/z'; 0 1 −y'/z'][[q]× −I₃]",
+    lambda s: printed_projection_jacobian(s) @ np.hstack([hat(q_of(s)), -I3]),
     lambda s: jacobian(
         lambda d: project((inv(s["T"] @ exp_se3(d)) @ homogeneous(s["p"]))[:3]), z6
     ),
@@ -197,6 +264,11 @@ def ad_block(t):
 claim(
     "∂T⁻¹/∂ξ",
     lambda s: -ad_block(s["T"]),
+    lambda s: jacobian(right_se3(lambda d: inv(s["T"] @ exp_se3(d))), z6),
+)
+claim(
+    "∂T⁻¹/∂ξ = −Ad_T",
+    lambda s: -adjoint(s["T"]),
     lambda s: jacobian(right_se3(lambda d: inv(s["T"] @ exp_se3(d))), z6),
 )
 claim(
@@ -221,6 +293,11 @@ def between_block(s):
 claim(
     "∂(T₁⁻¹T₂)/∂ξ₁",
     between_block,
+    lambda s: jacobian(right_se3(lambda d: inv(s["T1"] @ exp_se3(d)) @ s["T2"]), z6),
+)
+claim(
+    "∂(T₁⁻¹T₂)/∂ξ₁ = −Ad(T₂⁻¹T₁)",
+    lambda s: -adjoint(inv(s["T2"]) @ s["T1"]),
     lambda s: jacobian(right_se3(lambda d: inv(s["T1"] @ exp_se3(d)) @ s["T2"]), z6),
 )
 claim(
@@ -264,6 +341,49 @@ claim(
         lambda d: (s["T"] @ exp_se3(d)) @ twist(s["xb"]) @ inv(s["T"] @ exp_se3(d)), z6
     ),
 )
+
+
+# The first derivation of D₁f(ξ), line by line: differentials (linear in
+# the direction x) of f = (T e^{x̂}) ξ̂_b (T e^{x̂})⁻¹ as 4 × 4 matrices.
+def conjugated_truth(s):
+    return jacobian(
+        lambda d: (s["T"] @ exp_se3(d)) @ twist(s["xb"]) @ inv(s["T"] @ exp_se3(d)), z6
+    )
+
+
+def bracket(a, b):
+    return a @ b - b @ a
+
+
+for cid, printed in [
+    (
+        "D₁f(ξ) = D₂g(ξ) ξ̂_b g⁻¹(T,0) + g(T,0) ξ̂_b D₂g⁻¹(ξ)",
+        lambda s, x: (s["T"] @ twist(x)) @ twist(s["xb"]) @ inv(s["T"])
+        + s["T"] @ twist(s["xb"]) @ (-twist(x) @ inv(s["T"])),
+    ),
+    (
+        "D₁f(ξ) = T ξ̂ ξ̂_b T⁻¹ − T ξ̂_b ξ̂ T⁻¹",
+        lambda s, x: s["T"] @ twist(x) @ twist(s["xb"]) @ inv(s["T"])
+        - s["T"] @ twist(s["xb"]) @ twist(x) @ inv(s["T"]),
+    ),
+    (
+        "D₁f(ξ) = T(ξ̂ ξ̂_b − ξ̂_b ξ̂)T⁻¹",
+        lambda s, x: s["T"] @ (twist(x) @ twist(s["xb"]) - twist(s["xb"]) @ twist(x)) @ inv(s["T"]),
+    ),
+    (
+        "D₁f(ξ) = Ad_T(ad_ξ̂ ξ̂_b)",
+        lambda s, x: s["T"] @ bracket(twist(x), twist(s["xb"])) @ inv(s["T"]),
+    ),
+    (
+        "D₁f(ξ) = −Ad_T(ad_ξ̂b ξ̂)",
+        lambda s, x: -(s["T"] @ bracket(twist(s["xb"]), twist(x)) @ inv(s["T"])),
+    ),
+    (
+        "D₁Ad_T ξ̂_b(ξ) = Ad_T(ad_ξ̂(ξ̂_b))",
+        lambda s, x: s["T"] @ bracket(twist(x), twist(s["xb"])) @ inv(s["T"]),
+    ),
+]:
+    claim(cid, differential(printed), conjugated_truth)
 
 
 def w_of(t, xs):

@@ -13,7 +13,7 @@ use super::context::{Context, Scope, canonical};
 use super::eval::{Env, Space};
 use super::lower::{Lowering, short, symbol_key};
 use super::symbols::{ClaimKind, ClaimSpec, Side};
-use super::term::{Meaning, Term, TruthLink, Variable};
+use super::term::{Meaning, SymbolId, Term, TruthLink, Variable};
 use super::tree::derivatives;
 use super::value::{ShapeError, Value, shape_text};
 use crate::derivation::{Claim, Derivation, Label, Printed, dual_jacobian};
@@ -75,6 +75,12 @@ pub struct TextClaim {
     pub links: Vec<usize>,
     /// Fractions over non-scalars read as stacks.
     pub stacked_fractions: bool,
+    /// The terms printed elsewhere on its line (other sides of its chain):
+    /// what the erratum search may add as a missing term.
+    pub nearby_terms: Vec<Expr>,
+    /// For a differential, the tangent its printed right side is linear
+    /// in (the printed term is the difference quotient over it).
+    pub differential_in: Option<SymbolId>,
 }
 
 impl TextClaim {
@@ -114,6 +120,9 @@ pub struct Located {
     pub rhs: Expr,
     /// The relation before it.
     pub relation: Rel,
+    /// Every side of every line of its display (what a missing term may
+    /// be found in).
+    pub display: Vec<Expr>,
 }
 
 fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
@@ -282,6 +291,24 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             ));
         }
     };
+    let display = doc
+        .formulas()
+        .iter()
+        .find(|f| f.span.start <= claim.span.start && claim.span.end <= f.span.end)
+        .and_then(|f| doc.claims(f).ok())
+        .map(|lines| {
+            lines
+                .iter()
+                .flat_map(|c| c.statement.iter().chain(c.notes.iter().flatten()))
+                .flat_map(|st| {
+                    st.head
+                        .iter()
+                        .cloned()
+                        .chain(st.steps.iter().map(|(_, e)| e.clone()))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     Ok(Located {
         line: claim.line,
         quote: claim.source.trim().to_string(),
@@ -289,6 +316,7 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
         statement,
         rhs,
         relation,
+        display,
     })
 }
 
@@ -428,6 +456,7 @@ pub fn compile(
     };
     // The differential `J δ` printed in the tangent `δ`: `J` is the linear
     // map it is in `δ`.
+    let mut differential_in = None;
     let printed = match (kind, &wrt_ast) {
         (ClaimKind::Differential, Some(wrt)) => {
             let tangent = match wrt {
@@ -441,6 +470,7 @@ pub fn compile(
                     "a differential is taken by a tangent symbol (`{ perturbs = … }`) printed in it",
                 )
             })?;
+            differential_in = Some(tangent);
             Term::Quotient {
                 numerator: Box::new(printed),
                 tangent,
@@ -543,6 +573,15 @@ pub fn compile(
         expected,
         links: Vec::new(),
         stacked_fractions: spec.stacked_fractions,
+        nearby_terms: {
+            let others: Vec<&Expr> = located
+                .display
+                .iter()
+                .filter(|e| **e != located.rhs)
+                .collect();
+            super::edits::nearby_terms(&others, &located.rhs)
+        },
+        differential_in,
     })
 }
 

@@ -268,15 +268,19 @@ impl Context {
                 },
                 other => other,
             })?;
-            let refused = match meaning {
-                SymbolSpec::Sample { .. } => "a claim cannot sample: declare it in its context",
-                SymbolSpec::Template(_) => {
-                    "a claim cannot define a function: define it in its context"
-                }
-                _ => "",
-            };
-            if !refused.is_empty() {
-                return Err(symbol_error(written, Some(equation), refused.into()));
+            if matches!(meaning, SymbolSpec::Sample { .. }) {
+                return Err(symbol_error(
+                    written,
+                    Some(equation),
+                    "a claim cannot sample: declare it in its context".into(),
+                ));
+            }
+            if let SymbolSpec::Template(t) = &meaning {
+                // A function read this way in this formula only.
+                let template = self.template(written, t, Some(equation))?;
+                let id = self.declare(Some(claim), written, Some(equation))?;
+                self.set(id, Meaning::Template(template));
+                continue;
             }
             let id = self.declare(Some(claim), written, Some(equation))?;
             if let Some(t) = self.meaning(id, written, meaning, Some(equation))? {

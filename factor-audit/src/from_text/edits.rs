@@ -98,6 +98,17 @@ pub enum Edit {
     /// A parenthesis misplaced in a sum whose last term is a product:
     /// `(a − b c)` read as `(a − b) c`.
     Regroup(Path),
+    /// A term printed elsewhere on the formula's display added to the node
+    /// (`−p × ω` to `−p × ω + v` when the chain's other sides have `+ v`;
+    /// before a lone subtracted term, `−x` to `a − x`).
+    AddTerm {
+        /// The node (a sum gets the term as its last).
+        path: Path,
+        /// The term, `Neg` for a subtracted one.
+        term: Box<Expr>,
+        /// Put it first (before a lone subtracted term: `−x` to `a − x`).
+        first: bool,
+    },
     /// The node multiplied by a constant.
     Scale {
         /// The node.
@@ -126,6 +137,7 @@ impl Edit {
             | Edit::Transpose(p)
             | Edit::Replace { path: p, .. }
             | Edit::Scale { path: p, .. }
+            | Edit::AddTerm { path: p, .. }
             | Edit::Swap { matrix: p, .. }
             | Edit::DeleteRow { matrix: p, .. }
             | Edit::DeleteColumn { matrix: p, .. } => p.clone(),
@@ -169,7 +181,13 @@ impl Edit {
                 }
                 _ => false,
             },
+            // An exponent 1 is not printed: `x^2` corrected to `x`.
             Edit::Exponent { to, .. } => match node {
+                Expr::Power { base, .. } if *to == 1.0 => {
+                    let base = std::mem::replace(base.as_mut(), Expr::Placeholder);
+                    *node = base;
+                    true
+                }
                 Expr::Power { exponent, .. } => {
                     **exponent = number_expr(*to);
                     true
@@ -178,7 +196,7 @@ impl Edit {
             },
             Edit::SymbolExponent { to, .. } => match node {
                 Expr::Symbol(s) => {
-                    s.sup = Some(Box::new(number_expr(*to)));
+                    s.sup = (*to != 1.0).then(|| Box::new(number_expr(*to)));
                     true
                 }
                 _ => false,
@@ -277,6 +295,37 @@ impl Edit {
                 }
                 _ => false,
             },
+            Edit::AddTerm { term, first, .. } => {
+                let (sign, t) = match term.as_ref() {
+                    Expr::Neg(x) => (Sign::Minus, x.as_ref().clone()),
+                    other => (Sign::Plus, other.clone()),
+                };
+                match node {
+                    Expr::Sum { rest, .. } => rest.push((sign, t)),
+                    // `−x` missing the term before it: `a − x`.
+                    Expr::Neg(_) if *first => {
+                        let Expr::Neg(x) = std::mem::replace(node, Expr::Placeholder) else {
+                            unreachable!("matched")
+                        };
+                        let first = match sign {
+                            Sign::Plus => t,
+                            Sign::Minus => Expr::Neg(Box::new(t)),
+                        };
+                        *node = Expr::Sum {
+                            first: Box::new(first),
+                            rest: vec![(Sign::Minus, *x)],
+                        };
+                    }
+                    _ => {
+                        let old = std::mem::replace(node, Expr::Placeholder);
+                        *node = Expr::Sum {
+                            first: Box::new(old),
+                            rest: vec![(sign, t)],
+                        };
+                    }
+                }
+                true
+            }
             Edit::Scale { by, .. } => {
                 let old = std::mem::replace(node, Expr::Placeholder);
                 *node = Expr::Product {
@@ -444,6 +493,17 @@ impl Edit {
                 ),
                 None => "a parenthesis is misplaced".into(),
             },
+            Edit::AddTerm { path, term, .. } => {
+                let written = match term.as_ref() {
+                    Expr::Neg(x) => format!("− {}", plain(&x.to_string())),
+                    other => format!("+ {}", plain(&other.to_string())),
+                };
+                if path.is_empty() {
+                    format!("the term `{written}` is missing")
+                } else {
+                    format!("the term `{written}` is missing after `{}`", show(path))
+                }
+            }
             Edit::Scale { path, by } if path.is_empty() => {
                 format!(
                     "the whole formula should be multiplied by {}",
@@ -692,6 +752,78 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
                 }
             }
             _ => {}
+        }
+    }
+    out
+}
+
+/// Most terms gathered from the formula's line for [`additions`].
+pub const MAX_NEARBY_TERMS: usize = 24;
+
+/// The terms printed in the claim's display (the other sides of its chain,
+/// its other lines, a value's left side, the sums inside its right side),
+/// each with its sign, except the right side's own: what a term missing
+/// from the right side may be.
+pub fn nearby_terms(others: &[&Expr], rhs: &Expr) -> Vec<Expr> {
+    let own: Vec<String> = sum_terms(rhs).iter().map(|t| t.to_string()).collect();
+    let mut out: Vec<Expr> = Vec::new();
+    for e in others.iter().copied().chain(std::iter::once(rhs)) {
+        for (_, node) in nodes(e) {
+            for t in sum_terms(node) {
+                let key = t.to_string();
+                if out.len() < MAX_NEARBY_TERMS
+                    && !own.contains(&key)
+                    && !out.iter().any(|o| o.to_string() == key)
+                {
+                    out.push(t);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The terms of a sum with their signs (`Neg` for a subtracted one); none
+/// for another node.
+fn sum_terms(e: &Expr) -> Vec<Expr> {
+    if !matches!(e, Expr::Sum { .. }) {
+        return Vec::new();
+    }
+    e.terms()
+        .into_iter()
+        .map(|(sign, t)| match sign {
+            Sign::Minus => Expr::Neg(Box::new(t.clone())),
+            Sign::Plus => t.clone(),
+        })
+        .collect()
+}
+
+/// Missing terms: each of `terms` added to the right side, to each of its
+/// sums, before each of its subtracted terms and to each entry of its
+/// matrices.
+pub fn additions(root: &Expr, terms: &[Expr]) -> Vec<Edit> {
+    // The whole right side gets the term last (`−p × ω` to `−p × ω + v`);
+    // a subtracted term inside it, first (`(−x)` to `(a − x)`).
+    let mut sites: Vec<(Path, bool)> = vec![(Vec::new(), false)];
+    for (path, node) in nodes(root) {
+        match node {
+            Expr::Sum { .. } if !path.is_empty() => sites.push((path, false)),
+            Expr::Neg(_) if !path.is_empty() => sites.push((path, true)),
+            Expr::Matrix(m) => {
+                let cells = m.rows.iter().map(Vec::len).sum::<usize>();
+                sites.extend((0..cells).map(|k| (child(&path, k), false)));
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for (site, first) in &sites {
+        for t in terms {
+            out.push(Edit::AddTerm {
+                path: site.clone(),
+                term: Box::new(t.clone()),
+                first: *first,
+            });
         }
     }
     out

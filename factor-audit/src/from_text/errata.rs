@@ -35,7 +35,7 @@ use nalgebra::DMatrix;
 use super::TextAudit;
 use super::claims::{TextClaim, TextDerivation};
 use super::context::{Context, FrozenResolver};
-use super::edits::{Edit, candidates};
+use super::edits::{Edit, additions, candidates};
 use super::lower::Lowering;
 use super::symbols::ClaimKind;
 use super::term::Term;
@@ -156,9 +156,17 @@ impl Search<'_> {
             ctx: self.ctx,
             scope: self.claim.scope(),
         };
-        Lowering::new(&mut resolver, self.claim.stacked_fractions)
+        let term = Lowering::new(&mut resolver, self.claim.stacked_fractions)
             .expr(e)
-            .ok()
+            .ok()?;
+        // A differential is read as its claim was: linear in its tangent.
+        Some(match self.claim.differential_in {
+            Some(tangent) => Term::Quotient {
+                numerator: Box::new(term),
+                tangent,
+            },
+            None => term,
+        })
     }
 
     /// Applies `edits` (the later places first, so earlier ones keep their
@@ -299,6 +307,22 @@ fn diagnose(
                 best = Some((good, edit, e));
             }
             _ => {}
+        }
+    }
+    // A term missing: one printed elsewhere on the line, added.
+    let added = if fixes.is_empty() {
+        additions(&s.root, &claim.nearby_terms)
+    } else {
+        Vec::new()
+    };
+    if fixes.is_empty() {
+        for edit in &added {
+            if s.evaluated >= s.budget {
+                break;
+            }
+            if let (Outcome::Agrees(t), Some(e)) = s.try_edits(&[edit], false) {
+                fixes.push((vec![edit], t[0], e));
+            }
         }
     }
     if fixes.is_empty() {

@@ -256,6 +256,14 @@ impl<'a, S: Scalar> Env<'a, S> {
             Term::Link(k) => {
                 let printed = self.space.printed;
                 match printed.get(*k).and_then(Option::as_ref) {
+                    // A differential linked inside a differential by the
+                    // same tangent (`D_2 g(ξ)` in `D_1 f(ξ) = …`): its value
+                    // at the direction being taken, not its matrix.
+                    Some(Term::Quotient { numerator, tangent })
+                        if self.bound.get(*tangent).is_some_and(Option::is_some) =>
+                    {
+                        self.eval(numerator)
+                    }
                     Some(term) => self.eval(term),
                     None => fail("a chain rule's link has no printed formula"),
                 }

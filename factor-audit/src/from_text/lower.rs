@@ -169,7 +169,7 @@ impl<'r> Lowering<'r> {
 
     /// `e` lowered.
     pub fn expr(&mut self, e: &Expr) -> Result<Term, LowerError> {
-        if is_name_like(e)
+        if (is_name_like(e) || is_applied_product(e))
             && let Some((id, found)) = self.resolver.symbol(&e.to_string())?
         {
             return match found {
@@ -180,6 +180,24 @@ impl<'r> Lowering<'r> {
                 _ => Ok(Term::Symbol(id)),
             };
         }
+        // A name that cannot be read otherwise but another claim states
+        // (`D_2 g(ξ)` in a chain of differentials): that claim's printed
+        // formula.
+        let linked = match (is_name_like(e) || is_applied_product(e))
+            .then(|| self.resolver.link(&e.to_string()))
+            .flatten()
+        {
+            Some(Link::Claim(k)) => Some(k),
+            _ => None,
+        };
+        match (self.parts(e), linked) {
+            (Err(_), Some(k)) => Ok(Term::Link(k)),
+            (lowered, _) => lowered,
+        }
+    }
+
+    /// `e` lowered by its parts.
+    fn parts(&mut self, e: &Expr) -> Result<Term, LowerError> {
         Ok(match e {
             Expr::Number(_) => {
                 Term::Number(number(e).ok_or_else(|| LowerError::at(e, "not a number"))?)
@@ -457,6 +475,22 @@ impl<'r> Lowering<'r> {
         let mut i = 0;
         while i < items.len() {
             let (op, x) = items[i];
+            // `g^{-1}(T, 0)` inside a longer product: a name the file gives
+            // as a whole.
+            if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
+                && matches!(next.1, Expr::Tuple(_))
+                && let Some(pair) = Some(Expr::Product {
+                    first: Box::new(x.clone()),
+                    rest: vec![(MulOp::Implicit, next.1.clone())],
+                })
+                && is_applied_product(&pair)
+                && let Some((id, Found::Stored { .. } | Found::Value)) =
+                    self.resolver.symbol(&pair.to_string())?
+            {
+                factors.push((operator(op, x)?, Term::Symbol(id)));
+                i += 2;
+                continue;
+            }
             if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
                 && let Some(applied) = self.applied(x, next.1)?
             {
@@ -795,6 +829,27 @@ fn is_name_like(e: &Expr) -> bool {
                 && rest
                     .iter()
                     .all(|(op, x)| *op == MulOp::Implicit && matches!(x, Expr::Symbol(_)))
+        }
+        _ => false,
+    }
+}
+
+/// Whether `e` is a product of symbols, their powers, applications and
+/// argument lists, printed side by side (`D_2 g(ξ)`, `g^{-1}(T, 0)`): a
+/// name the file or another claim may give as a whole.
+fn is_applied_product(e: &Expr) -> bool {
+    match e {
+        Expr::Product { first, rest } => {
+            std::iter::once(first.as_ref())
+                .chain(rest.iter().map(|(_, x)| x))
+                .all(|x| match x {
+                    Expr::Symbol(_) | Expr::Apply { .. } | Expr::Tuple(_) => true,
+                    Expr::Power { base, exponent } => {
+                        matches!(base.as_ref(), Expr::Symbol(_)) && number(exponent).is_some()
+                    }
+                    _ => false,
+                })
+                && rest.iter().all(|(op, _)| *op == MulOp::Implicit)
         }
         _ => false,
     }
