@@ -1,6 +1,8 @@
-//! `slamjac audit`: the hand-derived formulas of the documents shipped in
-//! `documents/` (the two specification documents and the corpus of public
-//! derivations), audited from their text with their symbols files.
+//! `slamjac audit`: the hand-derived formulas of the two specification
+//! documents shipped in `documents/`, audited from their text with their
+//! symbols files. (The corpus of public derivations, `documents/corpus/`,
+//! is audited document by document, `slamjac audit DOC --symbols FILE`: its
+//! texts keep their own licences and are not built into the binary.)
 
 use std::path::Path;
 

@@ -84,11 +84,12 @@ enum Command {
         dir: Option<PathBuf>,
     },
     /// Audit hand-derived formulas against the toolchain's derivatives,
-    /// straight from a document's text: without a DOCUMENT, every document
-    /// shipped in `documents/` (the specification documents and the
-    /// corpus); with a DOCUMENT and --symbols, that Markdown/LaTeX
-    /// document. Exit 1 when a verdict is not the one the symbols file
-    /// expects; exit 2 when a claim cannot be read (unless --allow-unread).
+    /// straight from a document's text: without a DOCUMENT, the two
+    /// specification documents shipped in `documents/`; with a DOCUMENT
+    /// and --symbols, that Markdown/LaTeX document (the corpus of
+    /// `documents/corpus/` is audited so). Exit 1 when a verdict is not the
+    /// one the symbols file expects; exit 2 when a claim cannot be read
+    /// (unless --allow-unread).
     Audit {
         /// A Markdown/LaTeX document to audit from its text (needs
         /// --symbols); without it, the shipped documents are audited.
