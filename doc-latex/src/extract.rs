@@ -349,7 +349,9 @@ fn find_outside_comments(text: &str, from: usize, needle: &str, syntax: Syntax) 
     let b = text.as_bytes();
     let mut k = from;
     while k < b.len() {
-        if text[k..].starts_with(needle) {
+        // Bytes, not `str` slices: `k` may sit inside a character after
+        // a backslash (`\∂`).
+        if b[k..].starts_with(needle.as_bytes()) {
             return Some(k);
         }
         match b[k] {

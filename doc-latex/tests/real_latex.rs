@@ -254,3 +254,19 @@ fn renders_stay_readable() {
     let back = render::statement(&parse_statement("Z'^2 = {}_W p'").unwrap());
     assert_eq!(back, "Z'^{2} = {}_{W}p'");
 }
+
+/// A backslash before a character of several bytes (`\∂`) inside an
+/// environment is stepped over whole (the fuzzer found a panic there).
+#[test]
+fn a_backslash_before_a_wide_character_is_read_safely() {
+    let text = "\\begin{equation}\nx = \\∂ y\n\\end{equation}\n% \\∂ ω\n\\[ a \\ω \\]\n";
+    let doc = Document::parse_with(
+        text,
+        Options {
+            syntax: Syntax::Latex,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(doc.formulas().len(), 2);
+}
