@@ -185,10 +185,22 @@ fn side(e: &Expr) -> String {
     }
 }
 
-/// An operand of a sign, `\partial`, `\lim` or `d`: a product at most.
+/// An operand of a sign, `\partial`, `\lim` or `d`: a product at most,
+/// in parentheses when it composes with an operator (`-(a \boxminus b)`,
+/// which `-a \boxminus b` would print ambiguously).
 fn operand(e: &Expr) -> String {
     match e {
         Expr::Relation { .. } | Expr::Sum { .. } | Expr::Neg(_) | Expr::Pos(_) => parens(e),
+        Expr::Product { rest, .. }
+            if rest.iter().any(|(op, _)| {
+                !matches!(
+                    op,
+                    MulOp::Implicit | MulOp::Cdot | MulOp::Times | MulOp::Star | MulOp::Slash
+                )
+            }) =>
+        {
+            parens(e)
+        }
         _ => expr(e),
     }
 }
