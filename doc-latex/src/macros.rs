@@ -150,19 +150,27 @@ impl Vocabulary {
             }
             let mut args: Vec<Vec<Token>> = Vec::with_capacity(m.params as usize);
             let mut needed = m.params as usize;
+            // Where the invocation ends (its last argument's closing brace).
+            let mut end = t.end;
             if let Some(default) = &m.default {
                 needed = needed.saturating_sub(1);
                 args.push(match input.front().map(|t| &t.tok) {
-                    Some(Tok::Open(crate::lexer::Delim::Bracket)) => optional(&mut input)
-                        .ok_or((t.start, ErrorKind::MissingOperand(format!("\\{name}"))))?,
+                    Some(Tok::Open(crate::lexer::Delim::Bracket)) => {
+                        let (arg, at) = optional(&mut input).ok_or((
+                            t.start,
+                            ErrorKind::MissingOperand(format!("\\{name}")),
+                        ))?;
+                        end = end.max(at);
+                        arg
+                    }
                     _ => default.clone(),
                 });
             }
             for _ in 0..needed {
-                args.push(
-                    argument(&mut input)
-                        .ok_or((t.start, ErrorKind::MissingOperand(format!("\\{name}"))))?,
-                );
+                let (arg, at) = argument(&mut input)
+                    .ok_or((t.start, ErrorKind::MissingOperand(format!("\\{name}"))))?;
+                end = end.max(at);
+                args.push(arg);
             }
             let mut body = Vec::with_capacity(m.body.len());
             for b in &m.body {
@@ -171,10 +179,12 @@ impl Vocabulary {
                         Some(arg) => body.extend(arg.iter().cloned()),
                         None => return Err((t.start, ErrorKind::MacroExpansion(name.clone()))),
                     },
+                    // The macro's own tokens span the whole invocation, so
+                    // that a line ends where its last argument does.
                     ref tok => body.push(Token {
                         tok: tok.clone(),
                         start: t.start,
-                        end: t.end,
+                        end,
                     }),
                 }
             }
@@ -196,15 +206,16 @@ pub(crate) fn tokens(src: &str, vocab: &Vocabulary, at: usize) -> Result<Vec<Tok
 }
 
 /// A macro's argument at the front of `input` (after spaces): a braced
-/// group's content, or one token.
-fn argument(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
+/// group's content, or one token; with the end of what it took.
+fn argument(input: &mut VecDeque<Token>) -> Option<(Vec<Token>, usize)> {
     // TeX skips spaces before an undelimited argument (`\skew 1p`).
     while input.front().is_some_and(|t| t.tok == Tok::Space) {
         input.pop_front();
     }
     let first = input.pop_front()?;
     if first.tok != Tok::LBrace {
-        return (!matches!(first.tok, Tok::RBrace)).then(|| vec![first]);
+        let end = first.end;
+        return (!matches!(first.tok, Tok::RBrace)).then(|| (vec![first], end));
     }
     let mut depth = 1usize;
     let mut out = Vec::new();
@@ -214,7 +225,7 @@ fn argument(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
             Tok::RBrace => {
                 depth -= 1;
                 if depth == 0 {
-                    return Some(out);
+                    return Some((out, t.end));
                 }
             }
             _ => {}
@@ -225,8 +236,8 @@ fn argument(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
 }
 
 /// An optional argument `[…]` at the front of `input` (brackets inside
-/// braces do not close it).
-fn optional(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
+/// braces do not close it), with the end of what it took.
+fn optional(input: &mut VecDeque<Token>) -> Option<(Vec<Token>, usize)> {
     input.pop_front()?;
     let mut braces = 0usize;
     let mut out = Vec::new();
@@ -234,7 +245,7 @@ fn optional(input: &mut VecDeque<Token>) -> Option<Vec<Token>> {
         match t.tok {
             Tok::LBrace => braces += 1,
             Tok::RBrace => braces = braces.saturating_sub(1),
-            Tok::Close(crate::lexer::Delim::Bracket) if braces == 0 => return Some(out),
+            Tok::Close(crate::lexer::Delim::Bracket) if braces == 0 => return Some((out, t.end)),
             _ => {}
         }
         out.push(t);

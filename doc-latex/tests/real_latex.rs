@@ -270,3 +270,20 @@ fn a_backslash_before_a_wide_character_is_read_safely() {
     .unwrap();
     assert_eq!(doc.formulas().len(), 2);
 }
+
+/// A line that ends with a macro's argument is quoted whole (the macro's
+/// tokens span its invocation, arguments included).
+#[test]
+fn a_line_ending_in_a_macro_is_quoted_whole() {
+    let text = "\\newcommand{\\Skew}[1]{[#1]_{\\times}}\n\\[\nq = R\\Skew{-p}\n\\]\n";
+    let doc = Document::parse_with(
+        text,
+        Options {
+            syntax: Syntax::Latex,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let claims = doc.claims(&doc.formulas()[0]).unwrap();
+    assert_eq!(claims[0].source, "q = R\\Skew{-p}");
+}
