@@ -156,10 +156,8 @@ impl Vocabulary {
                 needed = needed.saturating_sub(1);
                 args.push(match input.front().map(|t| &t.tok) {
                     Some(Tok::Open(crate::lexer::Delim::Bracket)) => {
-                        let (arg, at) = optional(&mut input).ok_or((
-                            t.start,
-                            ErrorKind::MissingOperand(format!("\\{name}")),
-                        ))?;
+                        let (arg, at) = optional(&mut input)
+                            .ok_or((t.start, ErrorKind::MissingOperand(format!("\\{name}"))))?;
                         end = end.max(at);
                         arg
                     }

@@ -171,6 +171,8 @@ pub fn combined_font(outer: Font, inner: Font) -> Option<Font> {
         }
         (Font::Bold, Font::BoldCalligraphic) => Some(Font::BoldCalligraphic),
         (Font::Bold, Font::Roman) | (Font::Roman, Font::Bold) => Some(Font::Bold),
+        // `\mathfrak{\mathbb{R}}` (as LyX writes the reals): blackboard.
+        (Font::Fraktur, Font::Blackboard) => Some(Font::Blackboard),
         _ => None,
     }
 }

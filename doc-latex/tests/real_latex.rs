@@ -287,3 +287,15 @@ fn a_line_ending_in_a_macro_is_quoted_whole() {
     let claims = doc.claims(&doc.formulas()[0]).unwrap();
     assert_eq!(claims[0].source, "q = R\\Skew{-p}");
 }
+
+/// LyX's reals `\mathfrak{\mathbb{R}^{3}}` are blackboard, a font over an
+/// expression is the expression, and `\widehat` over a sum is the hat
+/// operator on it (`\hat` stays one symbol's accent).
+#[test]
+fn fonts_and_wide_hats_over_expressions() {
+    same("\\mathfrak{\\mathbb{R}^{3}}", "\\mathbb{R}^{3}");
+    same("\\mathfrak{g^{*}}", "g^{*}");
+    let e = read("Ad_{T}(\\widehat{\\xi_{b}+\\delta\\xi_{b}})");
+    assert!(e.to_string().contains("\\wedge"), "{e}");
+    assert!(doc_latex::parse_expr("\\hat{a + b}").is_err());
+}

@@ -3,7 +3,9 @@
 //! `\sqrt`.
 
 use super::{Ctx, Parser, Seps};
-use crate::ast::{Base, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, Symbol};
+use crate::ast::{
+    Base, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, PostfixOp, Symbol,
+};
 use crate::error::{ErrorKind, ParseError};
 use crate::lexer::{Delim, Tok};
 use crate::names::{
@@ -121,7 +123,18 @@ impl Parser<'_> {
             return self.font(name, font);
         }
         if let Some(accent) = lookup(ACCENT_COMMANDS, name) {
-            let mut s = self.symbol_argument(name)?;
+            let mut s = match self.argument_expr(name)? {
+                Expr::Symbol(s) => s,
+                // `\widehat{\xi_b + \delta\xi_b}`: the hat operator on an
+                // expression.
+                other if name == "widehat" => {
+                    return Ok(Atom::Expr(Expr::Postfix {
+                        base: Box::new(other),
+                        op: PostfixOp::Hat,
+                    }));
+                }
+                _ => return Err(self.error_before(ErrorKind::NotASymbol(name.into()))),
+            };
             if s.accent.is_some() {
                 return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
             }
@@ -374,7 +387,12 @@ impl Parser<'_> {
                 ..Symbol::new(Base::Letter(digit))
             }));
         }
-        let mut s = self.symbol_argument(name)?;
+        let mut s = match self.argument_expr(name)? {
+            Expr::Symbol(s) => s,
+            // A font over an expression (`\mathfrak{\mathbb{R}^{2}}`,
+            // `\mathfrak{g^{*} \rightarrow g^{*}}`): the expression.
+            other => return Ok(Atom::Expr(other)),
+        };
         s.font = combined_font(font, s.font)
             .ok_or_else(|| self.error_before(ErrorKind::NotASymbol(name.into())))?;
         Ok(Atom::Symbol(self.increment(s)?))
@@ -437,6 +455,15 @@ impl Parser<'_> {
 
     /// The argument of a font or accent command at the cursor: one symbol.
     fn symbol_argument(&mut self, name: &str) -> Result<Symbol, ParseError> {
+        match self.argument_expr(name)? {
+            Expr::Symbol(s) => Ok(s),
+            _ => Err(self.error_before(ErrorKind::NotASymbol(name.into()))),
+        }
+    }
+
+    /// The argument of a font or accent command at the cursor: a braced
+    /// group's expression, or one symbol.
+    fn argument_expr(&mut self, name: &str) -> Result<Expr, ParseError> {
         self.pos += 1;
         let not_a_symbol = |p: &Self| p.error_before(ErrorKind::NotASymbol(name.into()));
         let e = if self.peek() == Some(&Tok::LBrace) {
@@ -453,10 +480,7 @@ impl Parser<'_> {
         } else {
             return Err(not_a_symbol(self));
         };
-        match e {
-            Expr::Symbol(s) => Ok(s),
-            _ => Err(not_a_symbol(self)),
-        }
+        Ok(e)
     }
 
     /// Runs `f` with the input cut at token `end`.

@@ -14,9 +14,18 @@
 //! - a term of a sum or a factor of a product deleted;
 //! - a symbol replaced by a sibling in scope (the same letter with another
 //!   subscript, superscript, accent, font or primes: `ω̂ → ω`, `l¹ → l²`);
-//! - a term, an entry or the whole multiplied by 2 or ½.
+//! - a term, an entry or the whole multiplied by 2 or ½;
+//! - a symbol or application inverted (or its inverse undone);
+//! - a misplaced parenthesis, `(a − b c)` read as `(a − b) c`;
+//! - (when no single edit fits) a missing term: a term printed elsewhere in
+//!   the formula's display (another side of its chain, another line, a sum
+//!   inside it) added to the whole, to a sum, before a lone subtracted
+//!   term, or to a matrix entry.
 //!
-//! Single edits are tried first, then pairs (two edits at places not inside
+//! An exponent corrected to 1 is dropped (`x^2` to `x`). A differential is
+//! searched as its claim reads it (linear in its tangent).
+//!
+//! Single edits are tried first, then missing terms, then pairs (two edits at places not inside
 //! one another), at most [`MAX_CANDIDATES`] edited formulas an equation (and
 //! [`MAX_CANDIDATES_PER_RUN`] in a whole audit), each evaluated at up to
 //! [`SEARCH_SAMPLES`] of the audit's samples (stopping at the first that

@@ -1,34 +1,55 @@
 //! Auditing straight from a document's text: the formulas are read from
-//! the Markdown/LaTeX (crate `doc-latex`), given meaning by a symbols file,
-//! and checked by the same verdict engine as the transcribed catalogues;
-//! an erratum is diagnosed by searching small edits of the printed formula.
+//! the Markdown/LaTeX (crate `doc-latex`, with the document's own macros),
+//! given meaning by a symbols file, and checked by the verdict engine; an
+//! erratum is diagnosed by searching small edits of the printed formula.
+//! Each claim is read on its own: one that cannot be read is reported with
+//! the notation or symbol at fault ([`Unread`]) and the others are
+//! audited. `docs/guide/auditing.md` is the guide to writing a symbols file.
 //!
 //! ```sh
 //! slamjac audit notes.md --symbols notes.symbols.toml
 //! ```
 //!
-//! - [`symbols`]: the symbols file (TOML). A `[context.NAME]` names a
-//!   shipped factor (`factor = "point_reprojection"`) whose seeded samples
-//!   give the fields, and `[context.NAME.symbols]` says what each symbol of
-//!   the document means: `{ field = "pose.rotation" }` (a field or a part of
-//!   one, by its layout names), `{ sample = "rotation_vector" | "unit_quaternion"
-//!   | "vector3" | "rotation" | "pose" }` (a free variable), a LaTeX
-//!   definition `"R X + t"` (with `{ latex = …, components = ["P_x", …] }`
-//!   to name its entries), `{ function = "left_jacobian" }` (see
-//!   [`functions`]), `{ perturbs = "T", side = "left", parts = ["\\delta\\phi",
-//!   "\\delta\\rho"], coordinates = [1, 2, 3] }` (a tangent: what a derivative
-//!   by it perturbs), `{ residual = [1] }` (the factor's own residual).
+//! - [`symbols`]: the symbols file (TOML). At the top, `document`, `syntax
+//!   = "latex" | "markdown"` (by default from the extension) and `words`
+//!   (words the document uses as function names). A `[context.NAME]` may
+//!   name a shipped factor (`factor = "point_reprojection"`) whose seeded
+//!   samples give the fields, and `[context.NAME.symbols]` says what each
+//!   symbol of the document means (keys are LaTeX, read with the
+//!   document's macros; a key may be a whole expression, `"q(\omega)"`):
+//!   `{ field = "pose.rotation" }` (a field or a part of one, by its layout
+//!   names), `{ sample = "rotation_vector" | "unit_quaternion" | "vector3" |
+//!   "rotation" | "pose" | "vector" | "scalar", size, range }` (a free
+//!   variable; a field or sample may carry its default perturbation,
+//!   `side = "left" | "right"` or `update = "…"` in it and `\delta`), a
+//!   LaTeX definition `"R X + t"` (with `{ latex = …, components = ["P_x",
+//!   …] }` to name its entries), `{ function = "left_jacobian" }` (see
+//!   [`functions`]), `{ args = ["x"], latex = "…" }` (a function the
+//!   document defines), `{ perturbs = "T", side = "left", update = "…",
+//!   parts = ["\delta\phi", "\delta\rho"], coordinates = [1, 2, 3] }` (a
+//!   tangent: what a derivative by it perturbs), `{ residual = [1] }` (the
+//!   factor's own residual). `[context.NAME.operators]` gives operators,
+//!   accents and words their meaning (`"\boxminus"`, `"^\odot"`,
+//!   `"\hat"`, `"between"` to `{ args, latex }`), and each
+//!   `[[context.NAME.link]]` (`lhs`, `of`, `wrt`, `side`, `output`) a
+//!   derivative the document states only in words, for its chain rules.
 //!   Each `[[claim]]` names an equation: `id` (its name in reports),
-//!   `context`, `label = "(5)"` or `anchor = "…"` (with `line`, `chain =
-//!   true` to audit where a chain of equalities arrives, `case` for a row
-//!   of `cases`), what it claims (`kind = "jacobian" | "value" |
-//!   "first_order"`, `of`, `wrt`, `side`, `at_zero`; by default read from
-//!   its printed left side), `lhs` (how chain rules elsewhere write it),
-//!   `expected` (the verdict the gate accepts), `erratum` (a reader's
-//!   note, kept apart from the engine's diagnosis), `claim` and
-//!   `convention` (words), `stacked_fractions`, its own `[claim.symbols]`
-//!   and `[[claim.conventions]]` (`description` with `side`, `update`,
-//!   `of` or `wrt`).
+//!   `context`, where it is (`label = "(5)"`, `anchor = "…"` (a piece of
+//!   exactly one formula), or `after = "…"` (the display after a piece of
+//!   prose); then `line`, `statement`, `step` (one side of a chain of
+//!   equalities), `chain = true` (where a chain over several lines
+//!   arrives), `case` (a row of `cases`)), what it claims (`kind =
+//!   "jacobian" | "value" | "first_order" | "differential"`, `of`, `wrt`,
+//!   `side`, `update`, `output`, `at_zero`; by default read from its
+//!   printed left side), `lhs` (how chain rules elsewhere write it),
+//!   `expected` (the verdict the gate accepts, or `"unread"`), `erratum`
+//!   (a reader's note, kept apart from the engine's diagnosis), `claim`
+//!   and `convention` (words), `stacked_fractions`, its own
+//!   `[claim.symbols]` and `[[claim.conventions]]` (`description` with
+//!   `side`, `update`, `of` or `wrt`).
+//! - Loading: a document and its symbols file read claim by claim
+//!   ([`TextAudit::read`]) or stopping at the first error
+//!   ([`TextAudit::load`]).
 //! - [`lower`]: LaTeX to [`term::Term`]s; an undefined symbol or notation
 //!   without meaning is an error naming the equation and the fragment.
 //! - [`eval`]: terms evaluated over any scalar ([`value`] holds the
