@@ -453,14 +453,6 @@ impl Parser<'_> {
         Some(word)
     }
 
-    /// The argument of a font or accent command at the cursor: one symbol.
-    fn symbol_argument(&mut self, name: &str) -> Result<Symbol, ParseError> {
-        match self.argument_expr(name)? {
-            Expr::Symbol(s) => Ok(s),
-            _ => Err(self.error_before(ErrorKind::NotASymbol(name.into()))),
-        }
-    }
-
     /// The argument of a font or accent command at the cursor: a braced
     /// group's expression, or one symbol.
     fn argument_expr(&mut self, name: &str) -> Result<Expr, ParseError> {

@@ -408,6 +408,7 @@ pub fn compile(
     let of = match (&spec.of, &derivative, kind, &located.lhs) {
         (Some(latex), ..) => lower_written(ctx, scope, spec, "of", latex)?.1,
         (None, Some((of, _)), _, _) => Lowering::new(&mut ctx.resolver(scope), false)
+            .without_claim_names()
             .expr(of)
             .map_err(|e| {
                 claim_error(
@@ -417,6 +418,7 @@ pub fn compile(
             })?,
         (None, None, ClaimKind::Value | ClaimKind::FirstOrder, Some(lhs)) => {
             Lowering::new(&mut ctx.resolver(scope), false)
+                .without_claim_names()
                 .expr(lhs)
                 .map_err(|e| claim_error(spec, format!("the left side: {e}")))?
         }
@@ -474,6 +476,7 @@ pub fn compile(
             Term::Quotient {
                 numerator: Box::new(printed),
                 tangent,
+                limit: false,
             }
         }
         _ => printed,

@@ -173,6 +173,7 @@ impl Search<'_> {
             Some(tangent) => Term::Quotient {
                 numerator: Box::new(term),
                 tangent,
+                limit: false,
             },
             None => term,
         })

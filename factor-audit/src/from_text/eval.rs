@@ -68,6 +68,10 @@ fn fail<T>(message: impl Into<String>) -> Result<T, ShapeError> {
     Err(ShapeError(message.into()))
 }
 
+/// The step of the central differences a limit of a difference quotient
+/// is evaluated with.
+pub const LIMIT_STEP: f64 = 1e-3;
+
 impl<'a, S: Scalar> Env<'a, S> {
     /// The sample whose stored scalars are `stored`.
     pub fn new(space: Space<'a>, stored: Vec<S>) -> Self {
@@ -252,16 +256,20 @@ impl<'a, S: Scalar> Env<'a, S> {
                     Blocks::build(values.into_iter().map(|v| vec![v]).collect())
                 }
             }
-            Term::Quotient { numerator, tangent } => self.quotient(numerator, *tangent),
+            Term::Quotient {
+                numerator,
+                tangent,
+                limit,
+            } => self.quotient(numerator, *tangent, *limit),
             Term::Link(k) => {
                 let printed = self.space.printed;
                 match printed.get(*k).and_then(Option::as_ref) {
                     // A differential linked inside a differential by the
                     // same tangent (`D_2 g(ξ)` in `D_1 f(ξ) = …`): its value
                     // at the direction being taken, not its matrix.
-                    Some(Term::Quotient { numerator, tangent })
-                        if self.bound.get(*tangent).is_some_and(Option::is_some) =>
-                    {
+                    Some(Term::Quotient {
+                        numerator, tangent, ..
+                    }) if self.bound.get(*tangent).is_some_and(Option::is_some) => {
                         self.eval(numerator)
                     }
                     Some(term) => self.eval(term),
@@ -302,8 +310,16 @@ impl<'a, S: Scalar> Env<'a, S> {
         result
     }
 
-    /// `X / δξ`: columns `X(e_j) − X(0)` over the unit tangents `e_j`.
-    fn quotient(&mut self, numerator: &Term, tangent: SymbolId) -> Result<Value<S>, ShapeError> {
+    /// `X / δξ`: columns `X(e_j) − X(0)` over the unit tangents `e_j`; under
+    /// a limit, the derivative of `X` at zero, column by column (central
+    /// differences at `h` and `h/2`, Richardson-extrapolated: the error is
+    /// `O(h⁴)`).
+    fn quotient(
+        &mut self,
+        numerator: &Term,
+        tangent: SymbolId,
+        limit: bool,
+    ) -> Result<Value<S>, ShapeError> {
         let table = self.space.table;
         let Meaning::Tangent { variable, parts } = &table.entries[tangent].meaning else {
             return fail("a difference quotient over something that is not a tangent");
@@ -322,29 +338,57 @@ impl<'a, S: Scalar> Env<'a, S> {
         }
         let width = n / slots.len();
         let saved = (self.bound.clone(), self.memo.clone());
-        let at = |env: &mut Self, unit: Option<usize>| -> Result<DMatrix<S>, ShapeError> {
-            for (k, slot) in slots.iter().enumerate() {
-                let part: Vec<S> = (0..width)
-                    .map(|i| {
-                        if unit == Some(k * width + i) {
-                            S::one()
-                        } else {
-                            S::zero()
-                        }
-                    })
-                    .collect();
-                env.bind(*slot, Value::column(&part));
-            }
-            // A matrix numerator (a differential printed in the algebra)
-            // is read column by column, as a map's matrix value is.
-            let v = env.eval(numerator)?.matrix()?;
-            Ok(DMatrix::from_column_slice(v.len(), 1, v.as_slice()))
-        };
+        let at =
+            |env: &mut Self, unit: Option<usize>, step: f64| -> Result<DMatrix<S>, ShapeError> {
+                for (k, slot) in slots.iter().enumerate() {
+                    let part: Vec<S> = (0..width)
+                        .map(|i| {
+                            if unit == Some(k * width + i) {
+                                S::from_f64(step)
+                            } else {
+                                S::zero()
+                            }
+                        })
+                        .collect();
+                    env.bind(*slot, Value::column(&part));
+                }
+                // A matrix numerator (a differential printed in the algebra)
+                // is read column by column, as a map's matrix value is.
+                let v = env.eval(numerator)?.matrix()?;
+                Ok(DMatrix::from_column_slice(v.len(), 1, v.as_slice()))
+            };
         let result = (|| {
-            let zero = at(self, None)?;
+            if limit {
+                let mut columns = Vec::with_capacity(n);
+                for j in 0..n {
+                    let central = |env: &mut Self, h: f64| -> Result<DMatrix<S>, ShapeError> {
+                        let d = at(env, Some(j), h)? - at(env, Some(j), -h)?;
+                        Ok(d.map(|v| v / S::from_f64(2.0 * h)))
+                    };
+                    let (coarse, fine) =
+                        (central(self, LIMIT_STEP)?, central(self, LIMIT_STEP / 2.0)?);
+                    let rows = coarse.nrows();
+                    if fine.nrows() != rows {
+                        return fail("the numerator changes its size with the tangent");
+                    }
+                    columns.push(
+                        (fine.map(|v| v * S::from_f64(4.0)) - coarse).map(|v| v / S::from_f64(3.0)),
+                    );
+                }
+                let rows = columns.first().map_or(0, |c| c.nrows());
+                let mut out = DMatrix::zeros(rows, n);
+                for (j, c) in columns.iter().enumerate() {
+                    if c.nrows() != rows {
+                        return fail("the numerator changes its size with the tangent");
+                    }
+                    out.set_column(j, &c.column(0));
+                }
+                return Ok(Value::Matrix(out));
+            }
+            let zero = at(self, None, 1.0)?;
             let mut out = DMatrix::zeros(zero.nrows(), n);
             for j in 0..n {
-                let column = at(self, Some(j))? - &zero;
+                let column = at(self, Some(j), 1.0)? - &zero;
                 out.set_column(j, &column.column(0));
             }
             Ok(Value::Matrix(out))

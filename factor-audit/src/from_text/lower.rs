@@ -27,7 +27,7 @@
 
 use std::collections::HashSet;
 
-use doc_latex::ast::{self, Base, Expr, Head, MulOp, PostfixOp, Sign};
+use doc_latex::ast::{self, Base, Expr, Head, MulOp, PostfixOp, Rel, Sign};
 use doc_latex::render::mulop_latex;
 
 use super::functions::Builtin;
@@ -118,6 +118,9 @@ pub struct Lowering<'r> {
     resolver: &'r mut dyn Resolver,
     /// Read fractions with a non-scalar above the bar as stacks.
     pub stacked_fractions: bool,
+    /// Read a name no symbol has as the claim that states it (`D_2 g(ξ)`);
+    /// off for a claim's own left side.
+    pub names_claims: bool,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
@@ -164,7 +167,15 @@ impl<'r> Lowering<'r> {
         Lowering {
             resolver,
             stacked_fractions,
+            names_claims: true,
         }
+    }
+
+    /// The same lowering, reading no name as another claim (for a claim's
+    /// own left side, which names itself).
+    pub fn without_claim_names(mut self) -> Self {
+        self.names_claims = false;
+        self
     }
 
     /// `e` lowered.
@@ -183,7 +194,7 @@ impl<'r> Lowering<'r> {
         // A name that cannot be read otherwise but another claim states
         // (`D_2 g(ξ)` in a chain of differentials): that claim's printed
         // formula.
-        let linked = match (is_name_like(e) || is_applied_product(e))
+        let linked = match (self.names_claims && (is_name_like(e) || is_applied_product(e)))
             .then(|| self.resolver.link(&e.to_string()))
             .flatten()
         {
@@ -256,12 +267,7 @@ impl<'r> Lowering<'r> {
                     "a differential `∂x` outside a derivative is not evaluated",
                 ));
             }
-            Expr::Limit { .. } => {
-                return Err(LowerError::at(
-                    e,
-                    "a limit is not evaluated (audit the line that arrives at its value)",
-                ));
-            }
+            Expr::Limit { under, body } => self.limit(under, body, e)?,
             Expr::Sqrt { index, body } => {
                 let body = self.expr(body)?;
                 match index {
@@ -721,6 +727,41 @@ impl<'r> Lowering<'r> {
         ))
     }
 
+    /// `\lim_{δ → 0} \frac{N(δ) − N(0)}{δ}` with `δ` a tangent: the
+    /// derivative of the numerator by it at zero (the numerator need not be
+    /// linearised).
+    fn limit(&mut self, under: &Expr, body: &Expr, e: &Expr) -> Result<Term, LowerError> {
+        let variable = match under {
+            Expr::Relation { first, rest }
+                if rest.len() == 1 && rest[0].0 == Rel::To && number(&rest[0].1) == Some(0.0) =>
+            {
+                Some(first.as_ref())
+            }
+            _ => None,
+        };
+        let tangent = match variable {
+            Some(Expr::Symbol(s)) => match self.resolver.symbol(&symbol_key(s))? {
+                Some((id, Found::Tangent(_))) => Some((id, s.clone())),
+                _ => None,
+            },
+            _ => None,
+        };
+        match (tangent, body) {
+            (Some((id, s)), Expr::Fraction { num, den }) if matches!(den.as_ref(), Expr::Symbol(d) if *d == s) => {
+                Ok(Term::Quotient {
+                    numerator: Box::new(self.expr(num)?),
+                    tangent: id,
+                    limit: true,
+                })
+            }
+            _ => Err(LowerError::at(
+                e,
+                "a limit is evaluated only as `\\lim_{δ \\to 0}` of a difference quotient over \
+                 a perturbation δ the symbols file declares",
+            )),
+        }
+    }
+
     /// A fraction, a difference quotient over a tangent, or a stack.
     fn fraction(&mut self, num: &Expr, den: &Expr) -> Result<Term, LowerError> {
         let tangent_symbol = match den {
@@ -746,6 +787,7 @@ impl<'r> Lowering<'r> {
             return Ok(Term::Quotient {
                 numerator: Box::new(numerator),
                 tangent: id,
+                limit: false,
             });
         }
         if let Expr::Relation { .. } = den {

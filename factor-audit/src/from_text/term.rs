@@ -72,6 +72,10 @@ pub enum Term {
         numerator: Box<Term>,
         /// The tangent symbol `δξ`.
         tangent: SymbolId,
+        /// Under `\lim_{δξ → 0}`: `X` need not be linear in `δξ`; the
+        /// quotient is its derivative at zero (central differences,
+        /// extrapolated).
+        limit: bool,
     },
     /// A derivative in a chain rule: the printed formula of the claim of
     /// this file (by its index) that states it.
