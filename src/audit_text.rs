@@ -161,11 +161,11 @@ pub fn report_and_gate(
     );
     if !unexpected.is_empty() {
         // The table goes out before the one-line error.
-        let _ = write!(std::io::stdout().lock(), "{table}{summary}\n");
+        let _ = writeln!(std::io::stdout().lock(), "{table}{summary}");
         return Err(CliError::Disagreement(unexpected));
     }
     if !unread.is_empty() && !allow_unread {
-        let _ = write!(std::io::stdout().lock(), "{table}{summary}\n");
+        let _ = writeln!(std::io::stdout().lock(), "{table}{summary}");
         return Err(InputError::new(
             "audit",
             format!(

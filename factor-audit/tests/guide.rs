@@ -45,10 +45,10 @@ fn file(blocks: &[(String, String)], name: &str) -> String {
 #[test]
 fn every_toml_block_is_toml() {
     for (info, body) in blocks(&guide()) {
-        if info.split_whitespace().next() == Some("toml") {
-            if let Err(e) = body.parse::<toml::Table>() {
-                panic!("{e}\n{body}");
-            }
+        if info.split_whitespace().next() == Some("toml")
+            && let Err(e) = body.parse::<toml::Table>()
+        {
+            panic!("{e}\n{body}");
         }
     }
 }
