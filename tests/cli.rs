@@ -1292,7 +1292,36 @@ fn audit_from_text_rejects_bad_input_and_fails_on_unexpected_verdicts() {
         ],
         "",
     );
-    assert_error(&output, 2, &["undefined symbol", "`n`"]);
+    // Each claim is read on its own: the table lists every claim with its
+    // reading error (the fragment at fault), and the run fails (exit 2,
+    // one line) because claims could not be read.
+    assert_eq!(output.status.code(), Some(2), "stderr: {}", stderr(&output));
+    let err = stderr(&output);
+    assert!(
+        err.starts_with("error: ") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(
+        err.contains("could not be read") && err.contains("undefined symbol"),
+        "{err}"
+    );
+    let table = String::from_utf8_lossy(&output.stdout);
+    for needle in ["(1)", "(2)", "(3)", "unread", "undefined symbol at `n`"] {
+        assert!(table.contains(needle), "{needle}: {table}");
+    }
+    // With --allow-unread, the claims that cannot be read do not fail it.
+    let output = slamjac(
+        &[
+            "audit",
+            notes.to_str().unwrap(),
+            "--symbols",
+            bad.to_str().unwrap(),
+            "--allow-unread",
+        ],
+        "",
+    );
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
     std::fs::remove_file(&bad).ok();
     // The document needs its symbols file.
     let output = slamjac(&["audit", notes.to_str().unwrap()], "");
