@@ -9,6 +9,7 @@
 //! | `bal` | [`bal`] | Bundle Adjustment in the Large: cameras `[ω, t, f, k1, k2]`, points, observations | [`BalProblem`] |
 //! | `bundler` | [`bundler`] | Bundler v0.3 `bundle.out`: cameras `f k1 k2, R, t`, points with colours and views | [`BundlerProblem`] |
 //! | `g2o` | [`g2o`] | `VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` pose graphs | [`PoseGraph`] |
+//! | (g2o, [`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines and planes beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
 //! | `edge3` | [`edge3`] | `VERTEX3`, `EDGE3` pose graphs (`sphere2500`) | [`PoseGraph`] |
 //! | `kitti-vo` | [`kitti_vo`] | GTSAM's KITTI stereo VO: calibration, camera poses, stereo observations | [`StereoVo`] |
 //!
@@ -83,6 +84,8 @@ pub mod edge3;
 mod error;
 mod format;
 pub mod g2o;
+pub mod g2o_graph;
+mod g2o_graph_file;
 mod graph_file;
 mod input;
 pub mod kitti_vo;
@@ -97,6 +100,9 @@ pub use camera::{SnavelyCamera, SnavelyIntrinsics};
 pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
 pub use error::Error;
 pub use format::{Format, UnknownFormat};
+pub use g2o_graph::{
+    G2oGraph, LineEdge, LineVertex, PlaneEdge, PlaneVertex, Se3Offset, VertexKind,
+};
 pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
 pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};
 pub use pose_graph::{ChainError, Edge, Pose, PoseGraph, Rotation, Vertex};
