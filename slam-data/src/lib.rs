@@ -1,6 +1,6 @@
-//! Readers and writers of real SLAM data sets, and a seeded synthetic BAL
-//! generator. Plain `nalgebra` types; no dependency on the rest of the
-//! workspace.
+//! Readers and writers of real SLAM data sets, a seeded synthetic BAL
+//! generator and a seeded point-line-plane scene generator. Plain
+//! `nalgebra` types; no dependency on the rest of the workspace.
 //!
 //! # Formats
 //!
@@ -75,6 +75,10 @@
 //! [`synthetic::generate`] makes a seeded BAL problem (cameras on a ring
 //! looking at a ball of points, Gaussian pixel noise, uniform outliers,
 //! perturbed initial values), with its ground truth; see [`synthetic`].
+//! [`plp_scene::generate`] makes a seeded point-line-plane scene (a room or
+//! a corridor: planes, line segments on them, points, a camera trajectory)
+//! with its ground truth, perturbed initial values and the measurements the
+//! documents' point, line and plane factors take; see [`plp_scene`].
 
 pub mod bal;
 pub mod bundler;
@@ -90,6 +94,7 @@ mod graph_file;
 mod input;
 pub mod kitti_vo;
 mod output;
+pub mod plp_scene;
 pub mod pose_graph;
 mod problem;
 pub mod synthetic;
