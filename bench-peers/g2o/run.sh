@@ -12,7 +12,10 @@
 #    g2o's Levenberg–Marquardt until it stops by itself, printing one JSON
 #    line per graph (initial and final χ², iterations, seconds) into
 #    bench-peers/out/g2o/results.jsonl, and the optimised vertices into
-#    bench-peers/out/g2o/NAME.estimates.g2o.
+#    bench-peers/out/g2o/NAME.estimates.g2o;
+# 4. with the ground truth beside a graph (NAME_truth.g2o; the calibration
+#    graph's is the plane graph's), errors.py prints the pose, landmark and
+#    sensor-offset errors of g2o's solution into errors.jsonl.
 #
 # Everything is written under bench-peers/out/ (git-ignored). Environment:
 # PYTHON (default python3), CXX (default g++), FRESH=1 (download again).
@@ -54,9 +57,15 @@ if [[ $# -eq 0 ]]; then
     set -- "$root"/data/g2o-addons/{line3d,plane3d,plane3d_calib}.g2o
 fi
 : >"$out/results.jsonl"
+: >"$out/errors.jsonl"
 for graph in "$@"; do
     name="$(basename "$graph" .g2o)"
     echo "== g2o LM on $name =="
     "$out/solve_g2o" "$graph" --estimates "$out/$name.estimates.g2o" | tee -a "$out/results.jsonl"
+    # The ground truth beside the graph (the calibration graph shares the plane graph's).
+    truth="$(dirname "$graph")/${name%_calib}_truth.g2o"
+    if [[ -f "$truth" ]]; then
+        "$python" "$here/errors.py" "$out/$name.estimates.g2o" "$truth" | tee -a "$out/errors.jsonl"
+    fi
 done
-echo "results: $out/results.jsonl"
+echo "results: $out/results.jsonl, errors against the ground truth: $out/errors.jsonl"
