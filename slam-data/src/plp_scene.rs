@@ -209,7 +209,7 @@ pub struct Segment {
     pub start: Vector3<f64>,
     /// The other endpoint (world).
     pub end: Vector3<f64>,
-    /// The plane it lies on (an index into [`PlpScene::planes`]).
+    /// The plane it lies on (an index into [`PlpState::planes`]).
     pub plane: usize,
 }
 
