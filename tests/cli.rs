@@ -28,9 +28,9 @@ const FACTORS: [Shape; 12] = [
     ("point_reprojection", 2, &[("pose", 6), ("point", 3)]),
     ("line_reprojection", 2, &[("pose", 6), ("line", 4)]),
     ("plane", 3, &[("pose", 6), ("plane", 3)]),
-    ("line_observation", 4, &[("pose", 6), ("line", 4)]),
     ("free_line", 2, &[("body_pose", 6), ("line", 4)]),
     ("plucker_line_reprojection", 2, &[("pose", 6), ("line", 6)]),
+    ("line_observation", 4, &[("pose", 6), ("line", 4)]),
     (
         "snavely_reprojection",
         2,

@@ -59,19 +59,10 @@ use std::path::Path;
 use crate::error::Error;
 use crate::g2o_graph::G2oGraph;
 use crate::g2o_graph_file;
-use crate::graph_file::{self, Dialect};
+use crate::graph_file::{self, G2O};
 use crate::input;
 use crate::output::write_file;
 use crate::pose_graph::PoseGraph;
-
-pub(crate) const DIALECT: Dialect = Dialect {
-    name: "g2o",
-    vertex_tag: "VERTEX_SE3:QUAT",
-    edge_tag: "EDGE_SE3:QUAT",
-    quaternions: true,
-    translation_first: true,
-    other: ("edge3", ["VERTEX3", "EDGE3"]),
-};
 
 /// Reads the g2o file at `path`.
 pub fn read(path: impl AsRef<Path>) -> Result<PoseGraph, Error> {
@@ -86,7 +77,7 @@ pub fn from_text(text: &str, name: &str) -> Result<PoseGraph, Error> {
 
 /// Reads g2o text from `reader`; `name` is the file name used in errors.
 pub fn read_from(reader: impl BufRead, name: &str) -> Result<PoseGraph, Error> {
-    graph_file::read(reader, name, &DIALECT)
+    graph_file::read(reader, name, &G2O)
 }
 
 /// Writes `graph` as a g2o file at `path`: vertices, then edges.
@@ -98,7 +89,7 @@ pub fn write(graph: &PoseGraph, path: impl AsRef<Path>) -> Result<(), Error> {
 /// without writing if the graph does not [validate](PoseGraph::validate).
 /// Roll-pitch-yaw rotations are written as quaternions.
 pub fn write_to(graph: &PoseGraph, out: &mut impl Write, name: &str) -> Result<(), Error> {
-    graph_file::write(graph, out, name, &DIALECT)
+    graph_file::write(graph, out, name, &G2O)
 }
 
 /// Reads the g2o line and plane graph at `path`.

@@ -5,10 +5,10 @@ use std::io::{BufRead, Write};
 use nalgebra::SVector;
 
 use crate::error::{Error, quoted};
-use crate::g2o::DIALECT;
 use crate::g2o_graph::{G2oGraph, Item, LineEdge, LineVertex, PlaneEdge, PlaneVertex, Se3Offset};
 use crate::graph_file::{
-    read_pose, read_upper_triangle, swap_rotation_translation, write_pose, write_upper_triangle,
+    G2O, read_pose, read_upper_triangle, swap_rotation_translation, write_pose,
+    write_upper_triangle,
 };
 use crate::input::{Cursor, Fields, Lines, parse_integer};
 use crate::output::{Real, io_error};
@@ -68,13 +68,13 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
         match tag {
             PARAMS => {
                 let id = fields.integer("the parameter id")?;
-                let offset = read_pose(&mut fields, &DIALECT)?;
+                let offset = read_pose(&mut fields, &G2O)?;
                 graph.offsets.push(Se3Offset { id, offset });
                 at.offsets.push(number);
             }
             POSE => {
                 let id = fields.integer("the vertex id")?;
-                let pose = read_pose(&mut fields, &DIALECT)?;
+                let pose = read_pose(&mut fields, &G2O)?;
                 graph.poses.push(Vertex { id, pose });
                 at.poses.push(number);
             }
@@ -93,7 +93,7 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
             POSE_EDGE => {
                 let from = fields.integer("the first pose id")?;
                 let to = fields.integer("the second pose id")?;
-                let measurement = read_pose(&mut fields, &DIALECT)?;
+                let measurement = read_pose(&mut fields, &G2O)?;
                 let information = read_upper_triangle(&mut fields)?;
                 graph.pose_edges.push(Edge {
                     from,
@@ -203,12 +203,12 @@ fn write_numbers(out: &mut impl Write, values: &[f64]) -> std::io::Result<()> {
 fn write_unchecked(graph: &G2oGraph, out: &mut impl Write) -> std::io::Result<()> {
     for p in &graph.offsets {
         write!(out, "{PARAMS} {}", p.id)?;
-        write_pose(out, &p.offset, &DIALECT)?;
+        write_pose(out, &p.offset, &G2O)?;
         writeln!(out)?;
     }
     for v in &graph.poses {
         write!(out, "{POSE} {}", v.id)?;
-        write_pose(out, &v.pose, &DIALECT)?;
+        write_pose(out, &v.pose, &G2O)?;
         writeln!(out)?;
     }
     for v in &graph.lines {
@@ -223,7 +223,7 @@ fn write_unchecked(graph: &G2oGraph, out: &mut impl Write) -> std::io::Result<()
     }
     for e in &graph.pose_edges {
         write!(out, "{POSE_EDGE} {} {}", e.from, e.to)?;
-        write_pose(out, &e.measurement, &DIALECT)?;
+        write_pose(out, &e.measurement, &G2O)?;
         write_upper_triangle(out, &swap_rotation_translation(&e.information))?;
         writeln!(out)?;
     }

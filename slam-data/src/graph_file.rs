@@ -26,6 +26,17 @@ pub(crate) struct Dialect {
     pub(crate) other: (&'static str, [&'static str; 2]),
 }
 
+/// g2o's `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` (also the pose records of its
+/// line and plane graphs).
+pub(crate) const G2O: Dialect = Dialect {
+    name: "g2o",
+    vertex_tag: "VERTEX_SE3:QUAT",
+    edge_tag: "EDGE_SE3:QUAT",
+    quaternions: true,
+    translation_first: true,
+    other: ("edge3", ["VERTEX3", "EDGE3"]),
+};
+
 pub(crate) fn read(
     reader: impl BufRead,
     name: &str,
