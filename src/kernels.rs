@@ -5,8 +5,8 @@
 use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
 use factor_core::host::{Apex, HostFactor};
 use slam_factors::{
-    BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
-    PointReprojection, SnavelyReprojection, StereoReprojection,
+    BetweenFactor, FreeLineFactor, G2oSe3Edge, LineObservation, LineReprojection, PlaneFactor,
+    PluckerLineReprojection, PointReprojection, SnavelyReprojection, StereoReprojection,
 };
 
 /// Where `generated/` comes from: the kernels of the shipped factors,
@@ -25,8 +25,12 @@ pub const PROVENANCE: Provenance = Provenance {
 
 /// The factors of `slam-factors` with kernels, in the order `list` shows
 /// them, each naming where its residual comes from: the five document
-/// factors, then the three of `slamjac solve`. Every one also has a kernel
-/// in apex-solver's chart ([`factor_core::host::Apex`]).
+/// factors and the 3D line observation over the documents' orthonormal
+/// line, the three of `slamjac solve`, then g2o's pose-edge error. (g2o's
+/// line and plane edge errors linearize through dual numbers: their kernels
+/// take the generator 30 s and 19 s, which every `generate` and `check`
+/// would pay; see `slam_factors::g2o`.) Every one also has a kernel in
+/// apex-solver's chart ([`factor_core::host::Apex`]).
 pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
         with_apex::<PointReprojection>()
@@ -41,6 +45,9 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
         with_apex::<PlaneFactor>()
             .with_source("document 000 §IV (13)")
             .with_normal_equations(),
+        with_apex::<LineObservation>()
+            .with_source("a 3D line in the camera frame over document 000 §III's orthonormal line")
+            .with_normal_equations(),
         with_apex::<FreeLineFactor>()
             .with_source("document 001 §3–4")
             .with_normal_equations(),
@@ -54,6 +61,7 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
             .with_normal_equations(),
         with_apex::<BetweenFactor>()
             .with_source("pose-graph relative pose (GTSAM's `BetweenFactor<Pose3>`), whitened"),
+        with_apex::<G2oSe3Edge>().with_source("g2o's `EdgeSE3` error (`EDGE_SE3:QUAT`)"),
     ]
 }
 

@@ -33,7 +33,7 @@ pub mod unit_quaternion;
 pub use group::LieGroup;
 pub use quaternion::Quaternion;
 pub use se3::Se3;
-pub use se3_rho_theta::Se3RhoTheta;
+pub use se3_rho_theta::{Se3RhoTheta, inverse_pose_block};
 pub use sim3::Sim3;
 pub use so2::So2;
 pub use so3::So3;
