@@ -246,6 +246,7 @@ fn solve(
 }
 
 fn main() -> ExitCode {
+    slamjac_io::atomic::fail_writes_past_the_file_size_limit();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(error) => {

@@ -108,3 +108,18 @@ pub fn write(path: impl AsRef<Path>, contents: impl AsRef<[u8]>) -> io::Result<(
     file.write_all(contents.as_ref())?;
     file.commit()
 }
+
+/// Makes a write past the file-size limit (`ulimit -f`) fail as an error of
+/// that write (`EFBIG`, "File too large") instead of killing the process:
+/// the default action of `SIGXFSZ` ends the run without a message and
+/// leaves the temporary file of an [`AtomicFile`] behind. A program that
+/// writes files calls it once, first thing. Elsewhere than on Unix it does
+/// nothing.
+pub fn fail_writes_past_the_file_size_limit() {
+    #[cfg(unix)]
+    // SAFETY: `SIG_IGN` installs no handler code: it only sets `SIGXFSZ`'s
+    // disposition, which no other part of the program relies on.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}

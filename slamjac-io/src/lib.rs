@@ -4,7 +4,9 @@
 //!
 //! - [`atomic`]: a file is written to a temporary file beside it and renamed
 //!   into place only once complete ([`AtomicFile`], [`atomic::write`]), so a
-//!   failed or interrupted write leaves the old file as it was;
+//!   failed or interrupted write leaves the old file as it was (and
+//!   [`atomic::fail_writes_past_the_file_size_limit`] makes `ulimit -f` an
+//!   error of the write rather than a signal that kills the writer);
 //! - [`distinct`]: before any work, an output path that names an input or
 //!   another output of the same run is refused, and each output's directory
 //!   is checked writable ([`check_paths`]);
