@@ -295,8 +295,11 @@ fn check_finite<F: HostFactor<H>, H: Host>(
     jacobian: Option<&[f64]>,
 ) -> Result<(), FactorError> {
     let jacobian = jacobian.unwrap_or_default();
-    let total: f64 = residual.iter().chain(jacobian).sum();
-    if total.is_finite() {
+    // Not short-circuiting and not a sum: a sum's additions form one
+    // dependent chain (a latency of ~100 cycles for BAL's 26 values, a
+    // third of its kernel), these independent tests vectorise.
+    let finite = |values: &[f64]| values.iter().fold(true, |ok, x| ok & x.is_finite());
+    if finite(residual) & finite(jacobian) {
         return Ok(());
     }
     if residual.iter().any(|x| !x.is_finite()) {

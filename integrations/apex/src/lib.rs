@@ -59,3 +59,10 @@ pub enum AdapterError {
         factor: &'static str,
     },
 }
+
+/// The guide's chapter on solver charts, whose Rust blocks run as this
+/// crate's documentation tests (it needs apex-solver, which the main
+/// workspace's tests do not build).
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/guide/solver-charts.md")]
+pub struct SolverChartsGuide;
