@@ -1099,6 +1099,22 @@ fn w_first_quaternions_get_a_hint_naming_the_field() {
     let output = slamjac(&["eval", "-"], &input.to_string());
     assert_error(&output, DEGENERATE, &["(depth Z = -4)"]);
     assert!(!stderr(&output).contains("w-first"), "{}", stderr(&output));
+    // Outside the accuracy envelope (a residual of 320 px from terms of
+    // 1.5e11 px), with the identity as given: no reading of the quaternion
+    // is at fault, so no hint, though the w-first reading (a half turn
+    // about z) would be accepted.
+    let input = edited("point_reprojection", |v| {
+        v["variables"]["pose"] = pose([0.0, 0.0, 0.0]);
+        v["variables"]["point"] = json!([0.3, 0.0, 1e-9]);
+        v["constants"]["observed"] = json!([1.5e11, 240.0]);
+    });
+    let output = slamjac(&["eval", "-"], &input.to_string());
+    assert_error(
+        &output,
+        DEGENERATE,
+        &["point_reprojection: outside the accuracy envelope: the residual"],
+    );
+    assert!(!stderr(&output).contains("w-first"), "{}", stderr(&output));
 }
 
 #[test]

@@ -27,6 +27,18 @@ pub enum FactorError {
         /// What is degenerate, with the offending value.
         reason: String,
     },
+    /// The configuration is valid, but its `f64` inputs do not determine
+    /// the outputs to the factor's stated accuracy (a residual whose terms
+    /// cancel below their own rounding): outside the accuracy envelope.
+    /// Unlike [`FactorError::Degenerate`], no reading of the inputs is
+    /// wrong; only the arithmetic cannot be trusted there.
+    #[error("{factor}: outside the accuracy envelope: {reason}")]
+    Inaccurate {
+        /// The factor's name.
+        factor: &'static str,
+        /// What lost its digits, with the magnitudes involved.
+        reason: String,
+    },
     /// An evaluation produced a NaN or an infinity that validation did not
     /// foresee; reported instead of returned.
     #[error("{factor}: non-finite {what}")]

@@ -97,7 +97,7 @@ pub const MAGNITUDE_LIMIT: f64 = 1e100;
 ///
 /// # Errors
 ///
-/// [`FactorError::Degenerate`] naming the factor, the residual and its
+/// [`FactorError::Inaccurate`] naming the factor, the residual and its
 /// rounding.
 pub fn check_residual_digits(
     factor: &'static str,
@@ -110,9 +110,9 @@ pub fn check_residual_digits(
     if !(residual.is_finite() && rounding.is_finite()) || exceeds(residual.max(1.0), rounding) {
         return Ok(());
     }
-    Err(degenerate(
+    Err(FactorError::Inaccurate {
         factor,
-        format!(
+        reason: format!(
             "the residual ({} px) has lost its digits: its terms, up to {} px, follow from a \
              depth or a line distance {} of the magnitudes it is computed from, so they are \
              known only to about {} px",
@@ -121,7 +121,7 @@ pub fn check_residual_digits(
             number_text(conditioning.recip()),
             number_text(f64::EPSILON * conditioning * terms)
         ),
-    ))
+    })
 }
 
 /// Rejects `magnitude` (of `what`, a max-abs norm) outside

@@ -51,7 +51,10 @@ fn accuracy<F: Factor>(factor: &F, reason: &str) -> Option<f64> {
                 .map_or_else(|| dual.clone(), |g| g.expect("accepted"));
             Some(error(&generated, &reference).max(error(&dual, &reference)))
         }
-        Err(FactorError::Degenerate { reason: why, .. }) => {
+        Err(
+            FactorError::Degenerate { reason: why, .. }
+            | FactorError::Inaccurate { reason: why, .. },
+        ) => {
             assert!(
                 reason.split('|').any(|r| why.contains(r)),
                 "rejected for `{why}`, not `{reason}`"
