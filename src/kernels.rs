@@ -10,17 +10,13 @@ use slam_factors::{
 
 /// Where `generated/` comes from: the kernels of the shipped factors,
 /// written by `slamjac generate` and checked by `slamjac check`.
-pub const PROVENANCE: Provenance = Provenance {
-    description: "Residual-and-Jacobian kernels of the factors `slam-factors` ships, generated\n\
-                  from their definitions.",
-    generate: "slamjac generate",
-    check: "slamjac check",
-    conventions: "Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; \
-                  poses of document 000 map world to camera (`X_c = R X_w + t`); pose \
-                  tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses \
-                  (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of \
-                  `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.",
-};
+pub const PROVENANCE: Provenance = Provenance::new(
+    "Residual-and-Jacobian kernels of the factors `slam-factors` ships, generated
+\
+     from their definitions.",
+    "slamjac generate",
+    "slamjac check",
+);
 
 /// The factors of `slam-factors` with kernels, in the order `list` shows
 /// them, each naming where its residual comes from: the five document
