@@ -157,3 +157,37 @@ pub fn report(result: Result<String, CliError>) -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use slam_factors::{BetweenFactor, PointReprojection};
+
+    use super::*;
+
+    #[test]
+    fn a_registry_lists_and_evaluates_its_own_factors_only() {
+        let registry = Registry::new().with::<BetweenFactor>();
+        let table = registry
+            .execute(&FactorCommand::List { json: false })
+            .unwrap();
+        assert!(
+            table.starts_with("between  (residual dimension 6)"),
+            "{table}"
+        );
+        assert!(!table.contains("point_reprojection"), "{table}");
+        let input = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/inputs/point_reprojection.json"
+        );
+        let eval = |registry: &Registry| {
+            registry.execute(&FactorCommand::Eval {
+                file: input.to_owned(),
+                method: Method::Dual,
+            })
+        };
+        let error = eval(&registry).unwrap_err().to_string();
+        assert!(error.ends_with("known factors: between"), "{error}");
+        let output = eval(&registry.with::<PointReprojection>()).unwrap();
+        assert!(output.contains("\"method\": \"dual\""), "{output}");
+    }
+}

@@ -1299,3 +1299,36 @@ fn audit_from_text_rejects_bad_input_and_fails_on_unexpected_verdicts() {
     assert_eq!(output.status.code(), Some(2));
     assert!(stderr(&output).contains("--symbols"));
 }
+
+#[test]
+fn init_writes_a_project_into_an_empty_directory_only() {
+    let dir = temp_dir("init");
+    let dir_text = dir.to_str().expect("utf-8 path");
+    let output = slamjac(&["init", dir_text, "--name", "vio"], "");
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let read = |path: &str| std::fs::read_to_string(dir.join(path)).expect(path);
+    assert!(read("Cargo.toml").contains("[profile.dev.package.factor-codegen]\nopt-level = 3"));
+    assert!(read("vio-kernels/Cargo.toml").contains("lanes = [\"dep:factor-lanes\"]"));
+    assert!(read("vio-kernels/src/lib.rs").contains("compile_error!("));
+    assert!(read("vio-factors/src/lib.rs").contains("kernel = vio_kernels::position_prior"));
+    assert!(read("vio-cli/src/main.rs").contains(".run(\"vio\")"));
+    // The example input names the project's factor.
+    let input: Value = serde_json::from_str(&read("inputs/position_prior.json")).unwrap();
+    assert_eq!(input["factor"], "position_prior");
+    let again = slamjac(&["init", dir_text, "--name", "vio"], "");
+    assert_error(
+        &again,
+        BAD_INPUT,
+        &["refused: init writes into a new or empty directory"],
+    );
+    let empty = temp_dir("init-name");
+    let bad = slamjac(&["init", empty.to_str().unwrap(), "--name", "Vio"], "");
+    assert_error(&bad, BAD_INPUT, &["cannot name the crates"]);
+    assert_eq!(
+        std::fs::read_dir(&empty).unwrap().count(),
+        0,
+        "nothing written"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&empty);
+}
