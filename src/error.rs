@@ -67,10 +67,15 @@ pub enum CliError {
     /// `check`: these generated files differ from what the factor
     /// definitions produce, are missing or are not generated (exit 1).
     #[error(
-        "{}: stale: differs from what the factor definitions produce; run `slamjac generate`",
-        .0.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        "{}: stale: differs from what the factor definitions produce; run `{generate}`",
+        .files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
     )]
-    Stale(Vec<PathBuf>),
+    Stale {
+        /// The files.
+        files: Vec<PathBuf>,
+        /// The command that rewrites them.
+        generate: &'static str,
+    },
     /// `generate`/`check`: the generator refuses a kernel (exit 1).
     #[error("generate: {0}")]
     Codegen(#[from] factor_codegen::CodegenError),
@@ -98,7 +103,7 @@ impl CliError {
             CliError::Input(_) | CliError::Data(_) | CliError::Usage(_) => EXIT_BAD_INPUT,
             CliError::Factor(_)
             | CliError::Hinted { .. }
-            | CliError::Stale(_)
+            | CliError::Stale { .. }
             | CliError::Codegen(_)
             | CliError::Disagreement(_)
             | CliError::Solve(_) => EXIT_DEGENERATE,

@@ -1,5 +1,5 @@
-//! `slamjac eval`: evaluate a factor at a point given as JSON and write the
-//! residual and its tangent-space Jacobians as JSON.
+//! `eval`: evaluate a registry's factor at a point given as JSON and write
+//! the residual and its tangent-space Jacobians as JSON.
 
 use factor_core::{DynLinearization, FactorError, VariableInfo};
 use serde_json::{Map, Value};
@@ -7,9 +7,10 @@ use serde_json::{Map, Value};
 use crate::error::CliError;
 use crate::input::{Object, QuaternionReading};
 use crate::method::Method;
+use crate::registry::Registry;
 use crate::source::read_source;
 use crate::strict_json::parse_json;
-use crate::{pretty, registry, w_first};
+use crate::{pretty, w_first};
 
 /// A factor evaluated at a point.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,15 +26,19 @@ pub struct Evaluation {
     pub linearization: DynLinearization,
 }
 
-/// Evaluates the request `{"factor", "variables", "constants"}`. A
-/// degenerate configuration whose quaternions look written `[w, x, y, z]`
-/// gets a hint naming them (see [`w_first`]).
-pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError> {
+/// Evaluates the request `{"factor", "variables", "constants"}` for a
+/// factor of `registry`. A degenerate configuration whose quaternions look
+/// written `[w, x, y, z]` gets a hint naming them (see [`w_first`]).
+pub fn evaluate(
+    registry: &Registry,
+    request: &Value,
+    method: Method,
+) -> Result<Evaluation, CliError> {
     let reading = QuaternionReading::default();
-    match evaluate_reading(request, method, &reading) {
+    match evaluate_reading(registry, request, method, &reading) {
         Err(CliError::Factor(error @ FactorError::Degenerate { .. })) => {
             Err(w_first::with_hint(error, &reading.read(), |reading| {
-                evaluate_reading(request, method, reading)
+                evaluate_reading(registry, request, method, reading)
             }))
         }
         result => result,
@@ -42,12 +47,13 @@ pub fn evaluate(request: &Value, method: Method) -> Result<Evaluation, CliError>
 
 /// [`evaluate`] without the hint, reading quaternions as `reading` says.
 fn evaluate_reading(
+    registry: &Registry,
     request: &Value,
     method: Method,
     reading: &QuaternionReading,
 ) -> Result<Evaluation, CliError> {
     let top = Object::top(request, &["factor", "variables", "constants"], reading)?;
-    let entry = registry::find(top.string("factor")?, &top.path_of("factor"))?;
+    let entry = registry.find(top.string("factor")?, &top.path_of("factor"))?;
     let names = |variables: bool| -> Vec<&'static str> {
         entry
             .json_fields(variables)
@@ -67,11 +73,12 @@ fn evaluate_reading(
 }
 
 /// Reads the request from `source` (a path, or `-` for standard input),
-/// evaluates it and returns the pretty-printed output JSON.
-pub fn run(source: &str, method: Method) -> Result<String, CliError> {
+/// evaluates it for a factor of `registry` and returns the pretty-printed
+/// output JSON.
+pub fn run(registry: &Registry, source: &str, method: Method) -> Result<String, CliError> {
     let text = read_source(source)?;
     let request = parse_json(&text, source)?;
-    let evaluation = evaluate(&request, method)?;
+    let evaluation = evaluate(registry, &request, method)?;
     Ok(pretty::to_string(&evaluation.to_json()))
 }
 

@@ -1,77 +1,44 @@
-//! `slamjac generate` and `slamjac check`: write the generated crate's
-//! sources from the current factor definitions, or compare them with what is
-//! on disk.
+//! `generate` and `check`: write a kernel crate's sources from the current
+//! factor definitions, or compare them with what is on disk, for the
+//! kernels of a [`Registry`] (`slamjac`'s own: the workspace's `generated/`).
 //!
 //! **Where.** `--out DIR` (`generate`) or `--dir DIR` (`check`), else the
-//! workspace's `generated/`, found from where this binary was built
-//! ([`WORKSPACE_CRATE`]), not from the current directory. When that directory
-//! is gone (the workspace moved or deleted since the build), both commands
-//! say so and ask for the flag.
+//! registry's [`KernelCrate::dir`], fixed when the binary was built, not
+//! the current directory. When that directory is gone (the workspace moved
+//! or deleted since the build), both commands say so and ask for the flag.
 //!
-//! **What.** A *generated crate* is a directory whose `Cargo.toml` names the
-//! package `factor-generated` in its `[package]` table. Only its `src/*.rs`
-//! is written or compared; its `Cargo.toml` is hand-written.
-//! - `check` needs a generated crate: a missing directory is "not found", any
+//! **What.** A *kernel crate* is a directory whose `Cargo.toml` names the
+//! registry's [`KernelCrate::package`] in its `[package]` table. Only its
+//! `src/*.rs` is written or compared; its `Cargo.toml` is hand-written.
+//! - `check` needs a kernel crate: a missing directory is "not found", any
 //!   other one "not a generated crate" (exit 2). A file it cannot read is a
 //!   read error (exit 2), not stale; missing, differing and extra `src/*.rs`
 //!   files are stale (exit 1).
-//! - `generate` writes into a generated crate, or into a directory that does
-//!   not exist yet or is empty: there it first writes a minimal standalone
-//!   `Cargo.toml` naming `factor-generated` (the kernels need no
-//!   dependencies; its feature `lanes` adds `factor-lanes` from this
-//!   workspace), so that the directory becomes one. Any other directory is
-//!   refused untouched, since writing removes the `.rs` files of `src/` that
-//!   it did not generate.
+//! - `generate` writes into a kernel crate, or into a directory that does
+//!   not exist yet or is empty: there it first writes a standalone
+//!   `Cargo.toml` naming the package
+//!   ([`factor_codegen::manifest::manifest`]: no dependencies but the
+//!   optional `factor-lanes` of its feature `lanes`), so that the directory
+//!   becomes one. Any other directory is refused untouched, since writing
+//!   removes the `.rs` files of `src/` that it did not generate.
+//! - `generate` prints each kernel's operation counts and generation time,
+//!   and a warning when the generator was built unoptimised
+//!   ([`factor_codegen::build_profile`]).
 
 use std::io;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use factor_codegen::OpCounts;
-use factor_codegen::{self as codegen, CodegenError, GeneratedCrate, GeneratedModule, KernelSpec};
+use factor_codegen::build_profile::unoptimized_warning;
+use factor_codegen::manifest::{Membership, manifest};
+use factor_codegen::{
+    self as codegen, CodegenError, GeneratedCrate, GeneratedModule, KernelSpec, Provenance,
+};
 
 use crate::error::{CliError, InputError};
 use crate::field_path::shown_path;
-use crate::kernels;
-
-/// The workspace's generated crate, as this binary was built.
-pub const WORKSPACE_CRATE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/generated");
-
-/// The package name that makes a directory a generated crate.
-const PACKAGE: &str = "factor-generated";
-
-/// The `Cargo.toml` that `generate` writes into a new or empty directory.
-const STANDALONE_MANIFEST: &str = concat!(
-    "# Written by `slamjac generate` into a new directory. Everything under\n",
-    "# `src/` is rewritten by `slamjac generate --out DIR` and checked by\n",
-    "# `slamjac check --dir DIR`; this file is yours to edit.\n",
-    "\n",
-    "[package]\n",
-    "name = \"factor-generated\"\n",
-    "version = \"",
-    env!("CARGO_PKG_VERSION"),
-    "\"\n",
-    "edition = \"2024\"\n",
-    "publish = false\n",
-    "\n",
-    "[lib]\n",
-    "name = \"factor_generated\"\n",
-    "path = \"src/lib.rs\"\n",
-    "\n",
-    "# The kernels have no dependencies; the feature `lanes` runs them on the\n",
-    "# SIMD lane types of `factor-lanes` (from the workspace that wrote this file).\n",
-    "[dependencies]\n",
-    "factor-lanes = { path = \"",
-    env!("CARGO_MANIFEST_DIR"),
-    "/factor-lanes\", optional = true }\n",
-    "\n",
-    "[features]\n",
-    "lanes = [\"dep:factor-lanes\"]\n",
-    "\n",
-    "# A workspace of its own; remove this table to make the crate a member of\n",
-    "# an enclosing one.\n",
-    "[workspace]\n",
-);
+use crate::registry::{KernelCrate, Registry};
 
 /// What a directory is, for `generate` and `check`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -95,28 +62,55 @@ fn cannot_read(path: &Path, e: &io::Error) -> CliError {
     error_at(path, format!("cannot read: {e}"))
 }
 
-/// The directory given with `flag`, else `default` (the
-/// [`WORKSPACE_CRATE`]) if it still exists.
+/// `path` without `.` and without `dir/..` pairs, lexically: how
+/// `concat!(env!("CARGO_MANIFEST_DIR"), "/../my-kernels")` is shown.
+fn normalized(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// The directory given with `flag`, else `default` (the registry's
+/// [`KernelCrate::dir`]) if it still exists.
 fn locate(given: Option<&Path>, default: &Path, flag: &str) -> Result<PathBuf, CliError> {
     if let Some(dir) = given {
         return Ok(dir.to_path_buf());
     }
-    let dir = default.to_path_buf();
+    let dir = normalized(default);
     if dir.exists() {
         Ok(dir)
     } else {
         Err(error_at(
             &dir,
             format!(
-                "not found: the workspace's generated crate is gone since this binary was \
-                 built; pass {flag} DIR"
+                "not found: the kernel crate is gone since this binary was built; pass {flag} DIR"
             ),
         ))
     }
 }
 
-/// Whether `manifest` (a `Cargo.toml`) names the package [`PACKAGE`].
-fn names_package(manifest: &str) -> bool {
+/// The registry's kernel crate, or a usage error for a command line
+/// without one.
+fn kernel_crate<'a>(registry: &'a Registry, command: &str) -> Result<&'a KernelCrate, CliError> {
+    registry.kernel_crate().ok_or_else(|| {
+        CliError::Usage(format!(
+            "{command}: this command line names no kernel crate (`Registry::with_kernel_crate`)"
+        ))
+    })
+}
+
+/// Whether `manifest` (a `Cargo.toml`) names the package `package`.
+fn names_package(manifest: &str, package: &str) -> bool {
     let mut in_package = false;
     manifest.lines().map(str::trim).any(|line| {
         if line.starts_with('[') {
@@ -125,13 +119,14 @@ fn names_package(manifest: &str) -> bool {
         }
         in_package
             && line.split_once('=').is_some_and(|(key, value)| {
-                key.trim() == "name" && value.trim() == format!("\"{PACKAGE}\"")
+                key.trim() == "name" && value.trim() == format!("\"{package}\"")
             })
     })
 }
 
-/// What `dir` is; an error when it cannot be read.
-fn inspect(dir: &Path) -> Result<Found, CliError> {
+/// What `dir` is (a kernel crate named `package`, ...); an error when it
+/// cannot be read.
+fn inspect(dir: &Path, package: &str) -> Result<Found, CliError> {
     match std::fs::metadata(dir) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Found::Missing),
         Err(e) => return Err(cannot_read(dir, &e)),
@@ -140,7 +135,7 @@ fn inspect(dir: &Path) -> Result<Found, CliError> {
     }
     let manifest = dir.join("Cargo.toml");
     match std::fs::read_to_string(&manifest) {
-        Ok(text) if names_package(&text) => Ok(Found::Crate),
+        Ok(text) if names_package(&text, package) => Ok(Found::Crate),
         Ok(_) => Ok(Found::Other("its Cargo.toml names another package")),
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
             let mut entries = std::fs::read_dir(dir).map_err(|e| cannot_read(dir, &e))?;
@@ -155,12 +150,12 @@ fn inspect(dir: &Path) -> Result<Found, CliError> {
 }
 
 /// "not a generated crate (why)", and what follows from it.
-fn not_a_crate(dir: &Path, why: &str, consequence: &str) -> CliError {
+fn not_a_crate(dir: &Path, package: &str, why: &str, consequence: &str) -> CliError {
     error_at(
         dir,
         format!(
             "not a generated crate ({why}; a generated crate's Cargo.toml names the package \
-             {PACKAGE}); {consequence}"
+             {package}); {consequence}"
         ),
     )
 }
@@ -174,17 +169,21 @@ pub struct Timed {
     pub elapsed: Duration,
 }
 
-/// Generates every shipped kernel, timing each.
+/// Generates the kernel of every spec for `provenance`'s crate, timing
+/// each.
 ///
 /// # Errors
 ///
 /// As [`codegen::generate_with`].
-pub fn generate_timed() -> Result<Vec<Timed>, CodegenError> {
-    kernels::shipped_kernels()
+pub fn generate_timed(
+    specs: &[KernelSpec],
+    provenance: &Provenance,
+) -> Result<Vec<Timed>, CodegenError> {
+    specs
         .iter()
-        .map(|spec: &KernelSpec| {
+        .map(|spec| {
             let start = Instant::now();
-            let module = codegen::generate_with(spec, &kernels::PROVENANCE)?;
+            let module = codegen::generate_with(spec, provenance)?;
             Ok(Timed {
                 module,
                 elapsed: start.elapsed(),
@@ -205,17 +204,19 @@ fn milliseconds(d: Duration) -> String {
     format!("{:.1} ms", d.as_secs_f64() * 1e3)
 }
 
-/// `slamjac generate [--out DIR]`: writes the crate's sources (see the module
-/// docs for which directories) and reports, per kernel, its operation counts
-/// and generation time, then the total.
-pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
-    let dir = locate(out, Path::new(WORKSPACE_CRATE), "--out")?;
-    let new_crate = match inspect(&dir)? {
+/// `generate [--out DIR]`: writes the sources of the registry's kernel
+/// crate (see the module docs for which directories) and reports, per
+/// kernel, its operation counts and generation time, then the total.
+pub fn run_generate(registry: &Registry, out: Option<&Path>) -> Result<String, CliError> {
+    let krate = kernel_crate(registry, "generate")?;
+    let dir = locate(out, Path::new(krate.dir), "--out")?;
+    let new_crate = match inspect(&dir, krate.package)? {
         Found::Crate => false,
         Found::Missing | Found::Empty => true,
         Found::Other(why) => {
             return Err(not_a_crate(
                 &dir,
+                krate.package,
                 why,
                 "refused: generate writes only into a generated crate or a new or empty \
                  directory",
@@ -223,20 +224,26 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
         }
     };
     let start = Instant::now();
-    let timed = generate_timed()?;
+    let timed = generate_timed(registry.specs(), &krate.provenance)?;
     let generation = start.elapsed();
     let modules: Vec<GeneratedModule> = timed.iter().map(|t| t.module.clone()).collect();
     let count = modules.len();
-    let generated = GeneratedCrate::from_modules(kernels::PROVENANCE, modules)?;
+    let generated = GeneratedCrate::from_modules(krate.provenance, modules)?;
     let cannot_write =
         |e: io::Error| error_at(&dir, format!("cannot write the generated crate: {e}"));
     let mut lines = Vec::new();
     if new_crate {
-        let manifest = dir.join("Cargo.toml");
+        let path = dir.join("Cargo.toml");
+        let toml = manifest(
+            krate.package,
+            krate.provenance.generate,
+            krate.provenance.check,
+            Membership::Standalone,
+        );
         std::fs::create_dir_all(&dir)
-            .and_then(|()| slamjac_io::atomic::write(&manifest, STANDALONE_MANIFEST))
+            .and_then(|()| slamjac_io::atomic::write(&path, toml))
             .map_err(cannot_write)?;
-        lines.push(format!("new crate: wrote {}", shown_path(&manifest)));
+        lines.push(format!("new crate: wrote {}", shown_path(&path)));
     }
     generated.write(&dir).map_err(cannot_write)?;
     let width = timed.iter().map(|t| t.module.name.len()).max().unwrap_or(0);
@@ -257,25 +264,30 @@ pub fn run_generate(out: Option<&Path>) -> Result<String, CliError> {
         shown_path(&dir.join("src")),
         milliseconds(generation),
     ));
+    lines.extend(unoptimized_warning());
     Ok(lines.join("\n"))
 }
 
-/// `slamjac check [--dir DIR]`: `Ok` when the crate's sources are what
+/// `check [--dir DIR]`: `Ok` when the kernel crate's sources are what
 /// `generate` would write, else [`CliError::Stale`] naming the files, or a
 /// read error for the first file that cannot be read.
-pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
-    let dir = locate(dir, Path::new(WORKSPACE_CRATE), "--dir")?;
-    match inspect(&dir)? {
+pub fn run_check(registry: &Registry, dir: Option<&Path>) -> Result<String, CliError> {
+    let krate = kernel_crate(registry, "check")?;
+    let dir = locate(dir, Path::new(krate.dir), "--dir")?;
+    match inspect(&dir, krate.package)? {
         Found::Crate => {}
         Found::Missing => return Err(error_at(&dir, "not found")),
         Found::Empty => {
             return Err(not_a_crate(
                 &dir,
+                krate.package,
                 "it is empty",
-                "`slamjac generate --out DIR` makes one",
+                &format!("`{} --out DIR` makes one", krate.provenance.generate),
             ));
         }
-        Found::Other(why) => return Err(not_a_crate(&dir, why, "nothing to check")),
+        Found::Other(why) => {
+            return Err(not_a_crate(&dir, krate.package, why, "nothing to check"));
+        }
     }
     let src = dir.join("src");
     if let Err(e) = std::fs::read_dir(&src)
@@ -283,7 +295,7 @@ pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
     {
         return Err(cannot_read(&src, &e));
     }
-    let generated = kernels::generate_all()?;
+    let generated = GeneratedCrate::generate(krate.provenance, registry.specs())?;
     match generated.check(&dir) {
         Ok(()) => Ok(format!(
             "{} is up to date ({} kernels)",
@@ -299,7 +311,10 @@ pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
                     return Err(cannot_read(file, &e));
                 }
             }
-            Err(CliError::Stale(files))
+            Err(CliError::Stale {
+                files,
+                generate: krate.provenance.generate,
+            })
         }
     }
 }
@@ -307,39 +322,71 @@ pub fn run_check(dir: Option<&Path>) -> Result<String, CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::KERNEL_CRATE;
+
+    const PACKAGE: &str = KERNEL_CRATE.package;
 
     #[test]
     fn only_the_package_name_makes_a_generated_crate() {
-        assert!(names_package("[package]\nname = \"factor-generated\"\n"));
         assert!(names_package(
-            "# x\n[package]\n  name=\"factor-generated\"  \n"
+            "[package]\nname = \"factor-generated\"\n",
+            PACKAGE
         ));
-        assert!(names_package(STANDALONE_MANIFEST));
-        assert!(!names_package("[package]\nname = \"mine\"\n"));
+        assert!(names_package(
+            "# x\n[package]\n  name=\"factor-generated\"  \n",
+            PACKAGE
+        ));
+        let provenance = KERNEL_CRATE.provenance;
+        let standalone = manifest(
+            PACKAGE,
+            provenance.generate,
+            provenance.check,
+            Membership::Standalone,
+        );
+        assert!(names_package(&standalone, PACKAGE));
+        assert!(!names_package(&standalone, "mine"));
+        assert!(!names_package("[package]\nname = \"mine\"\n", PACKAGE));
         assert!(!names_package(
-            "[dependencies]\nname = \"factor-generated\"\n"
+            "[dependencies]\nname = \"factor-generated\"\n",
+            PACKAGE
         ));
-        assert!(!names_package(""));
+        assert!(!names_package("", PACKAGE));
     }
 
     #[test]
     fn the_workspace_crate_is_found_from_the_build_and_is_a_generated_crate() {
-        let workspace = Path::new(WORKSPACE_CRATE);
+        let workspace = Path::new(KERNEL_CRATE.dir);
         let dir = locate(None, workspace, "--dir").unwrap();
         assert_eq!(dir, Path::new(env!("CARGO_MANIFEST_DIR")).join("generated"));
-        assert_eq!(inspect(&dir).unwrap(), Found::Crate);
+        assert_eq!(inspect(&dir, PACKAGE).unwrap(), Found::Crate);
         let given = locate(Some(Path::new("elsewhere")), workspace, "--dir").unwrap();
         assert_eq!(given, Path::new("elsewhere"));
     }
 
     #[test]
     fn a_vanished_workspace_crate_asks_for_the_flag() {
-        let gone = Path::new(WORKSPACE_CRATE).join("no-such-directory");
+        let gone = Path::new(KERNEL_CRATE.dir).join("no-such-directory");
         let error = locate(None, &gone, "--out").unwrap_err().to_string();
         assert!(
             error.starts_with(&format!("{}: not found", gone.display())),
             "{error}"
         );
         assert!(error.ends_with("pass --out DIR"), "{error}");
+    }
+
+    #[test]
+    fn default_directories_are_shown_without_dot_dot() {
+        assert_eq!(normalized(Path::new("/a/b/../c/./d")), Path::new("/a/c/d"));
+        assert_eq!(normalized(Path::new("../x/..")), Path::new(".."));
+    }
+
+    #[test]
+    fn a_registry_without_a_kernel_crate_cannot_generate() {
+        let error = run_check(&Registry::new(), None).unwrap_err();
+        assert_eq!(error.exit_code(), crate::error::EXIT_BAD_INPUT);
+        assert!(
+            error.to_string().contains("names no kernel crate"),
+            "{error}"
+        );
     }
 }

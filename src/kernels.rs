@@ -1,26 +1,32 @@
-//! The shipped factors' kernels: what `slamjac generate` writes into
-//! `generated/`, through the public generator API of `factor-codegen`, as
-//! any user's generator does.
+//! The shipped factors: `slamjac`'s own registry ([`shipped`]) and their
+//! kernels, what `slamjac generate` writes into `generated/`, through the
+//! public generator API of `factor-codegen`, as any user's generator does.
 
 use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
 use factor_core::host::{Apex, HostFactor};
+
+use crate::registry::{KernelCrate, Registry};
 use slam_factors::{
-    BetweenFactor, FreeLineFactor, G2oSe3Edge, LineObservation, LineReprojection, PlaneFactor,
-    PluckerLineReprojection, PointReprojection, SnavelyReprojection, StereoReprojection,
+    BetweenFactor, FreeLineFactor, G2oLineEdge, G2oPlaneEdge, G2oSe3Edge, LineObservation,
+    LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection, SnavelyReprojection,
+    StereoReprojection,
 };
 
 /// Where `generated/` comes from: the kernels of the shipped factors,
 /// written by `slamjac generate` and checked by `slamjac check`.
-pub const PROVENANCE: Provenance = Provenance {
-    description: "Residual-and-Jacobian kernels of the factors `slam-factors` ships, generated\n\
-                  from their definitions.",
-    generate: "slamjac generate",
-    check: "slamjac check",
-    conventions: "Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; \
-                  poses of document 000 map world to camera (`X_c = R X_w + t`); pose \
-                  tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses \
-                  (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of \
-                  `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.",
+pub const PROVENANCE: Provenance = Provenance::new(
+    "Residual-and-Jacobian kernels of the factors `slam-factors` ships, generated\n\
+     from their definitions.",
+    "slamjac generate",
+    "slamjac check",
+);
+
+/// The workspace's `generated/`, found from where this binary was built:
+/// the package `factor-generated`, written by [`PROVENANCE`]'s commands.
+pub const KERNEL_CRATE: KernelCrate = KernelCrate {
+    package: "factor-generated",
+    dir: concat!(env!("CARGO_MANIFEST_DIR"), "/generated"),
+    provenance: PROVENANCE,
 };
 
 /// The factors of `slam-factors` with kernels, in the order `list` shows
@@ -71,11 +77,6 @@ fn with_apex<F: HostFactor<Apex>>() -> KernelSpec {
     KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())
 }
 
-/// The spec of the shipped factor named `name`.
-pub fn find(name: &str) -> Option<KernelSpec> {
-    shipped_kernels().into_iter().find(|spec| spec.name == name)
-}
-
 /// Every shipped kernel, generated in [`shipped_kernels`] order.
 ///
 /// # Errors
@@ -83,4 +84,71 @@ pub fn find(name: &str) -> Option<KernelSpec> {
 /// As [`GeneratedCrate::generate`] (none for the shipped factors).
 pub fn generate_all() -> Result<GeneratedCrate, CodegenError> {
     GeneratedCrate::generate(PROVENANCE, &shipped_kernels())
+}
+
+/// `slamjac`'s own registry: the factors `slam-factors` ships, each with
+/// its kernel in the workspace's `generated/` ([`shipped_kernels`]).
+pub fn shipped() -> Registry {
+    let registry = Registry::new()
+        .with::<PointReprojection>()
+        .with::<LineReprojection>()
+        .with::<PlaneFactor>()
+        .with::<FreeLineFactor>()
+        .with::<PluckerLineReprojection>()
+        .with::<LineObservation>()
+        .with::<SnavelyReprojection>()
+        .with::<StereoReprojection>()
+        .with::<BetweenFactor>()
+        .with::<G2oSe3Edge>()
+        .with::<G2oLineEdge>()
+        .with::<G2oPlaneEdge>()
+        .with_kernel_crate(KERNEL_CRATE);
+    shipped_kernels()
+        .into_iter()
+        .fold(registry, Registry::with_spec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_fields_follow_the_declared_variables() {
+        for entry in shipped().factors() {
+            let declared: Vec<&str> = (entry.variables)().iter().map(|v| v.name).collect();
+            let fields: Vec<&str> = entry
+                .json_fields(true)
+                .iter()
+                .map(|(name, _)| *name)
+                .collect();
+            assert_eq!(declared, fields, "{}", entry.name);
+        }
+    }
+
+    #[test]
+    fn unknown_factors_list_the_known_ones() {
+        let error = shipped().find("nope", "factor").unwrap_err();
+        assert_eq!(error.path, "factor");
+        assert!(
+            error
+                .message
+                .contains("point_reprojection, line_reprojection, plane, free_line")
+        );
+    }
+
+    /// Every kernel is a listed factor's; the factors without one are g2o's
+    /// line and plane edge errors (see [`shipped_kernels`]).
+    #[test]
+    fn every_shipped_factor_but_g2os_line_and_plane_has_its_kernel_generated() {
+        let registry = shipped();
+        let kernels: Vec<&str> = registry.specs().iter().map(|s| s.name).collect();
+        let (with, without): (Vec<&str>, Vec<&str>) = registry
+            .factors()
+            .iter()
+            .map(|f| f.name)
+            .partition(|name| kernels.contains(name));
+        assert_eq!(with.len(), kernels.len(), "a kernel without its factor");
+        assert_eq!(without, ["g2o_se3_line3d", "g2o_se3_plane_calib"]);
+        assert!(registry.kernel_crate().is_some());
+    }
 }

@@ -12,13 +12,18 @@
 //! - [`field_path`]: how errors show field paths and input text (quoted,
 //!   escaped, cut);
 //! - [`decode`]: each factor's `variables` and `constants` → the factor;
-//! - [`registry`]: the table of factors;
+//! - [`registry`]: the factors a command line knows ([`registry::Registry`])
+//!   and the kernel crate it generates;
+//! - [`cli`]: the command line as a library, `list`, `eval`, `generate` and
+//!   `check` for any registry (a user's own factors);
+//! - [`init`]: `init`, a new project for factors of your own;
 //! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
 //! - [`eval`]: evaluation and the output JSON;
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
 //! - [`list`]: the factor table, text or JSON;
-//! - [`kernels`]: the document factors' kernel specs and provenance;
-//! - [`generate`]: `generate` and `check` of the generated kernels;
+//! - [`kernels`]: the shipped factors: `slamjac`'s own registry, their
+//!   kernel specs and provenance;
+//! - [`generate`]: `generate` and `check` of a registry's kernel crate;
 //! - [`audit`]: `audit` of the documents' derivations;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
 //! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
@@ -31,11 +36,13 @@
 
 pub mod audit;
 pub mod audit_text;
+pub mod cli;
 pub mod decode;
 pub mod error;
 pub mod eval;
 pub mod field_path;
 pub mod generate;
+pub mod init;
 pub mod input;
 pub mod kernels;
 pub mod list;

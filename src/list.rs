@@ -1,23 +1,23 @@
-//! `slamjac list`: the registered factors, their variables and tangents, and
-//! their generated kernels with operation counts, as a table or as JSON.
+//! `list`: a registry's factors, their variables and tangents, and their
+//! generated kernels with operation counts, as a table or as JSON.
 
 use factor_codegen as codegen;
 use factor_codegen::OpCounts;
 use serde_json::{Value, json};
 
 use crate::generate::counts_text;
-use crate::kernels;
-use crate::registry::{FactorEntry, factors};
+use crate::registry::{FactorEntry, Registry};
 
-/// The kernel's operation counts as the current definitions generate them:
-/// the whole kernel and the residual alone (traced and lowered in process).
-fn kernel_counts(entry: &FactorEntry) -> Option<(OpCounts, OpCounts)> {
-    kernels::find(entry.name).map(|spec| codegen::operation_counts(&spec))
+/// The operation counts of the kernel `registry` generates for `entry`, as
+/// the current definitions generate it: the whole kernel and the residual
+/// alone (traced and lowered in process).
+fn kernel_counts(registry: &Registry, entry: &FactorEntry) -> Option<(OpCounts, OpCounts)> {
+    registry.spec(entry.name).map(codegen::operation_counts)
 }
 
 /// The `kernel:` line of the table.
-fn kernel_line(entry: &FactorEntry) -> String {
-    let counts = kernel_counts(entry).map(|(all, residual)| {
+fn kernel_line(registry: &Registry, entry: &FactorEntry) -> String {
+    let counts = kernel_counts(registry, entry).map(|(all, residual)| {
         format!(
             "{} operations ({}); residual only {}",
             all.total(),
@@ -51,18 +51,18 @@ fn counts_json(c: &OpCounts) -> Value {
 /// A readable table: per factor its name and residual dimension, then one
 /// row per variable (type, tangent dimension, perturbation and columns) and
 /// the JSON fields of the input.
-pub fn table() -> String {
+pub fn table(registry: &Registry) -> String {
     let mut out = String::new();
-    for (i, entry) in factors().iter().enumerate() {
+    for (i, entry) in registry.factors().iter().enumerate() {
         if i > 0 {
             out.push('\n');
         }
-        out.push_str(&factor_table(entry));
+        out.push_str(&factor_table(registry, entry));
     }
     out
 }
 
-fn factor_table(entry: &FactorEntry) -> String {
+fn factor_table(registry: &Registry, entry: &FactorEntry) -> String {
     let variables = (entry.variables)();
     let mut rows = vec![[
         "variable".to_string(),
@@ -103,7 +103,7 @@ fn factor_table(entry: &FactorEntry) -> String {
     };
     out.push_str(&format!("  variables: {}\n", fields(true)));
     out.push_str(&format!("  constants: {}\n", fields(false)));
-    out.push_str(&kernel_line(entry));
+    out.push_str(&kernel_line(registry, entry));
     out
 }
 
@@ -117,8 +117,9 @@ fn factor_table(entry: &FactorEntry) -> String {
 /// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}],
 /// "kernel", "operations": {"add", "mul", "div", "neg", "sqrt", "func",
 /// "branch", "total"}, "residual_operations"}]}`.
-pub fn json() -> Value {
-    let factors: Vec<Value> = factors()
+pub fn json(registry: &Registry) -> Value {
+    let factors: Vec<Value> = registry
+        .factors()
         .iter()
         .map(|entry| {
             let shapes = entry.json_fields(true).into_iter().map(|(_, shape)| shape);
@@ -140,7 +141,7 @@ pub fn json() -> Value {
                 .iter()
                 .map(|(name, shape)| json!({"name": name, "json": shape}))
                 .collect();
-            let counts = kernel_counts(entry);
+            let counts = kernel_counts(registry, entry);
             json!({
                 "name": entry.name,
                 "residual_dim": entry.residual_dim,

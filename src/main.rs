@@ -19,25 +19,20 @@
 //! `eval` reads at most 16 MiB of UTF-8 and rejects duplicate keys. Where
 //! `generate` and `check` work: see `slamjac::generate`.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use slamjac::usage::{self, Output};
-use slamjac::{CliError, Method, audit, audit_text, eval, generate, list, pretty, synth};
+use slamjac::cli::{self, FactorCommand};
+use slamjac::usage;
+use slamjac::{CliError, audit, audit_text, init, kernels, synth};
 
 #[derive(Debug, Parser)]
 #[command(
     name = "slamjac",
     version,
     about = "Exact tangent-space Jacobians of SLAM factors",
-    after_help = "Exit codes: 0 success; 1 degenerate geometry or non-finite result, or a \
-                  solve that cannot start or stops on a failure; 2 invalid input, data file \
-                  or usage. Errors are one line on stderr: \
-                  `error: <field path>: <what>`; keys that are not plain identifiers \
-                  are quoted and JSON-escaped (`variables[\"a\\nb\"]`), names and \
-                  values from the input cut after 64 characters (`…`)."
+    after_help = cli::AFTER_HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -46,43 +41,22 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Evaluate a factor's residual and Jacobians at a point given as JSON:
-    /// {"factor": NAME, "variables": {...}, "constants": {...}} (see `slamjac list`).
-    /// Quaternions are [x, y, z, w].
-    Eval {
-        /// The JSON input file, or `-` for standard input: UTF-8, at most
-        /// 16 MiB, no key given twice.
-        file: String,
-        /// How the Jacobians are computed.
-        #[arg(long, value_enum, default_value_t)]
-        method: Method,
-    },
-    /// List the registered factors: residual dimension, variables, tangents.
-    List {
-        /// Machine-readable JSON instead of a table.
+    /// `eval`, `list`, `generate` and `check` of the shipped factors, as
+    /// any registry's command line has them (`slamjac::cli`).
+    #[command(flatten)]
+    Factors(FactorCommand),
+    /// Write a new project for factors of your own into DIR: a Cargo
+    /// workspace with the factor crate (one example factor), its kernel
+    /// crate and its command line (`list`, `eval`, `generate`, `check`),
+    /// depending on this checkout by path, and the profile entries that
+    /// make generation fast in debug builds.
+    Init {
+        /// The project's directory: new or empty.
+        dir: PathBuf,
+        /// The project's name: the crates `NAME-factors`, `NAME-kernels`
+        /// and `NAME-cli` (binary `NAME`) [default: DIR's name].
         #[arg(long)]
-        json: bool,
-    },
-    /// Rewrite the generated crate's sources (`src/*.rs`) from the current
-    /// factor definitions, printing each kernel's operation counts and the
-    /// generation time.
-    Generate {
-        /// The generated crate's directory [default: the workspace's
-        /// `generated/`, where this binary was built]. DIR must be a generated
-        /// crate (its Cargo.toml names the package `factor-generated`), or new
-        /// or empty: then a standalone Cargo.toml is written first. Any other
-        /// directory is refused untouched.
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-    },
-    /// Exit 1, naming the files, when the generated crate's sources differ
-    /// from what `generate` would write (exit 2 when the crate is not found
-    /// or a file cannot be read).
-    Check {
-        /// The generated crate's directory [default: the workspace's
-        /// `generated/`, where this binary was built].
-        #[arg(long, value_name = "DIR")]
-        dir: Option<PathBuf>,
+        name: Option<String>,
     },
     /// Audit hand-derived formulas against the toolchain's derivatives,
     /// straight from a document's text: without a DOCUMENT, the two
@@ -249,21 +223,11 @@ fn main() -> ExitCode {
     slamjac_io::atomic::fail_writes_past_the_file_size_limit();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        Err(error) => {
-            let (output, code) = usage::report(&error);
-            match output {
-                Output::Stdout(text) => print!("{text}"),
-                Output::Stderr(line) => eprintln!("{line}"),
-            }
-            return ExitCode::from(code);
-        }
+        Err(error) => return usage::print(&error, "slamjac"),
     };
     let output = match cli.command {
-        Command::Eval { file, method } => eval::run(&file, method),
-        Command::List { json: true } => Ok(pretty::to_string(&list::json())),
-        Command::List { json: false } => Ok(list::table().trim_end().to_owned()),
-        Command::Generate { out } => generate::run_generate(out.as_deref()),
-        Command::Check { dir } => generate::run_check(dir.as_deref()),
+        Command::Factors(command) => kernels::shipped().execute(&command),
+        Command::Init { dir, name } => init::run(&dir, name.as_deref()),
         Command::Audit {
             document: Some(document),
             symbols: Some(symbols),
@@ -315,17 +279,5 @@ fn main() -> ExitCode {
             &output,
         ),
     };
-    match output {
-        Ok(text) => match writeln!(std::io::stdout().lock(), "{text}") {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: <stdout>: {e}");
-                ExitCode::FAILURE
-            }
-        },
-        Err(error) => {
-            eprintln!("{}", error.one_line());
-            ExitCode::from(error.exit_code())
-        }
-    }
+    cli::report(output)
 }

@@ -1,14 +1,14 @@
-//! The table of factors the command line knows.
+//! The factors a command line knows ([`Registry`]): what `list` shows, what
+//! `eval` evaluates, and what `generate` and `check` write into which
+//! kernel crate ([`KernelCrate`]). `slamjac`'s own is
+//! [`crate::kernels::shipped`]; a user's command line builds one of its own
+//! factors (see [`crate::cli`]).
 //!
-//! Registering a factor is one line in [`factors`]: its JSON form comes
-//! from its fields' storage ([`crate::decode`]).
+//! Registering a factor is one call: its JSON form comes from its fields'
+//! storage ([`crate::decode`]).
 
+use factor_codegen::{KernelSpec, Provenance};
 use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
-use slam_factors::{
-    BetweenFactor, FreeLineFactor, G2oLineEdge, G2oPlaneEdge, G2oSe3Edge, LineObservation,
-    LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection, SnavelyReprojection,
-    StereoReprojection,
-};
 
 use crate::decode::{decode, json_shape};
 use crate::error::{CliError, InputError};
@@ -55,9 +55,7 @@ impl FactorEntry {
             },
         }
     }
-}
 
-impl FactorEntry {
     /// The fields of `variables` (`true`) or `constants` (`false`), each
     /// with its JSON shape.
     pub fn json_fields(&self, variables: bool) -> Vec<(&'static str, String)> {
@@ -69,38 +67,110 @@ impl FactorEntry {
     }
 }
 
-/// Every registered factor, in the order `list` shows them.
-pub fn factors() -> Vec<FactorEntry> {
-    vec![
-        FactorEntry::of::<PointReprojection>(),
-        FactorEntry::of::<LineReprojection>(),
-        FactorEntry::of::<PlaneFactor>(),
-        FactorEntry::of::<FreeLineFactor>(),
-        FactorEntry::of::<PluckerLineReprojection>(),
-        FactorEntry::of::<LineObservation>(),
-        FactorEntry::of::<SnavelyReprojection>(),
-        FactorEntry::of::<StereoReprojection>(),
-        FactorEntry::of::<BetweenFactor>(),
-        FactorEntry::of::<G2oSe3Edge>(),
-        FactorEntry::of::<G2oLineEdge>(),
-        FactorEntry::of::<G2oPlaneEdge>(),
-    ]
+/// The factors of a command line, in the order `list` shows them, the
+/// kernels `generate` writes and `check` compares, and the crate they go to.
+///
+/// ```
+/// use slamjac::registry::Registry;
+/// use slam_factors::{BetweenFactor, PointReprojection};
+///
+/// let registry = Registry::new()
+///     .with::<PointReprojection>()
+///     .with_kernel::<BetweenFactor>();
+/// let names: Vec<&str> = registry.factors().iter().map(|f| f.name).collect();
+/// assert_eq!(names, ["point_reprojection", "between"]);
+/// assert_eq!(registry.specs().len(), 1); // only `between` is generated
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Registry {
+    factors: Vec<FactorEntry>,
+    specs: Vec<KernelSpec>,
+    kernel_crate: Option<KernelCrate>,
 }
 
-/// The factor called `name`; the error (at field path `path`) lists the known ones.
-pub fn find(name: &str, path: &str) -> Result<FactorEntry, InputError> {
-    let all = factors();
-    all.iter().find(|f| f.name == name).copied().ok_or_else(|| {
-        let known: Vec<&str> = all.iter().map(|f| f.name).collect();
-        InputError::new(
-            path,
-            format!(
-                "unknown factor {}; known factors: {}",
-                quoted(name),
-                known.join(", ")
-            ),
-        )
-    })
+impl Registry {
+    /// No factors, no kernel crate.
+    pub fn new() -> Self {
+        Registry::default()
+    }
+
+    /// Adds factor `F` to `list` and `eval` (its kernel, if the factor names
+    /// one, is what `eval --method generated` runs).
+    pub fn with<F: Factor>(mut self) -> Self {
+        self.factors.push(FactorEntry::of::<F>());
+        self
+    }
+
+    /// Adds factor `F` to `list` and `eval`, and its kernel
+    /// ([`KernelSpec::of`]) to what `generate` writes and `check` compares.
+    pub fn with_kernel<F: Factor>(self) -> Self {
+        self.with::<F>().with_spec(KernelSpec::of::<F>())
+    }
+
+    /// Adds a kernel to what `generate` writes and `check` compares, as
+    /// `spec` describes it ([`KernelSpec::with_source`],
+    /// [`KernelSpec::with_normal_equations`]).
+    pub fn with_spec(mut self, spec: KernelSpec) -> Self {
+        self.specs.push(spec);
+        self
+    }
+
+    /// The crate `generate` writes and `check` compares.
+    pub fn with_kernel_crate(mut self, kernel_crate: KernelCrate) -> Self {
+        self.kernel_crate = Some(kernel_crate);
+        self
+    }
+
+    /// Every registered factor, in registration order.
+    pub fn factors(&self) -> &[FactorEntry] {
+        &self.factors
+    }
+
+    /// Every kernel `generate` writes, in registration order.
+    pub fn specs(&self) -> &[KernelSpec] {
+        &self.specs
+    }
+
+    /// The kernel `generate` writes for the factor called `name`, if any.
+    pub fn spec(&self, name: &str) -> Option<&KernelSpec> {
+        self.specs.iter().find(|spec| spec.name == name)
+    }
+
+    /// The crate `generate` writes and `check` compares, if any.
+    pub fn kernel_crate(&self) -> Option<&KernelCrate> {
+        self.kernel_crate.as_ref()
+    }
+
+    /// The factor called `name`; the error (at field path `path`) lists the
+    /// known ones.
+    pub fn find(&self, name: &str, path: &str) -> Result<&FactorEntry, InputError> {
+        self.factors.iter().find(|f| f.name == name).ok_or_else(|| {
+            let known: Vec<&str> = self.factors.iter().map(|f| f.name).collect();
+            InputError::new(
+                path,
+                format!(
+                    "unknown factor {}; known factors: {}",
+                    quoted(name),
+                    known.join(", ")
+                ),
+            )
+        })
+    }
+}
+
+/// The crate of generated kernels that `generate` writes and `check`
+/// compares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KernelCrate {
+    /// The package name in its `Cargo.toml`, which makes a directory the
+    /// kernel crate (any other directory is refused).
+    pub package: &'static str,
+    /// Its directory when `--out`/`--dir` is not given; usually beside the
+    /// command line's crate: `concat!(env!("CARGO_MANIFEST_DIR"), "/../my-kernels")`.
+    pub dir: &'static str,
+    /// What its files say about where they come from: the commands that
+    /// write and check it.
+    pub provenance: Provenance,
 }
 
 #[cfg(test)]
@@ -108,26 +178,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn json_fields_follow_the_declared_variables() {
-        for entry in factors() {
-            let declared: Vec<&str> = (entry.variables)().iter().map(|v| v.name).collect();
-            let fields: Vec<&str> = entry
-                .json_fields(true)
-                .iter()
-                .map(|(name, _)| *name)
-                .collect();
-            assert_eq!(declared, fields, "{}", entry.name);
-        }
-    }
-
-    #[test]
-    fn unknown_factors_list_the_known_ones() {
-        let error = find("nope", "factor").unwrap_err();
-        assert_eq!(error.path, "factor");
-        assert!(
-            error
-                .message
-                .contains("point_reprojection, line_reprojection, plane, free_line")
-        );
+    fn factors_are_listed_and_found_in_registration_order() {
+        use slam_factors::{BetweenFactor, PointReprojection};
+        let registry = Registry::new()
+            .with::<PointReprojection>()
+            .with_kernel::<BetweenFactor>();
+        let names: Vec<&str> = registry.factors().iter().map(|f| f.name).collect();
+        assert_eq!(names, ["point_reprojection", "between"]);
+        assert_eq!(registry.find("between", "factor").unwrap().name, "between");
+        assert!(registry.spec("point_reprojection").is_none());
+        assert_eq!(registry.spec("between").unwrap().name, "between");
+        assert!(registry.kernel_crate().is_none());
     }
 }

@@ -5,24 +5,25 @@
 //! one line and made printable, so a usage error reads like every other
 //! error (`error: …`, exit 2).
 
+use std::process::ExitCode;
+
 use clap::error::ErrorKind;
 
 use crate::error::EXIT_BAD_INPUT;
 use crate::field_path::escape_unprintable;
 
-/// What to print for clap's `error`, and the exit code: help and version
-/// as clap renders them (exit 0); anything else one line on stderr, exit 2.
-pub fn report(error: &clap::Error) -> (Output, u8) {
+/// What to print for clap's `error` of the command `program`, and the exit
+/// code: help and version as clap renders them (exit 0); anything else one
+/// line on stderr, exit 2.
+pub fn report(error: &clap::Error, program: &str) -> (Output, u8) {
     match error.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
             (Output::Stdout(error.render().to_string()), 0)
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => (
-            Output::Stderr(
-                "error: a command is needed (eval, list, generate, check, audit, solve, \
-                 synth-bal); see `slamjac --help`"
-                    .into(),
-            ),
+            Output::Stderr(format!(
+                "error: a command is needed; see `{program} --help`"
+            )),
             EXIT_BAD_INPUT,
         ),
         _ => (
@@ -30,6 +31,16 @@ pub fn report(error: &clap::Error) -> (Output, u8) {
             EXIT_BAD_INPUT,
         ),
     }
+}
+
+/// Prints [`report`]'s output where it goes and returns its exit code.
+pub fn print(error: &clap::Error, program: &str) -> ExitCode {
+    let (output, code) = report(error, program);
+    match output {
+        Output::Stdout(text) => print!("{text}"),
+        Output::Stderr(line) => eprintln!("{line}"),
+    }
+    ExitCode::from(code)
 }
 
 /// Where a report goes.

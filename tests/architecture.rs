@@ -193,3 +193,70 @@ fn the_cycle_finder_finds_a_cycle() {
         ["pretty", "registry", "w_first"]
     );
 }
+
+/// The `path`s of a manifest's `[[test]]` tables, relative to its crate.
+fn test_targets(manifest: &str) -> Vec<String> {
+    let mut in_test = false;
+    let mut paths = Vec::new();
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_test = line == "[[test]]";
+            continue;
+        }
+        if in_test && let Some(("path", value)) = line.split_once('=').map(|(k, v)| (k.trim(), v)) {
+            paths.push(value.trim().trim_matches('"').to_owned());
+        }
+    }
+    paths
+}
+
+/// A crate whose integration tests are one binary (`autotests = false`, a
+/// `[[test]]` root declaring each file as a module) runs every file of its
+/// `tests/`: a file added there without its `mod` line would never run.
+#[test]
+fn every_integration_test_file_is_compiled() {
+    let members = std::fs::read_to_string(workspace().join("Cargo.toml")).expect("manifest");
+    let mut checked = 0;
+    for member in members
+        .lines()
+        .map(str::trim)
+        .filter_map(|l| l.strip_prefix('"')?.strip_suffix("\","))
+    {
+        let dir = workspace().join(member);
+        let Ok(manifest) = std::fs::read_to_string(dir.join("Cargo.toml")) else {
+            continue;
+        };
+        if !manifest.lines().any(|l| l.trim() == "autotests = false") {
+            continue;
+        }
+        let roots = test_targets(&manifest);
+        let declared: String = roots
+            .iter()
+            .map(|root| std::fs::read_to_string(dir.join(root)).expect("test root"))
+            .collect();
+        for entry in std::fs::read_dir(dir.join("tests")).expect("tests/") {
+            let path = entry.expect("entry").path();
+            let Some(stem) = path.file_stem().and_then(|s| s.to_str()) else {
+                continue;
+            };
+            let relative = format!("tests/{stem}.rs");
+            if path.extension().is_none_or(|e| e != "rs") || roots.contains(&relative) {
+                continue;
+            }
+            assert!(
+                declared.contains(&format!("mod {stem};")),
+                "{member}/{relative} is not a module of a test binary: add `mod {stem};` to {}",
+                roots.join(" or ")
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 0, "no crate with autotests = false was found");
+}
+
+#[test]
+fn test_targets_are_read_from_manifests() {
+    let manifest = "[package]\nautotests = false\n\n[[test]]\nname = \"t\"\npath = \"tests/t.rs\"\n\n\
+                    [[bench]]\npath = \"benches/b.rs\"\n";
+    assert_eq!(test_targets(manifest), ["tests/t.rs"]);
+}

@@ -438,3 +438,66 @@ fn a_kernel_is_what_linearize_goes_through() {
         Err(FactorError::NonFinite { .. })
     ));
 }
+
+/// `Weighted` with its residual's sign flipped since the kernel it names was
+/// written: the layout is unchanged, so it compiles, and it is the values
+/// that tell the kernel is stale.
+#[derive(Clone, Debug, Factor)]
+#[factor(
+    residual = flipped_residual,
+    dim = 2,
+    kernel = weighted::weighted,
+    regenerate = "cargo run -p my-factors --no-default-features --bin generate-kernels"
+)]
+pub struct Flipped<S: Scalar = f64> {
+    pub weight: S,
+    #[variable]
+    pub x: Vector2<S>,
+    #[variable(right)]
+    pub y: Vector2<S>,
+}
+
+pub fn flipped_residual<S: Scalar>(f: &Flipped<S>) -> Vector2<S> {
+    (f.y - f.x) * f.weight
+}
+
+fn flipped() -> Flipped {
+    Flipped {
+        weight: 2.0,
+        x: Vector2::new(1.0, 5.0),
+        y: Vector2::new(0.5, -1.0),
+    }
+}
+
+/// The stale kernel's residual, `2 · (x − y)`, which a release build returns.
+const STALE_RESIDUAL: [f64; 2] = [1.0, 12.0];
+
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    should_panic(
+        expected = "the generated kernel `weighted::weighted` is stale: its residual[0] is 1 \
+                    where dual numbers through the current definition give -1 (a residual, a \
+                    function it calls or a variable's retraction changed since the kernel was \
+                    generated); regenerate it with `cargo run -p my-factors \
+                    --no-default-features --bin generate-kernels`"
+    )
+)]
+fn a_stale_kernel_panics_at_its_first_linearization_in_debug_builds() {
+    let linearization = flipped().linearize().unwrap();
+    assert_eq!(linearization.residual.as_slice(), STALE_RESIDUAL);
+}
+
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    should_panic(expected = "is stale: its residual[0] is 1 where")
+)]
+fn a_stale_kernel_panics_on_the_solver_path_too() {
+    let mut residual = [0.0; 2];
+    let (mut d_x, mut d_y) = ([0.0; 4], [0.0; 4]);
+    flipped()
+        .linearize_into(&mut residual, &mut [Some(&mut d_x[..]), Some(&mut d_y[..])])
+        .unwrap();
+    assert_eq!(residual, STALE_RESIDUAL);
+}

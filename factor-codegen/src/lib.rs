@@ -22,6 +22,10 @@
 //!   [`Provenance`]);
 //! - [`crate_writer`]: the crate's `src/` files ([`GeneratedCrate`]),
 //!   written or compared with the disk;
+//! - [`manifest`]: the kernel crate's `Cargo.toml` and the `src/lib.rs` it
+//!   holds before the first generation;
+//! - [`build_profile`]: whether the generator was built optimised, and the
+//!   profile entries a user's workspace needs for that;
 //! - [`error`]: what the generator refuses ([`CodegenError`]).
 //!
 //! Output is deterministic: no timestamps, no hash-map iteration order, so
@@ -31,11 +35,15 @@
 //! # Kernels of your own factors
 //!
 //! A build script cannot see the types of the crate it builds, so a crate
-//! defining factors generates their kernels from one of its binaries (or
-//! tests) into a dependency-free crate of its own tree, which it then
-//! depends on through `#[factor(kernel = path)]`, behind a feature so the
-//! generator builds without it. The steps: a [`KernelSpec`] per factor (one
-//! line: [`KernelSpec::of`]), a [`Provenance`] naming the commands, then
+//! defining factors generates their kernels from a binary that depends on
+//! it into a dependency-free crate of its own tree, which it then depends
+//! on through `#[factor(kernel = path)]`, behind a feature so the generator
+//! builds without it. `slamjac init DIR` writes such a project (the factor
+//! crate, its kernel crate with the [`manifest`] it needs, and a command
+//! line built on `slamjac::cli` whose `generate` and `check` call this
+//! crate); the workspace's `docs/guide/kernels.md` walks through it. The
+//! steps underneath: a [`KernelSpec`] per factor (one line:
+//! [`KernelSpec::of`]), a [`Provenance`] naming the commands, then
 //! [`GeneratedCrate::generate`] and [`GeneratedCrate::write`] or
 //! [`GeneratedCrate::check`]:
 //!
@@ -78,10 +86,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! `examples/user-factor/` in the workspace is a complete example (crates
-//! `user-factors` and `user-kernels`); the README's "Embedding kernels of
-//! your own factor" gives the commands.
+//! `examples/user-factor/` in the workspace is another complete example
+//! (crates `user-factors` and `user-kernels`, with a generator binary of
+//! its own). Debug builds generate in seconds only with the symbolic
+//! engine and the generator optimised ([`build_profile`]).
 
+pub mod build_profile;
 pub mod compile;
 pub mod crate_writer;
 pub mod emit;
@@ -90,6 +100,7 @@ pub mod host;
 pub mod ir;
 pub mod kernel;
 pub mod lower;
+pub mod manifest;
 pub mod module;
 pub mod normal;
 pub mod schedule;

@@ -88,18 +88,12 @@ pub struct Provenance {
     pub generate: &'static str,
     /// The command that fails when the crate is stale.
     pub check: &'static str,
-    /// The conventions paragraph of each module's header.
-    pub conventions: &'static str,
 }
 
 impl Provenance {
-    /// The conventions every factor built on `factor_core`'s types follows.
-    pub const CONVENTIONS: &'static str = "Conventions: quaternions `[x, y, z, w]`, Hamilton \
-        product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the \
-        derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.";
-
     /// A crate holding `description`, written by the command `generate` and
-    /// checked by `check`, with the library's [`Provenance::CONVENTIONS`].
+    /// checked by `check`. Each module's header states the conventions of
+    /// its own inputs and variables (quaternion order, each block's tangent).
     pub const fn new(
         description: &'static str,
         generate: &'static str,
@@ -109,7 +103,6 @@ impl Provenance {
             description,
             generate,
             check,
-            conventions: Provenance::CONVENTIONS,
         }
     }
 }

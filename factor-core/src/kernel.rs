@@ -1,7 +1,49 @@
 //! The link from a factor to its generated kernel, for evaluators that run
-//! the kernel on number types of their own.
+//! the kernel on number types of their own, and the check that a kernel is
+//! current.
+//!
+//! # A stale kernel never runs unnoticed
+//!
+//! A factor with `#[factor(kernel = path)]` linearizes through a kernel that
+//! was generated from an earlier state of its definition. Three checks, from
+//! the cheapest, keep that state from drifting silently:
+//!
+//! 1. **Layout, at compile time.** The derive compares the kernel module's
+//!    `SHAPE` with the factor's fields, residual dimension and tangents: a
+//!    field that gained a scalar or a changed tangent fails the build at the
+//!    kernel's path, naming the `regenerate` command.
+//! 2. **Values, at first use, in debug builds.** A change that keeps the
+//!    layout (a sign in the residual, a helper it calls, a variable's
+//!    retraction) still compiles, so `#[derive(Factor)]` compares the
+//!    kernel with dual numbers through the current definition on the first
+//!    [`DEBUG_CHECKS`] linearizations of each factor type in a process
+//!    (`#[cfg(debug_assertions)]`, in the crate that defines the factor).
+//!    When an output differs by more than [`STALE_TOLERANCE`]
+//!    ([`kernel_mismatch`]) the linearization panics before returning,
+//!    naming the output, both values and the `regenerate` command. Rounding
+//!    separates the two by about 1e-13 relative; a changed definition by
+//!    the size of the change. Any run of the user's code in a debug build
+//!    (a test, `cargo run`, the command line's `eval`) catches the edit,
+//!    though the user wrote no test for it. Release builds compile none of
+//!    it: no atomic counter, no branch, no dual numbers.
+//! 3. **Text, in CI.** The generator's `check` regenerates every kernel and
+//!    compares the sources (`slamjac check`, or a user's `check`): every
+//!    change of the definitions, also one invisible at the configurations
+//!    a debug run happened to see.
+//!
+//! Why not a fingerprint of the definition stored in the kernel: the derive
+//! sees only the struct, not the residual function's body, the helpers it
+//! calls or the variables' retractions, which all shape the kernel; hashing
+//! the trace instead would put the symbolic engine into every factor
+//! crate's build; and values of the residual at a fixed probe point written
+//! into the module would make the generated text depend on the platform's
+//! math library (so `check` would differ between machines), while a probe
+//! point valid for any user's manifold cannot be made without user data.
+//! The same lack of a configuration rules out a test emitted by the derive.
+//! Dual numbers at the configurations the program actually linearizes need
+//! none of that.
 
-use crate::factor::Factor;
+use crate::factor::{DynLinearization, Factor};
 
 /// A factor whose linearization goes through a generated kernel
 /// (`#[factor(kernel = path)]`); `#[derive(Factor)]` implements it.
@@ -16,4 +58,123 @@ use crate::factor::Factor;
 pub trait WithKernel: Factor {
     /// The kernel module's marker type.
     type Kernel;
+}
+
+/// How many linearizations of each factor type a debug build compares
+/// with dual numbers (see the module documentation).
+pub const DEBUG_CHECKS: u32 = 4;
+
+/// How far a kernel's output may be from dual numbers': an entry differs
+/// when `|kernel − dual| > STALE_TOLERANCE · max(1, m)`, `m` the largest
+/// `|dual|` of its array (the residual, or one Jacobian block). Both are
+/// exact to rounding, about 1e-13 relative apart, so an entry beyond this
+/// tolerance comes from a different definition.
+pub const STALE_TOLERANCE: f64 = 1e-6;
+
+/// An output where a kernel and dual numbers disagree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KernelMismatch {
+    /// `residual[1]`, or `` Jacobian w.r.t. `pose` (row 0, column 2) ``.
+    pub output: String,
+    /// The kernel's value.
+    pub kernel: f64,
+    /// Dual numbers' value.
+    pub dual: f64,
+}
+
+impl std::fmt::Display for KernelMismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "its {} is {} where dual numbers through the current definition give {}",
+            self.output, self.kernel, self.dual
+        )
+    }
+}
+
+/// The first entry where `kernel` and `dual` (two linearizations of factor
+/// `F` at one configuration) differ beyond [`STALE_TOLERANCE`], residual
+/// first, then the blocks in variable order. Entries the kernel leaves
+/// non-finite are not compared (the linearization reports them itself).
+///
+/// ```
+/// use factor_core::kernel::kernel_mismatch;
+/// use factor_core::{DynLinearization, Factor, Scalar};
+/// use nalgebra::{DMatrix, DVector, Vector2};
+///
+/// #[derive(Clone, Debug, Factor)]
+/// #[factor(residual = prior_residual, dim = 2)]
+/// pub struct Prior<S: Scalar = f64> {
+///     pub measured: Vector2<S>,
+///     #[variable]
+///     pub x: Vector2<S>,
+/// }
+///
+/// pub fn prior_residual<S: Scalar>(f: &Prior<S>) -> Vector2<S> {
+///     f.x - f.measured
+/// }
+///
+/// let dual = DynLinearization {
+///     residual: DVector::from_vec(vec![0.5, -1.0]),
+///     jacobians: vec![DMatrix::identity(2, 2)],
+/// };
+/// let mut kernel = dual.clone();
+/// kernel.residual[1] += 1e-12; // rounding
+/// assert_eq!(kernel_mismatch::<Prior>(&kernel, &dual), None);
+/// kernel.residual[1] = 1.0; // a sign flipped since the kernel was generated
+/// let mismatch = kernel_mismatch::<Prior>(&kernel, &dual).unwrap();
+/// assert_eq!(mismatch.output, "residual[1]");
+/// ```
+pub fn kernel_mismatch<F: Factor>(
+    kernel: &DynLinearization,
+    dual: &DynLinearization,
+) -> Option<KernelMismatch> {
+    let differs = |k: f64, d: f64, scale: f64| {
+        k.is_finite() && (k - d).abs() > STALE_TOLERANCE * scale.max(1.0)
+    };
+    let largest = |values: &[f64]| values.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let scale = largest(dual.residual.as_slice());
+    if let Some(i) =
+        (0..dual.residual.len()).find(|&i| differs(kernel.residual[i], dual.residual[i], scale))
+    {
+        return Some(KernelMismatch {
+            output: format!("residual[{i}]"),
+            kernel: kernel.residual[i],
+            dual: dual.residual[i],
+        });
+    }
+    for (k, (block, reference)) in kernel.jacobians.iter().zip(&dual.jacobians).enumerate() {
+        let scale = largest(reference.as_slice());
+        for row in 0..reference.nrows() {
+            for column in 0..reference.ncols() {
+                let (a, b) = (block[(row, column)], reference[(row, column)]);
+                if differs(a, b, scale) {
+                    return Some(KernelMismatch {
+                        output: format!(
+                            "Jacobian w.r.t. `{}` (row {row}, column {column})",
+                            F::variables()[k].name
+                        ),
+                        kernel: a,
+                        dual: b,
+                    });
+                }
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::__private::FirstCalls;
+
+    use super::DEBUG_CHECKS;
+
+    #[test]
+    fn first_calls_says_yes_to_the_first_debug_checks_only() {
+        let calls = FirstCalls::new();
+        let answers: Vec<bool> = (0..DEBUG_CHECKS + 3).map(|_| calls.take()).collect();
+        let expected: Vec<bool> = (0..DEBUG_CHECKS + 3).map(|k| k < DEBUG_CHECKS).collect();
+        assert_eq!(answers, expected);
+    }
 }

@@ -16,7 +16,7 @@
 //! - [`host`]: host solvers' charts ([`host::Apex`]): a factor served to a
 //!   solver in the solver's own manifolds, parameter layouts and tangents.
 //! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
-//!   kernel, for batch evaluators.
+//!   kernel, for batch evaluators, and how a stale kernel is caught.
 //! - [`numeric`]: numerical differentiation with an error estimate, the
 //!   independent reference for the exact Jacobians.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
@@ -82,6 +82,52 @@ pub mod __private {
             i += 1;
         }
         true
+    }
+
+    /// Counts a factor type's kernel linearizations up to
+    /// [`DEBUG_CHECKS`](crate::kernel::DEBUG_CHECKS): the derive's debug-build
+    /// comparison with dual numbers runs while [`FirstCalls::take`] says so.
+    pub struct FirstCalls(core::sync::atomic::AtomicU32);
+
+    impl FirstCalls {
+        /// No call counted yet.
+        #[allow(clippy::new_without_default)]
+        pub const fn new() -> Self {
+            FirstCalls(core::sync::atomic::AtomicU32::new(0))
+        }
+
+        /// Whether this call is among the first
+        /// [`DEBUG_CHECKS`](crate::kernel::DEBUG_CHECKS).
+        pub fn take(&self) -> bool {
+            use core::sync::atomic::Ordering::Relaxed;
+            self.0
+                .fetch_update(Relaxed, Relaxed, |n| {
+                    (n < crate::kernel::DEBUG_CHECKS).then_some(n + 1)
+                })
+                .is_ok()
+        }
+    }
+
+    /// Panics when `kernel` and `dual`, two linearizations of `F` at one
+    /// configuration, disagree ([`kernel_mismatch`](crate::kernel::kernel_mismatch)):
+    /// the kernel `kernel_path` is stale; `regenerate` says how to rewrite it.
+    #[track_caller]
+    pub fn assert_kernel_current<F: crate::Factor>(
+        kernel: &crate::DynLinearization,
+        dual: &crate::DynLinearization,
+        kernel_path: &str,
+        regenerate: &str,
+    ) {
+        if let Some(mismatch) = crate::kernel::kernel_mismatch::<F>(kernel, dual) {
+            panic!(
+                "the generated kernel `{kernel_path}` is stale: {mismatch} (a residual, a \
+                 function it calls or a variable's retraction changed since the kernel was \
+                 generated); {regenerate}. Debug builds compare the first {} kernel \
+                 linearizations of each factor type with dual numbers; release builds do not, \
+                 and the generator's `check` catches every change.",
+                crate::kernel::DEBUG_CHECKS
+            );
+        }
     }
 
     /// Whether two strings are equal, in a constant: the derive's check

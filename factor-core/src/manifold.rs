@@ -117,6 +117,14 @@ impl Perturbation {
 /// hairy-ball theorem), a branch chooses one per region: the Jacobian is
 /// exact in that region's basis, and Jacobians on either side of a boundary
 /// differ by the change of basis between them.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` cannot be a variable: it does not implement `Manifold<{S}>`",
+    label = "no tangent space and retraction over `{S}`",
+    note = "a `#[variable]` needs a tangent space: `{S}`, nalgebra's vectors, `factor_core`'s \
+            Lie and geometry types, or a type of yours implementing `factor_core::Manifold<{S}>` \
+            (see its documentation for the rules); a field without `#[variable]` is a constant \
+            and needs `Storage<{S}>` only"
+)]
 pub trait Manifold<S: Scalar>: Sized {
     /// Tangent dimension.
     const DIM: usize;

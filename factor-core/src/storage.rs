@@ -137,6 +137,13 @@ impl StorageError {
 /// A value stored as a fixed list of scalars, which can be rebuilt over
 /// another scalar type: `f64` values are lifted to dual numbers or to
 /// symbols this way. See the module documentation for what uses it.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` cannot be a factor's field: it does not implement `Storage<{S}>`",
+    label = "not stored as scalars of `{S}`",
+    note = "a field is written over the factor's scalar `{S}`: `{S}`, `[{S}; N]`, nalgebra's \
+            `SVector<{S}, N>` and `SMatrix<{S}, R, C>`, `factor_core`'s geometry and Lie types, \
+            or a type of yours implementing `factor_core::Storage<{S}>` (see its documentation)"
+)]
 pub trait Storage<S: Scalar>: Sized {
     /// The same value type over scalar `T`.
     type With<T: Scalar>;

@@ -85,10 +85,13 @@ use syn::{DeriveInput, parse_macro_input};
 /// `regenerate = "command"` (optional, with `kernel`: the command a stale
 /// kernel's compile error names).
 ///
-/// The struct has exactly one type parameter, the scalar, and named fields.
-/// Every field implements `Clone` and `Storage<S>` (constants are lifted
-/// to dual numbers too, so they are written over the scalar: `weight: S`, not
-/// `weight: f64`); every variable also implements `Manifold<S>`, for every
+/// The struct has exactly one type parameter, the scalar, bounded by
+/// `Scalar` alone (a comparison bound such as `PartialOrd`, rustc's hint
+/// for `a < b` in a residual, is refused with a pointer to
+/// `Scalar::select_lt`), and named fields. Every field implements `Clone`
+/// and `Storage<S>` (constants are lifted to dual numbers too, so they are
+/// written over the scalar: `weight: S`, not `weight: f64`, which is refused
+/// at the `f64`); every variable also implements `Manifold<S>`, for every
 /// scalar `S`. The first paragraph of the struct's and of each field's `///`
 /// documentation is kept (`Factor::DESCRIPTION`, `FieldInfo::doc`). For
 /// `Foo<S>` with variables `v₁ … vₙ` this emits:
@@ -122,7 +125,11 @@ use syn::{DeriveInput, parse_macro_input};
 /// `factor_core::WithKernel` with the marker as `Kernel` (the entry of the
 /// batch evaluators of `factor-batch`). When `SHAPE` no longer matches the
 /// factor (the kernel is stale), the build fails at `path` with a message
-/// naming the `regenerate` command.
+/// naming the `regenerate` command. A change that keeps the layout (a sign
+/// in the residual) is caught at run time in debug builds: the first
+/// linearizations of each factor type compare the kernel with dual numbers
+/// and panic, naming the command, when they disagree
+/// (`factor_core::kernel` documents the checks).
 #[proc_macro_derive(Factor, attributes(factor, variable))]
 pub fn derive_factor(input: TokenStream) -> TokenStream {
     let input = parse_macro_input!(input as DeriveInput);

@@ -2,8 +2,8 @@
 //! a spanned compile error. Emission ([`crate::emit`]) never fails.
 
 use syn::{
-    Attribute, Data, DeriveInput, Fields, GenericParam, Generics, Ident, LitInt, Path, Type,
-    Visibility,
+    Attribute, Data, DeriveInput, Fields, GenericArgument, GenericParam, Generics, Ident, LitInt,
+    Path, PathArguments, Type, TypeParamBound, Visibility, WherePredicate,
 };
 
 use crate::attrs::{self, FactorAttr, HostAttr, Side};
@@ -164,15 +164,113 @@ fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
     ))
 }
 
-/// The single type parameter; lifetimes and const parameters are rejected.
+/// The single type parameter; lifetimes and const parameters are rejected,
+/// and so is any bound on it but `Scalar` ([`extra_bounds`]).
 fn scalar_param(generics: &Generics, ident: &Ident) -> syn::Result<Ident> {
     let message = "a factor struct has exactly one type parameter, the scalar, \
                    and no lifetimes or const parameters: `struct Factor<S: Scalar = f64>`";
     let mut params = generics.params.iter();
     match (params.next(), params.next()) {
-        (Some(GenericParam::Type(param)), None) => Ok(param.ident.clone()),
+        (Some(GenericParam::Type(param)), None) => {
+            errors::check(extra_bounds(generics, &param.ident))?;
+            Ok(param.ident.clone())
+        }
         (None, _) => Err(syn::Error::new(ident.span(), message)),
         _ => Err(syn::Error::new_spanned(&generics.params, message)),
+    }
+}
+
+/// Every bound on the scalar `scalar` but `Scalar` (and those it implies),
+/// in its declaration or in the `where` clause. The factor is instantiated at `f64`, dual numbers and
+/// a symbolic scalar, which share `Scalar` and nothing more; a comparison
+/// bound (rustc's hint for `a < b` in the residual) gets `select_lt`.
+fn extra_bounds(generics: &Generics, scalar: &Ident) -> Vec<syn::Error> {
+    let declared = generics
+        .type_params()
+        .filter(|param| &param.ident == scalar)
+        .flat_map(|param| &param.bounds);
+    let in_where = generics
+        .where_clause
+        .iter()
+        .flat_map(|clause| &clause.predicates)
+        .filter_map(|predicate| match predicate {
+            WherePredicate::Type(bound) if is_ident(&bound.bounded_ty, scalar) => {
+                Some(&bound.bounds)
+            }
+            _ => None,
+        })
+        .flatten();
+    declared
+        .chain(in_where)
+        .filter_map(|bound| {
+            let TypeParamBound::Trait(bound) = bound else {
+                return None; // `'static`, which `Scalar` implies
+            };
+            let name = bound.path.segments.last()?.ident.to_string();
+            match name.as_str() {
+                // `Scalar` and bounds it implies.
+                "Scalar" | "Copy" | "Clone" | "Debug" | "PartialEq" | "Send" | "Sync" => None,
+                "PartialOrd" | "Ord" | "Eq" => Some(syn::Error::new_spanned(
+                    bound,
+                    format!(
+                        "the scalar `{scalar}` takes the bound `Scalar` alone, not `{name}`: the \
+                         residual runs on dual numbers and is traced over a symbolic scalar, \
+                         which cannot answer `<`; branch with \
+                         `Scalar::select_lt(a, b, if_less, otherwise)` (`if a < b {{ if_less }} \
+                         else {{ otherwise }}`, both arms evaluated) and take `{name}` off the \
+                         residual function's `{scalar}` too"
+                    ),
+                )),
+                _ => Some(syn::Error::new_spanned(
+                    bound,
+                    format!(
+                        "the scalar `{scalar}` takes the bound `Scalar` alone, not `{name}`: the \
+                         factor is instantiated at `f64`, dual numbers and a symbolic scalar, \
+                         which share `Scalar` (its arithmetic, `sqrt`, `sin`, `cos`, `atan2`, \
+                         `exp`, `ln`, `acos`, `asin`, `atan` and `select_lt`) and nothing more"
+                    ),
+                )),
+            }
+        })
+        .collect()
+}
+
+/// Whether `ty` is the plain identifier `ident`.
+fn is_ident(ty: &Type, ident: &Ident) -> bool {
+    matches!(ty, Type::Path(path) if path.qself.is_none() && path.path.is_ident(ident))
+}
+
+/// The first `f64` or `f32` written in a field's type (`f64`, `[f64; 3]`,
+/// `Vector3<f64>`), which should be the scalar parameter: constants are
+/// lifted to dual numbers and traced like variables.
+fn float_in(ty: &Type) -> Option<&Ident> {
+    match ty {
+        Type::Path(path) => {
+            let qself = path.qself.as_ref().and_then(|q| float_in(&q.ty));
+            qself.or_else(|| {
+                path.path.segments.iter().find_map(|segment| {
+                    if segment.ident == "f64" || segment.ident == "f32" {
+                        return Some(&segment.ident);
+                    }
+                    match &segment.arguments {
+                        PathArguments::AngleBracketed(args) => {
+                            args.args.iter().find_map(|arg| match arg {
+                                GenericArgument::Type(ty) => float_in(ty),
+                                _ => None,
+                            })
+                        }
+                        _ => None,
+                    }
+                })
+            })
+        }
+        Type::Array(array) => float_in(&array.elem),
+        Type::Slice(slice) => float_in(&slice.elem),
+        Type::Reference(reference) => float_in(&reference.elem),
+        Type::Paren(paren) => float_in(&paren.elem),
+        Type::Group(group) => float_in(&group.elem),
+        Type::Tuple(tuple) => tuple.elems.iter().find_map(float_in),
+        _ => None,
     }
 }
 
@@ -215,6 +313,20 @@ fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
             Some(side) => FieldKind::Variable(side),
             None => FieldKind::Constant,
         };
+        if let Some(float) = float_in(&field.ty) {
+            let scalar = scalar_name(&input.generics);
+            return Err(syn::Error::new(
+                float.span(),
+                format!(
+                    "`{ident}` is written over `{float}`; a factor's fields are written over its \
+                     scalar `{scalar}` (`{scalar}`, `[{scalar}; 3]`, `Vector3<{scalar}>`), \
+                     constants too: the factor is lifted to dual numbers and traced over a \
+                     symbolic scalar, every field with it. Write `{scalar}` here (a \
+                     `{factor}<f64>` still holds an `f64` there)",
+                    factor = input.ident,
+                ),
+            ));
+        }
         if kind != FieldKind::Constant && ident == "residual" {
             return Err(syn::Error::new(
                 ident.span(),
@@ -240,6 +352,15 @@ fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
         ));
     }
     Ok(fields)
+}
+
+/// The scalar parameter's name as written, for messages (`S` when the
+/// struct has none).
+fn scalar_name(generics: &Generics) -> String {
+    generics
+        .type_params()
+        .next()
+        .map_or_else(|| "S".to_owned(), |param| param.ident.to_string())
 }
 
 /// `#[variable]` on the struct or `#[factor]` on a field.

@@ -32,3 +32,8 @@ pub mod scalar;
 pub mod trace;
 
 pub use graph::{Expr, Graph, Node, Tracer};
+
+/// The optimisation level this crate was built at (`0` in a debug build
+/// without a `[profile.dev.package.factor-symbolic]` entry, where tracing a
+/// factor is several times slower; see `factor_codegen::build_profile`).
+pub const OPT_LEVEL: &str = env!("FACTOR_SYMBOLIC_OPT_LEVEL");

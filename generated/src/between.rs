@@ -19,7 +19,7 @@
 //! - `d_pose_i: [T; 36]`: `∂r/∂δ` w.r.t. `pose_i` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //! - `d_pose_j: [T; 36]`: `∂r/∂δ` w.r.t. `pose_j` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; poses of document 000 map world to camera (`X_c = R X_w + t`); pose tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: by the chain rule through 7 intermediate values that every path from the tangents to the residual crosses, `∂r/∂δ = ∂r/∂c · ∂c/∂δ` (the cheapest of the candidate cuts and the direct form).
 //!

@@ -18,7 +18,7 @@
 //! - `d_pose: [T; 24]`: `∂r/∂δ` w.r.t. `pose` (`Se3<S>`), 4 × 6 row-major (residual rows × tangent columns); tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
 //! - `d_line: [T; 16]`: `∂r/∂δ` w.r.t. `line` (`OrthonormalLine<S>`), 4 × 4 row-major (residual rows × tangent columns); tangent: left: U ← Exp(δΘ) U, W ← R(δρ) W, columns [δΘ_x, δΘ_y, δΘ_z, δρ]
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; poses of document 000 map world to camera (`X_c = R X_w + t`); pose tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: by the chain rule through 6 intermediate values that every path from the tangents to the residual crosses, `∂r/∂δ = ∂r/∂c · ∂c/∂δ` (the cheapest of the candidate cuts and the direct form).
 //!

@@ -19,7 +19,7 @@
 //! - `d_pose: [T; 12]`: `∂r/∂δ` w.r.t. `pose` (`Se3<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
 //! - `d_point: [T; 6]`: `∂r/∂δ` w.r.t. `point` (`Vector3<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ, columns δ in the vector's order
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; poses of document 000 map world to camera (`X_c = R X_w + t`); pose tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
 //!

@@ -20,7 +20,7 @@
 //! - `d_intrinsics: [T; 6]`: `∂r/∂δ` w.r.t. `intrinsics` (`RadialIntrinsics<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]
 //! - `d_point: [T; 6]`: `∂r/∂δ` w.r.t. `point` (`Vector3<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ, columns δ in the vector's order
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; poses of document 000 map world to camera (`X_c = R X_w + t`); pose tangents `[δω, δρ]`, rotation first, except `Se3RhoTheta` poses (`[δρ, δθ]`, apex-solver's chart); each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
 //!

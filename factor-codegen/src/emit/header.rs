@@ -1,6 +1,8 @@
 //! The module header: what the kernel computes from which inputs, its
 //! provenance and its operation counts.
 
+use factor_core::Layout;
+
 use super::ModuleParts;
 use crate::ir::OpCounts;
 use crate::kernel::{JacobianForm, SymbolicKernel};
@@ -103,7 +105,7 @@ pub fn header(parts: &ModuleParts) -> Vec<String> {
     }
     lines.extend([
         String::new(),
-        provenance.conventions.to_string(),
+        conventions(kernel),
         String::new(),
         match kernel.jacobian_form {
             JacobianForm::Direct => "Jacobian entries: each differentiated as a whole (no chain \
@@ -148,6 +150,32 @@ pub fn header(parts: &ModuleParts) -> Vec<String> {
     lines.extend(super::host::header_section(spec.name, parts.hosts));
     lines.extend(lanes_section(parts.normal.is_some()));
     lines
+}
+
+/// Whether `layout` holds a quaternion stored `[qx, qy, qz, qw]`.
+fn stores_quaternion(layout: &Layout) -> bool {
+    match layout {
+        Layout::Scalar => false,
+        Layout::Array(names) => names == &["qx", "qy", "qz", "qw"],
+        Layout::Record(parts) => parts.iter().any(|(_, part)| stores_quaternion(part)),
+    }
+}
+
+/// The conventions paragraph: only what the module's own inputs and
+/// variables follow. Each block's tangent (perturbation side and column
+/// order) is the variable's own and is stated with its output above.
+fn conventions(kernel: &SymbolicKernel) -> String {
+    let mut parts = Vec::new();
+    if kernel.fields.iter().any(|f| stores_quaternion(&f.layout)) {
+        parts.push(
+            "quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation",
+        );
+    }
+    parts.push(
+        "each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation \
+         side, its columns in the order of that variable's tangent (stated with its output above)",
+    );
+    format!("Conventions: {}.", parts.join("; "))
 }
 
 /// The header's section on the fused normal-equation kernel.

@@ -7,7 +7,10 @@
 //! The derive calls the slice entry, so a kernel generated for another
 //! layout of the factor is never a type error; instead a constant compares
 //! `SHAPE` with the factor's own layout and fails the build with a message
-//! that says the kernel is stale and how to regenerate it. The module's
+//! that says the kernel is stale and how to regenerate it. A change that
+//! keeps the layout (a sign in the residual) is caught in debug builds: the
+//! first linearizations of each factor type compare the kernel with dual
+//! numbers (`factor_core::kernel` documents why there). The module's
 //! marker type `Kernel` becomes the factor's `WithKernel::Kernel`, the entry
 //! of batch evaluators (crate `factor-batch`).
 
@@ -33,6 +36,11 @@ pub(super) fn sibling(path: &Path, last: &syn::Ident) -> Path {
     }
     sibling
 }
+
+/// The panic of a stale kernel, for the linearizations' documentation.
+const STALE_PANIC: &str = "on one of the first linearizations of this factor type, if the \
+    kernel disagrees with dual numbers through the current definition: it is stale (see \
+    `factor_core::kernel`).";
 
 /// `impl Foo<f64> { linearize_generated_into, linearize_generated }`,
 /// `impl WithKernel` naming the kernel module's marker type `Kernel`, and the
@@ -75,15 +83,16 @@ pub fn emit(cx: &Context) -> TokenStream {
         .map(|k| format_ident!("__d_{}", k))
         .collect();
 
+    let regenerate = match &cx.model.regenerate {
+        Some(command) => format!("regenerate it with `{command}`"),
+        None => "regenerate the crate that holds it with the generator that wrote it (named in \
+                 its module header), built without the feature that compiles the kernels"
+            .to_owned(),
+    };
     let stale = format!(
         "the generated kernel `{kernel_text}` does not match `{ident}`: it was generated for \
-         another layout of the factor (a field, its storage or a tangent changed since); {}",
-        match &cx.model.regenerate {
-            Some(command) => format!("regenerate it with `{command}`"),
-            None => "regenerate the crate that holds it with the generator that wrote it (named \
-                     in its module header), built without the feature that compiles the kernels"
-                .to_owned(),
-        }
+         another layout of the factor (a field, its storage or a tangent changed since); \
+         {regenerate}"
     );
     // The residual dimension without the span of `dim = …`: clippy reads
     // `dim * D` at that span as a missing comma in the attribute.
@@ -110,7 +119,7 @@ pub fn emit(cx: &Context) -> TokenStream {
          [`FactorError::NonFinite`](::factor_core::FactorError::NonFinite) naming the first \
          non-finite output.\n\n\
          # Panics\n\n\
-         If `residual`, `jacobians` or a block has the wrong length."
+         If `residual`, `jacobians` or a block has the wrong length; in a debug build, {STALE_PANIC}"
     );
     let doc = format!(
         "Residual and Jacobian blocks through the generated kernel \
@@ -118,7 +127,9 @@ pub fn emit(cx: &Context) -> TokenStream {
          common subexpressions shared, exact to rounding like \
          [`linearize_dual`](Self::linearize_dual).\n\n\
          # Errors\n\n\
-         As [`linearize_generated_into`](Self::linearize_generated_into)."
+         As [`linearize_generated_into`](Self::linearize_generated_into).\n\n\
+         # Panics\n\n\
+         In a debug build, {STALE_PANIC}"
     );
     quote! {
         #check
@@ -147,6 +158,23 @@ pub fn emit(cx: &Context) -> TokenStream {
                 residual: &mut [f64],
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> ::core::result::Result<(), #krate::FactorError> {
+                #[cfg(debug_assertions)]
+                Self::__factor_check_kernel(stored);
+                Self::__factor_kernel_slices(stored, residual, jacobians);
+                match #krate::first_non_finite(residual, jacobians) {
+                    ::core::option::Option::None => ::core::result::Result::Ok(()),
+                    ::core::option::Option::Some(at) => ::core::result::Result::Err(
+                        #krate::FactorError::non_finite_output::<Self>(at),
+                    ),
+                }
+            }
+
+            /// The generated kernel's slice entry on the factor stored as `stored`.
+            fn __factor_kernel_slices(
+                stored: &[f64],
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) {
                 let done = #slices(&[#(#slices_of_stored),*], residual, jacobians);
                 ::core::assert!(
                     done,
@@ -157,11 +185,47 @@ pub fn emit(cx: &Context) -> TokenStream {
                     #dim,
                     <Self as #krate::Factor>::variables().len(),
                 );
-                match #krate::first_non_finite(residual, jacobians) {
-                    ::core::option::Option::None => ::core::result::Result::Ok(()),
-                    ::core::option::Option::Some(at) => ::core::result::Result::Err(
-                        #krate::FactorError::non_finite_output::<Self>(at),
-                    ),
+            }
+
+            /// The generated kernel on the factor stored as `stored`, every
+            /// block computed, its outputs not checked.
+            fn __factor_kernel_all(stored: &[f64]) -> #linearization {
+                let mut residual = [0.0_f64; #dim];
+                #(
+                    let mut #outputs = [0.0_f64; #dim * #block_dims];
+                )*
+                Self::__factor_kernel_slices(
+                    stored,
+                    &mut residual,
+                    &mut [#(::core::option::Option::Some(&mut #outputs[..])),*],
+                );
+                #linearization {
+                    residual: #nalgebra::SVector::<f64, #dim>::from_column_slice(&residual),
+                    #(
+                        #blocks: #nalgebra::SMatrix::<f64, #dim, { #block_dims }>::from_row_slice(
+                            &#outputs,
+                        ),
+                    )*
+                }
+            }
+
+            /// Debug builds: the kernel against dual numbers through the current
+            /// definition, on the first linearizations of this factor type
+            /// (`factor_core::kernel`, "A stale kernel never runs unnoticed").
+            #[cfg(debug_assertions)]
+            fn __factor_check_kernel(stored: &[f64]) {
+                static CHECKS: #krate::__private::FirstCalls = #krate::__private::FirstCalls::new();
+                if !CHECKS.take() {
+                    return;
+                }
+                let factor: Self = #krate::Storage::from_scalars(stored);
+                if let ::core::result::Result::Ok(dual) = factor.linearize_dual() {
+                    #krate::__private::assert_kernel_current::<Self>(
+                        &Self::__factor_kernel_all(stored).to_dyn(),
+                        &dual.to_dyn(),
+                        #kernel_text,
+                        #regenerate,
+                    );
                 }
             }
 
@@ -169,22 +233,12 @@ pub fn emit(cx: &Context) -> TokenStream {
             pub fn linearize_generated(
                 &self,
             ) -> ::core::result::Result<#linearization, #krate::FactorError> {
-                let mut residual = [0.0_f64; #dim];
-                #(
-                    let mut #outputs = [0.0_f64; #dim * #block_dims];
-                )*
-                self.linearize_generated_into(
-                    &mut residual,
-                    &mut [#(::core::option::Option::Some(&mut #outputs[..])),*],
-                )?;
-                ::core::result::Result::Ok(#linearization {
-                    residual: #nalgebra::SVector::<f64, #dim>::from_column_slice(&residual),
-                    #(
-                        #blocks: #nalgebra::SMatrix::<f64, #dim, { #block_dims }>::from_row_slice(
-                            &#outputs,
-                        ),
-                    )*
-                })
+                <Self as #krate::Factor>::validate(self)?;
+                let mut stored = [0.0_f64; <Self as #krate::Storage<f64>>::SCALARS];
+                #krate::Storage::write_scalars(self, &mut stored);
+                #[cfg(debug_assertions)]
+                Self::__factor_check_kernel(&stored);
+                Self::__factor_kernel_all(&stored).ensure_finite()
             }
         }
     }

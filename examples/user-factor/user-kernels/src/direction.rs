@@ -18,7 +18,7 @@
 //! - `d_orientation: [T; 6]`: `∂r/∂δ` w.r.t. `orientation` (`So3<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: left: R ← Exp(δ) R, columns δ = [δx, δy, δz]
 //! - `d_direction: [T; 4]`: `∂r/∂δ` w.r.t. `direction` (`UnitVector3<S>`), 2 × 2 row-major (residual rows × tangent columns); tangent: either side: v ← cos‖δ‖ v + sin‖δ‖/‖δ‖ B(v) δ, columns [δ₁, δ₂] along B(v) = [b₁, b₂] (Duff et al. 2017, branch on the sign of v_z)
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
 //!

@@ -18,7 +18,7 @@
 //! - `residual: [T; 1]`
 //! - `d_pose: [T; 6]`: `∂r/∂δ` w.r.t. `pose` (`Se3<S>`), 1 × 6 row-major (residual rows × tangent columns); tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: each differentiated as a whole (no chain rule through an intermediate was cheaper).
 //!

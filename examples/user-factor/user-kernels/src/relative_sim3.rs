@@ -18,7 +18,7 @@
 //! - `d_sim_i: [T; 49]`: `∂r/∂δ` w.r.t. `sim_i` (`Sim3<S>`), 7 × 7 row-major (residual rows × tangent columns); tangent: left: S ← Exp(δξ) S, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z, δσ]
 //! - `d_sim_j: [T; 49]`: `∂r/∂δ` w.r.t. `sim_j` (`Sim3<S>`), 7 × 7 row-major (residual rows × tangent columns); tangent: left: S ← Exp(δξ) S, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z, δσ]
 //!
-//! Conventions: quaternions `[x, y, z, w]`, Hamilton product, active rotation; pose tangents `[δω, δρ]`, rotation first; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on the variable's perturbation side.
+//! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
 //! Jacobian entries: by the chain rule through 9 intermediate values that every path from the tangents to the residual crosses, `∂r/∂δ = ∂r/∂c · ∂c/∂δ` (the cheapest of the candidate cuts and the direct form).
 //!

@@ -1,0 +1,5 @@
+//! The crate's integration tests, one binary (see `Cargo.toml`): each file
+//! of `tests/` is a module here.
+
+mod agreement;
+mod shapes;

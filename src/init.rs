@@ -1,0 +1,303 @@
+//! `slamjac init DIR [--name NAME]`: a new project for factors of your own,
+//! complete the first time.
+//!
+//! DIR becomes a Cargo workspace of three crates that depend on this
+//! checkout by path:
+//!
+//! | crate | what |
+//! | --- | --- |
+//! | `NAME-factors` | the factors (one example, `PositionPrior`); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
+//! | `NAME-kernels` | the generated kernels: its `Cargo.toml` declares the feature `lanes` the sources use ([`factor_codegen::manifest`]); until the first generation its `src/lib.rs` is a compile error naming the command |
+//! | `NAME-cli` | the command line, binary `NAME`: `list`, `eval`, `generate`, `check` ([`crate::cli`]); the code generator is its dependency, not the factors' |
+//!
+//! The workspace's `Cargo.toml` holds the profile entries that make
+//! generation take seconds in a debug build
+//! ([`factor_codegen::build_profile::PROFILE_ENTRIES`]). `generate` runs as
+//! `cargo run -p NAME-cli --no-default-features -- generate`: without the
+//! feature `kernels` the factors build without their kernels, so the one
+//! command works when they are missing or stale. docs/guide/kernels.md
+//! walks through the project.
+
+use std::path::Path;
+
+use factor_codegen::build_profile::PROFILE_ENTRIES;
+use factor_codegen::manifest::{Membership, manifest, placeholder_lib, toml_escaped};
+
+use crate::error::{CliError, InputError};
+
+/// The checkout this binary was built from, which the project depends on.
+const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// The workspace's `Cargo.toml`.
+const WORKSPACE: &str = r#"# Factors of your own, with generated kernels and a command line (written by
+# `slamjac init`). The crates depend on the slamjac checkout at
+# @CHECKOUT@ by path.
+
+[workspace]
+members = ["@NAME@-factors", "@NAME@-kernels", "@NAME@-cli"]
+resolver = "3"
+
+# `generate` traces each factor and compiles its kernel: the symbolic engine
+# and the generator are optimised even in debug builds, which makes it take
+# seconds instead of a minute. Cargo reads profiles from this file only.
+@PROFILE@"#;
+
+/// `NAME-factors/Cargo.toml`.
+const FACTORS_MANIFEST: &str = r#"[package]
+name = "@NAME@-factors"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[dependencies]
+factor-core = { path = "@CHECKOUT@/factor-core" }
+@NAME@-kernels = { path = "../@NAME@-kernels", optional = true }
+
+[features]
+# `linearize()` goes through the generated kernels of `@NAME@-kernels`.
+# Without it the factors linearize by dual numbers, which is how
+# `@GENERATE@` builds them.
+default = ["kernels"]
+kernels = ["dep:@NAME@-kernels"]
+"#;
+
+/// `NAME-factors/src/lib.rs`: one example factor.
+const FACTORS_LIB: &str = r#"//! The factors of `@NAME@`. Each has a kernel in `@NAME@-kernels`, written by
+//! `@GENERATE@`.
+
+use factor_core::nalgebra::Vector3;
+use factor_core::{Factor, Scalar};
+
+/// A position prior: the position `p` measured as `m`, `r = p − m`.
+#[derive(Clone, Debug, Factor)]
+#[factor(residual = position_prior_residual, dim = 3)]
+#[cfg_attr(
+    feature = "kernels",
+    factor(
+        kernel = @IDENT@_kernels::position_prior::position_prior,
+        regenerate = "@GENERATE@"
+    )
+)]
+pub struct PositionPrior<S: Scalar = f64> {
+    /// The measured position `m`.
+    pub measured: Vector3<S>,
+    /// The position `p`.
+    #[variable]
+    pub position: Vector3<S>,
+}
+
+/// `r = p − m`.
+pub fn position_prior_residual<S: Scalar>(f: &PositionPrior<S>) -> Vector3<S> {
+    f.position - f.measured
+}
+"#;
+
+/// `NAME-cli/Cargo.toml`.
+const CLI_MANIFEST: &str = r#"[package]
+name = "@NAME@-cli"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[[bin]]
+name = "@NAME@"
+path = "src/main.rs"
+
+[dependencies]
+slamjac = { path = "@CHECKOUT@", default-features = false }
+@NAME@-factors = { path = "../@NAME@-factors", default-features = false }
+
+[features]
+# `eval` runs the generated kernels. `--no-default-features` builds the
+# factors without them: `generate` then works when they are missing or stale.
+default = ["kernels"]
+kernels = ["@NAME@-factors/kernels"]
+"#;
+
+/// `NAME-cli/src/main.rs`.
+const CLI_MAIN: &str = r#"//! `@NAME@`: list the factors of `@NAME@-factors`, evaluate them from JSON, and
+//! generate or check their kernels in `@NAME@-kernels`.
+
+use std::process::ExitCode;
+
+use slamjac::cli::{KernelCrate, Provenance, Registry};
+
+/// The crate `generate` writes and `check` compares.
+const KERNELS: KernelCrate = KernelCrate {
+    package: "@NAME@-kernels",
+    dir: concat!(env!("CARGO_MANIFEST_DIR"), "/../@NAME@-kernels"),
+    provenance: Provenance::new(
+        "Residual-and-Jacobian kernels of the factors of `@NAME@-factors`.",
+        "@GENERATE@",
+        "@CHECK@",
+    ),
+};
+
+fn main() -> ExitCode {
+    Registry::new()
+        .with_kernel::<@IDENT@_factors::PositionPrior>()
+        .with_kernel_crate(KERNELS)
+        .run("@NAME@")
+}
+"#;
+
+/// `inputs/position_prior.json`: an `eval` input.
+const INPUT: &str = r#"{"factor": "position_prior",
+ "variables": {"position": [1.0, 2.0, 3.0]},
+ "constants": {"measured": [1.5, 2.0, 2.5]}}
+"#;
+
+/// `README.md`.
+const README: &str = r#"# @NAME@
+
+Factors with generated kernels and a command line, written by `slamjac init`.
+
+```sh
+cargo run -p @NAME@-cli --no-default-features -- generate   # (re)write @NAME@-kernels/src
+cargo run -p @NAME@-cli -- list                             # the factors, their inputs and kernels
+cargo run -p @NAME@-cli -- eval inputs/position_prior.json  # residual and Jacobians
+cargo run -p @NAME@-cli --no-default-features -- check      # exit 1 when the kernels are stale (CI)
+```
+
+Add a factor to `@NAME@-factors/src/lib.rs` (with its
+`#[cfg_attr(feature = "kernels", factor(kernel = ..., regenerate = ...))]`),
+register it in `@NAME@-cli/src/main.rs` with `.with_kernel::<YourFactor>()`,
+then generate. The slamjac guide's chapters "Writing a factor" and
+"Kernels of your own factors" say more.
+"#;
+
+/// `.gitignore`.
+const GITIGNORE: &str = "/target\n";
+
+/// Whether `name` can prefix the crates' names: a lowercase letter, then
+/// lowercase letters, digits, `-` or `_`, not ending in `-` or `_`.
+fn valid_name(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars.next().is_some_and(|c| c.is_ascii_lowercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_')
+        && !name.ends_with(['-', '_'])
+}
+
+/// The project's files for `name`, as `(path relative to DIR, contents)`.
+pub fn files(name: &str) -> Vec<(String, String)> {
+    let generate = format!("cargo run -p {name}-cli --no-default-features -- generate");
+    let check = format!("cargo run -p {name}-cli --no-default-features -- check");
+    let fill = |template: &str| {
+        template
+            .replace("@NAME@", name)
+            .replace("@IDENT@", &name.replace('-', "_"))
+            .replace("@CHECKOUT@", &toml_escaped(CHECKOUT))
+            .replace("@GENERATE@", &generate)
+            .replace("@CHECK@", &check)
+            .replace("@PROFILE@", PROFILE_ENTRIES)
+    };
+    let kernels = format!("{name}-kernels");
+    vec![
+        ("Cargo.toml".into(), fill(WORKSPACE)),
+        (".gitignore".into(), GITIGNORE.into()),
+        ("README.md".into(), fill(README)),
+        ("inputs/position_prior.json".into(), INPUT.into()),
+        (format!("{name}-factors/Cargo.toml"), fill(FACTORS_MANIFEST)),
+        (format!("{name}-factors/src/lib.rs"), fill(FACTORS_LIB)),
+        (
+            format!("{kernels}/Cargo.toml"),
+            manifest(&kernels, &generate, &check, Membership::Member),
+        ),
+        (format!("{kernels}/src/lib.rs"), placeholder_lib(&generate)),
+        (format!("{name}-cli/Cargo.toml"), fill(CLI_MANIFEST)),
+        (format!("{name}-cli/src/main.rs"), fill(CLI_MAIN)),
+    ]
+}
+
+/// `slamjac init DIR [--name NAME]`: writes [`files`] into DIR, which must
+/// be new or empty; NAME defaults to DIR's name.
+pub fn run(dir: &Path, name: Option<&str>) -> Result<String, CliError> {
+    let at = |message: String| -> CliError {
+        InputError::new(dir.display().to_string(), message).into()
+    };
+    let name = match name {
+        Some(name) => name.to_owned(),
+        None => dir
+            .file_name()
+            .map(|n| n.to_string_lossy().to_lowercase())
+            .unwrap_or_default(),
+    };
+    if !valid_name(&name) {
+        return Err(CliError::Usage(format!(
+            "init: {name:?} cannot name the crates: give --name NAME, a lowercase letter then \
+             lowercase letters, digits, `-` or `_`"
+        )));
+    }
+    match std::fs::read_dir(dir) {
+        Ok(entries) => {
+            if entries.into_iter().next().is_some() {
+                return Err(at(
+                    "refused: init writes into a new or empty directory".into()
+                ));
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(at(format!("cannot read: {e}"))),
+    }
+    let files = files(&name);
+    for (path, contents) in &files {
+        let path = dir.join(path);
+        path.parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .and_then(|()| std::fs::write(&path, contents))
+            .map_err(|e| at(format!("cannot write {}: {e}", path.display())))?;
+    }
+    Ok(format!(
+        "wrote {} files into {}: the crates {name}-factors, {name}-kernels and {name}-cli\n\
+         next, in {}:\n  \
+         cargo run -p {name}-cli --no-default-features -- generate\n  \
+         cargo run -p {name}-cli -- eval inputs/position_prior.json",
+        files.len(),
+        dir.display(),
+        dir.display(),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_crate_name_prefixes() {
+        for good in ["vio", "my-vio", "a1_b"] {
+            assert!(valid_name(good), "{good}");
+        }
+        for bad in ["", "Vio", "1vio", "vio-", "my vio", "vio/x"] {
+            assert!(!valid_name(bad), "{bad}");
+        }
+    }
+
+    #[test]
+    fn every_placeholder_is_filled() {
+        for (path, contents) in files("my-vio") {
+            assert!(!contents.contains('@'), "{path}: {contents}");
+        }
+        let files = files("my-vio");
+        let main = &files
+            .iter()
+            .find(|(p, _)| p == "my-vio-cli/src/main.rs")
+            .unwrap()
+            .1;
+        assert!(main.contains(".with_kernel::<my_vio_factors::PositionPrior>()"));
+        let lib = &files
+            .iter()
+            .find(|(p, _)| p == "my-vio-factors/src/lib.rs")
+            .unwrap()
+            .1;
+        assert!(lib.contains("kernel = my_vio_kernels::position_prior::position_prior"));
+    }
+
+    #[test]
+    fn a_directory_with_files_is_refused_untouched() {
+        let dir = Path::new(CHECKOUT).join("src");
+        let error = run(&dir, Some("x")).unwrap_err().to_string();
+        assert!(error.ends_with("refused: init writes into a new or empty directory"));
+    }
+}
