@@ -97,25 +97,15 @@ impl Compiler<'_> {
 
     /// Extracts the most frequent operand pair of the live products.
     pub(super) fn extract_product_pair(&mut self, live: &[usize]) -> bool {
-        let mut counts: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+        let mut pairs = Vec::new();
         for &op in live {
             if let Op::Product { factors, .. } = &self.ops[op] {
-                let mut pairs = BTreeSet::new();
-                for i in 0..factors.len() {
-                    for j in i + 1..factors.len() {
-                        pairs.insert((factors[i], factors[j]));
-                    }
-                }
-                for pair in pairs {
-                    *counts.entry(pair).or_insert(0) += 1;
-                }
+                pairs.extend(distinct_pairs(factors.len(), |i, j| {
+                    (factors[i], factors[j])
+                }));
             }
         }
-        let Some((&(a, b), _)) = counts
-            .iter()
-            .filter(|(_, n)| **n >= 2)
-            .max_by_key(|(pair, n)| (**n, std::cmp::Reverse(**pair)))
-        else {
+        let Some((a, b)) = most_frequent(pairs) else {
             return false;
         };
         let pair = self.push(Op::Product {
@@ -155,26 +145,16 @@ impl Compiler<'_> {
 
     /// Extracts the most frequent term pair `a + r·b` of the live sums.
     pub(super) fn extract_sum_pair(&mut self, live: &[usize]) -> bool {
-        let mut counts: BTreeMap<(usize, usize, u64), usize> = BTreeMap::new();
+        let mut pairs = Vec::new();
         for &op in live {
             if let Op::Sum { terms, .. } = &self.ops[op] {
-                let mut pairs = BTreeSet::new();
-                for i in 0..terms.len() {
-                    for j in i + 1..terms.len() {
-                        let ratio = Real::new(terms[j].1 / terms[i].1);
-                        pairs.insert((terms[i].0, terms[j].0, ratio.bits()));
-                    }
-                }
-                for pair in pairs {
-                    *counts.entry(pair).or_insert(0) += 1;
-                }
+                pairs.extend(distinct_pairs(terms.len(), |i, j| {
+                    let ratio = Real::new(terms[j].1 / terms[i].1);
+                    (terms[i].0, terms[j].0, ratio.bits())
+                }));
             }
         }
-        let Some((&(a, b, ratio_bits), _)) = counts
-            .iter()
-            .filter(|(_, n)| **n >= 2)
-            .max_by_key(|(pair, n)| (**n, std::cmp::Reverse(**pair)))
-        else {
+        let Some((a, b, ratio_bits)) = most_frequent(pairs) else {
             return false;
         };
         let ratio = f64::from_bits(ratio_bits);
@@ -201,4 +181,31 @@ impl Compiler<'_> {
         }
         true
     }
+}
+
+/// The distinct values of `pair(i, j)` over `i < j < n`, sorted (an
+/// operation counts a pair once however often it holds it).
+fn distinct_pairs<P: Ord>(n: usize, pair: impl Fn(usize, usize) -> P) -> Vec<P> {
+    let mut pairs: Vec<P> = (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .map(|(i, j)| pair(i, j))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// The pair held by the most operations, at least two; among equally
+/// frequent ones the smallest (canonical operand order: deterministic).
+/// Sorting and counting runs is the same choice as a map from pair to count,
+/// without a map's insertions, the generator's largest cost.
+fn most_frequent<P: Ord + Copy>(mut pairs: Vec<P>) -> Option<P> {
+    pairs.sort_unstable();
+    let mut best: Option<(usize, P)> = None;
+    for run in pairs.chunk_by(|a, b| a == b) {
+        if run.len() >= 2 && best.is_none_or(|(n, _)| run.len() > n) {
+            best = Some((run.len(), run[0]));
+        }
+    }
+    best.map(|(_, pair)| pair)
 }
