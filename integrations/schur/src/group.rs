@@ -91,8 +91,8 @@ impl Sink<'_> {
     #[inline]
     fn add_gradient(&mut self, role: Role, g: &[&[f64]], row: usize, structure: &Structure) {
         let target = match role {
-            Role::Reduced { block } => {
-                let o = structure.csc.offsets[block as usize];
+            Role::Reduced { block, offset } => {
+                let o = structure.csc.offsets[block as usize] + offset as usize;
                 &mut self.g_reduced[o..o + g.len()]
             }
             Role::Eliminated { index } => {
@@ -107,15 +107,24 @@ impl Sink<'_> {
         }
     }
 
-    /// Adds a factor's diagonal Hessian block of a variable with `role`:
-    /// the kernel's upper triangle (`a ≤ b`) row by row.
+    /// Adds a factor's diagonal Hessian block of a variable with `role` and
+    /// tangent dimension `d`: the kernel's upper triangle (`a ≤ b`) row by
+    /// row.
     #[inline]
-    fn add_diagonal(&mut self, role: Role, h: &[&[f64]], row: usize, structure: &Structure) {
+    fn add_diagonal(
+        &mut self,
+        role: Role,
+        d: usize,
+        h: &[&[f64]],
+        row: usize,
+        structure: &Structure,
+    ) {
         match role {
-            // Row a of the kernel's triangle is column a of S's lower one.
-            Role::Reduced { block } => {
+            // Row a of the kernel's triangle is column a of S's lower one,
+            // whose rows from the diagonal on are the variable's.
+            Role::Reduced { block, offset } => {
                 let csc = &structure.csc;
-                let (o, d) = (csc.offsets[block as usize], csc.dims[block as usize]);
+                let o = csc.offsets[block as usize] + offset as usize;
                 let mut c = 0;
                 for a in 0..d {
                     let base = csc.col_ptr[o + a];
@@ -153,20 +162,49 @@ impl Sink<'_> {
     ) {
         let csc = &structure.csc;
         match (i, j) {
-            // Block (u, v), u > v, of S is J_uᵀ J_v: the kernel's block when
-            // u is slot i, else its transpose; column b of v's block
-            // column holds its rows a after the diagonal block's.
-            (Role::Reduced { block: bi }, Role::Reduced { block: bj }) => {
-                let (v, du, dv, transposed) = if bi > bj {
-                    (bj, di, dj, false)
-                } else {
-                    (bi, dj, di, true)
-                };
-                for b in 0..dv {
-                    let base = csc.below(v as usize, target, 0, b);
-                    for a in 0..du {
-                        let c = if transposed { b * du + a } else { a * dv + b };
-                        self.u[base + a] += h[c][row];
+            // Both in one block: its diagonal block's lower triangle holds
+            // J_iᵀ J_j or its transpose, entry by entry.
+            (
+                Role::Reduced {
+                    block: bi,
+                    offset: oi,
+                },
+                Role::Reduced {
+                    block: bj,
+                    offset: oj,
+                },
+            ) if bi == bj => {
+                let o = csc.offsets[bi as usize];
+                for a in 0..di {
+                    for b in 0..dj {
+                        let (r, c) = (o + oi as usize + a, o + oj as usize + b);
+                        let (r, c) = (r.max(c), r.min(c));
+                        self.u[csc.col_ptr[c] + r - c] += h[a * dj + b][row];
+                    }
+                }
+            }
+            // Block (u, v), u > v, of S holds J_uᵀ J_v at the variables'
+            // offsets: the kernel's block when u is slot i's, else its
+            // transpose.
+            (
+                Role::Reduced {
+                    block: bi,
+                    offset: oi,
+                },
+                Role::Reduced {
+                    block: bj,
+                    offset: oj,
+                },
+            ) => {
+                let (oi, oj) = (oi as usize, oj as usize);
+                for a in 0..di {
+                    for b in 0..dj {
+                        let index = if bi > bj {
+                            csc.below(bj as usize, target, oi + a, oj + b)
+                        } else {
+                            csc.below(bi as usize, target, oj + b, oi + a)
+                        };
+                        self.u[index] += h[a * dj + b][row];
                     }
                 }
             }
@@ -510,7 +548,7 @@ where
                 let mut off = 0;
                 for (&(si, sj), h) in pairs.iter().zip(&hessian) {
                     if si == sj {
-                        sink.add_diagonal(roles[si], h, row, structure);
+                        sink.add_diagonal(roles[si], self.tangents[si], h, row, structure);
                     } else {
                         let (di, dj) = (self.tangents[si], self.tangents[sj]);
                         sink.add_pair(

@@ -39,8 +39,11 @@
 //! must match to 1e-6 relative, and on this project's machine 8 × `f64`
 //! was no faster.
 
+mod csc;
 mod group;
 pub mod lm;
+mod ordering;
+mod partition;
 mod passes;
 pub mod problem;
 pub mod problems;

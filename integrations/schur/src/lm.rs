@@ -25,11 +25,12 @@ use std::time::{Duration, Instant};
 use factor_apex::solve::{Iteration, SolveOptions, Verdict};
 
 use crate::group::{Rejected, Values};
+use crate::partition::Partition;
 use crate::passes;
 use crate::problem::Problem;
 use crate::reduced::ReducedSolver;
 use crate::schur::{self, Normal, StepBuffers, StepTimes};
-use crate::structure::{Partition, Structure};
+use crate::structure::Structure;
 
 const INITIAL_DAMPING: f64 = 1e-4;
 const MIN_DAMPING: f64 = 1e-12;

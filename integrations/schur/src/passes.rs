@@ -8,10 +8,11 @@ use factor_apex::problems::Robust;
 use rayon::prelude::*;
 
 use crate::group::{Rejected, Sink, Values};
+use crate::partition::Partition;
 use crate::problem::Problem;
 use crate::robust;
 use crate::schur::{Normal, StepBuffers};
-use crate::structure::{Partition, Role, Structure};
+use crate::structure::{Role, Structure};
 
 /// `Σ ½ ρ(‖rᵢ‖²)` at `values`, each factor's `‖rᵢ‖²` kept in `squared` (one
 /// vector per group, in its factors' order): NaN when a factor rejects its
@@ -150,23 +151,27 @@ pub(crate) fn retract(
     candidate: &mut [f64],
 ) {
     let variables = &problem.variables;
+    let order = &structure.storage_order;
     let parts = rayon::current_num_threads().max(1);
-    let per = variables.len().div_ceil(parts).max(1);
+    let per = order.len().div_ceil(parts).max(1);
+    // Piece p holds the values of the variables order[p·per..(p + 1)·per].
     let bounds: Vec<usize> = (0..=parts)
-        .map(|p| (p * per).min(variables.len()))
-        .map(|v| variables.get(v).map_or(values.len(), |x| x.offset))
+        .map(|p| {
+            order
+                .get(p * per)
+                .map_or(values.len(), |&id| variables[id as usize].offset)
+        })
         .collect();
     let pieces = split_at_bounds(candidate, &bounds);
     pieces.into_par_iter().enumerate().for_each(|(p, piece)| {
         let base = bounds[p];
-        let first = (p * per).min(variables.len());
-        let last = ((p + 1) * per).min(variables.len());
-        for (id, variable) in variables.iter().enumerate().take(last).skip(first) {
+        for &id in order.iter().skip(p * per).take(per) {
+            let (id, variable) = (id as usize, &variables[id as usize]);
             let delta = match structure.roles[id] {
                 Role::Fixed => continue,
-                Role::Reduced { block } => {
-                    let o = structure.csc.offsets[block as usize];
-                    &buffers.reduced[o..o + structure.csc.dims[block as usize]]
+                Role::Reduced { block, offset } => {
+                    let o = structure.csc.offsets[block as usize] + offset as usize;
+                    &buffers.reduced[o..o + variable.chart.map_or(0, |c| c.tangent)]
                 }
                 Role::Eliminated { index } => {
                     let el = &structure.eliminated;

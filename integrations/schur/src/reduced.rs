@@ -15,7 +15,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
 use crate::SchurError;
-use crate::structure::BlockCsc;
+use crate::csc::BlockCsc;
 
 /// The transpose of the `n × n` compressed-column pattern `(col_ptr,
 /// row_idx)`, its rows sorted.

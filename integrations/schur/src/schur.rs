@@ -27,8 +27,10 @@
 
 use rayon::prelude::*;
 
+use crate::csc::BlockCsc;
+use crate::partition::Partition;
 use crate::passes::split_at_bounds;
-use crate::structure::{BlockCsc, Eliminated, MAX_ELIMINATED, Partition, Structure};
+use crate::structure::{Eliminated, MAX_ELIMINATED, Structure};
 
 /// Ceres' (and apex-solver's) bounds on the diagonal `D`.
 const MIN_DIAGONAL: f64 = 1e-6;
@@ -615,11 +617,12 @@ mod dense {
 
     use super::*;
     use crate::group::Values;
+    use crate::partition::Partition;
     use crate::passes;
     use crate::problems::{Keys, build};
     use crate::reduced::ReducedSolver;
     use crate::robust;
-    use crate::structure::{Partition, Role};
+    use crate::structure::Role;
 
     /// 4 cameras (camera 0's pose fixed: 30 reduced coordinates), 24
     /// points seen 3 times each, 5% outliers, under Huber's loss.
@@ -652,7 +655,9 @@ mod dense {
         let n = structure.csc.dim();
         let total = n + structure.eliminated.tangent.last().unwrap();
         let coordinate = |id: crate::VariableId| match structure.roles[id.index()] {
-            Role::Reduced { block } => Some(structure.csc.offsets[block as usize]),
+            Role::Reduced { block, offset } => {
+                Some(structure.csc.offsets[block as usize] + offset as usize)
+            }
             Role::Eliminated { index } => Some(n + structure.eliminated.tangent[index as usize]),
             Role::Fixed => None,
         };
