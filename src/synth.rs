@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use slam_data::bal;
-use slam_data::synthetic::{SyntheticConfig, generate};
+use slam_data::synthetic::{SyntheticConfig, Visibility, generate};
 
 use crate::error::CliError;
 
@@ -18,6 +18,8 @@ pub struct SynthArgs {
     pub points: usize,
     /// Cameras that see each point.
     pub views: usize,
+    /// Which cameras see a point: spread around the ring, or consecutive.
+    pub visibility: Visibility,
     /// Seed of the random generator.
     pub seed: u64,
     /// Fraction of observations that are outliers.
@@ -37,6 +39,7 @@ pub fn run(args: &SynthArgs, output: &Path) -> Result<String, CliError> {
         cameras: args.cameras,
         points: args.points,
         views_per_point: args.views,
+        visibility: args.visibility,
         seed: args.seed,
         pixel_sigma: args.noise,
         outlier_fraction: args.outliers,

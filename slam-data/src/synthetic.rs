@@ -11,7 +11,15 @@
 //!
 //! Each point is seen by `views_per_point` cameras of the ring starting at a
 //! uniformly drawn one, with a stride that spreads them over about 60° of
-//! the ring. An observation is an outlier with probability
+//! the ring ([`Visibility::Ring`]: every camera shares points with cameras
+//! all around the ring). With [`Visibility::Local`], as in a real
+//! reconstruction from a sequence, each point is seen by consecutive
+//! cameras and lies near them: in front of the middle one of its views, at
+//! a distance of about twice the baseline its views span (so that they
+//! see it about 28° apart, at most the ring radius), jittered within its
+//! image, and every view inside its image (redrawn until it is); each
+//! camera then shares points with its `views_per_point − 1` neighbours on
+//! either side only. An observation is an outlier with probability
 //! `outlier_fraction` (default 5%), drawn uniformly in the image; otherwise
 //! it is the exact projection plus Gaussian noise of `pixel_sigma` (default
 //! 1 px) on each coordinate.
@@ -31,7 +39,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use crate::bal::{BalCamera, BalProblem, Observation};
-use crate::camera::SnavelyIntrinsics;
+use crate::camera::{SnavelyCamera, SnavelyIntrinsics};
 
 /// Radius of the ring of cameras.
 pub const RING_RADIUS: f64 = 10.0;
@@ -48,6 +56,17 @@ pub const IMAGE_HEIGHT: f64 = 768.0;
 /// Most observations a generated problem may have (10⁸, about 3 GB).
 pub const MAX_OBSERVATIONS: usize = 100_000_000;
 
+/// Which cameras see a point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Visibility {
+    /// Cameras spread over about 60° of the ring, points in the central
+    /// ball.
+    #[default]
+    Ring,
+    /// Consecutive cameras, points near them (module documentation).
+    Local,
+}
+
 /// What to generate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SyntheticConfig {
@@ -57,6 +76,8 @@ pub struct SyntheticConfig {
     pub points: usize,
     /// Cameras that see each point (2 to `cameras`).
     pub views_per_point: usize,
+    /// Which cameras see a point, and where the points are.
+    pub visibility: Visibility,
     /// Seed of the random generator.
     pub seed: u64,
     /// Standard deviation of the pixel noise of inliers (px).
@@ -87,6 +108,7 @@ impl SyntheticConfig {
             cameras: (observations / 1000).max(10),
             points: observations.div_ceil(views_per_point),
             views_per_point,
+            visibility: Visibility::Ring,
             seed,
             pixel_sigma: 1.0,
             outlier_fraction: 0.05,
@@ -175,17 +197,35 @@ pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError
     let true_cameras: Vec<BalCamera> = (0..config.cameras)
         .map(|i| ring_camera(i, config.cameras, &mut rng))
         .collect();
-    let true_points: Vec<Vector3<f64>> = (0..config.points)
-        .map(|_| point_in_ball(&mut rng))
-        .collect();
-
     // Projections go through the rotation matrices, computed once.
     let models: Vec<_> = true_cameras.iter().map(BalCamera::camera).collect();
-    let stride = view_stride(config.cameras, config.views_per_point);
+    let stride = match config.visibility {
+        Visibility::Ring => view_stride(config.cameras, config.views_per_point),
+        Visibility::Local => 1,
+    };
+    // A ring problem draws every point, then each point's first camera as
+    // its views are made; a local one draws the first camera before the
+    // point, which depends on it.
+    let mut true_points = Vec::with_capacity(config.points);
+    let mut local_firsts = Vec::new();
+    for _ in 0..config.points {
+        true_points.push(match config.visibility {
+            Visibility::Ring => point_in_ball(&mut rng),
+            Visibility::Local => {
+                let first = rng.random_range(0..config.cameras);
+                local_firsts.push(first);
+                local_point(first, config, &models, &mut rng)?
+            }
+        });
+    }
+
     let mut observations = Vec::with_capacity(config.points * config.views_per_point);
     let mut outliers = Vec::new();
     for (j, point) in true_points.iter().enumerate() {
-        let first = rng.random_range(0..config.cameras);
+        let first = match config.visibility {
+            Visibility::Ring => rng.random_range(0..config.cameras),
+            Visibility::Local => local_firsts[j],
+        };
         for v in 0..config.views_per_point {
             let camera = (first + v * stride) % config.cameras;
             let pixel = if rng.random_bool(config.outlier_fraction) {
@@ -258,6 +298,49 @@ fn point_in_ball(rng: &mut ChaCha8Rng) -> Vector3<f64> {
             return p * SCENE_RADIUS;
         }
     }
+}
+
+/// Attempts at placing a point of [`Visibility::Local`] inside every image
+/// of its views.
+const LOCAL_ATTEMPTS: usize = 1000;
+
+/// A point seen by the `views_per_point` consecutive cameras from `first`:
+/// in front of the middle one, at about twice the baseline they span (at
+/// most the ring radius, at least a tenth of it), jittered across its
+/// image, inside every image of its views.
+fn local_point(
+    first: usize,
+    config: &SyntheticConfig,
+    models: &[SnavelyCamera],
+    rng: &mut ChaCha8Rng,
+) -> Result<Vector3<f64>, SyntheticError> {
+    let n = config.cameras;
+    let views = config.views_per_point;
+    let spacing = std::f64::consts::TAU * RING_RADIUS / n as f64;
+    let distance = (2.0 * (views - 1) as f64 * spacing).clamp(0.1 * RING_RADIUS, RING_RADIUS);
+    let middle = &models[(first + (views - 1) / 2) % n];
+    // World to camera: the camera's axes are the rows of R; it looks down
+    // its −z axis.
+    let centre = middle.centre();
+    let axis = |k: usize| middle.rotation.matrix().row(k).transpose();
+    for _ in 0..LOCAL_ATTEMPTS {
+        let depth = distance * rng.random_range(0.7..1.3);
+        let point = centre - axis(2) * depth
+            + axis(0) * (depth * rng.random_range(-0.2..0.2))
+            + axis(1) * (depth * rng.random_range(-0.15..0.15));
+        let visible = (0..views).all(|v| {
+            models[(first + v) % n]
+                .project(&point)
+                .is_some_and(|pixel| in_image(&(pixel * 1.05)))
+        });
+        if visible {
+            return Ok(point);
+        }
+    }
+    Err(SyntheticError(format!(
+        "local visibility: no point in every image of {views} consecutive cameras of {n} \
+         after {LOCAL_ATTEMPTS} attempts (use fewer views or more cameras)"
+    )))
 }
 
 /// Step between the cameras of a point so that its views span about 60° of
