@@ -16,6 +16,9 @@ pub(crate) struct BlockCsc {
     pub(crate) dims: Vec<usize>,
     /// Each block's first scalar row (and column).
     pub(crate) offsets: Vec<usize>,
+    /// Where each diagonal block starts among the blocks kept whole
+    /// ([`BlockCsc::fold_diagonal`]); one more than the blocks.
+    pub(crate) dense: Vec<usize>,
     /// The index of each block column's first entry.
     column_start: Vec<usize>,
     /// The rows below each block column's diagonal block.
@@ -74,6 +77,23 @@ impl BlockCsc {
             .map(|k| blocks[k].1)
     }
 
+    /// Adds the diagonal blocks kept whole in `dense` (block `v`'s `d × d`
+    /// entries row-major from `dense[v]`, each entry `(r, c)` and `(c, r)`
+    /// of the symmetric block accumulated in either place) into their lower
+    /// triangles in `values`.
+    pub(crate) fn fold_diagonal(&self, dense: &[f64], values: &mut [f64]) {
+        for (v, &d) in self.dims.iter().enumerate() {
+            let block = &dense[self.dense[v]..self.dense[v + 1]];
+            for c in 0..d {
+                let base = self.col_ptr[self.offsets[v] + c];
+                values[base] += block[c * d + c];
+                for r in c + 1..d {
+                    values[base + r - c] += block[r * d + c] + block[c * d + r];
+                }
+            }
+        }
+    }
+
     /// `Σ_v xᵀ S x` over the symmetric matrix whose lower triangle is
     /// `values`.
     pub(crate) fn quadratic_form(&self, values: &[f64], x: &[f64]) -> f64 {
@@ -93,14 +113,19 @@ impl BlockCsc {
     /// `below[v]` (increasing) under their diagonal.
     pub(crate) fn new(dims: Vec<usize>, below: &[Vec<u32>]) -> Self {
         let mut offsets = Vec::with_capacity(dims.len());
-        let mut n = 0;
+        let mut dense = Vec::with_capacity(dims.len() + 1);
+        let (mut n, mut squares) = (0, 0);
         for d in &dims {
             offsets.push(n);
+            dense.push(squares);
             n += d;
+            squares += d * d;
         }
+        dense.push(squares);
         let mut csc = BlockCsc {
             dims,
             offsets,
+            dense,
             column_start: Vec::with_capacity(below.len()),
             rows_below: Vec::with_capacity(below.len()),
             below_blocks: Vec::new(),

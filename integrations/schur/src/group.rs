@@ -51,11 +51,14 @@ impl Rejected {
 }
 
 /// Where one thread's linearization writes: its own accumulators of the
-/// reduced blocks (`u`: the entries of `S`'s structure, `g_reduced`: the
-/// reduced gradient), and the slices of the eliminated variables' data of
+/// reduced blocks (`u`: the entries of `S`'s structure off the diagonal
+/// blocks, `diagonal`: the diagonal blocks whole, where a factor's entries
+/// go at fixed strides, `g_reduced`: the reduced gradient), and the slices of the eliminated variables' data of
 /// its range, which starts at eliminated variable `first`.
 pub(crate) struct Sink<'a> {
     pub(crate) u: &'a mut [f64],
+    /// The diagonal blocks of `U`, each kept whole (`BlockCsc::dense`).
+    pub(crate) diagonal: &'a mut [f64],
     pub(crate) g_reduced: &'a mut [f64],
     pub(crate) first: usize,
     pub(crate) g_eliminated: &'a mut [f64],
@@ -120,15 +123,16 @@ impl Sink<'_> {
         structure: &Structure,
     ) {
         match role {
-            // Row a of the kernel's triangle is column a of S's lower one,
-            // whose rows from the diagonal on are the variable's.
+            // Rows a of the kernel's upper triangle, into the whole block.
             Role::Reduced { block, offset } => {
                 let csc = &structure.csc;
-                let o = csc.offsets[block as usize] + offset as usize;
+                let (b, o) = (block as usize, offset as usize);
+                let db = csc.dims[b];
+                let whole = &mut self.diagonal[csc.dense[b]..csc.dense[b + 1]];
                 let mut c = 0;
                 for a in 0..d {
-                    let base = csc.col_ptr[o + a];
-                    for (t, column) in self.u[base..base + d - a].iter_mut().zip(&h[c..c + d - a]) {
+                    let at = (o + a) * db + o + a;
+                    for (t, column) in whole[at..at + d - a].iter_mut().zip(&h[c..c + d - a]) {
                         *t += column[row];
                     }
                     c += d - a;
@@ -162,8 +166,8 @@ impl Sink<'_> {
     ) {
         let csc = &structure.csc;
         match (i, j) {
-            // Both in one block: its diagonal block's lower triangle holds
-            // J_iᵀ J_j or its transpose, entry by entry.
+            // Both in one block: J_iᵀ J_j at their offsets in the whole
+            // diagonal block.
             (
                 Role::Reduced {
                     block: bi,
@@ -174,12 +178,13 @@ impl Sink<'_> {
                     offset: oj,
                 },
             ) if bi == bj => {
-                let o = csc.offsets[bi as usize];
+                let b = bi as usize;
+                let db = csc.dims[b];
+                let whole = &mut self.diagonal[csc.dense[b]..csc.dense[b + 1]];
                 for a in 0..di {
-                    for b in 0..dj {
-                        let (r, c) = (o + oi as usize + a, o + oj as usize + b);
-                        let (r, c) = (r.max(c), r.min(c));
-                        self.u[csc.col_ptr[c] + r - c] += h[a * dj + b][row];
+                    let at = (oi as usize + a) * db + oj as usize;
+                    for (t, column) in whole[at..at + dj].iter_mut().zip(&h[a * dj..(a + 1) * dj]) {
+                        *t += column[row];
                     }
                 }
             }
@@ -245,8 +250,9 @@ pub(crate) trait Group: Send + Sync {
     fn slot_info(&self) -> &[SlotInfo];
     /// Every factor's variable ids, `slots()` per factor.
     fn variable_ids(&self) -> &[u32];
-    /// Puts factor `order[i]` at `i`.
-    fn reorder(&mut self, order: &[usize]);
+    /// Puts factor `order[i]` at `i`, each variable `id` renamed
+    /// `rename[id]`.
+    fn reorder(&mut self, order: &[usize], rename: &[u32]);
     /// Each factor's block targets ([`Structure`]), one per pair of slots.
     fn set_targets(&mut self, targets: Vec<u32>);
     /// `‖rᵢ‖²` of factors `range` into `squared` (NaN for a factor whose
@@ -433,11 +439,13 @@ where
         &self.ids
     }
 
-    fn reorder(&mut self, order: &[usize]) {
+    fn reorder(&mut self, order: &[usize], rename: &[u32]) {
         let (k, c) = (self.tangents.len(), self.constant_scalars);
-        let ids = order
-            .iter()
-            .flat_map(|&i| self.ids[i * k..(i + 1) * k].iter().copied());
+        let ids = order.iter().flat_map(|&i| {
+            self.ids[i * k..(i + 1) * k]
+                .iter()
+                .map(|&id| rename[id as usize])
+        });
         self.ids = ids.collect();
         let constants = order
             .iter()

@@ -145,7 +145,11 @@ impl<'p> Solver<'p> {
         };
         let squared: Vec<Vec<f64>> = problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
         let mut solver = Solver {
-            offsets: problem.variables.iter().map(|v| v.offset).collect(),
+            offsets: structure
+                .storage_order
+                .iter()
+                .map(|&id| problem.variables[id as usize].offset)
+                .collect(),
             candidate: problem.values.clone(),
             trial_squared: squared.clone(),
             squared,

@@ -88,13 +88,27 @@ pub(crate) fn linearize(
         squared.iter().map(|s| weights(problem.robust, s)).collect();
     // The eliminated variables' data are zeroed as they are reached.
     normal.u.fill(0.0);
+    normal.diagonal.fill(0.0);
     normal.g_reduced.fill(0.0);
-    let mut copies: Vec<(Vec<f64>, Vec<f64>)> = (1..parts)
-        .map(|_| (vec![0.0; normal.u.len()], vec![0.0; normal.g_reduced.len()]))
+    let mut copies: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (1..parts)
+        .map(|_| {
+            (
+                vec![0.0; normal.u.len()],
+                vec![0.0; normal.diagonal.len()],
+                vec![0.0; normal.g_reduced.len()],
+            )
+        })
         .collect();
-    let mut reduced: Vec<(&mut [f64], &mut [f64])> =
-        vec![(&mut normal.u[..], &mut normal.g_reduced[..])];
-    reduced.extend(copies.iter_mut().map(|(u, g)| (&mut u[..], &mut g[..])));
+    let mut reduced: Vec<(&mut [f64], &mut [f64], &mut [f64])> = vec![(
+        &mut normal.u[..],
+        &mut normal.diagonal[..],
+        &mut normal.g_reduced[..],
+    )];
+    reduced.extend(
+        copies
+            .iter_mut()
+            .map(|(u, d, g)| (&mut u[..], &mut d[..], &mut g[..])),
+    );
     let g = split_at_bounds(&mut normal.g_eliminated, &at(&el.tangent));
     let v = split_at_bounds(&mut normal.v, &at(&el.packed));
     let w = split_at_bounds(&mut normal.w, &at(&el.cross));
@@ -107,9 +121,10 @@ pub(crate) fn linearize(
         .collect();
     let kernels: Duration = work
         .into_par_iter()
-        .map(|(t, ((((u, g_reduced), g_eliminated), v), w))| {
+        .map(|(t, ((((u, diagonal, g_reduced), g_eliminated), v), w))| {
             let mut sink = Sink {
                 u,
+                diagonal,
                 g_reduced,
                 first: bounds[t],
                 g_eliminated,
@@ -131,12 +146,16 @@ pub(crate) fn linearize(
             sink.kernels
         })
         .sum();
-    for (u, g) in &copies {
+    for (u, diagonal, g) in &copies {
         normal.u.par_iter_mut().zip(u).for_each(|(a, b)| *a += b);
+        for (a, b) in normal.diagonal.iter_mut().zip(diagonal) {
+            *a += b;
+        }
         for (a, b) in normal.g_reduced.iter_mut().zip(g) {
             *a += b;
         }
     }
+    structure.csc.fold_diagonal(&normal.diagonal, &mut normal.u);
     kernels
 }
 
@@ -165,9 +184,9 @@ pub(crate) fn retract(
     let pieces = split_at_bounds(candidate, &bounds);
     pieces.into_par_iter().enumerate().for_each(|(p, piece)| {
         let base = bounds[p];
-        for &id in order.iter().skip(p * per).take(per) {
-            let (id, variable) = (id as usize, &variables[id as usize]);
-            let delta = match structure.roles[id] {
+        for (i, &id) in order.iter().enumerate().skip(p * per).take(per) {
+            let variable = &variables[id as usize];
+            let delta = match structure.roles[i] {
                 Role::Fixed => continue,
                 Role::Reduced { block, offset } => {
                     let o = structure.csc.offsets[block as usize] + offset as usize;

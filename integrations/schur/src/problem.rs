@@ -234,6 +234,8 @@ impl Problem {
                         tangent: info.tangent,
                     });
                 }
+                // The same slot of the same factor type: the same chart.
+                Some(known) if (known.group, known.slot) == (group, slot) => {}
                 Some(known) => {
                     let first = &self.groups[known.group].slot_info()[known.slot];
                     if !first.same_chart(info) {

@@ -42,6 +42,9 @@ const MAX_DIAGONAL: f64 = 1e32;
 pub(crate) struct Normal {
     /// `U` in the structure of `S`.
     pub(crate) u: Vec<f64>,
+    /// Its diagonal blocks whole, as the linearization accumulates them
+    /// before they are folded into `u`.
+    pub(crate) diagonal: Vec<f64>,
     pub(crate) g_reduced: Vec<f64>,
     /// Each `V_e`, packed upper triangle.
     pub(crate) v: Vec<f64>,
@@ -55,6 +58,7 @@ impl Normal {
         let el = &structure.eliminated;
         Normal {
             u: vec![0.0; structure.csc.len()],
+            diagonal: vec![0.0; *structure.csc.dense.last().unwrap_or(&0)],
             g_reduced: vec![0.0; structure.csc.dim()],
             v: vec![0.0; *el.packed.last().unwrap_or(&0)],
             g_eliminated: vec![0.0; *el.tangent.last().unwrap_or(&0)],
@@ -264,16 +268,29 @@ fn eliminate_body(
             for b in 0..dv {
                 let top = start_j + b;
                 let column = &mut scratch.column[top..rows];
-                let z0 = &z[top..rows];
-                let c0 = z0[0];
-                for (t, x) in column.iter_mut().zip(z0) {
-                    *t = x * c0;
-                }
-                for k in 1..d {
-                    let zk = &z[k * rows + top..(k + 1) * rows];
-                    let c = zk[0];
-                    for (t, x) in column.iter_mut().zip(zk) {
-                        *t += x * c;
+                if d == 3 {
+                    // Points and landmarks: the three products in one pass.
+                    let (z0, z1, z2) = (
+                        &z[top..rows],
+                        &z[rows + top..2 * rows],
+                        &z[2 * rows + top..],
+                    );
+                    let (c0, c1, c2) = (z0[0], z1[0], z2[0]);
+                    for (((t, x0), x1), x2) in column.iter_mut().zip(z0).zip(z1).zip(z2) {
+                        *t = x0 * c0 + x1 * c1 + x2 * c2;
+                    }
+                } else {
+                    let z0 = &z[top..rows];
+                    let c0 = z0[0];
+                    for (t, x) in column.iter_mut().zip(z0) {
+                        *t = x * c0;
+                    }
+                    for k in 1..d {
+                        let zk = &z[k * rows + top..(k + 1) * rows];
+                        let c = zk[0];
+                        for (t, x) in column.iter_mut().zip(zk) {
+                            *t += x * c;
+                        }
                     }
                 }
                 // The diagonal block's rows b.., then each block below.
@@ -654,7 +671,9 @@ mod dense {
         };
         let n = structure.csc.dim();
         let total = n + structure.eliminated.tangent.last().unwrap();
-        let coordinate = |id: crate::VariableId| match structure.roles[id.index()] {
+        let coordinate = |id: crate::VariableId| match structure.roles
+            [structure.internal[id.index()] as usize]
+        {
             Role::Reduced { block, offset } => {
                 Some(structure.csc.offsets[block as usize] + offset as usize)
             }
@@ -705,7 +724,11 @@ mod dense {
         let n = structure.csc.dim();
         let el = &structure.eliminated;
         let problem = &built.problem;
-        let offsets: Vec<usize> = problem.variables.iter().map(|v| v.offset).collect();
+        let offsets: Vec<usize> = structure
+            .storage_order
+            .iter()
+            .map(|&id| problem.variables[id as usize].offset)
+            .collect();
         let values = Values {
             scalars: &problem.values,
             offsets: &offsets,

@@ -89,10 +89,14 @@ pub(crate) const MAX_SCALARS: usize = 128;
 /// Everything about the problem's shape the solve needs.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Structure {
-    /// Each variable's role.
+    /// Each variable's role, by its internal index.
     pub(crate) roles: Vec<Role>,
-    /// The variables in the order their values are stored.
+    /// The variables (their ids) by internal index: the order their values
+    /// are stored in, every other variable first, then the eliminated ones
+    /// in their order. The groups name variables by internal index.
     pub(crate) storage_order: Vec<u32>,
+    /// Each variable's internal index, by id.
+    pub(crate) internal: Vec<u32>,
     /// The variable of each eliminated index.
     pub(crate) eliminated_variable: Vec<u32>,
     pub(crate) csc: BlockCsc,
@@ -136,8 +140,9 @@ fn order_by(keys: &[u32], buckets: usize) -> Vec<usize> {
 
 impl Structure {
     /// The structure of `problem`; reorders each group's factors by their
-    /// eliminated variable and the eliminated variables' stored values,
-    /// and stores each factor's block targets in its group.
+    /// eliminated variable (naming their variables by internal index) and
+    /// the variables' stored values, and stores each factor's block targets
+    /// in its group.
     ///
     /// # Errors
     ///
@@ -304,9 +309,19 @@ impl Structure {
                 };
             }
         }
+        // Internal indices: the values' storage order.
+        let storage_order: Vec<u32> = (0..nv as u32)
+            .filter(|&id| eliminated_of[id as usize] == u32::MAX)
+            .chain(order.iter().map(|&old| eliminated_ids[old]))
+            .collect();
+        let mut internal = vec![0u32; nv];
+        for (i, &id) in storage_order.iter().enumerate() {
+            internal[id as usize] = i as u32;
+        }
         let mut s = Structure {
-            roles,
-            storage_order: Vec::with_capacity(nv),
+            roles: storage_order.iter().map(|&id| roles[id as usize]).collect(),
+            storage_order,
+            internal,
             eliminated_variable: order.iter().map(|&old| eliminated_ids[old]).collect(),
             csc,
             eliminated: Eliminated::default(),
@@ -325,7 +340,7 @@ impl Structure {
                 })
                 .collect();
             let order = order_by(&of, ne);
-            group.reorder(&order);
+            group.reorder(&order, &s.internal);
             s.factor_eliminated
                 .push(order.iter().map(|&i| of[i]).collect());
         }
@@ -377,12 +392,9 @@ impl Structure {
             }
             group.set_targets(targets);
         }
-        // The values: every other variable's, then the eliminated ones' in
-        // their order.
+        // The values in storage order.
         let mut values = Vec::with_capacity(problem.values.len());
-        let others = (0..nv as u32).filter(|&id| eliminated_of[id as usize] == u32::MAX);
-        for id in others.chain(s.eliminated_variable.iter().copied()) {
-            s.storage_order.push(id);
+        for &id in &s.storage_order {
             let v = &mut problem.variables[id as usize];
             values.extend_from_slice(&problem.values[v.offset..v.offset + v.scalars]);
             v.offset = values.len() - v.scalars;

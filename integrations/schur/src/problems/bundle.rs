@@ -6,6 +6,7 @@ use factor_core::lie::{Se3, Se3RhoTheta};
 use factor_core::{Factor, Storage};
 use nalgebra::{UnitQuaternion, Vector3};
 use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_factors::SnavelyReprojection;
 
 use super::{BuildError, Built, Keys};
 use crate::problem::{Problem, VariableId};
@@ -41,8 +42,16 @@ pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
         problem.eliminate(id);
         keys.points.push(id);
     }
+    // Each camera's pose and intrinsics set once, in a template factor (its
+    // first observation's), rather than at each observation.
+    let mut templates: Vec<Option<SnavelyReprojection>> = vec![None; bal.cameras.len()];
     for (k, o) in bal.observations.iter().enumerate() {
-        let factor = factor_of(bal, k);
+        let template = templates[o.camera].get_or_insert_with(|| factor_of(bal, k));
+        let factor = SnavelyReprojection {
+            observed: o.pixel,
+            point: bal.points[o.point],
+            ..template.clone()
+        };
         factor.validate().map_err(|error| BuildError::Degenerate {
             which: format!(
                 "observation {k} (camera {}, point {}) at the initial values",
