@@ -1,93 +1,55 @@
-//! `slamjac audit`: the documents' hand-derived formulas against the truth.
+//! `slamjac audit`: the hand-derived formulas of the two specification
+//! documents shipped in `documents/`, audited from their text with their
+//! symbols files. (The corpus of public derivations, `documents/corpus/`,
+//! is audited document by document, `slamjac audit DOC --symbols FILE`: its
+//! texts keep their own licences and are not built into the binary.)
 
-use std::io::Write;
 use std::path::Path;
 
-use factor_audit::{Finding, audit_documents, report};
-use serde_json::{Value, json};
-
+use crate::audit_text::{audit_document, check_samples, report_and_gate};
 use crate::error::{CliError, InputError};
 
-/// The most sampled points per formula `audit` accepts. The samples are
-/// streamed (memory does not grow with them), so the bound is on time: a run
-/// at it takes about 20 s in a release build, and agreement at that many
-/// points says no more than at the default 100.
-pub const MAX_SAMPLES: usize = 100_000;
-
-/// `Ok` when `samples` lies in `1..=MAX_SAMPLES`, else the one-line error
-/// (exit 2) of both audits.
-pub fn check_samples(samples: usize) -> Result<(), CliError> {
-    if (1..=MAX_SAMPLES).contains(&samples) {
-        Ok(())
-    } else {
-        Err(InputError::new(
-            "--samples",
-            format!("{samples} is out of range: must be between 1 and {MAX_SAMPLES}"),
-        )
-        .into())
-    }
+/// A document shipped in `documents/`: its file name, text and symbols file.
+pub struct Shipped {
+    /// The file name reports use.
+    pub name: &'static str,
+    /// The document.
+    pub text: &'static str,
+    /// Its symbols file.
+    pub symbols: &'static str,
 }
 
-/// Audits every transcribed formula at `samples` points, prints the table,
-/// writes the optional Markdown and JSON reports, and fails (exit 1) when a
-/// formula that is not a known erratum disagrees with the truth. `samples`
-/// must lie in `1..=MAX_SAMPLES` (else exit 2).
+/// Every document `slamjac audit` audits, built into the binary.
+pub const SHIPPED: &[Shipped] = &[
+    Shipped {
+        name: "000_29653f4af9b68bb8.txt",
+        text: include_str!("../documents/000_29653f4af9b68bb8.txt"),
+        symbols: include_str!("../documents/000_29653f4af9b68bb8.symbols.toml"),
+    },
+    Shipped {
+        name: "001_85032ab900231dbd.txt",
+        text: include_str!("../documents/001_85032ab900231dbd.txt"),
+        symbols: include_str!("../documents/001_85032ab900231dbd.symbols.toml"),
+    },
+];
+
+/// Audits every shipped document from its text at `samples` points a
+/// formula, prints the table, writes the optional Markdown and JSON
+/// reports, and fails (exit 1) when a verdict is not the one its symbols
+/// file expects, or (exit 2) when a claim its file does not expect unread
+/// cannot be read, unless `allow_unread`.
 pub fn run(
     samples: usize,
     markdown: Option<&Path>,
     json: Option<&Path>,
+    allow_unread: bool,
 ) -> Result<String, CliError> {
     check_samples(samples)?;
-    let findings = audit_documents(samples);
-    let write = |path: &Path, text: String| {
-        std::fs::write(path, text)
-            .map_err(|e| CliError::from(InputError::new(path.display().to_string(), e.to_string())))
-    };
-    if let Some(path) = markdown {
-        write(path, report::markdown(&findings))?;
+    let mut documents = Vec::with_capacity(SHIPPED.len());
+    for d in SHIPPED {
+        let audited = audit_document(d.name, d.text, d.symbols, samples)
+            .map_err(|e| InputError::new(d.name, e.to_string()))?;
+        documents.push((d.name.to_string(), audited));
     }
-    if let Some(path) = json {
-        write(path, json_report(&findings))?;
-    }
-    let table = report::table(&findings);
-    let unexpected: Vec<String> = findings
-        .iter()
-        .filter(|f| f.is_unexpected())
-        .map(|f| format!("{} {}", f.label.document, f.label.equation))
-        .collect();
-    if unexpected.is_empty() {
-        Ok(format!(
-            "{table}{} formulas audited at {samples} points each",
-            findings.len()
-        ))
-    } else {
-        // The table goes out before the one-line error.
-        let _ = write!(std::io::stdout().lock(), "{table}");
-        Err(CliError::Disagreement(unexpected))
-    }
-}
-
-/// One object per formula (see [`finding_json`]).
-fn json_report(findings: &[Finding]) -> String {
-    let entries: Vec<Value> = findings.iter().map(finding_json).collect();
-    serde_json::to_string_pretty(&entries).expect("serialisable") + "\n"
-}
-
-/// A formula's JSON object: document, equation, claim, verdict (`correct`,
-/// `convention`, `wrong` or `malformed`), max relative error, convention
-/// note, known erratum and corrected LaTeX.
-pub fn finding_json(f: &Finding) -> Value {
-    let note = report::note(f);
-    json!({
-        "document": f.label.document,
-        "equation": f.label.equation,
-        "claim": f.label.claim,
-        "verdict": f.verdict.keyword(),
-        "max_relative_error": f.max_relative_error.filter(|e| e.is_finite()),
-        "convention_note": (!note.is_empty()).then_some(note),
-        "known_erratum": f.label.known_erratum,
-        "corrected_latex": f.corrected_latex,
-        "chain_localisation": f.localisation,
-        "samples": f.samples,
-    })
+    report_and_gate(&documents, samples, markdown, json, allow_unread)
 }

@@ -10,8 +10,8 @@
 //!               [--plot FILE.svg]                                                # feature `solve`
 //! slamjac synth-bal --cameras N --points M [--views V] [--visibility ring|local] [--seed S]
 //!                   [--outliers F] [--noise σ] --output FILE
-//! slamjac audit [--samples N] [--markdown F] [--json F]          # the transcribed catalogues
-//! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]   # a document, from its text
+//! slamjac audit [--samples N] [--markdown F] [--json F] [--allow-unread]  # the shipped documents
+//! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]             # a document, from its text
 //! ```
 //!
 //! Exit codes: 0 success; 1 degenerate geometry, a non-finite result, or
@@ -85,15 +85,16 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         dir: Option<PathBuf>,
     },
-    /// Audit the hand-derived formulas of the specification documents
-    /// against the toolchain's derivatives; exit 1 when a formula that is not
-    /// a known erratum disagrees. With a DOCUMENT and --symbols, audit that
-    /// Markdown/LaTeX document straight from its text instead; exit 1 when
-    /// a verdict is not the one the symbols file expects.
+    /// Audit hand-derived formulas against the toolchain's derivatives,
+    /// straight from a document's text: without a DOCUMENT, the two
+    /// specification documents shipped in `documents/`; with a DOCUMENT
+    /// and --symbols, that Markdown/LaTeX document (the corpus of
+    /// `documents/corpus/` is audited so). Exit 1 when a verdict is not the
+    /// one the symbols file expects; exit 2 when a claim cannot be read
+    /// (unless --allow-unread).
     Audit {
         /// A Markdown/LaTeX document to audit from its text (needs
-        /// --symbols); without it, the transcribed formulas of the two
-        /// specification documents are audited.
+        /// --symbols); without it, the shipped documents are audited.
         #[arg(value_name = "DOCUMENT", requires = "symbols")]
         document: Option<PathBuf>,
         /// The symbols file (TOML) giving the document's symbols their
@@ -109,6 +110,10 @@ enum Command {
         /// Also write a JSON report here (one entry per formula).
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// Audit what can be read: claims that cannot be read (listed with
+        /// the notation or symbol at fault) do not fail the run.
+        #[arg(long)]
+        allow_unread: bool,
     },
     /// Solve a real estimation problem by Levenberg–Marquardt, its factors
     /// linearized by their generated kernels: bundle adjustment (BAL,
@@ -292,19 +297,22 @@ fn main() -> ExitCode {
             samples,
             markdown,
             json,
+            allow_unread,
         } => audit_text::run(
             &document,
             &symbols,
             samples,
             markdown.as_deref(),
             json.as_deref(),
+            allow_unread,
         ),
         Command::Audit {
             samples,
             markdown,
             json,
+            allow_unread,
             ..
-        } => audit::run(samples, markdown.as_deref(), json.as_deref()),
+        } => audit::run(samples, markdown.as_deref(), json.as_deref(), allow_unread),
         Command::Solve {
             file,
             format,

@@ -5,8 +5,9 @@
 
 use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
 use slam_factors::{
-    BetweenFactor, FreeLineFactor, LineReprojection, PlaneFactor, PluckerLineReprojection,
-    PointReprojection, SnavelyReprojection, StereoReprojection,
+    BetweenFactor, FreeLineFactor, G2oLineEdge, G2oPlaneEdge, G2oSe3Edge, LineObservation,
+    LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection, SnavelyReprojection,
+    StereoReprojection,
 };
 
 use crate::decode::{decode, json_shape};
@@ -76,9 +77,13 @@ pub fn factors() -> Vec<FactorEntry> {
         FactorEntry::of::<PlaneFactor>(),
         FactorEntry::of::<FreeLineFactor>(),
         FactorEntry::of::<PluckerLineReprojection>(),
+        FactorEntry::of::<LineObservation>(),
         FactorEntry::of::<SnavelyReprojection>(),
         FactorEntry::of::<StereoReprojection>(),
         FactorEntry::of::<BetweenFactor>(),
+        FactorEntry::of::<G2oSe3Edge>(),
+        FactorEntry::of::<G2oLineEdge>(),
+        FactorEntry::of::<G2oPlaneEdge>(),
     ]
 }
 

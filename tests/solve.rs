@@ -81,8 +81,9 @@ fn assert_relative(value: f64, expected: f64, tolerance: f64, what: &str) {
 }
 
 /// The tolerance on final costs: `solve` stops (by default) when an
-/// accepted step lowers the cost by less than 1e-6 relative, so it ends
-/// within about that of the optimum (run to the optimum, the two agree to
+/// accepted step lowers the cost by less than 1e-8 relative, and the
+/// issue's requirement is to end within 1e-6 of GTSAM's optimum (run to the
+/// optimum, the two agree to
 /// 2e-8 or better, KITTI VO to 3e-6 for the reason given at its test: the
 /// `compare` binary of `integrations/apex`, in `bench-peers/README.md`).
 const STOPPING: f64 = 1e-6;
@@ -111,6 +112,20 @@ fn pose3example_reaches_gtsams_optimum() {
     let (initial, last) = costs(&output);
     assert_relative(initial, 64941.32288838, 1e-9, "initial cost");
     assert_relative(last, 18853.020732555, STOPPING, "final cost");
+}
+
+/// GTSAM (`load3D`, poses chained through the odometry, LM to relative and
+/// absolute error tolerances of 1e-12, 113 iterations): 12280978.769842 →
+/// 1132.9919955365. With the default options (uniform damping for pose
+/// graphs, cost tolerance 1e-8) `solve` stops within [`STOPPING`] of that
+/// optimum, where apex's defaults stopped 0.14% above it.
+#[test]
+fn sphere2500_reaches_gtsams_optimum_with_the_defaults() {
+    let output = solve_ok(&["solve", &data("sphere2500.txt")]);
+    let (initial, last) = costs(&output);
+    assert_relative(initial, 12280978.769842198, 1e-9, "initial cost");
+    assert_relative(last, 1132.9919955365212, STOPPING, "final cost");
+    assert!(stdout(&output).contains("converged (the last step"));
 }
 
 /// GTSAM: 14538.70641 → 1577.0301094628. Tolerance 1e-5 relative: GTSAM

@@ -184,11 +184,15 @@ pub struct Symbol {
     pub font: Font,
     /// Its accent, if any.
     pub accent: Option<Accent>,
-    /// `Some` for an increment `\delta x` (or `\boldsymbol{\delta} x`): the
-    /// font of the `δ`.
+    /// `Some` for an increment `\delta x` (or `\boldsymbol{\delta} x`,
+    /// `\Delta x`): the font of the `δ`.
     pub delta: Option<Font>,
-    /// Primes, wherever printed (`q'_4`, `\mathbf{q'}`, `p_i^{1'}`).
+    /// The increment's `δ` is a capital `\Delta`.
+    pub capital_delta: bool,
+    /// Primes printed on the symbol (`q'_4`, `\mathbf{q'}`, `Z'^2`, `x^\prime`).
     pub primes: u32,
+    /// Primes printed at the end of its superscript (`p_i^{1'}`).
+    pub sup_primes: u32,
     /// The subscript (an index: `R_j`, `C_{CB}`, `I_{3\times3}`).
     pub sub: Option<Box<Expr>>,
     /// The superscript that is not a postfix marker nor a negative or
@@ -208,7 +212,9 @@ impl Symbol {
             font: Font::Plain,
             accent: None,
             delta: None,
+            capital_delta: false,
             primes: 0,
+            sup_primes: 0,
             sub: None,
             sup: None,
             pre_sub: None,
@@ -240,7 +246,9 @@ pub enum Font {
     Bold,
     /// `\mathcal`.
     Calligraphic,
-    /// `\mathbb`.
+    /// `\bm{\mathcal{…}}`, `\boldsymbol{\mathcal{…}}`.
+    BoldCalligraphic,
+    /// `\mathbb`, `\mathds`, `\mathbbm`.
     Blackboard,
     /// `\mathrm`.
     Roman,
@@ -287,6 +295,8 @@ pub struct Function {
     pub name: String,
     /// The power on the name, if any.
     pub power: Option<Box<Expr>>,
+    /// A subscript on the name (`Ad_T`, `\log_2`), if any.
+    pub sub: Option<Box<Expr>>,
 }
 
 /// A matrix as printed: rows of entries (rows may differ in length).
@@ -379,6 +389,10 @@ pub enum PostfixOp {
     Hat,
     /// `^\vee`: the vee map.
     Vee,
+    /// Another operator printed as a superscript (`p^\odot`, `x^*`,
+    /// `A^\dagger`, `A^+`): its command name without backslash, or the
+    /// character. What it means is the symbols file's to say.
+    Operator(&'static str),
 }
 
 /// A relation.
@@ -428,6 +442,8 @@ pub enum Rel {
     Neq,
     /// `\propto`.
     Propto,
+    /// `\triangleq`, `:=`, `\coloneqq` (a definition).
+    Define,
     /// `:` (set-builder "such that").
     Colon,
 }

@@ -10,9 +10,20 @@ use std::sync::OnceLock;
 
 use crate::ast::{Expr, Statement};
 use crate::error::{Lines, LookupError, ParseError};
-use crate::extract::{MathKind, extract};
+use crate::extract::{MathKind, Syntax, extract};
 use crate::lines::{Line, lines};
+use crate::macros::Vocabulary;
 use crate::parser::{Parser, Place};
+
+/// How to read a document: its syntax, and words its formulas use as
+/// function names (`between(a, b)`) besides the built-in ones.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Options<'a> {
+    /// Markdown (the default) or LaTeX.
+    pub syntax: Syntax,
+    /// Extra function words.
+    pub words: &'a [&'a str],
+}
 
 /// A Markdown/LaTeX document and the formulas found in it.
 #[derive(Debug, Clone)]
@@ -20,6 +31,8 @@ pub struct Document {
     text: String,
     lines: Lines,
     formulas: Vec<Formula>,
+    /// Its macros and function words.
+    vocabulary: Vocabulary,
     /// Every formula's claims, read run by run on the first lookup that
     /// needs them, so that lookups stay linear in the document together.
     read: OnceLock<Vec<Result<Vec<Claim>, ParseError>>>,
@@ -34,6 +47,8 @@ pub struct Formula {
     pub kind: MathKind,
     /// Its equation label, without parentheses (`"5"`, `"4.27"`).
     pub label: Option<String>,
+    /// Its `\label{…}` names (`eq:Rot3action`).
+    pub names: Vec<String>,
     /// The bytes between its delimiters.
     pub span: Range<usize>,
     /// The 1-based line where it starts.
@@ -44,6 +59,8 @@ pub struct Formula {
     math: String,
     /// Only whitespace since the previous display: it may continue its chain.
     follows_display: bool,
+    /// The alignment environment its delimiters open (`\begin{align}`).
+    environment: Option<String>,
 }
 
 /// One line of a formula, read.
@@ -82,11 +99,27 @@ impl Claim {
 /// How to find a formula: by its printed label or by a piece of its text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Locator<'a> {
-    /// An equation label, with or without parentheses (`"(5)"`, `"4.27"`).
+    /// An equation label, with or without parentheses (`"(5)"`, `"4.27"`),
+    /// or the name of a `\label{…}` (`eq:Rot3action`).
     Label(&'a str),
     /// A piece of LaTeX inside the formula (whitespace does not matter) or,
     /// failing that, of the prose just before it.
     Anchor(&'a str),
+}
+
+/// Where an anchor was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Found<'d> {
+    /// Inside this formula's LaTeX.
+    Formula(&'d Formula),
+    /// Only in the prose, at this line; the formula is the first display
+    /// after it.
+    Prose {
+        /// The document line of the anchor.
+        line: usize,
+        /// The display after it.
+        after: &'d Formula,
+    },
 }
 
 impl<'a> Locator<'a> {
@@ -107,10 +140,18 @@ impl<'a> Locator<'a> {
 }
 
 impl Document {
-    /// The formulas of `text`; fails only on a `$$` never closed.
+    /// The formulas of a Markdown `text`; fails only on a display never
+    /// closed.
     pub fn parse(text: &str) -> Result<Self, ParseError> {
+        Self::parse_with(text, Options::default())
+    }
+
+    /// The formulas of `text` read as `options` say; fails only on a
+    /// display never closed.
+    pub fn parse_with(text: &str, options: Options) -> Result<Self, ParseError> {
         let lines = Lines::new(text);
-        let formulas = extract(text)?
+        let vocabulary = Vocabulary::scan(text, options.words, options.syntax == Syntax::Latex);
+        let formulas = extract(text, options.syntax)?
             .into_iter()
             .enumerate()
             .map(|(index, f)| {
@@ -123,11 +164,13 @@ impl Document {
                     index,
                     kind: f.kind,
                     label: f.label,
+                    names: f.names,
                     line: lines.line_of(f.span.start),
                     span: f.span,
                     source,
                     math,
                     follows_display: f.follows_display,
+                    environment: f.environment,
                 }
             })
             .collect();
@@ -135,8 +178,15 @@ impl Document {
             text: text.to_string(),
             lines,
             formulas,
+            vocabulary,
             read: OnceLock::new(),
         })
+    }
+
+    /// Its macros and function words: what the caller reads LaTeX written
+    /// about the document with ([`crate::parse_expr_with`]).
+    pub fn vocabulary(&self) -> &Vocabulary {
+        &self.vocabulary
     }
 
     /// The document's text.
@@ -164,7 +214,7 @@ impl Document {
                 let found: Vec<&Formula> = self
                     .formulas
                     .iter()
-                    .filter(|f| f.label.as_deref() == Some(l))
+                    .filter(|f| f.label.as_deref() == Some(l) || f.names.iter().any(|n| n == l))
                     .collect();
                 match found.as_slice() {
                     [f] => Ok(f),
@@ -185,9 +235,33 @@ impl Document {
                 match found.as_slice() {
                     [f] => Ok(f),
                     [] => self.display_after(a),
-                    many => Err(ambiguous(a, many.len())),
+                    many => Err(ambiguous(a, many.iter().map(|f| f.line).collect())),
                 }
             }
+        }
+    }
+
+    /// Where an anchor is: the one formula whose LaTeX holds it, or, when
+    /// none does, its one place in the prose and the display after it; the
+    /// caller says whether the latter will do (it never is silently).
+    pub fn locate(&self, anchor: &str) -> Result<Found<'_>, LookupError> {
+        let key = squeeze(anchor);
+        let found: Vec<&Formula> = self
+            .formulas
+            .iter()
+            .filter(|f| squeeze(&f.source).contains(&key))
+            .collect();
+        match found.as_slice() {
+            [f] => Ok(Found::Formula(f)),
+            [] => {
+                let at = self.place_in_text(anchor)?;
+                let after = self.display_after(anchor)?;
+                Ok(Found::Prose {
+                    line: self.lines.line_of(at),
+                    after,
+                })
+            }
+            many => Err(ambiguous(anchor, many.iter().map(|f| f.line).collect())),
         }
     }
 
@@ -213,14 +287,17 @@ impl Document {
             .filter(|(_, c)| !c.is_whitespace())
             .map(|(i, c)| (c, i))
             .unzip();
-        let hits: Vec<usize> = squeezed.match_indices(&key).map(|(i, _)| i).collect();
+        let hits: Vec<usize> = squeezed
+            .match_indices(&key)
+            .map(|(i, _)| offsets[squeezed[..i].chars().count()])
+            .collect();
         match hits.as_slice() {
-            [i] => {
-                let char_index = squeezed[..*i].chars().count();
-                Ok(offsets[char_index])
-            }
+            [at] => Ok(*at),
             [] => Err(LookupError::NoAnchor(crate::error::one_line(anchor, 60))),
-            many => Err(ambiguous(anchor, many.len())),
+            many => Err(ambiguous(
+                anchor,
+                many.iter().map(|at| self.lines.line_of(*at)).collect(),
+            )),
         }
     }
 
@@ -311,14 +388,42 @@ impl Document {
         match found.as_slice() {
             [one] => Ok(*one),
             [] => Ok((self.display_after(anchor)?.index, 0)),
-            many => Err(ambiguous(anchor, many.len())),
+            many => Err(ambiguous(
+                anchor,
+                many.iter().map(|(f, _)| self.formulas[*f].line).collect(),
+            )),
         }
+    }
+
+    /// The one line of any formula whose LaTeX holds the anchor, read;
+    /// unlike [`Document::claim`], an anchor found only in the prose is an
+    /// error ([`LookupError::AnchorInProse`]) naming where it is.
+    pub fn claim_in_formulas(&self, anchor: &str) -> Result<Claim, LookupError> {
+        let key = squeeze(anchor);
+        let in_formula = self
+            .formulas
+            .iter()
+            .any(|f| squeeze(&f.source).contains(&key));
+        if !in_formula {
+            let at = self.place_in_text(anchor)?;
+            return Err(LookupError::AnchorInProse {
+                anchor: crate::error::one_line(anchor, 60),
+                line: self.lines.line_of(at),
+            });
+        }
+        self.claim(anchor)
     }
 
     /// The formula's lines, or the error that keeps it from being split.
     fn lines_of(&self, index: usize) -> Result<Vec<Line>, ParseError> {
         let f = &self.formulas[index];
-        lines(&f.math).map_err(|(offset, kind)| {
+        lines(
+            &f.math,
+            &self.vocabulary,
+            f.span.start,
+            f.environment.as_deref(),
+        )
+        .map_err(|(offset, kind)| {
             ParseError::at(
                 &self.text,
                 &self.lines,
@@ -403,9 +508,10 @@ fn squeeze(s: &str) -> String {
     s.chars().filter(|c| !c.is_whitespace()).collect()
 }
 
-fn ambiguous(anchor: &str, count: usize) -> LookupError {
+fn ambiguous(anchor: &str, lines: Vec<usize>) -> LookupError {
     LookupError::AmbiguousAnchor {
         anchor: crate::error::one_line(anchor, 60),
-        count,
+        count: lines.len(),
+        lines,
     }
 }

@@ -66,12 +66,13 @@ pub enum ErrorKind {
     /// `\lfloor x \rfloor` without the `_\times` of a skew matrix.
     #[error("`\\lfloor … \\rfloor` without `_\\times`")]
     FloorWithoutTimes,
-    /// A subscript on a function name other than `\lim`.
-    #[error("subscript on the function `{0}`")]
-    FunctionSubscript(String),
     /// Nesting deeper than [`crate::MAX_DEPTH`].
     #[error("nesting deeper than {0} levels")]
     TooDeep(usize),
+    /// A macro whose expansion does not end, or grows past the bounds of
+    /// [`crate::macros`] (or uses a parameter it does not have).
+    #[error("the macro `\\{0}` expands without end or past the bounds")]
+    MacroExpansion(String),
 }
 
 /// A formula that could not be read: where (equation label, document line,
@@ -169,12 +170,28 @@ pub enum LookupError {
     #[error("the anchor `{0}` occurs nowhere in the document")]
     NoAnchor(String),
     /// The anchor occurs in several places; quote more of it.
-    #[error("the anchor `{anchor}` occurs in {count} places; quote more of it")]
+    #[error(
+        "the anchor `{anchor}` occurs in {count} places (lines {}); quote more of it",
+        lines.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+    )]
     AmbiguousAnchor {
         /// The anchor (on one line).
         anchor: String,
         /// How many places it occurs in.
         count: usize,
+        /// The document line of each place.
+        lines: Vec<usize>,
+    },
+    /// The anchor is in the prose only, not in any formula.
+    #[error(
+        "the anchor `{anchor}` is in no formula, only in the prose at line {line}; to audit the \
+         display after it, locate it with `after`"
+    )]
+    AnchorInProse {
+        /// The anchor (on one line).
+        anchor: String,
+        /// Its line.
+        line: usize,
     },
     /// The anchor is in the prose, and no display formula follows it.
     #[error("no display formula follows the anchor `{0}`")]

@@ -1,9 +1,16 @@
 //! Finding the math of a Markdown/LaTeX document: `$$…$$` displays (which
-//! may span lines) and `$…$` inline formulas, with their equation labels.
+//! may span lines) and `$…$` inline formulas, with their equation labels;
+//! LaTeX's `\[…\]`, `\(…\)` and display environments (`equation`,
+//! `align`, `gather`, `multline`, `eqnarray`, `flalign`, `alignat`, starred
+//! or not, `displaymath`); Doxygen's `\f$…\f$`, `\f[…\f]` and
+//! `\f{align}{…\f}`. A formula delimited by an alignment environment is read
+//! as one (its rows are its lines).
 //!
-//! Code blocks (``` or ~~~ fences) and code spans are skipped, `\$` is a
-//! dollar sign. An inline formula must close before a blank line; an
-//! unclosed `$` is text, an unclosed `$$` an error.
+//! In Markdown, code blocks (``` or ~~~ fences) and code spans are skipped;
+//! in LaTeX ([`Syntax::Latex`]) `%` starts a comment. `\$` is a dollar sign.
+//! An inline formula must close before a blank line, and a `$` inside
+//! braces (`\text{if $x$}`) does not close it; an unclosed `$` is text, an
+//! unclosed display an error.
 //!
 //! A display's label is a `\tag{…}` inside it, a trailing `(N)` after a
 //! spacing command (`\quad (1.1)`), a line `(N)` right after it, or a display
@@ -13,6 +20,37 @@
 use std::ops::Range;
 
 use crate::error::{ErrorKind, Lines, ParseError};
+
+/// How a document is written: Markdown with math (`%` is text), or LaTeX
+/// (`%` starts a comment, backticks are text).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Syntax {
+    /// Markdown with `$…$` and `$$…$$` math (the default).
+    #[default]
+    Markdown,
+    /// A LaTeX source (`.tex`).
+    Latex,
+}
+
+/// LaTeX environments that make a display, and whether each is an
+/// alignment (its rows are lines).
+const DISPLAY_ENVIRONMENTS: &[(&str, bool)] = &[
+    ("equation", false),
+    ("equation*", false),
+    ("displaymath", false),
+    ("align", true),
+    ("align*", true),
+    ("gather", true),
+    ("gather*", true),
+    ("multline", true),
+    ("multline*", true),
+    ("eqnarray", true),
+    ("eqnarray*", true),
+    ("flalign", true),
+    ("flalign*", true),
+    ("alignat", true),
+    ("alignat*", true),
+];
 
 /// Display or inline math.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,18 +74,33 @@ pub(crate) struct Found {
     pub label_span: Option<Range<usize>>,
     /// Only whitespace (and label lines) since the previous display.
     pub follows_display: bool,
+    /// Its `\label{…}` names.
+    pub names: Vec<String>,
+    /// The alignment environment its delimiters open (`\begin{align}`),
+    /// whose rows are its lines.
+    pub environment: Option<String>,
+}
+
+/// A formula delimited by LaTeX or Doxygen syntax at a `\`.
+struct Delimited {
+    kind: MathKind,
+    span: Range<usize>,
+    /// The byte after the closing delimiter.
+    end: usize,
+    environment: Option<String>,
 }
 
 /// Every formula of `text`, in order.
-pub(crate) fn extract(text: &str) -> Result<Vec<Found>, ParseError> {
+pub(crate) fn extract(text: &str, syntax: Syntax) -> Result<Vec<Found>, ParseError> {
     let b = text.as_bytes();
     let mut out: Vec<Found> = Vec::new();
     let mut last_display_end: Option<usize> = None;
     let mut i = 0;
     let mut line_start = true;
     let mut in_fence = false;
+    let markdown = syntax == Syntax::Markdown;
     while i < b.len() {
-        if line_start {
+        if line_start && markdown {
             line_start = false;
             let line = &text[i..line_end(text, i)];
             let trimmed = line.trim_start();
@@ -68,8 +121,48 @@ pub(crate) fn extract(text: &str) -> Result<Vec<Found>, ParseError> {
                 i += 1;
                 line_start = true;
             }
-            b'\\' => i += if b.get(i + 1) == Some(&b'$') { 2 } else { 1 },
-            b'`' => i = skip_code_span(text, i),
+            b'%' if !markdown => i = line_end(text, i),
+            b'\\' => match delimited(text, i, syntax)? {
+                Some(d) => {
+                    let names = label_names(&text[d.span.clone()]);
+                    let display = d.kind == MathKind::Display;
+                    let follows_display =
+                        display && last_display_end.is_some_and(|e| text[e..i].trim().is_empty());
+                    let (label, label_span) = if display {
+                        label_inside(&text[d.span.clone()])
+                    } else {
+                        (None, None)
+                    };
+                    let mut end = d.end;
+                    let mut label = label;
+                    if display {
+                        if let Some((after_label, line_label)) = label_after(text, end) {
+                            end = after_label;
+                            label = label.or(Some(line_label));
+                        }
+                        last_display_end = Some(end);
+                    }
+                    out.push(Found {
+                        kind: d.kind,
+                        span: d.span,
+                        label,
+                        label_span,
+                        follows_display,
+                        names,
+                        environment: d.environment,
+                    });
+                    line_start = text[..end].ends_with('\n');
+                    i = end;
+                }
+                None => {
+                    i += if b.get(i + 1).is_some_and(|c| *c == b'$' || *c == b'%') {
+                        2
+                    } else {
+                        1
+                    }
+                }
+            },
+            b'`' if markdown => i = skip_code_span(text, i),
             b'$' if b.get(i + 1) == Some(&b'$') => {
                 let open = i;
                 let Some(close) = text[i + 2..].find("$$").map(|k| i + 2 + k) else {
@@ -111,20 +204,24 @@ pub(crate) fn extract(text: &str) -> Result<Vec<Found>, ParseError> {
                 }
                 out.push(Found {
                     kind: MathKind::Display,
+                    names: label_names(&text[span.clone()]),
                     span,
                     label,
                     label_span,
                     follows_display,
+                    environment: None,
                 });
             }
             b'$' => match inline_close(text, i + 1) {
                 Some(close) => {
                     out.push(Found {
                         kind: MathKind::Inline,
+                        names: label_names(&text[i + 1..close]),
                         span: i + 1..close,
                         label: None,
                         label_span: None,
                         follows_display: false,
+                        environment: None,
                     });
                     i = close + 1;
                 }
@@ -161,14 +258,148 @@ fn skip_code_span(text: &str, i: usize) -> usize {
     i + run
 }
 
-/// The closing `$` of an inline formula whose content starts at `from`:
-/// unescaped, before a blank line, after a non-empty content.
-fn inline_close(text: &str, from: usize) -> Option<usize> {
+/// The formula whose LaTeX or Doxygen delimiter starts at the `\` at
+/// byte `at`, if one does.
+fn delimited(text: &str, at: usize, syntax: Syntax) -> Result<Option<Delimited>, ParseError> {
+    let rest = &text[at..];
+    let unterminated = || {
+        ParseError::at(
+            text,
+            &Lines::new(text),
+            at,
+            None,
+            ErrorKind::UnterminatedDisplay,
+        )
+    };
+    let pair = |open: &str, close: &str, kind: MathKind| -> Result<Option<Delimited>, ParseError> {
+        let from = at + open.len();
+        let close_at = find_outside_comments(text, from, close, syntax).ok_or_else(unterminated)?;
+        Ok(Some(Delimited {
+            kind,
+            span: from..close_at,
+            end: close_at + close.len(),
+            environment: None,
+        }))
+    };
+    if rest.starts_with("\\[") {
+        return pair("\\[", "\\]", MathKind::Display);
+    }
+    if rest.starts_with("\\(") {
+        return pair("\\(", "\\)", MathKind::Inline);
+    }
+    if rest.starts_with("\\f$") {
+        return pair("\\f$", "\\f$", MathKind::Inline);
+    }
+    if rest.starts_with("\\f[") {
+        return pair("\\f[", "\\f]", MathKind::Display);
+    }
+    if let Some(env_rest) = rest.strip_prefix("\\f{")
+        && let Some(close) = env_rest.find("}{")
+    {
+        let name = env_rest[..close].trim().to_string();
+        let mut d = match pair(&rest[..3 + close + 2], "\\f}", MathKind::Display)? {
+            Some(d) => d,
+            None => return Ok(None),
+        };
+        d.environment = alignment(&name).then_some(name);
+        return Ok(Some(d));
+    }
+    if let Some(env_rest) = rest.strip_prefix("\\begin{")
+        && let Some(close) = env_rest.find('}')
+        && let Some(&(name, aligned)) = DISPLAY_ENVIRONMENTS
+            .iter()
+            .find(|(n, _)| *n == &env_rest[..close])
+    {
+        let mut from = at + 8 + close;
+        if name.starts_with("alignat") {
+            // `\begin{alignat}{2}`: the column count.
+            let after = &text[from..];
+            let trimmed = after.trim_start();
+            if let Some(arg) = trimmed.strip_prefix('{')
+                && let Some(c) = arg.find('}')
+            {
+                from += after.len() - trimmed.len() + c + 2;
+            }
+        }
+        let end_tag = format!("\\end{{{name}}}");
+        let close_at =
+            find_outside_comments(text, from, &end_tag, syntax).ok_or_else(unterminated)?;
+        return Ok(Some(Delimited {
+            kind: MathKind::Display,
+            span: from..close_at,
+            end: close_at + end_tag.len(),
+            environment: aligned.then(|| name.to_string()),
+        }));
+    }
+    Ok(None)
+}
+
+/// Whether an environment named by a Doxygen delimiter is an alignment.
+fn alignment(name: &str) -> bool {
+    DISPLAY_ENVIRONMENTS
+        .iter()
+        .any(|(n, aligned)| *n == name && *aligned)
+}
+
+/// The first `needle` at or after `from`, outside LaTeX comments.
+fn find_outside_comments(text: &str, from: usize, needle: &str, syntax: Syntax) -> Option<usize> {
+    if syntax == Syntax::Markdown {
+        return text[from..].find(needle).map(|k| from + k);
+    }
     let b = text.as_bytes();
     let mut k = from;
     while k < b.len() {
+        // Bytes, not `str` slices: `k` may sit inside a character after
+        // a backslash (`\∂`).
+        if b[k..].starts_with(needle.as_bytes()) {
+            return Some(k);
+        }
         match b[k] {
             b'\\' => k += 2,
+            b'%' => k = line_end(text, k),
+            _ => k += 1,
+        }
+    }
+    None
+}
+
+/// The names of the `\label{…}`s in a formula's LaTeX.
+fn label_names(content: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = content;
+    while let Some(at) = rest.find("\\label") {
+        let after = rest[at + 6..].trim_start();
+        match after
+            .strip_prefix('{')
+            .and_then(|a| a.find('}').map(|c| &a[..c]))
+        {
+            Some(name) if !name.trim().is_empty() => out.push(name.trim().to_string()),
+            _ => {}
+        }
+        rest = &rest[at + 6..];
+    }
+    out
+}
+
+/// The closing `$` of an inline formula whose content starts at `from`:
+/// unescaped, outside braces (`\text{if $x$}` holds text math), before a
+/// blank line, after a non-empty content.
+fn inline_close(text: &str, from: usize) -> Option<usize> {
+    let b = text.as_bytes();
+    let mut k = from;
+    let mut braces = 0usize;
+    while k < b.len() {
+        match b[k] {
+            b'\\' => k += 2,
+            b'{' => {
+                braces += 1;
+                k += 1;
+            }
+            b'}' => {
+                braces = braces.saturating_sub(1);
+                k += 1;
+            }
+            b'$' if braces > 0 => k += 1,
             b'$' => {
                 return (!text[from..k].trim().is_empty()).then_some(k);
             }
@@ -244,7 +475,7 @@ mod tests {
     use super::*;
 
     fn labels(text: &str) -> Vec<(MathKind, String, Option<String>)> {
-        extract(text)
+        extract(text, Syntax::Markdown)
             .unwrap()
             .into_iter()
             .map(|f| (f.kind, text[f.span].to_string(), f.label))
@@ -278,14 +509,14 @@ mod tests {
 
     #[test]
     fn an_unclosed_display_is_an_error() {
-        let e = extract("text $$ a = b").unwrap_err();
+        let e = extract("text $$ a = b", Syntax::Markdown).unwrap_err();
         assert_eq!(e.kind, ErrorKind::UnterminatedDisplay);
         assert_eq!(e.offset, 5);
     }
 
     #[test]
     fn runs_of_displays() {
-        let found = extract("$$a = b$$\n\n$$= c$$\ntext\n$$d$$").unwrap();
+        let found = extract("$$a = b$$\n\n$$= c$$\ntext\n$$d$$", Syntax::Markdown).unwrap();
         let follows: Vec<bool> = found.iter().map(|f| f.follows_display).collect();
         assert_eq!(follows, vec![false, true, false]);
     }

@@ -1,11 +1,16 @@
 //! Tokens of LaTeX math.
 //!
-//! Whitespace, comments, thin spaces (`\,` `\;` `\:` `\!`), sizing commands
-//! (`\big`, …), `\displaystyle`, `\hline`, `\label{…}`, `\tag{…}` and
-//! `\nonumber` produce no token. Wide spaces do: `\quad`/`\qquad` as
-//! [`Tok::Quad`], `\ `/`~`/`\hspace{…}` as [`Tok::Space`], because the
-//! documents separate row-vector entries (and statements) with them.
+//! Whitespace, comments, thin spaces (`\,` `\;` `\:` `\!`, `\kern…`),
+//! sizing commands (`\big`, …), `\displaystyle`, `\hline`, `\label{…}`,
+//! `\tag{…}`, `\nonumber`, `\color{…}`, `\phantom{…}`, `\vspace{…}`, the
+//! spacing of a row break `\\[1em]` and macro definitions met inside math
+//! (`\newcommand…`, collected by [`crate::macros`]) produce no token. Wide
+//! spaces do: `\quad`/`\qquad` as [`Tok::Quad`], `\ `/`~`/`\hspace{…}` as
+//! [`Tok::Space`], because the documents separate row-vector entries (and
+//! statements) with them. `\mbox{\boldmath $x$}` and `\text{$x$}`, text
+//! holding only math, are that math (bold for `\boldmath`).
 
+use crate::definition::definition;
 use crate::error::ErrorKind;
 use crate::names::function_word;
 
@@ -27,8 +32,11 @@ pub enum Tok {
     Number(String),
     /// One letter.
     Letter(char),
-    /// A run of letters that is a function name (`Exp`, `sinc`).
-    Word(&'static str),
+    /// A run of letters that is a function name (`Exp`, `sinc`, or a word
+    /// the caller names).
+    Word(String),
+    /// `#1` … `#9`: a parameter of a macro's body.
+    Param(u8),
     /// `\name` or `\c` (one non-letter) not handled below.
     Command(String),
     /// `\begin{name}`.
@@ -145,6 +153,13 @@ pub type LexError = (usize, ErrorKind);
 
 /// Commands that produce no token.
 const IGNORED: &[&str] = &[
+    "empty",
+    "space",
+    "allowbreak",
+    "nobreak",
+    "hfill",
+    "boldmath",
+    "unboldmath",
     "displaystyle",
     "textstyle",
     "scriptstyle",
@@ -169,16 +184,43 @@ const IGNORED: &[&str] = &[
 ];
 
 /// Commands whose braced argument is read raw and dropped.
-const IGNORED_WITH_ARGUMENT: &[&str] = &["label", "tag", "tag*"];
+const IGNORED_WITH_ARGUMENT: &[&str] = &[
+    "label", "tag", "tag*", "color", "phantom", "hphantom", "vphantom", "vspace", "vspace*",
+    "mspace",
+];
+
+/// Commands followed by a dimension (`\kern-.05em`), dropped with it.
+const IGNORED_WITH_DIMENSION: &[&str] = &["kern", "mkern", "hskip", "mskip", "vskip"];
+
+/// Text commands whose raw argument is kept.
+const TEXT_COMMANDS: &[&str] = &["text", "textrm", "textit", "textbf", "textnormal", "mbox"];
+
+/// How deep `\mbox{$…$}` may nest math in text in math.
+const MAX_TEXT_NESTING: usize = 8;
 
 /// The tokens of `src`.
+#[cfg(test)]
 pub fn lex(src: &str) -> Result<Vec<Token>, LexError> {
-    Lexer { src, pos: 0 }.run()
+    lex_words(src, &[])
+}
+
+/// The tokens of `src`, with `words` read as function names too.
+pub fn lex_words(src: &str, words: &[String]) -> Result<Vec<Token>, LexError> {
+    Lexer {
+        src,
+        pos: 0,
+        words,
+        nesting: 0,
+    }
+    .run()
 }
 
 struct Lexer<'a> {
     src: &'a str,
     pos: usize,
+    words: &'a [String],
+    /// How deep this text is in `\mbox{$…$}` math.
+    nesting: usize,
 }
 
 impl Lexer<'_> {
@@ -201,14 +243,28 @@ impl Lexer<'_> {
                     continue;
                 }
                 '\\' => match self.command()? {
-                    Some(t) => t,
+                    Some(Command::One(t)) => t,
+                    Some(Command::Many(toks)) => {
+                        out.extend(toks);
+                        continue;
+                    }
                     None => continue,
                 },
+                ':' if self.src[self.pos + 1..].starts_with('=') => {
+                    self.pos += 2;
+                    Tok::Command("coloneqq".into())
+                }
                 '0'..='9' => self.number(),
+                '#' if self.src[self.pos + 1..].starts_with(|d: char| ('1'..='9').contains(&d)) => {
+                    let d = self.src.as_bytes()[self.pos + 1] - b'0';
+                    self.pos += 2;
+                    Tok::Param(d)
+                }
                 c if c.is_ascii_alphabetic() => {
+                    let words = self.words;
                     let run = self.take_while(|c| c.is_ascii_alphabetic());
-                    if let Some(w) = function_word(run) {
-                        Tok::Word(w)
+                    if function_word(run).is_some() || words.iter().any(|w| w == run) {
+                        Tok::Word(run.to_string())
                     } else {
                         // One token per letter: `yy^T` is y · y^T.
                         for (i, c) in run.char_indices() {
@@ -267,8 +323,13 @@ impl Lexer<'_> {
     }
 
     /// The command at `\`; `None` when it produces no token.
-    fn command(&mut self) -> Result<Option<Tok>, LexError> {
+    fn command(&mut self) -> Result<Option<Command>, LexError> {
         let start = self.pos;
+        if let Some((_, end)) = definition(self.src, start) {
+            // A macro definition inside math: collected by the document.
+            self.pos = end;
+            return Ok(None);
+        }
         self.pos += 1;
         let Some(c) = self.peek() else {
             return Err((start, ErrorKind::LoneBackslash));
@@ -278,31 +339,43 @@ impl Lexer<'_> {
             return Ok(match c {
                 ',' | ';' | ':' | '!' | '>' => None,
                 ' ' | '\t' | '\n' | '\r' => Some(Tok::Space),
-                '\\' => Some(Tok::RowBreak),
+                '\\' => {
+                    self.row_break_spacing();
+                    Some(Tok::RowBreak)
+                }
                 '{' => Some(Tok::Open(Delim::Brace)),
                 '}' => Some(Tok::Close(Delim::Brace)),
                 '|' => Some(Tok::DoubleBar),
                 c => Some(Tok::Command(c.to_string())),
-            });
+            }
+            .map(Command::One));
         }
         let mut name = self.take_while(|c| c.is_ascii_alphabetic()).to_string();
-        if (name == "tag" || name == "begin" || name == "end") && self.peek() == Some('*') {
+        let starred = ["tag", "begin", "end", "operatorname", "vspace"];
+        if starred.contains(&name.as_str()) && self.peek() == Some('*') {
             // `\tag*{…}`; `\begin*` does not exist but costs nothing to allow.
             self.pos += 1;
-            name.push('*');
+            if name != "operatorname" {
+                name.push('*');
+            }
         }
         let tok = match name.as_str() {
             "begin" => Tok::Begin(self.raw_argument(start)?),
             "end" => Tok::End(self.raw_argument(start)?),
-            "text" | "textrm" | "textit" | "textbf" | "mbox" => {
-                Tok::Text(self.raw_argument(start)?)
+            n if TEXT_COMMANDS.contains(&n) => {
+                let content = self.raw_argument(start)?;
+                if let Some(toks) = self.text_math(&content, start)? {
+                    return Ok(Some(Command::Many(toks)));
+                }
+                Tok::Text(content)
             }
             "operatorname" => Tok::OperatorName(self.raw_argument(start)?),
-            "hspace" => {
+            "hspace" | "hspace*" => {
                 self.raw_argument(start)?;
                 Tok::Space
             }
             "quad" | "qquad" => Tok::Quad,
+            "cr" => Tok::RowBreak,
             "left" => Tok::Left(self.delimiter(start)?),
             "right" => Tok::Right(self.delimiter(start)?),
             "lfloor" => Tok::Open(Delim::Floor),
@@ -314,9 +387,91 @@ impl Lexer<'_> {
                 self.raw_argument(start)?;
                 return Ok(None);
             }
+            n if IGNORED_WITH_DIMENSION.contains(&n) => {
+                self.dimension();
+                return Ok(None);
+            }
             _ => Tok::Command(name),
         };
-        Ok(Some(tok))
+        Ok(Some(Command::One(tok)))
+    }
+
+    /// Skips the `[1em]` or `*` after a row break.
+    fn row_break_spacing(&mut self) {
+        let rest = &self.src[self.pos..];
+        let trimmed = rest.trim_start();
+        let skipped = rest.len() - trimmed.len();
+        if trimmed.starts_with('*') {
+            self.pos += skipped + 1;
+            return self.row_break_spacing();
+        }
+        if let Some(inner) = trimmed.strip_prefix('[')
+            && let Some(close) = inner.find(']')
+            && is_dimension(inner[..close].trim())
+        {
+            self.pos += skipped + 1 + close + 1;
+        }
+    }
+
+    /// Skips a dimension `-.05em`, `3mu`, `= 2pt`.
+    fn dimension(&mut self) {
+        self.skip_whitespace();
+        if self.peek() == Some('=') {
+            self.pos += 1;
+            self.skip_whitespace();
+        }
+        let rest = &self.src[self.pos..];
+        let number = rest
+            .char_indices()
+            .find(|(_, c)| !(c.is_ascii_digit() || *c == '.' || *c == '-' || *c == '+'))
+            .map_or(rest.len(), |(i, _)| i);
+        let unit = rest[number..]
+            .char_indices()
+            .find(|(_, c)| !c.is_ascii_alphabetic())
+            .map_or(rest.len() - number, |(i, _)| i)
+            .min(2);
+        self.pos += number + unit;
+    }
+
+    /// The tokens of text that holds only math (`\boldmath $\omega$`): the
+    /// math, bold for `\boldmath`, spanning the whole command.
+    fn text_math(&self, content: &str, start: usize) -> Result<Option<Vec<Token>>, LexError> {
+        let mut rest = content.trim();
+        let mut bold = false;
+        while let Some(r) = rest.strip_prefix("\\boldmath") {
+            bold = true;
+            rest = r.trim_start();
+        }
+        let Some(inner) = rest
+            .strip_prefix('$')
+            .and_then(|r| r.strip_suffix('$'))
+            .filter(|i| !i.contains('$') && !i.trim().is_empty())
+        else {
+            return Ok(None);
+        };
+        if self.nesting >= MAX_TEXT_NESTING {
+            return Err((start, ErrorKind::TooDeep(MAX_TEXT_NESTING)));
+        }
+        let inner_toks = Lexer {
+            src: inner,
+            pos: 0,
+            words: self.words,
+            nesting: self.nesting + 1,
+        }
+        .run()
+        .map_err(|(_, kind)| (start, kind))?;
+        let end = self.pos;
+        let at = |tok| Token { tok, start, end };
+        let mut out = Vec::new();
+        if bold {
+            out.push(at(Tok::Command("boldsymbol".into())));
+            out.push(at(Tok::LBrace));
+        }
+        out.extend(inner_toks.into_iter().map(|t| at(t.tok)));
+        if bold {
+            out.push(at(Tok::RBrace));
+        }
+        Ok(Some(out))
     }
 
     /// The delimiter after `\left` or `\right`.
@@ -392,6 +547,23 @@ impl Lexer<'_> {
     }
 }
 
+/// What a command stands for: one token, or several (text holding math).
+enum Command {
+    One(Tok),
+    Many(Vec<Token>),
+}
+
+/// Whether `s` is a TeX dimension such as `1em`, `-2pt`, `0.5ex`.
+fn is_dimension(s: &str) -> bool {
+    let digits = s.trim_start_matches(['-', '+']);
+    let unit_at = digits
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(digits.len());
+    unit_at > 0
+        && ["em", "ex", "pt", "mm", "cm", "in", "mu", "pc", "bp", "sp"]
+            .contains(&digits[unit_at..].trim())
+}
+
 fn single(c: char) -> Tok {
     match c {
         '{' => Tok::LBrace,
@@ -434,7 +606,7 @@ mod tests {
         assert_eq!(
             kinds("Exp yy dw"),
             vec![
-                Tok::Word("Exp"),
+                Tok::Word("Exp".into()),
                 Tok::Letter('y'),
                 Tok::Letter('y'),
                 Tok::Letter('d'),

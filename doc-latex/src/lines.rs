@@ -7,13 +7,17 @@
 //! otherwise top-level `\\` separate lines. Within a line, top-level `,` and
 //! `\quad`/`\qquad` separate statements: the first is the line's claim, the
 //! others side notes (`\quad θ = |ω|`), except that a piece starting with a
-//! relation continues the chain (`= R \qquad \in SO(3)`). Trailing `.` and
-//! `,` are punctuation.
+//! relation continues the chain (`= R \qquad \in SO(3)`); so do words of
+//! text between two statements (`a = b \mbox{ and } c = d`). Trailing `.`
+//! and `,` are punctuation. A formula whose delimiters are themselves an
+//! alignment environment (`\begin{align}…\end{align}` in LaTeX) is read as
+//! one.
 
 use std::ops::Range;
 
-use crate::lexer::{LexError, Tok, Token, lex};
-use crate::names::{ALIGNMENT_ENVIRONMENTS, RELATION_COMMANDS, lookup};
+use crate::lexer::{LexError, Tok, Token};
+use crate::macros::{Vocabulary, tokens};
+use crate::names::{ALIGNMENT_ENVIRONMENTS, CASES_ENVIRONMENTS, RELATION_COMMANDS, lookup};
 
 /// One line of a formula, split into statements.
 #[derive(Debug, Clone)]
@@ -43,13 +47,22 @@ enum Layout {
     Cases,
 }
 
-/// The lines of a formula's math. Only a lexing error stops the split:
-/// unbalanced braces or environments are left to each line's parse, so one
-/// garbled line does not hide the others.
-pub(crate) fn lines(math: &str) -> Result<Vec<Line>, LexError> {
-    let toks = lex(math)?;
+/// The lines of a formula's math (at byte `at` of its document, read with
+/// `vocab`; `environment` the alignment its delimiters open). Only a lexing
+/// error stops the split: unbalanced braces or environments are left to
+/// each line's parse, so one garbled line does not hide the others.
+pub(crate) fn lines(
+    math: &str,
+    vocab: &Vocabulary,
+    at: usize,
+    environment: Option<&str>,
+) -> Result<Vec<Line>, LexError> {
+    let toks = tokens(math, vocab, at)?;
     let env = environment_depths(&toks);
-    let (layout, body, unclosed) = layout(&toks, &env);
+    let (layout, body, unclosed) = match environment {
+        Some(_) => (Layout::Aligned, 0..toks.len(), None),
+        None => layout(&toks, &env),
+    };
     let base = body.clone().next().map_or(0, |i| env[i]);
     let mut out = Vec::new();
     let mut row_start = body.start;
@@ -97,7 +110,7 @@ fn layout(toks: &[Token], env: &[usize]) -> (Layout, Range<usize>, Option<String
     let Tok::Begin(name) = &toks[first].tok else {
         return plain;
     };
-    let layout = if name == "cases" {
+    let layout = if CASES_ENVIRONMENTS.contains(&name.as_str()) {
         Layout::Cases
     } else if ALIGNMENT_ENVIRONMENTS.contains(&name.as_str()) {
         Layout::Aligned
@@ -123,6 +136,28 @@ pub(crate) fn is_relation(tok: &Tok) -> bool {
     }
 }
 
+/// Whether a token can end an operand (so that words after it start
+/// another statement, not the operand a relation waits for).
+fn ends_operand(tok: &Tok) -> bool {
+    match tok {
+        Tok::Letter(_)
+        | Tok::Number(_)
+        | Tok::Word(_)
+        | Tok::RBrace
+        | Tok::Close(_)
+        | Tok::Right(_)
+        | Tok::Prime
+        | Tok::Bar
+        | Tok::DoubleBar
+        | Tok::End(_) => true,
+        Tok::Command(c) => {
+            lookup(RELATION_COMMANDS, c).is_none()
+                && lookup(crate::names::MULOP_COMMANDS, c).is_none()
+        }
+        _ => false,
+    }
+}
+
 fn is_implies(tok: &Tok) -> bool {
     matches!(tok, Tok::Command(c) if c == "Rightarrow" || c == "implies")
 }
@@ -130,7 +165,9 @@ fn is_implies(tok: &Tok) -> bool {
 /// One row's statements: split at the row's top level (outside braces,
 /// environments and delimiters; extra closers do not go below zero).
 fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Line> {
-    let span = toks.first()?.start..toks.last()?.end;
+    // Tokens a macro expanded to carry the place of its invocation, so the
+    // line spans from the least start to the greatest end.
+    let span = toks.iter().map(|t| t.start).min()?..toks.iter().map(|t| t.end).max()?;
     let mut statements: Vec<Vec<Token>> = Vec::new();
     let mut current: Vec<Token> = Vec::new();
     let (mut braces, mut depth) = (0usize, 0usize);
@@ -155,6 +192,11 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
             && depth == 0
             && match t.tok {
                 Tok::Comma | Tok::Quad => true,
+                Tok::Text(ref words) => {
+                    !words.trim().is_empty()
+                        && current.iter().any(|c| is_relation(&c.tok))
+                        && current.last().is_some_and(|c| ends_operand(&c.tok))
+                }
                 Tok::Amp => layout == Layout::Cases,
                 _ => false,
             };
@@ -212,7 +254,7 @@ mod tests {
     use super::*;
 
     fn texts(math: &str) -> Vec<Vec<String>> {
-        lines(math)
+        lines(math, &Vocabulary::default(), 0, None)
             .unwrap()
             .iter()
             .map(|l| {
@@ -232,7 +274,7 @@ mod tests {
             texts(math),
             vec![vec!["a &= b", "(c = d)"], vec!["= e \\qquad \\in R"]]
         );
-        let l = lines(math).unwrap();
+        let l = lines(math, &Vocabulary::default(), 0, None).unwrap();
         assert!(l[0].heads_chain && !l[0].continued);
         assert!(l[1].continued && !l[1].heads_chain);
     }
@@ -266,7 +308,13 @@ mod tests {
 
     #[test]
     fn an_unclosed_environment_around_the_display_closes_at_its_end() {
-        let l = lines("\\begin{cases} a = b \\\\ c = d").unwrap();
+        let l = lines(
+            "\\begin{cases} a = b \\\\ c = d",
+            &Vocabulary::default(),
+            0,
+            None,
+        )
+        .unwrap();
         assert_eq!(l.len(), 2);
         assert_eq!(l[1].unclosed.as_deref(), Some("cases"));
     }

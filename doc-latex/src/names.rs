@@ -7,15 +7,20 @@ use crate::ast::{Accent, Font, MulOp, Rel};
 /// Function names recognised as a run of plain letters (`Exp(ω)`, `sinc`).
 /// A run of letters that is not one of these is a product of symbols.
 pub const FUNCTION_WORDS: &[&str] = &[
-    "sinc", "sin", "cos", "tan", "exp", "log", "Exp", "Log", "det", "arccos", "arcsin", "arctan",
-    "ln",
+    "sinc", "sin", "cos", "tan", "cot", "sec", "csc", "sinh", "cosh", "tanh", "exp", "log", "Exp",
+    "Log", "det", "arccos", "arcsin", "arctan", "acos", "asin", "atan", "ln", "diag",
 ];
+
+/// Names read as a function inside `\mathrm{…}` and `\text{…}` (besides
+/// the [`FUNCTION_WORDS`]) but never in a bare run of letters, where `ad`
+/// may be a product: the adjoints `Ad`, `ad`, the trace, the sign.
+pub const OPERATOR_WORDS: &[&str] = &["Ad", "ad", "tr", "sgn", "sign", "skew", "vec"];
 
 /// Function names that LaTeX writes as a command (`\sin`); the others are
 /// written `\operatorname{…}`.
 pub const FUNCTION_COMMANDS: &[&str] = &[
-    "sin", "cos", "tan", "exp", "log", "det", "arccos", "arcsin", "arctan", "ln", "sinh", "cosh",
-    "tanh",
+    "sin", "cos", "tan", "cot", "sec", "csc", "exp", "log", "det", "arccos", "arcsin", "arctan",
+    "ln", "sinh", "cosh", "tanh", "coth",
 ];
 
 /// Commands that stand for one symbol: Greek letters and a few others.
@@ -60,6 +65,17 @@ pub const SYMBOL_COMMANDS: &[&str] = &[
     "Phi",
     "Psi",
     "Omega",
+    "varGamma",
+    "varDelta",
+    "varTheta",
+    "varLambda",
+    "varXi",
+    "varPi",
+    "varSigma",
+    "varUpsilon",
+    "varPhi",
+    "varPsi",
+    "varOmega",
     "ell",
     "infty",
     "nabla",
@@ -98,6 +114,16 @@ pub const RELATION_COMMANDS: &[(&str, Rel)] = &[
     ("neq", Rel::Neq),
     ("ne", Rel::Neq),
     ("propto", Rel::Propto),
+    ("triangleq", Rel::Define),
+    ("coloneqq", Rel::Define),
+    ("defeq", Rel::Define),
+    ("eqqcolon", Rel::Define),
+    ("longrightarrow", Rel::To),
+    ("Longrightarrow", Rel::Implies),
+    ("Longleftrightarrow", Rel::Iff),
+    ("longmapsto", Rel::MapsTo),
+    ("leqslant", Rel::Le),
+    ("geqslant", Rel::Ge),
 ];
 
 /// Explicit product-level operators written as commands.
@@ -122,12 +148,34 @@ pub const FONT_COMMANDS: &[(&str, Font)] = &[
     ("bm", Font::Bold),
     ("pmb", Font::Bold),
     ("mathcal", Font::Calligraphic),
+    ("mathscr", Font::Calligraphic),
     ("mathbb", Font::Blackboard),
+    ("mathds", Font::Blackboard),
+    ("mathbbm", Font::Blackboard),
     ("mathrm", Font::Roman),
     ("mathsf", Font::SansSerif),
     ("mathfrak", Font::Fraktur),
     ("mathit", Font::Plain),
+    ("mathnormal", Font::Plain),
 ];
+
+/// The font of `outer` written over a symbol already in `inner`
+/// (`\bm{\mathcal{J}}`), when the two combine.
+pub fn combined_font(outer: Font, inner: Font) -> Option<Font> {
+    match (outer, inner) {
+        (o, Font::Plain) => Some(o),
+        (Font::Plain, i) => Some(i),
+        (o, i) if o == i => Some(o),
+        (Font::Bold, Font::Calligraphic) | (Font::Calligraphic, Font::Bold) => {
+            Some(Font::BoldCalligraphic)
+        }
+        (Font::Bold, Font::BoldCalligraphic) => Some(Font::BoldCalligraphic),
+        (Font::Bold, Font::Roman) | (Font::Roman, Font::Bold) => Some(Font::Bold),
+        // `\mathfrak{\mathbb{R}}` (as LyX writes the reals): blackboard.
+        (Font::Fraktur, Font::Blackboard) => Some(Font::Blackboard),
+        _ => None,
+    }
+}
 
 /// Accent commands (the first entry of an [`Accent`] is how it is written
 /// back).
@@ -141,6 +189,7 @@ pub const ACCENT_COMMANDS: &[(&str, Accent)] = &[
     ("dot", Accent::Dot),
     ("ddot", Accent::DDot),
     ("vec", Accent::Vec),
+    ("overrightarrow", Accent::Vec),
     ("check", Accent::Check),
     ("breve", Accent::Breve),
 ];
@@ -154,6 +203,9 @@ pub const MATRIX_ENVIRONMENTS: &[&str] = &[
     "smallmatrix",
     "array",
 ];
+
+/// Environments read as cases (`value & condition` rows).
+pub const CASES_ENVIRONMENTS: &[&str] = &["cases", "dcases", "rcases"];
 
 /// Environments whose rows are the lines of a multi-line formula; allowed
 /// only as a whole display.
@@ -201,6 +253,41 @@ pub fn symbol_command(name: &str) -> Option<&'static str> {
 /// `word` as a function name written in letters when it is one.
 pub fn function_word(word: &str) -> Option<&'static str> {
     FUNCTION_WORDS.iter().copied().find(|f| *f == word)
+}
+
+/// `word` as a function name inside `\mathrm{…}` or `\text{…}`.
+pub fn operator_word(word: &str) -> Option<&'static str> {
+    function_word(word).or_else(|| OPERATOR_WORDS.iter().copied().find(|f| *f == word))
+}
+
+/// The operators a superscript may hold (`p^\odot`, `x^*`): the command
+/// names, and `*`, `+` as characters.
+pub const POSTFIX_OPERATORS: &[&str] = &[
+    "odot",
+    "ast",
+    "star",
+    "dagger",
+    "ddagger",
+    "circledast",
+    "bullet",
+    "sharp",
+    "flat",
+    "boxplus",
+    "boxminus",
+    "oplus",
+    "ominus",
+    "otimes",
+    "circledcirc",
+    "diamond",
+    "natural",
+    "perp",
+    "*",
+    "+",
+];
+
+/// `name` as a postfix operator when it is one.
+pub fn postfix_operator(name: &str) -> Option<&'static str> {
+    POSTFIX_OPERATORS.iter().copied().find(|f| *f == name)
 }
 
 /// LaTeX of a relation.

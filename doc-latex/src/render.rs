@@ -9,8 +9,9 @@ use crate::ast::{
     Base, Case, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, PostfixOp, Sign,
     Statement, Symbol,
 };
+pub use crate::names::mulop_latex;
 use crate::names::{
-    ACCENT_COMMANDS, FONT_COMMANDS, function_command, mulop_latex, name_of, relation_latex,
+    ACCENT_COMMANDS, FONT_COMMANDS, POSTFIX_OPERATORS, function_command, name_of, relation_latex,
 };
 
 impl fmt::Display for Expr {
@@ -105,7 +106,13 @@ pub fn expr(e: &Expr) -> String {
                 Head::Function(f) => function(f),
                 Head::Symbol(s) => symbol(s, &[]),
             };
-            format!("{head}({})", args.join(", "))
+            if args.is_empty() {
+                // `Ad_{T}` standing alone: braced so nothing after it reads
+                // as its argument.
+                format!("{{{head}}}")
+            } else {
+                format!("{head}({})", args.join(", "))
+            }
         }
         Expr::Power { base, exponent } => match base.as_ref() {
             Expr::Symbol(s) if s.sup.is_none() && exponent.reads_as_exponent() => {
@@ -125,12 +132,19 @@ pub fn expr(e: &Expr) -> String {
             match base {
                 Expr::Symbol(s) => symbol(s, &ops),
                 _ => {
-                    let markers: Vec<&str> = ops.iter().map(|op| marker(*op)).collect();
+                    let markers: Vec<String> = ops.iter().map(|op| marker(*op)).collect();
                     format!("{}^{{{}}}", script_base(base), markers.join(" "))
                 }
             }
         }
-        Expr::Indexed { base, index } => format!("{}_{{{}}}", script_base(base), expr(index)),
+        // `[p]_x`, `[1]_+`: a symbol or number indexed as a whole was
+        // printed in brackets (braces would make the index its own).
+        Expr::Indexed { base, index } => match base.as_ref() {
+            Expr::Symbol(_) | Expr::Number(_) => {
+                format!("\\left[{}\\right]_{{{}}}", expr(base), expr(index))
+            }
+            _ => format!("{}_{{{}}}", script_base(base), expr(index)),
+        },
         Expr::Shaped { base, rows, cols } => {
             format!("{}_{{{rows} \\times {cols}}}", script_base(base))
         }
@@ -171,10 +185,22 @@ fn side(e: &Expr) -> String {
     }
 }
 
-/// An operand of a sign, `\partial`, `\lim` or `d`: a product at most.
+/// An operand of a sign, `\partial`, `\lim` or `d`: a product at most,
+/// in parentheses when it composes with an operator (`-(a \boxminus b)`,
+/// which `-a \boxminus b` would print ambiguously).
 fn operand(e: &Expr) -> String {
     match e {
         Expr::Relation { .. } | Expr::Sum { .. } | Expr::Neg(_) | Expr::Pos(_) => parens(e),
+        Expr::Product { rest, .. }
+            if rest.iter().any(|(op, _)| {
+                !matches!(
+                    op,
+                    MulOp::Implicit | MulOp::Cdot | MulOp::Times | MulOp::Star | MulOp::Slash
+                )
+            }) =>
+        {
+            parens(e)
+        }
         _ => expr(e),
     }
 }
@@ -232,9 +258,12 @@ fn script_base(e: &Expr) -> String {
 /// parser would strip as a postfix marker or prime.
 fn script(e: &Expr) -> String {
     let s = expr(e);
-    let ends_in_marker = ["'", "T", "\\top", "\\wedge", "\\vee", "\\prime"]
+    let ends_in_marker = ["'", "T", "*", "+", "\\top", "\\wedge", "\\vee", "\\prime"]
         .iter()
-        .any(|m| s.ends_with(m));
+        .any(|m| s.ends_with(m))
+        || POSTFIX_OPERATORS
+            .iter()
+            .any(|op| s.ends_with(&format!("\\{op}")));
     if ends_in_marker {
         format!("{{{s}}}")
     } else {
@@ -242,11 +271,13 @@ fn script(e: &Expr) -> String {
     }
 }
 
-fn marker(op: PostfixOp) -> &'static str {
+fn marker(op: PostfixOp) -> String {
     match op {
-        PostfixOp::Transpose => "T",
-        PostfixOp::Hat => "\\wedge",
-        PostfixOp::Vee => "\\vee",
+        PostfixOp::Transpose => "T".into(),
+        PostfixOp::Hat => "\\wedge".into(),
+        PostfixOp::Vee => "\\vee".into(),
+        PostfixOp::Operator(c @ ("*" | "+")) => c.into(),
+        PostfixOp::Operator(name) => format!("\\{name}"),
     }
 }
 
@@ -263,7 +294,12 @@ fn symbol(s: &Symbol, ops: &[PostfixOp]) -> String {
         }
     }
     if let Some(font) = s.delta {
-        out.push_str(&fonted(font, "\\delta"));
+        let delta = if s.capital_delta {
+            "\\Delta"
+        } else {
+            "\\delta"
+        };
+        out.push_str(&fonted(font, delta));
         out.push(' ');
     }
     let mut core = match &s.base {
@@ -278,19 +314,20 @@ fn symbol(s: &Symbol, ops: &[PostfixOp]) -> String {
     if let Some(x) = &s.sub {
         out.push_str(&format!("_{{{}}}", expr(x)));
     }
-    let primes = "'".repeat(s.primes as usize);
-    if s.sup.is_none() && ops.is_empty() {
-        out.push_str(&primes);
+    // `Z'^{2}`: primes on the symbol before its superscript; those printed
+    // inside the superscript (`p_{i}^{1 '}`) stay there.
+    out.push_str(&"'".repeat(s.primes as usize));
+    if s.sup.is_none() && ops.is_empty() && s.sup_primes == 0 {
         return out;
     }
     let mut sup: Vec<String> = Vec::new();
     if let Some(x) = &s.sup {
         sup.push(script(x));
     }
-    if !primes.is_empty() {
-        sup.push(primes);
+    if s.sup_primes > 0 {
+        sup.push("'".repeat(s.sup_primes as usize));
     }
-    sup.extend(ops.iter().map(|op| marker(*op).to_string()));
+    sup.extend(ops.iter().map(|op| marker(*op)));
     out.push_str(&format!("^{{{}}}", sup.join(" ")));
     out
 }
@@ -302,6 +339,7 @@ fn is_bare_delta(s: &Symbol) -> bool {
         && s.delta.is_none()
         && s.accent.is_none()
         && s.primes == 0
+        && s.sup_primes == 0
         && s.sub.is_none()
         && s.sup.is_none()
 }
@@ -309,6 +347,7 @@ fn is_bare_delta(s: &Symbol) -> bool {
 fn fonted(font: Font, core: &str) -> String {
     match font {
         Font::Plain => core.to_string(),
+        Font::BoldCalligraphic => format!("\\boldsymbol{{\\mathcal{{{core}}}}}"),
         f => format!("\\{}{{{core}}}", name_of(FONT_COMMANDS, f)),
     }
 }
@@ -318,6 +357,9 @@ fn function(f: &Function) -> String {
         Some(c) => format!("\\{c}"),
         None => format!("\\operatorname{{{}}}", f.name),
     };
+    if let Some(s) = &f.sub {
+        out.push_str(&format!("_{{{}}}", expr(s)));
+    }
     if let Some(p) = &f.power {
         out.push_str(&format!("^{{{}}}", expr(p)));
     }

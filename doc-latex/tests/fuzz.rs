@@ -1,22 +1,46 @@
-//! Hostile input: mutated real formulas and random strings never panic,
-//! every error displays as one line, whatever parses round-trips, and
-//! nesting beyond `MAX_DEPTH` is an error rather than a stack overflow.
+//! Hostile input: mutated real formulas (of the specification documents
+//! and of the corpus's LaTeX sources, their macro definitions included) and
+//! random strings never panic, every error displays as one line, whatever
+//! parses round-trips, nesting beyond `MAX_DEPTH` is an error rather than a
+//! stack overflow, and macros that expand without end are an error rather
+//! than a hang.
 
 mod common;
 
 use common::{DOC000, DOC001};
 use doc_latex::{
-    Document, ErrorKind, Locator, MAX_DEPTH, ParseError, parse_expr, parse_statement, render,
+    Document, ErrorKind, Locator, MAX_DEPTH, Options, ParseError, Syntax, parse_expr,
+    parse_expr_with, parse_statement, render,
 };
 use proptest::prelude::*;
 
-/// The LaTeX between the delimiters of every formula of both documents.
+/// The corpus's LaTeX sources (`documents/corpus/`).
+const CORPUS: [&str; 3] = [
+    include_str!("../../documents/corpus/kindr/cheatsheet_kindr1.tex"),
+    include_str!("../../documents/corpus/gtsam/math.tex"),
+    include_str!("../../documents/corpus/gtsam/LieGroups.tex"),
+];
+
+fn latex(text: &str) -> Result<Document, ParseError> {
+    Document::parse_with(
+        text,
+        Options {
+            syntax: Syntax::Latex,
+            ..Default::default()
+        },
+    )
+}
+
+/// The LaTeX between the delimiters of every formula of both documents and
+/// of the corpus.
 fn sources() -> Vec<String> {
-    [DOC000, DOC001]
+    let markdown = [DOC000, DOC001]
         .iter()
-        .flat_map(|d| Document::parse(d).unwrap().formulas().to_vec())
-        .map(|f| f.source)
-        .collect()
+        .flat_map(|d| Document::parse(d).unwrap().formulas().to_vec());
+    let corpus = CORPUS
+        .iter()
+        .flat_map(|d| latex(d).unwrap().formulas().to_vec());
+    markdown.chain(corpus).map(|f| f.source).collect()
 }
 
 /// Pieces a mutation inserts: the syntax most likely to unbalance a parse.
@@ -63,6 +87,28 @@ const PIECES: &[&str] = &[
     "\\foo",
     "ω",
     "\n\n",
+    "\\newcommand{\\a}[1]{#1\\a}",
+    "\\def\\b{\\b}",
+    "#1",
+    "#2",
+    "\\mathop{\\lim}\\limits_",
+    "\\buildrel",
+    "\\over",
+    "{\\rm",
+    "\\left\\{",
+    "\\right.",
+    "\\label{",
+    "\\[",
+    "\\]",
+    "\\f$",
+    "\\begin{align}",
+    "\\end{align}",
+    "%",
+    "_{+}",
+    "^\\odot",
+    "\\mathbf{Rp}",
+    "\\bm{\\mathcal{J}}",
+    "\\Delta",
 ];
 
 #[derive(Debug, Clone)]
@@ -112,6 +158,43 @@ fn mutate(s: &str, mutations: &[Mutation]) -> String {
 fn assert_one_line(e: &ParseError) {
     let shown = e.to_string();
     assert!(!shown.contains('\n') && !shown.contains('\r'), "{shown:?}");
+}
+
+/// Reads a whole LaTeX document (its macros, delimiters and comments) and
+/// every claim of every formula: errors are one line, what parses
+/// round-trips, and the vocabulary reads expressions too.
+fn exercise_latex_document(text: &str) {
+    match latex(text) {
+        Err(e) => assert_one_line(&e),
+        Ok(doc) => {
+            for f in doc.formulas() {
+                match doc.claims(f) {
+                    Err(e) => assert_one_line(&e),
+                    Ok(claims) => {
+                        for c in claims {
+                            for r in std::iter::once(&c.statement).chain(&c.notes) {
+                                match r {
+                                    Err(e) => assert_one_line(e),
+                                    Ok(s) => {
+                                        let back = render::statement(s);
+                                        assert_eq!(parse_statement(&back).as_ref(), Ok(s));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+                if let Err(e) = parse_expr_with(&f.source, doc.vocabulary()) {
+                    assert_one_line(&e);
+                }
+            }
+            for anchor in ["\\deriv", "=", "\\frac{", "x"] {
+                if let Err(e) = doc.locate(anchor) {
+                    assert!(!e.to_string().contains('\n'), "{e}");
+                }
+            }
+        }
+    }
 }
 
 /// Reads `latex` every way the crate offers; checks errors and round trips.
@@ -197,6 +280,57 @@ proptest! {
     #[test]
     fn any_unicode(s in r"\PC{0,120}") {
         exercise(&s);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// A window of a corpus document, its macro definitions kept first,
+    /// mutated anywhere (definitions included).
+    #[test]
+    fn mutated_corpus_documents(
+        which in 0..CORPUS.len(),
+        start in any::<prop::sample::Index>(),
+        mutations in prop::collection::vec(mutation(), 1..6),
+    ) {
+        let text = CORPUS[which];
+        let lines: Vec<&str> = text.lines().collect();
+        let macros: Vec<&str> = lines
+            .iter()
+            .copied()
+            .filter(|l| l.contains("newcommand") || l.starts_with("\\def"))
+            .collect();
+        let at = start.index(lines.len());
+        let window = lines[at..(at + 60).min(lines.len())].join("\n");
+        let document = format!("{}\n{window}\n", macros.join("\n"));
+        exercise_latex_document(&mutate(&document, &mutations));
+    }
+}
+
+/// Macros that expand without end, or to an enormous text, are an error
+/// at once (never a hang or an exhausted memory).
+#[test]
+fn runaway_macros_are_bounded() {
+    let cases = [
+        "\\newcommand{\\a}{\\a\\a}\n$$x = \\a$$\n",
+        "\\def\\a{x\\a}\n\\[ y = \\a \\]\n",
+        "\\newcommand{\\a}[1]{#1#1#1#1}\\newcommand{\\b}{\\a{\\a{\\a{\\a{\\a{\\a{\\a{\\a{\\a{\\a{x}}}}}}}}}}}\n$$y = \\b$$\n",
+        "\\newcommand{\\a}[2]{#2\\a{#1}{#2}}\n$$y = \\a{1}{2}$$\n",
+    ];
+    for text in cases {
+        let e = match latex(text) {
+            Err(e) => e,
+            Ok(doc) => match doc.claims(&doc.formulas()[0]) {
+                Err(e) => e,
+                Ok(claims) => claims[0].statement.clone().unwrap_err(),
+            },
+        };
+        assert!(
+            matches!(e.kind, ErrorKind::MacroExpansion(_)),
+            "{text}: {e}"
+        );
+        assert_one_line(&e);
     }
 }
 

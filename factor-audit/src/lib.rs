@@ -1,26 +1,27 @@
 //! The derivation audit: hand-derived formulas checked against the truth.
 //!
-//! Each formula of a document is transcribed as printed (typos included) as a
-//! [`Derivation`]: a labelled claim that a printed matrix is the Jacobian (or
-//! the value) of a map written once, generic over the scalar. The truth is
-//! that map differentiated by dual numbers; the correction is the same map
-//! differentiated by the symbolic engine and rendered as LaTeX. [`audit`]
-//! compares them at many sampled points and gives a [`Verdict`].
+//! A formula is a [`Derivation`]: a labelled claim that a printed matrix is
+//! the Jacobian (or the value) of a map written once, generic over the
+//! scalar. The truth is that map differentiated by dual numbers; the
+//! correction is the same map differentiated by the symbolic engine and
+//! rendered as LaTeX. [`audit`] compares them at many sampled points and
+//! gives a [`Verdict`].
 //!
-//! A user audits a derivation of their own the same way: implement
-//! [`Derivation`] for a type holding a sampled configuration, and call
-//! [`verdict::audit`] (or [`Audit::of`] to add it to a report).
+//! Documents are audited from their text ([`from_text`]): it reads the
+//! formulas of a Markdown/LaTeX document, gives its symbols meaning through
+//! a symbols file, makes each claim a [`Derivation`], audits them with the
+//! same verdicts, and diagnoses errata by searching small edits of the
+//! printed formula. The specification documents and the corpus of public
+//! derivations in `documents/` are audited that way; a notation fix is made
+//! once, in `doc-latex` or [`from_text`].
 //!
-//! Or with no transcription at all: [`from_text`] reads the formulas of a
-//! Markdown/LaTeX document, gives its symbols meaning through a symbols
-//! file, audits them with the same verdicts, and diagnoses errata by
-//! searching small edits of the printed formula.
+//! A formula written as code (a derivation of your own, outside any
+//! document) is audited the same way: implement [`Derivation`] for a type
+//! holding a sampled configuration, and call [`verdict::audit`] (or
+//! [`Audit::of`] to add it to a report).
 
 pub mod chain;
 pub mod derivation;
-pub mod doc000_line_plane;
-pub mod doc000_point;
-pub mod doc001;
 pub mod from_text;
 pub mod latex;
 pub mod report;
@@ -49,32 +50,4 @@ impl Audit {
     pub fn run(&self, samples: usize, seed: u64) -> Finding {
         (self.run)(samples, seed)
     }
-}
-
-/// Every transcribed formula of the specification documents.
-pub fn document_audits() -> Vec<Audit> {
-    let mut audits = doc000_point::audits();
-    audits.extend(doc000_line_plane::audits());
-    audits.extend(doc001::audits());
-    audits
-}
-
-/// The chain rules of the documents, by equation labels.
-pub fn document_chains() -> Vec<chain::Chain> {
-    let mut chains = doc000_point::chains();
-    chains.extend(doc000_line_plane::chains());
-    chains.extend(doc001::chains());
-    chains
-}
-
-/// Audits every formula of the documents at `samples` points each, and
-/// localises the errors of the chain rules.
-pub fn audit_documents(samples: usize) -> Vec<Finding> {
-    let mut findings: Vec<Finding> = document_audits()
-        .iter()
-        .enumerate()
-        .map(|(i, a)| a.run(samples, 1000 + i as u64))
-        .collect();
-    chain::localise(&mut findings, &document_chains());
-    findings
 }

@@ -1,17 +1,11 @@
-//! Small helpers the transcribed catalogues share: matrices in the audit's
-//! dynamic form, and a derivation's parameter list written from stored
-//! values ([`Storage::to_scalars`]) and named from their layouts
+//! Helpers for derivations written as code ([`crate::Derivation`]): a
+//! derivation's parameter list written from stored values
+//! ([`Storage::to_scalars`]) and named from their layouts
 //! ([`Storage::layout`]). The maps read the list back value by value with
-//! [`factor_core::storage::ScalarReader`], in the same order.
-
-use nalgebra::{DMatrix, SMatrix};
+//! [`factor_core::storage::ScalarReader`], in the same order. The audit from
+//! a document's text names a symbols file's stored values the same way.
 
 use factor_core::storage::Storage;
-
-/// A fixed-size matrix as a `DMatrix`.
-pub fn matrix<const R: usize, const C: usize>(m: SMatrix<f64, R, C>) -> DMatrix<f64> {
-    DMatrix::from_column_slice(R, C, m.as_slice())
-}
 
 /// LaTeX names of the stored scalars of a `T` written `symbol`: its layout
 /// names ([`factor_core::Layout::names`]) as subscripts, `T_{qx}`, `n_{w,x}`

@@ -1,7 +1,8 @@
 //! Fuzzing the path from a document's text to the engine: mutated
-//! documents and symbols files, and random formulas, are read, lowered,
-//! evaluated, audited and searched for errata without a panic (errors are
-//! fine, and must be one line).
+//! documents and symbols files (the specification documents' and the
+//! corpus's LaTeX documents with their macros), and random formulas, are
+//! read claim by claim, lowered, evaluated, audited and searched for
+//! errata without a panic (errors are fine, and must be one line).
 
 use factor_audit::derivation::truth;
 use factor_audit::from_text::claims::TextDerivation;
@@ -14,6 +15,25 @@ const DOC000: &str = include_str!("../../documents/000_29653f4af9b68bb8.txt");
 const SYMBOLS000: &str = include_str!("../../documents/000_29653f4af9b68bb8.symbols.toml");
 const DOC001: &str = include_str!("../../documents/001_85032ab900231dbd.txt");
 const SYMBOLS001: &str = include_str!("../../documents/001_85032ab900231dbd.symbols.toml");
+
+/// The corpus: each LaTeX document with its symbols file.
+const CORPUS: [(&str, &str, &str); 3] = [
+    (
+        "cheatsheet_kindr1.tex",
+        include_str!("../../documents/corpus/kindr/cheatsheet_kindr1.tex"),
+        include_str!("../../documents/corpus/kindr/cheatsheet_kindr1.symbols.toml"),
+    ),
+    (
+        "math.tex",
+        include_str!("../../documents/corpus/gtsam/math.tex"),
+        include_str!("../../documents/corpus/gtsam/math.symbols.toml"),
+    ),
+    (
+        "LieGroups.tex",
+        include_str!("../../documents/corpus/gtsam/LieGroups.tex"),
+        include_str!("../../documents/corpus/gtsam/LieGroups.symbols.toml"),
+    ),
+];
 
 /// `text` with `edits` applied: at each (position, kind, character), a
 /// character inserted, deleted or replaced (positions on char boundaries).
@@ -40,7 +60,7 @@ fn mutate(text: &str, edits: &[(usize, u8, char)]) -> String {
 fn interesting() -> impl Strategy<Value = char> {
     prop::sample::select(vec![
         '\\', '{', '}', '(', ')', '[', ']', '^', '_', '&', '|', '$', '=', '+', '-', '0', '1', '2',
-        'x', 'q', ' ', '\n', '"', '#', '.', ',', 'ω', '∂',
+        'x', 'q', ' ', '\n', '"', '#', '.', ',', 'ω', '∂', '%', 'T', 'e',
     ])
 }
 
@@ -48,23 +68,37 @@ fn edits() -> impl Strategy<Value = Vec<(usize, u8, char)>> {
     prop::collection::vec((any::<usize>(), any::<u8>(), interesting()), 1..6)
 }
 
-/// Loads, then evaluates every claim's map and printed formula once.
+/// Evaluates every claim's map and printed formula once.
+fn evaluate(audit: &TextAudit) {
+    for claim in &audit.claims {
+        let ctx = &audit.contexts[claim.context];
+        let d = TextDerivation::new(claim, ctx, ctx.sample(&mut Sampler::new(7)));
+        let _ = truth(&d);
+        if let Printed::Evaluated(m) = d.printed() {
+            assert!(m.nrows() > 0);
+        }
+        let _ = d.conventions();
+    }
+}
+
+/// Reads claim by claim (what `slamjac audit` does; the strict load is
+/// the same path stopping at the first error), then evaluates every claim's
+/// map and printed formula once.
 fn load_and_evaluate(document: &str, symbols: &str) {
-    match TextAudit::load("fuzz.md", document, symbols) {
+    load_named_and_evaluate("fuzz.md", document, symbols);
+}
+
+fn load_named_and_evaluate(name: &str, document: &str, symbols: &str) {
+    match TextAudit::read(name, document, symbols) {
         Err(e) => {
             let shown = e.to_string();
             assert!(!shown.contains('\n'), "{shown}");
         }
         Ok(audit) => {
-            for claim in &audit.claims {
-                let ctx = &audit.contexts[claim.context];
-                let d = TextDerivation::new(claim, ctx, ctx.sample(&mut Sampler::new(7)));
-                let _ = truth(&d);
-                if let Printed::Evaluated(m) = d.printed() {
-                    assert!(m.nrows() > 0);
-                }
-                let _ = d.conventions();
+            for u in audit.unread() {
+                assert!(!u.error.to_string().contains('\n'), "{}", u.error);
             }
+            evaluate(&audit);
         }
     }
 }
@@ -120,6 +154,48 @@ proptest! {
                 for f in audit.run(3) {
                     let keyword = f.finding.verdict.keyword();
                     prop_assert!(["correct", "convention", "wrong", "malformed"].contains(&keyword));
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    // The corpus documents are larger: fewer cases.
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Mutated corpus documents against their symbols files (a window of
+    /// the document, its macro definitions kept first, mutated).
+    #[test]
+    fn mutated_corpus_documents_never_panic(
+        e in edits(),
+        which in 0..CORPUS.len(),
+        start in any::<prop::sample::Index>(),
+    ) {
+        let (name, doc, symbols) = CORPUS[which];
+        let lines: Vec<&str> = doc.lines().collect();
+        let macros: Vec<&str> = lines
+            .iter()
+            .copied()
+            .filter(|l| l.contains("newcommand"))
+            .collect();
+        let at = start.index(lines.len());
+        let window = lines[at..(at + 80).min(lines.len())].join("\n");
+        let text = format!("{}\n{}", macros.join("\n"), mutate(&window, &e));
+        load_named_and_evaluate(name, &text, symbols);
+    }
+
+    /// Mutated corpus symbols files against their documents, their claims
+    /// read one by one.
+    #[test]
+    fn mutated_corpus_symbols_files_never_panic(e in edits(), which in 0..CORPUS.len()) {
+        let (name, doc, symbols) = CORPUS[which];
+        let symbols = mutate(symbols, &e);
+        match TextAudit::read(name, doc, &symbols) {
+            Err(err) => prop_assert!(!err.to_string().contains('\n')),
+            Ok(audit) => {
+                for u in audit.unread() {
+                    prop_assert!(!u.error.to_string().contains('\n'));
                 }
             }
         }

@@ -9,7 +9,10 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use factor_audit::document_audits;
+use factor_audit::from_text::TextAudit;
+use factor_audit::from_text::claims::TextDerivation;
+use factor_audit::verdict::audit;
+use factor_testing::samples::Sampler;
 
 struct Counting;
 
@@ -45,15 +48,37 @@ fn peak_during(f: impl FnOnce()) -> usize {
 
 #[test]
 fn memory_does_not_grow_with_the_samples() {
-    for (index, audit) in document_audits().iter().enumerate() {
-        let seed = 1000 + index as u64;
-        let few = peak_during(|| drop(audit.run(10, seed)));
-        let many = peak_during(|| drop(audit.run(1000, seed)));
+    let read = |path: &str| {
+        std::fs::read_to_string(format!(
+            "{}/../documents/{path}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+    };
+    let name = "001_85032ab900231dbd";
+    let doc = TextAudit::load(
+        name,
+        &read(&format!("{name}.txt")),
+        &read(&format!("{name}.symbols.toml")),
+    )
+    .unwrap();
+    for claim in &doc.claims {
+        let ctx = &doc.contexts[claim.context];
+        let run = |samples| {
+            drop(audit(
+                |s: &mut Sampler| TextDerivation::new(claim, ctx, ctx.sample(s)),
+                samples,
+                TextAudit::seed(claim.index),
+            ))
+        };
+        let few = peak_during(|| run(10));
+        let many = peak_during(|| run(1000));
         // 100 times the samples: a kept sample of even a few bytes would add
         // kilobytes; the slack covers what one more worst sample may hold.
         assert!(
             many <= few + 4096,
-            "formula {index}: peak {many} bytes at 1000 samples, {few} at 10"
+            "{}: peak {many} bytes at 1000 samples, {few} at 10",
+            claim.label.equation
         );
     }
 }

@@ -67,13 +67,45 @@ impl SymbolicKernel {
 /// cheapest of the exact forms (see the module docs).
 pub fn trace<F: Factor>() -> SymbolicKernel {
     let tracer = Tracer::new();
-    let fields = F::fields();
+    let traced = trace_at_tangent::<F>();
+    assemble(
+        tracer,
+        F::NAME,
+        F::fields(),
+        F::variables(),
+        traced,
+        BlockOrder::RowMajor,
+    )
+}
+
+/// How a block's entries are ordered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlockOrder {
+    /// Row after row: this project's kernels.
+    RowMajor,
+    /// Column after column: host kernels, whose consecutive blocks tile a
+    /// column-major Jacobian.
+    ColumnMajor,
+}
+
+/// The kernel of a residual `traced` inside `tracer` over the inputs of
+/// `fields`: the residual at `δ = 0` and, per entry of `variables` (which
+/// split `δ` in order), its block in the cheapest exact form, ordered by
+/// `order`.
+pub(crate) fn assemble(
+    tracer: Tracer,
+    name: &'static str,
+    fields: Vec<FieldInfo>,
+    variables: Vec<VariableInfo>,
+    traced: Traced,
+    order: BlockOrder,
+) -> SymbolicKernel {
     let Traced {
         residual: traced,
         delta,
         input_len,
         at_zero,
-    } = trace_at_tangent::<F>();
+    } = traced;
     let mut substituted = HashMap::new();
     let residual: Vec<Expr> = traced
         .iter()
@@ -81,20 +113,24 @@ pub fn trace<F: Factor>() -> SymbolicKernel {
         .collect();
     let (columns, jacobian_form) =
         cheapest_columns(&tracer, &traced, &residual, &delta, &at_zero, input_len);
+    let rows = traced.len();
     let mut offset = 0;
-    let blocks = F::variables()
+    let blocks = variables
         .into_iter()
         .map(|variable| {
             let columns = &columns[offset..offset + variable.tangent_dim];
             offset += variable.tangent_dim;
-            let entries = (0..traced.len())
-                .flat_map(|row| columns.iter().map(move |column| column[row]))
-                .collect();
+            let entries = match order {
+                BlockOrder::RowMajor => (0..rows)
+                    .flat_map(|row| columns.iter().map(move |column| column[row]))
+                    .collect(),
+                BlockOrder::ColumnMajor => columns.iter().flatten().copied().collect(),
+            };
             JacobianBlock { variable, entries }
         })
         .collect();
     SymbolicKernel {
-        name: F::NAME,
+        name,
         graph: tracer.finish(),
         fields,
         residual,

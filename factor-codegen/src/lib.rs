@@ -5,6 +5,8 @@
 //!
 //! The stages, in order:
 //!
+//! - [`host`]: the factor traced in a host solver's chart and layout
+//!   ([`HostSpec`]), for a kernel beside its own;
 //! - [`kernel`]: the factor traced ([`trace`]) into residual and Jacobian
 //!   expressions, each block formed the cheapest exact way
 //!   ([`SymbolicKernel`]);
@@ -84,6 +86,7 @@ pub mod compile;
 pub mod crate_writer;
 pub mod emit;
 pub mod error;
+pub mod host;
 pub mod ir;
 pub mod kernel;
 pub mod lower;
@@ -94,6 +97,7 @@ pub mod spec;
 
 pub use crate_writer::GeneratedCrate;
 pub use error::CodegenError;
+pub use host::{HostSpec, HostTrace, trace_on_host};
 pub use ir::OpCounts;
 pub use kernel::{JacobianBlock, JacobianForm, SymbolicKernel, trace};
 pub use module::{GeneratedModule, generate_module, generate_with, operation_counts};

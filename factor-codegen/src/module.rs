@@ -1,6 +1,6 @@
 //! A factor's kernel from its trace to its formatted module source.
 
-use crate::emit::{ModuleParts, module_source};
+use crate::emit::{HostParts, ModuleParts, module_source};
 use crate::error::CodegenError;
 use crate::ir::OpCounts;
 use crate::kernel::SymbolicKernel;
@@ -79,6 +79,24 @@ pub fn generate_module(
     } else {
         None
     };
+    let host_programs: Vec<_> = spec
+        .hosts
+        .iter()
+        .map(|host| {
+            let trace = (host.trace)();
+            let lowered = lower_kernel(&trace.kernel);
+            let host_schedule = crate::schedule::schedule(&lowered);
+            (trace, lowered, host_schedule)
+        })
+        .collect();
+    let hosts: Vec<HostParts> = host_programs
+        .iter()
+        .map(|(trace, lowered, schedule)| HostParts {
+            trace,
+            lowered,
+            schedule,
+        })
+        .collect();
     let parts = ModuleParts {
         kernel,
         spec,
@@ -86,6 +104,7 @@ pub fn generate_module(
         lowered: &lowered,
         schedule: &schedule,
         normal: normal.as_ref().map(|(n, s)| (n, s)),
+        hosts: &hosts,
     };
     Ok(GeneratedModule {
         name: spec.name,

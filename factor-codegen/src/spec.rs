@@ -3,13 +3,14 @@
 
 use factor_core::Factor;
 
+use crate::host::HostSpec;
 use crate::kernel::{SymbolicKernel, trace};
 
 /// A factor to generate a kernel for: [`KernelSpec::of`] for any factor
 /// type; everything the kernel's module says about its inputs comes from the
 /// factor's own definition (each field's [`factor_core::Storage`] layout and
 /// documentation).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct KernelSpec {
     /// The module and function name in the generated crate: the factor's
     /// [`factor_core::Factor::NAME`].
@@ -24,6 +25,9 @@ pub struct KernelSpec {
     /// Whether the module also holds the fused normal-equation kernel
     /// ([`KernelSpec::with_normal_equations`]).
     pub normal_equations: bool,
+    /// The host charts the module also has kernels for
+    /// ([`KernelSpec::with_host`]).
+    pub hosts: Vec<HostSpec>,
 }
 
 impl KernelSpec {
@@ -35,12 +39,13 @@ impl KernelSpec {
             source: F::DESCRIPTION,
             trace: trace::<F>,
             normal_equations: false,
+            hosts: Vec::new(),
         }
     }
 
     /// The same spec naming `source` (a document and its equations, say) as
     /// where the residual comes from.
-    pub const fn with_source(self, source: &'static str) -> KernelSpec {
+    pub fn with_source(self, source: &'static str) -> KernelSpec {
         KernelSpec { source, ..self }
     }
 
@@ -48,11 +53,23 @@ impl KernelSpec {
     /// `<name>_normal` beside the Jacobian kernel ([`crate::normal`]): for a
     /// per-factor weight `w`, the cost `½ w rᵀr`, the gradient blocks
     /// `Jᵢᵀ w r` and the upper triangle of `JᵀwJ`, block by block.
-    pub const fn with_normal_equations(self) -> KernelSpec {
+    pub fn with_normal_equations(self) -> KernelSpec {
         KernelSpec {
             normal_equations: true,
             ..self
         }
+    }
+}
+
+impl KernelSpec {
+    /// The same spec with a kernel in a host's chart and layout beside the
+    /// factor's own ([`crate::host`]): `<name>_<host>`, reading the host's
+    /// parameter arrays and writing column-major blocks, one per host part
+    /// (`HostSpec::of::<F, Apex>()` for apex-solver). The factor names the
+    /// host in `#[factor(kernel = …, hosts(apex))]`.
+    pub fn with_host(mut self, host: HostSpec) -> KernelSpec {
+        self.hosts.push(host);
+        self
     }
 }
 

@@ -203,6 +203,15 @@ pub trait Factor: Storage<f64> + Sized {
     /// If `stored` or `delta` has the wrong length.
     fn perturbed_residual_over<T: Scalar>(stored: &[T], delta: &[T]) -> Vec<T>;
 
+    /// The residual of the factor stored as `stored` over any scalar `T`,
+    /// with no perturbation: what a host's chart composes with its own
+    /// retraction ([`crate::host::host_residual`]).
+    ///
+    /// # Panics
+    ///
+    /// If `stored` has the wrong length.
+    fn residual_over<T: Scalar>(stored: &[T]) -> Vec<T>;
+
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;
 

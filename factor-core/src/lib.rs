@@ -13,6 +13,8 @@
 //!   what a user writes.
 //! - [`factor`]: the factor model and its errors; `#[derive(Factor)]`
 //!   (crate `factor-macros`) implements it.
+//! - [`host`]: host solvers' charts ([`host::Apex`]): a factor served to a
+//!   solver in the solver's own manifolds, parameter layouts and tangents.
 //! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
 //!   kernel, for batch evaluators.
 //! - [`numeric`]: numerical differentiation with an error estimate, the
@@ -33,6 +35,7 @@
 
 pub mod factor;
 pub mod geometry;
+pub mod host;
 pub mod kernel;
 pub mod lie;
 pub mod linalg;
@@ -68,6 +71,23 @@ pub mod __private {
     /// Whether two shapes (lists of array lengths) are equal, in a constant:
     /// the derive's compile-time check that a generated kernel is current.
     pub const fn same_shape(a: &[usize], b: &[usize]) -> bool {
+        if a.len() != b.len() {
+            return false;
+        }
+        let mut i = 0;
+        while i < a.len() {
+            if a[i] != b[i] {
+                return false;
+            }
+            i += 1;
+        }
+        true
+    }
+
+    /// Whether two strings are equal, in a constant: the derive's check
+    /// that a host's `NAME` is the one `hosts(…)` names.
+    pub const fn same_str(a: &str, b: &str) -> bool {
+        let (a, b) = (a.as_bytes(), b.as_bytes());
         if a.len() != b.len() {
             return false;
         }

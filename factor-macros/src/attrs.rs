@@ -21,6 +21,9 @@ pub struct FactorAttr {
     pub kernel: Option<Path>,
     /// `regenerate = "command"`: how to rewrite the kernel when it is stale.
     pub regenerate: Option<LitStr>,
+    /// `hosts(apex, name = path::Host)`: the host charts the kernel crate
+    /// has kernels for.
+    pub hosts: Option<Vec<HostAttr>>,
     /// The first `#[factor]` attribute, for errors about a missing key.
     pub first: Option<Attribute>,
 }
@@ -52,6 +55,10 @@ impl FactorAttr {
             "validate" => set_once(&mut self.validate, meta, meta.value()?.parse()?),
             "kernel" => set_once(&mut self.kernel, meta, meta.value()?.parse()?),
             "regenerate" => set_once(&mut self.regenerate, meta, meta.value()?.parse()?),
+            "hosts" => {
+                let hosts = parse_hosts(meta)?;
+                set_once(&mut self.hosts, meta, hosts)
+            }
             "name" => {
                 let name: LitStr = meta.value()?.parse()?;
                 if name.value().is_empty() {
@@ -70,11 +77,50 @@ impl FactorAttr {
                 set_once(&mut self.dim, meta, dim)
             }
             _ => Err(meta.error(format!(
-                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate`, `name`, `kernel` or `regenerate`",
+                "unknown key `{}` in `#[factor(...)]`; expected `residual`, `dim`, `validate`, `name`, `kernel`, `regenerate` or `hosts`",
                 path_text(&meta.path)
             ))),
         }
     }
+}
+
+/// A host chart with a generated kernel: `apex` (apex-solver,
+/// `::factor_core::host::Apex`) or `name = path::ToHost` for a host of
+/// one's own. The kernel of host `name` is `<kernel>_<name>`.
+pub struct HostAttr {
+    /// The host's name, the suffix of its kernel's name.
+    pub name: syn::Ident,
+    /// The host type.
+    pub host: Path,
+}
+
+/// `hosts(apex, mine = my_crate::MyHost)`: at least one, each once.
+fn parse_hosts(meta: &ParseNestedMeta) -> syn::Result<Vec<HostAttr>> {
+    let mut hosts: Vec<HostAttr> = Vec::new();
+    meta.parse_nested_meta(|host| {
+        let Some(name) = host.path.get_ident().cloned() else {
+            return Err(host.error("a host is named by one identifier: `apex` or `name = path`"));
+        };
+        let path = if host.input.peek(syn::Token![=]) {
+            host.value()?.parse()?
+        } else if name == "apex" {
+            syn::parse_quote!(::factor_core::host::Apex)
+        } else {
+            return Err(host.error(format!(
+                "unknown host `{name}`: the built-in host is `apex`; name a host of your own \
+                 with `{name} = path::ToHostType`"
+            )));
+        };
+        if hosts.iter().any(|h| h.name == name) {
+            return Err(host.error(format!("duplicate host `{name}` in `hosts(...)`")));
+        }
+        hosts.push(HostAttr { name, host: path });
+        Ok(())
+    })?;
+    if hosts.is_empty() {
+        return Err(meta.error("`hosts(...)` names at least one host: `hosts(apex)`"));
+    }
+    Ok(hosts)
 }
 
 /// Stores `value` unless the key was already given.

@@ -6,7 +6,7 @@ use syn::{
     Visibility,
 };
 
-use crate::attrs::{self, FactorAttr, Side};
+use crate::attrs::{self, FactorAttr, HostAttr, Side};
 use crate::errors;
 use crate::naming;
 
@@ -32,6 +32,8 @@ pub struct FactorModel {
     pub kernel: Option<Path>,
     /// `regenerate = "command"`, if given: how to rewrite a stale kernel.
     pub regenerate: Option<String>,
+    /// `hosts(...)`: the host charts the kernel crate has kernels for.
+    pub hosts: Vec<HostAttr>,
     /// The first paragraph of the struct's documentation, on one line.
     pub doc: String,
     /// Every field in declaration order.
@@ -67,7 +69,7 @@ impl FactorModel {
             FactorAttr::parse(&input.attrs).and_then(|attr| required_keys(attr, &input.ident));
         let fields = parse_fields(input);
         let misplaced = errors::check(misplaced_attrs(input));
-        let (((scalar, (residual, dim, validate, name, kernel, regenerate)), fields), ()) =
+        let (((scalar, (residual, dim, validate, name, kernel, regenerate, hosts)), fields), ()) =
             errors::join(errors::join(errors::join(scalar, attr), fields), misplaced)?;
         Ok(FactorModel {
             vis: input.vis.clone(),
@@ -80,6 +82,7 @@ impl FactorModel {
             name: name.unwrap_or_else(|| naming::snake_case(&input.ident.to_string())),
             kernel,
             regenerate,
+            hosts,
             doc: first_paragraph(&input.attrs),
             fields,
         })
@@ -99,8 +102,9 @@ impl FactorModel {
     }
 }
 
-/// The residual, dimension, validation function, name, kernel and its
-/// regeneration command, once both required keys are known to be present.
+/// The residual, dimension, validation function, name, kernel, its
+/// regeneration command and its hosts, once both required keys are known to
+/// be present.
 type Keys = (
     Path,
     LitInt,
@@ -108,6 +112,7 @@ type Keys = (
     Option<String>,
     Option<Path>,
     Option<String>,
+    Vec<HostAttr>,
 );
 
 fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
@@ -138,7 +143,16 @@ fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
         )),
         _ => Ok(()),
     };
-    let ((residual, dim), ()) = errors::join(errors::join(residual, dim), regenerate)?;
+    let hosts = match (&attr.hosts, &attr.kernel) {
+        (Some(hosts), None) => Err(syn::Error::new(
+            hosts[0].name.span(),
+            "`hosts` names the host charts the generated kernel crate has kernels for: it \
+             needs `kernel = <path>`",
+        )),
+        _ => Ok(()),
+    };
+    let (((residual, dim), ()), ()) =
+        errors::join(errors::join(errors::join(residual, dim), regenerate), hosts)?;
     Ok((
         residual,
         dim,
@@ -146,6 +160,7 @@ fn required_keys(attr: FactorAttr, ident: &Ident) -> syn::Result<Keys> {
         attr.name.map(|name| name.value()),
         attr.kernel,
         attr.regenerate.map(|command| command.value()),
+        attr.hosts.unwrap_or_default(),
     ))
 }
 

@@ -5,6 +5,8 @@
 //!   agree with numerical differentiation on the variables' manifolds;
 //! - [`assert_generated_matches_dual`] ([`generated`]): the generated kernel
 //!   agrees with dual numbers to rounding;
+//! - [`host`]: a factor's Jacobians in a host solver's chart against
+//!   central differences through the host's retraction;
 //! - [`mod@reference`]: a factor's residual and Jacobians in double-double
 //!   arithmetic, to measure the accuracy of an `f64` evaluation;
 //! - [`near_degenerate`]: configurations a given distance from a factor's
@@ -18,6 +20,7 @@ pub mod branch_points;
 #[cfg(feature = "bench")]
 pub mod cpu_time;
 pub mod generated;
+pub mod host;
 pub mod near_degenerate;
 pub mod numeric;
 pub mod reference;

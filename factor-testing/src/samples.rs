@@ -8,6 +8,8 @@
 //! (a few pixels, a few degrees) and no configuration is near a degeneracy.
 //! Samples are reproducible from a seed.
 
+mod g2o;
+
 use nalgebra::{Matrix3, Matrix6, Unit, Vector2, Vector3, Vector4, Vector6};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};

@@ -31,6 +31,21 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 616 | 980 | 7 | 24 | 2 | 3 | 26 | 1658 |
 //! | residual only | 109 | 158 | 5 | 8 | 2 | 3 | 7 | 292 |
+//! | apex chart | 616 | 979 | 7 | 24 | 2 | 3 | 26 | 1657 |
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `between_apex` (apex-solver 1.5):
+//!
+//! - `sqrt_information: [T; 21]` (constant): `[u00, u01, u02, u03, u04, u05, u11, u12, u13, u14, u15, u22, u23, u24, u25, u33, u34, u35, u44, u45, u55]`
+//! - `measured: [T; 7]` (constant): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`
+//! - `pose_i: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `pose_j: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `residual: [T; 6]`
+//! - `d_pose_i: [T; 36]`: 6 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_pose_j: [T; 36]`: 6 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
 //!
 //! # Lanes
 //!
@@ -1974,15 +1989,14 @@ pub fn between<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[21, 7, 7, 7],
     residual: 6,
     blocks: &[36, 36],
 };
 
-/// [`between`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`between`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn between_slices<T: Real>(
     inputs: &[&[T]],
@@ -2023,6 +2037,1994 @@ pub fn between_slices<T: Real>(
         d_pose_i,
         d_pose_j,
     );
+    true
+}
+
+/// The residual of `slam_factors::between::BetweenFactor` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn between_apex<T: Real>(
+    sqrt_information: &[T; 21],
+    measured: &[T; 7],
+    pose_i: &[T; 7],
+    pose_j: &[T; 7],
+    residual: &mut [T; 6],
+    d_pose_i: Option<&mut [T; 36]>,
+    d_pose_j: Option<&mut [T; 36]>,
+) {
+    let v0 = measured[0] * measured[0];
+    let v1 = measured[1] * measured[1];
+    let v2 = v0 - v1;
+    let v3 = measured[2] * measured[2];
+    let v4 = measured[3] * measured[3];
+    let v5 = v3 - v4;
+    let v6 = v2 + v5;
+    let v7 = pose_i[4] * pose_i[4];
+    let v8 = pose_i[5] * pose_i[5];
+    let v9 = v7 - v8;
+    let v10 = pose_i[6] * pose_i[6];
+    let v11 = pose_i[3] * pose_i[3];
+    let v12 = v10 - v11;
+    let v13 = v9 + v12;
+    let v14 = pose_i[1] - pose_j[1];
+    let v15 = v13 * v14;
+    let v16 = pose_i[4] * pose_i[5];
+    let v17 = pose_i[6] * pose_i[3];
+    let v18 = v16 - v17;
+    let v19 = pose_i[0] - pose_j[0];
+    let v20 = v19 * T::constant(2.0);
+    let v21 = v18 * v20;
+    let v22 = -v21;
+    let v23 = pose_i[5] * pose_i[6];
+    let v24 = pose_i[4] * pose_i[3];
+    let v25 = v23 + v24;
+    let v26 = pose_i[2] - pose_j[2];
+    let v27 = T::constant(2.0) * v26;
+    let v28 = v25 * v27;
+    let v29 = -v28;
+    let v30 = v22 + v29;
+    let v31 = v15 + v30;
+    let v32 = measured[5] - v31;
+    let v33 = v6 * v32;
+    let v34 = measured[0] * measured[1];
+    let v35 = measured[2] * measured[3];
+    let v36 = v34 - v35;
+    let v37 = v9 - v12;
+    let v38 = v19 * v37;
+    let v39 = v16 + v17;
+    let v40 = v14 * T::constant(2.0);
+    let v41 = v39 * v40;
+    let v42 = pose_i[4] * pose_i[6];
+    let v43 = pose_i[5] * pose_i[3];
+    let v44 = v42 - v43;
+    let v45 = v27 * v44;
+    let v46 = v41 + v45;
+    let v47 = v38 + v46;
+    let v48 = measured[4] + v47;
+    let v49 = T::constant(2.0) * v48;
+    let v50 = v36 * v49;
+    let v51 = measured[1] * measured[2];
+    let v52 = measured[0] * measured[3];
+    let v53 = v51 + v52;
+    let v54 = v23 - v24;
+    let v55 = v14 * v54;
+    let v56 = v42 + v43;
+    let v57 = v19 * v56;
+    let v58 = v7 + v8;
+    let v59 = v10 + v11;
+    let v60 = v58 - v59;
+    let v61 = v26 * T::constant(0.5);
+    let v62 = v60 * v61;
+    let v63 = -v62;
+    let v64 = v55 + v57;
+    let v65 = v63 + v64;
+    let v66 = T::constant(2.0) * v65;
+    let v67 = measured[6] + v66;
+    let v68 = T::constant(2.0) * v67;
+    let v69 = v53 * v68;
+    let v70 = v33 - v50;
+    let v71 = v70 - v69;
+    let v72 = pose_i[3] * pose_j[3];
+    let v73 = pose_i[4] * pose_j[4];
+    let v74 = pose_i[5] * pose_j[5];
+    let v75 = pose_i[6] * pose_j[6];
+    let v76 = v72 + v73;
+    let v77 = v74 + v75;
+    let v78 = v76 + v77;
+    let v79 = measured[3] * v78;
+    let v80 = pose_i[3] * pose_j[4];
+    let v81 = pose_i[4] * pose_j[3];
+    let v82 = pose_i[5] * pose_j[6];
+    let v83 = pose_i[6] * pose_j[5];
+    let v84 = v80 - v81;
+    let v85 = v83 - v82;
+    let v86 = v84 + v85;
+    let v87 = measured[0] * v86;
+    let v88 = pose_i[3] * pose_j[5];
+    let v89 = pose_i[5] * pose_j[3];
+    let v90 = pose_i[6] * pose_j[4];
+    let v91 = pose_i[4] * pose_j[6];
+    let v92 = v88 - v89;
+    let v93 = v91 - v90;
+    let v94 = v92 + v93;
+    let v95 = measured[1] * v94;
+    let v96 = pose_i[3] * pose_j[6];
+    let v97 = pose_i[6] * pose_j[3];
+    let v98 = pose_i[4] * pose_j[5];
+    let v99 = pose_i[5] * pose_j[4];
+    let v100 = v96 - v97;
+    let v101 = v99 - v98;
+    let v102 = v100 + v101;
+    let v103 = measured[2] * v102;
+    let v104 = v79 + v87;
+    let v105 = v95 + v103;
+    let v106 = v104 + v105;
+    let v107 = measured[3] * v86;
+    let v108 = measured[0] * v78;
+    let v109 = measured[1] * v102;
+    let v110 = measured[2] * v94;
+    let v111 = v107 - v108;
+    let v112 = v110 - v109;
+    let v113 = v111 + v112;
+    let v114 = -v113;
+    let v115 = T::select_lt(v106, T::constant(0.0), v114, v113);
+    let v116 = -v106;
+    let v117 = T::select_lt(v106, T::constant(0.0), v116, v106);
+    let v118 = measured[3] * v102;
+    let v119 = measured[2] * v78;
+    let v120 = measured[0] * v94;
+    let v121 = measured[1] * v86;
+    let v122 = v118 - v119;
+    let v123 = v121 - v120;
+    let v124 = v122 + v123;
+    let v125 = -v124;
+    let v126 = T::select_lt(v106, T::constant(0.0), v125, v124);
+    let v127 = v126 * v126;
+    let v128 = v115 * v115;
+    let v129 = measured[3] * v94;
+    let v130 = measured[1] * v78;
+    let v131 = measured[2] * v86;
+    let v132 = measured[0] * v102;
+    let v133 = v129 - v130;
+    let v134 = v132 - v131;
+    let v135 = v133 + v134;
+    let v136 = -v135;
+    let v137 = T::select_lt(v106, T::constant(0.0), v136, v135);
+    let v138 = v137 * v137;
+    let v139 = v128 + v138;
+    let v140 = v127 + v139;
+    let v141 = T::constant(1.0) / v117;
+    let v142 = v141 * v141;
+    let v143 = v140 * v142;
+    let v144 = v141 * v143;
+    let v145 = v141 * v144;
+    let v146 = v140 * v145;
+    let v147 = v146 * T::constant(0.6000000000000001);
+    let v148 = v143 - T::constant(3.0);
+    let v149 = v148 - v147;
+    let v150 = v141 * T::constant(-0.6666666666666666);
+    let v151 = v149 * v150;
+    let v152 = T::sqrt(v140);
+    let v153 = T::constant(1.0) / v152;
+    let v154 = T::atan2(v152, v117);
+    let v155 = v153 * v154;
+    let v156 = T::constant(2.0) * v155;
+    let v157 = T::select_lt(v143, T::constant(1e-6), v151, v156);
+    let v158 = T::select_lt(T::constant(0.0), v117, v157, v156);
+    let v159 = v115 * v158;
+    let v160 = v158 * v158;
+    let v161 = v126 * v160;
+    let v162 = v126 * v161;
+    let v163 = v115 * v160;
+    let v164 = v115 * v163;
+    let v165 = v137 * v160;
+    let v166 = v137 * v165;
+    let v167 = v164 + v166;
+    let v168 = v162 + v167;
+    let v169 = v168 * T::constant(3.306878306878307e-5);
+    let v170 = v168 * v169;
+    let v171 = v168 * T::constant(0.001388888888888889);
+    let v172 = v171 + T::constant(0.08333333333333333);
+    let v173 = v170 + v172;
+    let v174 = T::sqrt(v168);
+    let v175 = T::constant(1.0) / v174;
+    let v176 = T::constant(0.5) * v174;
+    let v177 = T::cos(v176);
+    let v178 = T::sin(v176);
+    let v179 = v177 / v178;
+    let v180 = T::constant(0.5) * v175;
+    let v181 = v179 * v180;
+    let v182 = T::constant(1.0) / v168;
+    let v183 = v182 - v181;
+    let v184 = T::select_lt(v168, T::constant(1e-6), v173, v183);
+    let v185 = v137 * v184;
+    let v186 = v161 * v185;
+    let v187 = T::constant(2.0) * v186;
+    let v188 = v159 - v187;
+    let v189 = v71 * v188;
+    let v190 = v2 - v5;
+    let v191 = v48 * v190;
+    let v192 = v34 + v35;
+    let v193 = T::constant(2.0) * v32;
+    let v194 = v192 * v193;
+    let v195 = measured[0] * measured[2];
+    let v196 = measured[1] * measured[3];
+    let v197 = v195 - v196;
+    let v198 = v68 * v197;
+    let v199 = v191 + v194;
+    let v200 = v198 + v199;
+    let v201 = v137 * v158;
+    let v202 = v163 * v184;
+    let v203 = v126 * v202;
+    let v204 = T::constant(2.0) * v203;
+    let v205 = v201 + v204;
+    let v206 = v200 * v205;
+    let v207 = v51 - v52;
+    let v208 = v32 * v207;
+    let v209 = v195 + v196;
+    let v210 = v48 * v209;
+    let v211 = v0 + v1;
+    let v212 = v3 + v4;
+    let v213 = v211 - v212;
+    let v214 = T::constant(0.5) * v67;
+    let v215 = v213 * v214;
+    let v216 = v208 + v210;
+    let v217 = v216 - v215;
+    let v218 = v167 * v184;
+    let v219 = v218 - T::constant(1.0);
+    let v220 = v217 * T::constant(4.0);
+    let v221 = v219 * v220;
+    let v222 = v189 - v221;
+    let v223 = v206 + v222;
+    let v224 = sqrt_information[5] * T::constant(0.5);
+    let v225 = v223 * v224;
+    let v226 = v159 * sqrt_information[0];
+    let v227 = v201 * sqrt_information[1];
+    let v228 = v126 * v158;
+    let v229 = sqrt_information[2] * v228;
+    let v230 = v163 * v185;
+    let v231 = T::constant(2.0) * v230;
+    let v232 = v228 + v231;
+    let v233 = T::constant(0.5) * v71;
+    let v234 = v232 * v233;
+    let v235 = v162 + v166;
+    let v236 = v184 * v235;
+    let v237 = v236 - T::constant(1.0);
+    let v238 = v200 * v237;
+    let v239 = v201 - v204;
+    let v240 = v217 * v239;
+    let v241 = v234 + v238;
+    let v242 = v240 + v241;
+    let v243 = sqrt_information[3] * v242;
+    let v244 = v228 - v231;
+    let v245 = T::constant(0.5) * v200;
+    let v246 = v244 * v245;
+    let v247 = v162 + v164;
+    let v248 = v184 * v247;
+    let v249 = v248 - T::constant(1.0);
+    let v250 = v71 * v249;
+    let v251 = v159 + v187;
+    let v252 = v217 * v251;
+    let v253 = v250 - v246;
+    let v254 = v252 + v253;
+    let v255 = sqrt_information[4] * v254;
+    let v256 = v226 + v227;
+    let v257 = v229 + v256;
+    let v258 = v257 - v225;
+    let v259 = v243 - v255;
+    let v260 = v258 + v259;
+    let v261 = T::constant(0.5) * sqrt_information[10];
+    let v262 = v223 * v261;
+    let v263 = v201 * sqrt_information[6];
+    let v264 = v228 * sqrt_information[7];
+    let v265 = v242 * sqrt_information[8];
+    let v266 = v254 * sqrt_information[9];
+    let v267 = v263 + v264;
+    let v268 = v267 - v262;
+    let v269 = v265 - v266;
+    let v270 = v268 + v269;
+    let v271 = T::constant(0.5) * sqrt_information[14];
+    let v272 = v223 * v271;
+    let v273 = v228 * sqrt_information[11];
+    let v274 = v242 * sqrt_information[12];
+    let v275 = v254 * sqrt_information[13];
+    let v276 = v273 - v272;
+    let v277 = v274 - v275;
+    let v278 = v276 + v277;
+    let v279 = T::constant(0.5) * sqrt_information[17];
+    let v280 = v223 * v279;
+    let v281 = v242 * sqrt_information[15];
+    let v282 = v254 * sqrt_information[16];
+    let v283 = v281 - v280;
+    let v284 = v283 - v282;
+    let v285 = T::constant(0.5) * sqrt_information[19];
+    let v286 = v223 * v285;
+    let v287 = v254 * sqrt_information[18];
+    let v288 = v286 + v287;
+    let v289 = -v288;
+    let v290 = sqrt_information[20] * T::constant(-0.5);
+    let v291 = v223 * v290;
+    residual[0] = v260;
+    residual[1] = v270;
+    residual[2] = v278;
+    residual[3] = v284;
+    residual[4] = v289;
+    residual[5] = v291;
+    let (
+        v316,
+        v317,
+        v343,
+        v366,
+        v372,
+        v379,
+        v384,
+        v390,
+        v397,
+        v402,
+        v408,
+        v415,
+        v420,
+        v423,
+        v426,
+        v429,
+        v430,
+        v431,
+        v432,
+        v433,
+        v434,
+        v731,
+        v970,
+        v996,
+        v1021,
+        v1038,
+        v1055,
+        v1068,
+        v1081,
+        v1090,
+        v1099,
+        v1105,
+        v1111,
+        v1114,
+        v1117,
+        v1120,
+        v1123,
+        v1126,
+        v1129,
+        v1132,
+        v1135,
+        v1138,
+        v1141,
+        v1146,
+        v1151,
+        v1154,
+        v1157,
+        v1160,
+        v1163,
+        v1166,
+        v1169,
+        v1172,
+        v1175,
+        v1178,
+        v1181,
+        v1185,
+        v1189,
+    ) = if d_pose_i.is_some() || d_pose_j.is_some() {
+        let v292 = v190 * v237;
+        let v293 = v36 * v232;
+        let v294 = v209 * v239;
+        let v295 = v292 - v293;
+        let v296 = v294 + v295;
+        let v297 = sqrt_information[3] * v296;
+        let v298 = T::constant(0.5) * v190;
+        let v299 = v205 * v298;
+        let v300 = v36 * v188;
+        let v301 = T::constant(2.0) * v209;
+        let v302 = v219 * v301;
+        let v303 = v302 - v299;
+        let v304 = v300 + v303;
+        let v305 = sqrt_information[5] * v304;
+        let v306 = v190 * T::constant(0.25);
+        let v307 = v244 * v306;
+        let v308 = T::constant(0.5) * v209;
+        let v309 = v251 * v308;
+        let v310 = v36 * v249;
+        let v311 = v307 + v310;
+        let v312 = v311 - v309;
+        let v313 = T::constant(2.0) * sqrt_information[4];
+        let v314 = v312 * v313;
+        let v315 = v297 + v305;
+        let v316 = v314 + v315;
+        let v317 = T::constant(2.0) * v25;
+        let v318 = v6 * v188;
+        let v319 = T::constant(2.0) * v192;
+        let v320 = v205 * v319;
+        let v321 = v207 * T::constant(4.0);
+        let v322 = v219 * v321;
+        let v323 = v318 - v322;
+        let v324 = v320 + v323;
+        let v325 = sqrt_information[5] * T::constant(0.25);
+        let v326 = v324 * v325;
+        let v327 = v6 * v249;
+        let v328 = v192 * v244;
+        let v329 = v207 * v251;
+        let v330 = v327 - v328;
+        let v331 = v329 + v330;
+        let v332 = T::constant(0.5) * sqrt_information[4];
+        let v333 = v331 * v332;
+        let v334 = v6 * T::constant(0.25);
+        let v335 = v232 * v334;
+        let v336 = T::constant(0.5) * v207;
+        let v337 = v239 * v336;
+        let v338 = v192 * v237;
+        let v339 = v335 + v338;
+        let v340 = v337 + v339;
+        let v341 = sqrt_information[3] * v340;
+        let v342 = v326 + v333;
+        let v343 = v341 - v342;
+        let v344 = v53 * v188;
+        let v345 = v197 * v205;
+        let v346 = v213 * v219;
+        let v347 = v344 - v346;
+        let v348 = v347 - v345;
+        let v349 = v224 * v348;
+        let v350 = v213 * T::constant(0.25);
+        let v351 = v239 * v350;
+        let v352 = v53 * T::constant(0.5);
+        let v353 = v232 * v352;
+        let v354 = v197 * v237;
+        let v355 = v354 - v351;
+        let v356 = v355 - v353;
+        let v357 = sqrt_information[3] * v356;
+        let v358 = v251 * v350;
+        let v359 = T::constant(0.5) * v197;
+        let v360 = v244 * v359;
+        let v361 = v53 * v249;
+        let v362 = v358 + v361;
+        let v363 = v360 + v362;
+        let v364 = sqrt_information[4] * v363;
+        let v365 = v349 + v357;
+        let v366 = v364 + v365;
+        let v367 = sqrt_information[8] * v296;
+        let v368 = sqrt_information[10] * v304;
+        let v369 = T::constant(2.0) * sqrt_information[9];
+        let v370 = v312 * v369;
+        let v371 = v367 + v368;
+        let v372 = v370 + v371;
+        let v373 = sqrt_information[10] * T::constant(0.25);
+        let v374 = v324 * v373;
+        let v375 = T::constant(0.5) * sqrt_information[9];
+        let v376 = v331 * v375;
+        let v377 = sqrt_information[8] * v340;
+        let v378 = v374 + v376;
+        let v379 = v377 - v378;
+        let v380 = v261 * v348;
+        let v381 = sqrt_information[8] * v356;
+        let v382 = sqrt_information[9] * v363;
+        let v383 = v380 + v381;
+        let v384 = v382 + v383;
+        let v385 = sqrt_information[12] * v296;
+        let v386 = sqrt_information[14] * v304;
+        let v387 = T::constant(2.0) * sqrt_information[13];
+        let v388 = v312 * v387;
+        let v389 = v385 + v386;
+        let v390 = v388 + v389;
+        let v391 = sqrt_information[14] * T::constant(0.25);
+        let v392 = v324 * v391;
+        let v393 = T::constant(0.5) * sqrt_information[13];
+        let v394 = v331 * v393;
+        let v395 = sqrt_information[12] * v340;
+        let v396 = v392 + v394;
+        let v397 = v395 - v396;
+        let v398 = v271 * v348;
+        let v399 = sqrt_information[12] * v356;
+        let v400 = sqrt_information[13] * v363;
+        let v401 = v398 + v399;
+        let v402 = v400 + v401;
+        let v403 = sqrt_information[15] * v296;
+        let v404 = sqrt_information[17] * v304;
+        let v405 = T::constant(2.0) * sqrt_information[16];
+        let v406 = v312 * v405;
+        let v407 = v403 + v404;
+        let v408 = v406 + v407;
+        let v409 = sqrt_information[17] * T::constant(0.25);
+        let v410 = v324 * v409;
+        let v411 = T::constant(0.5) * sqrt_information[16];
+        let v412 = v331 * v411;
+        let v413 = sqrt_information[15] * v340;
+        let v414 = v410 + v412;
+        let v415 = v413 - v414;
+        let v416 = v279 * v348;
+        let v417 = sqrt_information[15] * v356;
+        let v418 = sqrt_information[16] * v363;
+        let v419 = v416 + v417;
+        let v420 = v418 + v419;
+        let v421 = v285 * v304;
+        let v422 = sqrt_information[18] * v312;
+        let v423 = v421 + v422;
+        let v424 = v285 * v324;
+        let v425 = sqrt_information[18] * v331;
+        let v426 = v424 + v425;
+        let v427 = v285 * v348;
+        let v428 = sqrt_information[18] * v363;
+        let v429 = v427 + v428;
+        let v430 = sqrt_information[20] * v304;
+        let v431 = sqrt_information[20] * v324;
+        let v432 = sqrt_information[20] * v348;
+        let v433 = v18 * T::constant(2.0);
+        let v434 = v60 * T::constant(0.25);
+        let v435 = -measured[3];
+        let v436 = T::select_lt(v106, T::constant(0.0), v435, measured[3]);
+        let v437 = v158 * v436;
+        let v438 = -measured[0];
+        let v439 = T::select_lt(v106, T::constant(0.0), v438, measured[0]);
+        let v440 = v142 * v149;
+        let v441 = v439 * T::constant(0.6666666666666666);
+        let v442 = v440 * v441;
+        let v443 = v141 * T::constant(1.2000000000000002);
+        let v444 = v146 * v443;
+        let v445 = v144 - v444;
+        let v446 = v439 * v445;
+        let v447 = v115 * v436;
+        let v448 = -measured[2];
+        let v449 = T::select_lt(v106, T::constant(0.0), measured[2], v448);
+        let v450 = v137 * v449;
+        let v451 = -measured[1];
+        let v452 = T::select_lt(v106, T::constant(0.0), v451, measured[1]);
+        let v453 = v126 * v452;
+        let v454 = v447 + v450;
+        let v455 = v453 + v454;
+        let v456 = v145 * T::constant(1.2000000000000002);
+        let v457 = v456 - v142;
+        let v458 = v455 * v457;
+        let v459 = v446 + v458;
+        let v460 = v141 * T::constant(1.3333333333333333);
+        let v461 = v459 * v460;
+        let v462 = v442 + v461;
+        let v463 = v155 / v140;
+        let v464 = v117 * v153;
+        let v465 = v455 * v464;
+        let v466 = v152 * v439;
+        let v467 = v465 - v466;
+        let v468 = v117 * v117;
+        let v469 = v140 + v468;
+        let v470 = v153 / v469;
+        let v471 = v455 * v463;
+        let v472 = v467 * v470;
+        let v473 = v472 - v471;
+        let v474 = T::constant(2.0) * v473;
+        let v475 = T::select_lt(v143, T::constant(1e-6), v462, v474);
+        let v476 = T::select_lt(T::constant(0.0), v117, v475, v474);
+        let v477 = v115 * v476;
+        let v478 = v437 + v477;
+        let v479 = v161 * v184;
+        let v480 = v449 * v479;
+        let v481 = v160 * v185;
+        let v482 = v452 * v481;
+        let v483 = v480 + v482;
+        let v484 = v161 * v452;
+        let v485 = v126 * v476;
+        let v486 = v228 * v485;
+        let v487 = v484 + v486;
+        let v488 = v163 * v436;
+        let v489 = v115 * v159;
+        let v490 = v476 * v489;
+        let v491 = v488 + v490;
+        let v492 = v165 * v449;
+        let v493 = v137 * v201;
+        let v494 = v476 * v493;
+        let v495 = v492 + v494;
+        let v496 = v491 + v495;
+        let v497 = v487 + v496;
+        let v498 = v168 * T::constant(0.00013227513227513228);
+        let v499 = v497 * v498;
+        let v500 = v497 * T::constant(0.002777777777777778);
+        let v501 = v499 + v500;
+        let v502 = v182 - T::constant(0.125);
+        let v503 = v182 * v502;
+        let v504 = v179 * v182;
+        let v505 = v179 * T::constant(0.125);
+        let v506 = v175 * T::constant(0.25);
+        let v507 = v505 + v506;
+        let v508 = v504 * v507;
+        let v509 = v503 - v508;
+        let v510 = T::constant(2.0) * v497;
+        let v511 = v509 * v510;
+        let v512 = -v511;
+        let v513 = T::select_lt(v168, T::constant(1e-6), v501, v512);
+        let v514 = v137 * v161;
+        let v515 = T::constant(0.5) * v514;
+        let v516 = v513 * v515;
+        let v517 = v185 * v228;
+        let v518 = v476 * v517;
+        let v519 = v516 + v518;
+        let v520 = T::constant(2.0) * v519;
+        let v521 = v483 + v520;
+        let v522 = T::constant(2.0) * v521;
+        let v523 = v478 - v522;
+        let v524 = v71 * v523;
+        let v525 = v158 * v449;
+        let v526 = v137 * v476;
+        let v527 = v525 + v526;
+        let v528 = v436 * v479;
+        let v529 = v202 * v452;
+        let v530 = v528 + v529;
+        let v531 = v126 * v163;
+        let v532 = T::constant(0.5) * v531;
+        let v533 = v513 * v532;
+        let v534 = v115 * v184;
+        let v535 = v228 * v534;
+        let v536 = v476 * v535;
+        let v537 = v533 + v536;
+        let v538 = T::constant(2.0) * v537;
+        let v539 = v530 + v538;
+        let v540 = T::constant(2.0) * v539;
+        let v541 = v527 + v540;
+        let v542 = v200 * v541;
+        let v543 = T::constant(0.5) * v167;
+        let v544 = v513 * v543;
+        let v545 = v184 * v496;
+        let v546 = v544 + v545;
+        let v547 = v217 * T::constant(8.0);
+        let v548 = v546 * v547;
+        let v549 = v524 - v548;
+        let v550 = v542 + v549;
+        let v551 = v224 * v550;
+        let v552 = sqrt_information[0] * v437;
+        let v553 = sqrt_information[1] * v525;
+        let v554 = v158 * v452;
+        let v555 = v485 + v554;
+        let v556 = v436 * v481;
+        let v557 = v202 * v449;
+        let v558 = v556 + v557;
+        let v559 = v137 * v163;
+        let v560 = T::constant(0.5) * v559;
+        let v561 = v513 * v560;
+        let v562 = v159 * v185;
+        let v563 = v476 * v562;
+        let v564 = v561 + v563;
+        let v565 = T::constant(2.0) * v564;
+        let v566 = v558 + v565;
+        let v567 = T::constant(2.0) * v566;
+        let v568 = v555 + v567;
+        let v569 = v233 * v568;
+        let v570 = v235 * v513;
+        let v571 = v487 + v495;
+        let v572 = T::constant(2.0) * v571;
+        let v573 = v184 * v572;
+        let v574 = v570 + v573;
+        let v575 = v200 * v574;
+        let v576 = v527 - v540;
+        let v577 = v217 * v576;
+        let v578 = v569 + v575;
+        let v579 = v577 + v578;
+        let v580 = sqrt_information[3] * v579;
+        let v581 = v555 - v567;
+        let v582 = v245 * v581;
+        let v583 = v247 * v513;
+        let v584 = v487 + v491;
+        let v585 = T::constant(2.0) * v584;
+        let v586 = v184 * v585;
+        let v587 = v583 + v586;
+        let v588 = v71 * v587;
+        let v589 = v478 + v522;
+        let v590 = v217 * v589;
+        let v591 = v588 - v582;
+        let v592 = v590 + v591;
+        let v593 = sqrt_information[4] * v592;
+        let v594 = sqrt_information[2] * v555;
+        let v595 = v115 * sqrt_information[0];
+        let v596 = v137 * sqrt_information[1];
+        let v597 = v595 + v596;
+        let v598 = v476 * v597;
+        let v599 = v552 + v553;
+        let v600 = v598 + v599;
+        let v601 = v594 + v600;
+        let v602 = v601 - v551;
+        let v603 = v580 - v593;
+        let v604 = v602 + v603;
+        let v605 = v78 * v604;
+        let v606 = T::select_lt(v106, T::constant(0.0), measured[0], v438);
+        let v607 = v158 * v606;
+        let v608 = v436 * T::constant(0.6666666666666666);
+        let v609 = v440 * v608;
+        let v610 = v436 * v445;
+        let v611 = v115 * v606;
+        let v612 = T::select_lt(v106, T::constant(0.0), measured[1], v451);
+        let v613 = v137 * v612;
+        let v614 = v126 * v449;
+        let v615 = v611 + v613;
+        let v616 = v614 + v615;
+        let v617 = v457 * v616;
+        let v618 = v610 + v617;
+        let v619 = v460 * v618;
+        let v620 = v609 + v619;
+        let v621 = v464 * v616;
+        let v622 = v152 * v436;
+        let v623 = v621 - v622;
+        let v624 = v463 * v616;
+        let v625 = v470 * v623;
+        let v626 = v625 - v624;
+        let v627 = T::constant(2.0) * v626;
+        let v628 = T::select_lt(v143, T::constant(1e-6), v620, v627);
+        let v629 = T::select_lt(T::constant(0.0), v117, v628, v627);
+        let v630 = v115 * v629;
+        let v631 = v607 + v630;
+        let v632 = v479 * v612;
+        let v633 = v449 * v481;
+        let v634 = v632 + v633;
+        let v635 = v161 * v449;
+        let v636 = v126 * v629;
+        let v637 = v228 * v636;
+        let v638 = v635 + v637;
+        let v639 = v163 * v606;
+        let v640 = v489 * v629;
+        let v641 = v639 + v640;
+        let v642 = v165 * v612;
+        let v643 = v493 * v629;
+        let v644 = v642 + v643;
+        let v645 = v641 + v644;
+        let v646 = v638 + v645;
+        let v647 = v498 * v646;
+        let v648 = T::constant(0.002777777777777778) * v646;
+        let v649 = v647 + v648;
+        let v650 = T::constant(2.0) * v646;
+        let v651 = v509 * v650;
+        let v652 = -v651;
+        let v653 = T::select_lt(v168, T::constant(1e-6), v649, v652);
+        let v654 = v515 * v653;
+        let v655 = v517 * v629;
+        let v656 = v654 + v655;
+        let v657 = T::constant(2.0) * v656;
+        let v658 = v634 + v657;
+        let v659 = T::constant(2.0) * v658;
+        let v660 = v631 - v659;
+        let v661 = v71 * v660;
+        let v662 = v158 * v612;
+        let v663 = v137 * v629;
+        let v664 = v662 + v663;
+        let v665 = T::constant(0.5) * v664;
+        let v666 = v479 * v606;
+        let v667 = v557 + v666;
+        let v668 = v532 * v653;
+        let v669 = v535 * v629;
+        let v670 = v668 + v669;
+        let v671 = T::constant(2.0) * v670;
+        let v672 = v667 + v671;
+        let v673 = v665 + v672;
+        let v674 = T::constant(2.0) * v200;
+        let v675 = v673 * v674;
+        let v676 = v543 * v653;
+        let v677 = v184 * v645;
+        let v678 = v676 + v677;
+        let v679 = v547 * v678;
+        let v680 = v675 - v679;
+        let v681 = v661 + v680;
+        let v682 = v224 * v681;
+        let v683 = sqrt_information[0] * v607;
+        let v684 = sqrt_information[1] * v662;
+        let v685 = v525 + v636;
+        let v686 = v481 * v606;
+        let v687 = v202 * v612;
+        let v688 = v686 + v687;
+        let v689 = v560 * v653;
+        let v690 = v562 * v629;
+        let v691 = v689 + v690;
+        let v692 = T::constant(2.0) * v691;
+        let v693 = v688 + v692;
+        let v694 = T::constant(2.0) * v693;
+        let v695 = v685 + v694;
+        let v696 = v233 * v695;
+        let v697 = v235 * v653;
+        let v698 = v638 + v644;
+        let v699 = T::constant(2.0) * v698;
+        let v700 = v184 * v699;
+        let v701 = v697 + v700;
+        let v702 = v200 * v701;
+        let v703 = v672 - v665;
+        let v704 = T::constant(2.0) * v217;
+        let v705 = v703 * v704;
+        let v706 = v702 - v705;
+        let v707 = v696 + v706;
+        let v708 = sqrt_information[3] * v707;
+        let v709 = v685 - v694;
+        let v710 = v245 * v709;
+        let v711 = v247 * v653;
+        let v712 = v638 + v641;
+        let v713 = T::constant(2.0) * v712;
+        let v714 = v184 * v713;
+        let v715 = v711 + v714;
+        let v716 = v71 * v715;
+        let v717 = v631 + v659;
+        let v718 = v217 * v717;
+        let v719 = v716 - v710;
+        let v720 = v718 + v719;
+        let v721 = sqrt_information[4] * v720;
+        let v722 = sqrt_information[2] * v685;
+        let v723 = v597 * v629;
+        let v724 = v683 + v684;
+        let v725 = v723 + v724;
+        let v726 = v722 + v725;
+        let v727 = v726 - v682;
+        let v728 = v708 - v721;
+        let v729 = v727 + v728;
+        let v730 = v86 * v729;
+        let v731 = v605 - v730;
+        let v732 = T::select_lt(v106, T::constant(0.0), v448, measured[2]);
+        let v733 = v158 * v732;
+        let v734 = sqrt_information[0] * v733;
+        let v735 = sqrt_information[1] * v437;
+        let v736 = T::constant(0.6666666666666666) * v452;
+        let v737 = v440 * v736;
+        let v738 = v445 * v452;
+        let v739 = v115 * v732;
+        let v740 = v137 * v436;
+        let v741 = v126 * v606;
+        let v742 = v739 + v740;
+        let v743 = v741 + v742;
+        let v744 = v457 * v743;
+        let v745 = v738 + v744;
+        let v746 = v460 * v745;
+        let v747 = v737 + v746;
+        let v748 = v464 * v743;
+        let v749 = v152 * v452;
+        let v750 = v748 - v749;
+        let v751 = v463 * v743;
+        let v752 = v470 * v750;
+        let v753 = v752 - v751;
+        let v754 = T::constant(2.0) * v753;
+        let v755 = T::select_lt(v143, T::constant(1e-6), v747, v754);
+        let v756 = T::select_lt(T::constant(0.0), v117, v755, v754);
+        let v757 = v126 * v756;
+        let v758 = v607 + v757;
+        let v759 = v481 * v732;
+        let v760 = v202 * v436;
+        let v761 = v759 + v760;
+        let v762 = v161 * v606;
+        let v763 = v228 * v757;
+        let v764 = v762 + v763;
+        let v765 = v163 * v732;
+        let v766 = v489 * v756;
+        let v767 = v765 + v766;
+        let v768 = v165 * v436;
+        let v769 = v493 * v756;
+        let v770 = v768 + v769;
+        let v771 = v767 + v770;
+        let v772 = v764 + v771;
+        let v773 = v498 * v772;
+        let v774 = T::constant(0.002777777777777778) * v772;
+        let v775 = v773 + v774;
+        let v776 = T::constant(2.0) * v772;
+        let v777 = v509 * v776;
+        let v778 = -v777;
+        let v779 = T::select_lt(v168, T::constant(1e-6), v775, v778);
+        let v780 = v560 * v779;
+        let v781 = v562 * v756;
+        let v782 = v780 + v781;
+        let v783 = T::constant(2.0) * v782;
+        let v784 = v761 + v783;
+        let v785 = T::constant(2.0) * v784;
+        let v786 = v758 + v785;
+        let v787 = v233 * v786;
+        let v788 = v235 * v779;
+        let v789 = v764 + v770;
+        let v790 = T::constant(2.0) * v789;
+        let v791 = v184 * v790;
+        let v792 = v788 + v791;
+        let v793 = v200 * v792;
+        let v794 = v137 * v756;
+        let v795 = v437 + v794;
+        let v796 = v479 * v732;
+        let v797 = v202 * v606;
+        let v798 = v796 + v797;
+        let v799 = v532 * v779;
+        let v800 = v535 * v756;
+        let v801 = v799 + v800;
+        let v802 = T::constant(2.0) * v801;
+        let v803 = v798 + v802;
+        let v804 = T::constant(2.0) * v803;
+        let v805 = v795 - v804;
+        let v806 = v217 * v805;
+        let v807 = v787 + v793;
+        let v808 = v806 + v807;
+        let v809 = sqrt_information[3] * v808;
+        let v810 = v758 - v785;
+        let v811 = v245 * v810;
+        let v812 = v247 * v779;
+        let v813 = v764 + v767;
+        let v814 = T::constant(2.0) * v813;
+        let v815 = v184 * v814;
+        let v816 = v812 + v815;
+        let v817 = v71 * v816;
+        let v818 = v115 * v756;
+        let v819 = v733 + v818;
+        let v820 = T::constant(0.5) * v819;
+        let v821 = v528 + v686;
+        let v822 = v515 * v779;
+        let v823 = v517 * v756;
+        let v824 = v822 + v823;
+        let v825 = T::constant(2.0) * v824;
+        let v826 = v821 + v825;
+        let v827 = v820 + v826;
+        let v828 = v704 * v827;
+        let v829 = v817 + v828;
+        let v830 = v829 - v811;
+        let v831 = sqrt_information[4] * v830;
+        let v832 = v795 + v804;
+        let v833 = v245 * v832;
+        let v834 = v826 - v820;
+        let v835 = v71 * v834;
+        let v836 = v543 * v779;
+        let v837 = v184 * v771;
+        let v838 = v836 + v837;
+        let v839 = v220 * v838;
+        let v840 = v835 + v839;
+        let v841 = v840 - v833;
+        let v842 = sqrt_information[5] * v841;
+        let v843 = sqrt_information[2] * v758;
+        let v844 = v597 * v756;
+        let v845 = v734 + v735;
+        let v846 = v844 + v845;
+        let v847 = v843 + v846;
+        let v848 = v847 - v831;
+        let v849 = v809 + v842;
+        let v850 = v848 + v849;
+        let v851 = v102 * v850;
+        let v852 = sqrt_information[0] * v662;
+        let v853 = v158 * v439;
+        let v854 = sqrt_information[1] * v853;
+        let v855 = T::constant(0.6666666666666666) * v732;
+        let v856 = v440 * v855;
+        let v857 = v445 * v732;
+        let v858 = v115 * v612;
+        let v859 = v137 * v439;
+        let v860 = v126 * v436;
+        let v861 = v858 + v859;
+        let v862 = v860 + v861;
+        let v863 = v457 * v862;
+        let v864 = v857 + v863;
+        let v865 = v460 * v864;
+        let v866 = v856 + v865;
+        let v867 = v464 * v862;
+        let v868 = v152 * v732;
+        let v869 = v867 - v868;
+        let v870 = v463 * v862;
+        let v871 = v470 * v869;
+        let v872 = v871 - v870;
+        let v873 = T::constant(2.0) * v872;
+        let v874 = T::select_lt(v143, T::constant(1e-6), v866, v873);
+        let v875 = T::select_lt(T::constant(0.0), v117, v874, v873);
+        let v876 = v126 * v875;
+        let v877 = v437 + v876;
+        let v878 = v481 * v612;
+        let v879 = v202 * v439;
+        let v880 = v878 + v879;
+        let v881 = v161 * v436;
+        let v882 = v228 * v876;
+        let v883 = v881 + v882;
+        let v884 = v163 * v612;
+        let v885 = v489 * v875;
+        let v886 = v884 + v885;
+        let v887 = v165 * v439;
+        let v888 = v493 * v875;
+        let v889 = v887 + v888;
+        let v890 = v886 + v889;
+        let v891 = v883 + v890;
+        let v892 = v498 * v891;
+        let v893 = T::constant(0.002777777777777778) * v891;
+        let v894 = v892 + v893;
+        let v895 = T::constant(2.0) * v891;
+        let v896 = v509 * v895;
+        let v897 = -v896;
+        let v898 = T::select_lt(v168, T::constant(1e-6), v894, v897);
+        let v899 = v560 * v898;
+        let v900 = v562 * v875;
+        let v901 = v899 + v900;
+        let v902 = T::constant(2.0) * v901;
+        let v903 = v880 + v902;
+        let v904 = T::constant(2.0) * v903;
+        let v905 = v877 + v904;
+        let v906 = v233 * v905;
+        let v907 = v235 * v898;
+        let v908 = v883 + v889;
+        let v909 = T::constant(2.0) * v908;
+        let v910 = v184 * v909;
+        let v911 = v907 + v910;
+        let v912 = v200 * v911;
+        let v913 = v137 * v875;
+        let v914 = v853 + v913;
+        let v915 = T::constant(0.5) * v914;
+        let v916 = v632 + v760;
+        let v917 = v532 * v898;
+        let v918 = v535 * v875;
+        let v919 = v917 + v918;
+        let v920 = T::constant(2.0) * v919;
+        let v921 = v916 + v920;
+        let v922 = v921 - v915;
+        let v923 = v704 * v922;
+        let v924 = v912 - v923;
+        let v925 = v906 + v924;
+        let v926 = sqrt_information[3] * v925;
+        let v927 = v877 - v904;
+        let v928 = v245 * v927;
+        let v929 = v247 * v898;
+        let v930 = v883 + v886;
+        let v931 = T::constant(2.0) * v930;
+        let v932 = v184 * v931;
+        let v933 = v929 + v932;
+        let v934 = v71 * v933;
+        let v935 = v115 * v875;
+        let v936 = v662 + v935;
+        let v937 = T::constant(0.5) * v936;
+        let v938 = v439 * v479;
+        let v939 = v556 + v938;
+        let v940 = v515 * v898;
+        let v941 = v517 * v875;
+        let v942 = v940 + v941;
+        let v943 = T::constant(2.0) * v942;
+        let v944 = v939 + v943;
+        let v945 = v937 + v944;
+        let v946 = v704 * v945;
+        let v947 = v934 + v946;
+        let v948 = v947 - v928;
+        let v949 = sqrt_information[4] * v948;
+        let v950 = v944 - v937;
+        let v951 = v71 * v950;
+        let v952 = v915 + v921;
+        let v953 = v200 * v952;
+        let v954 = v543 * v898;
+        let v955 = v184 * v890;
+        let v956 = v954 + v955;
+        let v957 = v220 * v956;
+        let v958 = v951 + v957;
+        let v959 = v958 - v953;
+        let v960 = sqrt_information[5] * v959;
+        let v961 = sqrt_information[2] * v877;
+        let v962 = v597 * v875;
+        let v963 = v852 + v854;
+        let v964 = v962 + v963;
+        let v965 = v961 + v964;
+        let v966 = v926 + v965;
+        let v967 = v960 - v949;
+        let v968 = v966 + v967;
+        let v969 = v94 * v968;
+        let v970 = v851 - v969;
+        let v971 = v261 * v550;
+        let v972 = sqrt_information[6] * v525;
+        let v973 = v137 * sqrt_information[6];
+        let v974 = v476 * v973;
+        let v975 = sqrt_information[8] * v579;
+        let v976 = sqrt_information[9] * v592;
+        let v977 = sqrt_information[7] * v555;
+        let v978 = v972 + v974;
+        let v979 = v977 + v978;
+        let v980 = v979 - v971;
+        let v981 = v975 - v976;
+        let v982 = v980 + v981;
+        let v983 = v78 * v982;
+        let v984 = v261 * v681;
+        let v985 = sqrt_information[6] * v662;
+        let v986 = v629 * v973;
+        let v987 = sqrt_information[8] * v707;
+        let v988 = sqrt_information[9] * v720;
+        let v989 = sqrt_information[7] * v685;
+        let v990 = v985 + v986;
+        let v991 = v989 + v990;
+        let v992 = v991 - v984;
+        let v993 = v987 - v988;
+        let v994 = v992 + v993;
+        let v995 = v86 * v994;
+        let v996 = v983 - v995;
+        let v997 = sqrt_information[6] * v437;
+        let v998 = v756 * v973;
+        let v999 = sqrt_information[8] * v808;
+        let v1000 = sqrt_information[9] * v830;
+        let v1001 = sqrt_information[10] * v841;
+        let v1002 = sqrt_information[7] * v758;
+        let v1003 = v997 + v998;
+        let v1004 = v1002 + v1003;
+        let v1005 = v1004 - v1000;
+        let v1006 = v999 + v1001;
+        let v1007 = v1005 + v1006;
+        let v1008 = v102 * v1007;
+        let v1009 = sqrt_information[6] * v853;
+        let v1010 = v875 * v973;
+        let v1011 = sqrt_information[8] * v925;
+        let v1012 = sqrt_information[9] * v948;
+        let v1013 = sqrt_information[10] * v959;
+        let v1014 = sqrt_information[7] * v877;
+        let v1015 = v1009 + v1010;
+        let v1016 = v1014 + v1015;
+        let v1017 = v1011 + v1016;
+        let v1018 = v1013 - v1012;
+        let v1019 = v1017 + v1018;
+        let v1020 = v94 * v1019;
+        let v1021 = v1008 - v1020;
+        let v1022 = v271 * v550;
+        let v1023 = sqrt_information[12] * v579;
+        let v1024 = sqrt_information[13] * v592;
+        let v1025 = sqrt_information[11] * v555;
+        let v1026 = v1025 - v1022;
+        let v1027 = v1023 - v1024;
+        let v1028 = v1026 + v1027;
+        let v1029 = v78 * v1028;
+        let v1030 = v271 * v681;
+        let v1031 = sqrt_information[12] * v707;
+        let v1032 = sqrt_information[13] * v720;
+        let v1033 = sqrt_information[11] * v685;
+        let v1034 = v1033 - v1030;
+        let v1035 = v1031 - v1032;
+        let v1036 = v1034 + v1035;
+        let v1037 = v86 * v1036;
+        let v1038 = v1029 - v1037;
+        let v1039 = sqrt_information[12] * v808;
+        let v1040 = sqrt_information[13] * v830;
+        let v1041 = sqrt_information[14] * v841;
+        let v1042 = sqrt_information[11] * v758;
+        let v1043 = v1042 - v1040;
+        let v1044 = v1039 + v1041;
+        let v1045 = v1043 + v1044;
+        let v1046 = v102 * v1045;
+        let v1047 = sqrt_information[12] * v925;
+        let v1048 = sqrt_information[13] * v948;
+        let v1049 = sqrt_information[14] * v959;
+        let v1050 = sqrt_information[11] * v877;
+        let v1051 = v1047 + v1050;
+        let v1052 = v1049 - v1048;
+        let v1053 = v1051 + v1052;
+        let v1054 = v94 * v1053;
+        let v1055 = v1046 - v1054;
+        let v1056 = v279 * v550;
+        let v1057 = sqrt_information[15] * v579;
+        let v1058 = sqrt_information[16] * v592;
+        let v1059 = v1057 - v1056;
+        let v1060 = v1059 - v1058;
+        let v1061 = v78 * v1060;
+        let v1062 = v279 * v681;
+        let v1063 = sqrt_information[15] * v707;
+        let v1064 = sqrt_information[16] * v720;
+        let v1065 = v1063 - v1062;
+        let v1066 = v1065 - v1064;
+        let v1067 = v86 * v1066;
+        let v1068 = v1061 - v1067;
+        let v1069 = sqrt_information[15] * v808;
+        let v1070 = sqrt_information[16] * v830;
+        let v1071 = sqrt_information[17] * v841;
+        let v1072 = v1071 - v1070;
+        let v1073 = v1069 + v1072;
+        let v1074 = v102 * v1073;
+        let v1075 = sqrt_information[15] * v925;
+        let v1076 = sqrt_information[16] * v948;
+        let v1077 = sqrt_information[17] * v959;
+        let v1078 = v1075 - v1076;
+        let v1079 = v1077 + v1078;
+        let v1080 = v94 * v1079;
+        let v1081 = v1074 - v1080;
+        let v1082 = v285 * v550;
+        let v1083 = sqrt_information[18] * v592;
+        let v1084 = v1082 + v1083;
+        let v1085 = v78 * v1084;
+        let v1086 = v285 * v681;
+        let v1087 = sqrt_information[18] * v720;
+        let v1088 = v1086 + v1087;
+        let v1089 = v86 * v1088;
+        let v1090 = v1085 - v1089;
+        let v1091 = sqrt_information[18] * v830;
+        let v1092 = sqrt_information[19] * v841;
+        let v1093 = v1091 - v1092;
+        let v1094 = v102 * v1093;
+        let v1095 = sqrt_information[18] * v948;
+        let v1096 = sqrt_information[19] * v959;
+        let v1097 = v1095 - v1096;
+        let v1098 = v94 * v1097;
+        let v1099 = v1094 - v1098;
+        let v1100 = v78 * sqrt_information[20];
+        let v1101 = v550 * v1100;
+        let v1102 = v86 * sqrt_information[20];
+        let v1103 = v681 * v1102;
+        let v1104 = v1101 - v1103;
+        let v1105 = T::constant(0.25) * v1104;
+        let v1106 = v102 * sqrt_information[20];
+        let v1107 = v841 * v1106;
+        let v1108 = v94 * sqrt_information[20];
+        let v1109 = v959 * v1108;
+        let v1110 = v1107 - v1109;
+        let v1111 = T::constant(0.5) * v1110;
+        let v1112 = v102 * v604;
+        let v1113 = v86 * v968;
+        let v1114 = v1112 - v1113;
+        let v1115 = v78 * v850;
+        let v1116 = v94 * v729;
+        let v1117 = v1115 - v1116;
+        let v1118 = v102 * v982;
+        let v1119 = v86 * v1019;
+        let v1120 = v1118 - v1119;
+        let v1121 = v78 * v1007;
+        let v1122 = v94 * v994;
+        let v1123 = v1121 - v1122;
+        let v1124 = v102 * v1028;
+        let v1125 = v86 * v1053;
+        let v1126 = v1124 - v1125;
+        let v1127 = v78 * v1045;
+        let v1128 = v94 * v1036;
+        let v1129 = v1127 - v1128;
+        let v1130 = v102 * v1060;
+        let v1131 = v86 * v1079;
+        let v1132 = v1130 - v1131;
+        let v1133 = v78 * v1073;
+        let v1134 = v94 * v1066;
+        let v1135 = v1133 - v1134;
+        let v1136 = v102 * v1084;
+        let v1137 = v86 * v1097;
+        let v1138 = v1136 - v1137;
+        let v1139 = v78 * v1093;
+        let v1140 = v94 * v1088;
+        let v1141 = v1139 - v1140;
+        let v1142 = v550 * v1106;
+        let v1143 = T::constant(2.0) * v1102;
+        let v1144 = v959 * v1143;
+        let v1145 = v1142 + v1144;
+        let v1146 = T::constant(0.25) * v1145;
+        let v1147 = T::constant(0.5) * v1108;
+        let v1148 = v681 * v1147;
+        let v1149 = v841 * v1100;
+        let v1150 = v1148 + v1149;
+        let v1151 = T::constant(0.5) * v1150;
+        let v1152 = v94 * v604;
+        let v1153 = v86 * v850;
+        let v1154 = v1152 - v1153;
+        let v1155 = v78 * v968;
+        let v1156 = v102 * v729;
+        let v1157 = v1155 - v1156;
+        let v1158 = v94 * v982;
+        let v1159 = v86 * v1007;
+        let v1160 = v1158 - v1159;
+        let v1161 = v78 * v1019;
+        let v1162 = v102 * v994;
+        let v1163 = v1161 - v1162;
+        let v1164 = v94 * v1028;
+        let v1165 = v86 * v1045;
+        let v1166 = v1164 - v1165;
+        let v1167 = v78 * v1053;
+        let v1168 = v102 * v1036;
+        let v1169 = v1167 - v1168;
+        let v1170 = v94 * v1060;
+        let v1171 = v86 * v1073;
+        let v1172 = v1170 - v1171;
+        let v1173 = v78 * v1079;
+        let v1174 = v102 * v1066;
+        let v1175 = v1173 - v1174;
+        let v1176 = v94 * v1084;
+        let v1177 = v86 * v1093;
+        let v1178 = v1176 - v1177;
+        let v1179 = v78 * v1097;
+        let v1180 = v102 * v1088;
+        let v1181 = v1179 - v1180;
+        let v1182 = v550 * v1108;
+        let v1183 = v841 * v1143;
+        let v1184 = v1182 + v1183;
+        let v1185 = T::constant(0.25) * v1184;
+        let v1186 = T::constant(0.5) * v1106;
+        let v1187 = v681 * v1186;
+        let v1188 = v959 * v1100;
+        let v1189 = v1187 + v1188;
+        (
+            v316,
+            v317,
+            v343,
+            v366,
+            v372,
+            v379,
+            v384,
+            v390,
+            v397,
+            v402,
+            v408,
+            v415,
+            v420,
+            v423,
+            v426,
+            v429,
+            v430,
+            v431,
+            v432,
+            v433,
+            v434,
+            v731,
+            v970,
+            v996,
+            v1021,
+            v1038,
+            v1055,
+            v1068,
+            v1081,
+            v1090,
+            v1099,
+            v1105,
+            v1111,
+            v1114,
+            v1117,
+            v1120,
+            v1123,
+            v1126,
+            v1129,
+            v1132,
+            v1135,
+            v1138,
+            v1141,
+            v1146,
+            v1151,
+            v1154,
+            v1157,
+            v1160,
+            v1163,
+            v1166,
+            v1169,
+            v1172,
+            v1175,
+            v1178,
+            v1181,
+            v1185,
+            v1189,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose_i) = d_pose_i {
+        let v1190 = v37 * v37;
+        let v1191 = v39 * v39;
+        let v1192 = v44 * v44;
+        let v1193 = v1191 + v1192;
+        let v1194 = T::constant(4.0) * v1193;
+        let v1195 = v1190 + v1194;
+        let v1196 = v1195 * v316;
+        let v1197 = v13 * v39;
+        let v1198 = v18 * v37;
+        let v1199 = v44 * v317;
+        let v1200 = v1197 - v1198;
+        let v1201 = v1200 - v1199;
+        let v1202 = T::constant(4.0) * v1201;
+        let v1203 = v343 * v1202;
+        let v1204 = v37 * v56;
+        let v1205 = v44 * v60;
+        let v1206 = v1204 - v1205;
+        let v1207 = T::constant(0.5) * v1206;
+        let v1208 = v39 * v54;
+        let v1209 = v1207 + v1208;
+        let v1210 = v1209 * T::constant(8.0);
+        let v1211 = v366 * v1210;
+        let v1212 = v1196 - v1203;
+        let v1213 = v1211 + v1212;
+        let v1214 = v1195 * v372;
+        let v1215 = v1202 * v379;
+        let v1216 = v1210 * v384;
+        let v1217 = v1214 - v1215;
+        let v1218 = v1216 + v1217;
+        let v1219 = v1195 * v390;
+        let v1220 = v1202 * v397;
+        let v1221 = v1210 * v402;
+        let v1222 = v1219 - v1220;
+        let v1223 = v1221 + v1222;
+        let v1224 = v1195 * v408;
+        let v1225 = v1202 * v415;
+        let v1226 = v1210 * v420;
+        let v1227 = v1224 - v1225;
+        let v1228 = v1226 + v1227;
+        let v1229 = T::constant(2.0) * v1201;
+        let v1230 = v1195 * v423;
+        let v1231 = v1201 * v426;
+        let v1232 = v1230 + v1231;
+        let v1233 = T::constant(2.0) * v1232;
+        let v1234 = v1210 * v429;
+        let v1235 = v1233 + v1234;
+        let v1236 = v1195 * v430;
+        let v1237 = v1201 * v431;
+        let v1238 = T::constant(4.0) * v1209;
+        let v1239 = v432 * v1238;
+        let v1240 = v1236 + v1237;
+        let v1241 = v1239 + v1240;
+        let v1242 = v316 * v1229;
+        let v1243 = v13 * v13;
+        let v1244 = v18 * v18;
+        let v1245 = v25 * v25;
+        let v1246 = v1244 + v1245;
+        let v1247 = T::constant(4.0) * v1246;
+        let v1248 = v1243 + v1247;
+        let v1249 = T::constant(2.0) * v1248;
+        let v1250 = v343 * v1249;
+        let v1251 = v1250 - v1242;
+        let v1252 = v13 * v54;
+        let v1253 = v25 * v60;
+        let v1254 = v56 * v433;
+        let v1255 = v1252 + v1253;
+        let v1256 = v1255 - v1254;
+        let v1257 = T::constant(4.0) * v1256;
+        let v1258 = v366 * v1257;
+        let v1259 = v1251 - v1258;
+        let v1260 = v372 * v1229;
+        let v1261 = v379 * v1249;
+        let v1262 = v1261 - v1260;
+        let v1263 = v384 * v1257;
+        let v1264 = v1262 - v1263;
+        let v1265 = v390 * v1229;
+        let v1266 = v397 * v1249;
+        let v1267 = v1266 - v1265;
+        let v1268 = v402 * v1257;
+        let v1269 = v1267 - v1268;
+        let v1270 = v408 * v1229;
+        let v1271 = v415 * v1249;
+        let v1272 = v1271 - v1270;
+        let v1273 = v420 * v1257;
+        let v1274 = v1272 - v1273;
+        let v1275 = v426 * v1248;
+        let v1276 = v1202 * v423;
+        let v1277 = v429 * v1257;
+        let v1278 = v1276 + v1277;
+        let v1279 = v1275 + v1278;
+        let v1280 = -v1279;
+        let v1281 = T::constant(0.5) * v1248;
+        let v1282 = v431 * v1281;
+        let v1283 = v1229 * v430;
+        let v1284 = T::constant(2.0) * v1256;
+        let v1285 = v432 * v1284;
+        let v1286 = v1283 + v1285;
+        let v1287 = v1282 + v1286;
+        let v1288 = -v1287;
+        let v1289 = v316 * v1238;
+        let v1290 = v343 * v1257;
+        let v1291 = v1289 - v1290;
+        let v1292 = v60 * v434;
+        let v1293 = v54 * v54;
+        let v1294 = v56 * v56;
+        let v1295 = v1293 + v1294;
+        let v1296 = v1292 + v1295;
+        let v1297 = T::constant(8.0) * v1296;
+        let v1298 = v366 * v1297;
+        let v1299 = v1291 + v1298;
+        let v1300 = v372 * v1238;
+        let v1301 = v379 * v1257;
+        let v1302 = v1300 - v1301;
+        let v1303 = v384 * v1297;
+        let v1304 = v1302 + v1303;
+        let v1305 = v390 * v1238;
+        let v1306 = v397 * v1257;
+        let v1307 = v1305 - v1306;
+        let v1308 = v402 * v1297;
+        let v1309 = v1307 + v1308;
+        let v1310 = v408 * v1238;
+        let v1311 = v415 * v1257;
+        let v1312 = v1310 - v1311;
+        let v1313 = v420 * v1297;
+        let v1314 = v1312 + v1313;
+        let v1315 = v426 * v1284;
+        let v1316 = v1210 * v423;
+        let v1317 = v429 * v1297;
+        let v1318 = v1316 + v1317;
+        let v1319 = v1315 + v1318;
+        let v1320 = v431 * v1256;
+        let v1321 = v430 * v1238;
+        let v1322 = T::constant(4.0) * v1296;
+        let v1323 = v432 * v1322;
+        let v1324 = v1321 + v1323;
+        let v1325 = v1320 + v1324;
+        let v1326 = v970 - v731;
+        let v1327 = T::constant(0.5) * v1326;
+        let v1328 = T::constant(2.0) * v31;
+        let v1329 = v366 * v1328;
+        let v1330 = v65 * T::constant(4.0);
+        let v1331 = v343 * v1330;
+        let v1332 = v1329 + v1331;
+        let v1333 = v1327 + v1332;
+        let v1334 = v1021 - v996;
+        let v1335 = T::constant(0.5) * v1334;
+        let v1336 = v384 * v1328;
+        let v1337 = v379 * v1330;
+        let v1338 = v1336 + v1337;
+        let v1339 = v1335 + v1338;
+        let v1340 = v1055 - v1038;
+        let v1341 = T::constant(0.5) * v1340;
+        let v1342 = v402 * v1328;
+        let v1343 = v397 * v1330;
+        let v1344 = v1342 + v1343;
+        let v1345 = v1341 + v1344;
+        let v1346 = v1081 - v1068;
+        let v1347 = T::constant(0.5) * v1346;
+        let v1348 = v420 * v1328;
+        let v1349 = v415 * v1330;
+        let v1350 = v1348 + v1349;
+        let v1351 = v1347 + v1350;
+        let v1352 = v1090 - v1099;
+        let v1353 = T::constant(0.5) * v1352;
+        let v1354 = v66 * v426;
+        let v1355 = v429 * v1328;
+        let v1356 = v1355 - v1354;
+        let v1357 = v1353 + v1356;
+        let v1358 = v65 * v431;
+        let v1359 = v31 * v432;
+        let v1360 = v1359 - v1358;
+        let v1361 = v1111 + v1360;
+        let v1362 = v1105 + v1361;
+        let v1363 = v1114 + v1117;
+        let v1364 = T::constant(0.5) * v1363;
+        let v1365 = v66 * v316;
+        let v1366 = T::constant(2.0) * v47;
+        let v1367 = v366 * v1366;
+        let v1368 = v1367 - v1365;
+        let v1369 = v1368 - v1364;
+        let v1370 = v1120 + v1123;
+        let v1371 = T::constant(0.5) * v1370;
+        let v1372 = v66 * v372;
+        let v1373 = v384 * v1366;
+        let v1374 = v1373 - v1372;
+        let v1375 = v1374 - v1371;
+        let v1376 = v1126 + v1129;
+        let v1377 = T::constant(0.5) * v1376;
+        let v1378 = v66 * v390;
+        let v1379 = v402 * v1366;
+        let v1380 = v1379 - v1378;
+        let v1381 = v1380 - v1377;
+        let v1382 = v1132 + v1135;
+        let v1383 = T::constant(0.5) * v1382;
+        let v1384 = v66 * v408;
+        let v1385 = v420 * v1366;
+        let v1386 = v1385 - v1384;
+        let v1387 = v1386 - v1383;
+        let v1388 = v1138 + v1141;
+        let v1389 = T::constant(0.5) * v1388;
+        let v1390 = v429 * v1366;
+        let v1391 = v423 * v1330;
+        let v1392 = v1390 - v1391;
+        let v1393 = v1389 + v1392;
+        let v1394 = v47 * v432;
+        let v1395 = v66 * v430;
+        let v1396 = v1394 - v1395;
+        let v1397 = v1396 - v1151;
+        let v1398 = v1146 + v1397;
+        let v1399 = v1154 - v1157;
+        let v1400 = T::constant(0.5) * v1399;
+        let v1401 = v31 * v316;
+        let v1402 = v343 * v1366;
+        let v1403 = v1401 + v1402;
+        let v1404 = v1400 - v1403;
+        let v1405 = v1160 - v1163;
+        let v1406 = T::constant(0.5) * v1405;
+        let v1407 = v31 * v372;
+        let v1408 = v379 * v1366;
+        let v1409 = v1407 + v1408;
+        let v1410 = v1406 - v1409;
+        let v1411 = v1166 - v1169;
+        let v1412 = T::constant(0.5) * v1411;
+        let v1413 = v31 * v390;
+        let v1414 = v397 * v1366;
+        let v1415 = v1413 + v1414;
+        let v1416 = v1412 - v1415;
+        let v1417 = v1172 - v1175;
+        let v1418 = T::constant(0.5) * v1417;
+        let v1419 = v31 * v408;
+        let v1420 = v415 * v1366;
+        let v1421 = v1419 + v1420;
+        let v1422 = v1418 - v1421;
+        let v1423 = v1181 - v1178;
+        let v1424 = T::constant(0.5) * v1423;
+        let v1425 = v47 * v426;
+        let v1426 = v423 * v1328;
+        let v1427 = v1425 - v1426;
+        let v1428 = v1424 + v1427;
+        let v1429 = v47 * v431;
+        let v1430 = v1429 - v1189;
+        let v1431 = T::constant(0.5) * v1430;
+        let v1432 = v31 * v430;
+        let v1433 = v1185 + v1432;
+        let v1434 = v1431 - v1433;
+        d_pose_i[0] = v1213;
+        d_pose_i[1] = v1218;
+        d_pose_i[2] = v1223;
+        d_pose_i[3] = v1228;
+        d_pose_i[4] = v1235;
+        d_pose_i[5] = v1241;
+        d_pose_i[6] = v1259;
+        d_pose_i[7] = v1264;
+        d_pose_i[8] = v1269;
+        d_pose_i[9] = v1274;
+        d_pose_i[10] = v1280;
+        d_pose_i[11] = v1288;
+        d_pose_i[12] = v1299;
+        d_pose_i[13] = v1304;
+        d_pose_i[14] = v1309;
+        d_pose_i[15] = v1314;
+        d_pose_i[16] = v1319;
+        d_pose_i[17] = v1325;
+        d_pose_i[18] = v1333;
+        d_pose_i[19] = v1339;
+        d_pose_i[20] = v1345;
+        d_pose_i[21] = v1351;
+        d_pose_i[22] = v1357;
+        d_pose_i[23] = v1362;
+        d_pose_i[24] = v1369;
+        d_pose_i[25] = v1375;
+        d_pose_i[26] = v1381;
+        d_pose_i[27] = v1387;
+        d_pose_i[28] = v1393;
+        d_pose_i[29] = v1398;
+        d_pose_i[30] = v1404;
+        d_pose_i[31] = v1410;
+        d_pose_i[32] = v1416;
+        d_pose_i[33] = v1422;
+        d_pose_i[34] = v1428;
+        d_pose_i[35] = v1434;
+    }
+    if let Some(d_pose_j) = d_pose_j {
+        let v1435 = v56 * T::constant(0.5);
+        let v1436 = T::constant(0.5) * v1189;
+        let v1437 = pose_j[4] * pose_j[4];
+        let v1438 = pose_j[5] * pose_j[5];
+        let v1439 = v1437 - v1438;
+        let v1440 = pose_j[6] * pose_j[6];
+        let v1441 = pose_j[3] * pose_j[3];
+        let v1442 = v1440 - v1441;
+        let v1443 = v1439 - v1442;
+        let v1444 = v37 * v1443;
+        let v1445 = pose_j[4] * pose_j[5];
+        let v1446 = pose_j[3] * pose_j[6];
+        let v1447 = v1445 + v1446;
+        let v1448 = pose_j[4] * pose_j[6];
+        let v1449 = pose_j[3] * pose_j[5];
+        let v1450 = v1448 - v1449;
+        let v1451 = v39 * v1447;
+        let v1452 = v44 * v1450;
+        let v1453 = v1451 + v1452;
+        let v1454 = T::constant(4.0) * v1453;
+        let v1455 = v1444 + v1454;
+        let v1456 = v316 * v1455;
+        let v1457 = v13 * v1447;
+        let v1458 = v18 * v1443;
+        let v1459 = v317 * v1450;
+        let v1460 = v1457 - v1458;
+        let v1461 = v1460 - v1459;
+        let v1462 = T::constant(4.0) * v1461;
+        let v1463 = v343 * v1462;
+        let v1464 = v1435 * v1443;
+        let v1465 = T::constant(0.5) * v1450;
+        let v1466 = v60 * v1465;
+        let v1467 = v1464 - v1466;
+        let v1468 = v54 * v1447;
+        let v1469 = v1467 + v1468;
+        let v1470 = T::constant(8.0) * v1469;
+        let v1471 = v366 * v1470;
+        let v1472 = v1463 - v1456;
+        let v1473 = v1472 - v1471;
+        let v1474 = v372 * v1455;
+        let v1475 = v379 * v1462;
+        let v1476 = v384 * v1470;
+        let v1477 = v1475 - v1474;
+        let v1478 = v1477 - v1476;
+        let v1479 = v390 * v1455;
+        let v1480 = v397 * v1462;
+        let v1481 = v402 * v1470;
+        let v1482 = v1480 - v1479;
+        let v1483 = v1482 - v1481;
+        let v1484 = v408 * v1455;
+        let v1485 = v415 * v1462;
+        let v1486 = v420 * v1470;
+        let v1487 = v1485 - v1484;
+        let v1488 = v1487 - v1486;
+        let v1489 = v423 * v1455;
+        let v1490 = v426 * v1461;
+        let v1491 = v1489 + v1490;
+        let v1492 = T::constant(2.0) * v1491;
+        let v1493 = v429 * v1470;
+        let v1494 = v1492 + v1493;
+        let v1495 = -v1494;
+        let v1496 = v430 * v1455;
+        let v1497 = v431 * v1461;
+        let v1498 = T::constant(4.0) * v1469;
+        let v1499 = v432 * v1498;
+        let v1500 = v1496 + v1497;
+        let v1501 = v1499 + v1500;
+        let v1502 = -v1501;
+        let v1503 = v1445 - v1446;
+        let v1504 = v37 * v1503;
+        let v1505 = v1439 + v1442;
+        let v1506 = v39 * v1505;
+        let v1507 = pose_j[5] * pose_j[6];
+        let v1508 = pose_j[3] * pose_j[4];
+        let v1509 = v1507 + v1508;
+        let v1510 = T::constant(2.0) * v44;
+        let v1511 = v1509 * v1510;
+        let v1512 = v1504 - v1506;
+        let v1513 = v1511 + v1512;
+        let v1514 = T::constant(2.0) * v1513;
+        let v1515 = v13 * v1505;
+        let v1516 = v18 * v1503;
+        let v1517 = v25 * v1509;
+        let v1518 = v1516 + v1517;
+        let v1519 = T::constant(4.0) * v1518;
+        let v1520 = v1515 + v1519;
+        let v1521 = T::constant(2.0) * v1520;
+        let v1522 = v316 * v1513;
+        let v1523 = v343 * v1520;
+        let v1524 = v1522 + v1523;
+        let v1525 = T::constant(2.0) * v1524;
+        let v1526 = v54 * v1505;
+        let v1527 = v60 * v1509;
+        let v1528 = T::constant(2.0) * v56;
+        let v1529 = v1503 * v1528;
+        let v1530 = v1526 + v1527;
+        let v1531 = v1530 - v1529;
+        let v1532 = T::constant(4.0) * v1531;
+        let v1533 = v366 * v1532;
+        let v1534 = v1533 - v1525;
+        let v1535 = v372 * v1514;
+        let v1536 = v379 * v1521;
+        let v1537 = v1535 + v1536;
+        let v1538 = v384 * v1532;
+        let v1539 = v1538 - v1537;
+        let v1540 = v390 * v1514;
+        let v1541 = v397 * v1521;
+        let v1542 = v1540 + v1541;
+        let v1543 = v402 * v1532;
+        let v1544 = v1543 - v1542;
+        let v1545 = v408 * v1514;
+        let v1546 = v415 * v1521;
+        let v1547 = v1545 + v1546;
+        let v1548 = v420 * v1532;
+        let v1549 = v1548 - v1547;
+        let v1550 = v426 * v1520;
+        let v1551 = T::constant(4.0) * v1513;
+        let v1552 = v423 * v1551;
+        let v1553 = v429 * v1532;
+        let v1554 = v1553 - v1552;
+        let v1555 = v1550 + v1554;
+        let v1556 = T::constant(0.5) * v1520;
+        let v1557 = v431 * v1556;
+        let v1558 = v430 * v1514;
+        let v1559 = T::constant(2.0) * v1531;
+        let v1560 = v432 * v1559;
+        let v1561 = v1560 - v1558;
+        let v1562 = v1557 + v1561;
+        let v1563 = v1448 + v1449;
+        let v1564 = v37 * v1563;
+        let v1565 = v1437 + v1438;
+        let v1566 = v1440 + v1441;
+        let v1567 = v1565 - v1566;
+        let v1568 = v44 * v1567;
+        let v1569 = v1507 - v1508;
+        let v1570 = T::constant(2.0) * v39;
+        let v1571 = v1569 * v1570;
+        let v1572 = v1564 - v1568;
+        let v1573 = v1571 + v1572;
+        let v1574 = T::constant(2.0) * v1573;
+        let v1575 = v316 * v1574;
+        let v1576 = v13 * v1569;
+        let v1577 = v25 * v1567;
+        let v1578 = v433 * v1563;
+        let v1579 = v1576 + v1577;
+        let v1580 = v1579 - v1578;
+        let v1581 = T::constant(4.0) * v1580;
+        let v1582 = v343 * v1581;
+        let v1583 = v434 * v1567;
+        let v1584 = v54 * v1569;
+        let v1585 = v56 * v1563;
+        let v1586 = v1584 + v1585;
+        let v1587 = v1583 + v1586;
+        let v1588 = T::constant(8.0) * v1587;
+        let v1589 = v366 * v1588;
+        let v1590 = v1582 - v1575;
+        let v1591 = v1590 - v1589;
+        let v1592 = v372 * v1574;
+        let v1593 = v379 * v1581;
+        let v1594 = v384 * v1588;
+        let v1595 = v1593 - v1592;
+        let v1596 = v1595 - v1594;
+        let v1597 = v390 * v1574;
+        let v1598 = v397 * v1581;
+        let v1599 = v402 * v1588;
+        let v1600 = v1598 - v1597;
+        let v1601 = v1600 - v1599;
+        let v1602 = v408 * v1574;
+        let v1603 = v415 * v1581;
+        let v1604 = v420 * v1588;
+        let v1605 = v1603 - v1602;
+        let v1606 = v1605 - v1604;
+        let v1607 = T::constant(2.0) * v1580;
+        let v1608 = v426 * v1607;
+        let v1609 = T::constant(4.0) * v1573;
+        let v1610 = v423 * v1609;
+        let v1611 = v429 * v1588;
+        let v1612 = v1608 + v1610;
+        let v1613 = v1611 + v1612;
+        let v1614 = -v1613;
+        let v1615 = v431 * v1580;
+        let v1616 = v430 * v1574;
+        let v1617 = T::constant(4.0) * v1587;
+        let v1618 = v432 * v1617;
+        let v1619 = v1615 + v1616;
+        let v1620 = v1618 + v1619;
+        let v1621 = -v1620;
+        let v1622 = v731 + v970;
+        let v1623 = T::constant(0.5) * v1622;
+        let v1624 = v996 + v1021;
+        let v1625 = T::constant(0.5) * v1624;
+        let v1626 = v1038 + v1055;
+        let v1627 = T::constant(0.5) * v1626;
+        let v1628 = v1068 + v1081;
+        let v1629 = T::constant(0.5) * v1628;
+        let v1630 = v1090 + v1099;
+        let v1631 = T::constant(0.5) * v1630;
+        let v1632 = -v1631;
+        let v1633 = v1111 - v1105;
+        let v1634 = v1117 - v1114;
+        let v1635 = T::constant(0.5) * v1634;
+        let v1636 = v1123 - v1120;
+        let v1637 = T::constant(0.5) * v1636;
+        let v1638 = v1129 - v1126;
+        let v1639 = T::constant(0.5) * v1638;
+        let v1640 = v1135 - v1132;
+        let v1641 = T::constant(0.5) * v1640;
+        let v1642 = v1138 - v1141;
+        let v1643 = T::constant(0.5) * v1642;
+        let v1644 = v1146 + v1151;
+        let v1645 = v1154 + v1157;
+        let v1646 = T::constant(0.5) * v1645;
+        let v1647 = v1160 + v1163;
+        let v1648 = T::constant(0.5) * v1647;
+        let v1649 = v1166 + v1169;
+        let v1650 = T::constant(0.5) * v1649;
+        let v1651 = v1172 + v1175;
+        let v1652 = T::constant(0.5) * v1651;
+        let v1653 = v1178 + v1181;
+        let v1654 = T::constant(0.5) * v1653;
+        let v1655 = -v1654;
+        let v1656 = v1436 - v1185;
+        d_pose_j[0] = v1473;
+        d_pose_j[1] = v1478;
+        d_pose_j[2] = v1483;
+        d_pose_j[3] = v1488;
+        d_pose_j[4] = v1495;
+        d_pose_j[5] = v1502;
+        d_pose_j[6] = v1534;
+        d_pose_j[7] = v1539;
+        d_pose_j[8] = v1544;
+        d_pose_j[9] = v1549;
+        d_pose_j[10] = v1555;
+        d_pose_j[11] = v1562;
+        d_pose_j[12] = v1591;
+        d_pose_j[13] = v1596;
+        d_pose_j[14] = v1601;
+        d_pose_j[15] = v1606;
+        d_pose_j[16] = v1614;
+        d_pose_j[17] = v1621;
+        d_pose_j[18] = v1623;
+        d_pose_j[19] = v1625;
+        d_pose_j[20] = v1627;
+        d_pose_j[21] = v1629;
+        d_pose_j[22] = v1632;
+        d_pose_j[23] = v1633;
+        d_pose_j[24] = v1635;
+        d_pose_j[25] = v1637;
+        d_pose_j[26] = v1639;
+        d_pose_j[27] = v1641;
+        d_pose_j[28] = v1643;
+        d_pose_j[29] = v1644;
+        d_pose_j[30] = v1646;
+        d_pose_j[31] = v1648;
+        d_pose_j[32] = v1650;
+        d_pose_j[33] = v1652;
+        d_pose_j[34] = v1655;
+        d_pose_j[35] = v1656;
+    }
+}
+
+/// The lengths of [`between_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[21, 7, 7, 7],
+    residual: 6,
+    blocks: &[36, 36],
+};
+
+/// [`between_apex`] over what a solver holds: `stored`, the factor's 42 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (6 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn between_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 42) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 21]>::try_from(&stored[0..21]),
+        <&[T; 7]>::try_from(&stored[21..28]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 7]>::try_from(*part_1),
+        <&mut [T; 6]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 72]>::try_from) {
+        None => {
+            self::between_apex(input_0, input_1, input_2, input_3, residual, None, None)
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose_i, rest)) = rest.split_first_chunk_mut::<36>() else {
+                return false;
+            };
+            let Some((d_pose_j, rest)) = rest.split_first_chunk_mut::<36>() else {
+                return false;
+            };
+            let _ = rest;
+            self::between_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose_i),
+                Some(d_pose_j),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

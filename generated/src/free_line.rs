@@ -34,6 +34,7 @@
 //! | residual only | 75 | 110 | 2 | 3 | 2 | 0 | 0 | 192 |
 //! | normal equations | 141 | 291 | 3 | 18 | 2 | 0 | 0 | 455 |
 //! | normal equations, cost only | 76 | 114 | 2 | 2 | 2 | 0 | 0 | 196 |
+//! | apex chart | 123 | 207 | 3 | 8 | 2 | 0 | 0 | 343 |
 //!
 //! # Normal equations
 //!
@@ -47,6 +48,23 @@
 //! - `h_line_line: [T; 10]`: `J_lineᵀ w J_line`, its upper triangle row by row (4 × 4, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `free_line_apex` (apex-solver 1.5):
+//!
+//! - `extrinsics: [T; 7]` (constant): `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`
+//! - `bearing_start: [T; 3]` (constant): `[x, y, z]`
+//! - `bearing_end: [T; 3]` (constant): `[x, y, z]`
+//! - `body_pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `line_rotation: [T; 4]` (variable): SO3 `[qw, qx, qy, qz]`
+//! - `line_distance: [T; 1]` (variable): Rn(1) `[x0]`
+//! - `residual: [T; 2]`
+//! - `d_body_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_line_rotation: [T; 6]`: 2 × 3 column-major, SO3; tangent: right: q ← q ⊗ exp(θ), columns [θ_x, θ_y, θ_z] (apex-solver's SO3)
+//! - `d_line_distance: [T; 2]`: 2 × 1 column-major, Rn(1); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -434,15 +452,14 @@ pub fn free_line<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[7, 3, 3, 7, 5],
     residual: 2,
     blocks: &[12, 8],
 };
 
-/// [`free_line`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`free_line`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn free_line_slices<T: Real>(
     inputs: &[&[T]],
@@ -1206,6 +1223,484 @@ pub fn free_line_normal_slices<T: Real>(
         h_body_pose_line,
         h_line_line,
     );
+    true
+}
+
+/// The residual of `slam_factors::free_line::FreeLineFactor` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn free_line_apex<T: Real>(
+    extrinsics: &[T; 7],
+    bearing_start: &[T; 3],
+    bearing_end: &[T; 3],
+    body_pose: &[T; 7],
+    line_rotation: &[T; 4],
+    line_distance: &[T; 1],
+    residual: &mut [T; 2],
+    d_body_pose: Option<&mut [T; 12]>,
+    d_line_rotation: Option<&mut [T; 6]>,
+    d_line_distance: Option<&mut [T; 2]>,
+) {
+    let v0 = body_pose[4] * body_pose[4];
+    let v1 = body_pose[5] * body_pose[5];
+    let v2 = v0 - v1;
+    let v3 = body_pose[6] * body_pose[6];
+    let v4 = body_pose[3] * body_pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = extrinsics[0] * extrinsics[0];
+    let v8 = extrinsics[1] * extrinsics[1];
+    let v9 = v7 - v8;
+    let v10 = extrinsics[2] * extrinsics[2];
+    let v11 = extrinsics[3] * extrinsics[3];
+    let v12 = v10 - v11;
+    let v13 = v9 - v12;
+    let v14 = bearing_start[1] * bearing_end[2];
+    let v15 = bearing_start[2] * bearing_end[1];
+    let v16 = v14 - v15;
+    let v17 = v16 * v16;
+    let v18 = bearing_start[2] * bearing_end[0];
+    let v19 = bearing_end[2] * bearing_start[0];
+    let v20 = v18 - v19;
+    let v21 = v20 * v20;
+    let v22 = bearing_end[1] * bearing_start[0];
+    let v23 = bearing_start[1] * bearing_end[0];
+    let v24 = v22 - v23;
+    let v25 = v24 * v24;
+    let v26 = v17 + v21;
+    let v27 = v25 + v26;
+    let v28 = T::sqrt(v27);
+    let v29 = T::constant(1.0) / v28;
+    let v30 = v16 * v29;
+    let v31 = v13 * v30;
+    let v32 = extrinsics[0] * extrinsics[1];
+    let v33 = extrinsics[2] * extrinsics[3];
+    let v34 = v32 + v33;
+    let v35 = v20 * v29;
+    let v36 = extrinsics[0] * extrinsics[2];
+    let v37 = extrinsics[1] * extrinsics[3];
+    let v38 = v36 - v37;
+    let v39 = v24 * v29;
+    let v40 = v34 * v35;
+    let v41 = v38 * v39;
+    let v42 = v40 + v41;
+    let v43 = T::constant(2.0) * v42;
+    let v44 = v31 + v43;
+    let v45 = v6 * v44;
+    let v46 = body_pose[4] * body_pose[5];
+    let v47 = body_pose[6] * body_pose[3];
+    let v48 = v46 + v47;
+    let v49 = v9 + v12;
+    let v50 = v35 * v49;
+    let v51 = v32 - v33;
+    let v52 = extrinsics[1] * extrinsics[2];
+    let v53 = extrinsics[0] * extrinsics[3];
+    let v54 = v52 + v53;
+    let v55 = v30 * v51;
+    let v56 = v39 * v54;
+    let v57 = v55 + v56;
+    let v58 = T::constant(2.0) * v57;
+    let v59 = v50 - v58;
+    let v60 = T::constant(2.0) * v48;
+    let v61 = v59 * v60;
+    let v62 = body_pose[4] * body_pose[6];
+    let v63 = body_pose[5] * body_pose[3];
+    let v64 = v62 - v63;
+    let v65 = v7 + v8;
+    let v66 = v10 + v11;
+    let v67 = v65 - v66;
+    let v68 = v67 * T::constant(0.5);
+    let v69 = v39 * v68;
+    let v70 = v52 - v53;
+    let v71 = v35 * v70;
+    let v72 = v36 + v37;
+    let v73 = v30 * v72;
+    let v74 = v71 - v69;
+    let v75 = v73 + v74;
+    let v76 = v64 * T::constant(4.0);
+    let v77 = v75 * v76;
+    let v78 = v45 + v77;
+    let v79 = v78 - v61;
+    let v80 = line_rotation[1] * line_rotation[1];
+    let v81 = line_rotation[2] * line_rotation[2];
+    let v82 = v80 - v81;
+    let v83 = line_rotation[3] * line_rotation[3];
+    let v84 = line_rotation[0] * line_rotation[0];
+    let v85 = v83 - v84;
+    let v86 = v82 - v85;
+    let v87 = v79 * v86;
+    let v88 = v2 + v5;
+    let v89 = v59 * v88;
+    let v90 = v46 - v47;
+    let v91 = T::constant(2.0) * v90;
+    let v92 = v44 * v91;
+    let v93 = body_pose[5] * body_pose[6];
+    let v94 = body_pose[4] * body_pose[3];
+    let v95 = v93 + v94;
+    let v96 = T::constant(4.0) * v95;
+    let v97 = v75 * v96;
+    let v98 = v89 + v97;
+    let v99 = v92 + v98;
+    let v100 = line_rotation[1] * line_rotation[2];
+    let v101 = line_rotation[3] * line_rotation[0];
+    let v102 = v100 + v101;
+    let v103 = T::constant(2.0) * v102;
+    let v104 = v99 * v103;
+    let v105 = v93 - v94;
+    let v106 = v59 * v105;
+    let v107 = v62 + v63;
+    let v108 = v44 * v107;
+    let v109 = v0 + v1;
+    let v110 = v3 + v4;
+    let v111 = v109 - v110;
+    let v112 = v75 * v111;
+    let v113 = v106 + v112;
+    let v114 = v113 - v108;
+    let v115 = line_rotation[1] * line_rotation[3];
+    let v116 = line_rotation[2] * line_rotation[0];
+    let v117 = v115 - v116;
+    let v118 = T::constant(4.0) * v117;
+    let v119 = v114 * v118;
+    let v120 = v87 + v104;
+    let v121 = v120 - v119;
+    let v122 = v115 + v116;
+    let v123 = v13 * extrinsics[4];
+    let v124 = T::constant(2.0) * extrinsics[5];
+    let v125 = v34 * v124;
+    let v126 = T::constant(2.0) * extrinsics[6];
+    let v127 = v38 * v126;
+    let v128 = v125 + v127;
+    let v129 = body_pose[0] + v123;
+    let v130 = v128 + v129;
+    let v131 = v6 * v130;
+    let v132 = v49 * extrinsics[5];
+    let v133 = T::constant(2.0) * extrinsics[4];
+    let v134 = v51 * v133;
+    let v135 = v54 * v126;
+    let v136 = v134 + v135;
+    let v137 = body_pose[1] - v132;
+    let v138 = v136 + v137;
+    let v139 = v60 * v138;
+    let v140 = v131 + v139;
+    let v141 = T::constant(0.5) * v140;
+    let v142 = v67 * extrinsics[6];
+    let v143 = v70 * v124;
+    let v144 = v72 * v133;
+    let v145 = v143 + v144;
+    let v146 = body_pose[2] - v142;
+    let v147 = v145 + v146;
+    let v148 = v64 * v147;
+    let v149 = v141 + v148;
+    let v150 = line_distance[0] * v122;
+    let v151 = v149 + v150;
+    let v152 = T::constant(2.0) * v151;
+    let v153 = v79 * v152;
+    let v154 = line_rotation[2] * line_rotation[3];
+    let v155 = line_rotation[1] * line_rotation[0];
+    let v156 = v154 - v155;
+    let v157 = v88 * v138;
+    let v158 = v91 * v130;
+    let v159 = v157 - v158;
+    let v160 = T::constant(0.5) * v159;
+    let v161 = v95 * v147;
+    let v162 = v161 - v160;
+    let v163 = line_distance[0] * v156;
+    let v164 = v162 + v163;
+    let v165 = T::constant(2.0) * v164;
+    let v166 = -v165;
+    let v167 = v99 * v166;
+    let v168 = v80 + v81;
+    let v169 = v83 + v84;
+    let v170 = v168 - v169;
+    let v171 = v111 * v147;
+    let v172 = v105 * v138;
+    let v173 = v107 * v130;
+    let v174 = v172 + v173;
+    let v175 = T::constant(2.0) * v174;
+    let v176 = v171 - v175;
+    let v177 = line_distance[0] * v170;
+    let v178 = v176 + v177;
+    let v179 = T::constant(0.5) * v178;
+    let v180 = -v179;
+    let v181 = T::constant(4.0) * v180;
+    let v182 = v114 * v181;
+    let v183 = v153 - v167;
+    let v184 = v183 - v182;
+    let v185 = v152 * v152;
+    let v186 = v166 * v166;
+    let v187 = v180 * v181;
+    let v188 = v185 + v186;
+    let v189 = v187 + v188;
+    let v190 = T::sqrt(v189);
+    let v191 = T::constant(1.0) / v190;
+    let v192 = v184 * v191;
+    let v193 = -v192;
+    residual[0] = v121;
+    residual[1] = v193;
+    let (v197, v200, v203) = if d_body_pose.is_some() || d_line_rotation.is_some()
+        || d_line_distance.is_some()
+    {
+        let v194 = v79 * v191;
+        let v195 = v192 / v189;
+        let v196 = v152 * v195;
+        let v197 = v194 - v196;
+        let v198 = v99 * v191;
+        let v199 = v166 * v195;
+        let v200 = v198 + v199;
+        let v201 = v114 * v191;
+        let v202 = v180 * v195;
+        let v203 = v201 + v202;
+        (v197, v200, v203)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    if let Some(d_body_pose) = d_body_pose {
+        let v204 = T::constant(2.0) * v149;
+        let v205 = T::constant(2.0) * v162;
+        let v206 = T::constant(0.5) * v176;
+        let v207 = v6 * v6;
+        let v208 = v48 * v48;
+        let v209 = v64 * v64;
+        let v210 = v208 + v209;
+        let v211 = T::constant(4.0) * v210;
+        let v212 = v207 + v211;
+        let v213 = v212 * v197;
+        let v214 = v48 * v88;
+        let v215 = v6 * v90;
+        let v216 = T::constant(2.0) * v64;
+        let v217 = v95 * v216;
+        let v218 = v214 - v215;
+        let v219 = v218 - v217;
+        let v220 = T::constant(2.0) * v219;
+        let v221 = v200 * v220;
+        let v222 = v6 * v107;
+        let v223 = v64 * v111;
+        let v224 = v222 - v223;
+        let v225 = T::constant(0.5) * v224;
+        let v226 = v48 * v105;
+        let v227 = v225 + v226;
+        let v228 = v227 * T::constant(8.0);
+        let v229 = v203 * v228;
+        let v230 = v221 - v213;
+        let v231 = v229 + v230;
+        let v232 = v88 * v88;
+        let v233 = v90 * v90;
+        let v234 = v95 * v95;
+        let v235 = v233 + v234;
+        let v236 = T::constant(4.0) * v235;
+        let v237 = v232 + v236;
+        let v238 = v200 * v237;
+        let v239 = v197 * v220;
+        let v240 = v88 * v105;
+        let v241 = v95 * v111;
+        let v242 = v91 * v107;
+        let v243 = v240 + v241;
+        let v244 = v243 - v242;
+        let v245 = T::constant(4.0) * v244;
+        let v246 = v203 * v245;
+        let v247 = v239 - v238;
+        let v248 = v247 - v246;
+        let v249 = T::constant(2.0) * v244;
+        let v250 = v200 * v249;
+        let v251 = T::constant(4.0) * v227;
+        let v252 = v197 * v251;
+        let v253 = v111 * T::constant(0.25);
+        let v254 = v111 * v253;
+        let v255 = v105 * v105;
+        let v256 = v107 * v107;
+        let v257 = v255 + v256;
+        let v258 = v254 + v257;
+        let v259 = T::constant(8.0) * v258;
+        let v260 = v203 * v259;
+        let v261 = v250 - v252;
+        let v262 = v260 + v261;
+        let v263 = T::constant(2.0) * v117;
+        let v264 = v99 * v263;
+        let v265 = T::constant(4.0) * v102;
+        let v266 = v114 * v265;
+        let v267 = v264 + v266;
+        let v268 = -v267;
+        let v269 = v114 * v166;
+        let v270 = v99 * v180;
+        let v271 = v269 - v270;
+        let v272 = -v206;
+        let v273 = -v205;
+        let v274 = v191 * v271;
+        let v275 = v200 * v272;
+        let v276 = v203 * v273;
+        let v277 = v274 + v275;
+        let v278 = v276 - v277;
+        let v279 = T::constant(2.0) * v278;
+        let v280 = T::constant(2.0) * v86;
+        let v281 = v114 * v280;
+        let v282 = v79 * v263;
+        let v283 = v281 + v282;
+        let v284 = v114 * v152;
+        let v285 = v79 * v180;
+        let v286 = v284 + v285;
+        let v287 = v191 * v286;
+        let v288 = v197 * v272;
+        let v289 = v204 * v203;
+        let v290 = v288 - v287;
+        let v291 = v289 + v290;
+        let v292 = T::constant(2.0) * v291;
+        let v293 = v86 * v99;
+        let v294 = v79 * v103;
+        let v295 = v293 - v294;
+        let v296 = v99 * v152;
+        let v297 = v79 * v166;
+        let v298 = v296 + v297;
+        let v299 = v191 * v298;
+        let v300 = v197 * v273;
+        let v301 = v204 * v200;
+        let v302 = v300 - v299;
+        let v303 = v301 + v302;
+        d_body_pose[0] = T::constant(0.0);
+        d_body_pose[1] = v231;
+        d_body_pose[2] = T::constant(0.0);
+        d_body_pose[3] = v248;
+        d_body_pose[4] = T::constant(0.0);
+        d_body_pose[5] = v262;
+        d_body_pose[6] = v268;
+        d_body_pose[7] = v279;
+        d_body_pose[8] = v283;
+        d_body_pose[9] = v292;
+        d_body_pose[10] = v295;
+        d_body_pose[11] = v303;
+    }
+    if let Some(d_line_rotation) = d_line_rotation {
+        let v304 = v82 + v85;
+        let v305 = line_distance[0] * v200;
+        let v306 = v304 * v305;
+        let v307 = v100 - v101;
+        let v308 = line_distance[0] * v197;
+        let v309 = T::constant(2.0) * v307;
+        let v310 = v308 * v309;
+        let v311 = v154 + v155;
+        let v312 = line_distance[0] * v203;
+        let v313 = T::constant(4.0) * v311;
+        let v314 = v312 * v313;
+        let v315 = v310 - v306;
+        let v316 = v315 - v314;
+        let v317 = v79 * v122;
+        let v318 = v99 * v156;
+        let v319 = v114 * v170;
+        let v320 = v317 + v318;
+        let v321 = v319 + v320;
+        let v322 = T::constant(2.0) * v321;
+        let v323 = -v322;
+        let v324 = v86 * v308;
+        let v325 = v103 * v305;
+        let v326 = v118 * v312;
+        let v327 = v324 + v325;
+        let v328 = v326 - v327;
+        let v329 = v99 * v304;
+        let v330 = v79 * v309;
+        let v331 = v114 * v313;
+        let v332 = v330 - v329;
+        let v333 = v332 - v331;
+        d_line_rotation[0] = T::constant(0.0);
+        d_line_rotation[1] = v316;
+        d_line_rotation[2] = v323;
+        d_line_rotation[3] = v328;
+        d_line_rotation[4] = v333;
+        d_line_rotation[5] = T::constant(0.0);
+    }
+    if let Some(d_line_distance) = d_line_distance {
+        let v334 = T::constant(2.0) * v122;
+        let v335 = T::constant(2.0) * v156;
+        let v336 = T::constant(2.0) * v170;
+        let v337 = v197 * v334;
+        let v338 = v200 * v335;
+        let v339 = v203 * v336;
+        let v340 = v337 + v338;
+        let v341 = v339 + v340;
+        let v342 = -v341;
+        d_line_distance[0] = T::constant(0.0);
+        d_line_distance[1] = v342;
+    }
+}
+
+/// The lengths of [`free_line_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[7, 3, 3, 7, 4, 1],
+    residual: 2,
+    blocks: &[12, 6, 2],
+};
+
+/// [`free_line_apex`] over what a solver holds: `stored`, the factor's 25 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn free_line_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1, part_2], 25) = (parts, stored.len()) else {
+        return false;
+    };
+    let (
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(input_5),
+        Ok(residual),
+    ) = (
+        <&[T; 7]>::try_from(&stored[0..7]),
+        <&[T; 3]>::try_from(&stored[7..10]),
+        <&[T; 3]>::try_from(&stored[10..13]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
+        <&[T; 1]>::try_from(*part_2),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 20]>::try_from) {
+        None => {
+            self::free_line_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_body_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line_rotation, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_line_distance, rest)) = rest.split_first_chunk_mut::<2>() else {
+                return false;
+            };
+            let _ = rest;
+            self::free_line_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                Some(d_body_pose),
+                Some(d_line_rotation),
+                Some(d_line_distance),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

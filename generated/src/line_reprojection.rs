@@ -34,6 +34,7 @@
 //! | residual only | 48 | 77 | 1 | 1 | 1 | 0 | 0 | 128 |
 //! | normal equations | 188 | 417 | 2 | 6 | 1 | 0 | 0 | 614 |
 //! | normal equations, cost only | 49 | 81 | 1 | 0 | 1 | 0 | 0 | 132 |
+//! | apex chart | 163 | 347 | 2 | 7 | 1 | 2 | 0 | 522 |
 //!
 //! # Normal equations
 //!
@@ -47,6 +48,23 @@
 //! - `h_line_line: [T; 10]`: `J_lineᵀ w J_line`, its upper triangle row by row (4 × 4, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `line_reprojection_apex` (apex-solver 1.5):
+//!
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]`
+//! - `start: [T; 2]` (constant): `[x, y]`
+//! - `end: [T; 2]` (constant): `[x, y]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `line_u: [T; 4]` (variable): SO3 `[qw, qx, qy, qz]`
+//! - `line_w: [T; 1]` (variable): SO2 `[angle]`
+//! - `residual: [T; 2]`
+//! - `d_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_line_u: [T; 6]`: 2 × 3 column-major, SO3; tangent: right: q ← q ⊗ exp(θ), columns [θ_x, θ_y, θ_z] (apex-solver's SO3)
+//! - `d_line_w: [T; 2]`: 2 × 1 column-major, SO2; tangent: angle ← angle + δ (apex-solver's SO2)
 //!
 //! # Lanes
 //!
@@ -502,15 +520,14 @@ pub fn line_reprojection<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[4, 2, 2, 7, 6],
     residual: 2,
     blocks: &[12, 8],
 };
 
-/// [`line_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`line_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn line_reprojection_slices<T: Real>(
     inputs: &[&[T]],
@@ -1448,6 +1465,693 @@ pub fn line_reprojection_normal_slices<T: Real>(
         h_pose_line,
         h_line_line,
     );
+    true
+}
+
+/// The residual of `slam_factors::line_reprojection::LineReprojection` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn line_reprojection_apex<T: Real>(
+    intrinsics: &[T; 4],
+    start: &[T; 2],
+    end: &[T; 2],
+    pose: &[T; 7],
+    line_u: &[T; 4],
+    line_w: &[T; 1],
+    residual: &mut [T; 2],
+    d_pose: Option<&mut [T; 12]>,
+    d_line_u: Option<&mut [T; 6]>,
+    d_line_w: Option<&mut [T; 2]>,
+) {
+    let v0 = T::sin(line_w[0]);
+    let v1 = pose[4] * pose[4];
+    let v2 = pose[5] * pose[5];
+    let v3 = v1 - v2;
+    let v4 = pose[6] * pose[6];
+    let v5 = pose[3] * pose[3];
+    let v6 = v4 - v5;
+    let v7 = v3 + v6;
+    let v8 = line_u[1] * line_u[1];
+    let v9 = line_u[2] * line_u[2];
+    let v10 = v8 - v9;
+    let v11 = line_u[3] * line_u[3];
+    let v12 = line_u[0] * line_u[0];
+    let v13 = v11 - v12;
+    let v14 = v10 + v13;
+    let v15 = v7 * v14;
+    let v16 = pose[4] * pose[5];
+    let v17 = pose[6] * pose[3];
+    let v18 = v16 + v17;
+    let v19 = line_u[1] * line_u[2];
+    let v20 = line_u[3] * line_u[0];
+    let v21 = v19 - v20;
+    let v22 = pose[5] * pose[6];
+    let v23 = pose[4] * pose[3];
+    let v24 = v22 - v23;
+    let v25 = line_u[2] * line_u[3];
+    let v26 = line_u[1] * line_u[0];
+    let v27 = v25 + v26;
+    let v28 = v18 * v21;
+    let v29 = v24 * v27;
+    let v30 = v28 + v29;
+    let v31 = T::constant(4.0) * v30;
+    let v32 = v15 + v31;
+    let v33 = v0 * v32;
+    let v34 = pose[2] * v33;
+    let v35 = T::cos(line_w[0]);
+    let v36 = v3 - v6;
+    let v37 = v10 - v13;
+    let v38 = v36 * v37;
+    let v39 = v16 - v17;
+    let v40 = v19 + v20;
+    let v41 = T::constant(4.0) * v39;
+    let v42 = v40 * v41;
+    let v43 = v38 + v42;
+    let v44 = v43 * T::constant(0.25);
+    let v45 = pose[4] * pose[6];
+    let v46 = pose[5] * pose[3];
+    let v47 = v45 + v46;
+    let v48 = line_u[1] * line_u[3];
+    let v49 = line_u[2] * line_u[0];
+    let v50 = v48 - v49;
+    let v51 = v47 * v50;
+    let v52 = v44 + v51;
+    let v53 = T::constant(4.0) * v52;
+    let v54 = v35 * v53;
+    let v55 = v22 + v23;
+    let v56 = v14 * v55;
+    let v57 = v1 + v2;
+    let v58 = v4 + v5;
+    let v59 = v57 - v58;
+    let v60 = v27 * v59;
+    let v61 = v45 - v46;
+    let v62 = v21 * T::constant(2.0);
+    let v63 = v61 * v62;
+    let v64 = v56 + v60;
+    let v65 = v64 - v63;
+    let v66 = v0 * v65;
+    let v67 = pose[1] * T::constant(2.0);
+    let v68 = v66 * v67;
+    let v69 = v54 - v34;
+    let v70 = v69 - v68;
+    let v71 = intrinsics[1] * v70;
+    let v72 = v71 * v71;
+    let v73 = v14 * v39;
+    let v74 = v21 * v36;
+    let v75 = v73 - v74;
+    let v76 = v75 * T::constant(0.5);
+    let v77 = v27 * v47;
+    let v78 = v77 - v76;
+    let v79 = T::constant(2.0) * v78;
+    let v80 = v0 * v79;
+    let v81 = -v80;
+    let v82 = pose[2] * v81;
+    let v83 = v66 * pose[0];
+    let v84 = v7 * v40;
+    let v85 = v18 * v37;
+    let v86 = v50 * T::constant(2.0);
+    let v87 = v24 * v86;
+    let v88 = v84 - v85;
+    let v89 = v88 - v87;
+    let v90 = v35 * v89;
+    let v91 = v90 - v83;
+    let v92 = v82 + v91;
+    let v93 = intrinsics[0] * v92;
+    let v94 = T::constant(4.0) * v93;
+    let v95 = v93 * v94;
+    let v96 = v72 + v95;
+    let v97 = T::sqrt(v96);
+    let v98 = T::constant(1.0) / v97;
+    let v99 = intrinsics[2] - start[0];
+    let v100 = v70 * v99;
+    let v101 = T::constant(0.25) * pose[0];
+    let v102 = v33 * v101;
+    let v103 = pose[1] * T::constant(0.5);
+    let v104 = v81 * v103;
+    let v105 = v37 * v61;
+    let v106 = v50 * v59;
+    let v107 = v105 - v106;
+    let v108 = T::constant(0.5) * v107;
+    let v109 = v40 * v55;
+    let v110 = v108 + v109;
+    let v111 = v35 * v110;
+    let v112 = v102 + v111;
+    let v113 = v104 + v112;
+    let v114 = intrinsics[0] * v113;
+    let v115 = T::constant(4.0) * v114;
+    let v116 = v100 - v115;
+    let v117 = intrinsics[1] * v116;
+    let v118 = intrinsics[3] - start[1];
+    let v119 = T::constant(2.0) * v118;
+    let v120 = v93 * v119;
+    let v121 = v117 - v120;
+    let v122 = v98 * v121;
+    let v123 = -v122;
+    let v124 = intrinsics[3] - end[1];
+    let v125 = T::constant(0.5) * v124;
+    let v126 = v93 * v125;
+    let v127 = intrinsics[2] - end[0];
+    let v128 = T::constant(0.25) * v127;
+    let v129 = v70 * v128;
+    let v130 = v114 - v129;
+    let v131 = intrinsics[1] * v130;
+    let v132 = v126 + v131;
+    let v133 = T::constant(4.0) * v132;
+    let v134 = v98 * v133;
+    residual[0] = v123;
+    residual[1] = v134;
+    let (v136, v142, v147, v152, v157) = if d_pose.is_some() || d_line_u.is_some()
+        || d_line_w.is_some()
+    {
+        let v135 = intrinsics[1] * intrinsics[0];
+        let v136 = v98 * v135;
+        let v137 = T::constant(1.0) / v96;
+        let v138 = v121 * v137;
+        let v139 = v71 * v138;
+        let v140 = v139 - v99;
+        let v141 = v98 * v140;
+        let v142 = intrinsics[1] * v141;
+        let v143 = T::constant(0.5) * v118;
+        let v144 = v93 * v138;
+        let v145 = v143 + v144;
+        let v146 = v98 * v145;
+        let v147 = intrinsics[0] * v146;
+        let v148 = v132 * v137;
+        let v149 = v71 * v148;
+        let v150 = v128 + v149;
+        let v151 = v98 * v150;
+        let v152 = intrinsics[1] * v151;
+        let v153 = v124 * T::constant(0.125);
+        let v154 = v93 * v148;
+        let v155 = v154 - v153;
+        let v156 = v98 * v155;
+        let v157 = intrinsics[0] * v156;
+        (v136, v142, v147, v152, v157)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let v158 = if d_pose.is_some() || d_line_u.is_some() {
+        let v158 = v18 * T::constant(2.0);
+        v158
+    } else {
+        T::constant(0.0)
+    };
+    let v159 = if d_pose.is_some() || d_line_w.is_some() {
+        let v159 = pose[2] * T::constant(0.25);
+        v159
+    } else {
+        T::constant(0.0)
+    };
+    let (v160, v161, v162, v163, v164, v165) = if d_line_u.is_some()
+        || d_line_w.is_some()
+    {
+        let v160 = v0 * v89;
+        let v161 = v35 * v79;
+        let v162 = v0 * v110;
+        let v163 = v32 * v35;
+        let v164 = v0 * v52;
+        let v165 = v35 * v65;
+        (v160, v161, v162, v163, v164, v165)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v166 = v18 * T::constant(4.0);
+        let v167 = T::constant(4.0) * v24;
+        let v168 = v50 * T::constant(0.5);
+        let v169 = v33 * v36;
+        let v170 = v166 * v81;
+        let v171 = v169 + v170;
+        let v172 = v171 * v136;
+        let v173 = v33 * v61;
+        let v174 = v66 * v158;
+        let v175 = v173 + v174;
+        let v176 = T::constant(2.0) * v175;
+        let v177 = v142 * v176;
+        let v178 = v36 * T::constant(0.5);
+        let v179 = v66 * v178;
+        let v180 = v61 * v81;
+        let v181 = v180 - v179;
+        let v182 = v181 * T::constant(8.0);
+        let v183 = v147 * v182;
+        let v184 = v172 - v177;
+        let v185 = v183 + v184;
+        let v186 = v175 * T::constant(8.0);
+        let v187 = v152 * v186;
+        let v188 = v181 * T::constant(32.0);
+        let v189 = v157 * v188;
+        let v190 = v172 + v187;
+        let v191 = v190 - v189;
+        let v192 = v33 * v55;
+        let v193 = v7 * v66;
+        let v194 = v192 - v193;
+        let v195 = v33 * v39;
+        let v196 = v7 * v81;
+        let v197 = v195 - v196;
+        let v198 = v136 * v197;
+        let v199 = T::constant(2.0) * v198;
+        let v200 = v142 * v194;
+        let v201 = v198 - v200;
+        let v202 = T::constant(2.0) * v201;
+        let v203 = v55 * v81;
+        let v204 = v39 * v66;
+        let v205 = v203 - v204;
+        let v206 = T::constant(8.0) * v205;
+        let v207 = v147 * v206;
+        let v208 = v202 + v207;
+        let v209 = T::constant(8.0) * v194;
+        let v210 = v152 * v209;
+        let v211 = T::constant(32.0) * v205;
+        let v212 = v157 * v211;
+        let v213 = v199 + v210;
+        let v214 = v213 - v212;
+        let v215 = v33 * v59;
+        let v216 = v167 * v66;
+        let v217 = v215 - v216;
+        let v218 = v142 * v217;
+        let v219 = v33 * v47;
+        let v220 = v24 * T::constant(2.0);
+        let v221 = v81 * v220;
+        let v222 = v219 + v221;
+        let v223 = v136 * v222;
+        let v224 = T::constant(2.0) * v223;
+        let v225 = v59 * v81;
+        let v226 = v47 * T::constant(2.0);
+        let v227 = v66 * v226;
+        let v228 = v225 + v227;
+        let v229 = T::constant(4.0) * v228;
+        let v230 = v147 * v229;
+        let v231 = v218 + v224;
+        let v232 = v231 - v230;
+        let v233 = T::constant(4.0) * v217;
+        let v234 = v152 * v233;
+        let v235 = v228 * T::constant(16.0);
+        let v236 = v157 * v235;
+        let v237 = v224 - v234;
+        let v238 = v236 + v237;
+        let v239 = v14 * v24;
+        let v240 = v7 * v27;
+        let v241 = v239 - v240;
+        let v242 = v0 * v241;
+        let v243 = pose[0] * v242;
+        let v244 = v14 * v47;
+        let v245 = v39 * T::constant(2.0);
+        let v246 = v27 * v245;
+        let v247 = v244 + v246;
+        let v248 = v0 * v247;
+        let v249 = pose[1] * v248;
+        let v250 = v40 * v59;
+        let v251 = v55 * v86;
+        let v252 = v250 + v251;
+        let v253 = v35 * v252;
+        let v254 = v243 + v253;
+        let v255 = v254 - v249;
+        let v256 = v136 * v255;
+        let v257 = T::constant(2.0) * v256;
+        let v258 = v14 * v59;
+        let v259 = T::constant(4.0) * v27;
+        let v260 = v55 * v259;
+        let v261 = v258 - v260;
+        let v262 = v0 * v261;
+        let v263 = T::constant(0.25) * pose[1];
+        let v264 = v262 * v263;
+        let v265 = pose[2] * T::constant(0.5);
+        let v266 = v242 * v265;
+        let v267 = v40 * v47;
+        let v268 = v39 * v50;
+        let v269 = v267 - v268;
+        let v270 = v35 * v269;
+        let v271 = v264 + v270;
+        let v272 = v266 + v271;
+        let v273 = T::constant(4.0) * v272;
+        let v274 = v142 * v273;
+        let v275 = v101 * v262;
+        let v276 = v248 * v265;
+        let v277 = v7 * v168;
+        let v278 = v24 * v40;
+        let v279 = v277 + v278;
+        let v280 = v35 * v279;
+        let v281 = v280 - v275;
+        let v282 = v281 - v276;
+        let v283 = T::constant(8.0) * v282;
+        let v284 = v147 * v283;
+        let v285 = v274 - v257;
+        let v286 = v285 - v284;
+        let v287 = T::constant(16.0) * v272;
+        let v288 = v152 * v287;
+        let v289 = T::constant(32.0) * v282;
+        let v290 = v157 * v289;
+        let v291 = v257 + v288;
+        let v292 = v290 - v291;
+        let v293 = v37 * v59;
+        let v294 = T::constant(4.0) * v50;
+        let v295 = v61 * v294;
+        let v296 = v293 + v295;
+        let v297 = v35 * v296;
+        let v298 = v21 * v24;
+        let v299 = v18 * v27;
+        let v300 = v298 - v299;
+        let v301 = v0 * v300;
+        let v302 = v27 * T::constant(0.5);
+        let v303 = v36 * v302;
+        let v304 = v21 * v47;
+        let v305 = v304 - v303;
+        let v306 = v0 * v305;
+        let v307 = pose[0] * v301;
+        let v308 = pose[1] * v306;
+        let v309 = v308 - v307;
+        let v310 = T::constant(4.0) * v309;
+        let v311 = v297 + v310;
+        let v312 = v136 * v311;
+        let v313 = v21 * v59;
+        let v314 = v27 * T::constant(2.0);
+        let v315 = v61 * v314;
+        let v316 = v313 + v315;
+        let v317 = v0 * v316;
+        let v318 = pose[1] * v317;
+        let v319 = v37 * v47;
+        let v320 = v36 * v50;
+        let v321 = v319 - v320;
+        let v322 = v35 * v321;
+        let v323 = pose[2] * T::constant(2.0);
+        let v324 = v301 * v323;
+        let v325 = v322 - v318;
+        let v326 = v325 - v324;
+        let v327 = T::constant(2.0) * v326;
+        let v328 = v142 * v327;
+        let v329 = pose[0] * v317;
+        let v330 = v24 * v37;
+        let v331 = v18 * v86;
+        let v332 = v330 - v331;
+        let v333 = v35 * v332;
+        let v334 = v306 * v323;
+        let v335 = v329 + v333;
+        let v336 = v334 + v335;
+        let v337 = T::constant(4.0) * v336;
+        let v338 = v147 * v337;
+        let v339 = v312 - v328;
+        let v340 = v338 + v339;
+        let v341 = T::constant(8.0) * v326;
+        let v342 = v152 * v341;
+        let v343 = T::constant(16.0) * v336;
+        let v344 = v157 * v343;
+        let v345 = v312 + v342;
+        let v346 = v345 - v344;
+        let v347 = v14 * v18;
+        let v348 = v7 * v21;
+        let v349 = v347 - v348;
+        let v350 = v0 * v349;
+        let v351 = pose[2] * v350;
+        let v352 = v14 * v61;
+        let v353 = v55 * v62;
+        let v354 = v352 + v353;
+        let v355 = v0 * v354;
+        let v356 = pose[1] * v355;
+        let v357 = v37 * v39;
+        let v358 = v36 * v40;
+        let v359 = v357 - v358;
+        let v360 = v35 * v359;
+        let v361 = v360 - v351;
+        let v362 = v356 + v361;
+        let v363 = T::constant(2.0) * v362;
+        let v364 = v142 * v363;
+        let v365 = v14 * v36;
+        let v366 = v21 * v41;
+        let v367 = v365 + v366;
+        let v368 = v0 * v367;
+        let v369 = v263 * v368;
+        let v370 = T::constant(0.5) * pose[0];
+        let v371 = v350 * v370;
+        let v372 = v55 * T::constant(0.5);
+        let v373 = v37 * v372;
+        let v374 = v40 * v61;
+        let v375 = v374 - v373;
+        let v376 = v35 * v375;
+        let v377 = v369 + v376;
+        let v378 = v377 - v371;
+        let v379 = v136 * v378;
+        let v380 = T::constant(4.0) * v379;
+        let v381 = v368 * v159;
+        let v382 = v355 * v370;
+        let v383 = v37 * T::constant(0.25);
+        let v384 = v7 * v383;
+        let v385 = v18 * v40;
+        let v386 = v384 + v385;
+        let v387 = v35 * v386;
+        let v388 = v387 - v381;
+        let v389 = v382 + v388;
+        let v390 = T::constant(8.0) * v389;
+        let v391 = v147 * v390;
+        let v392 = v364 - v380;
+        let v393 = v391 + v392;
+        let v394 = T::constant(8.0) * v362;
+        let v395 = v152 * v394;
+        let v396 = T::constant(32.0) * v389;
+        let v397 = v157 * v396;
+        let v398 = v380 + v395;
+        let v399 = v397 + v398;
+        let v400 = -v399;
+        d_pose[0] = v185;
+        d_pose[1] = v191;
+        d_pose[2] = v208;
+        d_pose[3] = v214;
+        d_pose[4] = v232;
+        d_pose[5] = v238;
+        d_pose[6] = v286;
+        d_pose[7] = v292;
+        d_pose[8] = v340;
+        d_pose[9] = v346;
+        d_pose[10] = v393;
+        d_pose[11] = v400;
+    }
+    if let Some(d_line_u) = d_line_u {
+        let v401 = T::constant(4.0) * pose[0];
+        let v402 = v25 - v26;
+        let v403 = v7 * v402;
+        let v404 = v8 + v9;
+        let v405 = v11 + v12;
+        let v406 = v404 - v405;
+        let v407 = v24 * v406;
+        let v408 = v48 + v49;
+        let v409 = v158 * v408;
+        let v410 = v403 + v407;
+        let v411 = v410 - v409;
+        let v412 = v0 * v411;
+        let v413 = pose[2] * v412;
+        let v414 = T::constant(0.25) * v59;
+        let v415 = v406 * v414;
+        let v416 = v55 * v402;
+        let v417 = v61 * v408;
+        let v418 = v416 + v417;
+        let v419 = v415 + v418;
+        let v420 = v0 * v419;
+        let v421 = v67 * v420;
+        let v422 = v413 + v421;
+        let v423 = pose[0] * v412;
+        let v424 = v47 * v406;
+        let v425 = T::constant(0.5) * v408;
+        let v426 = v36 * v425;
+        let v427 = v39 * v402;
+        let v428 = v426 + v427;
+        let v429 = T::constant(2.0) * v428;
+        let v430 = v424 - v429;
+        let v431 = T::constant(0.5) * v430;
+        let v432 = v0 * v431;
+        let v433 = -v432;
+        let v434 = v67 * v433;
+        let v435 = v423 + v434;
+        let v436 = v136 * v435;
+        let v437 = T::constant(2.0) * v436;
+        let v438 = v142 * v422;
+        let v439 = v438 - v436;
+        let v440 = T::constant(2.0) * v439;
+        let v441 = pose[2] * v433;
+        let v442 = pose[0] * v420;
+        let v443 = v441 - v442;
+        let v444 = T::constant(8.0) * v443;
+        let v445 = v147 * v444;
+        let v446 = v440 - v445;
+        let v447 = T::constant(8.0) * v422;
+        let v448 = v152 * v447;
+        let v449 = T::constant(32.0) * v443;
+        let v450 = v157 * v449;
+        let v451 = v437 + v448;
+        let v452 = v450 - v451;
+        let v453 = v35 * v430;
+        let v454 = -v453;
+        let v455 = T::constant(2.0) * v454;
+        let v456 = v142 * v455;
+        let v457 = v35 * v411;
+        let v458 = v35 * v419;
+        let v459 = v136 * v458;
+        let v460 = T::constant(4.0) * v459;
+        let v461 = v147 * v457;
+        let v462 = v459 + v461;
+        let v463 = T::constant(4.0) * v462;
+        let v464 = v456 + v463;
+        let v465 = -v464;
+        let v466 = T::constant(8.0) * v454;
+        let v467 = v152 * v466;
+        let v468 = T::constant(16.0) * v457;
+        let v469 = v157 * v468;
+        let v470 = v467 - v460;
+        let v471 = v469 + v470;
+        let v472 = pose[2] * v160;
+        let v473 = v67 * v162;
+        let v474 = v161 - v472;
+        let v475 = v474 - v473;
+        let v476 = pose[2] * T::constant(4.0);
+        let v477 = v164 * v476;
+        let v478 = v401 * v162;
+        let v479 = v478 - v477;
+        let v480 = v163 + v479;
+        let v481 = pose[0] * v160;
+        let v482 = v67 * v164;
+        let v483 = v165 - v481;
+        let v484 = v483 - v482;
+        let v485 = v136 * v484;
+        let v486 = T::constant(2.0) * v485;
+        let v487 = v142 * v475;
+        let v488 = v147 * v480;
+        let v489 = v487 - v485;
+        let v490 = v489 - v488;
+        let v491 = T::constant(2.0) * v490;
+        let v492 = v152 * v475;
+        let v493 = v157 * v480;
+        let v494 = v493 - v492;
+        let v495 = T::constant(8.0) * v494;
+        let v496 = v495 - v486;
+        d_line_u[0] = v446;
+        d_line_u[1] = v452;
+        d_line_u[2] = v465;
+        d_line_u[3] = v471;
+        d_line_u[4] = v491;
+        d_line_u[5] = v496;
+    }
+    if let Some(d_line_w) = d_line_w {
+        let v497 = v159 * v163;
+        let v498 = v103 * v165;
+        let v499 = v164 + v497;
+        let v500 = v498 + v499;
+        let v501 = pose[2] * v161;
+        let v502 = pose[0] * v165;
+        let v503 = v160 + v501;
+        let v504 = v502 + v503;
+        let v505 = v101 * v163;
+        let v506 = v103 * v161;
+        let v507 = v162 - v505;
+        let v508 = v506 + v507;
+        let v509 = v136 * v508;
+        let v510 = T::constant(4.0) * v509;
+        let v511 = v142 * v500;
+        let v512 = v147 * v504;
+        let v513 = v509 + v511;
+        let v514 = v512 + v513;
+        let v515 = T::constant(4.0) * v514;
+        let v516 = -v515;
+        let v517 = v152 * v500;
+        let v518 = v157 * v504;
+        let v519 = v517 + v518;
+        let v520 = T::constant(16.0) * v519;
+        let v521 = v520 - v510;
+        d_line_w[0] = v516;
+        d_line_w[1] = v521;
+    }
+}
+
+/// The lengths of [`line_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[4, 2, 2, 7, 4, 1],
+    residual: 2,
+    blocks: &[12, 6, 2],
+};
+
+/// [`line_reprojection_apex`] over what a solver holds: `stored`, the factor's 21 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn line_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1, part_2], 21) = (parts, stored.len()) else {
+        return false;
+    };
+    let (
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(input_5),
+        Ok(residual),
+    ) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 2]>::try_from(&stored[6..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
+        <&[T; 1]>::try_from(*part_2),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 20]>::try_from) {
+        None => {
+            self::line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line_u, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_line_w, rest)) = rest.split_first_chunk_mut::<2>() else {
+                return false;
+            };
+            let _ = rest;
+            self::line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                input_5,
+                residual,
+                Some(d_pose),
+                Some(d_line_u),
+                Some(d_line_w),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

@@ -32,6 +32,7 @@
 //! | residual only | 38 | 61 | 2 | 2 | 1 | 1 | 2 | 107 |
 //! | normal equations | 259 | 461 | 4 | 15 | 1 | 1 | 10 | 751 |
 //! | normal equations, cost only | 40 | 66 | 2 | 0 | 1 | 1 | 2 | 112 |
+//! | apex chart | 130 | 193 | 4 | 17 | 1 | 1 | 10 | 356 |
 //!
 //! # Normal equations
 //!
@@ -45,6 +46,19 @@
 //! - `h_plane_plane: [T; 6]`: `J_planeᵀ w J_plane`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `plane_apex` (apex-solver 1.5):
+//!
+//! - `measured: [T; 4]` (constant): `[x, y, z, w]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `plane: [T; 4]` (variable): SO3 `[qw, qx, qy, qz]`
+//! - `residual: [T; 3]`
+//! - `d_pose: [T; 18]`: 3 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_plane: [T; 9]`: 3 × 3 column-major, SO3; tangent: right: q ← q ⊗ exp(θ), columns [θ_x, θ_y, θ_z] (apex-solver's SO3)
 //!
 //! # Lanes
 //!
@@ -567,15 +581,14 @@ pub fn plane<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[4, 7, 4],
     residual: 3,
     blocks: &[18, 9],
 };
 
-/// [`plane`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`plane`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn plane_slices<T: Real>(
     inputs: &[&[T]],
@@ -1718,6 +1731,479 @@ pub fn plane_normal_slices<T: Real>(
         h_pose_plane,
         h_plane_plane,
     );
+    true
+}
+
+/// The residual of `slam_factors::plane::PlaneFactor` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn plane_apex<T: Real>(
+    measured: &[T; 4],
+    pose: &[T; 7],
+    plane: &[T; 4],
+    residual: &mut [T; 3],
+    d_pose: Option<&mut [T; 18]>,
+    d_plane: Option<&mut [T; 9]>,
+) {
+    let v0 = pose[4] * pose[4];
+    let v1 = pose[5] * pose[5];
+    let v2 = v0 - v1;
+    let v3 = pose[6] * pose[6];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = measured[0] * v6;
+    let v8 = pose[4] * pose[5];
+    let v9 = pose[6] * pose[3];
+    let v10 = v8 + v9;
+    let v11 = measured[1] * T::constant(2.0);
+    let v12 = v10 * v11;
+    let v13 = pose[4] * pose[6];
+    let v14 = pose[5] * pose[3];
+    let v15 = v13 - v14;
+    let v16 = T::constant(2.0) * measured[2];
+    let v17 = v15 * v16;
+    let v18 = v12 + v17;
+    let v19 = v7 + v18;
+    let v20 = plane[0] * v19;
+    let v21 = v2 + v5;
+    let v22 = measured[1] * v21;
+    let v23 = v8 - v9;
+    let v24 = measured[0] * T::constant(2.0);
+    let v25 = v23 * v24;
+    let v26 = pose[5] * pose[6];
+    let v27 = pose[4] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v16 * v28;
+    let v30 = v25 + v29;
+    let v31 = v22 - v30;
+    let v32 = plane[3] * v31;
+    let v33 = v20 + v32;
+    let v34 = measured[0] * pose[0];
+    let v35 = measured[1] * pose[1];
+    let v36 = measured[2] * pose[2];
+    let v37 = measured[3] + v34;
+    let v38 = v35 + v36;
+    let v39 = v37 + v38;
+    let v40 = plane[1] * v39;
+    let v41 = v0 + v1;
+    let v42 = v3 + v4;
+    let v43 = v41 - v42;
+    let v44 = measured[2] * T::constant(0.5);
+    let v45 = v43 * v44;
+    let v46 = v26 - v27;
+    let v47 = measured[1] * v46;
+    let v48 = v13 + v14;
+    let v49 = measured[0] * v48;
+    let v50 = v47 + v49;
+    let v51 = v50 - v45;
+    let v52 = plane[2] * v51;
+    let v53 = T::constant(2.0) * v52;
+    let v54 = v40 - v53;
+    let v55 = v33 - v54;
+    let v56 = v19 * plane[1];
+    let v57 = v31 * plane[2];
+    let v58 = v56 - v57;
+    let v59 = plane[0] * v39;
+    let v60 = plane[3] * v51;
+    let v61 = T::constant(2.0) * v60;
+    let v62 = v59 + v61;
+    let v63 = v58 + v62;
+    let v64 = plane[3] * v39;
+    let v65 = v19 * plane[2];
+    let v66 = v64 + v65;
+    let v67 = v31 * plane[1];
+    let v68 = T::constant(0.5) * v67;
+    let v69 = plane[0] * v51;
+    let v70 = v69 - v68;
+    let v71 = T::constant(2.0) * v70;
+    let v72 = v66 - v71;
+    let v73 = v72 * v72;
+    let v74 = v55 * v55;
+    let v75 = plane[0] * v31;
+    let v76 = plane[1] * v51;
+    let v77 = T::constant(2.0) * v76;
+    let v78 = v75 + v77;
+    let v79 = v39 * plane[2];
+    let v80 = v19 * plane[3];
+    let v81 = v79 - v80;
+    let v82 = v78 + v81;
+    let v83 = v82 * v82;
+    let v84 = v74 + v83;
+    let v85 = v73 + v84;
+    let v86 = T::constant(1.0) / v63;
+    let v87 = v86 * v86;
+    let v88 = v85 * v87;
+    let v89 = v88 * v88;
+    let v90 = v89 * T::constant(0.6000000000000001);
+    let v91 = v88 - T::constant(3.0);
+    let v92 = v91 - v90;
+    let v93 = v86 * v92;
+    let v94 = v93 * T::constant(-0.6666666666666666);
+    let v95 = T::sqrt(v85);
+    let v96 = T::atan2(v95, v63);
+    let v97 = v96 / v95;
+    let v98 = T::constant(2.0) * v97;
+    let v99 = T::select_lt(v88, T::constant(1e-6), v94, v98);
+    let v100 = T::select_lt(T::constant(0.0), v63, v99, v98);
+    let v101 = v55 * v100;
+    let v102 = v82 * v100;
+    let v103 = -v102;
+    let v104 = v72 * v100;
+    let v105 = -v104;
+    residual[0] = v101;
+    residual[1] = v103;
+    residual[2] = v105;
+    let (v119, v123, v125, v130, v134, v139, v143, v153, v155, v157) = if d_pose
+        .is_some() || d_plane.is_some()
+    {
+        let v106 = v88 * T::constant(1.2000000000000002);
+        let v107 = T::constant(1.0) - v106;
+        let v108 = v86 * v107;
+        let v109 = v86 * v108;
+        let v110 = v55 * v109;
+        let v111 = v86 * T::constant(-1.3333333333333333);
+        let v112 = v110 * v111;
+        let v113 = v63 * v63;
+        let v114 = v85 + v113;
+        let v115 = T::constant(1.0) / v114;
+        let v116 = v63 * v115;
+        let v117 = v97 - v116;
+        let v118 = v117 / v85;
+        let v119 = T::constant(2.0) * v55;
+        let v120 = v118 * v119;
+        let v121 = -v120;
+        let v122 = T::select_lt(v88, T::constant(1e-6), v112, v121);
+        let v123 = T::select_lt(T::constant(0.0), v63, v122, v121);
+        let v124 = v55 * v123;
+        let v125 = v100 + v124;
+        let v126 = v72 * v107;
+        let v127 = v86 * v126;
+        let v128 = v86 * v127;
+        let v129 = v111 * v128;
+        let v130 = T::constant(2.0) * v72;
+        let v131 = v118 * v130;
+        let v132 = -v131;
+        let v133 = T::select_lt(v88, T::constant(1e-6), v129, v132);
+        let v134 = T::select_lt(T::constant(0.0), v63, v133, v132);
+        let v135 = v82 * v107;
+        let v136 = v86 * v135;
+        let v137 = v86 * v136;
+        let v138 = v111 * v137;
+        let v139 = T::constant(2.0) * v82;
+        let v140 = v118 * v139;
+        let v141 = -v140;
+        let v142 = T::select_lt(v88, T::constant(1e-6), v138, v141);
+        let v143 = T::select_lt(T::constant(0.0), v63, v142, v141);
+        let v144 = v89 * T::constant(1.2000000000000002);
+        let v145 = v88 - v144;
+        let v146 = v86 * v145;
+        let v147 = T::constant(2.0) * v146;
+        let v148 = v93 + v147;
+        let v149 = v86 * T::constant(0.6666666666666666);
+        let v150 = v148 * v149;
+        let v151 = v115 * T::constant(-2.0);
+        let v152 = T::select_lt(v88, T::constant(1e-6), v150, v151);
+        let v153 = T::select_lt(T::constant(0.0), v63, v152, v151);
+        let v154 = v82 * v143;
+        let v155 = v100 + v154;
+        let v156 = v72 * v134;
+        let v157 = v100 + v156;
+        (v119, v123, v125, v130, v134, v139, v143, v153, v155, v157)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v158 = plane[1] * v125;
+        let v159 = plane[3] * v134;
+        let v160 = plane[2] * v143;
+        let v161 = plane[0] * v153;
+        let v162 = v160 + v161;
+        let v163 = v159 + v162;
+        let v164 = v55 * v163;
+        let v165 = v158 - v164;
+        let v166 = v19 * v165;
+        let v167 = -v166;
+        let v168 = plane[2] * v155;
+        let v169 = plane[1] * v123;
+        let v170 = v159 + v161;
+        let v171 = v169 - v170;
+        let v172 = v82 * v171;
+        let v173 = v172 - v168;
+        let v174 = v19 * v173;
+        let v175 = plane[3] * v157;
+        let v176 = v169 - v162;
+        let v177 = v72 * v176;
+        let v178 = v177 - v175;
+        let v179 = v19 * v178;
+        let v180 = v31 * v165;
+        let v181 = v31 * v173;
+        let v182 = -v181;
+        let v183 = v31 * v178;
+        let v184 = -v183;
+        let v185 = T::constant(2.0) * v51;
+        let v186 = v165 * v185;
+        let v187 = -v186;
+        let v188 = v173 * v185;
+        let v189 = v178 * v185;
+        let v190 = v57 - v61;
+        let v191 = v125 * v190;
+        let v192 = v78 * v134;
+        let v193 = v32 + v53;
+        let v194 = v153 * v193;
+        let v195 = T::constant(0.5) * v194;
+        let v196 = v70 * v143;
+        let v197 = v196 - v195;
+        let v198 = T::constant(2.0) * v197;
+        let v199 = v192 + v198;
+        let v200 = v55 * v199;
+        let v201 = -v200;
+        let v202 = v191 + v201;
+        let v203 = v123 * v190;
+        let v204 = v194 - v192;
+        let v205 = v203 + v204;
+        let v206 = v82 * v205;
+        let v207 = v71 * v155;
+        let v208 = v207 - v206;
+        let v209 = v78 * v157;
+        let v210 = v203 - v198;
+        let v211 = v72 * v210;
+        let v212 = v209 - v211;
+        let v213 = T::constant(0.5) * v65;
+        let v214 = v69 - v213;
+        let v215 = T::constant(2.0) * v214;
+        let v216 = v125 * v215;
+        let v217 = v20 + v53;
+        let v218 = v134 * v217;
+        let v219 = T::constant(0.5) * v218;
+        let v220 = v56 + v61;
+        let v221 = v143 * v220;
+        let v222 = T::constant(0.5) * v80;
+        let v223 = v76 - v222;
+        let v224 = v153 * v223;
+        let v225 = T::constant(2.0) * v224;
+        let v226 = v221 - v225;
+        let v227 = T::constant(0.5) * v226;
+        let v228 = v218 - v226;
+        let v229 = T::constant(0.5) * v228;
+        let v230 = v119 * v229;
+        let v231 = v216 + v230;
+        let v232 = -v231;
+        let v233 = v155 * v220;
+        let v234 = v123 * v214;
+        let v235 = v224 + v234;
+        let v236 = v219 + v235;
+        let v237 = v139 * v236;
+        let v238 = v237 - v233;
+        let v239 = v157 * v217;
+        let v240 = v234 - v227;
+        let v241 = v130 * v240;
+        let v242 = v239 + v241;
+        let v243 = v75 - v80;
+        let v244 = v125 * v243;
+        let v245 = v58 * v134;
+        let v246 = v33 * v143;
+        let v247 = v65 + v67;
+        let v248 = v153 * v247;
+        let v249 = v246 - v248;
+        let v250 = v245 + v249;
+        let v251 = v55 * v250;
+        let v252 = -v251;
+        let v253 = v244 + v252;
+        let v254 = -v253;
+        let v255 = v33 * v155;
+        let v256 = v123 * v243;
+        let v257 = v248 - v245;
+        let v258 = v256 + v257;
+        let v259 = v82 * v258;
+        let v260 = v259 - v255;
+        let v261 = v58 * v157;
+        let v262 = v256 - v249;
+        let v263 = v72 * v262;
+        let v264 = v263 - v261;
+        d_pose[0] = v167;
+        d_pose[1] = v174;
+        d_pose[2] = v179;
+        d_pose[3] = v180;
+        d_pose[4] = v182;
+        d_pose[5] = v184;
+        d_pose[6] = v187;
+        d_pose[7] = v188;
+        d_pose[8] = v189;
+        d_pose[9] = v202;
+        d_pose[10] = v208;
+        d_pose[11] = v212;
+        d_pose[12] = v232;
+        d_pose[13] = v238;
+        d_pose[14] = v242;
+        d_pose[15] = v254;
+        d_pose[16] = v260;
+        d_pose[17] = v264;
+    }
+    if let Some(d_plane) = d_plane {
+        let v265 = v59 - v61;
+        let v266 = v56 + v57;
+        let v267 = v265 + v266;
+        let v268 = v81 - v78;
+        let v269 = v134 * v268;
+        let v270 = v66 + v71;
+        let v271 = v143 * v270;
+        let v272 = v20 - v32;
+        let v273 = v40 + v53;
+        let v274 = v272 - v273;
+        let v275 = v153 * v274;
+        let v276 = v271 + v275;
+        let v277 = v269 - v276;
+        let v278 = T::constant(0.5) * v55;
+        let v279 = v125 * v267;
+        let v280 = v55 * v277;
+        let v281 = v279 + v280;
+        let v282 = T::constant(0.5) * v281;
+        let v283 = -v282;
+        let v284 = v123 * v267;
+        let v285 = v269 - v275;
+        let v286 = v284 + v285;
+        let v287 = T::constant(0.5) * v82;
+        let v288 = v155 * v270;
+        let v289 = v82 * v286;
+        let v290 = v289 - v288;
+        let v291 = T::constant(0.5) * v290;
+        let v292 = v284 - v276;
+        let v293 = T::constant(0.5) * v72;
+        let v294 = v157 * v268;
+        let v295 = v72 * v292;
+        let v296 = v294 + v295;
+        let v297 = T::constant(0.5) * v296;
+        let v298 = v64 - v65;
+        let v299 = v68 + v69;
+        let v300 = T::constant(2.0) * v299;
+        let v301 = v298 + v300;
+        let v302 = T::constant(0.5) * v301;
+        let v303 = v125 * v302;
+        let v304 = v272 + v273;
+        let v305 = v134 * v304;
+        let v306 = v265 - v266;
+        let v307 = v143 * v306;
+        let v308 = v79 + v80;
+        let v309 = v75 - v77;
+        let v310 = v308 + v309;
+        let v311 = v153 * v310;
+        let v312 = v307 - v311;
+        let v313 = v305 + v312;
+        let v314 = v278 * v313;
+        let v315 = v303 + v314;
+        let v316 = T::constant(0.5) * v306;
+        let v317 = v155 * v316;
+        let v318 = v123 * v301;
+        let v319 = v305 - v311;
+        let v320 = v318 + v319;
+        let v321 = v287 * v320;
+        let v322 = v317 + v321;
+        let v323 = -v322;
+        let v324 = T::constant(0.5) * v304;
+        let v325 = v157 * v324;
+        let v326 = v312 + v318;
+        let v327 = v293 * v326;
+        let v328 = v325 + v327;
+        let v329 = -v328;
+        let v330 = v308 - v309;
+        let v331 = T::constant(0.5) * v330;
+        let v332 = v125 * v331;
+        let v333 = v62 - v58;
+        let v334 = v134 * v333;
+        let v335 = v33 + v54;
+        let v336 = v143 * v335;
+        let v337 = v298 - v300;
+        let v338 = v153 * v337;
+        let v339 = v336 + v338;
+        let v340 = v339 - v334;
+        let v341 = v278 * v340;
+        let v342 = v332 + v341;
+        let v343 = -v342;
+        let v344 = T::constant(0.5) * v335;
+        let v345 = v155 * v344;
+        let v346 = v123 * v330;
+        let v347 = v338 - v334;
+        let v348 = v346 + v347;
+        let v349 = v287 * v348;
+        let v350 = v345 + v349;
+        let v351 = T::constant(0.5) * v333;
+        let v352 = v157 * v351;
+        let v353 = v339 + v346;
+        let v354 = v293 * v353;
+        let v355 = v354 - v352;
+        d_plane[0] = v283;
+        d_plane[1] = v291;
+        d_plane[2] = v297;
+        d_plane[3] = v315;
+        d_plane[4] = v323;
+        d_plane[5] = v329;
+        d_plane[6] = v343;
+        d_plane[7] = v350;
+        d_plane[8] = v355;
+    }
+}
+
+/// The lengths of [`plane_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[4, 7, 4],
+    residual: 3,
+    blocks: &[18, 9],
+};
+
+/// [`plane_apex`] over what a solver holds: `stored`, the factor's 15 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (3 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn plane_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 15) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(residual)) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 4]>::try_from(*part_1),
+        <&mut [T; 3]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 27]>::try_from) {
+        None => self::plane_apex(input_0, input_1, input_2, residual, None, None),
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+                return false;
+            };
+            let Some((d_plane, rest)) = rest.split_first_chunk_mut::<9>() else {
+                return false;
+            };
+            let _ = rest;
+            self::plane_apex(
+                input_0,
+                input_1,
+                input_2,
+                residual,
+                Some(d_pose),
+                Some(d_plane),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

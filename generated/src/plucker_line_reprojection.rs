@@ -34,6 +34,7 @@
 //! | residual only | 40 | 59 | 1 | 1 | 1 | 0 | 0 | 102 |
 //! | normal equations | 180 | 381 | 2 | 8 | 1 | 0 | 0 | 572 |
 //! | normal equations, cost only | 41 | 63 | 1 | 0 | 1 | 0 | 0 | 106 |
+//! | apex chart | 146 | 277 | 2 | 4 | 1 | 0 | 0 | 430 |
 //!
 //! # Normal equations
 //!
@@ -47,6 +48,21 @@
 //! - `h_line_line: [T; 21]`: `J_lineᵀ w J_line`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `plucker_line_reprojection_apex` (apex-solver 1.5):
+//!
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]`
+//! - `start: [T; 2]` (constant): `[x, y]`
+//! - `end: [T; 2]` (constant): `[x, y]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `line: [T; 6]` (variable): Rn(6) `[x0, x1, x2, x3, x4, x5]`
+//! - `residual: [T; 2]`
+//! - `d_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_line: [T; 12]`: 2 × 6 column-major, Rn(6); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -384,15 +400,14 @@ pub fn plucker_line_reprojection<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[4, 2, 2, 7, 6],
     residual: 2,
     blocks: &[12, 12],
 };
 
-/// [`plucker_line_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`plucker_line_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn plucker_line_reprojection_slices<T: Real>(
     inputs: &[&[T]],
@@ -1337,6 +1352,571 @@ pub fn plucker_line_reprojection_normal_slices<T: Real>(
         h_pose_line,
         h_line_line,
     );
+    true
+}
+
+/// The residual of `slam_factors::plucker_line_reprojection::PluckerLineReprojection` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn plucker_line_reprojection_apex<T: Real>(
+    intrinsics: &[T; 4],
+    start: &[T; 2],
+    end: &[T; 2],
+    pose: &[T; 7],
+    line: &[T; 6],
+    residual: &mut [T; 2],
+    d_pose: Option<&mut [T; 12]>,
+    d_line: Option<&mut [T; 12]>,
+) {
+    let v0 = pose[4] * pose[4];
+    let v1 = pose[5] * pose[5];
+    let v2 = v0 - v1;
+    let v3 = pose[6] * pose[6];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = line[0] * v6;
+    let v8 = v2 + v5;
+    let v9 = line[4] * v8;
+    let v10 = pose[4] * pose[5];
+    let v11 = pose[6] * pose[3];
+    let v12 = v10 + v11;
+    let v13 = line[3] * T::constant(2.0);
+    let v14 = v12 * v13;
+    let v15 = pose[5] * pose[6];
+    let v16 = pose[4] * pose[3];
+    let v17 = v15 - v16;
+    let v18 = T::constant(2.0) * line[5];
+    let v19 = v17 * v18;
+    let v20 = v14 + v19;
+    let v21 = v9 - v20;
+    let v22 = pose[2] * v21;
+    let v23 = v10 - v11;
+    let v24 = T::constant(2.0) * line[1];
+    let v25 = v23 * v24;
+    let v26 = pose[4] * pose[6];
+    let v27 = pose[5] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = T::constant(2.0) * line[2];
+    let v30 = v28 * v29;
+    let v31 = v0 + v1;
+    let v32 = v3 + v4;
+    let v33 = v31 - v32;
+    let v34 = line[5] * T::constant(0.5);
+    let v35 = v33 * v34;
+    let v36 = v15 + v16;
+    let v37 = line[4] * v36;
+    let v38 = v26 - v27;
+    let v39 = line[3] * v38;
+    let v40 = v37 + v39;
+    let v41 = v40 - v35;
+    let v42 = T::constant(2.0) * pose[1];
+    let v43 = v41 * v42;
+    let v44 = v25 + v30;
+    let v45 = v43 + v44;
+    let v46 = v7 + v22;
+    let v47 = v45 + v46;
+    let v48 = intrinsics[1] * v47;
+    let v49 = v48 * v48;
+    let v50 = v8 * line[1];
+    let v51 = v6 * line[3];
+    let v52 = line[4] * T::constant(2.0);
+    let v53 = v23 * v52;
+    let v54 = v18 * v28;
+    let v55 = v53 + v54;
+    let v56 = v51 + v55;
+    let v57 = pose[2] * v56;
+    let v58 = line[0] * T::constant(2.0);
+    let v59 = v12 * v58;
+    let v60 = v17 * v29;
+    let v61 = T::constant(2.0) * pose[0];
+    let v62 = v41 * v61;
+    let v63 = v59 + v60;
+    let v64 = v62 - v63;
+    let v65 = v50 - v57;
+    let v66 = v64 + v65;
+    let v67 = intrinsics[0] * v66;
+    let v68 = v67 * v67;
+    let v69 = v49 + v68;
+    let v70 = T::sqrt(v69);
+    let v71 = T::constant(1.0) / v70;
+    let v72 = intrinsics[2] - start[0];
+    let v73 = v48 * v72;
+    let v74 = intrinsics[3] - start[1];
+    let v75 = v67 * v74;
+    let v76 = line[2] * v33;
+    let v77 = pose[1] * v56;
+    let v78 = v21 * pose[0];
+    let v79 = v76 + v77;
+    let v80 = v78 + v79;
+    let v81 = T::constant(0.5) * v80;
+    let v82 = line[1] * v36;
+    let v83 = line[0] * v38;
+    let v84 = v82 + v83;
+    let v85 = v84 - v81;
+    let v86 = intrinsics[1] * intrinsics[0];
+    let v87 = v85 * v86;
+    let v88 = T::constant(2.0) * v87;
+    let v89 = v73 - v75;
+    let v90 = v89 - v88;
+    let v91 = v71 * v90;
+    let v92 = -v91;
+    let v93 = intrinsics[2] - end[0];
+    let v94 = intrinsics[3] - end[1];
+    let v95 = v48 * v93;
+    let v96 = v67 * v94;
+    let v97 = v96 - v95;
+    let v98 = T::constant(0.5) * v97;
+    let v99 = v87 + v98;
+    let v100 = T::constant(2.0) * v99;
+    let v101 = v71 * v100;
+    residual[0] = v92;
+    residual[1] = v101;
+    let (v102, v111, v113, v117, v121, v124, v125, v126) = if d_pose.is_some()
+        || d_line.is_some()
+    {
+        let v102 = T::constant(0.5) * pose[0];
+        let v103 = T::constant(0.5) * v93;
+        let v104 = T::constant(0.5) * v94;
+        let v105 = T::constant(1.0) / v69;
+        let v106 = v90 * v105;
+        let v107 = intrinsics[0] * v71;
+        let v108 = v67 * v107;
+        let v109 = v106 * v108;
+        let v110 = v74 * v107;
+        let v111 = v109 + v110;
+        let v112 = intrinsics[1] * v71;
+        let v113 = intrinsics[0] * v112;
+        let v114 = v48 * v112;
+        let v115 = v106 * v114;
+        let v116 = v72 * v112;
+        let v117 = v115 - v116;
+        let v118 = v104 * v107;
+        let v119 = v99 * v105;
+        let v120 = v108 * v119;
+        let v121 = v120 - v118;
+        let v122 = v103 * v112;
+        let v123 = v114 * v119;
+        let v124 = v122 + v123;
+        let v125 = T::constant(2.0) * v23;
+        let v126 = v28 * T::constant(4.0);
+        (v102, v111, v113, v117, v121, v124, v125, v126)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v127 = line[2] * T::constant(0.5);
+        let v128 = pose[1] * T::constant(0.5);
+        let v129 = v38 * v56;
+        let v130 = v6 * v41;
+        let v131 = v129 - v130;
+        let v132 = v6 * T::constant(0.5);
+        let v133 = v21 * v132;
+        let v134 = v12 * v56;
+        let v135 = v133 + v134;
+        let v136 = v135 * v113;
+        let v137 = T::constant(2.0) * v136;
+        let v138 = v131 * v111;
+        let v139 = v136 + v138;
+        let v140 = T::constant(2.0) * v139;
+        let v141 = T::constant(0.5) * v38;
+        let v142 = v21 * v141;
+        let v143 = v12 * v41;
+        let v144 = v142 + v143;
+        let v145 = v144 * T::constant(4.0);
+        let v146 = v117 * v145;
+        let v147 = v146 - v140;
+        let v148 = v131 * T::constant(4.0);
+        let v149 = v121 * v148;
+        let v150 = v144 * T::constant(8.0);
+        let v151 = v124 * v150;
+        let v152 = v149 - v137;
+        let v153 = v152 - v151;
+        let v154 = v8 * v56;
+        let v155 = v21 * v125;
+        let v156 = v154 - v155;
+        let v157 = v113 * v156;
+        let v158 = v8 * v41;
+        let v159 = v21 * v36;
+        let v160 = v158 - v159;
+        let v161 = v36 * v56;
+        let v162 = v41 * v125;
+        let v163 = v161 - v162;
+        let v164 = v117 * v160;
+        let v165 = v111 * v163;
+        let v166 = v164 + v165;
+        let v167 = T::constant(2.0) * v166;
+        let v168 = v157 - v167;
+        let v169 = v124 * v160;
+        let v170 = v121 * v163;
+        let v171 = v169 + v170;
+        let v172 = T::constant(4.0) * v171;
+        let v173 = v157 + v172;
+        let v174 = v33 * v56;
+        let v175 = v41 * v126;
+        let v176 = v174 + v175;
+        let v177 = v111 * v176;
+        let v178 = v17 * v56;
+        let v179 = v21 * v28;
+        let v180 = v178 + v179;
+        let v181 = v113 * v180;
+        let v182 = T::constant(2.0) * v181;
+        let v183 = v33 * T::constant(0.25);
+        let v184 = v21 * v183;
+        let v185 = v17 * v41;
+        let v186 = v185 - v184;
+        let v187 = T::constant(4.0) * v186;
+        let v188 = v117 * v187;
+        let v189 = v177 - v182;
+        let v190 = v188 + v189;
+        let v191 = T::constant(2.0) * v176;
+        let v192 = v121 * v191;
+        let v193 = v182 + v192;
+        let v194 = T::constant(8.0) * v186;
+        let v195 = v124 * v194;
+        let v196 = v193 + v195;
+        let v197 = -v196;
+        let v198 = line[1] * v33;
+        let v199 = v29 * v36;
+        let v200 = line[4] * v28;
+        let v201 = line[5] * v23;
+        let v202 = v200 - v201;
+        let v203 = v42 * v202;
+        let v204 = v8 * v34;
+        let v205 = line[4] * v17;
+        let v206 = v204 + v205;
+        let v207 = v61 * v206;
+        let v208 = v199 + v203;
+        let v209 = v208 - v207;
+        let v210 = v198 + v209;
+        let v211 = v113 * v210;
+        let v212 = line[4] * v33;
+        let v213 = v18 * v36;
+        let v214 = v212 + v213;
+        let v215 = v128 * v214;
+        let v216 = line[1] * v28;
+        let v217 = v23 * line[2];
+        let v218 = pose[2] * v206;
+        let v219 = v216 - v217;
+        let v220 = v219 - v215;
+        let v221 = v220 - v218;
+        let v222 = v8 * v127;
+        let v223 = v102 * v214;
+        let v224 = v222 + v223;
+        let v225 = v17 * line[1];
+        let v226 = pose[2] * v202;
+        let v227 = v225 + v226;
+        let v228 = v224 + v227;
+        let v229 = v117 * v221;
+        let v230 = v111 * v228;
+        let v231 = v229 - v230;
+        let v232 = T::constant(2.0) * v231;
+        let v233 = v232 - v211;
+        let v234 = v124 * v221;
+        let v235 = v121 * v228;
+        let v236 = v235 - v234;
+        let v237 = T::constant(4.0) * v236;
+        let v238 = v237 - v211;
+        let v239 = line[0] * v33;
+        let v240 = v29 * v38;
+        let v241 = v6 * v34;
+        let v242 = line[3] * v28;
+        let v243 = v242 - v241;
+        let v244 = v42 * v243;
+        let v245 = line[3] * v17;
+        let v246 = v12 * line[5];
+        let v247 = v245 - v246;
+        let v248 = v61 * v247;
+        let v249 = v240 - v248;
+        let v250 = v244 + v249;
+        let v251 = v239 + v250;
+        let v252 = v113 * v251;
+        let v253 = v6 * v127;
+        let v254 = line[3] * v33;
+        let v255 = v18 * v38;
+        let v256 = v254 + v255;
+        let v257 = v128 * v256;
+        let v258 = v253 + v257;
+        let v259 = line[0] * v28;
+        let v260 = pose[2] * v247;
+        let v261 = v259 - v260;
+        let v262 = v261 - v258;
+        let v263 = v102 * v256;
+        let v264 = line[0] * v17;
+        let v265 = v12 * line[2];
+        let v266 = pose[2] * v243;
+        let v267 = v264 - v265;
+        let v268 = v263 + v267;
+        let v269 = v266 + v268;
+        let v270 = v117 * v262;
+        let v271 = v111 * v269;
+        let v272 = v271 - v270;
+        let v273 = T::constant(2.0) * v272;
+        let v274 = v252 + v273;
+        let v275 = v124 * v262;
+        let v276 = v121 * v269;
+        let v277 = v275 - v276;
+        let v278 = T::constant(4.0) * v277;
+        let v279 = v252 + v278;
+        let v280 = line[1] * T::constant(0.5);
+        let v281 = v6 * v280;
+        let v282 = line[0] * v23;
+        let v283 = line[4] * v38;
+        let v284 = line[3] * v36;
+        let v285 = v283 - v284;
+        let v286 = pose[1] * v285;
+        let v287 = line[3] * T::constant(0.5);
+        let v288 = v8 * v287;
+        let v289 = line[4] * v12;
+        let v290 = v288 + v289;
+        let v291 = pose[2] * v290;
+        let v292 = v282 - v281;
+        let v293 = v292 - v286;
+        let v294 = v291 + v293;
+        let v295 = line[0] * T::constant(0.5);
+        let v296 = v8 * v295;
+        let v297 = v12 * line[1];
+        let v298 = line[4] * T::constant(0.5);
+        let v299 = v6 * v298;
+        let v300 = line[3] * v23;
+        let v301 = v300 - v299;
+        let v302 = pose[2] * v301;
+        let v303 = pose[0] * v285;
+        let v304 = v296 + v297;
+        let v305 = v304 - v303;
+        let v306 = v305 - v302;
+        let v307 = line[1] * v38;
+        let v308 = line[0] * v36;
+        let v309 = pose[1] * v301;
+        let v310 = pose[0] * v290;
+        let v311 = v307 - v308;
+        let v312 = v309 + v311;
+        let v313 = v310 + v312;
+        let v314 = v113 * v313;
+        let v315 = T::constant(2.0) * v314;
+        let v316 = v117 * v294;
+        let v317 = v111 * v306;
+        let v318 = v316 - v314;
+        let v319 = v317 + v318;
+        let v320 = T::constant(2.0) * v319;
+        let v321 = v124 * v294;
+        let v322 = v121 * v306;
+        let v323 = v321 + v322;
+        let v324 = T::constant(4.0) * v323;
+        let v325 = v315 + v324;
+        let v326 = -v325;
+        d_pose[0] = v147;
+        d_pose[1] = v153;
+        d_pose[2] = v168;
+        d_pose[3] = v173;
+        d_pose[4] = v190;
+        d_pose[5] = v197;
+        d_pose[6] = v233;
+        d_pose[7] = v238;
+        d_pose[8] = v274;
+        d_pose[9] = v279;
+        d_pose[10] = v320;
+        d_pose[11] = v326;
+    }
+    if let Some(d_line) = d_line {
+        let v327 = v6 * v117;
+        let v328 = v38 * v113;
+        let v329 = T::constant(2.0) * v328;
+        let v330 = v12 * v111;
+        let v331 = v328 - v330;
+        let v332 = T::constant(2.0) * v331;
+        let v333 = v327 + v332;
+        let v334 = v6 * T::constant(2.0);
+        let v335 = v124 * v334;
+        let v336 = v329 - v335;
+        let v337 = v12 * T::constant(4.0);
+        let v338 = v121 * v337;
+        let v339 = v336 + v338;
+        let v340 = v8 * v111;
+        let v341 = v117 * v125;
+        let v342 = v36 * v113;
+        let v343 = T::constant(2.0) * v342;
+        let v344 = v341 + v343;
+        let v345 = v340 + v344;
+        let v346 = v8 * T::constant(2.0);
+        let v347 = v121 * v346;
+        let v348 = v343 - v347;
+        let v349 = v23 * T::constant(4.0);
+        let v350 = v124 * v349;
+        let v351 = v348 - v350;
+        let v352 = v33 * v113;
+        let v353 = v28 * v117;
+        let v354 = v17 * v111;
+        let v355 = v353 - v354;
+        let v356 = T::constant(2.0) * v355;
+        let v357 = v356 - v352;
+        let v358 = v124 * v126;
+        let v359 = v17 * T::constant(4.0);
+        let v360 = v121 * v359;
+        let v361 = v360 - v358;
+        let v362 = v361 - v352;
+        let v363 = v6 * pose[2];
+        let v364 = v38 * v61;
+        let v365 = v363 - v364;
+        let v366 = v111 * v365;
+        let v367 = v6 * pose[1];
+        let v368 = v12 * v61;
+        let v369 = v367 - v368;
+        let v370 = v113 * v369;
+        let v371 = pose[1] * v38;
+        let v372 = pose[2] * v12;
+        let v373 = v371 - v372;
+        let v374 = T::constant(2.0) * v373;
+        let v375 = v117 * v374;
+        let v376 = v366 + v370;
+        let v377 = v375 - v376;
+        let v378 = T::constant(2.0) * v365;
+        let v379 = v121 * v378;
+        let v380 = T::constant(4.0) * v373;
+        let v381 = v124 * v380;
+        let v382 = v379 - v370;
+        let v383 = v382 - v381;
+        let v384 = pose[2] * T::constant(0.5);
+        let v385 = v8 * v384;
+        let v386 = pose[1] * v36;
+        let v387 = v385 + v386;
+        let v388 = pose[2] * v23;
+        let v389 = v36 * pose[0];
+        let v390 = v388 - v389;
+        let v391 = v8 * v102;
+        let v392 = v23 * pose[1];
+        let v393 = v391 + v392;
+        let v394 = v113 * v393;
+        let v395 = T::constant(2.0) * v394;
+        let v396 = v117 * v387;
+        let v397 = v111 * v390;
+        let v398 = v396 - v394;
+        let v399 = v398 - v397;
+        let v400 = T::constant(2.0) * v399;
+        let v401 = v124 * v387;
+        let v402 = v121 * v390;
+        let v403 = v402 - v401;
+        let v404 = T::constant(4.0) * v403;
+        let v405 = v404 - v395;
+        let v406 = pose[1] * v33;
+        let v407 = pose[2] * T::constant(2.0);
+        let v408 = v17 * v407;
+        let v409 = v406 + v408;
+        let v410 = v117 * v409;
+        let v411 = v33 * v102;
+        let v412 = pose[2] * v28;
+        let v413 = v411 + v412;
+        let v414 = v28 * pose[1];
+        let v415 = v17 * pose[0];
+        let v416 = v414 - v415;
+        let v417 = v113 * v416;
+        let v418 = T::constant(2.0) * v417;
+        let v419 = v111 * v413;
+        let v420 = v417 + v419;
+        let v421 = T::constant(2.0) * v420;
+        let v422 = v410 + v421;
+        let v423 = -v422;
+        let v424 = T::constant(2.0) * v409;
+        let v425 = v124 * v424;
+        let v426 = v425 - v418;
+        let v427 = T::constant(4.0) * v413;
+        let v428 = v121 * v427;
+        let v429 = v426 + v428;
+        d_line[0] = v333;
+        d_line[1] = v339;
+        d_line[2] = v345;
+        d_line[3] = v351;
+        d_line[4] = v357;
+        d_line[5] = v362;
+        d_line[6] = v377;
+        d_line[7] = v383;
+        d_line[8] = v400;
+        d_line[9] = v405;
+        d_line[10] = v423;
+        d_line[11] = v429;
+    }
+}
+
+/// The lengths of [`plucker_line_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[4, 2, 2, 7, 6],
+    residual: 2,
+    blocks: &[12, 12],
+};
+
+/// [`plucker_line_reprojection_apex`] over what a solver holds: `stored`, the factor's 21 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn plucker_line_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 21) = (parts, stored.len()) else {
+        return false;
+    };
+    let (
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(residual),
+    ) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 2]>::try_from(&stored[6..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 6]>::try_from(*part_1),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 24]>::try_from) {
+        None => {
+            self::plucker_line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_line, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let _ = rest;
+            self::plucker_line_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                Some(d_pose),
+                Some(d_line),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

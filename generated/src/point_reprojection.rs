@@ -33,6 +33,7 @@
 //! | residual only | 26 | 27 | 1 | 0 | 0 | 0 | 0 | 54 |
 //! | normal equations | 70 | 162 | 1 | 21 | 0 | 0 | 0 | 254 |
 //! | normal equations, cost only | 27 | 31 | 1 | 0 | 0 | 0 | 0 | 59 |
+//! | apex chart | 47 | 87 | 1 | 5 | 0 | 0 | 0 | 140 |
 //!
 //! # Normal equations
 //!
@@ -46,6 +47,20 @@
 //! - `h_point_point: [T; 6]`: `J_pointᵀ w J_point`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `point_reprojection_apex` (apex-solver 1.5):
+//!
+//! - `intrinsics: [T; 4]` (constant): `[fu, fv, cu, cv]`
+//! - `observed: [T; 2]` (constant): `[x, y]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `point: [T; 3]` (variable): Rn(3) `[x0, x1, x2]`
+//! - `residual: [T; 2]`
+//! - `d_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_point: [T; 6]`: 2 × 3 column-major, Rn(3); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -195,15 +210,14 @@ pub fn point_reprojection<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[4, 2, 7, 3],
     residual: 2,
     blocks: &[12, 6],
 };
 
-/// [`point_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`point_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn point_reprojection_slices<T: Real>(
     inputs: &[&[T]],
@@ -715,6 +729,264 @@ pub fn point_reprojection_normal_slices<T: Real>(
         h_pose_point,
         h_point_point,
     );
+    true
+}
+
+/// The residual of `slam_factors::point_reprojection::PointReprojection` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn point_reprojection_apex<T: Real>(
+    intrinsics: &[T; 4],
+    observed: &[T; 2],
+    pose: &[T; 7],
+    point: &[T; 3],
+    residual: &mut [T; 2],
+    d_pose: Option<&mut [T; 12]>,
+    d_point: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[4] * pose[4];
+    let v1 = pose[5] * pose[5];
+    let v2 = v0 - v1;
+    let v3 = pose[6] * pose[6];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = point[0] * v6;
+    let v8 = pose[4] * pose[5];
+    let v9 = pose[6] * pose[3];
+    let v10 = v8 - v9;
+    let v11 = point[1] * T::constant(2.0);
+    let v12 = pose[4] * pose[6];
+    let v13 = pose[5] * pose[3];
+    let v14 = v12 + v13;
+    let v15 = T::constant(2.0) * point[2];
+    let v16 = point[1] * v10;
+    let v17 = point[2] * v14;
+    let v18 = v16 + v17;
+    let v19 = T::constant(2.0) * v18;
+    let v20 = pose[0] + v7;
+    let v21 = v19 + v20;
+    let v22 = v0 + v1;
+    let v23 = v3 + v4;
+    let v24 = v22 - v23;
+    let v25 = point[2] * v24;
+    let v26 = pose[5] * pose[6];
+    let v27 = pose[4] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v11 * v28;
+    let v30 = v12 - v13;
+    let v31 = point[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = v29 + v32;
+    let v34 = pose[2] - v25;
+    let v35 = v33 + v34;
+    let v36 = T::constant(1.0) / v35;
+    let v37 = intrinsics[0] * v36;
+    let v38 = v21 * v37;
+    let v39 = observed[0] - intrinsics[2];
+    let v40 = v39 - v38;
+    let v41 = v2 + v5;
+    let v42 = point[1] * v41;
+    let v43 = v8 + v9;
+    let v44 = v31 * v43;
+    let v45 = v26 - v27;
+    let v46 = v15 * v45;
+    let v47 = v44 + v46;
+    let v48 = pose[1] - v42;
+    let v49 = v47 + v48;
+    let v50 = v36 * intrinsics[1];
+    let v51 = v49 * v50;
+    let v52 = observed[1] - intrinsics[3];
+    let v53 = v52 - v51;
+    residual[0] = v40;
+    residual[1] = v53;
+    let (v55, v58, v61, v63, v68, v71, v76, v81) = if d_pose.is_some()
+        || d_point.is_some()
+    {
+        let v54 = v6 * v37;
+        let v55 = v36 * v38;
+        let v56 = T::constant(2.0) * v30;
+        let v57 = v55 * v56;
+        let v58 = v57 - v54;
+        let v59 = T::constant(2.0) * v43;
+        let v60 = v50 * v59;
+        let v61 = v36 * v51;
+        let v62 = v56 * v61;
+        let v63 = v62 - v60;
+        let v64 = T::constant(2.0) * v28;
+        let v65 = v10 * v37;
+        let v66 = v28 * v55;
+        let v67 = v66 - v65;
+        let v68 = T::constant(2.0) * v67;
+        let v69 = v41 * v50;
+        let v70 = v61 * v64;
+        let v71 = v69 + v70;
+        let v72 = v24 * v55;
+        let v73 = T::constant(2.0) * v14;
+        let v74 = v37 * v73;
+        let v75 = v72 + v74;
+        let v76 = -v75;
+        let v77 = v24 * v61;
+        let v78 = T::constant(2.0) * v45;
+        let v79 = v50 * v78;
+        let v80 = v77 + v79;
+        let v81 = -v80;
+        (v55, v58, v61, v63, v68, v71, v76, v81)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v82 = point[1] * v24;
+        let v83 = v15 * v28;
+        let v84 = v82 + v83;
+        let v85 = v55 * v84;
+        let v86 = point[1] * v14;
+        let v87 = v10 * point[2];
+        let v88 = v86 - v87;
+        let v89 = T::constant(2.0) * v88;
+        let v90 = v37 * v89;
+        let v91 = v85 + v90;
+        let v92 = -v91;
+        let v93 = v61 * v84;
+        let v94 = point[2] * T::constant(0.5);
+        let v95 = v41 * v94;
+        let v96 = point[1] * v45;
+        let v97 = v95 + v96;
+        let v98 = T::constant(2.0) * v97;
+        let v99 = v50 * v98;
+        let v100 = v93 + v99;
+        let v101 = -v100;
+        let v102 = point[0] * v24;
+        let v103 = v15 * v30;
+        let v104 = v102 + v103;
+        let v105 = v55 * v104;
+        let v106 = v6 * v94;
+        let v107 = point[0] * v14;
+        let v108 = v107 - v106;
+        let v109 = T::constant(2.0) * v108;
+        let v110 = v37 * v109;
+        let v111 = v105 + v110;
+        let v112 = v61 * v104;
+        let v113 = point[0] * v45;
+        let v114 = point[2] * v43;
+        let v115 = v113 - v114;
+        let v116 = T::constant(2.0) * v115;
+        let v117 = v50 * v116;
+        let v118 = v112 + v117;
+        let v119 = point[1] * T::constant(0.5);
+        let v120 = v6 * v119;
+        let v121 = point[0] * v10;
+        let v122 = v121 - v120;
+        let v123 = point[1] * v30;
+        let v124 = point[0] * v28;
+        let v125 = v123 - v124;
+        let v126 = T::constant(2.0) * v125;
+        let v127 = v37 * v122;
+        let v128 = v55 * v125;
+        let v129 = v127 + v128;
+        let v130 = T::constant(2.0) * v129;
+        let v131 = -v130;
+        let v132 = point[0] * T::constant(0.5);
+        let v133 = v41 * v132;
+        let v134 = point[1] * v43;
+        let v135 = v133 + v134;
+        let v136 = T::constant(2.0) * v135;
+        let v137 = v50 * v136;
+        let v138 = v61 * v126;
+        let v139 = v137 - v138;
+        d_pose[0] = v58;
+        d_pose[1] = v63;
+        d_pose[2] = v68;
+        d_pose[3] = v71;
+        d_pose[4] = v76;
+        d_pose[5] = v81;
+        d_pose[6] = v92;
+        d_pose[7] = v101;
+        d_pose[8] = v111;
+        d_pose[9] = v118;
+        d_pose[10] = v131;
+        d_pose[11] = v139;
+    }
+    if let Some(d_point) = d_point {
+        d_point[0] = v58;
+        d_point[1] = v63;
+        d_point[2] = v68;
+        d_point[3] = v71;
+        d_point[4] = v76;
+        d_point[5] = v81;
+    }
+}
+
+/// The lengths of [`point_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[4, 2, 7, 3],
+    residual: 2,
+    blocks: &[12, 6],
+};
+
+/// [`point_reprojection_apex`] over what a solver holds: `stored`, the factor's 16 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn point_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 16) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 4]>::try_from(&stored[0..4]),
+        <&[T; 2]>::try_from(&stored[4..6]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 18]>::try_from) {
+        None => {
+            self::point_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_point, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::point_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose),
+                Some(d_point),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

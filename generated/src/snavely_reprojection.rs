@@ -34,6 +34,7 @@
 //! | residual only | 27 | 34 | 1 | 2 | 0 | 0 | 0 | 64 |
 //! | normal equations | 150 | 322 | 1 | 29 | 0 | 0 | 0 | 502 |
 //! | normal equations, cost only | 28 | 38 | 1 | 0 | 0 | 0 | 0 | 67 |
+//! | apex chart | 74 | 150 | 1 | 13 | 0 | 0 | 0 | 238 |
 //!
 //! # Normal equations
 //!
@@ -51,6 +52,21 @@
 //! - `h_point_point: [T; 6]`: `J_pointᵀ w J_point`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `snavely_reprojection_apex` (apex-solver 1.5):
+//!
+//! - `observed: [T; 2]` (constant): `[x, y]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `intrinsics: [T; 3]` (variable): Rn(3) `[x0, x1, x2]`
+//! - `point: [T; 3]` (variable): Rn(3) `[x0, x1, x2]`
+//! - `residual: [T; 2]`
+//! - `d_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_intrinsics: [T; 6]`: 2 × 3 column-major, Rn(3); tangent: additive: x ← x + δ (apex-solver's Rn)
+//! - `d_point: [T; 6]`: 2 × 3 column-major, Rn(3); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -374,15 +390,14 @@ pub fn snavely_reprojection<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[2, 7, 3, 3],
     residual: 2,
     blocks: &[12, 6, 6],
 };
 
-/// [`snavely_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`snavely_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn snavely_reprojection_slices<T: Real>(
     inputs: &[&[T]],
@@ -1294,6 +1309,388 @@ pub fn snavely_reprojection_normal_slices<T: Real>(
         h_intrinsics_point,
         h_point_point,
     );
+    true
+}
+
+/// The residual of `slam_factors::snavely::SnavelyReprojection` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn snavely_reprojection_apex<T: Real>(
+    observed: &[T; 2],
+    pose: &[T; 7],
+    intrinsics: &[T; 3],
+    point: &[T; 3],
+    residual: &mut [T; 2],
+    d_pose: Option<&mut [T; 12]>,
+    d_intrinsics: Option<&mut [T; 6]>,
+    d_point: Option<&mut [T; 6]>,
+) {
+    let v0 = pose[4] * pose[4];
+    let v1 = pose[5] * pose[5];
+    let v2 = v0 - v1;
+    let v3 = pose[6] * pose[6];
+    let v4 = pose[3] * pose[3];
+    let v5 = v3 - v4;
+    let v6 = v2 - v5;
+    let v7 = point[0] * v6;
+    let v8 = pose[4] * pose[5];
+    let v9 = pose[6] * pose[3];
+    let v10 = v8 - v9;
+    let v11 = point[1] * T::constant(2.0);
+    let v12 = pose[4] * pose[6];
+    let v13 = pose[5] * pose[3];
+    let v14 = v12 + v13;
+    let v15 = T::constant(2.0) * point[2];
+    let v16 = point[1] * v10;
+    let v17 = point[2] * v14;
+    let v18 = v16 + v17;
+    let v19 = T::constant(2.0) * v18;
+    let v20 = pose[0] + v7;
+    let v21 = v19 + v20;
+    let v22 = v0 + v1;
+    let v23 = v3 + v4;
+    let v24 = v22 - v23;
+    let v25 = point[2] * v24;
+    let v26 = pose[5] * pose[6];
+    let v27 = pose[4] * pose[3];
+    let v28 = v26 + v27;
+    let v29 = v11 * v28;
+    let v30 = v12 - v13;
+    let v31 = point[0] * T::constant(2.0);
+    let v32 = v30 * v31;
+    let v33 = v29 + v32;
+    let v34 = pose[2] - v25;
+    let v35 = v33 + v34;
+    let v36 = T::constant(1.0) / v35;
+    let v37 = v36 * v36;
+    let v38 = v21 * v37;
+    let v39 = v21 * v38;
+    let v40 = v2 + v5;
+    let v41 = point[1] * v40;
+    let v42 = v8 + v9;
+    let v43 = v31 * v42;
+    let v44 = v26 - v27;
+    let v45 = v15 * v44;
+    let v46 = v43 + v45;
+    let v47 = pose[1] - v41;
+    let v48 = v46 + v47;
+    let v49 = v37 * v48;
+    let v50 = v48 * v49;
+    let v51 = v39 + v50;
+    let v52 = v51 * intrinsics[2];
+    let v53 = intrinsics[1] + v52;
+    let v54 = v51 * v53;
+    let v55 = T::constant(1.0) + v54;
+    let v56 = v36 * intrinsics[0];
+    let v57 = v55 * v56;
+    let v58 = v21 * v57;
+    let v59 = observed[0] + v58;
+    let v60 = -v59;
+    let v61 = v48 * v57;
+    let v62 = observed[1] + v61;
+    let v63 = -v62;
+    residual[0] = v60;
+    residual[1] = v63;
+    let (v64, v65, v66, v67) = if d_pose.is_some() || d_intrinsics.is_some()
+        || d_point.is_some()
+    {
+        let v64 = v21 * v36;
+        let v65 = v36 * v48;
+        let v66 = v21 * v56;
+        let v67 = v48 * v56;
+        (v64, v65, v66, v67)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (v69, v74, v81, v87, v89, v94, v107, v109, v112, v115, v121, v129, v136) = if d_pose
+        .is_some() || d_point.is_some()
+    {
+        let v68 = v6 * v57;
+        let v69 = v57 * v64;
+        let v70 = T::constant(2.0) * v30;
+        let v71 = v6 * v38;
+        let v72 = v38 * v64;
+        let v73 = v49 * v65;
+        let v74 = v72 + v73;
+        let v75 = T::constant(2.0) * v74;
+        let v76 = v30 * v75;
+        let v77 = T::constant(2.0) * v42;
+        let v78 = v49 * v77;
+        let v79 = v71 + v78;
+        let v80 = v79 - v76;
+        let v81 = v52 + v53;
+        let v82 = v80 * v81;
+        let v83 = v30 * v69;
+        let v84 = v82 * v66;
+        let v85 = v83 - v84;
+        let v86 = T::constant(2.0) * v85;
+        let v87 = v86 - v68;
+        let v88 = v57 * v77;
+        let v89 = v57 * v65;
+        let v90 = v70 * v89;
+        let v91 = T::constant(2.0) * v67;
+        let v92 = v82 * v91;
+        let v93 = v88 + v92;
+        let v94 = v90 - v93;
+        let v95 = T::constant(2.0) * v28;
+        let v96 = v10 * v57;
+        let v97 = v28 * v69;
+        let v98 = v97 - v96;
+        let v99 = T::constant(2.0) * v98;
+        let v100 = v40 * T::constant(0.5);
+        let v101 = v49 * v100;
+        let v102 = v10 * v38;
+        let v103 = v28 * v74;
+        let v104 = v102 - v101;
+        let v105 = v104 - v103;
+        let v106 = v81 * v105;
+        let v107 = v66 * T::constant(4.0);
+        let v108 = v106 * v107;
+        let v109 = v99 - v108;
+        let v110 = v40 * v57;
+        let v111 = v89 * v95;
+        let v112 = v67 * T::constant(4.0);
+        let v113 = v106 * v112;
+        let v114 = v110 - v113;
+        let v115 = v111 + v114;
+        let v116 = v24 * v69;
+        let v117 = T::constant(2.0) * v14;
+        let v118 = v57 * v117;
+        let v119 = v14 * v38;
+        let v120 = v44 * v49;
+        let v121 = v74 * T::constant(0.5);
+        let v122 = v24 * v121;
+        let v123 = v119 + v120;
+        let v124 = v122 + v123;
+        let v125 = v81 * v124;
+        let v126 = v107 * v125;
+        let v127 = v118 + v126;
+        let v128 = v116 + v127;
+        let v129 = -v128;
+        let v130 = v24 * v89;
+        let v131 = T::constant(2.0) * v44;
+        let v132 = v57 * v131;
+        let v133 = v112 * v125;
+        let v134 = v132 + v133;
+        let v135 = v130 + v134;
+        let v136 = -v135;
+        (v69, v74, v81, v87, v89, v94, v107, v109, v112, v115, v121, v129, v136)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v137 = point[1] * v24;
+        let v138 = v15 * v28;
+        let v139 = v137 + v138;
+        let v140 = v69 * v139;
+        let v141 = point[1] * v14;
+        let v142 = v10 * point[2];
+        let v143 = v141 - v142;
+        let v144 = T::constant(2.0) * v143;
+        let v145 = v57 * v144;
+        let v146 = v38 * v143;
+        let v147 = point[2] * T::constant(0.5);
+        let v148 = v40 * v147;
+        let v149 = point[1] * v44;
+        let v150 = v148 + v149;
+        let v151 = v49 * v150;
+        let v152 = v121 * v139;
+        let v153 = v146 + v151;
+        let v154 = v152 + v153;
+        let v155 = v81 * v154;
+        let v156 = v107 * v155;
+        let v157 = v145 + v156;
+        let v158 = v140 + v157;
+        let v159 = -v158;
+        let v160 = v89 * v139;
+        let v161 = T::constant(2.0) * v150;
+        let v162 = v57 * v161;
+        let v163 = v112 * v155;
+        let v164 = v162 + v163;
+        let v165 = v160 + v164;
+        let v166 = -v165;
+        let v167 = point[0] * v24;
+        let v168 = v15 * v30;
+        let v169 = v167 + v168;
+        let v170 = v69 * v169;
+        let v171 = v6 * v147;
+        let v172 = point[0] * v14;
+        let v173 = v172 - v171;
+        let v174 = T::constant(2.0) * v173;
+        let v175 = v57 * v174;
+        let v176 = v38 * v173;
+        let v177 = point[0] * v44;
+        let v178 = point[2] * v42;
+        let v179 = v177 - v178;
+        let v180 = v49 * v179;
+        let v181 = v121 * v169;
+        let v182 = v176 + v180;
+        let v183 = v181 + v182;
+        let v184 = v81 * v183;
+        let v185 = v107 * v184;
+        let v186 = v175 + v185;
+        let v187 = v170 + v186;
+        let v188 = v89 * v169;
+        let v189 = T::constant(2.0) * v179;
+        let v190 = v57 * v189;
+        let v191 = v112 * v184;
+        let v192 = v190 + v191;
+        let v193 = v188 + v192;
+        let v194 = point[1] * T::constant(0.5);
+        let v195 = v6 * v194;
+        let v196 = point[0] * v10;
+        let v197 = v196 - v195;
+        let v198 = point[1] * v30;
+        let v199 = point[0] * v28;
+        let v200 = v198 - v199;
+        let v201 = T::constant(2.0) * v200;
+        let v202 = v57 * v197;
+        let v203 = v69 * v200;
+        let v204 = v202 + v203;
+        let v205 = T::constant(2.0) * v204;
+        let v206 = v38 * v197;
+        let v207 = point[0] * T::constant(0.5);
+        let v208 = v40 * v207;
+        let v209 = point[1] * v42;
+        let v210 = v208 + v209;
+        let v211 = v49 * v210;
+        let v212 = v74 * v200;
+        let v213 = v206 - v211;
+        let v214 = v212 + v213;
+        let v215 = v81 * v214;
+        let v216 = v107 * v215;
+        let v217 = v205 + v216;
+        let v218 = -v217;
+        let v219 = T::constant(2.0) * v210;
+        let v220 = v57 * v219;
+        let v221 = v89 * v201;
+        let v222 = v220 - v221;
+        let v223 = v112 * v215;
+        let v224 = v222 - v223;
+        d_pose[0] = v87;
+        d_pose[1] = v94;
+        d_pose[2] = v109;
+        d_pose[3] = v115;
+        d_pose[4] = v129;
+        d_pose[5] = v136;
+        d_pose[6] = v159;
+        d_pose[7] = v166;
+        d_pose[8] = v187;
+        d_pose[9] = v193;
+        d_pose[10] = v218;
+        d_pose[11] = v224;
+    }
+    if let Some(d_intrinsics) = d_intrinsics {
+        let v225 = v55 * v64;
+        let v226 = -v225;
+        let v227 = v55 * v65;
+        let v228 = -v227;
+        let v229 = v51 * v66;
+        let v230 = -v229;
+        let v231 = v51 * v67;
+        let v232 = -v231;
+        let v233 = v51 * v51;
+        let v234 = v66 * v233;
+        let v235 = -v234;
+        let v236 = v67 * v233;
+        let v237 = -v236;
+        d_intrinsics[0] = v226;
+        d_intrinsics[1] = v228;
+        d_intrinsics[2] = v230;
+        d_intrinsics[3] = v232;
+        d_intrinsics[4] = v235;
+        d_intrinsics[5] = v237;
+    }
+    if let Some(d_point) = d_point {
+        d_point[0] = v87;
+        d_point[1] = v94;
+        d_point[2] = v109;
+        d_point[3] = v115;
+        d_point[4] = v129;
+        d_point[5] = v136;
+    }
+}
+
+/// The lengths of [`snavely_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[2, 7, 3, 3],
+    residual: 2,
+    blocks: &[12, 6, 6],
+};
+
+/// [`snavely_reprojection_apex`] over what a solver holds: `stored`, the factor's 15 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn snavely_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1, part_2], 15) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 2]>::try_from(&stored[0..2]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
+        <&[T; 3]>::try_from(*part_2),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 24]>::try_from) {
+        None => {
+            self::snavely_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
+                return false;
+            };
+            let Some((d_intrinsics, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_point, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::snavely_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose),
+                Some(d_intrinsics),
+                Some(d_point),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

@@ -33,6 +33,7 @@
 //! | residual only | 29 | 33 | 1 | 1 | 0 | 0 | 0 | 64 |
 //! | normal equations | 180 | 318 | 1 | 11 | 0 | 0 | 0 | 510 |
 //! | normal equations, cost only | 31 | 38 | 1 | 0 | 0 | 0 | 0 | 70 |
+//! | apex chart | 70 | 126 | 1 | 9 | 0 | 0 | 0 | 206 |
 //!
 //! # Normal equations
 //!
@@ -46,6 +47,20 @@
 //! - `h_landmark_landmark: [T; 6]`: `J_landmarkᵀ w J_landmark`, its upper triangle row by row (3 × 3, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `stereo_reprojection_apex` (apex-solver 1.5):
+//!
+//! - `calibration: [T; 6]` (constant): `[fx, fy, s, u0, v0, b]`
+//! - `observed: [T; 3]` (constant): `[x, y, z]`
+//! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `landmark: [T; 3]` (variable): Rn(3) `[x0, x1, x2]`
+//! - `residual: [T; 3]`
+//! - `d_pose: [T; 18]`: 3 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_landmark: [T; 9]`: 3 × 3 column-major, Rn(3); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -332,15 +347,14 @@ pub fn stereo_reprojection<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[6, 3, 7, 3],
     residual: 3,
     blocks: &[18, 9],
 };
 
-/// [`stereo_reprojection`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`stereo_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn stereo_reprojection_slices<T: Real>(
     inputs: &[&[T]],
@@ -1216,6 +1230,346 @@ pub fn stereo_reprojection_normal_slices<T: Real>(
         h_pose_landmark,
         h_landmark_landmark,
     );
+    true
+}
+
+/// The residual of `slam_factors::stereo::StereoReprojection` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn stereo_reprojection_apex<T: Real>(
+    calibration: &[T; 6],
+    observed: &[T; 3],
+    pose: &[T; 7],
+    landmark: &[T; 3],
+    residual: &mut [T; 3],
+    d_pose: Option<&mut [T; 18]>,
+    d_landmark: Option<&mut [T; 9]>,
+) {
+    let v0 = pose[1] - landmark[1];
+    let v1 = pose[4] * pose[4];
+    let v2 = pose[5] * pose[5];
+    let v3 = v1 - v2;
+    let v4 = pose[6] * pose[6];
+    let v5 = pose[3] * pose[3];
+    let v6 = v4 - v5;
+    let v7 = v3 + v6;
+    let v8 = v0 * v7;
+    let v9 = pose[0] - landmark[0];
+    let v10 = pose[4] * pose[5];
+    let v11 = pose[6] * pose[3];
+    let v12 = v10 - v11;
+    let v13 = pose[2] - landmark[2];
+    let v14 = pose[5] * pose[6];
+    let v15 = pose[4] * pose[3];
+    let v16 = v14 + v15;
+    let v17 = v9 * v12;
+    let v18 = v13 * v16;
+    let v19 = v17 + v18;
+    let v20 = T::constant(2.0) * v19;
+    let v21 = v8 - v20;
+    let v22 = v1 + v2;
+    let v23 = v4 + v5;
+    let v24 = v22 - v23;
+    let v25 = v13 * T::constant(0.5);
+    let v26 = v24 * v25;
+    let v27 = v14 - v15;
+    let v28 = v0 * v27;
+    let v29 = pose[4] * pose[6];
+    let v30 = pose[5] * pose[3];
+    let v31 = v29 + v30;
+    let v32 = v9 * v31;
+    let v33 = v28 + v32;
+    let v34 = v33 - v26;
+    let v35 = T::constant(1.0) / v34;
+    let v36 = v35 * calibration[2];
+    let v37 = v21 * v36;
+    let v38 = v3 - v6;
+    let v39 = v9 * T::constant(0.5);
+    let v40 = v38 * v39;
+    let v41 = v10 + v11;
+    let v42 = v0 * v41;
+    let v43 = v29 - v30;
+    let v44 = v13 * v43;
+    let v45 = v42 + v44;
+    let v46 = v40 + v45;
+    let v47 = v35 * calibration[0];
+    let v48 = v46 * v47;
+    let v49 = calibration[3] + v48;
+    let v50 = T::constant(2.0) * v49;
+    let v51 = v37 - v50;
+    let v52 = T::constant(0.5) * v51;
+    let v53 = v52 + observed[0];
+    let v54 = -v53;
+    let v55 = v47 * calibration[5];
+    let v56 = v55 - v51;
+    let v57 = T::constant(0.5) * v56;
+    let v58 = v57 - observed[1];
+    let v59 = v35 * calibration[1];
+    let v60 = v21 * T::constant(0.5);
+    let v61 = v59 * v60;
+    let v62 = calibration[4] - observed[2];
+    let v63 = v62 - v61;
+    residual[0] = v54;
+    residual[1] = v58;
+    residual[2] = v63;
+    let (v67, v68, v71, v72, v78, v86, v95, v98, v101, v103, v104, v107, v110, v113) = if d_pose
+        .is_some() || d_landmark.is_some()
+    {
+        let v64 = v38 * v47;
+        let v65 = v35 * v35;
+        let v66 = calibration[0] * v65;
+        let v67 = v46 * v66;
+        let v68 = T::constant(2.0) * v31;
+        let v69 = v67 * v68;
+        let v70 = v64 - v69;
+        let v71 = v21 * v65;
+        let v72 = calibration[2] * v71;
+        let v73 = T::constant(0.5) * v31;
+        let v74 = v72 * v73;
+        let v75 = v12 * v36;
+        let v76 = v74 + v75;
+        let v77 = T::constant(2.0) * v76;
+        let v78 = v70 + v77;
+        let v79 = v7 * v36;
+        let v80 = v27 * v72;
+        let v81 = v79 - v80;
+        let v82 = T::constant(0.5) * v81;
+        let v83 = v41 * v47;
+        let v84 = v27 * v67;
+        let v85 = v83 - v84;
+        let v86 = v85 - v82;
+        let v87 = v24 * T::constant(0.5);
+        let v88 = v67 * v87;
+        let v89 = v43 * v47;
+        let v90 = v88 + v89;
+        let v91 = v24 * T::constant(0.25);
+        let v92 = v72 * v91;
+        let v93 = v16 * v36;
+        let v94 = v93 - v92;
+        let v95 = v90 + v94;
+        let v96 = calibration[5] * v66;
+        let v97 = v31 * v96;
+        let v98 = v78 - v97;
+        let v99 = T::constant(0.5) * v27;
+        let v100 = v96 * v99;
+        let v101 = v86 - v100;
+        let v102 = v91 * v96;
+        let v103 = v95 + v102;
+        let v104 = calibration[1] * v71;
+        let v105 = v73 * v104;
+        let v106 = v12 * v59;
+        let v107 = v105 + v106;
+        let v108 = v7 * v59;
+        let v109 = v27 * v104;
+        let v110 = v108 - v109;
+        let v111 = v91 * v104;
+        let v112 = v16 * v59;
+        let v113 = v112 - v111;
+        (v67, v68, v71, v72, v78, v86, v95, v98, v101, v103, v104, v107, v110, v113)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_pose) = d_pose {
+        let v114 = T::constant(0.5) * v38;
+        let v115 = v78 * v114;
+        let v116 = T::constant(2.0) * v41;
+        let v117 = T::constant(2.0) * v43;
+        let v118 = v41 * v86;
+        let v119 = v43 * v95;
+        let v120 = v118 + v119;
+        let v121 = T::constant(2.0) * v120;
+        let v122 = v115 + v121;
+        let v123 = v114 * v98;
+        let v124 = v116 * v101;
+        let v125 = v117 * v103;
+        let v126 = v124 + v125;
+        let v127 = v123 + v126;
+        let v128 = v38 * v107;
+        let v129 = v41 * v110;
+        let v130 = v117 * v113;
+        let v131 = v128 - v129;
+        let v132 = v130 + v131;
+        let v133 = v12 * v78;
+        let v134 = v7 * v86;
+        let v135 = T::constant(2.0) * v16;
+        let v136 = v95 * v135;
+        let v137 = v133 + v136;
+        let v138 = v137 - v134;
+        let v139 = v12 * v98;
+        let v140 = v7 * v101;
+        let v141 = v103 * v135;
+        let v142 = v139 + v141;
+        let v143 = v142 - v140;
+        let v144 = v7 * T::constant(0.5);
+        let v145 = v110 * v144;
+        let v146 = v12 * T::constant(2.0);
+        let v147 = v107 * v146;
+        let v148 = v113 * v135;
+        let v149 = v147 + v148;
+        let v150 = v145 + v149;
+        let v151 = v31 * v78;
+        let v152 = v24 * v95;
+        let v153 = T::constant(2.0) * v27;
+        let v154 = v86 * v153;
+        let v155 = v151 - v152;
+        let v156 = v154 + v155;
+        let v157 = v31 * v98;
+        let v158 = v24 * v103;
+        let v159 = v101 * v153;
+        let v160 = v157 - v158;
+        let v161 = v159 + v160;
+        let v162 = v27 * v110;
+        let v163 = v24 * v113;
+        let v164 = v68 * v107;
+        let v165 = v162 + v163;
+        let v166 = v164 - v165;
+        let v167 = v21 * v72;
+        let v168 = calibration[0] * v71;
+        let v169 = T::constant(0.5) * v46;
+        let v170 = v168 * v169;
+        let v171 = calibration[2] - v170;
+        let v172 = v171 * T::constant(4.0);
+        let v173 = v167 + v172;
+        let v174 = T::constant(0.25) * v173;
+        let v175 = calibration[5] * v168;
+        let v176 = v173 - v175;
+        let v177 = T::constant(0.25) * v176;
+        let v178 = v21 * T::constant(0.25);
+        let v179 = v104 * v178;
+        let v180 = calibration[1] + v179;
+        let v181 = v46 * v72;
+        let v182 = v46 * v67;
+        let v183 = calibration[0] + v182;
+        let v184 = T::constant(2.0) * v183;
+        let v185 = v181 - v184;
+        let v186 = T::constant(0.5) * v185;
+        let v187 = calibration[5] * v67;
+        let v188 = v185 - v187;
+        let v189 = T::constant(0.5) * v188;
+        let v190 = v104 * v169;
+        let v191 = v47 * v60;
+        let v192 = v36 * v46;
+        let v193 = v191 + v192;
+        let v194 = -v193;
+        let v195 = v46 * v59;
+        let v196 = -v195;
+        d_pose[0] = v122;
+        d_pose[1] = v127;
+        d_pose[2] = v132;
+        d_pose[3] = v138;
+        d_pose[4] = v143;
+        d_pose[5] = v150;
+        d_pose[6] = v156;
+        d_pose[7] = v161;
+        d_pose[8] = v166;
+        d_pose[9] = v174;
+        d_pose[10] = v177;
+        d_pose[11] = v180;
+        d_pose[12] = v186;
+        d_pose[13] = v189;
+        d_pose[14] = v190;
+        d_pose[15] = v194;
+        d_pose[16] = v194;
+        d_pose[17] = v196;
+    }
+    if let Some(d_landmark) = d_landmark {
+        let v197 = v78 * T::constant(-0.5);
+        let v198 = v98 * T::constant(-0.5);
+        let v199 = -v107;
+        let v200 = -v86;
+        let v201 = -v101;
+        let v202 = T::constant(0.5) * v110;
+        let v203 = -v95;
+        let v204 = -v103;
+        let v205 = -v113;
+        d_landmark[0] = v197;
+        d_landmark[1] = v198;
+        d_landmark[2] = v199;
+        d_landmark[3] = v200;
+        d_landmark[4] = v201;
+        d_landmark[5] = v202;
+        d_landmark[6] = v203;
+        d_landmark[7] = v204;
+        d_landmark[8] = v205;
+    }
+}
+
+/// The lengths of [`stereo_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[6, 3, 7, 3],
+    residual: 3,
+    blocks: &[18, 9],
+};
+
+/// [`stereo_reprojection_apex`] over what a solver holds: `stored`, the factor's 19 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (3 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn stereo_reprojection_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 19) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(input_3), Ok(residual)) = (
+        <&[T; 6]>::try_from(&stored[0..6]),
+        <&[T; 3]>::try_from(&stored[6..9]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
+        <&mut [T; 3]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 27]>::try_from) {
+        None => {
+            self::stereo_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_pose, rest)) = rest.split_first_chunk_mut::<18>() else {
+                return false;
+            };
+            let Some((d_landmark, rest)) = rest.split_first_chunk_mut::<9>() else {
+                return false;
+            };
+            let _ = rest;
+            self::stereo_reprojection_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                residual,
+                Some(d_pose),
+                Some(d_landmark),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

@@ -1,7 +1,9 @@
 //! Checks of rotations and information matrices read from files, with their
 //! tolerances; shared by the readers and the writers.
 
-use nalgebra::{Cholesky, Matrix3, Matrix6, Rotation3, UnitQuaternion};
+use nalgebra::{Cholesky, Matrix3, Rotation3, SMatrix, UnitQuaternion};
+
+use crate::input::all_in_range;
 
 /// A 3×3 matrix is taken as a rotation when every entry of `RᵀR − I`, and
 /// `det R − 1`, is within this of zero. Text with six significant digits
@@ -52,9 +54,12 @@ pub(crate) fn unit_quaternion(q: &[f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2]))
 }
 
-/// Fails unless `m` is symmetric and positive definite (its Cholesky
-/// factorisation exists).
-pub(crate) fn check_information(m: &Matrix6<f64>) -> Result<(), String> {
+/// Fails unless `m` is in range ([`crate::MAX_MAGNITUDE`]), symmetric and
+/// positive definite (its Cholesky factorisation exists).
+pub(crate) fn check_information<const N: usize>(m: &SMatrix<f64, N, N>) -> Result<(), String> {
+    if !all_in_range(m.iter()) {
+        return Err("non-finite or too large information entry".into());
+    }
     if m != &m.transpose() {
         return Err("information matrix is not symmetric".into());
     }

@@ -3,7 +3,7 @@
 
 use std::io::{BufRead, Write};
 
-use nalgebra::Matrix6;
+use nalgebra::{Matrix6, SMatrix};
 
 use crate::error::{Error, quoted};
 use crate::input::{Cursor, Fields, Lines};
@@ -26,6 +26,17 @@ pub(crate) struct Dialect {
     pub(crate) other: (&'static str, [&'static str; 2]),
 }
 
+/// g2o's `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` (also the pose records of its
+/// line and plane graphs).
+pub(crate) const G2O: Dialect = Dialect {
+    name: "g2o",
+    vertex_tag: "VERTEX_SE3:QUAT",
+    edge_tag: "EDGE_SE3:QUAT",
+    quaternions: true,
+    translation_first: true,
+    other: ("edge3", ["VERTEX3", "EDGE3"]),
+};
+
 pub(crate) fn read(
     reader: impl BufRead,
     name: &str,
@@ -47,14 +58,7 @@ pub(crate) fn read(
             let from = fields.integer("the first pose id")?;
             let to = fields.integer("the second pose id")?;
             let measurement = read_pose(&mut fields, dialect)?;
-            let mut information = Matrix6::zeros();
-            for i in 0..6 {
-                for j in i..6 {
-                    let value = fields.real("an information entry (21 expected)")?;
-                    information[(i, j)] = value;
-                    information[(j, i)] = value;
-                }
-            }
+            let mut information: Matrix6<f64> = read_upper_triangle(&mut fields)?;
             fields.finish()?;
             if dialect.translation_first {
                 information = swap_rotation_translation(&information);
@@ -94,7 +98,37 @@ pub(crate) fn read(
     }
 }
 
-fn read_pose(fields: &mut Fields<'_>, dialect: &Dialect) -> Result<Pose, Error> {
+/// A symmetric `N × N` matrix from its upper triangle, row by row.
+pub(crate) fn read_upper_triangle<const N: usize>(
+    fields: &mut Fields<'_>,
+) -> Result<SMatrix<f64, N, N>, Error> {
+    let what = format!("an information entry ({} expected)", N * (N + 1) / 2);
+    let mut m = SMatrix::zeros();
+    for i in 0..N {
+        for j in i..N {
+            let value = fields.real(&what)?;
+            m[(i, j)] = value;
+            m[(j, i)] = value;
+        }
+    }
+    Ok(m)
+}
+
+/// Writes the upper triangle of `m`, row by row, each entry after a space.
+pub(crate) fn write_upper_triangle<const N: usize>(
+    out: &mut impl Write,
+    m: &SMatrix<f64, N, N>,
+) -> std::io::Result<()> {
+    for i in 0..N {
+        for j in i..N {
+            write!(out, " {}", Real(m[(i, j)]))?;
+        }
+    }
+    Ok(())
+}
+
+/// A pose `x y z` then the dialect's rotation.
+pub(crate) fn read_pose(fields: &mut Fields<'_>, dialect: &Dialect) -> Result<Pose, Error> {
     let translation = fields.vector3("a translation component")?;
     let rotation = if dialect.quaternions {
         let mut q = [0.0; 4];
@@ -149,17 +183,18 @@ fn write_unchecked(
         } else {
             e.information
         };
-        for i in 0..6 {
-            for j in i..6 {
-                write!(out, " {}", Real(information[(i, j)]))?;
-            }
-        }
+        write_upper_triangle(out, &information)?;
         writeln!(out)?;
     }
     Ok(())
 }
 
-fn write_pose(out: &mut impl Write, pose: &Pose, dialect: &Dialect) -> std::io::Result<()> {
+/// Writes ` x y z` then the dialect's rotation.
+pub(crate) fn write_pose(
+    out: &mut impl Write,
+    pose: &Pose,
+    dialect: &Dialect,
+) -> std::io::Result<()> {
     for t in pose.translation.iter() {
         write!(out, " {}", Real(*t))?;
     }

@@ -188,6 +188,11 @@ pub(crate) struct Fields<'a> {
 }
 
 impl Fields<'_> {
+    /// The next field, or `None` at the end of the line.
+    pub(crate) fn next_token(&mut self) -> Option<&str> {
+        self.tokens.next()
+    }
+
     /// Fails if the line has a field left.
     pub(crate) fn finish(mut self) -> Result<(), Error> {
         match self.tokens.next() {

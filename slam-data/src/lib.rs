@@ -1,6 +1,6 @@
-//! Readers and writers of real SLAM data sets, and a seeded synthetic BAL
-//! generator. Plain `nalgebra` types; no dependency on the rest of the
-//! workspace.
+//! Readers and writers of real SLAM data sets, a seeded synthetic BAL
+//! generator and a seeded point-line-plane scene generator. Plain
+//! `nalgebra` types; no dependency on the rest of the workspace.
 //!
 //! # Formats
 //!
@@ -9,6 +9,7 @@
 //! | `bal` | [`bal`] | Bundle Adjustment in the Large: cameras `[ω, t, f, k1, k2]`, points, observations | [`BalProblem`] |
 //! | `bundler` | [`bundler`] | Bundler v0.3 `bundle.out`: cameras `f k1 k2, R, t`, points with colours and views | [`BundlerProblem`] |
 //! | `g2o` | [`g2o`] | `VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` pose graphs | [`PoseGraph`] |
+//! | (g2o, [`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines and planes beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
 //! | `edge3` | [`edge3`] | `VERTEX3`, `EDGE3` pose graphs (`sphere2500`) | [`PoseGraph`] |
 //! | `kitti-vo` | [`kitti_vo`] | GTSAM's KITTI stereo VO: calibration, camera poses, stereo observations | [`StereoVo`] |
 //!
@@ -74,6 +75,10 @@
 //! [`synthetic::generate`] makes a seeded BAL problem (cameras on a ring
 //! looking at a ball of points, Gaussian pixel noise, uniform outliers,
 //! perturbed initial values), with its ground truth; see [`synthetic`].
+//! [`plp_scene::generate`] makes a seeded point-line-plane scene (a room or
+//! a corridor: planes, line segments on them, points, a camera trajectory)
+//! with its ground truth, perturbed initial values and the measurements the
+//! documents' point, line and plane factors take; see [`plp_scene`].
 
 pub mod bal;
 pub mod bundler;
@@ -83,10 +88,13 @@ pub mod edge3;
 mod error;
 mod format;
 pub mod g2o;
+pub mod g2o_graph;
+mod g2o_graph_file;
 mod graph_file;
 mod input;
 pub mod kitti_vo;
 mod output;
+pub mod plp_scene;
 pub mod pose_graph;
 mod problem;
 pub mod synthetic;
@@ -97,6 +105,9 @@ pub use camera::{SnavelyCamera, SnavelyIntrinsics};
 pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
 pub use error::Error;
 pub use format::{Format, UnknownFormat};
+pub use g2o_graph::{
+    G2oGraph, LineEdge, LineVertex, PlaneEdge, PlaneVertex, Se3Offset, VertexKind,
+};
 pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
 pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};
 pub use pose_graph::{ChainError, Edge, Pose, PoseGraph, Rotation, Vertex};

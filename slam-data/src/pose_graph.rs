@@ -95,7 +95,7 @@ impl Pose {
         )
     }
 
-    fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), String> {
         if !all_in_range(self.translation.iter()) {
             return Err("non-finite or too large translation".into());
         }
@@ -133,6 +133,20 @@ pub struct Edge {
     /// Information matrix (inverse covariance) in tangent order `[δω, δρ]`,
     /// symmetric positive definite.
     pub information: Matrix6<f64>,
+}
+
+impl Edge {
+    /// Fails, saying why, unless the measurement is a valid pose, the
+    /// information matrix finite, symmetric and positive definite, and the
+    /// edge joins two different poses.
+    pub(crate) fn check(&self) -> Result<(), String> {
+        self.measurement.check()?;
+        check_information(&self.information)?;
+        if self.from == self.to {
+            return Err(format!("edge from pose {} to itself", self.from));
+        }
+        Ok(())
+    }
 }
 
 /// A 3D pose graph: what a g2o or EDGE3 file holds.
@@ -187,31 +201,14 @@ impl PoseGraph {
             }
         }
         for (k, e) in self.edges.iter().enumerate() {
-            let defect = e
-                .measurement
-                .check()
-                .and_then(|()| {
-                    if all_in_range(e.information.iter()) {
-                        check_information(&e.information)
-                    } else {
-                        Err("non-finite or too large information entry".into())
+            let defect = e.check().and_then(|()| {
+                match [e.from, e.to].iter().find(|id| !ids.contains_key(id)) {
+                    Some(missing) if !ids.is_empty() => {
+                        Err(format!("pose {missing} is not a vertex"))
                     }
-                })
-                .and_then(|()| {
-                    if e.from == e.to {
-                        Err(format!("edge from pose {} to itself", e.from))
-                    } else {
-                        Ok(())
-                    }
-                })
-                .and_then(
-                    |()| match [e.from, e.to].iter().find(|id| !ids.contains_key(id)) {
-                        Some(missing) if !ids.is_empty() => {
-                            Err(format!("pose {missing} is not a vertex"))
-                        }
-                        _ => Ok(()),
-                    },
-                );
+                    _ => Ok(()),
+                }
+            });
             if let Err(what) = defect {
                 return Some((Item::Edge(k), what));
             }

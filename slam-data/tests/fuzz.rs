@@ -223,3 +223,18 @@ fn mutated_kitti_vo_files() {
         kitti_vo::read_from((c, "c.txt"), (p, "p.txt"), (b, "f.txt")).map(drop)
     });
 }
+
+#[test]
+fn mutated_g2o_line_and_plane_graphs() {
+    let lines = base("g2o-addons/line3d.g2o", 300);
+    fuzz(8, &lines, "l.g2o", &[], |b| {
+        g2o::read_graph_from(b, "l.g2o").map(drop)
+    });
+    // The head of the plane graph and its last lines (FIX).
+    let text = std::fs::read_to_string(data("g2o-addons/plane3d.g2o")).unwrap();
+    let all: Vec<&str> = text.split_inclusive('\n').collect();
+    let planes: String = all[..300].concat() + &all[all.len() - 3..].concat();
+    fuzz(9, planes.as_bytes(), "p.g2o", &[], |b| {
+        g2o::read_graph_from(b, "p.g2o").map(drop)
+    });
+}

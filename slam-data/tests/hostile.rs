@@ -609,3 +609,174 @@ fn file_names_with_control_characters_stay_on_one_line() {
         "bad\\nname:1: the number of cameras: expected a non-negative integer, found `x`"
     );
 }
+
+#[test]
+fn g2o_line_graph_defects() {
+    let lines = text("g2o-addons/line3d.g2o");
+    let read = |text: &str| g2o::graph_from_text(text, "l.g2o");
+    let cases = [
+        (
+            167,
+            "EDGE_SE3_PRIOR 5 0 0 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1",
+            "unsupported tag `EDGE_SE3_PRIOR` (a g2o line and plane graph has PARAMS_SE3OFFSET, \
+             VERTEX_SE3:QUAT, VERTEX_LINE3D, VERTEX_PLANE, EDGE_SE3:QUAT, EDGE_SE3_LINE3D, \
+             EDGE_SE3_PLANE_CALIB, FIX lines)",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 1 7 2.25395 -4.45322 0.229167 -0.886898 -0.453441 -0.0883408 1000 0 0 0 1000 0 0 1000 0 10000",
+            "parameter 7 is not defined",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 6 0 2.25395 -4.45322 0.229167 -0.886898 -0.453441 -0.0883408 1000 0 0 0 1000 0 0 1000 0 10000",
+            "vertex 6 is a VERTEX_SE3:QUAT, not a VERTEX_LINE3D",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 1 0 2.25395 -4.45322 0.229167 0 0 0 1000 0 0 0 1000 0 0 1000 0 10000",
+            "measurement: the line direction d is zero",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 1 0 2.25395 -4.45322 0.229167 -0.886898 -0.453441 -0.0883408 1000 0 0 0 1000 0 0 1000 0",
+            "line ends before an information entry (10 expected)",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 1 0 2.25395 -4.45322 0.229167 -0.886898 -0.453441 -0.0883408 1000 0 0 0 1000 0 0 1000 0 -1",
+            "information matrix is not positive definite",
+        ),
+        (
+            2,
+            "VERTEX_LINE3D 1 -5 0 0 0 0 0",
+            "the line direction d is zero",
+        ),
+        (
+            2,
+            "VERTEX_LINE3D 1 -5 0 nan 0 1 0",
+            "expected a finite number, found `nan`",
+        ),
+        (
+            2,
+            "VERTEX_LINE3D 5 -5 0 0 0 1 0",
+            "vertex id 5 defined again (first as a VERTEX_SE3:QUAT)",
+        ),
+        (806, "FIX 999", "fixed vertex 999 is not defined"),
+        (806, "FIX", "FIX without a vertex id"),
+        (806, "FIX 4 4", "vertex 4 is fixed twice"),
+        (
+            806,
+            "FIX 4 -1",
+            "a fixed vertex id: expected a non-negative integer, found `-1`",
+        ),
+        (
+            1,
+            "PARAMS_SE3OFFSET 0 0 0 0 0 0 0 2",
+            "not a unit quaternion: norm 2.000000000",
+        ),
+        (
+            166,
+            "EDGE_SE3:QUAT 4 1 -0.0336686 -0.00756961 0.00344749 -0.00751927 0.0505648 0.16177 0.985503 10 0 0 0 0 0 200 0 0 0 0 1e+09 0 0 0 1000 0 0 1000 0 20",
+            "vertex 1 is a VERTEX_LINE3D, not a VERTEX_SE3:QUAT",
+        ),
+        (
+            166,
+            "EDGE3 4 5 0 0 0 0 0 0 10 0 0 0 0 0 10 0 0 0 0 10 0 0 0 100 0 0 100 0 25",
+            "EDGE3 is a line of the edge3 format, not g2o: read the file as edge3",
+        ),
+    ];
+    for (line, replacement, what) in cases {
+        assert_error(
+            read(&with_line(&lines, line, replacement)),
+            "l.g2o",
+            line,
+            what,
+        );
+    }
+    // A second parameter with the same id, at its line.
+    let twice = format!("PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1\n{lines}");
+    assert_error(read(&twice), "l.g2o", 2, "parameter id 0 defined again");
+}
+
+#[test]
+fn g2o_plane_graph_defects() {
+    let planes = text("g2o-addons/plane3d.g2o");
+    let read = |text: &str| g2o::graph_from_text(text, "p.g2o");
+    let edge = |head: &str, info: &str| {
+        format!("EDGE_SE3_PLANE_CALIB {head} 0.00900996 -0.995844 -0.0906258 6.15712 {info}")
+    };
+    let info = "33.3333 0 0 33.3333 0 200";
+    let cases = [
+        (
+            edge("2 5 1", info),
+            "EDGE_SE3_PLANE_CALIB joins 3 vertices (robot pose, plane, sensor offset), not 2",
+        ),
+        (
+            edge("3 5 6 0", info),
+            "vertex 6 is a VERTEX_SE3:QUAT, not a VERTEX_PLANE",
+        ),
+        (
+            edge("3 5 1 2", info),
+            "vertex 2 is a VERTEX_PLANE, not a VERTEX_SE3:QUAT",
+        ),
+        (
+            edge("3 5 1 5", info),
+            "the robot pose and the sensor offset are the same vertex 5",
+        ),
+        (edge("3 5 1 999", info), "vertex 999 is not defined"),
+        (
+            edge("3 5 1 0", "33.3333 0 0 33.3333 0 0"),
+            "information matrix is not positive definite",
+        ),
+        (
+            edge("3 5 1 0", "33.3333 40 0 33.3333 0 200"),
+            "information matrix is not positive definite",
+        ),
+        (
+            "EDGE_SE3_PLANE_CALIB 3 5 1 0 0 0 0 6.15712 33.3333 0 0 33.3333 0 200".into(),
+            "measurement: the plane normal n is zero",
+        ),
+    ];
+    for (replacement, what) in cases {
+        assert_error(
+            read(&with_line(&planes, 168, &replacement)),
+            "p.g2o",
+            168,
+            what,
+        );
+    }
+    assert_error(
+        read(&with_line(&planes, 3, "VERTEX_PLANE 1 0 0 0 5")),
+        "p.g2o",
+        3,
+        "the plane normal n is zero",
+    );
+    assert_error(
+        read(&with_line(&planes, 3, "VERTEX_PLANE 1 0 0 1")),
+        "p.g2o",
+        3,
+        "line ends before a plane coefficient (nx ny nz d)",
+    );
+    assert_error(
+        read(&with_line(&planes, 3, "VERTEX_PLANE 1 0 0 1 5 6")),
+        "p.g2o",
+        3,
+        "unexpected extra field `6`",
+    );
+}
+
+#[test]
+fn g2o_graph_writer_refuses_what_its_reader_rejects() {
+    let mut graph = g2o::read_graph(data("g2o-addons/plane3d.g2o")).unwrap();
+    graph.plane_edges[3].offset = graph.plane_edges[3].pose;
+    let mut out = Vec::new();
+    let message = g2o::write_graph_to(&graph, &mut out, "g.g2o")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        message,
+        "g.g2o: plane edge 3: the robot pose and the sensor offset are the same vertex 6"
+    );
+    assert!(out.is_empty(), "nothing is written");
+}

@@ -111,7 +111,8 @@ impl<S: Scalar> Storage<S> for SqrtInformation6<S> {
     feature = "kernels",
     factor(
         kernel = factor_generated::between::between,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct BetweenFactor<S: Scalar = f64> {

@@ -36,7 +36,8 @@ use factor_core::{Factor, FactorError, Scalar};
     feature = "kernels",
     factor(
         kernel = factor_generated::free_line::free_line,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct FreeLineFactor<S: Scalar = f64> {

@@ -1,8 +1,10 @@
 //! The factors `slamjac` ships, each written once as a generic residual with
 //! `#[derive(Factor)]` on the runtime crate `factor-core`: the four factors
 //! of the specification documents, the Plücker-line variant peers are
-//! compared on, and the three factors of the estimation problems `slamjac
-//! solve` runs (bundle adjustment, stereo visual odometry, pose graphs).
+//! compared on, the three factors of the estimation problems `slamjac
+//! solve` runs (bundle adjustment, stereo visual odometry, pose graphs), a
+//! 3D line observation over the documents' orthonormal line, and g2o's own
+//! errors for its pose, line and plane edges ([`g2o`]).
 //!
 //! | factor | source | variables (perturbation) |
 //! | --- | --- | --- |
@@ -14,11 +16,15 @@
 //! | [`SnavelyReprojection`] | BAL / Bundler camera | pose (right, `[δρ, δθ]`), `[f, k1, k2]`, point (additive) |
 //! | [`StereoReprojection`] | rectified stereo (KITTI VO) | camera-to-world pose (right, `[δρ, δθ]`), landmark (additive) |
 //! | [`BetweenFactor`] | pose graphs (g2o, EDGE3) | two body-to-world poses (right, `[δρ, δθ]`) |
+//! | [`LineObservation`] | a 3D line in the camera frame, over document 000 §III's orthonormal line | pose (left), orthonormal line (left) |
+//! | [`G2oSe3Edge`], [`G2oLineEdge`], [`G2oPlaneEdge`] | g2o's own pose, line and plane edge errors ([`g2o`]) | body-to-world poses (right, `[δρ, δθ]`), orthonormal line, plane (right) |
 //!
-//! The last three declare their poses [`factor_core::lie::Se3RhoTheta`]
-//! perturbed on the right: the chart of apex-solver (crate `factor-apex`
-//! serves them to it), so their generated kernels emit the solver's
-//! Jacobian columns as they are.
+//! The Snavely, stereo and between factors and g2o's declare their poses
+//! [`factor_core::lie::Se3RhoTheta`] perturbed on the right: the chart of
+//! apex-solver (crate `factor-apex` serves them to it), so their generated
+//! kernels emit the solver's Jacobian columns as they are
+//! ([`factor_core::lie::inverse_pose_block`] moves a block between the
+//! documents' world-to-camera pose and that chart).
 //!
 //! Degenerate configurations, and those near a degeneracy where the `f64`
 //! inputs no longer determine the outputs to 1e-6 (each factor's accuracy
@@ -39,6 +45,8 @@
 pub mod analytic;
 pub mod between;
 pub mod free_line;
+pub mod g2o;
+pub mod line_observation;
 pub mod line_reprojection;
 pub mod plane;
 pub mod plucker_line_reprojection;
@@ -48,6 +56,8 @@ pub mod stereo;
 
 pub use between::{BetweenFactor, SqrtInformation6};
 pub use free_line::FreeLineFactor;
+pub use g2o::{G2oLineEdge, G2oPlaneEdge, G2oSe3Edge};
+pub use line_observation::LineObservation;
 pub use line_reprojection::LineReprojection;
 pub use plane::PlaneFactor;
 pub use plucker_line_reprojection::PluckerLineReprojection;

@@ -30,7 +30,8 @@ use factor_core::{Factor, FactorError, Scalar};
     feature = "kernels",
     factor(
         kernel = factor_generated::line_reprojection::line_reprojection,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct LineReprojection<S: Scalar = f64> {

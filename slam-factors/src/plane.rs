@@ -34,7 +34,8 @@ use factor_core::{Factor, FactorError, Scalar};
     feature = "kernels",
     factor(
         kernel = factor_generated::plane::plane,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct PlaneFactor<S: Scalar = f64> {

@@ -34,7 +34,8 @@ use factor_core::{Factor, FactorError, Scalar};
     feature = "kernels",
     factor(
         kernel = factor_generated::plucker_line_reprojection::plucker_line_reprojection,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct PluckerLineReprojection<S: Scalar = f64> {

@@ -24,7 +24,8 @@ use factor_core::{Factor, FactorError, Scalar};
     feature = "kernels",
     factor(
         kernel = factor_generated::point_reprojection::point_reprojection,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct PointReprojection<S: Scalar = f64> {

@@ -51,6 +51,9 @@ impl<S: Scalar> Storage<S> for RadialIntrinsics<S> {
     }
 }
 
+// Served to apex-solver as `Rn(3)`, `[f, k1, k2]`.
+factor_core::additive_maps!(RadialIntrinsics<S> => 3; [S: Scalar]);
+
 /// A vector space: `[f, k1, k2] ← [f, k1, k2] + δ` on either side.
 impl<S: Scalar> Manifold<S> for RadialIntrinsics<S> {
     const DIM: usize = 3;
@@ -98,7 +101,8 @@ impl<S: Scalar> Manifold<S> for RadialIntrinsics<S> {
     feature = "kernels",
     factor(
         kernel = factor_generated::snavely_reprojection::snavely_reprojection,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct SnavelyReprojection<S: Scalar = f64> {

@@ -110,7 +110,8 @@ impl<S: Scalar> Storage<S> for StereoIntrinsics<S> {
     feature = "kernels",
     factor(
         kernel = factor_generated::stereo_reprojection::stereo_reprojection,
-        regenerate = "cargo run --release --no-default-features -- generate"
+        regenerate = "cargo run --release --no-default-features -- generate",
+        hosts(apex)
     )
 )]
 pub struct StereoReprojection<S: Scalar = f64> {

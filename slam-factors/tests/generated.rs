@@ -127,6 +127,16 @@ fn between_generated_matches_dual_and_numeric() {
 
 /// `linearize()` goes through the kernel, and the typed and dynamic forms agree.
 #[test]
+fn g2o_se3_generated_matches_dual_and_numeric() {
+    check_agreement(21, Sampler::g2o_se3);
+}
+
+#[test]
+fn line_observation_generated_matches_dual_and_numeric() {
+    check_agreement(22, Sampler::line_observation);
+}
+
+#[test]
 fn linearize_uses_the_generated_kernel() {
     let mut sampler = Sampler::new(17);
     let factor = sampler.point_reprojection();

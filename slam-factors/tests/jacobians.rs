@@ -140,3 +140,47 @@ fn plucker_line_reprojection_dual_matches_numeric() {
     let worst = worst_error(8, Sampler::plucker_line_reprojection);
     println!("plucker_line_reprojection: worst relative error {worst:e}");
 }
+
+#[test]
+fn g2o_se3_dual_matches_numeric() {
+    let worst = worst_error(9, Sampler::g2o_se3);
+    println!("g2o_se3: worst relative error {worst:e}");
+}
+
+#[test]
+fn g2o_line_dual_matches_numeric() {
+    let worst = worst_error(10, Sampler::g2o_line);
+    println!("g2o_se3_line3d: worst relative error {worst:e}");
+}
+
+#[test]
+fn g2o_plane_dual_matches_numeric() {
+    let worst = worst_error(11, Sampler::g2o_plane);
+    println!("g2o_se3_plane_calib: worst relative error {worst:e}");
+}
+
+/// g2o's errors near zero (a converged graph) and at zero.
+#[test]
+fn g2o_jacobians_are_exact_near_and_at_zero_error() {
+    let mut sampler = Sampler::new(12);
+    for i in 0..CONFIGURATIONS / 4 {
+        let max_error = if i % 2 == 0 { 1e-5 } else { 0.0 };
+        for check in [
+            check_jacobians(&sampler.g2o_se3_with_error(max_error)),
+            check_jacobians(&sampler.g2o_line_with_error(max_error)),
+            check_jacobians(&sampler.g2o_plane_with_error(max_error)),
+        ] {
+            let check = check.expect("well-conditioned");
+            assert!(
+                check.max_error() <= TOLERANCE,
+                "configuration {i}: {check:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn line_observation_dual_matches_numeric() {
+    let worst = worst_error(13, Sampler::line_observation);
+    println!("line_observation: worst relative error {worst:e}");
+}

@@ -3,11 +3,14 @@
 //! `\sqrt`.
 
 use super::{Ctx, Parser, Seps};
-use crate::ast::{Base, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, Symbol};
+use crate::ast::{
+    Base, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, PostfixOp, Symbol,
+};
 use crate::error::{ErrorKind, ParseError};
 use crate::lexer::{Delim, Tok};
 use crate::names::{
-    ACCENT_COMMANDS, FONT_COMMANDS, function_command, function_word, lookup, symbol_command,
+    ACCENT_COMMANDS, FONT_COMMANDS, combined_font, function_command, lookup, operator_word,
+    symbol_command,
 };
 
 /// What a factor starts with, before its scripts.
@@ -81,12 +84,15 @@ impl Parser<'_> {
             }
             Tok::Word(w) => {
                 self.pos += 1;
-                Ok(Atom::Function(w.to_string()))
+                Ok(Atom::Function(w))
             }
             Tok::Text(t) => {
                 self.pos += 1;
-                Ok(match function_word(t.trim()) {
+                Ok(match operator_word(t.trim()) {
                     Some(f) => Atom::Function(f.to_string()),
+                    None if self.names_a_function() && is_word(t.trim()) => {
+                        Atom::Function(t.trim().to_string())
+                    }
                     None => Atom::Expr(Expr::Text(t)),
                 })
             }
@@ -117,7 +123,18 @@ impl Parser<'_> {
             return self.font(name, font);
         }
         if let Some(accent) = lookup(ACCENT_COMMANDS, name) {
-            let mut s = self.symbol_argument(name)?;
+            let mut s = match self.argument_expr(name)? {
+                Expr::Symbol(s) => s,
+                // `\widehat{\xi_b + \delta\xi_b}`: the hat operator on an
+                // expression.
+                other if name == "widehat" => {
+                    return Ok(Atom::Expr(Expr::Postfix {
+                        base: Box::new(other),
+                        op: PostfixOp::Hat,
+                    }));
+                }
+                _ => return Err(self.error_before(ErrorKind::NotASymbol(name.into()))),
+            };
             if s.accent.is_some() {
                 return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
             }
@@ -136,7 +153,12 @@ impl Parser<'_> {
         match name {
             "partial" => {
                 self.pos += 1;
-                let of = self.product(ctx)?;
+                // `\partial` alone (the numerator of `\frac{\partial}{\partial x}`).
+                let of = if self.closes(self.pos) {
+                    Expr::Placeholder
+                } else {
+                    self.product(ctx)?
+                };
                 Ok(Atom::Swallowed(Expr::Differential(Box::new(of))))
             }
             "lim" => {
@@ -154,7 +176,25 @@ impl Parser<'_> {
             }
             "frac" | "dfrac" | "tfrac" | "cfrac" => {
                 self.pos += 1;
-                Ok(Atom::Expr(self.fraction()?))
+                match self.fraction()? {
+                    // `\frac{\partial}{\partial x} f`: the operator takes
+                    // the rest of the product.
+                    Expr::Derivative { kind, of, wrt } if *of == Expr::Placeholder => {
+                        self.skip_spaces();
+                        if !self.starts_operand(self.pos) || self.closes(self.pos) {
+                            return Err(self.error_here(ErrorKind::MissingOperand(
+                                "a derivative operator".into(),
+                            )));
+                        }
+                        let of = self.product(ctx)?;
+                        Ok(Atom::Swallowed(Expr::Derivative {
+                            kind,
+                            of: Box::new(of),
+                            wrt,
+                        }))
+                    }
+                    e => Ok(Atom::Expr(e)),
+                }
             }
             "sqrt" => {
                 self.pos += 1;
@@ -174,22 +214,28 @@ impl Parser<'_> {
         }
     }
 
-    /// `\delta x`: a bare `δ` directly before a symbol makes an increment.
+    /// `\delta x`, `\Delta x`: a bare `δ` or `Δ` directly before a symbol
+    /// makes an increment.
     fn increment(&mut self, s: Symbol) -> Result<Symbol, ParseError> {
-        let bare_delta = s.base == Base::Command("delta".into())
-            && matches!(s.font, Font::Plain | Font::Bold)
-            && Symbol {
-                font: Font::Plain,
-                ..s.clone()
-            } == Symbol::new(Base::Command("delta".into()));
-        if !bare_delta || !self.starts_symbol(self.pos) {
+        let bare = |name: &str| {
+            s.base == Base::Command(name.into())
+                && matches!(s.font, Font::Plain | Font::Bold)
+                && Symbol {
+                    font: Font::Plain,
+                    ..s.clone()
+                } == Symbol::new(Base::Command(name.into()))
+        };
+        let capital = bare("Delta");
+        if !(bare("delta") || capital) || !self.starts_symbol(self.pos) {
             return Ok(s);
         }
-        let mut inner = self.symbol_atom("delta")?;
+        let name = if capital { "Delta" } else { "delta" };
+        let mut inner = self.symbol_atom(name)?;
         if inner.delta.is_some() {
-            return Err(self.error_before(ErrorKind::NotASymbol("delta".into())));
+            return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
         }
         inner.delta = Some(s.font);
+        inner.capital_delta = capital;
         Ok(inner)
     }
 
@@ -248,20 +294,27 @@ impl Parser<'_> {
         })
     }
 
-    /// A function name's power and argument(s), then scripts on the result.
+    /// A function name's power, subscript and argument(s), then scripts on
+    /// the result. A function with a subscript may stand without an
+    /// argument (`Ad_T` is the adjoint matrix of `T`).
     fn function(&mut self, name: String) -> Result<Expr, ParseError> {
-        let mut power = None;
+        let (mut power, mut sub) = (None, None);
         loop {
-            match self.peek() {
-                Some(Tok::Sup) => {
-                    if power.is_some() {
-                        return Err(self.error_here(ErrorKind::DoubleScript("super")));
-                    }
-                    self.pos += 1;
-                    power = Some(Box::new(self.script_expression(false)?));
-                }
-                Some(Tok::Sub) => return Err(self.error_here(ErrorKind::FunctionSubscript(name))),
+            let (slot, which) = match self.peek() {
+                Some(Tok::Sup) => (&mut power, "super"),
+                Some(Tok::Sub) => (&mut sub, "sub"),
                 _ => break,
+            };
+            if slot.is_some() {
+                return Err(self.error_here(ErrorKind::DoubleScript(which)));
+            }
+            let is_sup = which == "super";
+            self.pos += 1;
+            let e = Some(Box::new(self.script_expression(false)?));
+            if is_sup {
+                power = e;
+            } else {
+                sub = e;
             }
         }
         let args = match self.peek() {
@@ -269,37 +322,121 @@ impl Parser<'_> {
             _ => {
                 self.skip_spaces();
                 if !self.starts_operand(self.pos) {
-                    return Err(self.error_here(ErrorKind::MissingOperand(name)));
+                    if sub.is_none() {
+                        return Err(self.error_here(ErrorKind::MissingOperand(name)));
+                    }
+                    Vec::new()
+                } else {
+                    vec![self.simple_factor()?]
                 }
-                vec![self.simple_factor()?]
             }
         };
         self.scripts_on_expr(Expr::Apply {
-            head: Head::Function(Function { name, power }),
+            head: Head::Function(Function { name, power, sub }),
             args,
         })
     }
 
+    /// Whether the token at the cursor applies a function name before it:
+    /// `(`, `\left(`, or a script.
+    fn names_a_function(&self) -> bool {
+        matches!(
+            self.peek(),
+            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren) | Tok::Sub)
+        )
+    }
+
     /// `\mathbf{x}`, `\mathcal{K}`, `\mathrm{d}`; `\mathrm` of a word is a
-    /// function name or text.
+    /// function name or text; a font over several letters is their product
+    /// (`\mathbf{Rp}` is `\mathbf{R}\mathbf{p}`), over a digit a symbol
+    /// (`\mathbf{0}`, `\mathds{1}`), over a symbol in another font the two
+    /// fonts combined (`\bm{\mathcal{J}}`).
     fn font(&mut self, name: &str, font: Font) -> Result<Atom, ParseError> {
-        if font == Font::Roman
-            && self.peek_at(self.pos + 1) == Some(&Tok::LBrace)
+        if self.peek_at(self.pos + 1) == Some(&Tok::LBrace)
             && let Some(word) = self.braced_word(self.pos + 1)
             && word.chars().count() > 1
         {
-            self.pos = self.matching[self.pos + 1] + 1;
-            return Ok(match function_word(&word) {
-                Some(f) => Atom::Function(f.to_string()),
-                None => Atom::Expr(Expr::Text(word)),
-            });
+            let close = self.matching[self.pos + 1];
+            if font == Font::Roman {
+                self.pos = close + 1;
+                return Ok(match operator_word(&word) {
+                    Some(f) => Atom::Function(f.to_string()),
+                    None if self.names_a_function() => Atom::Function(word),
+                    None => Atom::Expr(Expr::Text(word)),
+                });
+            }
+            if self.only_letters(self.pos + 2, close) {
+                // `\mathbf{Rp}`: each letter in the font.
+                self.pos = close + 1;
+                let factors: Vec<Expr> = word
+                    .chars()
+                    .map(|c| {
+                        Expr::Symbol(Symbol {
+                            font,
+                            ..Symbol::new(Base::Letter(c))
+                        })
+                    })
+                    .collect();
+                return self.font_product(factors);
+            }
         }
-        let mut s = self.symbol_argument(name)?;
-        if s.font != Font::Plain {
-            return Err(self.error_before(ErrorKind::NotASymbol(name.into())));
+        if let Some((digit, next)) = self.font_digit() {
+            self.pos = next;
+            return Ok(Atom::Symbol(Symbol {
+                font,
+                ..Symbol::new(Base::Letter(digit))
+            }));
         }
-        s.font = font;
+        let mut s = match self.argument_expr(name)? {
+            Expr::Symbol(s) => s,
+            // A font over an expression (`\mathfrak{\mathbb{R}^{2}}`,
+            // `\mathfrak{g^{*} \rightarrow g^{*}}`): the expression.
+            other => return Ok(Atom::Expr(other)),
+        };
+        s.font = combined_font(font, s.font)
+            .ok_or_else(|| self.error_before(ErrorKind::NotASymbol(name.into())))?;
         Ok(Atom::Symbol(self.increment(s)?))
+    }
+
+    /// The digit a font is written over (`\mathbf{0}`, `\mathbf 1`), and
+    /// the token after it.
+    fn font_digit(&self) -> Option<(char, usize)> {
+        let digit = |t: Option<&Tok>| match t {
+            Some(Tok::Number(n)) if n.len() == 1 => n.chars().next(),
+            _ => None,
+        };
+        if self.peek_at(self.pos + 1) == Some(&Tok::LBrace) {
+            let close = self.matching[self.pos + 1];
+            return (close == self.pos + 3)
+                .then(|| digit(self.peek_at(self.pos + 2)))
+                .flatten()
+                .map(|d| (d, close + 1));
+        }
+        digit(self.peek_at(self.pos + 1)).map(|d| (d, self.pos + 2))
+    }
+
+    /// Whether the tokens `from..to` are letters written one after another.
+    fn only_letters(&self, from: usize, to: usize) -> bool {
+        self.toks[from..to]
+            .iter()
+            .all(|t| matches!(t.tok, Tok::Letter(_)))
+    }
+
+    /// The letters of a font over a word, as one atom: their product, with
+    /// the scripts after the group on the last letter.
+    fn font_product(&mut self, mut factors: Vec<Expr>) -> Result<Atom, ParseError> {
+        let last = match factors.pop() {
+            Some(Expr::Symbol(s)) => self.scripts_on_symbol(s)?,
+            _ => unreachable!("a word has letters"),
+        };
+        let first = factors.remove(0);
+        let mut rest: Vec<(MulOp, Expr)> =
+            factors.into_iter().map(|f| (MulOp::Implicit, f)).collect();
+        rest.push((MulOp::Implicit, last));
+        Ok(Atom::Swallowed(Expr::Product {
+            first: Box::new(first),
+            rest,
+        }))
     }
 
     /// The letters of the group opened at `open`, if it holds only letters.
@@ -316,8 +453,9 @@ impl Parser<'_> {
         Some(word)
     }
 
-    /// The argument of a font or accent command at the cursor: one symbol.
-    fn symbol_argument(&mut self, name: &str) -> Result<Symbol, ParseError> {
+    /// The argument of a font or accent command at the cursor: a braced
+    /// group's expression, or one symbol.
+    fn argument_expr(&mut self, name: &str) -> Result<Expr, ParseError> {
         self.pos += 1;
         let not_a_symbol = |p: &Self| p.error_before(ErrorKind::NotASymbol(name.into()));
         let e = if self.peek() == Some(&Tok::LBrace) {
@@ -334,10 +472,7 @@ impl Parser<'_> {
         } else {
             return Err(not_a_symbol(self));
         };
-        match e {
-            Expr::Symbol(s) => Ok(s),
-            _ => Err(not_a_symbol(self)),
-        }
+        Ok(e)
     }
 
     /// Runs `f` with the input cut at token `end`.
@@ -419,7 +554,7 @@ impl Parser<'_> {
                 // is taken whole (its digits split would leave `.5`).
                 if n.len() > 1 && n.as_bytes()[1] != b'.' {
                     let t = &mut self.toks[self.pos];
-                    t.start += 1;
+                    t.start = (t.start + 1).min(t.end);
                     t.tok = Tok::Number(n[1..].to_string());
                     Ok(Expr::Number(n[..1].to_string()))
                 } else {
@@ -444,13 +579,22 @@ impl Parser<'_> {
 }
 
 /// `num / den` as a derivative when both are differentials: `∂a/∂b`, or
-/// `d a / d b` (a `d` juxtaposed before the rest of each half).
+/// `d a / d b` (a `d` juxtaposed before the rest of each half). A lone `∂`
+/// or `d` over a differential is a derivative operator: its `of` is a
+/// placeholder the caller fills with what follows.
 fn derivative(num: Expr, den: Expr) -> Expr {
     match (num, den) {
-        (Expr::Differential(of), Expr::Differential(wrt)) => Expr::Derivative {
-            kind: DerivativeKind::Partial,
-            of,
-            wrt,
+        (Expr::Differential(of), Expr::Differential(wrt)) if *wrt != Expr::Placeholder => {
+            Expr::Derivative {
+                kind: DerivativeKind::Partial,
+                of,
+                wrt,
+            }
+        }
+        (num, den) if is_d(&num) && after_d(&den).is_some() => Expr::Derivative {
+            kind: DerivativeKind::Total,
+            of: Box::new(Expr::Placeholder),
+            wrt: Box::new(after_d(&den).expect("checked")),
         },
         (num, den) => match (after_d(&num), after_d(&den)) {
             (Some(of), Some(wrt)) => Expr::Derivative {
@@ -466,12 +610,9 @@ fn derivative(num: Expr, den: Expr) -> Expr {
     }
 }
 
-/// The rest of a product `d x …` whose first factor is a bare `d`.
-fn after_d(e: &Expr) -> Option<Expr> {
-    let Expr::Product { first, rest } = e else {
-        return None;
-    };
-    let is_d = match first.as_ref() {
+/// Whether `e` is a bare `d` (or an upright `\mathrm{d}`).
+fn is_d(e: &Expr) -> bool {
+    match e {
         Expr::Symbol(s) => {
             s.is_letter('d')
                 || *s
@@ -481,8 +622,15 @@ fn after_d(e: &Expr) -> Option<Expr> {
                     }
         }
         _ => false,
+    }
+}
+
+/// The rest of a product `d x …` whose first factor is a bare `d`.
+fn after_d(e: &Expr) -> Option<Expr> {
+    let Expr::Product { first, rest } = e else {
+        return None;
     };
-    if !is_d || rest[0].0 != MulOp::Implicit {
+    if !is_d(first) || rest[0].0 != MulOp::Implicit {
         return None;
     }
     let mut rest = rest.clone();
@@ -495,4 +643,9 @@ fn after_d(e: &Expr) -> Option<Expr> {
             rest,
         }
     })
+}
+
+/// Whether `w` is a word of letters (a function name printed as text).
+fn is_word(w: &str) -> bool {
+    !w.is_empty() && w.chars().all(|c| c.is_ascii_alphabetic())
 }

@@ -7,7 +7,7 @@ use super::{Ctx, Parser, Seps};
 use crate::ast::{Case, Expr, Matrix};
 use crate::error::{ErrorKind, ParseError};
 use crate::lexer::{Delim, Tok};
-use crate::names::{ALIGNMENT_ENVIRONMENTS, MATRIX_ENVIRONMENTS};
+use crate::names::{ALIGNMENT_ENVIRONMENTS, CASES_ENVIRONMENTS, MATRIX_ENVIRONMENTS};
 
 impl Parser<'_> {
     /// `{…}`: a transparent group, or `{}` before pre-scripts.
@@ -58,6 +58,17 @@ impl Parser<'_> {
                 }
             }
             Delim::Floor => {
+                // `\left\lfloor v \times \right\rfloor` (the cross-product
+                // matrix written with its `×` inside) is a skew matrix too.
+                if let Some(times) = self.times_before_floor_close() {
+                    let body = self.bounded(times, |p| p.relation(Ctx::default()))?;
+                    if self.pos != times {
+                        return Err(self.unexpected());
+                    }
+                    self.pos = times + 1;
+                    self.close(open, sized, delim)?;
+                    return Ok(Atom::Expr(Expr::Skew(Box::new(body))));
+                }
                 let body = self.relation(Ctx::default())?;
                 self.close(open, sized, delim)?;
                 if self.peek() != Some(&Tok::Sub) {
@@ -71,11 +82,52 @@ impl Parser<'_> {
             }
             _ => {
                 let items = self.list(Seps::All)?;
+                let closing_invisible =
+                    sized && matches!(self.peek(), Some(Tok::Right(Delim::Invisible)));
                 self.close(open, sized, delim)?;
-                self.build_group(items)?
+                let group = self.build_group(items)?;
+                match group {
+                    // `\left\{ \begin{array}{ll} v & c \\ … \end{array} \right.`
+                    // is a `cases`.
+                    Expr::Matrix(m) if delim == Delim::Brace && closing_invisible => Expr::Cases(
+                        m.rows
+                            .into_iter()
+                            .map(|mut row| {
+                                let condition = (row.len() > 1).then(|| row.remove(1));
+                                Case {
+                                    value: row.remove(0),
+                                    condition,
+                                }
+                            })
+                            .collect(),
+                    ),
+                    other => other,
+                }
             }
         };
         Ok(Atom::Expr(e))
+    }
+
+    /// The index of a `\times` right before the `\rfloor` closing the
+    /// floor opened at the cursor (the cursor is after the opener).
+    fn times_before_floor_close(&self) -> Option<usize> {
+        let mut depth = 0usize;
+        for i in self.pos..self.end {
+            match &self.toks[i].tok {
+                Tok::Open(Delim::Floor) | Tok::Left(Delim::Floor) => depth += 1,
+                Tok::Close(Delim::Floor) | Tok::Right(Delim::Floor) => {
+                    if depth == 0 {
+                        let before = i.checked_sub(1)?;
+                        return (before >= self.pos
+                            && self.toks[before].tok == Tok::Command("times".into()))
+                        .then_some(before);
+                    }
+                    depth -= 1;
+                }
+                _ => {}
+            }
+        }
+        None
     }
 
     /// Consumes the closing delimiter matching the one at `open`.
@@ -180,7 +232,7 @@ impl Parser<'_> {
             return Err(self.error_here(ErrorKind::NestedAlignment(name.into())));
         }
         let is_matrix = MATRIX_ENVIRONMENTS.contains(&name);
-        if !is_matrix && name != "cases" {
+        if !is_matrix && !CASES_ENVIRONMENTS.contains(&name) {
             return Err(self.error_here(ErrorKind::UnknownEnvironment(name.into())));
         }
         let begin = self.pos;
@@ -234,6 +286,7 @@ impl Parser<'_> {
                     self.pos += 1;
                     spaced = true;
                 }
+                self.skip_row_punctuation();
                 match self.peek() {
                     Some(Tok::Amp | Tok::Bar) => self.pos += 1,
                     Some(Tok::Command(c)) if c == "mid" => self.pos += 1,
@@ -258,9 +311,12 @@ impl Parser<'_> {
         let mut cases = Vec::new();
         while !self.end_of(name, begin)? {
             let value = self.relation(Ctx::default())?;
+            self.skip_row_punctuation();
             let condition = if self.peek() == Some(&Tok::Amp) {
                 self.pos += 1;
-                Some(self.relation(Ctx::default())?)
+                let c = self.relation(Ctx::default())?;
+                self.skip_row_punctuation();
+                Some(c)
             } else {
                 None
             };
@@ -275,6 +331,20 @@ impl Parser<'_> {
             return Err(self.error_before(ErrorKind::Empty("cases")));
         }
         Ok(Expr::Cases(cases))
+    }
+}
+
+impl Parser<'_> {
+    /// Skips a `,` or `.` ending a matrix entry or a case (`x, & y > 0 \\`).
+    fn skip_row_punctuation(&mut self) {
+        while matches!(self.peek(), Some(Tok::Comma | Tok::Period))
+            && matches!(
+                self.peek_at(self.pos + 1),
+                None | Some(Tok::Amp | Tok::RowBreak | Tok::End(_))
+            )
+        {
+            self.pos += 1;
+        }
     }
 }
 

@@ -178,10 +178,11 @@ impl<'a> Parser<'a> {
         (i < self.end).then(|| &self.toks[i].tok)
     }
 
-    /// The source text of token `i`.
+    /// The source text of token `i` (a macro's body token shows the
+    /// invocation).
     fn text_of(&self, i: usize) -> &'a str {
         let t = &self.toks[i];
-        &self.src[t.start..t.end]
+        self.src.get(t.start..t.end).unwrap_or("")
     }
 
     /// Skips wide spaces (in operand position, or where they only space).

@@ -8,9 +8,10 @@
 //! \times c` on a non-symbol a shape annotation.
 
 use super::{Parser, Seps};
-use crate::ast::{Expr, PostfixOp, Symbol};
+use crate::ast::{Base, Expr, PostfixOp, Symbol};
 use crate::error::{ErrorKind, ParseError};
 use crate::lexer::Tok;
+use crate::names::postfix_operator;
 
 /// One script's argument, taken apart.
 #[derive(Debug, Default)]
@@ -43,15 +44,28 @@ fn marker(tok: &Tok) -> Option<Marker> {
     match tok {
         Tok::Letter('T') => Some(Marker::Op(PostfixOp::Transpose)),
         Tok::Prime => Some(Marker::Prime),
+        Tok::Star => Some(Marker::Op(PostfixOp::Operator("*"))),
+        Tok::Plus => Some(Marker::Op(PostfixOp::Operator("+"))),
         Tok::Command(c) => match c.as_str() {
-            "top" => Some(Marker::Op(PostfixOp::Transpose)),
+            "top" | "intercal" => Some(Marker::Op(PostfixOp::Transpose)),
             "wedge" => Some(Marker::Op(PostfixOp::Hat)),
             "vee" => Some(Marker::Op(PostfixOp::Vee)),
             "prime" => Some(Marker::Prime),
-            _ => None,
+            other => postfix_operator(other).map(|op| Marker::Op(PostfixOp::Operator(op))),
         },
         _ => None,
     }
+}
+
+/// The transpose written in a font (`^{\mathsf{T}}`, `^{\mathrm{T}}`): the
+/// four tokens `\font { T }` ending at `end` (exclusive).
+fn fonted_transpose(toks: &[crate::lexer::Token], end: usize) -> bool {
+    end >= 4
+        && end <= toks.len()
+        && matches!(&toks[end - 4].tok, Tok::Command(c) if ["mathsf", "mathrm", "mathit", "text", "mathbf"].contains(&c.as_str()))
+        && toks[end - 3].tok == Tok::LBrace
+        && toks[end - 2].tok == Tok::Letter('T')
+        && toks[end - 1].tok == Tok::RBrace
 }
 
 impl Parser<'_> {
@@ -62,10 +76,21 @@ impl Parser<'_> {
             return Err(self.unexpected());
         };
         if tok != Tok::LBrace {
+            if sup && fonted_transpose(&self.toks[..self.end], self.pos + 4) {
+                // `^\mathsf{T}`: the transpose in a font, unbraced.
+                arg.markers.push(PostfixOp::Transpose);
+                self.pos += 4;
+                return Ok(arg);
+            }
             match (sup, marker(&tok)) {
                 (true, Some(Marker::Op(op))) => arg.markers.push(op),
                 (true, Some(Marker::Prime)) => arg.primes += 1,
                 _ if !sup && tok == Tok::Command("times".into()) => arg.times = true,
+                // `[x]_+`: a subscript sign names a notation (`[ω]_+`, the
+                // plane's restricted cross product), as an index.
+                _ if !sup && tok == Tok::Plus => {
+                    arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
+                }
                 _ => {
                     arg.expr = Some(self.single_token_argument()?);
                     return Ok(arg);
@@ -76,9 +101,25 @@ impl Parser<'_> {
         }
         let open = self.pos;
         let close = self.matching[open];
+        // `T_1^{^{-1}}`: a superscript printed inside a superscript.
+        if close > open + 2
+            && self.toks[open + 1].tok == (if sup { Tok::Sup } else { Tok::Sub })
+            && self.toks[open + 2].tok == Tok::LBrace
+            && self.matching[open + 2] + 1 == close
+        {
+            self.pos = open + 2;
+            let inner = self.nested(|p| p.script_argument(sup))?;
+            self.pos = close + 1;
+            return Ok(inner);
+        }
         let mut stop = close;
         if sup {
             while stop > open + 1 {
+                if fonted_transpose(&self.toks[..stop], stop) && stop >= open + 5 {
+                    arg.markers.push(PostfixOp::Transpose);
+                    stop -= 4;
+                    continue;
+                }
                 match marker(&self.toks[stop - 1].tok) {
                     Some(Marker::Op(op)) => arg.markers.push(op),
                     Some(Marker::Prime) => arg.primes += 1,
@@ -90,6 +131,9 @@ impl Parser<'_> {
         } else if close == open + 2 && self.toks[open + 1].tok == Tok::Command("times".into()) {
             arg.times = true;
             stop = open + 1;
+        } else if close == open + 2 && self.toks[open + 1].tok == Tok::Plus {
+            arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
+            stop = open + 1;
         }
         if stop > open + 1 {
             self.pos = open + 1;
@@ -98,7 +142,7 @@ impl Parser<'_> {
                 return Err(self.unexpected());
             }
             arg.expr = Some(self.build_group(items)?);
-        } else if arg.markers.is_empty() && arg.primes == 0 && !arg.times {
+        } else if arg.markers.is_empty() && arg.primes == 0 && !arg.times && arg.expr.is_none() {
             return Err(self.error_here(ErrorKind::Empty("script")));
         }
         self.pos = close + 1;
@@ -168,17 +212,21 @@ impl Parser<'_> {
         let mut power = None;
         let mut markers = Vec::new();
         if let Some(sup) = scripts.sup {
-            s.primes += sup.primes;
             markers = sup.markers;
             match sup.expr {
-                Some(x) if x.reads_as_exponent() => power = Some(x),
+                Some(x) if x.reads_as_exponent() => {
+                    s.primes += sup.primes;
+                    power = Some(x);
+                }
                 Some(x) => {
                     if s.sup.is_some() {
                         return Err(double(self, "super"));
                     }
+                    // `p_i^{1'}`: the prime belongs to the superscript.
+                    s.sup_primes += sup.primes;
                     s.sup = Some(Box::new(x));
                 }
-                None => {}
+                None => s.primes += sup.primes,
             }
         }
         let mut e = Expr::Symbol(s);

@@ -4,7 +4,7 @@
 //! audits exactly as it audits a transcription.
 
 use doc_latex::ast::{Expr, Rel, Statement};
-use doc_latex::{Document, Locator};
+use doc_latex::{Document, Found, Locator, Vocabulary};
 use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 
@@ -13,14 +13,15 @@ use super::context::{Context, Scope, canonical};
 use super::eval::{Env, Space};
 use super::lower::{Lowering, short, symbol_key};
 use super::symbols::{ClaimKind, ClaimSpec, Side};
-use super::term::{Meaning, Term, Variable};
+use super::term::{Meaning, SymbolId, Term, TruthLink, Variable};
 use super::tree::derivatives;
-use super::value::{ShapeError, shape_text};
+use super::value::{ShapeError, Value, shape_text};
 use crate::derivation::{Claim, Derivation, Label, Printed, dual_jacobian};
+use factor_core::manifold::Perturbation;
 use factor_core::scalar::Scalar;
 
 /// The verdict keywords a claim may expect.
-pub const KEYWORDS: [&str; 4] = ["correct", "convention", "wrong", "malformed"];
+pub const KEYWORDS: [&str; 5] = ["correct", "convention", "wrong", "malformed", "unread"];
 
 /// A convention to try, lowered.
 #[derive(Debug, Clone)]
@@ -48,6 +49,10 @@ pub struct TextClaim {
     pub of: Term,
     /// The variable (none for a value claim).
     pub variable: Option<Variable>,
+    /// The variable as written (for messages).
+    pub wrt_text: String,
+    /// The local coordinates a group-valued map is read in.
+    pub output: Option<Perturbation>,
     /// The printed right side, lowered.
     pub printed: Term,
     /// The printed right side as parsed.
@@ -70,6 +75,12 @@ pub struct TextClaim {
     pub links: Vec<usize>,
     /// Fractions over non-scalars read as stacks.
     pub stacked_fractions: bool,
+    /// The terms printed elsewhere on its line (other sides of its chain):
+    /// what the erratum search may add as a missing term.
+    pub nearby_terms: Vec<Expr>,
+    /// For a differential, the tangent its printed right side is linear
+    /// in (the printed term is the difference quotient over it).
+    pub differential_in: Option<SymbolId>,
 }
 
 impl TextClaim {
@@ -109,6 +120,9 @@ pub struct Located {
     pub rhs: Expr,
     /// The relation before it.
     pub relation: Rel,
+    /// Every side of every line of its display (what a missing term may
+    /// be found in).
+    pub display: Vec<Expr>,
 }
 
 fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
@@ -118,8 +132,10 @@ fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
     }
 }
 
-/// Finds a claim's line in the document (by label or anchor, a line of a
-/// formula, the end of a chain, a case of a `cases`).
+/// Finds a claim's line in the document (by label, anchor or `after`, a
+/// line of a formula, a statement of the line, the end of a chain, a case
+/// of a `cases`). An anchor found only in the prose is an error naming its
+/// line: the display after it is audited only when the file says `after`.
 pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
     let lookup = |e: doc_latex::LookupError| claim_error(spec, e.to_string());
     let pick = |claims: Vec<doc_latex::Claim>| -> Result<doc_latex::Claim, TextError> {
@@ -135,33 +151,127 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             }),
         }
     };
-    let locator = match (&spec.label, &spec.anchor) {
-        (Some(l), None) => Locator::Label(l),
-        (None, Some(a)) => Locator::Anchor(a),
-        _ => return Err(claim_error(spec, "give one of `label` and `anchor`")),
-    };
-    let claim = if spec.chain {
-        doc.chain(locator)
-            .map_err(lookup)?
-            .pop()
-            .ok_or_else(|| claim_error(spec, "the chain is empty"))?
-    } else if let (Locator::Anchor(a), None) = (locator, spec.line) {
-        doc.claim(a).map_err(lookup)?
-    } else {
-        let formula = doc.find(locator).map_err(lookup)?;
+    let given = [&spec.label, &spec.anchor, &spec.after]
+        .iter()
+        .filter(|x| x.is_some())
+        .count();
+    if given != 1 {
+        return Err(claim_error(
+            spec,
+            "give one of `label`, `anchor` and `after`",
+        ));
+    }
+    let claim = if let Some(after) = &spec.after {
+        let formula = match doc.locate(after).map_err(lookup)? {
+            Found::Prose { after, .. } => after,
+            Found::Formula(f) => {
+                return Err(claim_error(
+                    spec,
+                    format!(
+                        "`after` quotes the formula on line {} itself: use `anchor`",
+                        f.line
+                    ),
+                ));
+            }
+        };
+        if spec.chain {
+            return Err(claim_error(
+                spec,
+                "`chain` goes with `label` or `anchor`, not `after`",
+            ));
+        }
         pick(
             doc.claims(formula)
                 .map_err(|e| claim_error(spec, e.to_string()))?,
         )?
+    } else {
+        let locator = match (&spec.label, &spec.anchor) {
+            (Some(l), None) => Locator::Label(l),
+            (None, Some(a)) => Locator::Anchor(a),
+            _ => unreachable!("one locator"),
+        };
+        if let Locator::Anchor(a) = locator {
+            // An anchor must be in a formula: never another display silently.
+            if let Found::Prose { line, .. } = doc.locate(a).map_err(lookup)? {
+                return Err(lookup(doc_latex::LookupError::AnchorInProse {
+                    anchor: short(a),
+                    line,
+                }));
+            }
+        }
+        if spec.chain {
+            doc.chain(locator)
+                .map_err(lookup)?
+                .pop()
+                .ok_or_else(|| claim_error(spec, "the chain is empty"))?
+        } else if let (Locator::Anchor(a), None) = (locator, spec.line) {
+            doc.claim_in_formulas(a).map_err(lookup)?
+        } else {
+            let formula = doc.find(locator).map_err(lookup)?;
+            pick(
+                doc.claims(formula)
+                    .map_err(|e| claim_error(spec, e.to_string()))?,
+            )?
+        }
     };
-    let statement = claim.statement.clone().map_err(TextError::Parse)?;
-    let (relation, rhs) = statement
-        .steps
-        .iter()
-        .rev()
-        .find(|(r, _)| !r.is_membership())
-        .cloned()
-        .ok_or_else(|| claim_error(spec, "the line states no relation"))?;
+    let statement = match spec.statement {
+        None | Some(1) => claim.statement.clone().map_err(TextError::Parse)?,
+        Some(k) => claim
+            .notes
+            .get(k.wrapping_sub(2))
+            .cloned()
+            .ok_or_else(|| {
+                claim_error(
+                    spec,
+                    format!(
+                        "the line has {} statement(s), not a statement {k}",
+                        claim.notes.len() + 1
+                    ),
+                )
+            })?
+            .map_err(TextError::Parse)?,
+    };
+    let mut lhs = match spec.statement {
+        Some(k) if k > 1 => statement.head.clone(),
+        _ => claim.lhs.clone(),
+    };
+    let (relation, rhs) = match spec.step {
+        // A display that is only a value (`[a^{-1} I_3, -q a^{-2}]` after
+        // "with derivative"), its map named by the file.
+        None if spec.of.is_some()
+            && statement.steps.is_empty()
+            && let Some(head) = &statement.head =>
+        {
+            lhs = None;
+            (Rel::Eq, head.clone())
+        }
+        None => statement
+            .steps
+            .iter()
+            .rev()
+            .find(|(r, _)| !r.is_membership())
+            .cloned()
+            .ok_or_else(|| claim_error(spec, "the line states no relation"))?,
+        Some(k) => statement
+            .steps
+            .iter()
+            .filter(|(r, _)| !r.is_membership())
+            .nth(k.wrapping_sub(1))
+            .cloned()
+            .ok_or_else(|| {
+                claim_error(
+                    spec,
+                    format!(
+                        "the line has {} right side(s), not a step {k}",
+                        statement
+                            .steps
+                            .iter()
+                            .filter(|(r, _)| !r.is_membership())
+                            .count()
+                    ),
+                )
+            })?,
+    };
     let rhs = match (spec.case, rhs) {
         (None, Expr::Cases(_)) => {
             return Err(claim_error(
@@ -181,13 +291,32 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             ));
         }
     };
+    let display = doc
+        .formulas()
+        .iter()
+        .find(|f| f.span.start <= claim.span.start && claim.span.end <= f.span.end)
+        .and_then(|f| doc.claims(f).ok())
+        .map(|lines| {
+            lines
+                .iter()
+                .flat_map(|c| c.statement.iter().chain(c.notes.iter().flatten()))
+                .flat_map(|st| {
+                    st.head
+                        .iter()
+                        .cloned()
+                        .chain(st.steps.iter().map(|(_, e)| e.clone()))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     Ok(Located {
         line: claim.line,
         quote: claim.source.trim().to_string(),
-        lhs: claim.lhs.clone(),
+        lhs,
         statement,
         rhs,
         relation,
+        display,
     })
 }
 
@@ -216,7 +345,7 @@ fn lower_written(
     what: &str,
     latex: &str,
 ) -> Result<(Expr, Term), TextError> {
-    let e = doc_latex::parse_expr(latex).map_err(|e| {
+    let e = doc_latex::parse_expr_with(latex, &ctx.vocabulary).map_err(|e| {
         claim_error(
             spec,
             format!(
@@ -229,60 +358,6 @@ fn lower_written(
         .expr(&e)
         .map_err(|err| claim_error(spec, format!("`{what}`: {err}")))?;
     Ok((e, t))
-}
-
-/// The variable a claim differentiates by, written `wrt`.
-fn variable_of(
-    ctx: &mut Context,
-    scope: Scope,
-    wrt: &Expr,
-    side: Option<Side>,
-    at_zero: bool,
-) -> Result<Variable, String> {
-    let target = match wrt {
-        Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
-        Expr::Apply {
-            head: doc_latex::ast::Head::Symbol(s),
-            ..
-        } => ctx.lookup(scope, &symbol_key(s)),
-        Expr::Tuple(items) => {
-            // (P_x, P_y, P_z): every entry of one vector, in order.
-            let ids: Option<Vec<usize>> = items
-                .iter()
-                .map(|i| match i {
-                    Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
-                    _ => None,
-                })
-                .collect();
-            let parts: Option<Vec<(usize, usize)>> = ids.and_then(|ids| {
-                ids.iter()
-                    .map(|id| match ctx.table.entries[*id].meaning {
-                        Meaning::Component { of, index } => Some((of, index)),
-                        _ => None,
-                    })
-                    .collect()
-            });
-            match parts.as_deref() {
-                Some([(of, 0), rest @ ..])
-                    if rest
-                        .iter()
-                        .enumerate()
-                        .all(|(i, (o, k))| o == of && *k == i + 1) =>
-                {
-                    Some(*of)
-                }
-                _ => None,
-            }
-        }
-        _ => None,
-    };
-    let Some(target) = target else {
-        return Err(format!(
-            "`{}` is not a variable (a symbol, or the entries of one vector in order)",
-            short(&wrt.to_string())
-        ));
-    };
-    ctx.variable(target, side, None, at_zero)
 }
 
 /// Compiles a located claim in its context.
@@ -323,6 +398,7 @@ pub fn compile(
         } else {
             ClaimKind::Value
         });
+    let vocabulary = ctx.vocabulary.clone();
     let from_lhs = |part: &str| {
         claim_error(
             spec,
@@ -332,6 +408,7 @@ pub fn compile(
     let of = match (&spec.of, &derivative, kind, &located.lhs) {
         (Some(latex), ..) => lower_written(ctx, scope, spec, "of", latex)?.1,
         (None, Some((of, _)), _, _) => Lowering::new(&mut ctx.resolver(scope), false)
+            .without_claim_names()
             .expr(of)
             .map_err(|e| {
                 claim_error(
@@ -341,13 +418,14 @@ pub fn compile(
             })?,
         (None, None, ClaimKind::Value | ClaimKind::FirstOrder, Some(lhs)) => {
             Lowering::new(&mut ctx.resolver(scope), false)
+                .without_claim_names()
                 .expr(lhs)
                 .map_err(|e| claim_error(spec, format!("the left side: {e}")))?
         }
         _ => return Err(from_lhs("of")),
     };
     let wrt_ast = match (&spec.wrt, &derivative) {
-        (Some(latex), _) => Some(doc_latex::parse_expr(latex).map_err(|e| {
+        (Some(latex), _) => Some(doc_latex::parse_expr_with(latex, &vocabulary).map_err(|e| {
             claim_error(
                 spec,
                 format!("cannot read `wrt`: {} at `{}`", e.kind, e.fragment),
@@ -356,15 +434,60 @@ pub fn compile(
         (None, Some((_, wrt))) => Some(wrt.clone()),
         (None, None) => None,
     };
-    let variable = match kind {
-        ClaimKind::Value => None,
-        _ => {
+    let variable = match (kind, &spec.update) {
+        (ClaimKind::Value, _) => None,
+        (_, Some(update)) => {
             let wrt = wrt_ast.as_ref().ok_or_else(|| from_lhs("wrt"))?;
+            let target = match wrt {
+                Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
+                other => ctx.lookup(scope, &other.to_string()),
+            }
+            .ok_or_else(|| claim_error(spec, "the updated variable is not defined"))?;
             Some(
-                variable_of(ctx, scope, wrt, spec.side, spec.at_zero)
+                ctx.update_variable(scope, target, update)
                     .map_err(|m| claim_error(spec, m))?,
             )
         }
+        (_, None) => {
+            let wrt = wrt_ast.as_ref().ok_or_else(|| from_lhs("wrt"))?;
+            Some(
+                ctx.variable_of(scope, wrt, spec.side, spec.at_zero)
+                    .map_err(|m| claim_error(spec, m))?,
+            )
+        }
+    };
+    // The differential `J δ` printed in the tangent `δ`: `J` is the linear
+    // map it is in `δ`.
+    let mut differential_in = None;
+    let printed = match (kind, &wrt_ast) {
+        (ClaimKind::Differential, Some(wrt)) => {
+            let tangent = match wrt {
+                Expr::Symbol(s) => ctx.lookup(scope, &symbol_key(s)),
+                _ => None,
+            }
+            .filter(|id| matches!(ctx.table.entries[*id].meaning, Meaning::Tangent { .. }))
+            .ok_or_else(|| {
+                claim_error(
+                    spec,
+                    "a differential is taken by a tangent symbol (`{ perturbs = … }`) printed in it",
+                )
+            })?;
+            differential_in = Some(tangent);
+            Term::Quotient {
+                numerator: Box::new(printed),
+                tangent,
+                limit: false,
+            }
+        }
+        _ => printed,
+    };
+    let output = match spec.output {
+        Some(Side::Left) => Some(Perturbation::Left),
+        Some(Side::Right) => Some(Perturbation::Right),
+        None => match &variable {
+            Some(Variable::Stored { kind, side, .. }) if !kind.is_additive() => Some(*side),
+            _ => None,
+        },
     };
     let mut conventions = Vec::new();
     for c in &spec.conventions {
@@ -374,7 +497,7 @@ pub fn compile(
         };
         let wrt = match &c.wrt {
             Some(latex) => Some(
-                doc_latex::parse_expr(latex)
+                doc_latex::parse_expr_with(latex, &vocabulary)
                     .map_err(|e| claim_error(spec, format!("cannot read `wrt`: {}", e.kind)))?,
             ),
             None => wrt_ast.clone(),
@@ -385,22 +508,10 @@ pub fn compile(
                 let symbol = ctx
                     .lookup(scope, &symbol_key(s))
                     .ok_or_else(|| claim_error(spec, "the updated variable is not defined"))?;
-                let symbol = ctx.alias_of(symbol);
-                let delta = match ctx.lookup(scope, "\\delta") {
-                    Some(d) => d,
-                    None => {
-                        let d = ctx.declare(scope, "\\delta", Some(&spec.id))?;
-                        ctx.table.entries[d].meaning = Meaning::Bound;
-                        d
-                    }
-                };
-                let update = lower_written(ctx, scope, spec, "update", update)?.1;
-                Some(Variable::Update {
-                    symbol,
-                    update,
-                    delta,
-                    dim: 0,
-                })
+                Some(
+                    ctx.update_variable(scope, symbol, update)
+                        .map_err(|m| claim_error(spec, m))?,
+                )
             }
             (_, Some(_), _) => {
                 return Err(claim_error(
@@ -409,7 +520,7 @@ pub fn compile(
                 ));
             }
             (_, None, Some(wrt)) => Some(
-                variable_of(ctx, scope, wrt, c.side.or(spec.side), spec.at_zero)
+                ctx.variable_of(scope, wrt, c.side.or(spec.side), spec.at_zero)
                     .map_err(|m| claim_error(spec, m))?,
             ),
             (_, None, None) => return Err(from_lhs("wrt")),
@@ -452,6 +563,8 @@ pub fn compile(
         kind,
         of,
         variable,
+        wrt_text: wrt_ast.map_or_else(String::new, |w| short(&w.to_string())),
+        output,
         printed,
         printed_ast: located.rhs.clone(),
         lhs: located.lhs.clone(),
@@ -463,13 +576,26 @@ pub fn compile(
         expected,
         links: Vec::new(),
         stacked_fractions: spec.stacked_fractions,
+        nearby_terms: {
+            let others: Vec<&Expr> = located
+                .display
+                .iter()
+                .filter(|e| **e != located.rhs)
+                .collect();
+            super::edits::nearby_terms(&others, &located.rhs)
+        },
+        differential_in,
     })
 }
 
 /// The canonical LaTeX other formulas write a claim's derivative with.
-pub fn lhs_key(spec: &ClaimSpec, located: &Located) -> Result<Option<String>, TextError> {
+pub fn lhs_key(
+    spec: &ClaimSpec,
+    located: &Located,
+    vocabulary: &Vocabulary,
+) -> Result<Option<String>, TextError> {
     match &spec.lhs {
-        Some(written) => canonical(written)
+        Some(written) => canonical(written, vocabulary)
             .map(Some)
             .map_err(|m| claim_error(spec, format!("`lhs`: {m}"))),
         None => Ok(located.lhs.as_ref().map(|l| l.to_string())),
@@ -499,6 +625,32 @@ impl<'a> TextDerivation<'a> {
             table: &self.ctx.table,
             printed: &self.ctx.printed,
             factor: self.ctx.factor,
+            templates: &self.ctx.templates,
+        }
+    }
+
+    /// `term` with `variable` perturbed by `x`, over the parameters `p`; a
+    /// group element read in its local coordinates on `output` about its
+    /// unperturbed value.
+    fn evaluate<S: Scalar>(
+        &self,
+        term: &Term,
+        variable: Option<&Variable>,
+        output: Option<Perturbation>,
+        x: &[S],
+        p: &[S],
+    ) -> Result<Value<S>, ShapeError> {
+        let mut env = Env::new(self.space(), p.to_vec());
+        if let Some(v) = variable {
+            env.perturb(v, x)?;
+        }
+        let value = env.eval(term)?;
+        match (output, variable) {
+            (Some(side), Some(_)) if value.is_group() => {
+                let base = Env::new(self.space(), p.to_vec()).eval(term)?;
+                value.minus(base, side)
+            }
+            _ => Ok(value),
         }
     }
 
@@ -511,19 +663,82 @@ impl<'a> TextDerivation<'a> {
         x: &[S],
         p: &[S],
     ) -> Result<DMatrix<S>, ShapeError> {
-        let mut env = Env::new(self.space(), p.to_vec());
-        if let Some(v) = variable {
-            env.perturb(v, x)?;
-        }
         let hint = (
             Some(self.claim.value_shape.0),
             Some(self.claim.value_shape.1),
         );
-        env.eval(term)?.sized(if self.claim.value_shape.0 == 0 {
-            (None, None)
-        } else {
-            hint
-        })
+        self.evaluate(term, variable, self.claim.output, x, p)?
+            .sized(if self.claim.value_shape.0 == 0 {
+                (None, None)
+            } else {
+                hint
+            })
+    }
+
+    /// The true derivative of a link the file states in words, at this
+    /// sample.
+    fn truth_link(&self, link: &TruthLink) -> Result<DMatrix<f64>, ShapeError> {
+        if let Some(why) = &link.broken {
+            return Err(ShapeError(format!("the link `{}`: {why}", link.key)));
+        }
+        let p = lift::<DualSVec64<1>>(&self.stored);
+        let failure = std::cell::RefCell::new(None);
+        let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
+            match self
+                .evaluate(&link.of, Some(&link.variable), link.output, x, &p)
+                .and_then(Value::matrix)
+            {
+                Ok(m) => m.as_slice().to_vec(),
+                Err(e) => {
+                    *failure.borrow_mut() = Some(e);
+                    Vec::new()
+                }
+            }
+        });
+        match failure.into_inner() {
+            Some(e) => Err(e),
+            None => Ok(m),
+        }
+    }
+
+    /// The values at this sample of the links stated in words `term` uses
+    /// (through the claims it links and the definitions it uses too).
+    fn truths<S: Scalar>(&self, term: &Term) -> Result<Vec<Option<DMatrix<S>>>, ShapeError> {
+        let mut out = vec![None; self.ctx.truth_links.len()];
+        if out.is_empty() {
+            return Ok(out);
+        }
+        let mut seen = vec![false; self.ctx.table.entries.len()];
+        let mut stack = vec![term];
+        while let Some(t) = stack.pop() {
+            match t {
+                Term::TruthLink(k) if out[*k].is_none() => {
+                    let m = self.truth_link(&self.ctx.truth_links[*k])?;
+                    out[*k] = Some(m.map(S::from_f64));
+                }
+                Term::Link(k) => {
+                    if let Some(Some(linked)) = self.ctx.printed.get(*k) {
+                        stack.push(linked);
+                    }
+                }
+                Term::Template(k, _) => stack.push(&self.ctx.templates[*k].body),
+                Term::Symbol(id) if !seen[*id] => {
+                    seen[*id] = true;
+                    match &self.ctx.table.entries[*id].meaning {
+                        Meaning::Definition(d) => stack.push(d),
+                        Meaning::Component { of, .. } => {
+                            if let Meaning::Definition(d) = &self.ctx.table.entries[*of].meaning {
+                                stack.push(d);
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+                _ => {}
+            }
+            stack.extend(t.children());
+        }
+        Ok(out)
     }
 
     /// The length of the variable's input.
@@ -531,10 +746,18 @@ impl<'a> TextDerivation<'a> {
         self.claim.variable.as_ref().map_or(0, Variable::dim)
     }
 
-    /// The map's value at the sample (its shape as computed).
+    /// The map's value at the sample (its shape as computed; a group
+    /// element read in local coordinates is a tangent).
     pub fn map_value(&self) -> Result<DMatrix<f64>, ShapeError> {
-        let mut env = Env::new(self.space(), self.stored.clone());
-        env.eval(&self.claim.of)?.matrix()
+        let dim = self.input_len();
+        self.evaluate(
+            &self.claim.of,
+            self.claim.variable.as_ref(),
+            self.claim.output,
+            &vec![0.0; dim],
+            &self.stored,
+        )?
+        .matrix()
     }
 
     /// A printed right side (the claim's, or an edit of it) at this
@@ -564,11 +787,11 @@ impl<'a> TextDerivation<'a> {
                     None => Ok(m),
                 }
             }
-            _ => {
-                let mut env = Env::new(self.space(), self.stored.clone());
+            _ => self.truths::<f64>(term).and_then(|truths| {
+                let mut env = Env::new(self.space(), self.stored.clone()).with_truths(truths);
                 env.eval(term)
                     .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
-            }
+            }),
         };
         match got {
             Err(e) => Printed::Malformed(e.0),

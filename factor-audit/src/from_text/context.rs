@@ -1,19 +1,24 @@
 //! A context of a symbols file, built: its symbol table (the context's
-//! symbols and each claim's own readings, in scopes), what samples it, and
-//! the lowering of definitions on demand (in dependency order, cycles and
-//! over-deep nesting reported).
+//! symbols and each claim's own readings, in scopes), what samples it, the
+//! operators and functions it defines by LaTeX ([`Template`]s), the
+//! chain-rule links it states ([`TruthLink`]s), and the lowering of
+//! definitions on demand (in dependency order, cycles and over-deep nesting
+//! reported).
 
 use std::collections::HashMap;
 
-use doc_latex::ast::Expr;
+use doc_latex::Vocabulary;
+use doc_latex::ast::{Expr, Head};
 
 use super::TextError;
 use super::factors::FactorKind;
 use super::functions::Builtin;
-use super::lower::{Found, LowerError, Lowering, Resolver, symbol_key};
+use super::lower::{Found, Link, LowerError, Lowering, Resolver, short, symbol_key};
 use super::stored::{FreeSample, Kind, part};
-use super::symbols::{ContextSpec, MAX_SYMBOLS, Side, SymbolSpec};
-use super::term::{Meaning, SymbolId, Table, Term, Variable};
+use super::symbols::{
+    ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec,
+};
+use super::term::{Meaning, SymbolId, Table, Template, Term, TruthLink, Variable};
 use crate::transcription::stored_names;
 use factor_core::manifold::Perturbation;
 use factor_core::storage::Layout;
@@ -22,11 +27,17 @@ use factor_testing::samples::Sampler;
 /// Deepest chain of definitions (a definition using one using one …).
 pub const MAX_DEFINITION_DEPTH: usize = 16;
 
+/// Most operators and function templates a context may define.
+pub const MAX_TEMPLATES: usize = 200;
+
 /// Where a symbol is looked up: a claim's own readings first, then the
 /// context's.
 pub type Scope = Option<usize>;
 
-/// How a definition waits to be lowered.
+/// The scopes of templates' arguments come after every claim's.
+const TEMPLATE_SCOPES: usize = 1 << 40;
+
+/// How a definition or a template waits to be lowered.
 #[derive(Debug, Clone)]
 enum State {
     Done,
@@ -47,6 +58,9 @@ pub struct Context {
     pub names: Vec<String>,
     /// The symbols.
     pub table: Table,
+    /// The document's macros and words, which LaTeX of the symbols file is
+    /// read with too.
+    pub vocabulary: Vocabulary,
     scopes: HashMap<Scope, HashMap<String, SymbolId>>,
     states: Vec<State>,
     /// How deep each symbol's definitions nest (0 for a symbol not defined
@@ -57,28 +71,58 @@ pub struct Context {
     pub links: HashMap<String, usize>,
     /// The printed formula of each claim of the file in this context.
     pub printed: Vec<Option<Term>>,
+    /// Operators and functions defined by LaTeX.
+    pub templates: Vec<Template>,
+    template_states: Vec<State>,
+    /// Operator keys (`\boxminus`, `^\odot`, `between`) to templates.
+    template_keys: HashMap<String, usize>,
+    /// How a derivative by a stored symbol perturbs it by default.
+    defaults: HashMap<SymbolId, Perturbed>,
+    /// Links stated in words, once lowered.
+    pub truth_links: Vec<TruthLink>,
+    link_specs: Vec<LinkSpec>,
+    /// Why a link stated in words could not be read, by its key.
+    link_errors: HashMap<String, String>,
 }
 
-/// The canonical LaTeX of a symbol written in the symbols file.
-pub fn canonical_symbol(written: &str) -> Result<String, String> {
-    match doc_latex::parse_expr(written) {
+/// The canonical LaTeX of a name the symbols file defines: a symbol, or
+/// any printed expression but a number (`\pi'(q)`, `u v`, `\hat{\xi}_b^*`).
+pub fn canonical_symbol(written: &str, vocabulary: &Vocabulary) -> Result<String, String> {
+    match doc_latex::parse_expr_with(written, vocabulary) {
         Ok(Expr::Symbol(s)) => Ok(symbol_key(&s)),
-        Ok(other) => Err(format!("`{other}` is not one symbol")),
+        Ok(e @ (Expr::Number(_) | Expr::Relation { .. } | Expr::Text(_))) => {
+            Err(format!("`{e}` is not a name"))
+        }
+        Ok(other) => Ok(other.to_string()),
         Err(e) => Err(format!("cannot read it: {}", e.kind)),
     }
 }
 
 /// The canonical LaTeX of any expression written in the symbols file.
-pub fn canonical(written: &str) -> Result<String, String> {
-    doc_latex::parse_expr(written)
+pub fn canonical(written: &str, vocabulary: &Vocabulary) -> Result<String, String> {
+    doc_latex::parse_expr_with(written, vocabulary)
         .map(|e| e.to_string())
         .map_err(|e| format!("cannot read `{written}`: {} at `{}`", e.kind, e.fragment))
 }
 
+/// An operator's key as the symbols file writes it, normalised: no braces
+/// or spaces (`^{\odot}` is `^\odot`).
+pub fn operator_key(written: &str) -> String {
+    written
+        .chars()
+        .filter(|c| !c.is_whitespace() && *c != '{' && *c != '}')
+        .collect()
+}
+
 impl Context {
     /// The context `name` as `spec` writes it (its claims' readings are
-    /// added with [`Context::add_claim_symbols`]).
-    pub fn build(name: &str, spec: &ContextSpec) -> Result<Self, TextError> {
+    /// added with [`Context::add_claim_symbols`]); LaTeX is read with the
+    /// document's `vocabulary`.
+    pub fn build(
+        name: &str,
+        spec: &ContextSpec,
+        vocabulary: &Vocabulary,
+    ) -> Result<Self, TextError> {
         let error = |message: String| TextError::Context {
             context: name.to_string(),
             message,
@@ -95,6 +139,9 @@ impl Context {
         if spec.symbols.len() > MAX_SYMBOLS {
             return Err(error(format!("more than {MAX_SYMBOLS} symbols")));
         }
+        if spec.operators.len() > MAX_TEMPLATES {
+            return Err(error(format!("more than {MAX_TEMPLATES} operators")));
+        }
         let mut names: Vec<String> = factor
             .map(|f| stored_names_of(&f.layout(), spec, f))
             .unwrap_or_default();
@@ -104,29 +151,38 @@ impl Context {
             free: Vec::new(),
             names: Vec::new(),
             table: Table::default(),
+            vocabulary: vocabulary.clone(),
             scopes: HashMap::from([(None, HashMap::new())]),
             states: Vec::new(),
             depths: Vec::new(),
             building: 0,
             links: HashMap::new(),
             printed: Vec::new(),
+            templates: Vec::new(),
+            template_states: Vec::new(),
+            template_keys: HashMap::new(),
+            defaults: HashMap::new(),
+            truth_links: Vec::new(),
+            link_specs: spec.links.clone(),
+            link_errors: HashMap::new(),
         };
+        for (written, t) in &spec.operators {
+            let id = ctx.template(written, t, None)?;
+            ctx.template_keys.insert(operator_key(written), id);
+        }
         let mut tangents = Vec::new();
         for (written, value) in &spec.symbols {
             let meaning = SymbolSpec::read(written, value)?;
             let id = ctx.declare(None, written, None)?;
             match meaning {
-                SymbolSpec::Sample(s) => {
-                    let sample = FreeSample::named(&s).ok_or_else(|| {
-                        symbol_error(
-                            written,
-                            None,
-                            format!(
-                                "no sampler `{s}` (samplers: {})",
-                                FreeSample::ALL.map(|(n, _)| n).join(", ")
-                            ),
-                        )
-                    })?;
+                SymbolSpec::Sample {
+                    name,
+                    size,
+                    range,
+                    perturbation,
+                } => {
+                    let sample = FreeSample::from_spec(&name, size, range)
+                        .map_err(|m| symbol_error(written, None, m))?;
                     let offset = names.len();
                     names.extend(sampled_names(sample, written));
                     ctx.free.push((sample, offset));
@@ -137,6 +193,11 @@ impl Context {
                             kind: sample.kind(),
                         },
                     );
+                    ctx.defaults.insert(id, perturbation);
+                }
+                SymbolSpec::Template(t) => {
+                    let template = ctx.template(written, &t, None)?;
+                    ctx.set(id, Meaning::Template(template));
                 }
                 other => {
                     if let Some(t) = ctx.meaning(id, written, other, None)? {
@@ -150,6 +211,41 @@ impl Context {
             ctx.tangent(id, &written, spec, None)?;
         }
         Ok(ctx)
+    }
+
+    /// Declares a template: its arguments bound in a scope of their own.
+    fn template(
+        &mut self,
+        written: &str,
+        t: &TemplateSpec,
+        equation: Option<&str>,
+    ) -> Result<usize, TextError> {
+        let bad = |m: String| symbol_error(written, equation, m);
+        if self.templates.len() >= MAX_TEMPLATES {
+            return Err(bad(format!("more than {MAX_TEMPLATES} operators")));
+        }
+        let id = self.templates.len();
+        let scope = Some(TEMPLATE_SCOPES + id);
+        let mut params = Vec::with_capacity(t.args.len());
+        for a in &t.args {
+            let p = self.declare(scope, a, equation)?;
+            self.set(p, Meaning::Bound);
+            params.push(p);
+        }
+        let e = doc_latex::parse_expr_with(&t.latex, &self.vocabulary).map_err(|e| {
+            bad(format!(
+                "cannot read `{}`: {} at `{}`",
+                t.latex, e.kind, e.fragment
+            ))
+        })?;
+        self.templates.push(Template {
+            key: operator_key(written),
+            params,
+            body: Term::Zero,
+        });
+        self.template_states
+            .push(State::Pending(Box::new(e), scope));
+        Ok(id)
     }
 
     /// Adds claim `claim`'s own readings (its `[claim.symbols]`).
@@ -172,12 +268,19 @@ impl Context {
                 },
                 other => other,
             })?;
-            if matches!(meaning, SymbolSpec::Sample(_)) {
+            if matches!(meaning, SymbolSpec::Sample { .. }) {
                 return Err(symbol_error(
                     written,
                     Some(equation),
                     "a claim cannot sample: declare it in its context".into(),
                 ));
+            }
+            if let SymbolSpec::Template(t) = &meaning {
+                // A function read this way in this formula only.
+                let template = self.template(written, t, Some(equation))?;
+                let id = self.declare(Some(claim), written, Some(equation))?;
+                self.set(id, Meaning::Template(template));
+                continue;
             }
             let id = self.declare(Some(claim), written, Some(equation))?;
             if let Some(t) = self.meaning(id, written, meaning, Some(equation))? {
@@ -197,7 +300,8 @@ impl Context {
         written: &str,
         equation: Option<&str>,
     ) -> Result<SymbolId, TextError> {
-        let key = canonical_symbol(written).map_err(|m| symbol_error(written, equation, m))?;
+        let key = canonical_symbol(written, &self.vocabulary)
+            .map_err(|m| symbol_error(written, equation, m))?;
         if self.table.entries.len() >= MAX_SYMBOLS {
             return Err(symbol_error(
                 written,
@@ -237,7 +341,7 @@ impl Context {
         let bad = |m: String| symbol_error(written, equation, m);
         match spec {
             SymbolSpec::Latex { latex, components } => {
-                let e = doc_latex::parse_expr(&latex).map_err(|e| {
+                let e = doc_latex::parse_expr_with(&latex, &self.vocabulary).map_err(|e| {
                     bad(format!(
                         "cannot read `{latex}`: {} at `{}`",
                         e.kind, e.fragment
@@ -256,7 +360,11 @@ impl Context {
                     self.set(cid, Meaning::Component { of: id, index });
                 }
             }
-            SymbolSpec::Field { path, components } => {
+            SymbolSpec::Field {
+                path,
+                components,
+                perturbation,
+            } => {
                 let Some(factor) = self.factor else {
                     return Err(bad("a field needs the context's `factor`".into()));
                 };
@@ -274,6 +382,7 @@ impl Context {
                         kind: Kind::of(&layout),
                     },
                 );
+                self.defaults.insert(id, perturbation);
                 for (index, c) in components.iter().enumerate() {
                     let cid = self.declare(scope, c, equation)?;
                     self.set(cid, Meaning::Component { of: id, index });
@@ -304,7 +413,9 @@ impl Context {
                     Meaning::Residual(components.iter().map(|c| c - 1).collect()),
                 );
             }
-            SymbolSpec::Sample(_) => unreachable!("sampled symbols are set by the caller"),
+            SymbolSpec::Sample { .. } | SymbolSpec::Template(_) => {
+                unreachable!("sampled symbols and templates are set by the caller")
+            }
             spec @ SymbolSpec::Tangent { .. } => {
                 return Ok(Some((id, written.to_string(), spec)));
             }
@@ -312,8 +423,8 @@ impl Context {
         Ok(None)
     }
 
-    /// Resolves a tangent: what it perturbs, on which side, which
-    /// coordinates, and its parts.
+    /// Resolves a tangent: what it perturbs, on which side or by which
+    /// update, which coordinates, and its parts.
     fn tangent(
         &mut self,
         id: SymbolId,
@@ -325,6 +436,7 @@ impl Context {
         let SymbolSpec::Tangent {
             perturbs,
             side,
+            update,
             parts,
             coordinates,
         } = spec
@@ -332,26 +444,29 @@ impl Context {
             return Ok(());
         };
         let bad = |m: String| symbol_error(written, equation, m);
-        let key = canonical_symbol(&perturbs).map_err(&bad)?;
+        let key = canonical_symbol(&perturbs, &self.vocabulary).map_err(&bad)?;
         let scope = claim.map(|(c, _)| c);
         let target = self
             .lookup(scope, &key)
             .ok_or_else(|| bad(format!("it perturbs `{key}`, which is not defined")))?;
-        let variable = self
-            .variable(target, side, coordinates.as_deref(), false)
-            .map_err(bad)?;
+        let variable = match &update {
+            Some(latex) => {
+                if side.is_some() || coordinates.is_some() {
+                    return Err(bad(
+                        "an `update` says how it perturbs: no `side` or `coordinates`".into(),
+                    ));
+                }
+                self.update_variable(scope, target, latex).map_err(bad)?
+            }
+            None => self
+                .variable(target, side, coordinates.as_deref(), false)
+                .map_err(bad)?,
+        };
         let mut part_ids = Vec::new();
         for p in &parts {
             let pid = self.declare(scope, p, equation)?;
             self.set(pid, Meaning::Bound);
             part_ids.push(pid);
-        }
-        if !parts.is_empty() && variable.dim() % parts.len() != 0 {
-            return Err(bad(format!(
-                "{} coordinates cannot be cut in {} equal parts",
-                variable.dim(),
-                parts.len()
-            )));
         }
         self.set(
             id,
@@ -363,9 +478,46 @@ impl Context {
         Ok(())
     }
 
+    /// A variable perturbed by an update: `symbol` replaced by `latex`, an
+    /// expression in it and `\delta` (the input).
+    pub fn update_variable(
+        &mut self,
+        scope: Scope,
+        symbol: SymbolId,
+        latex: &str,
+    ) -> Result<Variable, String> {
+        let symbol = self.alias_of(symbol);
+        let delta = match self.lookup(scope, "\\delta") {
+            Some(d) => d,
+            None => {
+                let d = self
+                    .declare(scope, "\\delta", None)
+                    .map_err(|e| e.to_string())?;
+                self.set(d, Meaning::Bound);
+                d
+            }
+        };
+        let e = doc_latex::parse_expr_with(latex, &self.vocabulary).map_err(|e| {
+            format!(
+                "cannot read the update `{latex}`: {} at `{}`",
+                e.kind, e.fragment
+            )
+        })?;
+        let update = Lowering::new(&mut self.resolver(scope), false)
+            .expr(&e)
+            .map_err(|e| format!("the update: {e}"))?;
+        Ok(Variable::Update {
+            symbol,
+            update,
+            delta,
+            dim: 0,
+        })
+    }
+
     /// What a derivative by symbol `target` perturbs: a stored value on a
-    /// side (or additively), or a definition additively (its shape is set
-    /// by [`Context::shape_defined`] once it can be evaluated).
+    /// side (the one given, else the symbol's default), by the symbol's
+    /// default update, or additively; a definition additively (its shape
+    /// is set by [`Context::shape_defined`] once it can be evaluated).
     pub fn variable(
         &mut self,
         target: SymbolId,
@@ -375,10 +527,15 @@ impl Context {
     ) -> Result<Variable, String> {
         let target = self.alias_of(target);
         let key = self.table.key(target).to_string();
+        let default = self.defaults.get(&target).cloned().unwrap_or_default();
         match self.table.entries[target].meaning.clone() {
             Meaning::Stored { offset, kind } => {
                 let additive = kind.is_additive();
-                let side = match (side, additive) {
+                if let (None, None, Some(update)) = (side, coordinates, &default.update) {
+                    let scope = self.scope_of(target);
+                    return self.update_variable(scope, target, update);
+                }
+                let side = match (side.or(default.side), additive) {
                     (Some(Side::Left), false) => Perturbation::Left,
                     (Some(Side::Right), false) => Perturbation::Right,
                     (None, false) => {
@@ -428,6 +585,15 @@ impl Context {
                         Side::Right => Perturbation::Right,
                     };
                 }
+                if at_zero {
+                    match &mut variable {
+                        Variable::Stored {
+                            kind, at_zero: z, ..
+                        } if kind.is_additive() => *z = true,
+                        Variable::Defined { at_zero: z, .. } => *z = true,
+                        _ => return Err(format!("`{key}` has no zero: it is not additive")),
+                    }
+                }
                 Ok(variable)
             }
             Meaning::Component { of, .. } => Err(format!(
@@ -439,6 +605,64 @@ impl Context {
                 "`{key}` is not a quantity a derivative can be taken by"
             )),
         }
+    }
+
+    /// The variable a derivative is taken by, written `wrt`: a symbol (or a
+    /// name the file defines, `\pi'(q)`), or the entries of one vector in
+    /// order (`(P_x, P_y, P_z)`).
+    pub fn variable_of(
+        &mut self,
+        scope: Scope,
+        wrt: &Expr,
+        side: Option<Side>,
+        at_zero: bool,
+    ) -> Result<Variable, String> {
+        let target = match wrt {
+            Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)),
+            Expr::Apply {
+                head: Head::Symbol(s),
+                ..
+            } => self
+                .lookup(scope, &wrt.to_string())
+                .or_else(|| self.lookup(scope, &symbol_key(s))),
+            Expr::Tuple(items) => {
+                // (P_x, P_y, P_z): every entry of one vector, in order.
+                let ids: Option<Vec<usize>> = items
+                    .iter()
+                    .map(|i| match i {
+                        Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)),
+                        _ => None,
+                    })
+                    .collect();
+                let parts: Option<Vec<(usize, usize)>> = ids.and_then(|ids| {
+                    ids.iter()
+                        .map(|id| match self.table.entries[*id].meaning {
+                            Meaning::Component { of, index } => Some((of, index)),
+                            _ => None,
+                        })
+                        .collect()
+                });
+                match parts.as_deref() {
+                    Some([(of, 0), rest @ ..])
+                        if rest
+                            .iter()
+                            .enumerate()
+                            .all(|(i, (o, k))| o == of && *k == i + 1) =>
+                    {
+                        Some(*of)
+                    }
+                    _ => None,
+                }
+            }
+            other => self.lookup(scope, &other.to_string()),
+        };
+        let Some(target) = target else {
+            return Err(format!(
+                "`{}` is not a variable (a symbol, or the entries of one vector in order)",
+                short(&wrt.to_string())
+            ));
+        };
+        self.variable(target, side, None, at_zero)
     }
 
     /// Follows definitions that are one other symbol (`{}_w p_C = {}_W p_C`),
@@ -541,6 +765,45 @@ impl Context {
         }
     }
 
+    /// Lowers template `id`'s body if it still waits.
+    fn lower_template(&mut self, id: usize) -> Result<(), LowerError> {
+        match std::mem::replace(&mut self.template_states[id], State::InProgress) {
+            State::Done => {
+                self.template_states[id] = State::Done;
+                Ok(())
+            }
+            State::InProgress => Err(LowerError {
+                message: "is defined in terms of itself".into(),
+                fragment: self.templates[id].key.clone(),
+            }),
+            State::Pending(e, scope) => {
+                if self.building >= MAX_DEFINITION_DEPTH {
+                    self.template_states[id] = State::Pending(e, scope);
+                    return Err(LowerError {
+                        message: format!(
+                            "definitions nest deeper than {MAX_DEFINITION_DEPTH} levels"
+                        ),
+                        fragment: self.templates[id].key.clone(),
+                    });
+                }
+                self.building += 1;
+                let term = Lowering::new(&mut ScopeResolver { ctx: self, scope }, false).expr(&e);
+                self.building -= 1;
+                match term {
+                    Ok(t) => {
+                        self.templates[id].body = t;
+                        self.template_states[id] = State::Done;
+                        Ok(())
+                    }
+                    Err(err) => {
+                        self.template_states[id] = State::Pending(e, scope);
+                        Err(err)
+                    }
+                }
+            }
+        }
+    }
+
     /// How deep symbol `id`'s definitions nest.
     fn depth_of(&self, id: SymbolId) -> usize {
         match &self.table.entries[id].meaning {
@@ -549,44 +812,171 @@ impl Context {
         }
     }
 
-    /// Lowers every definition, reporting the first that cannot be.
+    /// Lowers every template, definition and link stated in words,
+    /// reporting the first that cannot be (the others are still lowered:
+    /// a claim using a broken one gets its error).
     pub fn lower_all(
         &mut self,
         equation_of: impl Fn(Scope) -> Option<String>,
     ) -> Result<(), TextError> {
+        let mut first: Option<TextError> = None;
+        for id in 0..self.templates.len() {
+            if let Err(e) = self.lower_template(id) {
+                first.get_or_insert(TextError::Symbol {
+                    symbol: self.templates[id].key.clone(),
+                    equation: None,
+                    message: e.to_string(),
+                });
+            }
+        }
         for id in 0..self.table.entries.len() {
             if let Err(e) = self.lower_pending(id) {
                 let scope = self.scope_of(id);
-                return Err(TextError::Symbol {
+                first.get_or_insert(TextError::Symbol {
                     symbol: self.table.key(id).to_string(),
                     equation: equation_of(scope),
                     message: e.to_string(),
                 });
             }
         }
+        for spec in std::mem::take(&mut self.link_specs) {
+            if let Err(message) = self.truth_link(&spec) {
+                self.link_errors.insert(
+                    canonical(&spec.lhs, &self.vocabulary).unwrap_or_default(),
+                    message.clone(),
+                );
+                first.get_or_insert(TextError::Context {
+                    context: self.name.clone(),
+                    message: format!("the link `{}`: {message}", short(&spec.lhs)),
+                });
+            }
+        }
+        first.map_or(Ok(()), Err)
+    }
+
+    /// Lowers a link stated in words and registers it under its printed
+    /// form.
+    fn truth_link(&mut self, spec: &LinkSpec) -> Result<(), String> {
+        let key = canonical(&spec.lhs, &self.vocabulary)?;
+        let of = doc_latex::parse_expr_with(&spec.of, &self.vocabulary)
+            .map_err(|e| format!("cannot read `of`: {} at `{}`", e.kind, e.fragment))?;
+        let of = Lowering::new(&mut self.resolver(None), false)
+            .expr(&of)
+            .map_err(|e| format!("`of`: {e}"))?;
+        let wrt = doc_latex::parse_expr_with(&spec.wrt, &self.vocabulary)
+            .map_err(|e| format!("cannot read `wrt`: {} at `{}`", e.kind, e.fragment))?;
+        let variable = self.variable_of(None, &wrt, spec.side, false)?;
+        if matches!(variable, Variable::Update { .. }) {
+            return Err("a link stated in words differentiates by a symbol, not an update".into());
+        }
+        let output = spec.output.map(|s| match s {
+            Side::Left => Perturbation::Left,
+            Side::Right => Perturbation::Right,
+        });
+        self.truth_links.push(TruthLink {
+            key: key.clone(),
+            of,
+            variable,
+            output,
+            broken: None,
+            inline: None,
+        });
         Ok(())
     }
 
-    /// Sets the shape of every [`Variable::Defined`] tangent from a sample.
+    /// A derivative printed inside a formula that no claim or stated link
+    /// names (`R \frac{\partial}{\partial\omega}(e^{[\omega]_\times} p)`):
+    /// the true derivative of what it prints, read in `scope`, registered
+    /// as a link of its own (the same printed derivative in the same
+    /// scope is one link).
+    fn inline_link(
+        &mut self,
+        scope: Scope,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+    ) -> Result<Link, LowerError> {
+        if let Some(k) = self
+            .truth_links
+            .iter()
+            .position(|l| l.inline == Some(scope) && l.key == key)
+        {
+            return Ok(Link::Truth(k));
+        }
+        if *of == Expr::Placeholder {
+            return Err(LowerError::at(of, "a derivative of nothing"));
+        }
+        let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        let variable = self
+            .variable_of(scope, wrt, None, false)
+            .map_err(|m| LowerError::at(wrt, m))?;
+        if matches!(variable, Variable::Update { .. }) {
+            return Err(LowerError::at(
+                wrt,
+                "a derivative printed in a formula is taken by a symbol, not an update",
+            ));
+        }
+        self.truth_links.push(TruthLink {
+            key: key.to_string(),
+            of,
+            variable,
+            output: None,
+            broken: None,
+            inline: Some(scope),
+        });
+        Ok(Link::Truth(self.truth_links.len() - 1))
+    }
+
+    /// Sets the input size of every tangent perturbing a definition or by
+    /// an update, from a sample: `dim_of` gives a symbol's value's shape
+    /// and its tangent dimension.
     pub fn shape_defined(
         &mut self,
-        shape_of: impl Fn(&Self, SymbolId) -> Result<(usize, usize), String>,
+        dim_of: impl Fn(&Self, SymbolId) -> Result<((usize, usize), usize), String>,
     ) -> Result<(), TextError> {
         for id in 0..self.table.entries.len() {
-            if let Meaning::Tangent {
-                variable: Variable::Defined { symbol, .. },
-                ..
-            } = &self.table.entries[id].meaning
-            {
-                let symbol = *symbol;
-                let s = shape_of(self, symbol)
-                    .map_err(|m| symbol_error(self.table.key(id), None, m))?;
-                if let Meaning::Tangent {
-                    variable: Variable::Defined { shape, .. },
+            let target = match &self.table.entries[id].meaning {
+                Meaning::Tangent {
+                    variable: Variable::Defined { symbol, .. } | Variable::Update { symbol, .. },
                     ..
-                } = &mut self.table.entries[id].meaning
-                {
-                    *shape = s;
+                } => *symbol,
+                _ => continue,
+            };
+            let key = self.table.key(id).to_string();
+            let (shape, dim) = dim_of(self, target).map_err(|m| symbol_error(&key, None, m))?;
+            if let Meaning::Tangent {
+                variable, parts, ..
+            } = &mut self.table.entries[id].meaning
+            {
+                match variable {
+                    Variable::Defined { shape: s, .. } => *s = shape,
+                    Variable::Update { dim: d, .. } => *d = dim,
+                    _ => {}
+                }
+                if !parts.is_empty() && variable.dim() % parts.len() != 0 {
+                    return Err(symbol_error(
+                        &key,
+                        None,
+                        format!(
+                            "{} coordinates cannot be cut in {} equal parts",
+                            variable.dim(),
+                            parts.len()
+                        ),
+                    ));
+                }
+            }
+        }
+        // A link whose variable cannot be sized is broken: the claims
+        // using it cannot be read.
+        for k in 0..self.truth_links.len() {
+            if let Variable::Defined { symbol, .. } = self.truth_links[k].variable {
+                match dim_of(self, symbol) {
+                    Ok((s, _)) => {
+                        if let Variable::Defined { shape, .. } = &mut self.truth_links[k].variable {
+                            *shape = s;
+                        }
+                    }
+                    Err(m) => self.truth_links[k].broken = Some(m),
                 }
             }
         }
@@ -605,6 +995,33 @@ impl Context {
             stored.extend(sample.draw(s));
         }
         stored
+    }
+
+    fn link_of(&self, scope: Scope, key: &str) -> Option<Link> {
+        if let Some(k) = self.links.get(key) {
+            return Some(Link::Claim(*k));
+        }
+        if let Some(k) = self
+            .truth_links
+            .iter()
+            .position(|l| l.key == key && l.inline.is_none_or(|s| s == scope))
+        {
+            return Some(Link::Truth(k));
+        }
+        self.link_errors.get(key).map(|m| Link::Broken(m.clone()))
+    }
+
+    fn template_of(&self, scope: Scope, key: &str) -> Option<usize> {
+        self.template_keys
+            .get(&operator_key(key))
+            .copied()
+            .or_else(|| {
+                self.lookup(scope, key)
+                    .and_then(|id| match self.table.entries[id].meaning {
+                        Meaning::Template(t) => Some(t),
+                        _ => None,
+                    })
+            })
     }
 }
 
@@ -676,12 +1093,33 @@ impl Resolver for ScopeResolver<'_> {
         let Some(id) = self.ctx.lookup(self.scope, key) else {
             return Ok(None);
         };
-        self.ctx.lower_pending(id)?;
+        self.ctx.lower_pending(id).map_err(|e| {
+            if e.fragment == key {
+                e
+            } else {
+                LowerError {
+                    message: format!("the definition of `{key}` cannot be read: {}", e.message),
+                    fragment: e.fragment,
+                }
+            }
+        })?;
         Ok(Some((id, found(&self.ctx.table.entries[id].meaning))))
     }
 
-    fn link(&self, key: &str) -> Option<usize> {
-        self.ctx.links.get(key).copied()
+    fn link(&self, key: &str) -> Option<Link> {
+        self.ctx.link_of(self.scope, key)
+    }
+
+    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
+        self.ctx.inline_link(self.scope, key, of, wrt)
+    }
+
+    fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {
+        let Some(t) = self.ctx.template_of(self.scope, key) else {
+            return Ok(None);
+        };
+        self.ctx.lower_template(t)?;
+        Ok(Some((t, self.ctx.templates[t].params.len())))
     }
 }
 
@@ -702,8 +1140,15 @@ impl Resolver for FrozenResolver<'_> {
             .map(|id| (id, found(&self.ctx.table.entries[id].meaning))))
     }
 
-    fn link(&self, key: &str) -> Option<usize> {
-        self.ctx.links.get(key).copied()
+    fn link(&self, key: &str) -> Option<Link> {
+        self.ctx.link_of(self.scope, key)
+    }
+
+    fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {
+        Ok(self
+            .ctx
+            .template_of(self.scope, key)
+            .map(|t| (t, self.ctx.templates[t].params.len())))
     }
 }
 
@@ -725,8 +1170,11 @@ fn symbols_in(t: &Term) -> Vec<SymbolId> {
 fn found(meaning: &Meaning) -> Found {
     match meaning {
         Meaning::Function(b) => Found::Function(*b),
+        Meaning::Template(t) => Found::Template(*t),
         Meaning::Tangent { parts, .. } => Found::Tangent(parts.clone()),
-        Meaning::Stored { .. } => Found::Stored,
+        Meaning::Stored { kind, .. } => Found::Stored {
+            group: !kind.is_additive(),
+        },
         _ => Found::Value,
     }
 }

@@ -93,6 +93,22 @@ pub enum Edit {
         /// Its replacement.
         with: Box<ast::Symbol>,
     },
+    /// The node inverted (`x` to `x^{-1}`), or its inverse undone.
+    Invert(Path),
+    /// A parenthesis misplaced in a sum whose last term is a product:
+    /// `(a − b c)` read as `(a − b) c`.
+    Regroup(Path),
+    /// A term printed elsewhere on the formula's display added to the node
+    /// (`−p × ω` to `−p × ω + v` when the chain's other sides have `+ v`;
+    /// before a lone subtracted term, `−x` to `a − x`).
+    AddTerm {
+        /// The node (a sum gets the term as its last).
+        path: Path,
+        /// The term, `Neg` for a subtracted one.
+        term: Box<Expr>,
+        /// Put it first (before a lone subtracted term: `−x` to `a − x`).
+        first: bool,
+    },
     /// The node multiplied by a constant.
     Scale {
         /// The node.
@@ -114,11 +130,14 @@ impl Edit {
     pub fn site(&self) -> Path {
         match self {
             Edit::Negate(p)
+            | Edit::Invert(p)
+            | Edit::Regroup(p)
             | Edit::Exponent { path: p, .. }
             | Edit::SymbolExponent { path: p, .. }
             | Edit::Transpose(p)
             | Edit::Replace { path: p, .. }
             | Edit::Scale { path: p, .. }
+            | Edit::AddTerm { path: p, .. }
             | Edit::Swap { matrix: p, .. }
             | Edit::DeleteRow { matrix: p, .. }
             | Edit::DeleteColumn { matrix: p, .. } => p.clone(),
@@ -162,7 +181,13 @@ impl Edit {
                 }
                 _ => false,
             },
+            // An exponent 1 is not printed: `x^2` corrected to `x`.
             Edit::Exponent { to, .. } => match node {
+                Expr::Power { base, .. } if *to == 1.0 => {
+                    let base = std::mem::replace(base.as_mut(), Expr::Placeholder);
+                    *node = base;
+                    true
+                }
                 Expr::Power { exponent, .. } => {
                     **exponent = number_expr(*to);
                     true
@@ -171,7 +196,7 @@ impl Edit {
             },
             Edit::SymbolExponent { to, .. } => match node {
                 Expr::Symbol(s) => {
-                    s.sup = Some(Box::new(number_expr(*to)));
+                    s.sup = (*to != 1.0).then(|| Box::new(number_expr(*to)));
                     true
                 }
                 _ => false,
@@ -270,6 +295,37 @@ impl Edit {
                 }
                 _ => false,
             },
+            Edit::AddTerm { term, first, .. } => {
+                let (sign, t) = match term.as_ref() {
+                    Expr::Neg(x) => (Sign::Minus, x.as_ref().clone()),
+                    other => (Sign::Plus, other.clone()),
+                };
+                match node {
+                    Expr::Sum { rest, .. } => rest.push((sign, t)),
+                    // `−x` missing the term before it: `a − x`.
+                    Expr::Neg(_) if *first => {
+                        let Expr::Neg(x) = std::mem::replace(node, Expr::Placeholder) else {
+                            unreachable!("matched")
+                        };
+                        let first = match sign {
+                            Sign::Plus => t,
+                            Sign::Minus => Expr::Neg(Box::new(t)),
+                        };
+                        *node = Expr::Sum {
+                            first: Box::new(first),
+                            rest: vec![(Sign::Minus, *x)],
+                        };
+                    }
+                    _ => {
+                        let old = std::mem::replace(node, Expr::Placeholder);
+                        *node = Expr::Sum {
+                            first: Box::new(old),
+                            rest: vec![(sign, t)],
+                        };
+                    }
+                }
+                true
+            }
             Edit::Scale { by, .. } => {
                 let old = std::mem::replace(node, Expr::Placeholder);
                 *node = Expr::Product {
@@ -278,6 +334,24 @@ impl Edit {
                 };
                 true
             }
+            Edit::Invert(_) => {
+                let old = std::mem::replace(node, Expr::Placeholder);
+                *node = match old {
+                    Expr::Power { base, exponent } if number(&exponent) == Some(-1.0) => *base,
+                    other => Expr::Power {
+                        base: Box::new(other),
+                        exponent: Box::new(number_expr(-1.0)),
+                    },
+                };
+                true
+            }
+            Edit::Regroup(_) => match regrouped(node) {
+                Some(e) => {
+                    *node = e;
+                    true
+                }
+                None => false,
+            },
         }
     }
 
@@ -405,6 +479,31 @@ impl Edit {
             Edit::Replace { path, with } => {
                 format!("`{}` should be `{}`", show(path), plain(&symbol_key(with)))
             }
+            Edit::Invert(p) => match at(root, p) {
+                Some(Expr::Power { base, exponent }) if number(exponent) == Some(-1.0) => {
+                    format!("`{}` should not be inverted", plain(&base.to_string()))
+                }
+                _ => format!("`{}` should be inverted", show(p)),
+            },
+            Edit::Regroup(p) => match at(root, p).and_then(regrouped) {
+                Some(e) => format!(
+                    "a parenthesis is misplaced: `{}` should read `{}`",
+                    show(p),
+                    plain(&e.to_string())
+                ),
+                None => "a parenthesis is misplaced".into(),
+            },
+            Edit::AddTerm { path, term, .. } => {
+                let written = match term.as_ref() {
+                    Expr::Neg(x) => format!("− {}", plain(&x.to_string())),
+                    other => format!("+ {}", plain(&other.to_string())),
+                };
+                if path.is_empty() {
+                    format!("the term `{written}` is missing")
+                } else {
+                    format!("the term `{written}` is missing after `{}`", show(path))
+                }
+            }
             Edit::Scale { path, by } if path.is_empty() => {
                 format!(
                     "the whole formula should be multiplied by {}",
@@ -416,6 +515,43 @@ impl Edit {
             }
         }
     }
+}
+
+/// `(a − b c)` as `(a − b) c`: a sum whose last term is a product of at
+/// least two factors, with that product's last factor taken out.
+fn regrouped(e: &Expr) -> Option<Expr> {
+    let Expr::Sum { first, rest } = e else {
+        return None;
+    };
+    let (sign, last) = rest.last()?;
+    let Expr::Product {
+        first: f0,
+        rest: factors,
+    } = last
+    else {
+        return None;
+    };
+    let ((op, outside), inside) = factors.split_last()?;
+    if *op != MulOp::Implicit {
+        return None;
+    }
+    let kept = if inside.is_empty() {
+        f0.as_ref().clone()
+    } else {
+        Expr::Product {
+            first: f0.clone(),
+            rest: inside.to_vec(),
+        }
+    };
+    let mut terms = rest[..rest.len() - 1].to_vec();
+    terms.push((*sign, kept));
+    Some(Expr::Product {
+        first: Box::new(Expr::Sum {
+            first: first.clone(),
+            rest: terms,
+        }),
+        rest: vec![(MulOp::Implicit, outside.clone())],
+    })
 }
 
 /// LaTeX made lighter for prose: no `\left`/`\right`, bars hugging their
@@ -493,6 +629,14 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
     ];
     let siblings = siblings(ctx, claim);
     for (path, node) in nodes(root) {
+        if matches!(node, Expr::Symbol(_) | Expr::Apply { .. })
+            || matches!(node, Expr::Power { exponent, .. } if number(exponent) == Some(-1.0))
+        {
+            out.push(Edit::Invert(path.clone()));
+        }
+        if regrouped(node).is_some() {
+            out.push(Edit::Regroup(path.clone()));
+        }
         match node {
             Expr::Sum { rest, .. } => {
                 for i in 0..=rest.len() {
@@ -608,6 +752,78 @@ pub fn candidates(root: &Expr, ctx: &Context, claim: &TextClaim) -> Vec<Edit> {
                 }
             }
             _ => {}
+        }
+    }
+    out
+}
+
+/// Most terms gathered from the formula's line for [`additions`].
+pub const MAX_NEARBY_TERMS: usize = 24;
+
+/// The terms printed in the claim's display (the other sides of its chain,
+/// its other lines, a value's left side, the sums inside its right side),
+/// each with its sign, except the right side's own: what a term missing
+/// from the right side may be.
+pub fn nearby_terms(others: &[&Expr], rhs: &Expr) -> Vec<Expr> {
+    let own: Vec<String> = sum_terms(rhs).iter().map(|t| t.to_string()).collect();
+    let mut out: Vec<Expr> = Vec::new();
+    for e in others.iter().copied().chain(std::iter::once(rhs)) {
+        for (_, node) in nodes(e) {
+            for t in sum_terms(node) {
+                let key = t.to_string();
+                if out.len() < MAX_NEARBY_TERMS
+                    && !own.contains(&key)
+                    && !out.iter().any(|o| o.to_string() == key)
+                {
+                    out.push(t);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The terms of a sum with their signs (`Neg` for a subtracted one); none
+/// for another node.
+fn sum_terms(e: &Expr) -> Vec<Expr> {
+    if !matches!(e, Expr::Sum { .. }) {
+        return Vec::new();
+    }
+    e.terms()
+        .into_iter()
+        .map(|(sign, t)| match sign {
+            Sign::Minus => Expr::Neg(Box::new(t.clone())),
+            Sign::Plus => t.clone(),
+        })
+        .collect()
+}
+
+/// Missing terms: each of `terms` added to the right side, to each of its
+/// sums, before each of its subtracted terms and to each entry of its
+/// matrices.
+pub fn additions(root: &Expr, terms: &[Expr]) -> Vec<Edit> {
+    // The whole right side gets the term last (`−p × ω` to `−p × ω + v`);
+    // a subtracted term inside it, first (`(−x)` to `(a − x)`).
+    let mut sites: Vec<(Path, bool)> = vec![(Vec::new(), false)];
+    for (path, node) in nodes(root) {
+        match node {
+            Expr::Sum { .. } if !path.is_empty() => sites.push((path, false)),
+            Expr::Neg(_) if !path.is_empty() => sites.push((path, true)),
+            Expr::Matrix(m) => {
+                let cells = m.rows.iter().map(Vec::len).sum::<usize>();
+                sites.extend((0..cells).map(|k| (child(&path, k), false)));
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for (site, first) in &sites {
+        for t in terms {
+            out.push(Edit::AddTerm {
+                path: site.clone(),
+                term: Box::new(t.clone()),
+                first: *first,
+            });
         }
     }
     out

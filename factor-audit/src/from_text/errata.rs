@@ -14,9 +14,18 @@
 //! - a term of a sum or a factor of a product deleted;
 //! - a symbol replaced by a sibling in scope (the same letter with another
 //!   subscript, superscript, accent, font or primes: `ω̂ → ω`, `l¹ → l²`);
-//! - a term, an entry or the whole multiplied by 2 or ½.
+//! - a term, an entry or the whole multiplied by 2 or ½;
+//! - a symbol or application inverted (or its inverse undone);
+//! - a misplaced parenthesis, `(a − b c)` read as `(a − b) c`;
+//! - (when no single edit fits) a missing term: a term printed elsewhere in
+//!   the formula's display (another side of its chain, another line, a sum
+//!   inside it) added to the whole, to a sum, before a lone subtracted
+//!   term, or to a matrix entry.
 //!
-//! Single edits are tried first, then pairs (two edits at places not inside
+//! An exponent corrected to 1 is dropped (`x^2` to `x`). A differential is
+//! searched as its claim reads it (linear in its tangent).
+//!
+//! Single edits are tried first, then missing terms, then pairs (two edits at places not inside
 //! one another), at most [`MAX_CANDIDATES`] edited formulas an equation (and
 //! [`MAX_CANDIDATES_PER_RUN`] in a whole audit), each evaluated at up to
 //! [`SEARCH_SAMPLES`] of the audit's samples (stopping at the first that
@@ -35,7 +44,7 @@ use nalgebra::DMatrix;
 use super::TextAudit;
 use super::claims::{TextClaim, TextDerivation};
 use super::context::{Context, FrozenResolver};
-use super::edits::{Edit, candidates};
+use super::edits::{Edit, additions, candidates};
 use super::lower::Lowering;
 use super::symbols::ClaimKind;
 use super::term::Term;
@@ -156,9 +165,18 @@ impl Search<'_> {
             ctx: self.ctx,
             scope: self.claim.scope(),
         };
-        Lowering::new(&mut resolver, self.claim.stacked_fractions)
+        let term = Lowering::new(&mut resolver, self.claim.stacked_fractions)
             .expr(e)
-            .ok()
+            .ok()?;
+        // A differential is read as its claim was: linear in its tangent.
+        Some(match self.claim.differential_in {
+            Some(tangent) => Term::Quotient {
+                numerator: Box::new(term),
+                tangent,
+                limit: false,
+            },
+            None => term,
+        })
     }
 
     /// Applies `edits` (the later places first, so earlier ones keep their
@@ -299,6 +317,22 @@ fn diagnose(
                 best = Some((good, edit, e));
             }
             _ => {}
+        }
+    }
+    // A term missing: one printed elsewhere on the line, added.
+    let added = if fixes.is_empty() {
+        additions(&s.root, &claim.nearby_terms)
+    } else {
+        Vec::new()
+    };
+    if fixes.is_empty() {
+        for edit in &added {
+            if s.evaluated >= s.budget {
+                break;
+            }
+            if let (Outcome::Agrees(t), Some(e)) = s.try_edits(&[edit], false) {
+                fixes.push((vec![edit], t[0], e));
+            }
         }
     }
     if fixes.is_empty() {

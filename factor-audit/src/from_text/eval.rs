@@ -5,7 +5,7 @@
 use nalgebra::DMatrix;
 
 use super::factors::FactorKind;
-use super::term::{Meaning, Op, SymbolId, Table, Term, Variable};
+use super::term::{Meaning, Op, SymbolId, Table, Template, Term, Variable};
 use super::value::{Blocks, ShapeError, Value, shape_text};
 use factor_core::scalar::Scalar;
 
@@ -24,6 +24,8 @@ pub struct Space<'a> {
     pub printed: &'a [Option<Term>],
     /// The factor whose residual `residual` symbols are.
     pub factor: Option<FactorKind>,
+    /// The operators and functions the context defines.
+    pub templates: &'a [Template],
 }
 
 /// Sizes the block matrices of a product that their own blocks leave
@@ -57,11 +59,18 @@ pub struct Env<'a, S: Scalar> {
     bound: Vec<Option<Value<S>>>,
     memo: Vec<Option<Value<S>>>,
     depth: usize,
+    /// The values at this sample of the links stated in words, when the
+    /// caller computed them (by context link index).
+    truths: Vec<Option<DMatrix<S>>>,
 }
 
 fn fail<T>(message: impl Into<String>) -> Result<T, ShapeError> {
     Err(ShapeError(message.into()))
 }
+
+/// The step of the central differences a limit of a difference quotient
+/// is evaluated with.
+pub const LIMIT_STEP: f64 = 1e-3;
 
 impl<'a, S: Scalar> Env<'a, S> {
     /// The sample whose stored scalars are `stored`.
@@ -73,7 +82,14 @@ impl<'a, S: Scalar> Env<'a, S> {
             bound: vec![None; n],
             memo: vec![None; n],
             depth: 0,
+            truths: Vec::new(),
         }
+    }
+
+    /// The sample with the values of the links stated in words.
+    pub fn with_truths(mut self, truths: Vec<Option<DMatrix<S>>>) -> Self {
+        self.truths = truths;
+        self
     }
 
     /// Binds a symbol to a value (every derived value is recomputed).
@@ -228,25 +244,82 @@ impl<'a, S: Scalar> Env<'a, S> {
                 Ok(Value::Matrix(m))
             }
             Term::Stack(items) => {
-                let mut rows = Vec::with_capacity(items.len());
+                let mut values = Vec::with_capacity(items.len());
                 for x in items {
-                    rows.push(vec![self.eval(x)?]);
+                    values.push(self.eval(x)?);
                 }
-                Blocks::build(rows)
+                // `[I, -P^]`: items with several columns are a block row;
+                // vectors and scalars stack in a column.
+                if values.iter().any(|v| v.shape().is_some_and(|(_, c)| c > 1)) {
+                    Blocks::build(vec![values])
+                } else {
+                    Blocks::build(values.into_iter().map(|v| vec![v]).collect())
+                }
             }
-            Term::Quotient { numerator, tangent } => self.quotient(numerator, *tangent),
+            Term::Quotient {
+                numerator,
+                tangent,
+                limit,
+            } => self.quotient(numerator, *tangent, *limit),
             Term::Link(k) => {
                 let printed = self.space.printed;
                 match printed.get(*k).and_then(Option::as_ref) {
+                    // A differential linked inside a differential by the
+                    // same tangent (`D_2 g(ξ)` in `D_1 f(ξ) = …`): its value
+                    // at the direction being taken, not its matrix.
+                    Some(Term::Quotient {
+                        numerator, tangent, ..
+                    }) if self.bound.get(*tangent).is_some_and(Option::is_some) => {
+                        self.eval(numerator)
+                    }
                     Some(term) => self.eval(term),
                     None => fail("a chain rule's link has no printed formula"),
                 }
             }
+            Term::TruthLink(k) => match self.truths.get(*k).and_then(Option::as_ref) {
+                Some(m) => Ok(Value::Matrix(m.clone())),
+                None => fail(
+                    "a link stated in words is evaluated only in a printed formula's own claim",
+                ),
+            },
+            Term::Template(t, args) => self.template(*t, args),
         }
     }
 
-    /// `X / δξ`: columns `X(e_j) − X(0)` over the unit tangents `e_j`.
-    fn quotient(&mut self, numerator: &Term, tangent: SymbolId) -> Result<Value<S>, ShapeError> {
+    /// A template applied: its arguments bound, its body evaluated.
+    fn template(&mut self, t: usize, args: &[Term]) -> Result<Value<S>, ShapeError> {
+        let templates = self.space.templates;
+        let template = &templates[t];
+        if args.len() != template.params.len() {
+            return fail(format!(
+                "`{}` takes {} argument(s)",
+                template.key,
+                template.params.len()
+            ));
+        }
+        let mut values = Vec::with_capacity(args.len());
+        for a in args {
+            values.push(self.eval(a)?);
+        }
+        let saved = (self.bound.clone(), self.memo.clone());
+        for (p, v) in template.params.iter().zip(values) {
+            self.bind(*p, v);
+        }
+        let result = self.eval(&template.body);
+        (self.bound, self.memo) = saved;
+        result
+    }
+
+    /// `X / δξ`: columns `X(e_j) − X(0)` over the unit tangents `e_j`; under
+    /// a limit, the derivative of `X` at zero, column by column (central
+    /// differences at `h` and `h/2`, Richardson-extrapolated: the error is
+    /// `O(h⁴)`).
+    fn quotient(
+        &mut self,
+        numerator: &Term,
+        tangent: SymbolId,
+        limit: bool,
+    ) -> Result<Value<S>, ShapeError> {
         let table = self.space.table;
         let Meaning::Tangent { variable, parts } = &table.entries[tangent].meaning else {
             return fail("a difference quotient over something that is not a tangent");
@@ -265,33 +338,57 @@ impl<'a, S: Scalar> Env<'a, S> {
         }
         let width = n / slots.len();
         let saved = (self.bound.clone(), self.memo.clone());
-        let at = |env: &mut Self, unit: Option<usize>| -> Result<DMatrix<S>, ShapeError> {
-            for (k, slot) in slots.iter().enumerate() {
-                let part: Vec<S> = (0..width)
-                    .map(|i| {
-                        if unit == Some(k * width + i) {
-                            S::one()
-                        } else {
-                            S::zero()
-                        }
-                    })
-                    .collect();
-                env.bind(*slot, Value::column(&part));
-            }
-            let v = env.eval(numerator)?.matrix()?;
-            if v.ncols() != 1 {
-                return fail(format!(
-                    "a difference quotient of a {} matrix (a vector is needed)",
-                    shape_text(v.shape())
-                ));
-            }
-            Ok(v)
-        };
+        let at =
+            |env: &mut Self, unit: Option<usize>, step: f64| -> Result<DMatrix<S>, ShapeError> {
+                for (k, slot) in slots.iter().enumerate() {
+                    let part: Vec<S> = (0..width)
+                        .map(|i| {
+                            if unit == Some(k * width + i) {
+                                S::from_f64(step)
+                            } else {
+                                S::zero()
+                            }
+                        })
+                        .collect();
+                    env.bind(*slot, Value::column(&part));
+                }
+                // A matrix numerator (a differential printed in the algebra)
+                // is read column by column, as a map's matrix value is.
+                let v = env.eval(numerator)?.matrix()?;
+                Ok(DMatrix::from_column_slice(v.len(), 1, v.as_slice()))
+            };
         let result = (|| {
-            let zero = at(self, None)?;
+            if limit {
+                let mut columns = Vec::with_capacity(n);
+                for j in 0..n {
+                    let central = |env: &mut Self, h: f64| -> Result<DMatrix<S>, ShapeError> {
+                        let d = at(env, Some(j), h)? - at(env, Some(j), -h)?;
+                        Ok(d.map(|v| v / S::from_f64(2.0 * h)))
+                    };
+                    let (coarse, fine) =
+                        (central(self, LIMIT_STEP)?, central(self, LIMIT_STEP / 2.0)?);
+                    let rows = coarse.nrows();
+                    if fine.nrows() != rows {
+                        return fail("the numerator changes its size with the tangent");
+                    }
+                    columns.push(
+                        (fine.map(|v| v * S::from_f64(4.0)) - coarse).map(|v| v / S::from_f64(3.0)),
+                    );
+                }
+                let rows = columns.first().map_or(0, |c| c.nrows());
+                let mut out = DMatrix::zeros(rows, n);
+                for (j, c) in columns.iter().enumerate() {
+                    if c.nrows() != rows {
+                        return fail("the numerator changes its size with the tangent");
+                    }
+                    out.set_column(j, &c.column(0));
+                }
+                return Ok(Value::Matrix(out));
+            }
+            let zero = at(self, None, 1.0)?;
             let mut out = DMatrix::zeros(zero.nrows(), n);
             for j in 0..n {
-                let column = at(self, Some(j))? - &zero;
+                let column = at(self, Some(j), 1.0)? - &zero;
                 out.set_column(j, &column.column(0));
             }
             Ok(Value::Matrix(out))
@@ -339,7 +436,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 let picked: Vec<S> = components.iter().map(|c| r[*c]).collect();
                 Value::column(&picked)
             }
-            Meaning::Function(_) => {
+            Meaning::Function(_) | Meaning::Template(_) => {
                 return fail(format!(
                     "`{}` is a function: apply it to an argument",
                     entry.key

@@ -4,17 +4,28 @@
 //! each computed by `factor-core`'s generic code, so the truth of a map
 //! written with them comes from the toolchain and not from a document.
 //!
-//! `exp` and `log` follow the documents: of a 3-vector, the quaternion
-//! exponential `[sin(θ/2) ω/θ, cos(θ/2)]`; of a quaternion (4-vector), its
-//! logarithm; of a scalar, `eˣ` and `ln x`. `Exp` and `Log` are the
-//! exponential and logarithm of SO(3) (3-vectors) and SE(3) (6-vectors).
+//! Functions are dispatched on their argument's type:
+//! - `exp` of a scalar is `eˣ`; of a 3-vector the quaternion exponential
+//!   `[sin(θ/2) ω/θ, cos(θ/2)]` (as document 000 writes it); of a quaternion
+//!   (4-vector `[x, y, z, w]`) the quaternion exponential `e^w [sin|v| v/|v|,
+//!   cos|v|]`; of a 3 × 3 skew matrix (`so(3)`) the rotation; of a 4 × 4
+//!   twist matrix (`se(3)`) the pose. `log` inverts each: of a quaternion its
+//!   logarithm `θ/2`-vector, of a rotation its `so(3)` matrix, of a pose its
+//!   twist matrix.
+//! - `Exp` of a 3-vector (or `so(3)` matrix) is SO(3)'s, of a 6-vector (or
+//!   `se(3)` matrix) SE(3)'s, of a 7-vector `[ω, ρ, σ]` Sim(3)'s; `Log`
+//!   inverts each (of a unit quaternion, the rotation vector).
+//! - `left_jacobian`, `right_jacobian` and their `_inverse`s are SO(3)'s,
+//!   SE(3)'s or Sim(3)'s by the tangent's length; `adjoint` (`Ad_X`) of a
+//!   rotation, pose or similarity; `ad` of a tangent or an algebra matrix.
 
-use nalgebra::{Vector2, Vector3, Vector6};
+use nalgebra::{DMatrix, Vector2, Vector3, Vector6};
 
 use super::value::{ShapeError, Value, determinant, dynamic, quaternion_value};
 use factor_core::geometry::{Intrinsics, PluckerLine, bearing_plane_normal};
-use factor_core::lie::so3::{left_jacobian, right_jacobian};
-use factor_core::lie::{Quaternion, Se3, So3};
+use factor_core::lie::sim3::{Sim3Matrix, Sim3Tangent};
+use factor_core::lie::so3::hat;
+use factor_core::lie::{LieGroup, Quaternion, Se3, Sim3, So3};
 use factor_core::scalar::Scalar;
 use factor_core::storage::Storage;
 
@@ -33,12 +44,28 @@ pub enum Builtin {
     Acos,
     /// `arctan`, `tan^{-1}`.
     Atan,
+    /// `cot`.
+    Cot,
+    /// `sec`.
+    Sec,
+    /// `csc`.
+    Csc,
+    /// `sinh`.
+    Sinh,
+    /// `cosh`.
+    Cosh,
+    /// `tanh`.
+    Tanh,
     /// `sinc x = sin x / x`.
     Sinc,
     /// `ln`.
     Ln,
-    /// `exp`: `eˣ`, or the quaternion exponential of a 3-vector.
+    /// `exp`: `eˣ`, the quaternion exponential of a 3-vector or a
+    /// quaternion, `Exp` of an so(3) or se(3) matrix, the matrix
+    /// exponential of another square matrix.
     Exp,
+    /// `expm`: the matrix exponential of any square matrix.
+    MatrixExp,
     /// `log`: `ln x`, or the logarithm of a quaternion.
     Log,
     /// `Exp` of SO(3) or SE(3).
@@ -49,10 +76,35 @@ pub enum Builtin {
     Det,
     /// `√`.
     Sqrt,
-    /// `left_jacobian(ω)`: `Jl` of SO(3).
+    /// `left_jacobian(τ)`: `Jl` of SO(3), SE(3) or Sim(3).
     LeftJacobian,
-    /// `right_jacobian(ω)`: `Jr` of SO(3).
+    /// `right_jacobian(τ)`: `Jr` of SO(3), SE(3) or Sim(3).
     RightJacobian,
+    /// `left_jacobian_inverse(τ)`: `Jl⁻¹`.
+    LeftJacobianInverse,
+    /// `right_jacobian_inverse(τ)`: `Jr⁻¹`.
+    RightJacobianInverse,
+    /// `adjoint(X)`, `Ad_X`: of a rotation, pose or similarity.
+    Adjoint,
+    /// `Ad_X y`: the adjoint acting on a tangent vector, or conjugating an
+    /// algebra matrix `X y X⁻¹`.
+    AdjointAct,
+    /// `ad(τ)`, `ad_τ`: of a tangent (3-, 6- or 7-vector) or of an algebra
+    /// matrix (`so(3)`, `se(3)`).
+    SmallAdjoint,
+    /// `ad_τ y`: on a tangent, `ad_τ y`; on algebra matrices, `τ y − y τ`.
+    SmallAdjointAct,
+    /// `matrix(X)`: a group element's matrix (`C(Φ)`); of a 3-vector, the
+    /// matrix of the rotation it is the vector of (`C(φ) = Exp(φ)`).
+    MatrixOf,
+    /// `inverse(X)`.
+    Inverse,
+    /// `skew(v)`: the cross-product matrix.
+    Skew,
+    /// `tr(M)`: the trace.
+    Trace,
+    /// `diag(v)`: the diagonal matrix of a vector.
+    Diag,
     /// `normalize(x) = x / |x|`.
     Normalize,
     /// `transform(T, X) = R X + t`.
@@ -98,9 +150,19 @@ const NAMES: &[(&str, Builtin)] = &[
     ("arcsin", Builtin::Asin),
     ("arccos", Builtin::Acos),
     ("arctan", Builtin::Atan),
+    ("atan", Builtin::Atan),
+    ("asin", Builtin::Asin),
+    ("acos", Builtin::Acos),
+    ("cot", Builtin::Cot),
+    ("sec", Builtin::Sec),
+    ("csc", Builtin::Csc),
+    ("sinh", Builtin::Sinh),
+    ("cosh", Builtin::Cosh),
+    ("tanh", Builtin::Tanh),
     ("sinc", Builtin::Sinc),
     ("ln", Builtin::Ln),
     ("exp", Builtin::Exp),
+    ("expm", Builtin::MatrixExp),
     ("log", Builtin::Log),
     ("Exp", Builtin::GroupExp),
     ("Log", Builtin::GroupLog),
@@ -108,6 +170,16 @@ const NAMES: &[(&str, Builtin)] = &[
     ("sqrt", Builtin::Sqrt),
     ("left_jacobian", Builtin::LeftJacobian),
     ("right_jacobian", Builtin::RightJacobian),
+    ("left_jacobian_inverse", Builtin::LeftJacobianInverse),
+    ("right_jacobian_inverse", Builtin::RightJacobianInverse),
+    ("adjoint", Builtin::Adjoint),
+    ("Ad", Builtin::Adjoint),
+    ("ad", Builtin::SmallAdjoint),
+    ("matrix", Builtin::MatrixOf),
+    ("inverse", Builtin::Inverse),
+    ("skew", Builtin::Skew),
+    ("tr", Builtin::Trace),
+    ("diag", Builtin::Diag),
     ("normalize", Builtin::Normalize),
     ("transform", Builtin::Transform),
     ("project", Builtin::Project),
@@ -167,6 +239,11 @@ impl Builtin {
             Builtin::Tan => Some(Builtin::Atan),
             Builtin::Exp => Some(Builtin::Log),
             Builtin::GroupExp => Some(Builtin::GroupLog),
+            Builtin::LeftJacobian => Some(Builtin::LeftJacobianInverse),
+            Builtin::RightJacobian => Some(Builtin::RightJacobianInverse),
+            Builtin::LeftJacobianInverse => Some(Builtin::LeftJacobian),
+            Builtin::RightJacobianInverse => Some(Builtin::RightJacobian),
+            Builtin::Adjoint | Builtin::MatrixOf => Some(Builtin::Inverse),
             _ => None,
         }
     }
@@ -178,7 +255,9 @@ impl Builtin {
             | Builtin::Project
             | Builtin::ProjectLine
             | Builtin::TransformLine
-            | Builtin::BearingNormal => 2,
+            | Builtin::BearingNormal
+            | Builtin::AdjointAct
+            | Builtin::SmallAdjointAct => 2,
             _ => 1,
         }
     }
@@ -223,31 +302,115 @@ impl Builtin {
             Builtin::Asin => scalar(|x| x.asin(), x),
             Builtin::Acos => scalar(|x| x.acos(), x),
             Builtin::Atan => scalar(|x| x.atan(), x),
+            Builtin::Cot => scalar(|x| x.cos() / x.sin(), x),
+            Builtin::Sec => scalar(|x| x.cos().recip(), x),
+            Builtin::Csc => scalar(|x| x.sin().recip(), x),
+            Builtin::Sinh => scalar(|x| (x.exp() - (-x).exp()) * S::from_f64(0.5), x),
+            Builtin::Cosh => scalar(|x| (x.exp() + (-x).exp()) * S::from_f64(0.5), x),
+            Builtin::Tanh => scalar(
+                |x| {
+                    let (a, b) = (x.exp(), (-x).exp());
+                    (a - b) / (a + b)
+                },
+                x,
+            ),
             Builtin::Sinc => scalar(|x| x.sin() / x, x),
             Builtin::Ln => scalar(|x| x.ln(), x),
             Builtin::Sqrt => scalar(|x| x.sqrt(), x),
             Builtin::Exp => match x.shape() {
                 Some((1, 1)) => scalar(|x| x.exp(), x),
+                Some((4, 1)) => Ok(quaternion_value(&quaternion_exp(&x.quaternion(what)?))),
+                Some((3, 3) | (4, 4)) => group_exp(x),
+                Some((n, m)) if n == m => Ok(Value::Matrix(matrix_exp(x.matrix()?))),
                 _ => Ok(quaternion_value(&Quaternion::exp(&x.vector3("exp")?))),
             },
-            Builtin::Log => match x.shape() {
-                Some((1, 1)) => scalar(|x| x.ln(), x),
-                _ => Ok(Value::column(x.quaternion("log")?.log().as_slice())),
+            Builtin::MatrixExp => {
+                let m = x.matrix()?;
+                if m.nrows() != m.ncols() {
+                    return Err(ShapeError(format!(
+                        "`expm` of {}, not a square matrix",
+                        Value::Matrix(m).describe()
+                    )));
+                }
+                Ok(Value::Matrix(matrix_exp(m)))
+            }
+            Builtin::Log => match x {
+                Value::Rotation(r) => Ok(Value::Matrix(dynamic(&hat(&r.log())))),
+                Value::Pose(p) => Value::column(p.log().as_slice()).hat(),
+                other => match other.shape() {
+                    Some((1, 1)) => scalar(|x| x.ln(), other),
+                    _ => Ok(Value::column(other.quaternion("log")?.log().as_slice())),
+                },
             },
-            Builtin::GroupExp => match x.shape() {
-                Some((6, 1)) => Ok(Value::Pose(Se3::exp(&Vector6::from_scalars(
-                    &x.vector(6, what)?,
-                )))),
-                _ => Ok(Value::Rotation(So3::exp(&x.vector3("Exp")?))),
-            },
+            Builtin::GroupExp => group_exp(x),
             Builtin::GroupLog => match x {
                 Value::Pose(p) => Ok(Value::column(p.log().as_slice())),
+                Value::Similarity(s) => Ok(Value::column(s.log().as_slice())),
+                Value::Matrix(m) if m.shape() == (4, 1) => {
+                    let q = Quaternion::from_scalars(m.as_slice()).normalized();
+                    Ok(Value::column(So3::from_quaternion(q).log().as_slice()))
+                }
+                Value::Matrix(m) if m.shape() == (3, 3) => {
+                    let r = So3::from_matrix(&nalgebra::Matrix3::from_column_slice(m.as_slice()));
+                    Ok(Value::column(r.log().as_slice()))
+                }
                 other => Ok(Value::column(other.rotation("Log")?.log().as_slice())),
             },
             Builtin::Det => Ok(Value::scalar(determinant(&x.matrix()?)?)),
-            Builtin::LeftJacobian => Ok(Value::Matrix(dynamic(&left_jacobian(&x.vector3(what)?)))),
-            Builtin::RightJacobian => {
-                Ok(Value::Matrix(dynamic(&right_jacobian(&x.vector3(what)?))))
+            Builtin::LeftJacobian
+            | Builtin::RightJacobian
+            | Builtin::LeftJacobianInverse
+            | Builtin::RightJacobianInverse => jacobian(self, x),
+            Builtin::Adjoint => Ok(Value::Matrix(adjoint(&x)?)),
+            Builtin::AdjointAct => {
+                let y = second()?;
+                match y.shape() {
+                    Some((r, 1)) if r > 1 => Value::Matrix(adjoint(&x)?).times(y),
+                    Some((3, 3) | (4, 4)) => x.clone().times(y)?.times(x.inverse()?),
+                    _ => Err(ShapeError(format!("`Ad` acting on {}", y.describe()))),
+                }
+            }
+            Builtin::SmallAdjoint => Ok(Value::Matrix(small_adjoint(x)?)),
+            Builtin::SmallAdjointAct => {
+                let y = second()?;
+                match (x.shape(), y.shape()) {
+                    (Some((n, n2)), Some((m, m2))) if n == n2 && n == m && m == m2 && n > 1 => {
+                        let (a, b) = (x.matrix()?, y.matrix()?);
+                        Ok(Value::Matrix(&a * &b - &b * &a))
+                    }
+                    _ => Value::Matrix(small_adjoint(x)?).times(y),
+                }
+            }
+            Builtin::MatrixOf => match x.shape() {
+                Some((3, 1)) => Ok(Value::Matrix(group_exp(x)?.matrix()?)),
+                _ => Ok(Value::Matrix(x.matrix()?)),
+            },
+            Builtin::Inverse => x.inverse(),
+            Builtin::Skew => x.hat(),
+            Builtin::Trace => {
+                let m = x.matrix()?;
+                if m.nrows() != m.ncols() {
+                    return Err(ShapeError(format!(
+                        "the trace of {}",
+                        Value::Matrix(m).describe()
+                    )));
+                }
+                Ok(Value::scalar(
+                    (0..m.nrows()).fold(S::zero(), |acc, i| acc + m[(i, i)]),
+                ))
+            }
+            Builtin::Diag => {
+                let m = x.matrix()?;
+                if m.ncols() != 1 {
+                    return Err(ShapeError(format!(
+                        "the diagonal matrix of {}",
+                        Value::Matrix(m).describe()
+                    )));
+                }
+                let n = m.nrows();
+                Ok(Value::Matrix(DMatrix::from_fn(n, n, |i, j| {
+                    if i == j { m[(i, 0)] } else { S::zero() }
+                })))
             }
             Builtin::Normalize => {
                 let m = x.matrix()?;
@@ -347,11 +510,151 @@ impl Builtin {
     }
 }
 
+/// `e^q` of a quaternion `q = [v, w]`: `e^w [sin|v| v/|v|, cos|v|]`.
+fn quaternion_exp<S: Scalar>(q: &Quaternion<S>) -> Quaternion<S> {
+    // `Quaternion::exp(ω)` is `[sin(θ/2) ω/θ, cos(θ/2)]`: at `ω = 2v` it is
+    // the exponential of the pure quaternion `[v, 0]`.
+    let pure = Quaternion::exp(&q.vector().map(|c| c * S::from_f64(2.0)));
+    let m = q.w.exp();
+    Quaternion::new(pure.x * m, pure.y * m, pure.z * m, pure.w * m)
+}
+
+/// Halvings before the Taylor series of [`matrix_exp`] (undone by as many
+/// squarings).
+const EXP_HALVINGS: i32 = 10;
+/// Terms of that series.
+const EXP_TERMS: usize = 18;
+
+/// `e^X` of a square matrix, by scaling and squaring: `(Σₖ (X/2¹⁰)ᵏ/k!)`
+/// to 18 terms, squared ten times. Without branches (dual numbers go
+/// through); for `‖X‖ ≤ 100` the first omitted term is below `10⁻¹⁶`
+/// relative.
+pub fn matrix_exp<S: Scalar>(x: DMatrix<S>) -> DMatrix<S> {
+    let n = x.nrows();
+    let identity = DMatrix::<S>::identity(n, n);
+    let scaled = x.map(|v| v * S::from_f64(2f64.powi(-EXP_HALVINGS)));
+    let mut p = identity.clone();
+    for k in (1..=EXP_TERMS).rev() {
+        p = &identity + (&scaled * &p).map(|v| v / S::from_f64(k as f64));
+    }
+    for _ in 0..EXP_HALVINGS {
+        p = &p * &p;
+    }
+    p
+}
+
+/// `Exp` of a tangent (3-, 6- or 7-vector) or of an algebra matrix.
+fn group_exp<S: Scalar>(x: Value<S>) -> Result<Value<S>, ShapeError> {
+    match x.shape() {
+        Some((3, 3) | (4, 4)) => group_exp(x.vee()?),
+        Some((6, 1)) => Ok(Value::Pose(Se3::exp(&Vector6::from_scalars(
+            &x.vector(6, "Exp")?,
+        )))),
+        Some((7, 1)) => Ok(Value::Similarity(Sim3::exp(
+            &Sim3Tangent::from_column_slice(&x.vector(7, "Exp")?),
+        ))),
+        _ => Ok(Value::Rotation(So3::exp(&x.vector3("Exp")?))),
+    }
+}
+
+/// A Jacobian of SO(3), SE(3) or Sim(3) (by the tangent's length).
+fn jacobian<S: Scalar>(which: Builtin, x: Value<S>) -> Result<Value<S>, ShapeError> {
+    fn of<S: Scalar, G: LieGroup<S>>(which: Builtin, tau: &G::Tangent) -> G::Jacobian {
+        match which {
+            Builtin::LeftJacobian => G::left_jacobian(tau),
+            Builtin::RightJacobian => G::right_jacobian(tau),
+            Builtin::LeftJacobianInverse => G::left_jacobian_inverse(tau),
+            _ => G::right_jacobian_inverse(tau),
+        }
+    }
+    let what = which.name();
+    Ok(Value::Matrix(match x.shape() {
+        Some((6, 1)) => dynamic(&of::<S, Se3<S>>(
+            which,
+            &Vector6::from_scalars(&x.vector(6, what)?),
+        )),
+        Some((7, 1)) => dynamic::<S, 7, 7>(&of::<S, Sim3<S>>(
+            which,
+            &Sim3Tangent::from_column_slice(&x.vector(7, what)?),
+        )),
+        _ => dynamic(&of::<S, So3<S>>(which, &x.vector3(what)?)),
+    }))
+}
+
+/// `Ad_X` of a group element.
+fn adjoint<S: Scalar>(x: &Value<S>) -> Result<DMatrix<S>, ShapeError> {
+    match x {
+        Value::Rotation(r) => Ok(dynamic(&r.adjoint())),
+        Value::Pose(p) => Ok(dynamic(&p.adjoint())),
+        Value::Similarity(s) => Ok(dynamic::<S, 7, 7>(&s.adjoint())),
+        other => Err(ShapeError(format!(
+            "the adjoint of {} (a rotation, pose or similarity has one)",
+            other.describe()
+        ))),
+    }
+}
+
+/// `ad_τ` of a tangent or an algebra matrix.
+fn small_adjoint<S: Scalar>(x: Value<S>) -> Result<DMatrix<S>, ShapeError> {
+    match x.shape() {
+        Some((3, 3) | (4, 4)) => small_adjoint(x.vee()?),
+        Some((3, 1)) => Ok(dynamic(&hat(&x.vector3("ad")?))),
+        Some((6, 1)) => {
+            let v = x.vector(6, "ad")?;
+            let (w, rho) = (
+                Vector3::new(v[0], v[1], v[2]),
+                Vector3::new(v[3], v[4], v[5]),
+            );
+            let mut m = DMatrix::zeros(6, 6);
+            m.view_mut((0, 0), (3, 3)).copy_from(&hat(&w));
+            m.view_mut((3, 3), (3, 3)).copy_from(&hat(&w));
+            m.view_mut((3, 0), (3, 3)).copy_from(&hat(&rho));
+            Ok(m)
+        }
+        Some((7, 1)) => {
+            let m: Sim3Matrix<S> =
+                Sim3::small_adjoint(&Sim3Tangent::from_column_slice(&x.vector(7, "ad")?));
+            Ok(dynamic(&m))
+        }
+        _ => Err(ShapeError(format!("`ad` of {}", x.describe()))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use factor_core::linalg::normalized;
     use nalgebra::Vector4;
+
+    #[test]
+    fn the_matrix_exponential_agrees_with_closed_forms() {
+        // A plane rotation by 2.5 rad, e^{θ R_{π/2}}.
+        let theta = 2.5;
+        let x = DMatrix::from_row_slice(2, 2, &[0.0, -theta, theta, 0.0]);
+        let e = matrix_exp(x);
+        let want =
+            DMatrix::from_row_slice(2, 2, &[theta.cos(), -theta.sin(), theta.sin(), theta.cos()]);
+        assert!((e - want).norm() < 1e-13);
+        // so(3): Rodrigues' formula, through `Exp`.
+        let w = Vector3::new(0.4, -1.2, 2.1);
+        let rodrigues = So3::exp(&w).matrix();
+        assert!((matrix_exp(dynamic(&hat(&w))) - dynamic(&rodrigues)).norm() < 1e-12);
+        // A diagonal matrix: the exponentials of its entries (a large one too).
+        let d = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![-3.0, 0.5, 40.0]));
+        let e = matrix_exp(d);
+        for (k, v) in [-3.0f64, 0.5, 40.0].iter().enumerate() {
+            assert!((e[(k, k)] / v.exp() - 1.0).abs() < 1e-12);
+        }
+        // `exp` of a 2 × 2 is the matrix exponential; `expm` of a 3-vector fails.
+        let two = Value::Matrix(DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]));
+        let m = Builtin::Exp.apply(vec![two]).unwrap().matrix().unwrap();
+        assert_eq!(m, DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 0.0, 1.0]));
+        assert!(
+            Builtin::MatrixExp
+                .apply(vec![Value::column(&[1.0, 2.0, 3.0])])
+                .is_err()
+        );
+    }
 
     #[test]
     fn documents_words_and_library_functions() {

@@ -5,8 +5,18 @@
 //! Readings a symbol table does not spell out:
 //! - a superscript that is no defined symbol's is a power when it is a
 //!   number (`P_z^2`) or a power of a defined index (`l_i^{1^2}`);
-//! - `I`, `I_3`, `I_{3×3}` is the identity unless the file defines `I`;
-//!   a printed `0` inside a matrix is a zero block;
+//! - any printed expression the file defines as a name (`\pi'(q)`, `u v`)
+//!   is that name;
+//! - `I`, `\mathbf{I}`, `\mathbb{I}`, `\mathds{1}`, with or without a size
+//!   (`I_3`, `I_{3×3}`), is the identity unless the file defines it; `0`,
+//!   `\mathbf{0}`, `0^T`, `0_{3×1}` inside a matrix are zero blocks (and
+//!   `\mathbf{0}`, `0_{3×1}` anywhere);
+//! - a function symbol before a factor applies to it (`J_l^{-1}\left(\phi\right)`,
+//!   `f^{-1}` its inverse), and `f(\cdot)` is `f`;
+//! - a function name with a subscript and no argument (`Ad_T`, `ad_\xi`) is
+//!   the function of its subscript; with an argument, it acts on it;
+//! - operators and words the file defines (`\boxminus`, `p^\odot`,
+//!   `between(a, b)`) are its templates;
 //! - `f(x)` is an application when `f` is a function symbol, `f` itself
 //!   when every argument is a variable or tangent symbol (`T(ξ)`,
 //!   `E(ξ, ω)`), and a product otherwise;
@@ -17,7 +27,8 @@
 
 use std::collections::HashSet;
 
-use doc_latex::ast::{self, Base, Expr, Head, MulOp, PostfixOp, Sign};
+use doc_latex::ast::{self, Base, Expr, Head, MulOp, PostfixOp, Rel, Sign};
+use doc_latex::render::mulop_latex;
 
 use super::functions::Builtin;
 use super::term::{Op, SymbolId, Term};
@@ -56,21 +67,50 @@ pub fn short(s: &str) -> String {
 pub enum Found {
     /// A function symbol.
     Function(Builtin),
+    /// A function symbol defined by LaTeX (a template).
+    Template(usize),
     /// A tangent, with the symbols of its parts.
     Tangent(Vec<SymbolId>),
-    /// A stored value (a field or a free variable).
-    Stored,
+    /// A stored value (a field or a free variable); `group` when it is a
+    /// rotation, pose or another group element.
+    Stored {
+        /// Whether it is a group element.
+        group: bool,
+    },
     /// A definition, a component, a residual or a bound name.
     Value,
 }
 
-/// Where lowering looks symbols and chain-rule links up.
+/// What a derivative in a chain rule stands for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Link {
+    /// The printed formula of this claim of the file.
+    Claim(usize),
+    /// The true derivative of this link the file states in words.
+    Truth(usize),
+    /// A link stated in words that cannot be read, and why.
+    Broken(String),
+}
+
+/// Where lowering looks symbols, chain-rule links and templates up.
 pub trait Resolver {
     /// The symbol whose canonical LaTeX is `key`, in scope (its definition
     /// lowered first); `Ok(None)` when none is.
     fn symbol(&mut self, key: &str) -> Result<Option<(SymbolId, Found)>, LowerError>;
-    /// The claim whose derivative is written `key`.
-    fn link(&self, key: &str) -> Option<usize>;
+    /// What the derivative written `key` stands for.
+    fn link(&self, key: &str) -> Option<Link>;
+    /// A derivative printed in a formula that no claim or stated link
+    /// names: its true value, when `of` and `wrt` can be read.
+    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
+        let _ = (of, wrt);
+        Err(LowerError {
+            message: "no new derivative is read here".into(),
+            fragment: key.to_string(),
+        })
+    }
+    /// The template (and its number of arguments) an operator, word or
+    /// symbol written `key` names (its body lowered first).
+    fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError>;
 }
 
 /// One lowering, with the reading options of the formula.
@@ -78,11 +118,28 @@ pub struct Lowering<'r> {
     resolver: &'r mut dyn Resolver,
     /// Read fractions with a non-scalar above the bar as stacks.
     pub stacked_fractions: bool,
+    /// Read a name no symbol has as the claim that states it (`D_2 g(ξ)`);
+    /// off for a claim's own left side.
+    pub names_claims: bool,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
 pub fn symbol_key(s: &ast::Symbol) -> String {
     Expr::Symbol(s.clone()).to_string()
+}
+
+/// Whether `s` is a plain `e` (a superscript aside): Euler's number where
+/// the file gives it no meaning.
+fn is_bare_e(s: &ast::Symbol) -> bool {
+    s.base == ast::Base::Letter('e')
+        && s.font == ast::Font::Plain
+        && s.accent.is_none()
+        && s.delta.is_none()
+        && s.primes == 0
+        && s.sup_primes == 0
+        && s.sub.is_none()
+        && s.pre_sub.is_none()
+        && s.pre_sup.is_none()
 }
 
 /// The number `e` is, if it is one (`2`, `-1`, `\frac{3}{2}`, `1 + 1`).
@@ -110,11 +167,48 @@ impl<'r> Lowering<'r> {
         Lowering {
             resolver,
             stacked_fractions,
+            names_claims: true,
         }
+    }
+
+    /// The same lowering, reading no name as another claim (for a claim's
+    /// own left side, which names itself).
+    pub fn without_claim_names(mut self) -> Self {
+        self.names_claims = false;
+        self
     }
 
     /// `e` lowered.
     pub fn expr(&mut self, e: &Expr) -> Result<Term, LowerError> {
+        if (is_name_like(e) || is_applied_product(e))
+            && let Some((id, found)) = self.resolver.symbol(&e.to_string())?
+        {
+            return match found {
+                Found::Function(_) | Found::Template(_) => Err(LowerError::at(
+                    e,
+                    "this is a function symbol: apply it to an argument",
+                )),
+                _ => Ok(Term::Symbol(id)),
+            };
+        }
+        // A name that cannot be read otherwise but another claim states
+        // (`D_2 g(ξ)` in a chain of differentials): that claim's printed
+        // formula.
+        let linked = match (self.names_claims && (is_name_like(e) || is_applied_product(e)))
+            .then(|| self.resolver.link(&e.to_string()))
+            .flatten()
+        {
+            Some(Link::Claim(k)) => Some(k),
+            _ => None,
+        };
+        match (self.parts(e), linked) {
+            (Err(_), Some(k)) => Ok(Term::Link(k)),
+            (lowered, _) => lowered,
+        }
+    }
+
+    /// `e` lowered by its parts.
+    fn parts(&mut self, e: &Expr) -> Result<Term, LowerError> {
         Ok(match e {
             Expr::Number(_) => {
                 Term::Number(number(e).ok_or_else(|| LowerError::at(e, "not a number"))?)
@@ -135,36 +229,45 @@ impl<'r> Lowering<'r> {
                     .map(|(sign, t)| Ok((sign == Sign::Minus, self.expr(t)?)))
                     .collect::<Result<_, LowerError>>()?,
             ),
-            Expr::Product { first, rest } => {
-                let mut factors = vec![(Op::Mul, self.expr(first)?)];
-                for (op, x) in rest {
-                    factors.push((operator(*op, x)?, self.expr(x)?));
-                }
-                Term::Product(factors)
-            }
+            Expr::Product { first, rest } => self.product(first, rest)?,
             Expr::Fraction { num, den } => self.fraction(num, den)?,
-            Expr::Derivative { .. } => match self.resolver.link(&e.to_string()) {
-                Some(k) => Term::Link(k),
-                None => {
-                    return Err(LowerError::at(
-                        e,
-                        "this derivative is no claim of the symbols file (add one, with `lhs` if \
-                         it is printed differently there)",
-                    ));
+            Expr::Derivative { of, wrt, .. } => {
+                let key = e.to_string();
+                let link = match self.resolver.link(&key) {
+                    Some(link) => link,
+                    None => self.resolver.inline_link(&key, of, wrt).map_err(|err| {
+                        LowerError::at(
+                            e,
+                            format!(
+                                "this derivative is no claim of the symbols file, and what it \
+                                 prints cannot be differentiated: {} (add a claim, with `lhs` \
+                                 if it is printed differently there, or a \
+                                 `[[context.NAME.link]]`)",
+                                err.message
+                            ),
+                        )
+                    })?,
+                };
+                match link {
+                    Link::Claim(k) => Term::Link(k),
+                    Link::Truth(k) => Term::TruthLink(k),
+                    Link::Broken(why) => {
+                        return Err(LowerError::at(
+                            e,
+                            format!(
+                                "the link the symbols file states for it cannot be read: {why}"
+                            ),
+                        ));
+                    }
                 }
-            },
+            }
             Expr::Differential(_) => {
                 return Err(LowerError::at(
                     e,
                     "a differential `∂x` outside a derivative is not evaluated",
                 ));
             }
-            Expr::Limit { .. } => {
-                return Err(LowerError::at(
-                    e,
-                    "a limit is not evaluated (audit the line that arrives at its value)",
-                ));
-            }
+            Expr::Limit { under, body } => self.limit(under, body, e)?,
             Expr::Sqrt { index, body } => {
                 let body = self.expr(body)?;
                 match index {
@@ -183,21 +286,76 @@ impl<'r> Lowering<'r> {
             Expr::Power { base, exponent } => {
                 let p = number(exponent)
                     .ok_or_else(|| LowerError::at(e, "the exponent is not a number"))?;
-                Term::Power(Box::new(self.expr(base)?), p)
-            }
-            Expr::Postfix { base, op } => {
-                let base = Box::new(self.expr(base)?);
-                match op {
-                    PostfixOp::Transpose => Term::Transpose(base),
-                    PostfixOp::Hat => Term::Hat(base),
-                    PostfixOp::Vee => Term::Vee(base),
+                match base.as_ref() {
+                    // `e^{-1}`: the exponential, when the file gives `e` no
+                    // meaning.
+                    Expr::Symbol(s)
+                        if is_bare_e(s)
+                            && s.sup.is_none()
+                            && self.resolver.symbol(&symbol_key(s))?.is_none() =>
+                    {
+                        Term::Call(Builtin::Exp, vec![Term::Number(p)])
+                    }
+                    _ => Term::Power(Box::new(self.expr(base)?), p),
                 }
             }
+            Expr::Postfix { base, op } => {
+                if *op == PostfixOp::Transpose && zero_block(base).is_some() {
+                    // `0^T`: a zero row, sized where it is used.
+                    return Ok(Term::Zero);
+                }
+                let lowered = Box::new(self.expr(base)?);
+                match op {
+                    PostfixOp::Transpose => Term::Transpose(lowered),
+                    PostfixOp::Hat => Term::Hat(lowered),
+                    PostfixOp::Vee => Term::Vee(lowered),
+                    PostfixOp::Operator(name) => {
+                        let key = match *name {
+                            c @ ("*" | "+") => format!("^{c}"),
+                            other => format!("^\\{other}"),
+                        };
+                        match self.resolver.template(&key)? {
+                            Some((t, 1)) => Term::Template(t, vec![*lowered]),
+                            Some(_) => {
+                                return Err(LowerError::at(
+                                    e,
+                                    format!(
+                                        "the operator `{key}` takes one argument in the symbols file"
+                                    ),
+                                ));
+                            }
+                            None => {
+                                return Err(LowerError::at(
+                                    e,
+                                    format!(
+                                        "the operator `{key}` has no meaning: define it in the \
+                                         context's `operators`"
+                                    ),
+                                ));
+                            }
+                        }
+                    }
+                }
+            }
+            Expr::Indexed { base, index } if zero_block(base).is_some() => match number(index) {
+                Some(n) if n.fract() == 0.0 && n >= 1.0 => {
+                    Term::Shaped(Box::new(Term::Zero), (n as usize, 1))
+                }
+                _ => {
+                    return Err(LowerError::at(
+                        e,
+                        "a zero's subscript is its size (`0_3`, `0_{3 \\times 1}`)",
+                    ));
+                }
+            },
             Expr::Indexed { .. } => {
                 return Err(LowerError::at(
                     e,
                     "a subscript on an expression is not evaluated (define a symbol for it)",
                 ));
+            }
+            Expr::Shaped { base, rows, cols } if zero_block(base).is_some() => {
+                Term::Shaped(Box::new(Term::Zero), (*rows as usize, *cols as usize))
             }
             Expr::Shaped { base, rows, cols } => {
                 Term::Shaped(Box::new(self.expr(base)?), (*rows as usize, *cols as usize))
@@ -219,9 +377,9 @@ impl<'r> Lowering<'r> {
                     .iter()
                     .map(|row| {
                         row.iter()
-                            .map(|x| match x {
-                                Expr::Number(_) if number(x) == Some(0.0) => Ok(Term::Zero),
-                                other => self.expr(other),
+                            .map(|x| match zero_block(x) {
+                                Some(None) => Ok(Term::Zero),
+                                _ => self.expr(x),
                             })
                             .collect()
                     })
@@ -242,11 +400,11 @@ impl<'r> Lowering<'r> {
         })
     }
 
-    /// A symbol: defined, a power of a defined one, or the identity.
+    /// A symbol: defined, a power of a defined one, a zero, or the identity.
     fn symbol(&mut self, s: &ast::Symbol, e: &Expr) -> Result<Term, LowerError> {
         if let Some((id, found)) = self.resolver.symbol(&symbol_key(s))? {
             return match found {
-                Found::Function(_) => Err(LowerError::at(
+                Found::Function(_) | Found::Template(_) => Err(LowerError::at(
                     e,
                     "this is a function symbol: apply it to an argument",
                 )),
@@ -259,19 +417,155 @@ impl<'r> Lowering<'r> {
                 other => (None, number(other)),
             };
             if let Some(p) = power {
+                // `P_z^2`, `\hat{v}^2`: a power of what the symbol without
+                // it is, when that is a value.
                 let mut base = s.clone();
                 base.sup = index.map(Box::new);
-                if let Some((id, Found::Stored | Found::Value)) =
-                    self.resolver.symbol(&symbol_key(&base))?
-                {
-                    return Ok(Term::Power(Box::new(Term::Symbol(id)), p));
+                let defined = self.resolver.symbol(&symbol_key(&base))?;
+                match defined {
+                    Some((id, Found::Stored { .. } | Found::Value)) => {
+                        return Ok(Term::Power(Box::new(Term::Symbol(id)), p));
+                    }
+                    Some(_) => {}
+                    None => {
+                        if let Ok(t) = self.symbol(&base, &Expr::Symbol(base.clone())) {
+                            return Ok(Term::Power(Box::new(t), p));
+                        }
+                    }
                 }
             }
+        }
+        match zero_block(e) {
+            Some(None) => return Ok(Term::Zero),
+            Some(Some(shape)) => return Ok(Term::Shaped(Box::new(Term::Zero), shape)),
+            None => {}
         }
         if let Some(size) = identity(s) {
             return size.map(Term::Identity).map_err(|m| LowerError::at(e, m));
         }
+        // `\hat{v}` undefined: the accent as the file defines it (an
+        // operator `\hat`), on the symbol without it.
+        if let Some(accent) = s.accent {
+            let key = format!("\\{}", accent_name(accent));
+            if let Some((t, 1)) = self.resolver.template(&key)? {
+                let bare = ast::Symbol {
+                    accent: None,
+                    ..s.clone()
+                };
+                let inner = self.symbol(&bare, &Expr::Symbol(bare.clone()))?;
+                return Ok(Term::Template(t, vec![inner]));
+            }
+        }
+        // `e^{x}`: the exponential, when the file gives `e` no meaning.
+        if let Some(sup) = &s.sup
+            && is_bare_e(s)
+        {
+            let bare = ast::Symbol {
+                sup: None,
+                ..s.clone()
+            };
+            if self.resolver.symbol(&symbol_key(&bare))?.is_none() {
+                return Ok(Term::Call(Builtin::Exp, vec![self.expr(sup)?]));
+            }
+        }
         Err(LowerError::at(e, "undefined symbol"))
+    }
+
+    /// A product: factors with their operators; a function symbol before a
+    /// factor applies to it (`J_l^{-1}\left(\phi\right)`); operators the
+    /// file defines are its templates.
+    fn product(&mut self, first: &Expr, rest: &[(MulOp, Expr)]) -> Result<Term, LowerError> {
+        let mut items: Vec<(MulOp, &Expr)> = vec![(MulOp::Implicit, first)];
+        items.extend(rest.iter().map(|(op, x)| (*op, x)));
+        let mut factors: Vec<(Op, Term)> = Vec::with_capacity(items.len());
+        let mut i = 0;
+        while i < items.len() {
+            let (op, x) = items[i];
+            // `g^{-1}(T, 0)` inside a longer product: a name the file gives
+            // as a whole.
+            if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
+                && matches!(next.1, Expr::Tuple(_))
+                && let Some(pair) = Some(Expr::Product {
+                    first: Box::new(x.clone()),
+                    rest: vec![(MulOp::Implicit, next.1.clone())],
+                })
+                && is_applied_product(&pair)
+                && let Some((id, Found::Stored { .. } | Found::Value)) =
+                    self.resolver.symbol(&pair.to_string())?
+            {
+                factors.push((operator(op, x)?, Term::Symbol(id)));
+                i += 2;
+                continue;
+            }
+            if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
+                && let Some(applied) = self.applied(x, next.1)?
+            {
+                factors.push((operator(op, x)?, applied));
+                i += 2;
+                continue;
+            }
+            let custom = match op {
+                MulOp::Implicit | MulOp::Cdot | MulOp::Star | MulOp::Slash => None,
+                other => self.resolver.template(&mulop_latex(other))?,
+            };
+            match (custom, factors.pop()) {
+                (Some((t, 2)), Some((before, left))) => {
+                    // `a \boxminus b`: the template of the operator, between
+                    // the factor before it and this one.
+                    let right = self.expr(x)?;
+                    factors.push((before, Term::Template(t, vec![left, right])));
+                }
+                (Some(_), previous) => {
+                    factors.extend(previous);
+                    return Err(LowerError::at(
+                        x,
+                        format!(
+                            "the operator `{}` takes two arguments in the symbols file",
+                            mulop_latex(op)
+                        ),
+                    ));
+                }
+                (None, previous) => {
+                    factors.extend(previous);
+                    factors.push((operator(op, x)?, self.expr(x)?));
+                }
+            }
+            i += 1;
+        }
+        Ok(if factors.len() == 1 {
+            factors.pop().expect("one factor").1
+        } else {
+            Term::Product(factors)
+        })
+    }
+
+    /// `f x` with `f` a function symbol (or its inverse `f^{-1}`): the
+    /// application, else `None`.
+    fn applied(&mut self, f: &Expr, x: &Expr) -> Result<Option<Term>, LowerError> {
+        let (s, inverse) = match f {
+            Expr::Symbol(s) => (s, false),
+            Expr::Power { base, exponent } if number(exponent) == Some(-1.0) => match base.as_ref()
+            {
+                Expr::Symbol(s) => (s, true),
+                _ => return Ok(None),
+            },
+            _ => return Ok(None),
+        };
+        let arg = self.expr(x);
+        Ok(match self.resolver.symbol(&symbol_key(s))? {
+            Some((_, Found::Function(b))) => {
+                let b = if inverse {
+                    b.inverse().ok_or_else(|| {
+                        LowerError::at(f, format!("`{}` has no inverse here", b.name()))
+                    })?
+                } else {
+                    b
+                };
+                Some(Term::Call(b, vec![arg?]))
+            }
+            Some((_, Found::Template(t))) if !inverse => Some(Term::Template(t, vec![arg?])),
+            _ => None,
+        })
     }
 
     /// `f(args)`.
@@ -279,6 +573,44 @@ impl<'r> Lowering<'r> {
         match head {
             Head::Function(f) => {
                 let mut args = args.to_vec();
+                if let Some(sub) = &f.sub {
+                    // `Ad_T`, `ad_\xi`: the function of the subscript, acting
+                    // on an argument when one follows.
+                    let (alone, acting) = match f.name.as_str() {
+                        "Ad" => (Builtin::Adjoint, Builtin::AdjointAct),
+                        "ad" => (Builtin::SmallAdjoint, Builtin::SmallAdjointAct),
+                        name => {
+                            return Err(LowerError::at(
+                                e,
+                                format!("a subscript on `{name}` is not evaluated"),
+                            ));
+                        }
+                    };
+                    let of = self.expr(sub)?;
+                    return Ok(match args.as_slice() {
+                        [] => Term::Call(alone, vec![of]),
+                        [x] => Term::Call(acting, vec![of, self.expr(x)?]),
+                        _ => return Err(LowerError::at(e, "one argument is expected")),
+                    });
+                }
+                // A function the file defines (its `log`, `between`) comes
+                // before the built-in one of the same name.
+                if f.power.is_none()
+                    && let Some((t, arity)) = self.resolver.template(&f.name)?
+                {
+                    if args.len() != arity {
+                        return Err(LowerError::at(
+                            e,
+                            format!("`{}` takes {arity} argument(s) in the symbols file", f.name),
+                        ));
+                    }
+                    return Ok(Term::Template(
+                        t,
+                        args.iter()
+                            .map(|a| self.expr(a))
+                            .collect::<Result<_, _>>()?,
+                    ));
+                }
                 let count = Builtin::indices(&f.name);
                 let builtin = if count > 0 {
                     let mut k = Vec::with_capacity(count);
@@ -304,7 +636,8 @@ impl<'r> Lowering<'r> {
                     return Err(LowerError::at(
                         e,
                         format!(
-                            "unknown function `{}` (known: {})",
+                            "unknown function `{}` (known: {}; or define it in the context's \
+                             `operators`)",
                             f.name,
                             Builtin::all_names()
                         ),
@@ -332,17 +665,32 @@ impl<'r> Lowering<'r> {
             Head::Symbol(s) => {
                 let key = symbol_key(s);
                 let found = self.resolver.symbol(&key)?;
-                if let Some((_, Found::Function(b))) = found {
-                    return self.call(b, args, e);
+                match found {
+                    Some((_, Found::Function(b))) => return self.call(b, args, e),
+                    Some((_, Found::Template(t))) => {
+                        return Ok(Term::Template(
+                            t,
+                            args.iter()
+                                .map(|a| self.expr(a))
+                                .collect::<Result<_, _>>()?,
+                        ));
+                    }
+                    _ => {}
                 }
                 let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
+                // `f(\cdot)`: the function written with its argument's place.
+                if args.iter().all(|a| *a == Expr::Placeholder) {
+                    return Ok(head);
+                }
+                let group_head = matches!(found, Some((_, Found::Stored { group: true })));
                 let mut parameters = true;
                 for a in args {
                     let is_parameter = match a {
-                        Expr::Symbol(x) => matches!(
-                            self.resolver.symbol(&symbol_key(x))?,
-                            Some((_, Found::Stored | Found::Tangent(_)))
-                        ),
+                        Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
+                            Some((_, Found::Tangent(_))) => true,
+                            Some((_, Found::Stored { .. })) => !group_head,
+                            _ => false,
+                        },
                         _ => false,
                     };
                     parameters &= is_parameter;
@@ -379,6 +727,41 @@ impl<'r> Lowering<'r> {
         ))
     }
 
+    /// `\lim_{δ → 0} \frac{N(δ) − N(0)}{δ}` with `δ` a tangent: the
+    /// derivative of the numerator by it at zero (the numerator need not be
+    /// linearised).
+    fn limit(&mut self, under: &Expr, body: &Expr, e: &Expr) -> Result<Term, LowerError> {
+        let variable = match under {
+            Expr::Relation { first, rest }
+                if rest.len() == 1 && rest[0].0 == Rel::To && number(&rest[0].1) == Some(0.0) =>
+            {
+                Some(first.as_ref())
+            }
+            _ => None,
+        };
+        let tangent = match variable {
+            Some(Expr::Symbol(s)) => match self.resolver.symbol(&symbol_key(s))? {
+                Some((id, Found::Tangent(_))) => Some((id, s.clone())),
+                _ => None,
+            },
+            _ => None,
+        };
+        match (tangent, body) {
+            (Some((id, s)), Expr::Fraction { num, den }) if matches!(den.as_ref(), Expr::Symbol(d) if *d == s) => {
+                Ok(Term::Quotient {
+                    numerator: Box::new(self.expr(num)?),
+                    tangent: id,
+                    limit: true,
+                })
+            }
+            _ => Err(LowerError::at(
+                e,
+                "a limit is evaluated only as `\\lim_{δ \\to 0}` of a difference quotient over \
+                 a perturbation δ the symbols file declares",
+            )),
+        }
+    }
+
     /// A fraction, a difference quotient over a tangent, or a stack.
     fn fraction(&mut self, num: &Expr, den: &Expr) -> Result<Term, LowerError> {
         let tangent_symbol = match den {
@@ -404,6 +787,7 @@ impl<'r> Lowering<'r> {
             return Ok(Term::Quotient {
                 numerator: Box::new(numerator),
                 tangent: id,
+                limit: false,
             });
         }
         if let Expr::Relation { .. } = den {
@@ -433,13 +817,21 @@ fn operator(op: MulOp, x: &Expr) -> Result<Op, LowerError> {
     })
 }
 
-/// `Some(size)` when `s` is the identity `I`, `I_3`, `I_{3×3}`.
+/// `Some(size)` when `s` is the identity: `I`, `\mathbf{I}`, `\mathbb{I}`,
+/// `\mathds{1}`, with a size or not (`I_3`, `I_{3×3}`).
 fn identity(s: &ast::Symbol) -> Option<Result<Option<usize>, String>> {
     let plain = ast::Symbol {
         sub: None,
+        font: ast::Font::Plain,
         ..s.clone()
     };
-    if plain != ast::Symbol::new(Base::Letter('I')) {
+    let letter = plain == ast::Symbol::new(Base::Letter('I'))
+        && matches!(
+            s.font,
+            ast::Font::Plain | ast::Font::Bold | ast::Font::Blackboard | ast::Font::Roman
+        );
+    let one = plain == ast::Symbol::new(Base::Letter('1')) && s.font == ast::Font::Blackboard;
+    if !(letter || one) {
         return None;
     }
     Some(match s.sub.as_deref() {
@@ -452,13 +844,99 @@ fn identity(s: &ast::Symbol) -> Option<Result<Option<usize>, String>> {
     })
 }
 
+/// The command of an accent (`hat` for `\hat`).
+fn accent_name(a: ast::Accent) -> &'static str {
+    match a {
+        ast::Accent::Hat => "hat",
+        ast::Accent::Tilde => "tilde",
+        ast::Accent::Bar => "bar",
+        ast::Accent::Dot => "dot",
+        ast::Accent::DDot => "ddot",
+        ast::Accent::Vec => "vec",
+        ast::Accent::Check => "check",
+        ast::Accent::Breve => "breve",
+    }
+}
+
+/// Whether `e` is printed as a name the symbols file may define as a whole
+/// (an application, a name with operators or primes, a product of
+/// symbols): checked before its parts are read.
+fn is_name_like(e: &Expr) -> bool {
+    match e {
+        Expr::Apply { .. } | Expr::Postfix { .. } | Expr::Primed { .. } | Expr::Indexed { .. } => {
+            true
+        }
+        Expr::Product { first, rest } => {
+            matches!(first.as_ref(), Expr::Symbol(_))
+                && rest
+                    .iter()
+                    .all(|(op, x)| *op == MulOp::Implicit && matches!(x, Expr::Symbol(_)))
+        }
+        _ => false,
+    }
+}
+
+/// Whether `e` is a product of symbols, their powers, applications and
+/// argument lists, printed side by side (`D_2 g(ξ)`, `g^{-1}(T, 0)`): a
+/// name the file or another claim may give as a whole.
+fn is_applied_product(e: &Expr) -> bool {
+    match e {
+        Expr::Product { first, rest } => {
+            std::iter::once(first.as_ref())
+                .chain(rest.iter().map(|(_, x)| x))
+                .all(|x| match x {
+                    Expr::Symbol(_) | Expr::Apply { .. } | Expr::Tuple(_) => true,
+                    Expr::Power { base, exponent } => {
+                        matches!(base.as_ref(), Expr::Symbol(_)) && number(exponent).is_some()
+                    }
+                    _ => false,
+                })
+                && rest.iter().all(|(op, _)| *op == MulOp::Implicit)
+        }
+        _ => false,
+    }
+}
+
+/// `Some(shape)` when `e` is a printed zero block: `0`, `\mathbf{0}` (with
+/// a size subscript or not: `Some(Some((3, 1)))` for `0_{3×1}`), `0^T`.
+fn zero_block(e: &Expr) -> Option<Option<(usize, usize)>> {
+    match e {
+        Expr::Number(_) if number(e) == Some(0.0) => Some(None),
+        Expr::Symbol(s) if s.base == Base::Letter('0') => {
+            let bare = ast::Symbol {
+                sub: None,
+                font: ast::Font::Plain,
+                ..s.clone()
+            };
+            if bare != ast::Symbol::new(Base::Letter('0')) {
+                return None;
+            }
+            match s.sub.as_deref() {
+                None => Some(None),
+                Some(sub) => match (number(sub), sub.shape_annotation()) {
+                    (Some(n), _) if n.fract() == 0.0 && n >= 1.0 => Some(Some((n as usize, 1))),
+                    (_, Some((r, c))) if r >= 1 && c >= 1 => Some(Some((r as usize, c as usize))),
+                    _ => None,
+                },
+            }
+        }
+        Expr::Postfix {
+            base,
+            op: PostfixOp::Transpose,
+        } => zero_block(base).map(|s| s.map(|(r, c)| (c, r))),
+        _ => None,
+    }
+}
+
 /// The degree of `t` in the symbols `names` (`None` when it is not a
 /// polynomial in them: inside a function, a norm, a denominator, …).
 pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
     let free = |t: &Term| degree(t, names) == Some(0);
     match t {
         Term::Symbol(id) => Some(u32::from(names.contains(id))),
-        Term::Number(_) | Term::Zero | Term::Identity(_) | Term::Link(_) => Some(0),
+        Term::Number(_) | Term::Zero | Term::Identity(_) | Term::Link(_) | Term::TruthLink(_) => {
+            Some(0)
+        }
         Term::Neg(x) | Term::Hat(x) | Term::Vee(x) | Term::Transpose(x) | Term::Shaped(x, _) => {
             degree(x, names)
         }
@@ -496,7 +974,7 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
             }
         }
         Term::Norm(x) | Term::Quotient { numerator: x, .. } => free(x).then_some(0),
-        Term::Call(_, args) => args.iter().all(free).then_some(0),
+        Term::Call(_, args) | Term::Template(_, args) => args.iter().all(free).then_some(0),
     }
 }
 
@@ -519,8 +997,11 @@ mod tests {
                 (*id, found)
             }))
         }
-        fn link(&self, _: &str) -> Option<usize> {
+        fn link(&self, _: &str) -> Option<Link> {
             None
+        }
+        fn template(&mut self, _: &str) -> Result<Option<(usize, usize)>, LowerError> {
+            Ok(None)
         }
     }
 

@@ -1,34 +1,55 @@
 //! Auditing straight from a document's text: the formulas are read from
-//! the Markdown/LaTeX (crate `doc-latex`), given meaning by a symbols file,
-//! and checked by the same verdict engine as the transcribed catalogues;
-//! an erratum is diagnosed by searching small edits of the printed formula.
+//! the Markdown/LaTeX (crate `doc-latex`, with the document's own macros),
+//! given meaning by a symbols file, and checked by the verdict engine; an
+//! erratum is diagnosed by searching small edits of the printed formula.
+//! Each claim is read on its own: one that cannot be read is reported with
+//! the notation or symbol at fault ([`Unread`]) and the others are
+//! audited. `docs/guide/auditing.md` is the guide to writing a symbols file.
 //!
 //! ```sh
 //! slamjac audit notes.md --symbols notes.symbols.toml
 //! ```
 //!
-//! - [`symbols`]: the symbols file (TOML). A `[context.NAME]` names a
-//!   shipped factor (`factor = "point_reprojection"`) whose seeded samples
-//!   give the fields, and `[context.NAME.symbols]` says what each symbol of
-//!   the document means: `{ field = "pose.rotation" }` (a field or a part of
-//!   one, by its layout names), `{ sample = "rotation_vector" | "unit_quaternion"
-//!   | "vector3" | "rotation" | "pose" }` (a free variable), a LaTeX
-//!   definition `"R X + t"` (with `{ latex = …, components = ["P_x", …] }`
-//!   to name its entries), `{ function = "left_jacobian" }` (see
-//!   [`functions`]), `{ perturbs = "T", side = "left", parts = ["\\delta\\phi",
-//!   "\\delta\\rho"], coordinates = [1, 2, 3] }` (a tangent: what a derivative
-//!   by it perturbs), `{ residual = [1] }` (the factor's own residual).
+//! - [`symbols`]: the symbols file (TOML). At the top, `document`, `syntax
+//!   = "latex" | "markdown"` (by default from the extension) and `words`
+//!   (words the document uses as function names). A `[context.NAME]` may
+//!   name a shipped factor (`factor = "point_reprojection"`) whose seeded
+//!   samples give the fields, and `[context.NAME.symbols]` says what each
+//!   symbol of the document means (keys are LaTeX, read with the
+//!   document's macros; a key may be a whole expression, `"q(\omega)"`):
+//!   `{ field = "pose.rotation" }` (a field or a part of one, by its layout
+//!   names), `{ sample = "rotation_vector" | "unit_quaternion" | "vector3" |
+//!   "rotation" | "pose" | "vector" | "scalar", size, range }` (a free
+//!   variable; a field or sample may carry its default perturbation,
+//!   `side = "left" | "right"` or `update = "…"` in it and `\delta`), a
+//!   LaTeX definition `"R X + t"` (with `{ latex = …, components = ["P_x",
+//!   …] }` to name its entries), `{ function = "left_jacobian" }` (see
+//!   [`functions`]), `{ args = ["x"], latex = "…" }` (a function the
+//!   document defines), `{ perturbs = "T", side = "left", update = "…",
+//!   parts = ["\delta\phi", "\delta\rho"], coordinates = [1, 2, 3] }` (a
+//!   tangent: what a derivative by it perturbs), `{ residual = [1] }` (the
+//!   factor's own residual). `[context.NAME.operators]` gives operators,
+//!   accents and words their meaning (`"\boxminus"`, `"^\odot"`,
+//!   `"\hat"`, `"between"` to `{ args, latex }`), and each
+//!   `[[context.NAME.link]]` (`lhs`, `of`, `wrt`, `side`, `output`) a
+//!   derivative the document states only in words, for its chain rules.
 //!   Each `[[claim]]` names an equation: `id` (its name in reports),
-//!   `context`, `label = "(5)"` or `anchor = "…"` (with `line`, `chain =
-//!   true` to audit where a chain of equalities arrives, `case` for a row
-//!   of `cases`), what it claims (`kind = "jacobian" | "value" |
-//!   "first_order"`, `of`, `wrt`, `side`, `at_zero`; by default read from
-//!   its printed left side), `lhs` (how chain rules elsewhere write it),
-//!   `expected` (the verdict the gate accepts), `erratum` (a reader's
-//!   note, kept apart from the engine's diagnosis), `claim` and
-//!   `convention` (words), `stacked_fractions`, its own `[claim.symbols]`
-//!   and `[[claim.conventions]]` (`description` with `side`, `update`,
-//!   `of` or `wrt`).
+//!   `context`, where it is (`label = "(5)"`, `anchor = "…"` (a piece of
+//!   exactly one formula), or `after = "…"` (the display after a piece of
+//!   prose); then `line`, `statement`, `step` (one side of a chain of
+//!   equalities), `chain = true` (where a chain over several lines
+//!   arrives), `case` (a row of `cases`)), what it claims (`kind =
+//!   "jacobian" | "value" | "first_order" | "differential"`, `of`, `wrt`,
+//!   `side`, `update`, `output`, `at_zero`; by default read from its
+//!   printed left side), `lhs` (how chain rules elsewhere write it),
+//!   `expected` (the verdict the gate accepts, or `"unread"`), `erratum`
+//!   (a reader's note, kept apart from the engine's diagnosis), `claim`
+//!   and `convention` (words), `stacked_fractions`, its own
+//!   `[claim.symbols]` and `[[claim.conventions]]` (`description` with
+//!   `side`, `update`, `of` or `wrt`).
+//! - Loading: a document and its symbols file read claim by claim
+//!   ([`TextAudit::read`]) or stopping at the first error
+//!   ([`TextAudit::load`]).
 //! - [`lower`]: LaTeX to [`term::Term`]s; an undefined symbol or notation
 //!   without meaning is an error naming the equation and the fragment.
 //! - [`eval`]: terms evaluated over any scalar ([`value`] holds the
@@ -62,6 +83,7 @@ pub mod errata;
 pub mod eval;
 pub mod factors;
 pub mod functions;
+mod load;
 pub mod lower;
 pub mod report;
 pub mod stored;
@@ -70,18 +92,18 @@ pub mod term;
 pub mod tree;
 pub mod value;
 
-use doc_latex::{Document, ParseError};
+use doc_latex::ParseError;
 use factor_testing::samples::Sampler;
 
 use crate::chain::{Chain, localise};
 use crate::verdict::{Finding, Verdict, audit};
-use claims::{TextClaim, TextDerivation, compile, links, locate};
+use claims::{TextClaim, TextDerivation};
 use context::Context;
-use eval::{Env, Space};
 use lower::LowerError;
 use report::TextFinding;
-use symbols::{SymbolsFile, one_line};
-use term::{Meaning, Variable};
+use symbols::one_line;
+
+pub use load::Unread;
 
 /// Longest document read, in bytes.
 pub const MAX_DOCUMENT_BYTES: usize = 1 << 20;
@@ -182,144 +204,13 @@ pub struct TextAudit {
     pub document: String,
     /// The contexts.
     pub contexts: Vec<Context>,
-    /// The claims, in the file's order.
+    /// The claims that were read, in the file's order.
     pub claims: Vec<TextClaim>,
+    /// The claims that could not be read.
+    unread: Vec<Unread>,
 }
 
 impl TextAudit {
-    /// Reads `document` (named `name` in reports) and its symbols file.
-    pub fn load(name: &str, document: &str, symbols: &str) -> Result<Self, TextError> {
-        on_large_stack(|| Self::load_here(name, document, symbols))
-    }
-
-    fn load_here(name: &str, document: &str, symbols: &str) -> Result<Self, TextError> {
-        if document.len() > MAX_DOCUMENT_BYTES {
-            return Err(TextError::TooLarge {
-                what: "document",
-                limit: MAX_DOCUMENT_BYTES,
-            });
-        }
-        let file = SymbolsFile::parse(symbols)?;
-        let doc = Document::parse(document).map_err(TextError::Parse)?;
-        let names: Vec<&String> = file.context.keys().collect();
-        let mut contexts = file
-            .context
-            .iter()
-            .map(|(name, spec)| Context::build(name, spec))
-            .collect::<Result<Vec<_>, _>>()?;
-        // First pass: locate every claim, its own readings and how chain
-        // rules write it, so that links resolve whatever their order.
-        let mut located = Vec::with_capacity(file.claims.len());
-        let mut context_of = Vec::with_capacity(file.claims.len());
-        for (i, spec) in file.claims.iter().enumerate() {
-            let c = names
-                .iter()
-                .position(|n| **n == spec.context)
-                .ok_or_else(|| TextError::Claim {
-                    claim: spec.id.clone(),
-                    message: format!("no context `{}`", spec.context),
-                })?;
-            contexts[c].add_claim_symbols(i, &spec.id, &spec.symbols)?;
-            let place = locate(&doc, spec)?;
-            if let Some(key) = claims::lhs_key(spec, &place)? {
-                contexts[c].links.entry(key).or_insert(i);
-            }
-            located.push(place);
-            context_of.push(c);
-        }
-        for ctx in &mut contexts {
-            let ids: Vec<String> = file.claims.iter().map(|c| c.id.clone()).collect();
-            ctx.lower_all(|scope| scope.map(|s| ids[s].clone()))?;
-            ctx.printed = vec![None; file.claims.len()];
-        }
-        let mut claims = Vec::with_capacity(file.claims.len());
-        for (i, (spec, place)) in file.claims.iter().zip(located).enumerate() {
-            let ctx = &mut contexts[context_of[i]];
-            let mut claim = compile(ctx, context_of[i], i, spec, place.clone(), name)?;
-            claim.links = links(&place, ctx, i);
-            for k in claim.printed.links() {
-                if !claim.links.contains(&k) {
-                    claim.links.push(k);
-                }
-            }
-            ctx.printed[i] = Some(claim.printed.clone());
-            claims.push(claim);
-        }
-        let mut audit = TextAudit {
-            document: name.to_string(),
-            contexts,
-            claims,
-        };
-        audit.check_links()?;
-        audit.fix_shapes()?;
-        Ok(audit)
-    }
-
-    /// A chain rule's links must be claims whose printed formulas are not
-    /// chain rules themselves (one level is followed).
-    fn check_links(&self) -> Result<(), TextError> {
-        for c in &self.claims {
-            for k in c.printed.links() {
-                if !self.claims[k].printed.links().is_empty() {
-                    return Err(TextError::Claim {
-                        claim: c.label.equation.clone(),
-                        message: format!(
-                            "its link {} is itself a chain rule (one level is followed)",
-                            self.claims[k].label.equation
-                        ),
-                    });
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Sizes what a sample tells: defined variables and each map's value.
-    fn fix_shapes(&mut self) -> Result<(), TextError> {
-        let samples: Vec<Vec<f64>> = self
-            .contexts
-            .iter()
-            .map(|c| c.sample(&mut Sampler::new(0)))
-            .collect();
-        for (ctx, stored) in self.contexts.iter_mut().zip(&samples) {
-            ctx.shape_defined(|ctx, symbol| shape_of(ctx, stored, symbol).map_err(|e| e.0))?;
-        }
-        for claim in &mut self.claims {
-            let ctx = &self.contexts[claim.context];
-            let stored = &samples[claim.context];
-            let id = claim.label.equation.clone();
-            let error = |m: String| TextError::Claim {
-                claim: id.clone(),
-                message: m,
-            };
-            let fix = |v: &mut Option<Variable>| -> Result<(), TextError> {
-                match v {
-                    Some(Variable::Defined { symbol, shape, .. }) => {
-                        *shape = shape_of(ctx, stored, *symbol).map_err(|e| error(e.0))?;
-                    }
-                    Some(Variable::Update { symbol, dim, .. }) => {
-                        let (r, c) = shape_of(ctx, stored, *symbol).map_err(|e| error(e.0))?;
-                        *dim = r * c;
-                    }
-                    _ => {}
-                }
-                Ok(())
-            };
-            fix(&mut claim.variable)?;
-            for c in &mut claim.conventions {
-                fix(&mut c.variable)?;
-            }
-            let value = TextDerivation::new(claim, ctx, stored.clone())
-                .map_value()
-                .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
-            if value.iter().any(|x| !x.is_finite()) {
-                return Err(error("its map is not finite at a sample".into()));
-            }
-            claim.value_shape = value.shape();
-        }
-        Ok(())
-    }
-
     /// The chain rules among the claims.
     pub fn chains(&self) -> Vec<Chain> {
         self.claims
@@ -331,7 +222,8 @@ impl TextAudit {
                 links: c
                     .links
                     .iter()
-                    .map(|k| self.claims[*k].label.equation.clone())
+                    .filter_map(|k| self.claims.iter().find(|l| l.index == *k))
+                    .map(|l| l.label.equation.clone())
                     .collect(),
             })
             .collect()
@@ -377,6 +269,12 @@ impl TextAudit {
                 if let (Verdict::Wrong(words), Some(d)) = (&mut finding.verdict, &diagnosis) {
                     *words = Some(d.words.clone());
                 }
+                // The expanded truth is in the stored scalars' names: shown
+                // only when short, and never beside a correction in the
+                // document's own terms.
+                finding.corrected_latex = finding
+                    .corrected_latex
+                    .filter(|l| diagnosis.is_none() && report::expansion_fits(l, &claim.quote));
                 TextFinding {
                     finding,
                     line: claim.line,
@@ -389,22 +287,4 @@ impl TextAudit {
             })
             .collect()
     }
-}
-
-/// The shape of symbol `symbol`'s value at the sample `stored`.
-fn shape_of(
-    ctx: &Context,
-    stored: &[f64],
-    symbol: usize,
-) -> Result<(usize, usize), value::ShapeError> {
-    if matches!(ctx.table.entries[symbol].meaning, Meaning::Tangent { .. }) {
-        return Err(value::ShapeError("a tangent has no value".into()));
-    }
-    let space = Space {
-        table: &ctx.table,
-        printed: &ctx.printed,
-        factor: ctx.factor,
-    };
-    let mut env = Env::new(space, stored.to_vec());
-    Ok(env.symbol(symbol)?.matrix()?.shape())
 }

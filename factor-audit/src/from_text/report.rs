@@ -1,13 +1,28 @@
-//! Findings of an audit from a document's text, and their reports: the
-//! verdict (the same vocabulary as the transcribed catalogues), the formula
-//! quoted as printed with its place, the formula as the parser understood
-//! it, and the engine's diagnosis with the corrected LaTeX.
+//! Findings of an audit from a document's text, and their reports: every
+//! claim of the symbols file, with its verdict (the vocabulary of
+//! [`crate::verdict`]) or why it could not be read; the formula quoted as
+//! printed with its place, the formula as the parser understood it, and the
+//! engine's diagnosis with the printed formula corrected, in the
+//! document's own terms.
 
 use std::fmt::Write;
 
 use super::errata::Diagnosis;
+use super::load::Unread;
+use super::symbols::one_line;
 use crate::report::note;
 use crate::verdict::{Finding, Verdict};
+
+/// Longest expanded correct expression a text report shows (it is in the
+/// stored scalars' names, not the document's terms): twice the printed
+/// formula, or this many characters for a short one.
+pub const MAX_EXPANSION_CHARS: usize = 240;
+
+/// Whether an expanded correct expression is short enough to help a
+/// reader of a formula printed as `quote`.
+pub fn expansion_fits(expansion: &str, quote: &str) -> bool {
+    expansion.chars().count() <= MAX_EXPANSION_CHARS.max(2 * quote.chars().count())
+}
 
 /// The audit of one claim of a document.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,8 +60,9 @@ impl TextFinding {
     }
 }
 
-/// A fixed-width table for the terminal, one row per formula.
-pub fn table(findings: &[TextFinding]) -> String {
+/// A fixed-width table for the terminal, one row per claim: the audited
+/// ones, then those that could not be read.
+pub fn table(findings: &[TextFinding], unread: &[Unread]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -75,12 +91,31 @@ pub fn table(findings: &[TextFinding]) -> String {
             expected
         );
     }
+    for u in unread {
+        let expected = if u.is_unexpected() {
+            format!(" (UNREAD: {} expected)", u.expected)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}",
+            "",
+            u.id,
+            u.line.map_or("—".into(), |l| l.to_string()),
+            "unread",
+            "—",
+            one_line(&u.error.to_string()),
+            expected
+        );
+    }
     out
 }
 
 /// A Markdown report: a summary table, then each formula with its quote,
-/// what was understood, the verdict, the diagnosis and the corrections.
-pub fn markdown(findings: &[TextFinding]) -> String {
+/// what was understood, the verdict, the diagnosis and the corrections,
+/// then each claim that could not be read with why.
+pub fn markdown(findings: &[TextFinding], unread: &[Unread]) -> String {
     let mut out = String::from(
         "# Derivation audit from the document's text\n\n| document | equation | line | verdict | max relative error | note |\n| --- | --- | --- | --- | --- | --- |\n",
     );
@@ -146,10 +181,40 @@ pub fn markdown(findings: &[TextFinding]) -> String {
             }
             _ => {}
         }
-        if let Some(latex) = &f.corrected_latex {
+        match &f.corrected_latex {
+            Some(latex) => {
+                let _ = writeln!(
+                    out,
+                    "\nThe correct expression, expanded:\n\n$$\n{latex}\n$$"
+                );
+            }
+            None if t.diagnosis.is_none()
+                && matches!(f.verdict, Verdict::Wrong(_) | Verdict::Malformed(_)) =>
+            {
+                let _ = writeln!(
+                    out,
+                    "- no correction in the document's terms: no edit of the search space fixes \
+                     it, and the expanded expression is too long to help"
+                );
+            }
+            None => {}
+        }
+    }
+    if !unread.is_empty() {
+        let _ = writeln!(out, "\n# Claims that could not be read\n");
+        for u in unread {
             let _ = writeln!(
                 out,
-                "\nThe correct expression, expanded:\n\n$$\n{latex}\n$$"
+                "- {} ({}): {}{}",
+                u.id,
+                u.line
+                    .map_or("not found".to_string(), |l| format!("line {l}")),
+                one_line(&u.error.to_string()).replace('|', "\\|"),
+                if u.is_unexpected() {
+                    String::new()
+                } else {
+                    " (expected: the symbols file records it unread)".into()
+                }
             );
         }
     }

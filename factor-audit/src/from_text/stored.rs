@@ -148,7 +148,7 @@ pub fn part(layout: &Layout, path: &str) -> Option<(usize, Layout)> {
 }
 
 /// A free variable the symbols file asks to be sampled (no factor holds it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FreeSample {
     /// A rotation vector of angle in `(0.05, 3)`.
     RotationVector,
@@ -160,10 +160,28 @@ pub enum FreeSample {
     Rotation,
     /// A pose: a uniform rotation and a translation in `[−2, 2)³`.
     Pose,
+    /// A vector of `size` entries, each uniform in `range`.
+    Vector {
+        /// Entries.
+        size: usize,
+        /// Where each is drawn.
+        range: [f64; 2],
+    },
+    /// A scalar uniform in `range`.
+    Scalar {
+        /// Where it is drawn.
+        range: [f64; 2],
+    },
 }
 
+/// The range of a `vector` or `scalar` sample when the file gives none.
+pub const DEFAULT_RANGE: [f64; 2] = [-1.0, 1.0];
+/// Most entries of a sampled `vector`.
+pub const MAX_VECTOR_SIZE: usize = 32;
+
 impl FreeSample {
-    /// The names a symbols file uses, with their samplers.
+    /// The names a symbols file uses, with their samplers (and `vector`,
+    /// `scalar`, which take a `size` and a `range`).
     pub const ALL: [(&'static str, FreeSample); 5] = [
         ("rotation_vector", FreeSample::RotationVector),
         ("unit_quaternion", FreeSample::UnitQuaternion),
@@ -172,9 +190,40 @@ impl FreeSample {
         ("pose", FreeSample::Pose),
     ];
 
-    /// The sampler named `name`.
-    pub fn named(name: &str) -> Option<Self> {
-        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+    /// Every sampler name, for messages.
+    pub fn all_names() -> String {
+        let mut names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
+        names.extend(["vector", "scalar"]);
+        names.join(", ")
+    }
+
+    /// The sampler named `name`, with the `size` and `range` a `vector` or
+    /// `scalar` takes; an error says what is wrong.
+    pub fn from_spec(
+        name: &str,
+        size: Option<usize>,
+        range: Option<[f64; 2]>,
+    ) -> Result<Self, String> {
+        let range = range.unwrap_or(DEFAULT_RANGE);
+        if !(range[0].is_finite() && range[1].is_finite() && range[0] < range[1]) {
+            return Err(format!("the range [{}, {}] is empty", range[0], range[1]));
+        }
+        let sized = matches!(name, "vector");
+        match (name, size) {
+            ("vector", Some(n)) if (1..=MAX_VECTOR_SIZE).contains(&n) => {
+                Ok(FreeSample::Vector { size: n, range })
+            }
+            ("vector", _) => Err(format!(
+                "a `vector` sample needs a `size` of 1 to {MAX_VECTOR_SIZE}"
+            )),
+            ("scalar", None) => Ok(FreeSample::Scalar { range }),
+            (_, Some(_)) if !sized => Err("`size` goes with a `vector` sample".into()),
+            _ => Self::ALL
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, s)| *s)
+                .ok_or_else(|| format!("no sampler `{name}` (samplers: {})", Self::all_names())),
+        }
     }
 
     /// The layout of what it samples.
@@ -184,6 +233,10 @@ impl FreeSample {
             FreeSample::UnitQuaternion => layout_of::<Quaternion<f64>>(),
             FreeSample::Rotation => layout_of::<So3<f64>>(),
             FreeSample::Pose => layout_of::<Se3<f64>>(),
+            FreeSample::Vector { size, .. } => {
+                Layout::Array((1..=size).map(|i| i.to_string()).collect())
+            }
+            FreeSample::Scalar { .. } => Layout::Scalar,
         }
     }
 
@@ -212,6 +265,10 @@ impl FreeSample {
             },
             FreeSample::Rotation => s.rotation().to_scalars(),
             FreeSample::Pose => s.pose().to_scalars(),
+            FreeSample::Vector { size, range } => {
+                (0..size).map(|_| s.uniform(range[0], range[1])).collect()
+            }
+            FreeSample::Scalar { range } => vec![s.uniform(range[0], range[1])],
         }
     }
 }

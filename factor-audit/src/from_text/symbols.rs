@@ -45,6 +45,13 @@ pub const MAX_SYMBOLS: usize = 2000;
 pub struct SymbolsFile {
     /// The document's file name, when given (informational).
     pub document: Option<String>,
+    /// `"latex"` for a LaTeX source (`%` comments), `"markdown"` otherwise;
+    /// by default from the document's extension (`.tex` is LaTeX).
+    pub syntax: Option<String>,
+    /// Words the document uses as function names (`between(a, b)`), besides
+    /// the built-in ones.
+    #[serde(default)]
+    pub words: Vec<String>,
     /// The contexts, by name.
     #[serde(default)]
     pub context: BTreeMap<String, ContextSpec>,
@@ -62,6 +69,41 @@ pub struct ContextSpec {
     /// Symbol (LaTeX) to meaning.
     #[serde(default)]
     pub symbols: BTreeMap<String, toml::Value>,
+    /// Operators and function words the document defines: `"\\boxminus"`,
+    /// `"^\\odot"`, `"between"` to `{ args = ["a", "b"], latex = "…" }`.
+    #[serde(default)]
+    pub operators: BTreeMap<String, TemplateSpec>,
+    /// Chain-rule links the document states only in words: derivatives
+    /// (as chain rules print them) whose value is the true derivative.
+    #[serde(default, rename = "link")]
+    pub links: Vec<LinkSpec>,
+}
+
+/// An operator or function defined by LaTeX over its arguments.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TemplateSpec {
+    /// The names of its arguments, as written in `latex`.
+    pub args: Vec<String>,
+    /// Its value, LaTeX over the arguments and the context's symbols.
+    pub latex: String,
+}
+
+/// A chain-rule link stated in words: `lhs` (the derivative as printed in
+/// the chain rules) is the true derivative of `of` by `wrt`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkSpec {
+    /// The derivative as the chain rules print it.
+    pub lhs: String,
+    /// The map differentiated.
+    pub of: String,
+    /// The variable.
+    pub wrt: String,
+    /// The side a group variable is perturbed on.
+    pub side: Option<Side>,
+    /// The local coordinates a group-valued map is read in.
+    pub output: Option<Side>,
 }
 
 /// What a claim says.
@@ -75,6 +117,9 @@ pub enum ClaimKind {
     /// The printed right side agrees with `of` to first order in `wrt`
     /// (`≈`): their Jacobians w.r.t. `wrt` are compared.
     FirstOrder,
+    /// The printed right side is the differential: the Jacobian applied to
+    /// the tangent `wrt` (`ω = J φ̇`, `D f(ξ)`), linear in it.
+    Differential,
 }
 
 /// A perturbation side.
@@ -99,8 +144,17 @@ pub struct ClaimSpec {
     pub label: Option<String>,
     /// A piece of the formula's LaTeX (or of the prose just before it).
     pub anchor: Option<String>,
+    /// A piece of the prose just before the formula: the first display
+    /// after it (said explicitly, never a fallback of `anchor`).
+    pub after: Option<String>,
     /// Which line of the formula (1-based).
     pub line: Option<usize>,
+    /// Which statement of the line (1-based: the line's claim, then what
+    /// follows it after `\\quad`, `,` or words such as `\\mbox{ and }`).
+    pub statement: Option<usize>,
+    /// Which right side of a chain of equalities `a = b = c` on the line
+    /// (1-based: `b`, then `c`; by default the last).
+    pub step: Option<usize>,
     /// Follow the chain of equalities from the located line to its end.
     #[serde(default)]
     pub chain: bool,
@@ -115,6 +169,13 @@ pub struct ClaimSpec {
     pub wrt: Option<String>,
     /// The side a group variable named in `wrt` is perturbed on.
     pub side: Option<Side>,
+    /// The variable's update, LaTeX in it and `\\delta` (`"\\operatorname{Exp}(-\\delta) R"`
+    /// for the error `R ← Exp(−δ) R`), instead of a side.
+    pub update: Option<String>,
+    /// The local coordinates a group-valued map is read in: `Log(f₀⁻¹ f)`
+    /// on the right, `Log(f f₀⁻¹)` on the left (by default the variable's
+    /// side).
+    pub output: Option<Side>,
     /// Differentiate at the variable's zero instead of its sampled value.
     #[serde(default)]
     pub at_zero: bool,
@@ -162,6 +223,16 @@ pub struct ConventionSpec {
     pub wrt: Option<String>,
 }
 
+/// How a derivative by a stored symbol perturbs it when the claim does
+/// not say: on a side, or by an update expression.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Perturbed {
+    /// The side.
+    pub side: Option<Side>,
+    /// The update, LaTeX in the symbol and `\\delta`.
+    pub update: Option<String>,
+}
+
 /// A symbol's meaning as the file writes it.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SymbolSpec {
@@ -179,9 +250,25 @@ pub enum SymbolSpec {
         path: String,
         /// Symbols for its entries, in order.
         components: Vec<String>,
+        /// The default perturbation.
+        perturbation: Perturbed,
     },
-    /// A sampled free variable (`rotation_vector`, `pose`, …).
-    Sample(String),
+    /// A sampled free variable (`rotation_vector`, `pose`, …, `vector` of
+    /// `size` entries in `range`, `scalar` in `range`), perturbed by default
+    /// on `side` or by `update`.
+    Sample {
+        /// The sampler.
+        name: String,
+        /// Entries of a `vector`.
+        size: Option<usize>,
+        /// Where entries are drawn.
+        range: Option<[f64; 2]>,
+        /// The default perturbation.
+        perturbation: Perturbed,
+    },
+    /// A function symbol defined by LaTeX over its arguments
+    /// (`{ args = ["p"], latex = "\\lfloor -p \\rfloor_\\times" }`).
+    Template(TemplateSpec),
     /// A function symbol (`left_jacobian`, `normalize`, …).
     Function(String),
     /// A perturbation of another symbol.
@@ -190,6 +277,8 @@ pub enum SymbolSpec {
         perturbs: String,
         /// On which side (groups only).
         side: Option<Side>,
+        /// Or by which update (LaTeX in the symbol and `\\delta`).
+        update: Option<String>,
         /// Symbols for equal slices of it (`[δφ, δρ]`).
         parts: Vec<String>,
         /// Which tangent coordinates (1-based), by default all.
@@ -205,11 +294,15 @@ struct SymbolTable {
     latex: Option<String>,
     #[serde(default)]
     components: Vec<String>,
+    args: Option<Vec<String>>,
     field: Option<String>,
     sample: Option<String>,
+    size: Option<usize>,
+    range: Option<[f64; 2]>,
     function: Option<String>,
     perturbs: Option<String>,
     side: Option<Side>,
+    update: Option<String>,
     #[serde(default)]
     parts: Vec<String>,
     coordinates: Option<Vec<usize>>,
@@ -256,17 +349,34 @@ impl SymbolSpec {
                     .into(),
             ));
         }
-        if t.perturbs.is_none()
-            && (t.side.is_some() || !t.parts.is_empty() || t.coordinates.is_some())
-        {
+        let stored = t.field.is_some() || t.sample.is_some();
+        if t.perturbs.is_none() && (!t.parts.is_empty() || t.coordinates.is_some()) {
+            return Err(bad("`parts` and `coordinates` go with `perturbs`".into()));
+        }
+        if t.perturbs.is_none() && !stored && (t.side.is_some() || t.update.is_some()) {
             return Err(bad(
-                "`side`, `parts` and `coordinates` go with `perturbs`".into()
+                "`side` and `update` go with `perturbs`, `field` or `sample`".into(),
             ));
         }
         if t.latex.is_none() && t.field.is_none() && !t.components.is_empty() {
             return Err(bad("`components` goes with `latex` or `field`".into()));
         }
-        Ok(if let Some(latex) = t.latex {
+        if t.sample.is_none() && (t.size.is_some() || t.range.is_some()) {
+            return Err(bad("`size` and `range` go with `sample`".into()));
+        }
+        if t.latex.is_none() && t.args.is_some() {
+            return Err(bad("`args` goes with `latex`".into()));
+        }
+        let perturbation = Perturbed {
+            side: t.side,
+            update: t.update.clone(),
+        };
+        Ok(if let (Some(latex), Some(args)) = (&t.latex, &t.args) {
+            SymbolSpec::Template(TemplateSpec {
+                args: args.clone(),
+                latex: latex.clone(),
+            })
+        } else if let Some(latex) = t.latex {
             SymbolSpec::Latex {
                 latex,
                 components: t.components,
@@ -275,9 +385,15 @@ impl SymbolSpec {
             SymbolSpec::Field {
                 path,
                 components: t.components,
+                perturbation,
             }
-        } else if let Some(s) = t.sample {
-            SymbolSpec::Sample(s)
+        } else if let Some(name) = t.sample {
+            SymbolSpec::Sample {
+                name,
+                size: t.size,
+                range: t.range,
+                perturbation,
+            }
         } else if let Some(f) = t.function {
             SymbolSpec::Function(f)
         } else if let Some(r) = t.residual {
@@ -286,6 +402,7 @@ impl SymbolSpec {
             SymbolSpec::Tangent {
                 perturbs: t.perturbs.unwrap_or_default(),
                 side: t.side,
+                update: t.update,
                 parts: t.parts,
                 coordinates: t.coordinates,
             }
@@ -350,7 +467,8 @@ mod tests {
             SymbolSpec::read("T", &v["a"]).unwrap(),
             SymbolSpec::Field {
                 path: "pose".into(),
-                components: Vec::new()
+                components: Vec::new(),
+                perturbation: Perturbed::default(),
             }
         );
         let v: toml::Value = toml::from_str("a = { field = \"pose\", sample = \"pose\" }").unwrap();

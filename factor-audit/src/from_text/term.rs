@@ -72,19 +72,63 @@ pub enum Term {
         numerator: Box<Term>,
         /// The tangent symbol `δξ`.
         tangent: SymbolId,
+        /// Under `\lim_{δξ → 0}`: `X` need not be linear in `δξ`; the
+        /// quotient is its derivative at zero (central differences,
+        /// extrapolated).
+        limit: bool,
     },
     /// A derivative in a chain rule: the printed formula of the claim of
     /// this file (by its index) that states it.
     Link(usize),
+    /// A derivative in a chain rule that the document states in words: the
+    /// true derivative of the context's link `k` ([`TruthLink`]).
+    TruthLink(usize),
+    /// An operator or function the symbols file defines by LaTeX over its
+    /// arguments ([`Template`]), applied.
+    Template(usize, Vec<Term>),
+}
+
+/// An operator or function defined by LaTeX over its arguments.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Template {
+    /// How it is written in the symbols file (`\\boxminus`, `^\\odot`, `H`).
+    pub key: String,
+    /// Its arguments: symbols bound while its body is evaluated.
+    pub params: Vec<SymbolId>,
+    /// Its body, lowered.
+    pub body: Term,
+}
+
+/// A chain-rule link the document states only in words: the derivative of
+/// `of` by `variable`, computed (by dual numbers) where it is used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TruthLink {
+    /// The derivative as the chain rules print it (canonical LaTeX).
+    pub key: String,
+    /// The map.
+    pub of: Term,
+    /// The variable.
+    pub variable: Variable,
+    /// The local coordinates of a group-valued map.
+    pub output: Option<Perturbation>,
+    /// Why it cannot be evaluated, when a sample says so.
+    pub broken: Option<String>,
+    /// The scope of a derivative printed inside a formula
+    /// (`R \frac{\partial}{\partial\omega}(e^{\omega^\wedge} p)`), read
+    /// with that formula's symbols; `None` for a link the file states.
+    pub inline: Option<Option<usize>>,
 }
 
 impl Term {
     /// Every sub-term (children first is not guaranteed).
     pub fn children(&self) -> Vec<&Term> {
         match self {
-            Term::Number(_) | Term::Symbol(_) | Term::Zero | Term::Identity(_) | Term::Link(_) => {
-                Vec::new()
-            }
+            Term::Number(_)
+            | Term::Symbol(_)
+            | Term::Zero
+            | Term::Identity(_)
+            | Term::Link(_)
+            | Term::TruthLink(_) => Vec::new(),
             Term::Neg(x)
             | Term::Power(x, _)
             | Term::Norm(x)
@@ -96,7 +140,9 @@ impl Term {
             Term::Sum(terms) => terms.iter().map(|(_, t)| t).collect(),
             Term::Product(factors) => factors.iter().map(|(_, t)| t).collect(),
             Term::Fraction { num, den, .. } => vec![num, den],
-            Term::Call(_, args) | Term::Stack(args) => args.iter().collect(),
+            Term::Call(_, args) | Term::Stack(args) | Term::Template(_, args) => {
+                args.iter().collect()
+            }
             Term::Blocks(rows) => rows.iter().flatten().collect(),
         }
     }
@@ -188,6 +234,9 @@ pub enum Meaning {
     },
     /// A function symbol.
     Function(Builtin),
+    /// A function symbol defined by LaTeX over its arguments (a template of
+    /// the context, by index).
+    Template(usize),
     /// A tangent: a perturbation of a stored value or a definition, and the
     /// symbols of its equal parts.
     Tangent {

@@ -14,7 +14,8 @@
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector4};
 
 use factor_core::geometry::{FreeLine, OrthonormalLine};
-use factor_core::lie::{Quaternion, Se3, So3};
+use factor_core::lie::{LieGroup, Quaternion, Se3, Sim3, So3};
+use factor_core::manifold::Perturbation;
 use factor_core::scalar::Scalar;
 use factor_core::storage::Storage;
 
@@ -41,6 +42,8 @@ pub enum Value<S: Scalar> {
     Rotation(So3<S>),
     /// A pose.
     Pose(Se3<S>),
+    /// A similarity (Sim(3)).
+    Similarity(Sim3<S>),
     /// `c I` whose size is told by where it is used.
     Identity(S),
     /// A zero block whose size is told by where it is used.
@@ -74,7 +77,7 @@ impl<S: Scalar> Value<S> {
         match self {
             Value::Matrix(m) => Some(m.shape()),
             Value::Rotation(_) => Some((3, 3)),
-            Value::Pose(_) => Some((4, 4)),
+            Value::Pose(_) | Value::Similarity(_) => Some((4, 4)),
             Value::Identity(_)
             | Value::Zero
             | Value::Blocks(_)
@@ -91,6 +94,7 @@ impl<S: Scalar> Value<S> {
             Value::Matrix(m) => format!("a {} matrix", shape_text(m.shape())),
             Value::Rotation(_) => "a rotation".into(),
             Value::Pose(_) => "a pose".into(),
+            Value::Similarity(_) => "a similarity".into(),
             Value::Identity(_) => "an identity of unprinted size".into(),
             Value::Zero => "a zero of unprinted size".into(),
             Value::Blocks(_) => "a block matrix of unprinted size".into(),
@@ -105,6 +109,7 @@ impl<S: Scalar> Value<S> {
             Value::Matrix(m) => Ok(m),
             Value::Rotation(r) => Ok(dynamic(&r.matrix())),
             Value::Pose(p) => Ok(dynamic(&p.matrix())),
+            Value::Similarity(x) => Ok(dynamic(&x.matrix())),
             Value::Identity(c) => {
                 let n = match hint {
                     (Some(r), Some(c)) if r != c => {
@@ -220,8 +225,9 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a b`: scalars scale, groups compose, a rotation turns a 3-vector,
-    /// matrices multiply; unsized operands are sized by the other one.
+    /// `a b`: scalars scale, groups compose, a rotation turns a 3-vector
+    /// and a pose (or similarity) moves it, matrices multiply; unsized
+    /// operands are sized by the other one.
     pub fn times(self, b: Self) -> Result<Self, ShapeError> {
         if let Some(c) = self.as_scalar() {
             return b.scale(c);
@@ -234,6 +240,15 @@ impl<S: Scalar> Value<S> {
             (Value::Zero, _) | (_, Value::Zero) => Ok(Value::Zero),
             (Value::Rotation(p), Value::Rotation(q)) => Ok(Value::Rotation(p.compose(&q))),
             (Value::Pose(p), Value::Pose(q)) => Ok(Value::Pose(p.compose(&q))),
+            (Value::Similarity(p), Value::Similarity(q)) => Ok(Value::Similarity(p.compose(&q))),
+            // A pose or similarity acting on a 3-vector: `T p = R p + t`.
+            (Value::Pose(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
+                t.transform_point(&Vector3::from_column_slice(m.as_slice()))
+                    .as_slice(),
+            )),
+            (Value::Similarity(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
+                t.act(&Vector3::from_column_slice(m.as_slice())).as_slice(),
+            )),
             (a, b) => {
                 let a = match a {
                     Value::Blocks(blocks) => blocks.resolve((None, b.shape().map(|s| s.0)))?,
@@ -269,9 +284,9 @@ impl<S: Scalar> Value<S> {
     /// `a ⊕ b`: the Hamilton product of quaternions, or a group composition.
     pub fn oplus(self, b: Self) -> Result<Self, ShapeError> {
         match (&self, &b) {
-            (Value::Rotation(_), Value::Rotation(_)) | (Value::Pose(_), Value::Pose(_)) => {
-                self.times(b)
-            }
+            (Value::Rotation(_), Value::Rotation(_))
+            | (Value::Pose(_), Value::Pose(_))
+            | (Value::Similarity(_), Value::Similarity(_)) => self.times(b),
             _ => {
                 let (p, q) = (self.quaternion("⊕")?, b.quaternion("⊕")?);
                 Ok(Value::column(p.mul(&q).coords().as_slice()))
@@ -302,6 +317,7 @@ impl<S: Scalar> Value<S> {
         match self {
             Value::Rotation(r) => Ok(Value::Rotation(r.inverse())),
             Value::Pose(p) => Ok(Value::Pose(p.inverse())),
+            Value::Similarity(x) => Ok(Value::Similarity(x.inverse())),
             Value::Identity(c) => Ok(Value::Identity(c.recip())),
             Value::Matrix(m) if m.shape() == (4, 1) => {
                 let q = Quaternion::from_scalars(m.as_slice());
@@ -370,13 +386,57 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `S^∨`: the vector of a 3 × 3 skew matrix.
+    /// `S^∨`: the vector of a 3 × 3 skew matrix, or the 6-vector `[ω, ρ]`
+    /// of a 4 × 4 twist matrix.
     pub fn vee(self) -> Result<Self, ShapeError> {
         let m = self.matrix()?;
-        if m.shape() != (3, 3) {
-            return fail(format!("the vee of a {} matrix", shape_text(m.shape())));
+        match m.shape() {
+            (3, 3) => Ok(Value::column(&[m[(2, 1)], m[(0, 2)], m[(1, 0)]])),
+            (4, 4) => Ok(Value::column(&[
+                m[(2, 1)],
+                m[(0, 2)],
+                m[(1, 0)],
+                m[(0, 3)],
+                m[(1, 3)],
+                m[(2, 3)],
+            ])),
+            shape => fail(format!("the vee of a {} matrix", shape_text(shape))),
         }
-        Ok(Value::column(&[m[(2, 1)], m[(0, 2)], m[(1, 0)]]))
+    }
+
+    /// Whether it is a group element (a rotation, pose or similarity).
+    pub fn is_group(&self) -> bool {
+        matches!(
+            self,
+            Value::Rotation(_) | Value::Pose(_) | Value::Similarity(_)
+        )
+    }
+
+    /// `self ⊖ base` in local coordinates on `side` (`Log(base⁻¹ self)` on
+    /// the right, `Log(self base⁻¹)` on the left), for group elements of
+    /// one kind.
+    pub fn minus(self, base: Self, side: Perturbation) -> Result<Self, ShapeError> {
+        fn on<S: Scalar, G: LieGroup<S>>(a: &G, b: &G, side: Perturbation) -> G::Tangent {
+            a.minus(b, side)
+        }
+        Ok(match (&self, &base) {
+            (Value::Rotation(a), Value::Rotation(b)) => {
+                Value::column(on::<S, So3<S>>(a, b, side).as_slice())
+            }
+            (Value::Pose(a), Value::Pose(b)) => {
+                Value::column(on::<S, Se3<S>>(a, b, side).as_slice())
+            }
+            (Value::Similarity(a), Value::Similarity(b)) => {
+                Value::column(on::<S, Sim3<S>>(a, b, side).as_slice())
+            }
+            _ => {
+                return fail(format!(
+                    "local coordinates of {} about {}",
+                    self.describe(),
+                    base.describe()
+                ));
+            }
+        })
     }
 }
 
@@ -489,7 +549,7 @@ impl<S: Scalar> Blocks<S> {
     /// as [`Value::Blocks`] for where it is used to tell the rest.
     pub fn build(rows: Vec<Vec<Value<S>>>) -> Result<Value<S>, ShapeError> {
         let blocks = Blocks { rows };
-        match blocks.clone().resolve((None, None)) {
+        match blocks.clone().sized((None, None), false) {
             Ok(m) => Ok(Value::Matrix(m)),
             Err(e) if e.0.contains("cannot be told") => Ok(Value::Blocks(blocks)),
             Err(e) => Err(e),
@@ -505,18 +565,27 @@ impl<S: Scalar> Blocks<S> {
         Ok(Blocks { rows })
     }
 
-    /// The matrix, its total size (rows, columns) fixed where `hint` gives it.
+    /// The matrix, its total size (rows, columns) fixed where `hint` gives
+    /// it; a block row (column) of zeros nothing sizes is then one row
+    /// (column).
     pub fn resolve(self, hint: Hint) -> Result<DMatrix<S>, ShapeError> {
+        match self.clone().sized(hint, false) {
+            Err(e) if e.0.contains("cannot be told") => self.sized(hint, true),
+            other => other,
+        }
+    }
+
+    fn sized(self, hint: Hint, zeros_are_scalars: bool) -> Result<DMatrix<S>, ShapeError> {
         let n = self.rows.first().map_or(0, Vec::len);
         if self.rows.iter().all(|r| r.len() == n) {
-            return grid(self.rows, hint);
+            return grid(self.rows, hint, zeros_are_scalars);
         }
         // Rows of different lengths: each block row on its own, stacked.
         let count = self.rows.len();
         let mut parts = Vec::with_capacity(count);
         for row in self.rows {
             let one_row_hint = (if count == 1 { hint.0 } else { None }, hint.1);
-            parts.push(grid(vec![row], one_row_hint)?);
+            parts.push(grid(vec![row], one_row_hint, zeros_are_scalars)?);
         }
         stack(&parts)
     }
@@ -545,8 +614,14 @@ fn has_no_size<S: Scalar>(v: &Value<S>) -> bool {
 
 /// A rectangular grid of blocks: heights per block row and widths per
 /// block column from the sized blocks, then identities (square), the
-/// hint's totals, and rows or columns of scalars (size 1).
-fn grid<S: Scalar>(rows: Vec<Vec<Value<S>>>, hint: Hint) -> Result<DMatrix<S>, ShapeError> {
+/// hint's totals, and rows or columns of scalars (size 1); last, when
+/// `zeros_are_scalars`, a block row (column) of zeros nothing else sizes is
+/// one row (column).
+fn grid<S: Scalar>(
+    rows: Vec<Vec<Value<S>>>,
+    hint: Hint,
+    zeros_are_scalars: bool,
+) -> Result<DMatrix<S>, ShapeError> {
     let (nr, nc) = (rows.len(), rows.first().map_or(0, Vec::len));
     if nr == 0 || nc == 0 {
         return fail("an empty matrix");
@@ -608,7 +683,17 @@ fn grid<S: Scalar>(rows: Vec<Vec<Value<S>>>, hint: Hint) -> Result<DMatrix<S>, S
             }
         }
         if (heights.clone(), widths.clone()) == before {
-            break;
+            // Nothing else tells: a block row of zeros printed once is a
+            // row of scalars (`[ω^∧ v; 0 0]`), and so is a column.
+            let zeros = |v: &Value<S>| matches!(v, Value::Zero);
+            let row = (0..nr).find(|&i| heights[i].is_none() && rows[i].iter().all(zeros));
+            let column =
+                (0..nc).find(|&j| widths[j].is_none() && rows.iter().all(|r| zeros(&r[j])));
+            match (row, column) {
+                (Some(i), _) if zeros_are_scalars => heights[i] = Some(1),
+                (_, Some(j)) if zeros_are_scalars => widths[j] = Some(1),
+                _ => break,
+            }
         }
     }
     let unknown = heights

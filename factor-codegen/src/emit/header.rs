@@ -133,10 +133,19 @@ pub fn header(parts: &ModuleParts) -> Vec<String> {
             normal.counts(&normal.residual),
         ));
     }
+    let host_labels: Vec<String> = parts
+        .hosts
+        .iter()
+        .map(|h| format!("{} chart", h.trace.host))
+        .collect();
+    for (host, label) in parts.hosts.iter().zip(&host_labels) {
+        rows.push((label, host.lowered.counts(&host.lowered.outputs())));
+    }
     lines.extend(counts_table(&rows));
     if parts.normal.is_some() {
         lines.extend(normal_section(kernel, spec.name));
     }
+    lines.extend(super::host::header_section(spec.name, parts.hosts));
     lines.extend(lanes_section(parts.normal.is_some()));
     lines
 }

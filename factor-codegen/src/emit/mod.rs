@@ -21,6 +21,7 @@
 
 mod body;
 mod header;
+mod host;
 mod jacobian;
 mod lanes;
 mod normal;
@@ -33,6 +34,8 @@ use crate::kernel::SymbolicKernel;
 use crate::lower::LoweredKernel;
 use crate::schedule::Schedule;
 use crate::spec::{KernelSpec, Provenance};
+
+pub use host::HostParts;
 
 /// What one module is emitted from.
 #[derive(Clone, Copy)]
@@ -50,6 +53,8 @@ pub struct ModuleParts<'a> {
     /// The normal-equation program ([`crate::normal`]) and its schedule,
     /// when the spec asks for it.
     pub normal: Option<(&'a LoweredKernel, &'a Schedule)>,
+    /// The kernels in host charts ([`crate::host`]).
+    pub hosts: &'a [HostParts<'a>],
 }
 
 /// Lints the generated code trips by construction: one argument per field,
@@ -64,15 +69,23 @@ fn module_allows() -> TokenStream {
 /// How each input scalar is read by a function taking one array per field:
 /// `pose[3]`.
 fn field_inputs(kernel: &SymbolicKernel) -> Vec<TokenStream> {
-    let mut inputs = Vec::with_capacity(kernel.input_len());
-    for field in &kernel.fields {
-        let ident = format_ident!("{}", field.name);
-        inputs.extend((0..field.scalars).map(|k| {
-            let k = proc_macro2::Literal::usize_unsuffixed(k);
-            quote!(#ident[#k])
-        }));
-    }
-    inputs
+    let sizes: Vec<usize> = kernel.fields.iter().map(|f| f.scalars).collect();
+    indexed_inputs(&field_idents(kernel), &sizes)
+}
+
+/// How each input scalar is read by a function taking the arrays `names`
+/// of `sizes` scalars: `pose[3]`.
+fn indexed_inputs(names: &[Ident], sizes: &[usize]) -> Vec<TokenStream> {
+    names
+        .iter()
+        .zip(sizes)
+        .flat_map(|(ident, n)| {
+            (0..*n).map(move |k| {
+                let k = Literal::usize_unsuffixed(k);
+                quote!(#ident[#k])
+            })
+        })
+        .collect()
 }
 
 /// The fields' names, in declaration order.
@@ -155,6 +168,10 @@ pub fn module_source(parts: &ModuleParts) -> Result<String, CodegenError> {
         .normal
         .map(|(lowered, schedule)| normal::items(parts, lowered, schedule));
     let normal_shape = normal.as_ref().map(|_| quote!(, NormalShape));
+    let hosts = parts
+        .hosts
+        .iter()
+        .map(|h| host::items(parts.spec.name, parts.spec.source_type, h));
     let lanes = lanes::items(parts);
     let tokens = quote! {
         #(#![doc = #header])*
@@ -164,6 +181,7 @@ pub fn module_source(parts: &ModuleParts) -> Result<String, CodegenError> {
 
         #jacobian
         #normal
+        #(#hosts)*
         #lanes
     };
     // prettyplease puts no blank lines between the header, the lints, the

@@ -63,9 +63,46 @@ impl<S: Scalar> OrthonormalLine<S> {
         let u2: Vector3<S> = u.column(1).into_owned();
         PluckerLine::new(scale(self.w.cos, &u1), scale(self.w.sin, &u2))
     }
+
+    /// The unit direction `d = u₂` (the direction of the Plücker line it
+    /// was made from: `v / |v|`).
+    pub fn direction(&self) -> Vector3<S> {
+        self.u.matrix().column(1).into_owned()
+    }
+
+    /// The moment for the unit direction, `m = p × d` for any point `p` of
+    /// the line: `(w₁ / w₂) u₁`, of length [`OrthonormalLine::distance`]
+    /// (the Plücker normal `n` scaled to `|v| = 1`).
+    pub fn moment(&self) -> Vector3<S> {
+        scale(self.distance(), &self.u.matrix().column(0).into_owned())
+    }
+
+    /// The distance of the line from the origin, `w₁ / w₂ = |n| / |v|`.
+    pub fn distance(&self) -> S {
+        self.w.cos / self.w.sin
+    }
+
+    /// The point of the line closest to the origin, `d × m = −(w₁ / w₂) u₃`.
+    pub fn closest_point(&self) -> Vector3<S> {
+        scale(-self.distance(), &self.u.matrix().column(2).into_owned())
+    }
 }
 
 impl OrthonormalLine<f64> {
+    /// The line through the points `p` and `q`, directed from `p` to `q`
+    /// (`n = p × q`, `v = q − p`, [`PluckerLine::from_points`]), checked by
+    /// [`OrthonormalLine::try_from_plucker`]: the points must differ, and
+    /// the line may not pass through the origin (`n = 0`), where the
+    /// orthonormal representation is undefined.
+    pub fn try_from_points(p: &Vector3<f64>, q: &Vector3<f64>) -> Result<Self, StorageError> {
+        if p == q {
+            return Err(StorageError::new(
+                "the two points are the same: they do not define a line",
+            ));
+        }
+        Self::try_from_plucker(&PluckerLine::from_points(p, q))
+    }
+
     /// Checked conversion: `n` and `v` non-zero and orthogonal to `1e-9`
     /// relative (`|n · v| ≤ 1e-9 |n| |v|`); any common scale is accepted,
     /// over the whole `f64` range (each vector is normalised by its largest

@@ -5,13 +5,18 @@
 //! `−q` are the same plane. A pose `T` mapping world to camera sends a camera
 //! plane back to the world as `π_w = Tᵀ π_c` (points map forward, planes by the
 //! transpose).
+//!
+//! Sign convention: `π = [n, d]` is the plane `n · x + d = 0` (the
+//! documents' and g2o's); [`InfinitePlane::from_normal_offset`] and
+//! [`InfinitePlane::normal_offset`] convert from and to `(n, d)` with a
+//! unit normal.
 
-use nalgebra::Vector4;
+use nalgebra::{Vector3, Vector4};
 
 use crate::lie::Quaternion;
 use crate::lie::Se3;
 use crate::lie::so3::perturb_quaternion;
-use crate::linalg::{dot, unit_of};
+use crate::linalg::{dot, norm, scale, unit_of};
 use crate::manifold::{Manifold, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
@@ -34,6 +39,48 @@ impl<S: Scalar> InfinitePlane<S> {
     /// `[a, b, c, d]` with unit norm.
     pub fn coefficients(&self) -> Vector4<S> {
         self.quaternion.coords()
+    }
+
+    /// The plane `n · x + d = 0` for a normal `n` (any non-zero length) and
+    /// offset `d`: `q([n, d])`. With a unit `n` the plane is the points at
+    /// signed distance `−d` from the origin along `n`, `n · x = −d` (the
+    /// floor `z = −5` with `n = (0, 0, 1)` has `d = 5`). Unchecked; see
+    /// [`InfinitePlane::try_from_normal_offset`].
+    pub fn from_normal_offset(normal: &Vector3<S>, offset: S) -> Self {
+        Self::from_coefficients(&Vector4::new(normal.x, normal.y, normal.z, offset))
+    }
+
+    /// `(n, d)` with `|n| = 1` and `n · x + d = 0`: `[a, b, c] / |[a, b, c]|`
+    /// and `d / |[a, b, c]|`. The quaternion `−q` (the same plane) gives
+    /// `(−n, −d)`. A plane at infinity (`a = b = c = 0`) has no normal.
+    pub fn normal_offset(&self) -> (Vector3<S>, S) {
+        let q = self.quaternion;
+        let inv = norm(&q.vector()).recip();
+        (scale(inv, &q.vector()), q.w * inv)
+    }
+}
+
+impl InfinitePlane<f64> {
+    /// [`InfinitePlane::from_normal_offset`], checked: `n` non-zero and
+    /// everything finite (any scale of `[n, d]`, normalised over the whole
+    /// `f64` range).
+    pub fn try_from_normal_offset(
+        normal: &Vector3<f64>,
+        offset: f64,
+    ) -> Result<Self, StorageError> {
+        if !(normal.iter().all(|x| x.is_finite()) && offset.is_finite()) {
+            return Err(StorageError::new(
+                "the plane's normal or offset is not finite",
+            ));
+        }
+        if normal.iter().all(|x| *x == 0.0) {
+            return Err(StorageError::new("the plane's normal n is zero"));
+        }
+        let unit = unit_of(&Vector4::new(normal.x, normal.y, normal.z, offset))
+            .expect("a non-zero finite vector");
+        Ok(InfinitePlane {
+            quaternion: Quaternion::from_coords(unit),
+        })
     }
 }
 

@@ -1,5 +1,5 @@
 //! Lie groups generic over the scalar: unit quaternions, SO(2), SO(3), SE(3),
-//! each implementing [`LieGroup`] (`identity`, `compose`, `inverse`, `act`,
+//! Sim(3), each implementing [`LieGroup`] (`identity`, `compose`, `inverse`, `act`,
 //! `exp`, `log`, `adjoint`, the left and right Jacobians and their inverses,
 //! `plus` and `minus` on either side; see [`group`] for the conventions and
 //! for moving a Jacobian between perturbation sides).
@@ -25,6 +25,7 @@ pub mod group;
 pub mod quaternion;
 pub mod se3;
 pub mod se3_rho_theta;
+pub mod sim3;
 pub mod so2;
 pub mod so3;
 pub mod unit_quaternion;
@@ -32,7 +33,8 @@ pub mod unit_quaternion;
 pub use group::LieGroup;
 pub use quaternion::Quaternion;
 pub use se3::Se3;
-pub use se3_rho_theta::Se3RhoTheta;
+pub use se3_rho_theta::{Se3RhoTheta, inverse_pose_block};
+pub use sim3::Sim3;
 pub use so2::So2;
 pub use so3::So3;
 

@@ -8,8 +8,17 @@
 //! nothing is permuted or multiplied by an adjoint at run time. The stored
 //! scalars are those of [`Se3`] (`[qx, qy, qz, qw, x, y, z]`); only the
 //! tangent differs.
+//!
+//! Where the shipped factors meet: the factors of the documents (point,
+//! line and plane) take a world-to-camera [`Se3`] perturbed on the left;
+//! those of `slamjac solve` and g2o's (pose graphs, stereo, bundle
+//! adjustment, g2o's lines and planes) a body- or camera-to-world
+//! [`Se3RhoTheta`] perturbed on the right. One camera is
+//! [`Se3RhoTheta::from_world_to_camera`] /
+//! [`Se3RhoTheta::world_to_camera`] of the other, and
+//! [`inverse_pose_block`] moves a Jacobian block between the two.
 
-use nalgebra::Vector3;
+use nalgebra::{SMatrix, Vector3};
 
 use crate::lie::Se3;
 use crate::manifold::{Manifold, Perturbation};
@@ -46,6 +55,35 @@ impl<S: Scalar> Se3RhoTheta<S> {
     pub fn inverse_transform_point(&self, y: &Vector3<S>) -> Vector3<S> {
         self.0.rotation.inverse().rotate(&(y - self.0.translation))
     }
+}
+
+impl<S: Scalar> Se3RhoTheta<S> {
+    /// The camera-to-world pose of a camera given by its world-to-camera
+    /// pose `T_cw` (document 000's [`Se3`]): `T_cw⁻¹`.
+    pub fn from_world_to_camera(world_to_camera: &Se3<S>) -> Self {
+        Se3RhoTheta::new(world_to_camera.inverse())
+    }
+
+    /// The world-to-camera pose `self⁻¹` of the camera this camera-to-world
+    /// pose places (document 000's pose of it).
+    pub fn world_to_camera(&self) -> Se3<S> {
+        self.0.inverse()
+    }
+}
+
+/// The Jacobian block of a residual w.r.t. a pose, moved to the inverse
+/// pose in the other chart: a block w.r.t. document 000's world-to-camera
+/// [`Se3`] `T` perturbed on the **left** (`T ← Exp(δξ) T`, columns `[δω,
+/// δρ]`) becomes the block w.r.t. the camera-to-world [`Se3RhoTheta`] `X =
+/// T⁻¹` perturbed on the **right** (`X ← X Exp([δρ, δθ])`, columns `[δρ,
+/// δθ]`), and back (the map is its own inverse).
+///
+/// From `(X Exp(ξ))⁻¹ = Exp(−ξ) X⁻¹`: the right step `[δρ, δθ]` of `X` is
+/// the left step `−[δθ, δρ]` of `T`, so `J_X = −[J_T,ρ | J_T,ω]` (the
+/// halves swapped and negated). Exact for the Jacobians, since the two
+/// retractions agree with `X Exp(ξ)` and `Exp(δξ) T` to first order.
+pub fn inverse_pose_block<const R: usize>(block: &SMatrix<f64, R, 6>) -> SMatrix<f64, R, 6> {
+    SMatrix::from_fn(|r, c| -block[(r, (c + 3) % 6)])
 }
 
 impl<S: Scalar> From<Se3<S>> for Se3RhoTheta<S> {

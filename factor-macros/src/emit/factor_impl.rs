@@ -181,6 +181,11 @@ pub fn emit(cx: &Context) -> TokenStream {
                 factor.perturbed_residual(delta).iter().copied().collect()
             }
 
+            fn residual_over<__T: #krate::Scalar>(stored: &[__T]) -> ::std::vec::Vec<__T> {
+                let factor: #ident<__T> = #krate::Storage::from_scalars(stored);
+                #ident::<__T>::__factor_residual(&factor).iter().copied().collect()
+            }
+
             fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {
                 Self::__factor_variables()
             }

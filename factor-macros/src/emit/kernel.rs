@@ -25,7 +25,7 @@ pub fn path_text(path: &Path) -> String {
 
 /// `path` with its last segment replaced by `last`: an item of the kernel's
 /// module.
-fn sibling(path: &Path, last: &syn::Ident) -> Path {
+pub(super) fn sibling(path: &Path, last: &syn::Ident) -> Path {
     let mut sibling = path.clone();
     if let Some(segment) = sibling.segments.last_mut() {
         segment.ident = last.clone();

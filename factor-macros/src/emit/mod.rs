@@ -8,6 +8,7 @@
 
 mod evaluate;
 mod factor_impl;
+mod host;
 mod kernel;
 mod layout;
 mod linearization;
@@ -62,6 +63,7 @@ pub fn expand(model: &FactorModel) -> TokenStream {
         evaluate::emit(&cx),
         kernel::emit(&cx),
         factor_impl::emit(&cx),
+        host::emit(&cx),
     ];
     quote!(#(#items)*)
 }

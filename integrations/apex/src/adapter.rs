@@ -1,15 +1,18 @@
-//! [`ApexFactor`]: any derived factor as an apex-solver factor.
+//! [`ApexFactor`]: any derived factor as an apex-solver factor, in apex's
+//! own chart and parameter layout.
 //!
 //! apex-solver calls `Factor::linearize(params, residual, jacobian)` with one
-//! parameter slice per variable and a column-major `rows × Σ dof` Jacobian.
-//! The adapter writes the factor's stored scalars on the stack (its
-//! constants, then each variable's apex parameters in the kernel's layout,
-//! [`crate::variables`]), rebuilds the factor from them and calls its
-//! allocation-free [`Factor::linearize_into`] (the generated kernel) or
-//! [`Factor::linearize_dual_into`] (dual numbers), then copies the row-major
-//! blocks into apex's matrix. No conversion of the Jacobian is needed: the
-//! factor's poses are declared in apex's chart, so the kernel's columns are
-//! apex's.
+//! parameter slice per apex variable and a column-major `rows × Σ dof`
+//! Jacobian. A factor's variables are served as apex variables through
+//! their [`HostMap<Apex>`](factor_core::host::HostMap) (a pose is one `SE3`,
+//! an orthonormal line an `SO3` and an `SO2`, …; [`factor_core::host`]), so
+//! each apex slice is one input of the factor's kernel in apex's layout
+//! ([`HostLayout`]), and the factor's constants are the others. The
+//! generated apex kernel (`<factor>_apex`, [`HostKernel`]) reads those
+//! slices where apex keeps them and writes its column-major blocks straight
+//! into apex's matrix: nothing is copied or permuted, and no adjoint is
+//! applied, whatever chart the factor was written in. Dual numbers through
+//! the same host trace ([`linearize_host_dual`]) are the comparison path.
 //!
 //! A configuration the factor rejects (a point behind the camera, a folding
 //! distortion) has no residual: the adapter writes NaN, which makes apex
@@ -17,32 +20,31 @@
 //! acceptance threshold) as Ceres rejects a step when a cost function
 //! returns `false`; each such evaluation is counted in [`Rejections`].
 
+use std::any::TypeId;
+use std::collections::HashMap;
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use apex_solver::core::variable::ManifoldVariable;
-use factor_core::{Factor, FactorError};
+use factor_core::FactorError;
+use factor_core::host::{
+    Apex, ApexManifold, HostFactor, HostKernel, HostLayout, HostManifold, MAX_STORED,
+    MAX_VARIABLE_PARAMETERS, linearize_host, linearize_host_dual, linearize_host_validated,
+};
 use faer::prelude::ReborrowMut;
+use smallvec::SmallVec;
 
 use crate::AdapterError;
-use crate::variables::{ApexManifold, classify};
-
-/// The most stored scalars a served factor may have (the between factor has 35).
-pub const MAX_SCALARS: usize = 64;
-/// The most variables a served factor may have.
-pub const MAX_VARIABLES: usize = 4;
-/// The most Jacobian entries (residual rows × tangent columns) a served factor may have.
-pub const MAX_JACOBIAN: usize = 256;
 
 /// How an [`ApexFactor`] linearizes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Kernels {
-    /// The factor's generated kernel ([`Factor::linearize_into`]).
+    /// The factor's generated apex kernel ([`HostKernel`]).
     #[default]
     Generated,
-    /// Dual numbers ([`Factor::linearize_dual_into`]): the same factor, for
-    /// comparison.
+    /// Dual numbers through the same host trace ([`linearize_host_dual`]):
+    /// the same factor, for comparison.
     Dual,
 }
 
@@ -86,41 +88,108 @@ impl Rejections {
     }
 }
 
-/// A derived factor served to apex-solver: register it with its variables'
-/// keys in declaration order.
+/// What every factor of one type shares: its layout in apex's chart.
+/// Computed once per factor type ([`plan_of`]) and shared by reference, so
+/// a problem of a million blocks holds a million references, not a million
+/// layouts, and a linearization pass reads one plan from cache.
+#[derive(Debug)]
+struct Plan {
+    layout: HostLayout<ApexManifold>,
+}
+
+/// The plan of factor type `F`: built the first time it is asked for and
+/// kept for the process (one per factor type served: a bounded set).
+fn plan_of<F: HostFactor<Apex> + 'static>() -> &'static Plan {
+    static PLANS: OnceLock<Mutex<HashMap<TypeId, &'static Plan>>> = OnceLock::new();
+    let mut plans = PLANS
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner);
+    plans.entry(TypeId::of::<F>()).or_insert_with(|| {
+        Box::leak(Box::new(Plan {
+            layout: HostLayout::of::<F, Apex>(),
+        }))
+    })
+}
+
+/// A linearization through the host layout for the factor type
+/// ([`linearize_host`], [`linearize_validated`], [`linearize_host_dual`]).
+type Linearize = fn(
+    &HostLayout<ApexManifold>,
+    &[f64],
+    &[&[f64]],
+    &mut [f64],
+    Option<&mut [f64]>,
+) -> Result<(), FactorError>;
+
+/// A factor's stored scalars, inline up to this many (the shipped
+/// reprojection factors hold 14 to 20): no allocation per block.
+const INLINE_STORED: usize = 24;
+
+/// A derived factor served to apex-solver: register it on the apex keys of
+/// its variables' host parts, in declaration order ([`ApexFactor::parts`]).
 pub struct ApexFactor<F> {
-    /// The factor's stored scalars; the variables' are overwritten per call.
-    template: Vec<f64>,
-    /// Each variable's apex manifold and the offset of its stored scalars.
-    variables: Vec<(ApexManifold, usize)>,
+    /// The factor's stored scalars (its variables' are not read).
+    stored: SmallVec<[f64; INLINE_STORED]>,
+    plan: &'static Plan,
+    /// The residual-only evaluation of a trial step: validates.
+    evaluate: Linearize,
+    /// The linearization pass, at a configuration apex has evaluated and
+    /// accepted.
+    linearize: Linearize,
     kernels: Kernels,
     rejections: Option<Arc<Rejections>>,
     _factor: PhantomData<fn() -> F>,
 }
 
-impl<F: Factor> ApexFactor<F> {
-    /// Serves `factor` (its constants; its variables' values are read from
-    /// apex at each call) through `kernels`.
-    ///
-    /// # Errors
-    ///
-    /// [`AdapterError::Unsupported`] for a variable apex cannot serve with
-    /// the same tangent, [`AdapterError::TooLarge`] beyond the stack
-    /// buffers ([`MAX_SCALARS`], [`MAX_VARIABLES`], [`MAX_JACOBIAN`]).
-    pub fn new(factor: &F, kernels: Kernels) -> Result<Self, AdapterError> {
-        if F::SCALARS > MAX_SCALARS
-            || F::variables().len() > MAX_VARIABLES
-            || F::RESIDUAL_DIM * F::TANGENT_DIM > MAX_JACOBIAN
+impl<F: HostFactor<Apex> + 'static> ApexFactor<F> {
+    /// `factor` (its constants; its variables' values are read from apex at
+    /// each call) served through `evaluate` (residual only) and `linearize`.
+    fn with(
+        factor: &F,
+        evaluate: Linearize,
+        linearize: Linearize,
+        kernels: Kernels,
+    ) -> Result<Self, AdapterError> {
+        let plan = plan_of::<F>();
+        let layout = &plan.layout;
+        let variable_parameters = layout.variables.iter().map(|v| {
+            layout.parts[v.parts.clone()]
+                .iter()
+                .map(|p| p.manifold.parameters())
+                .sum::<usize>()
+        });
+        if layout.stored > MAX_STORED
+            || variable_parameters
+                .clone()
+                .any(|n| n > MAX_VARIABLE_PARAMETERS)
         {
             return Err(AdapterError::TooLarge { factor: F::NAME });
         }
+        let mut stored = SmallVec::from_elem(0.0, F::SCALARS);
+        factor.write_scalars(&mut stored);
         Ok(ApexFactor {
-            template: factor.to_scalars(),
-            variables: classify::<F>()?,
+            stored,
+            plan,
+            evaluate,
+            linearize,
             kernels,
             rejections: None,
             _factor: PhantomData,
         })
+    }
+
+    /// `factor` linearized by dual numbers in apex's chart: any factor
+    /// whose variables have a mapping onto apex, with or without a
+    /// generated apex kernel.
+    ///
+    /// # Errors
+    ///
+    /// [`AdapterError::TooLarge`] beyond the adapter's stack buffers
+    /// ([`MAX_STORED`], [`MAX_VARIABLE_PARAMETERS`]).
+    pub fn dual(factor: &F) -> Result<Self, AdapterError> {
+        let dual = linearize_host_dual::<F, Apex>;
+        Self::with(factor, dual, dual, Kernels::Dual)
     }
 
     /// Counts rejected evaluations in `rejections`.
@@ -129,142 +198,157 @@ impl<F: Factor> ApexFactor<F> {
         self
     }
 
-    /// The apex manifold of each variable, in declaration order.
-    pub fn manifolds(&self) -> Vec<ApexManifold> {
-        self.variables.iter().map(|(m, _)| *m).collect()
+    /// The apex variables (host parts) the factor connects, in order: the
+    /// keys it is registered on are theirs.
+    pub fn parts(&self) -> Vec<ApexManifold> {
+        self.plan.layout.parts.iter().map(|p| p.manifold).collect()
+    }
+
+    /// How it linearizes.
+    pub fn kernels(&self) -> Kernels {
+        self.kernels
     }
 }
 
-/// Writes row-major blocks (`rows ×` each block's columns), side by side,
-/// into apex's `rows × Σ columns` matrix, column by column: through
-/// contiguous slices when its rows are contiguous (apex's always are).
-fn write_column_major<'b>(
-    mut jacobian: faer::mat::MatMut<'_, f64>,
-    rows: usize,
-    blocks: impl Iterator<Item = (usize, &'b [f64])>,
-) {
-    let columns = blocks.flat_map(|(dof, block)| (0..dof).map(move |c| (dof, block, c)));
-    match jacobian.rb_mut().try_as_col_major_mut() {
-        Some(matrix) => {
-            for (column, (dof, block, c)) in matrix.col_iter_mut().zip(columns) {
-                for (r, slot) in column.as_slice_mut().iter_mut().enumerate() {
-                    *slot = block[r * dof + c];
-                }
-            }
-        }
-        None => {
-            for (j, (dof, block, c)) in columns.enumerate() {
-                for r in 0..rows {
-                    *jacobian.rb_mut().get_mut(r, j) = block[r * dof + c];
-                }
-            }
-        }
-    }
-}
-
-impl<F: Factor> ApexFactor<F> {
-    /// [`apex_solver::factors::Factor::linearize`] with stack buffers of `S`
-    /// stored scalars and `J` Jacobian entries (zeroed at each call, so
-    /// sized to the factor: see `linearize`).
-    fn linearize_with<const S: usize, const J: usize>(
-        &self,
-        params: &[&[f64]],
-        residual: &mut [f64],
-        jacobian: Option<faer::mat::MatMut<'_, f64>>,
-    ) {
-        let rows = F::RESIDUAL_DIM;
-        let mut stored = [0.0; S];
-        let stored = &mut stored[..self.template.len()];
-        stored.copy_from_slice(&self.template);
-        for ((manifold, offset), apex) in self.variables.iter().zip(params) {
-            manifold.stored_from_apex(apex, &mut stored[*offset..]);
-        }
-        let mut scratch = [0.0; J];
-        let mut blocks: [Option<&mut [f64]>; MAX_VARIABLES] = Default::default();
-        if jacobian.is_some() {
-            let mut rest = &mut scratch[..];
-            for ((manifold, _), block) in self.variables.iter().zip(blocks.iter_mut()) {
-                let (head, tail) = rest.split_at_mut(rows * manifold.dof());
-                *block = Some(head);
-                rest = tail;
-            }
-        }
-        let blocks = &mut blocks[..self.variables.len()];
-        let result = match self.kernels {
-            Kernels::Generated => F::linearize_stored_into(stored, residual, blocks),
-            Kernels::Dual => F::from_scalars(stored).linearize_dual_into(residual, blocks),
-        };
-        match (result, jacobian) {
-            (Ok(()), Some(jacobian)) => {
-                let blocks =
-                    self.variables
-                        .iter()
-                        .zip(blocks.iter())
-                        .map(|((manifold, _), block)| {
-                            (manifold.dof(), block.as_deref().unwrap_or_default())
-                        });
-                write_column_major(jacobian, rows, blocks);
-            }
-            (Ok(()), None) => {}
-            (Err(error), jacobian) => {
-                residual.fill(f64::NAN);
-                if let Some(mut jacobian) = jacobian {
-                    jacobian.fill(f64::NAN);
-                }
-                if let Some(rejections) = &self.rejections {
-                    rejections.record(&error);
-                }
-            }
+impl<F: HostKernel<Apex> + 'static> ApexFactor<F> {
+    /// `factor` linearized by `kernels`: its generated apex kernel, or dual
+    /// numbers in the same chart.
+    ///
+    /// # Errors
+    ///
+    /// As [`ApexFactor::dual`].
+    pub fn new(factor: &F, kernels: Kernels) -> Result<Self, AdapterError> {
+        match kernels {
+            Kernels::Generated => Self::with(
+                factor,
+                linearize_host::<F, Apex>,
+                linearize_validated::<F>,
+                kernels,
+            ),
+            Kernels::Dual => Self::dual(factor),
         }
     }
 }
 
-impl<F: Factor> apex_solver::factors::Factor for ApexFactor<F> {
+/// The generated kernel without the validation
+/// ([`linearize_host_validated`]): apex linearizes only at configurations
+/// whose residuals it evaluated (validated there: a rejected evaluation is
+/// NaN and its step is refused) or that the problem's builder validated
+/// (the initial values), so the validation is where a configuration is
+/// first met, not repeated in the linearization pass.
+fn linearize_validated<F: HostKernel<Apex>>(
+    layout: &HostLayout<ApexManifold>,
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    jacobian: Option<&mut [f64]>,
+) -> Result<(), FactorError> {
+    linearize_host_validated::<F, Apex>(layout, template, parts, residual, jacobian)
+}
+
+/// apex's column-major Jacobian as one slice, when its columns lie end to
+/// end (apex always passes such a matrix, built from a slice).
+fn contiguous(jacobian: faer::mat::MatMut<'_, f64>) -> Option<&mut [f64]> {
+    let (rows, columns) = (jacobian.nrows(), jacobian.ncols());
+    let end_to_end = jacobian.row_stride() == 1
+        && usize::try_from(jacobian.col_stride()).is_ok_and(|stride| stride == rows);
+    if !end_to_end || rows * columns == 0 {
+        return None;
+    }
+    // SAFETY: a `MatMut` is the unique borrow of its `rows × columns`
+    // elements for its lifetime; with a row stride of 1 and a column stride
+    // of `rows` those elements are exactly the `rows · columns` consecutive
+    // values from `as_ptr_mut()`, which the returned slice borrows for the
+    // same lifetime (the `MatMut` is consumed).
+    Some(unsafe { std::slice::from_raw_parts_mut(jacobian.as_ptr_mut(), rows * columns) })
+}
+
+impl<F: HostFactor<Apex>> ApexFactor<F> {
+    fn reject(&self, error: &FactorError, residual: &mut [f64]) {
+        residual.fill(f64::NAN);
+        if let Some(rejections) = &self.rejections {
+            rejections.record(error);
+        }
+    }
+}
+
+impl<F: HostFactor<Apex>> apex_solver::factors::Factor for ApexFactor<F> {
     fn linearize(
         &self,
         params: &[&[f64]],
         residual: &mut [f64],
         jacobian: Option<faer::mat::MatMut<'_, f64>>,
     ) {
-        // Size classes of the stack buffers, chosen by constants (the other
-        // arms compile away): zeroing 2 KiB at every call would cost as much
-        // as a small kernel.
-        let (scalars, entries) = (F::SCALARS, F::RESIDUAL_DIM * F::TANGENT_DIM);
-        match (scalars <= 16, entries <= 32) {
-            (true, true) => self.linearize_with::<16, 32>(params, residual, jacobian),
-            (false, true) => self.linearize_with::<MAX_SCALARS, 32>(params, residual, jacobian),
-            (true, false) => self.linearize_with::<16, MAX_JACOBIAN>(params, residual, jacobian),
-            (false, false) => {
-                self.linearize_with::<MAX_SCALARS, MAX_JACOBIAN>(params, residual, jacobian)
-            }
+        let layout = &self.plan.layout;
+        let result = match jacobian {
+            None => (self.evaluate)(layout, &self.stored, params, residual, None),
+            Some(mut jacobian) => match contiguous(jacobian.rb_mut()) {
+                Some(slice) => {
+                    let result =
+                        (self.linearize)(layout, &self.stored, params, residual, Some(slice));
+                    if result.is_err() {
+                        jacobian.fill(f64::NAN);
+                    }
+                    result
+                }
+                // A view with other strides (apex never passes one): the
+                // Jacobian goes through a buffer.
+                None => {
+                    let rows = layout.residual;
+                    let mut scratch = vec![0.0; rows * layout.columns()];
+                    let result = (self.linearize)(
+                        layout,
+                        &self.stored,
+                        params,
+                        residual,
+                        Some(&mut scratch),
+                    );
+                    for (j, column) in scratch.chunks(rows).enumerate() {
+                        for (r, value) in column.iter().enumerate() {
+                            *jacobian.rb_mut().get_mut(r, j) =
+                                if result.is_ok() { *value } else { f64::NAN };
+                        }
+                    }
+                    result
+                }
+            },
+        };
+        if let Err(error) = result {
+            self.reject(&error, residual);
         }
     }
 
     fn residual_dim(&self) -> usize {
-        F::RESIDUAL_DIM
+        self.plan.layout.residual
     }
 
     fn jacobian_shape(&self) -> (usize, usize) {
-        (F::RESIDUAL_DIM, F::TANGENT_DIM)
+        (self.plan.layout.residual, self.plan.layout.columns())
     }
 
     fn validate_variables(&self, variables: &[&dyn ManifoldVariable]) -> Result<(), String> {
-        if variables.len() != self.variables.len() {
+        let parts = &self.plan.layout.parts;
+        if variables.len() != parts.len() {
             return Err(format!(
-                "{} connects {} variables, {} given",
+                "{} connects {} apex variables ({}), {} given",
                 F::NAME,
-                self.variables.len(),
+                parts.len(),
+                parts
+                    .iter()
+                    .map(|p| p.manifold.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 variables.len()
             ));
         }
-        for (k, ((manifold, _), variable)) in self.variables.iter().zip(variables).enumerate() {
+        for (k, (part, variable)) in parts.iter().zip(variables).enumerate() {
             let params = variable.as_param_slice().len();
+            let manifold = part.manifold;
             if params != manifold.parameters() || variable.dof() != manifold.dof() {
                 return Err(format!(
-                    "{}: variable {k} ({}) needs {} parameters and {} tangent coordinates, \
-                     given {params} and {}",
+                    "{}: apex variable {k} must be {manifold} ({} parameters, {} tangent \
+                     coordinates), given {params} and {}",
                     F::NAME,
-                    F::variables()[k].name,
                     manifold.parameters(),
                     manifold.dof(),
                     variable.dof()

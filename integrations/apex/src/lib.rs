@@ -3,8 +3,10 @@
 //! - [`adapter`]: [`ApexFactor`], one generic adapter that serves any factor
 //!   derived with `#[derive(Factor)]` to apex-solver through its generated
 //!   kernel ([`Kernels::Generated`]) or dual numbers ([`Kernels::Dual`]);
-//! - [`variables`]: which apex manifold each factor variable is and how
-//!   apex's parameter blocks map to the kernels' input arrays;
+//! - [`builder`]: a problem of any derived factors (the user's own
+//!   included) built with typed variables, noise models and robust losses;
+//! - [`variables`]: values of this project's types as apex variables
+//!   (through their `HostMap<Apex>`) and back;
 //! - [`problems`]: BAL, Bundler, g2o, EDGE3 and KITTI VO problems (crate
 //!   `slam-data`) built as apex problems, with this project's factors or,
 //!   for comparison, apex's own, and the optimized values written back;
@@ -22,13 +24,15 @@
 //!
 //! # Conventions at the boundary
 //!
-//! apex retracts `SE3` on the right with the tangent `[ρ, θ]`. The factors
-//! served here declare their poses `#[variable(right)] Se3RhoTheta<S>`, whose
-//! tangent is exactly that, so their generated kernels emit apex's Jacobian
-//! columns: nothing is permuted, and no adjoint is applied, at run time. A
-//! factor whose poses are in another chart is refused by [`ApexFactor::new`].
+//! apex retracts every manifold on the right, `SE3` with the tangent
+//! `[ρ, θ]`. A factor is served in that chart whatever chart it was written
+//! in (document 000's left-perturbed `[δω, δρ]` pose included): its apex
+//! kernel (`<factor>_apex`, generated from the factor traced through apex's
+//! retractions, [`factor_core::host`]) emits apex's Jacobian columns
+//! directly, so nothing is permuted, and no adjoint is applied, at run time.
 
 pub mod adapter;
+pub mod builder;
 pub mod problems;
 pub mod solve;
 pub mod timing;
@@ -36,31 +40,16 @@ pub mod variables;
 
 pub use adapter::{ApexFactor, Kernels, Rejections};
 
-/// A factor that [`ApexFactor`] cannot serve.
+/// A factor that [`ApexFactor`] cannot serve. (A variable type with no
+/// mapping onto apex's manifolds is refused at compile time: the factor is
+/// then not a `HostFactor<Apex>`.)
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum AdapterError {
-    /// A variable has no apex-solver counterpart with the same tangent.
-    #[error(
-        "{factor}: variable `{variable}` ({type_name}, tangent {tangent}) has no apex-solver \
-         counterpart with the same tangent: declare poses `#[variable(right)] Se3RhoTheta<S>` \
-         (apex's SE3 chart, [ρ, θ] on the right) and vectors additive"
-    )]
-    Unsupported {
-        /// The factor's name.
-        factor: &'static str,
-        /// The variable's name.
-        variable: &'static str,
-        /// Its type as written.
-        type_name: &'static str,
-        /// Its tangent in words.
-        tangent: &'static str,
-    },
     /// The factor is larger than the adapter's stack buffers.
     #[error(
-        "{factor}: more than {} stored scalars, {} variables or {} Jacobian entries",
-        adapter::MAX_SCALARS,
-        adapter::MAX_VARIABLES,
-        adapter::MAX_JACOBIAN
+        "{factor}: more than {} stored scalars, or a variable of more than {} apex parameters",
+        factor_core::host::MAX_STORED,
+        factor_core::host::MAX_VARIABLE_PARAMETERS
     )]
     TooLarge {
         /// The factor's name.

@@ -27,13 +27,21 @@ pub struct SolveOptions {
 }
 
 impl Default for SolveOptions {
-    /// apex-solver's tolerances (Ceres' function, parameter and gradient
-    /// tolerances: 1e-6, 1e-8, 1e-10) and 100 iterations (GTSAM's limit).
+    /// A relative cost decrease of 1e-8, apex-solver's parameter and
+    /// gradient tolerances (Ceres': 1e-8, 1e-10) and 100 iterations
+    /// (GTSAM's limit).
+    ///
+    /// Chosen by measurement on the shipped data sets: with apex's cost
+    /// tolerance (Ceres' 1e-6) and its diagonal damping, `sphere2500`
+    /// stopped 0.14% above the optimum, the damping growing while every
+    /// step gained a third of its prediction. With 1e-8 (and the uniform
+    /// damping the pose-graph builder asks for, [`Damping`]) every shipped
+    /// set ends within 1e-7 of GTSAM 4.3's optimum.
     fn default() -> Self {
         let lm = LevenbergMarquardtConfig::default();
         SolveOptions {
             max_iterations: 100,
-            cost_tolerance: lm.cost_tolerance,
+            cost_tolerance: 1e-8,
             parameter_tolerance: lm.parameter_tolerance,
             gradient_tolerance: lm.gradient_tolerance,
         }
@@ -97,6 +105,8 @@ pub struct Outcome {
     pub values: SlotMap<VarKey, Box<dyn ManifoldVariable>>,
     /// Each iteration's report.
     pub history: Vec<Iteration>,
+    /// The options it ran with (the tolerances its verdict names).
+    pub options: SolveOptions,
 }
 
 /// How a solve ended, for a command line.
@@ -114,17 +124,40 @@ pub enum Verdict {
 }
 
 impl Outcome {
+    /// The solution's value of `variable` (a variable of the solved
+    /// problem, [`crate::builder::ProblemBuilder::add_variable`]).
+    ///
+    /// # Panics
+    ///
+    /// If `variable` is not one of the problem's.
+    pub fn value<
+        V: factor_core::host::HostMap<factor_core::host::Apex> + factor_core::Storage<f64>,
+    >(
+        &self,
+        variable: &crate::builder::Variable<V>,
+    ) -> V {
+        crate::builder::value_of(&self.values, variable)
+    }
+
     /// The verdict of the status (and of a non-finite final cost).
     pub fn verdict(&self) -> Verdict {
         if !self.final_cost.is_finite() {
             return Verdict::Failed(format!("the final cost is {}", self.final_cost));
         }
         match &self.status {
-            OptimizationStatus::Converged
-            | OptimizationStatus::CostToleranceReached
-            | OptimizationStatus::ParameterToleranceReached
-            | OptimizationStatus::GradientToleranceReached
-            | OptimizationStatus::MinCostThresholdReached => {
+            OptimizationStatus::CostToleranceReached => Verdict::Converged(format!(
+                "the last step decreased the cost by less than {:e} of it",
+                self.options.cost_tolerance
+            )),
+            OptimizationStatus::ParameterToleranceReached => Verdict::Converged(format!(
+                "the last step was shorter than {:e} of the parameters",
+                self.options.parameter_tolerance
+            )),
+            OptimizationStatus::GradientToleranceReached => Verdict::Converged(format!(
+                "the gradient's norm fell below {:e}",
+                self.options.gradient_tolerance
+            )),
+            OptimizationStatus::Converged | OptimizationStatus::MinCostThresholdReached => {
                 Verdict::Converged(self.status.to_string().to_lowercase())
             }
             OptimizationStatus::MaxIterationsReached => Verdict::IterationLimit,
@@ -197,8 +230,25 @@ impl OptObserver for Reporter {
     }
 }
 
+/// How Levenberg–Marquardt damps the normal equations; λ is updated by
+/// Nielsen's rule (apex's default) either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Damping {
+    /// `(JᵀJ + λ D) δ = −Jᵀr` with `D` the diagonal of `JᵀJ` clamped to
+    /// `[1e-6, 1e32]`, from λ = 1e-4 (apex's and Ceres' default): invariant
+    /// to each variable's units, for problems that mix them (bundle
+    /// adjustment: focal lengths, distortion, rotations, points).
+    #[default]
+    Diagonal,
+    /// `(JᵀJ + λ I) δ = −Jᵀr` from λ = 1e-5 (GTSAM's default, its
+    /// `diagonalDamping` off), for problems in one unit system (pose
+    /// graphs): on `sphere2500` it reaches the optimum in 47 iterations
+    /// where the diagonal damping needs 104 (apex 1.5, cost tolerance 1e-8).
+    Uniform,
+}
+
 /// Solves `built` with Levenberg–Marquardt, calling `on_iteration` as each
-/// iteration ends.
+/// iteration ends, damped as `built.damping` says.
 ///
 /// # Errors
 ///
@@ -208,7 +258,13 @@ pub fn solve(
     options: &SolveOptions,
     on_iteration: impl FnMut(&Iteration) + Send + 'static,
 ) -> Result<Outcome, SolveError> {
-    let config = LevenbergMarquardtConfig::default()
+    let config = match built.damping {
+        Damping::Diagonal => LevenbergMarquardtConfig::default(),
+        Damping::Uniform => LevenbergMarquardtConfig::default()
+            .with_diagonal_bounds(1.0, 1.0)
+            .with_damping(1e-5),
+    };
+    let config = config
         .with_linear_solver_type(built.linear_solver)
         // apex stops after the iteration whose 0-based index reaches its
         // limit, so it runs `limit + 1` iterations.
@@ -243,5 +299,6 @@ pub fn solve(
         elapsed: start.elapsed(),
         values: result.parameters,
         history,
+        options: *options,
     })
 }

@@ -8,7 +8,8 @@
 
 use std::path::{Path, PathBuf};
 
-use factor_codegen::{CodegenError, GeneratedCrate, KernelSpec, Provenance};
+use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
+use factor_core::host::Apex;
 
 use crate::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
 
@@ -23,14 +24,18 @@ pub const PROVENANCE: Provenance = Provenance::new(
 /// One spec per factor with a kernel: the module headers take each input's
 /// layout and description from the factor's own definition. Two also get
 /// the fused normal-equation kernel (`<name>_normal`), which the batch
-/// evaluators of `factor-batch` use for `JᵀwJ` and `Jᵀwr`.
+/// evaluators of `factor-batch` use for `JᵀwJ` and `Jᵀwr`; the two over this
+/// crate's own manifolds also get a kernel in apex-solver's chart
+/// (`<name>_apex`, through [`crate::apex_chart`]).
 pub fn kernel_specs() -> Vec<KernelSpec> {
     vec![
         KernelSpec::of::<RelativePose>().with_normal_equations(),
         KernelSpec::of::<PointToPlane>(),
         KernelSpec::of::<ScaledRangeBearing>(),
-        KernelSpec::of::<Direction>().with_normal_equations(),
-        KernelSpec::of::<RelativeSim3>(),
+        KernelSpec::of::<Direction>()
+            .with_normal_equations()
+            .with_host(HostSpec::of::<Direction, Apex>()),
+        KernelSpec::of::<RelativeSim3>().with_host(HostSpec::of::<RelativeSim3, Apex>()),
     ]
 }
 

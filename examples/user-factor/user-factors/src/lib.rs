@@ -32,6 +32,7 @@
 //! cargo run -p user-factors --no-default-features --bin generate-kernels  # when it no longer compiles
 //! ```
 
+pub mod apex_chart;
 pub mod codegen;
 pub mod manifold_factors;
 pub mod sim3;

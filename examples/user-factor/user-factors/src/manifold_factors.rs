@@ -21,7 +21,8 @@ use crate::unit_vector::UnitVector3;
     feature = "kernels",
     factor(
         kernel = user_kernels::direction::direction,
-        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels"
+        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels",
+        hosts(apex)
     )
 )]
 pub struct Direction<S: Scalar = f64> {
@@ -52,7 +53,8 @@ pub fn direction_residual<S: Scalar>(f: &Direction<S>) -> Vector2<S> {
     feature = "kernels",
     factor(
         kernel = user_kernels::relative_sim3::relative_sim3,
-        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels"
+        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels",
+        hosts(apex)
     )
 )]
 pub struct RelativeSim3<S: Scalar = f64> {

@@ -32,6 +32,7 @@
 //! | residual only | 26 | 38 | 1 | 1 | 0 | 0 | 1 | 67 |
 //! | normal equations | 76 | 148 | 2 | 1 | 0 | 0 | 2 | 229 |
 //! | normal equations, cost only | 27 | 42 | 1 | 0 | 0 | 0 | 1 | 71 |
+//! | apex chart | 73 | 142 | 3 | 9 | 1 | 0 | 1 | 229 |
 //!
 //! # Normal equations
 //!
@@ -45,6 +46,19 @@
 //! - `h_direction_direction: [T; 3]`: `J_directionᵀ w J_direction`, its upper triangle row by row (2 × 2, entries `(a, b)` with `a ≤ b`)
 //!
 //! Leave a fixed variable's blocks `None`: the work only they need is skipped.
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `direction_apex` (apex-solver 1.5):
+//!
+//! - `measured: [T; 3]` (constant): `[x, y, z]`
+//! - `orientation: [T; 4]` (variable): SO3 `[qw, qx, qy, qz]`
+//! - `direction: [T; 3]` (variable): Rn(3) `[x0, x1, x2]`
+//! - `residual: [T; 2]`
+//! - `d_orientation: [T; 6]`: 2 × 3 column-major, SO3; tangent: right: q ← q ⊗ exp(θ), columns [θ_x, θ_y, θ_z] (apex-solver's SO3)
+//! - `d_direction: [T; 6]`: 2 × 3 column-major, Rn(3); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -249,15 +263,14 @@ pub fn direction<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[3, 4, 3],
     residual: 2,
     blocks: &[6, 4],
 };
 
-/// [`direction`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`direction`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn direction_slices<T: Real>(
     inputs: &[&[T]],
@@ -710,6 +723,340 @@ pub fn direction_normal_slices<T: Real>(
         h_orientation_direction,
         h_direction_direction,
     );
+    true
+}
+
+/// The residual of `user_factors::manifold_factors::Direction` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn direction_apex<T: Real>(
+    measured: &[T; 3],
+    orientation: &[T; 4],
+    direction: &[T; 3],
+    residual: &mut [T; 2],
+    d_orientation: Option<&mut [T; 6]>,
+    d_direction: Option<&mut [T; 6]>,
+) {
+    let v0 = orientation[1] * orientation[1];
+    let v1 = orientation[2] * orientation[2];
+    let v2 = v0 - v1;
+    let v3 = orientation[3] * orientation[3];
+    let v4 = orientation[0] * orientation[0];
+    let v5 = v3 - v4;
+    let v6 = v2 + v5;
+    let v7 = direction[0] * direction[0];
+    let v8 = direction[1] * direction[1];
+    let v9 = direction[2] * direction[2];
+    let v10 = v7 + v8;
+    let v11 = v9 + v10;
+    let v12 = T::sqrt(v11);
+    let v13 = T::constant(1.0) / v12;
+    let v14 = direction[1] * v13;
+    let v15 = v6 * v14;
+    let v16 = orientation[1] * orientation[2];
+    let v17 = orientation[3] * orientation[0];
+    let v18 = v16 + v17;
+    let v19 = direction[0] * v13;
+    let v20 = orientation[2] * orientation[3];
+    let v21 = orientation[1] * orientation[0];
+    let v22 = v20 - v21;
+    let v23 = direction[2] * v13;
+    let v24 = v18 * v19;
+    let v25 = v22 * v23;
+    let v26 = v24 + v25;
+    let v27 = T::constant(2.0) * v26;
+    let v28 = v15 - v27;
+    let v29 = T::select_lt(
+        measured[2],
+        T::constant(0.0),
+        T::constant(-1.0),
+        T::constant(1.0),
+    );
+    let v30 = measured[0] * v29;
+    let v31 = measured[2] + v29;
+    let v32 = T::constant(1.0) / v31;
+    let v33 = measured[1] * v32;
+    let v34 = v30 * v33;
+    let v35 = v28 * v34;
+    let v36 = measured[0] * v30;
+    let v37 = v32 * v36;
+    let v38 = v37 - T::constant(1.0);
+    let v39 = v2 - v5;
+    let v40 = v19 * v39;
+    let v41 = v16 - v17;
+    let v42 = orientation[1] * orientation[3];
+    let v43 = orientation[2] * orientation[0];
+    let v44 = v42 + v43;
+    let v45 = v14 * v41;
+    let v46 = v23 * v44;
+    let v47 = v45 + v46;
+    let v48 = T::constant(2.0) * v47;
+    let v49 = v40 + v48;
+    let v50 = v38 * v49;
+    let v51 = v0 + v1;
+    let v52 = v3 + v4;
+    let v53 = v51 - v52;
+    let v54 = v53 * T::constant(0.5);
+    let v55 = v23 * v54;
+    let v56 = v20 + v21;
+    let v57 = v14 * v56;
+    let v58 = v42 - v43;
+    let v59 = v19 * v58;
+    let v60 = v57 - v55;
+    let v61 = v59 + v60;
+    let v62 = T::constant(2.0) * v30;
+    let v63 = v61 * v62;
+    let v64 = v35 - v63;
+    let v65 = v64 - v50;
+    let v66 = measured[1] * v33;
+    let v67 = v29 - v66;
+    let v68 = v28 * v67;
+    let v69 = measured[0] * v33;
+    let v70 = v49 * v69;
+    let v71 = T::constant(2.0) * measured[1];
+    let v72 = v61 * v71;
+    let v73 = v68 + v72;
+    let v74 = v70 + v73;
+    let v75 = -v74;
+    residual[0] = v65;
+    residual[1] = v75;
+    let (v83, v89, v95, v96, v102, v103, v110, v116, v117) = if d_orientation.is_some()
+        || d_direction.is_some()
+    {
+        let v76 = T::constant(2.0) * v22;
+        let v77 = T::constant(2.0) * v41;
+        let v78 = v30 * v53;
+        let v79 = v22 * v34;
+        let v80 = v38 * v44;
+        let v81 = v79 + v80;
+        let v82 = T::constant(2.0) * v81;
+        let v83 = v78 - v82;
+        let v84 = v6 * v34;
+        let v85 = v38 * v77;
+        let v86 = v84 - v85;
+        let v87 = T::constant(0.5) * v86;
+        let v88 = v30 * v56;
+        let v89 = v88 - v87;
+        let v90 = measured[1] * v53;
+        let v91 = v76 * v67;
+        let v92 = v90 + v91;
+        let v93 = T::constant(0.5) * v92;
+        let v94 = v44 * v69;
+        let v95 = v94 - v93;
+        let v96 = T::constant(2.0) * v95;
+        let v97 = v41 * v69;
+        let v98 = v6 * T::constant(0.5);
+        let v99 = v67 * v98;
+        let v100 = measured[1] * v56;
+        let v101 = v99 + v100;
+        let v102 = v97 + v101;
+        let v103 = T::constant(2.0) * v102;
+        let v104 = v30 * v58;
+        let v105 = v39 * T::constant(0.5);
+        let v106 = v38 * v105;
+        let v107 = v18 * v34;
+        let v108 = v106 + v107;
+        let v109 = v104 + v108;
+        let v110 = T::constant(2.0) * v109;
+        let v111 = v39 * v69;
+        let v112 = measured[1] * v58;
+        let v113 = v18 * v67;
+        let v114 = v112 - v113;
+        let v115 = T::constant(2.0) * v114;
+        let v116 = v111 + v115;
+        let v117 = T::constant(2.0) * v89;
+        (v83, v89, v95, v96, v102, v103, v110, v116, v117)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_orientation) = d_orientation {
+        let v118 = T::constant(0.5) * v83;
+        let v119 = -v118;
+        let v120 = T::constant(2.0) * v119;
+        let v121 = v14 * v120;
+        let v122 = v89 * T::constant(-2.0);
+        let v123 = v23 * v122;
+        let v124 = v121 + v123;
+        let v125 = -v124;
+        let v126 = v14 * v95;
+        let v127 = v23 * v102;
+        let v128 = v127 - v126;
+        let v129 = T::constant(2.0) * v128;
+        let v130 = v19 * v120;
+        let v131 = v23 * v110;
+        let v132 = v130 - v131;
+        let v133 = v19 * v96;
+        let v134 = T::constant(0.5) * v116;
+        let v135 = -v134;
+        let v136 = T::constant(2.0) * v135;
+        let v137 = v23 * v136;
+        let v138 = v133 + v137;
+        let v139 = v14 * v110;
+        let v140 = v19 * v117;
+        let v141 = v139 - v140;
+        let v142 = v14 * v136;
+        let v143 = v19 * v103;
+        let v144 = v142 + v143;
+        let v145 = -v144;
+        d_orientation[0] = v125;
+        d_orientation[1] = v129;
+        d_orientation[2] = v132;
+        d_orientation[3] = v138;
+        d_orientation[4] = v141;
+        d_orientation[5] = v145;
+    }
+    if let Some(d_direction) = d_direction {
+        let v146 = v13 / v11;
+        let v147 = direction[0] * v146;
+        let v148 = direction[0] * v147;
+        let v149 = v13 - v148;
+        let v150 = v39 * v149;
+        let v151 = v38 * v150;
+        let v152 = direction[1] * v146;
+        let v153 = direction[0] * v152;
+        let v154 = v117 * v153;
+        let v155 = -v154;
+        let v156 = direction[2] * v147;
+        let v157 = v83 * v156;
+        let v158 = v18 * v149;
+        let v159 = T::constant(2.0) * v34;
+        let v160 = v158 * v159;
+        let v161 = v58 * v149;
+        let v162 = v62 * v161;
+        let v163 = v160 + v162;
+        let v164 = v155 + v157;
+        let v165 = v151 + v164;
+        let v166 = v163 + v165;
+        let v167 = -v166;
+        let v168 = v69 * v150;
+        let v169 = v103 * v153;
+        let v170 = v96 * v156;
+        let v171 = -v170;
+        let v172 = T::constant(2.0) * v67;
+        let v173 = v158 * v172;
+        let v174 = v71 * v161;
+        let v175 = v173 - v174;
+        let v176 = v169 - v171;
+        let v177 = v176 - v168;
+        let v178 = v175 + v177;
+        let v179 = direction[1] * v152;
+        let v180 = v13 - v179;
+        let v181 = v6 * v180;
+        let v182 = v34 * v181;
+        let v183 = v110 * v153;
+        let v184 = direction[2] * v152;
+        let v185 = v83 * v184;
+        let v186 = -v185;
+        let v187 = v41 * v180;
+        let v188 = T::constant(2.0) * v38;
+        let v189 = v187 * v188;
+        let v190 = v56 * v180;
+        let v191 = v62 * v190;
+        let v192 = v189 + v191;
+        let v193 = v183 + v186;
+        let v194 = v182 + v193;
+        let v195 = v194 - v192;
+        let v196 = v67 * v181;
+        let v197 = v116 * v153;
+        let v198 = v96 * v184;
+        let v199 = T::constant(2.0) * v69;
+        let v200 = v187 * v199;
+        let v201 = v71 * v190;
+        let v202 = v200 + v201;
+        let v203 = v197 + v198;
+        let v204 = v203 - v196;
+        let v205 = v204 - v202;
+        let v206 = v9 * v146;
+        let v207 = v13 - v206;
+        let v208 = v53 * v207;
+        let v209 = v30 * v208;
+        let v210 = v117 * v184;
+        let v211 = v110 * v156;
+        let v212 = v44 * v207;
+        let v213 = v188 * v212;
+        let v214 = v22 * v207;
+        let v215 = v159 * v214;
+        let v216 = v213 + v215;
+        let v217 = v210 + v211;
+        let v218 = v209 + v217;
+        let v219 = v218 - v216;
+        let v220 = measured[1] * v208;
+        let v221 = v103 * v184;
+        let v222 = v116 * v156;
+        let v223 = v199 * v212;
+        let v224 = v172 * v214;
+        let v225 = v224 - v223;
+        let v226 = v221 + v222;
+        let v227 = v220 + v226;
+        let v228 = v225 + v227;
+        d_direction[0] = v167;
+        d_direction[1] = v178;
+        d_direction[2] = v195;
+        d_direction[3] = v205;
+        d_direction[4] = v219;
+        d_direction[5] = v228;
+    }
+}
+
+/// The lengths of [`direction_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[3, 4, 3],
+    residual: 2,
+    blocks: &[6, 6],
+};
+
+/// [`direction_apex`] over what a solver holds: `stored`, the factor's 10 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn direction_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1], 10) = (parts, stored.len()) else {
+        return false;
+    };
+    let (Ok(input_0), Ok(input_1), Ok(input_2), Ok(residual)) = (
+        <&[T; 3]>::try_from(&stored[0..3]),
+        <&[T; 4]>::try_from(*part_0),
+        <&[T; 3]>::try_from(*part_1),
+        <&mut [T; 2]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 12]>::try_from) {
+        None => self::direction_apex(input_0, input_1, input_2, residual, None, None),
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_orientation, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_direction, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let _ = rest;
+            self::direction_apex(
+                input_0,
+                input_1,
+                input_2,
+                residual,
+                Some(d_orientation),
+                Some(d_direction),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

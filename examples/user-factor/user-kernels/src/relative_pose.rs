@@ -1374,15 +1374,14 @@ pub fn relative_pose<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[7, 7, 7],
     residual: 6,
     blocks: &[36, 36],
 };
 
-/// [`relative_pose`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`relative_pose`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn relative_pose_slices<T: Real>(
     inputs: &[&[T]],

@@ -30,6 +30,24 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 866 | 1349 | 10 | 43 | 2 | 8 | 48 | 2326 |
 //! | residual only | 225 | 291 | 8 | 23 | 2 | 6 | 11 | 566 |
+//! | apex chart | 904 | 1394 | 10 | 51 | 2 | 8 | 48 | 2417 |
+//!
+//! # Host charts
+//!
+//! The same residual in a host solver's chart and parameter layout: each variable is its host parts' parameter arrays (as the host stores them), each block the derivative w.r.t. one host part's tangent under the host's own retraction, column-major (residual rows × the part's columns, column after column), so that consecutive blocks tile the host's column-major Jacobian. Exact whatever chart the factor was written in (no adjoint at run time).
+//!
+//! `relative_sim3_apex` (apex-solver 1.5):
+//!
+//! - `measured: [T; 8]` (constant): `{rotation: [qx, qy, qz, qw], translation: [x, y, z], log_scale}`
+//! - `sim_i_pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `sim_i_log_scale: [T; 1]` (variable): Rn(1) `[x0]`
+//! - `sim_j_pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
+//! - `sim_j_log_scale: [T; 1]` (variable): Rn(1) `[x0]`
+//! - `residual: [T; 7]`
+//! - `d_sim_i_pose: [T; 42]`: 7 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_sim_i_log_scale: [T; 7]`: 7 × 1 column-major, Rn(1); tangent: additive: x ← x + δ (apex-solver's Rn)
+//! - `d_sim_j_pose: [T; 42]`: 7 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
+//! - `d_sim_j_log_scale: [T; 7]`: 7 × 1 column-major, Rn(1); tangent: additive: x ← x + δ (apex-solver's Rn)
 //!
 //! # Lanes
 //!
@@ -2670,15 +2688,14 @@ pub fn relative_sim3<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[8, 8, 8],
     residual: 7,
     blocks: &[49, 49],
 };
 
-/// [`relative_sim3`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`relative_sim3`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn relative_sim3_slices<T: Real>(
     inputs: &[&[T]],
@@ -2710,6 +2727,2904 @@ pub fn relative_sim3_slices<T: Real>(
         Some(Err(_)) => return false,
     };
     self::relative_sim3(measured, sim_i, sim_j, residual, d_sim_i, d_sim_j);
+    true
+}
+
+/// The residual of `user_factors::manifold_factors::RelativeSim3` and, for each `Some` block argument, its column-major block in apex-solver 1.5's chart, from the host's parameter arrays.
+///
+/// Consecutive blocks tile the host's column-major Jacobian. See the module documentation ("Host charts") for the inputs and the tangents.
+#[inline(always)]
+pub fn relative_sim3_apex<T: Real>(
+    measured: &[T; 8],
+    sim_i_pose: &[T; 7],
+    sim_i_log_scale: &[T; 1],
+    sim_j_pose: &[T; 7],
+    sim_j_log_scale: &[T; 1],
+    residual: &mut [T; 7],
+    d_sim_i_pose: Option<&mut [T; 42]>,
+    d_sim_i_log_scale: Option<&mut [T; 7]>,
+    d_sim_j_pose: Option<&mut [T; 42]>,
+    d_sim_j_log_scale: Option<&mut [T; 7]>,
+) {
+    let v0 = sim_i_pose[3] * sim_j_pose[3];
+    let v1 = sim_i_pose[4] * sim_j_pose[4];
+    let v2 = sim_i_pose[5] * sim_j_pose[5];
+    let v3 = sim_i_pose[6] * sim_j_pose[6];
+    let v4 = v0 + v1;
+    let v5 = v2 + v3;
+    let v6 = v4 + v5;
+    let v7 = measured[3] * v6;
+    let v8 = sim_i_pose[3] * sim_j_pose[4];
+    let v9 = sim_j_pose[3] * sim_i_pose[4];
+    let v10 = sim_i_pose[5] * sim_j_pose[6];
+    let v11 = sim_j_pose[5] * sim_i_pose[6];
+    let v12 = v8 - v9;
+    let v13 = v11 - v10;
+    let v14 = v12 + v13;
+    let v15 = measured[0] * v14;
+    let v16 = sim_i_pose[3] * sim_j_pose[5];
+    let v17 = sim_j_pose[3] * sim_i_pose[5];
+    let v18 = sim_j_pose[4] * sim_i_pose[6];
+    let v19 = sim_i_pose[4] * sim_j_pose[6];
+    let v20 = v16 - v17;
+    let v21 = v19 - v18;
+    let v22 = v20 + v21;
+    let v23 = measured[1] * v22;
+    let v24 = sim_i_pose[3] * sim_j_pose[6];
+    let v25 = sim_j_pose[3] * sim_i_pose[6];
+    let v26 = sim_i_pose[4] * sim_j_pose[5];
+    let v27 = sim_j_pose[4] * sim_i_pose[5];
+    let v28 = v24 - v25;
+    let v29 = v27 - v26;
+    let v30 = v28 + v29;
+    let v31 = measured[2] * v30;
+    let v32 = v7 + v15;
+    let v33 = v23 + v31;
+    let v34 = v32 + v33;
+    let v35 = measured[3] * v14;
+    let v36 = v6 * measured[0];
+    let v37 = measured[1] * v30;
+    let v38 = v22 * measured[2];
+    let v39 = v35 - v36;
+    let v40 = v38 - v37;
+    let v41 = v39 + v40;
+    let v42 = -v41;
+    let v43 = T::select_lt(v34, T::constant(0.0), v42, v41);
+    let v44 = -v34;
+    let v45 = T::select_lt(v34, T::constant(0.0), v44, v34);
+    let v46 = measured[3] * v30;
+    let v47 = v6 * measured[2];
+    let v48 = measured[0] * v22;
+    let v49 = v14 * measured[1];
+    let v50 = v46 - v47;
+    let v51 = v49 - v48;
+    let v52 = v50 + v51;
+    let v53 = -v52;
+    let v54 = T::select_lt(v34, T::constant(0.0), v53, v52);
+    let v55 = v54 * v54;
+    let v56 = v43 * v43;
+    let v57 = measured[3] * v22;
+    let v58 = v6 * measured[1];
+    let v59 = v14 * measured[2];
+    let v60 = measured[0] * v30;
+    let v61 = v57 - v58;
+    let v62 = v60 - v59;
+    let v63 = v61 + v62;
+    let v64 = -v63;
+    let v65 = T::select_lt(v34, T::constant(0.0), v64, v63);
+    let v66 = v65 * v65;
+    let v67 = v56 + v66;
+    let v68 = v55 + v67;
+    let v69 = T::constant(1.0) / v45;
+    let v70 = v69 * v69;
+    let v71 = v68 * v70;
+    let v72 = v69 * v71;
+    let v73 = v69 * v72;
+    let v74 = v68 * v73;
+    let v75 = v74 * T::constant(0.6000000000000001);
+    let v76 = v71 - T::constant(3.0);
+    let v77 = v76 - v75;
+    let v78 = v69 * T::constant(-0.6666666666666666);
+    let v79 = v77 * v78;
+    let v80 = T::sqrt(v68);
+    let v81 = T::constant(1.0) / v80;
+    let v82 = T::atan2(v80, v45);
+    let v83 = v81 * v82;
+    let v84 = v83 * T::constant(2.0);
+    let v85 = T::select_lt(v71, T::constant(1e-6), v79, v84);
+    let v86 = T::select_lt(T::constant(0.0), v45, v85, v84);
+    let v87 = v43 * v86;
+    let v88 = v65 * v86;
+    let v89 = v54 * v86;
+    let v90 = -measured[7];
+    let v91 = T::exp(v90);
+    let v92 = measured[0] * measured[0];
+    let v93 = measured[1] * measured[1];
+    let v94 = v92 - v93;
+    let v95 = measured[2] * measured[2];
+    let v96 = measured[3] * measured[3];
+    let v97 = v95 - v96;
+    let v98 = v94 + v97;
+    let v99 = measured[5] * v98;
+    let v100 = measured[0] * measured[1];
+    let v101 = measured[3] * measured[2];
+    let v102 = v100 - v101;
+    let v103 = measured[1] * measured[2];
+    let v104 = measured[3] * measured[0];
+    let v105 = v103 + v104;
+    let v106 = T::constant(2.0) * measured[6];
+    let v107 = measured[4] * v102;
+    let v108 = measured[6] * v105;
+    let v109 = v107 + v108;
+    let v110 = T::constant(2.0) * v109;
+    let v111 = v99 - v110;
+    let v112 = -sim_i_log_scale[0];
+    let v113 = T::exp(v112);
+    let v114 = sim_i_pose[4] * sim_i_pose[4];
+    let v115 = sim_i_pose[5] * sim_i_pose[5];
+    let v116 = v114 - v115;
+    let v117 = sim_i_pose[6] * sim_i_pose[6];
+    let v118 = sim_i_pose[3] * sim_i_pose[3];
+    let v119 = v117 - v118;
+    let v120 = v116 + v119;
+    let v121 = sim_i_pose[1] * v120;
+    let v122 = sim_i_pose[4] * sim_i_pose[5];
+    let v123 = sim_i_pose[3] * sim_i_pose[6];
+    let v124 = v122 - v123;
+    let v125 = sim_i_pose[5] * sim_i_pose[6];
+    let v126 = sim_i_pose[3] * sim_i_pose[4];
+    let v127 = v125 + v126;
+    let v128 = T::constant(2.0) * sim_i_pose[2];
+    let v129 = sim_i_pose[0] * v124;
+    let v130 = sim_i_pose[2] * v127;
+    let v131 = v129 + v130;
+    let v132 = T::constant(2.0) * v131;
+    let v133 = v121 - v132;
+    let v134 = v120 * sim_j_pose[1];
+    let v135 = T::constant(2.0) * sim_j_pose[2];
+    let v136 = v124 * sim_j_pose[0];
+    let v137 = v127 * sim_j_pose[2];
+    let v138 = v136 + v137;
+    let v139 = T::constant(2.0) * v138;
+    let v140 = v134 - v139;
+    let v141 = v133 - v140;
+    let v142 = v113 * v141;
+    let v143 = v98 * v142;
+    let v144 = v116 - v119;
+    let v145 = sim_i_pose[0] * v144;
+    let v146 = v122 + v123;
+    let v147 = T::constant(2.0) * sim_i_pose[1];
+    let v148 = v146 * v147;
+    let v149 = sim_i_pose[4] * sim_i_pose[6];
+    let v150 = sim_i_pose[3] * sim_i_pose[5];
+    let v151 = v149 - v150;
+    let v152 = v128 * v151;
+    let v153 = v148 + v152;
+    let v154 = v145 + v153;
+    let v155 = sim_j_pose[0] * v144;
+    let v156 = T::constant(2.0) * sim_j_pose[1];
+    let v157 = v146 * v156;
+    let v158 = v135 * v151;
+    let v159 = v157 + v158;
+    let v160 = v155 + v159;
+    let v161 = v154 - v160;
+    let v162 = v113 * v161;
+    let v163 = T::constant(2.0) * v102;
+    let v164 = v162 * v163;
+    let v165 = v114 + v115;
+    let v166 = v117 + v118;
+    let v167 = v165 - v166;
+    let v168 = sim_j_pose[2] * T::constant(0.5);
+    let v169 = v167 * v168;
+    let v170 = v125 - v126;
+    let v171 = sim_j_pose[1] * v170;
+    let v172 = v149 + v150;
+    let v173 = sim_j_pose[0] * v172;
+    let v174 = v171 + v173;
+    let v175 = v174 - v169;
+    let v176 = sim_i_pose[2] * T::constant(0.5);
+    let v177 = v167 * v176;
+    let v178 = sim_i_pose[1] * v170;
+    let v179 = sim_i_pose[0] * v172;
+    let v180 = v178 + v179;
+    let v181 = v180 - v177;
+    let v182 = v175 - v181;
+    let v183 = v113 * v182;
+    let v184 = v105 * T::constant(4.0);
+    let v185 = v183 * v184;
+    let v186 = v143 + v164;
+    let v187 = v186 - v185;
+    let v188 = v111 - v187;
+    let v189 = v91 * v188;
+    let v190 = measured[7] + sim_i_log_scale[0];
+    let v191 = sim_j_log_scale[0] - v190;
+    let v192 = -v191;
+    let v193 = v192 * v192;
+    let v194 = v86 * v86;
+    let v195 = v55 * v194;
+    let v196 = v43 * v194;
+    let v197 = v43 * v196;
+    let v198 = v66 * v194;
+    let v199 = v197 + v198;
+    let v200 = v195 + v199;
+    let v201 = v193 + v200;
+    let v202 = v191 + T::constant(12.923076923076922);
+    let v203 = v192 * v202;
+    let v204 = -v203;
+    let v205 = v204 + T::constant(154.0);
+    let v206 = v192 * v205;
+    let v207 = v206 - T::constant(1679.9999999999998);
+    let v208 = v192 * v207;
+    let v209 = v208 + T::constant(16632.0);
+    let v210 = v192 * v209;
+    let v211 = v210 - T::constant(147840.0);
+    let v212 = v192 * v211;
+    let v213 = v212 + T::constant(1164240.0);
+    let v214 = v192 * v213;
+    let v215 = v214 - T::constant(7983360.0);
+    let v216 = v192 * v215;
+    let v217 = v216 + T::constant(46569599.99999999);
+    let v218 = v192 * v217;
+    let v219 = v218 - T::constant(223534079.99999997);
+    let v220 = v192 * v219;
+    let v221 = v220 + T::constant(838252800.0);
+    let v222 = v192 * v221;
+    let v223 = v222 - T::constant(2235340799.9999995);
+    let v224 = v192 * T::constant(1.4911969277048643e-10);
+    let v225 = v223 * v224;
+    let v226 = v191 + T::constant(10.769230769230768);
+    let v227 = v192 * v226;
+    let v228 = -v227;
+    let v229 = v228 + T::constant(105.0);
+    let v230 = v192 * v229;
+    let v231 = v230 - T::constant(916.3636363636363);
+    let v232 = v192 * v231;
+    let v233 = v232 + T::constant(7055.999999999999);
+    let v234 = v192 * v233;
+    let v235 = v234 - T::constant(47039.99999999999);
+    let v236 = v192 * v235;
+    let v237 = v236 + T::constant(264599.99999999994);
+    let v238 = v192 * v237;
+    let v239 = v238 - T::constant(1209599.9999999998);
+    let v240 = v192 * v239;
+    let v241 = v240 + T::constant(4233599.999999999);
+    let v242 = v192 * v241;
+    let v243 = v242 - T::constant(10160640.0);
+    let v244 = v192 * v243;
+    let v245 = v191 + T::constant(8.615384615384615);
+    let v246 = v192 * v245;
+    let v247 = -v246;
+    let v248 = v247 + T::constant(65.33333333333334);
+    let v249 = v192 * v248;
+    let v250 = v249 - T::constant(427.6363636363637);
+    let v251 = v192 * v250;
+    let v252 = v251 + T::constant(2352.0);
+    let v253 = v192 * v252;
+    let v254 = v253 - T::constant(10453.333333333334);
+    let v255 = v192 * v254;
+    let v256 = v255 + T::constant(35280.0);
+    let v257 = v192 * v256;
+    let v258 = v257 - T::constant(80640.00000000001);
+    let v259 = v192 * v258;
+    let v260 = v191 + T::constant(2.1538461538461537);
+    let v261 = v192 * v260;
+    let v262 = -v261;
+    let v263 = v262 * T::constant(78.0);
+    let v264 = v263 + T::constant(182.0);
+    let v265 = v200 - v264;
+    let v266 = v200 * T::constant(0.0013986013986013986);
+    let v267 = v265 * v266;
+    let v268 = v191 + T::constant(4.3076923076923075);
+    let v269 = v192 * v268;
+    let v270 = -v269;
+    let v271 = v270 + T::constant(14.0);
+    let v272 = v192 * v271;
+    let v273 = v272 - T::constant(30.545454545454543);
+    let v274 = v192 * v273;
+    let v275 = v274 + T::constant(33.599999999999994);
+    let v276 = v267 + v275;
+    let v277 = v200 * T::constant(0.4166666666666667);
+    let v278 = v276 * v277;
+    let v279 = v191 + T::constant(6.461538461538461);
+    let v280 = v192 * v279;
+    let v281 = -v280;
+    let v282 = v281 + T::constant(35.0);
+    let v283 = v192 * v282;
+    let v284 = v283 - T::constant(152.72727272727272);
+    let v285 = v192 * v284;
+    let v286 = v285 + T::constant(503.99999999999994);
+    let v287 = v192 * v286;
+    let v288 = v287 - T::constant(1120.0);
+    let v289 = v192 * v288;
+    let v290 = v289 + T::constant(1260.0);
+    let v291 = v290 - v278;
+    let v292 = v200 * T::constant(1.3333333333333335);
+    let v293 = v291 * v292;
+    let v294 = v259 + T::constant(94080.00000000001);
+    let v295 = v294 - v293;
+    let v296 = v200 * T::constant(4.499999999999999);
+    let v297 = v295 * v296;
+    let v298 = v244 + T::constant(12700799.999999998);
+    let v299 = v298 - v297;
+    let v300 = v200 * T::constant(3.2806332409507015e-9);
+    let v301 = v299 * v300;
+    let v302 = T::constant(0.5) + v225;
+    let v303 = v302 - v301;
+    let v304 = T::constant(1.0) / v201;
+    let v305 = -v192;
+    let v306 = T::exp(v305);
+    let v307 = v200 * v200;
+    let v308 = v307 * T::constant(0.0013888888888888892);
+    let v309 = v200 * T::constant(0.041666666666666664);
+    let v310 = T::constant(0.5) - v309;
+    let v311 = v308 + v310;
+    let v312 = T::sqrt(v200);
+    let v313 = T::constant(0.5) * v312;
+    let v314 = T::sin(v313);
+    let v315 = T::constant(1.0) / v200;
+    let v316 = v314 * v315;
+    let v317 = T::constant(2.0) * v314;
+    let v318 = v316 * v317;
+    let v319 = T::select_lt(v200, T::constant(1e-6), v311, v318);
+    let v320 = v306 * v319;
+    let v321 = v200 * v320;
+    let v322 = v191 + T::constant(13.000000000000002);
+    let v323 = v192 * v322;
+    let v324 = -v323;
+    let v325 = v324 + T::constant(156.00000000000003);
+    let v326 = v192 * v325;
+    let v327 = v326 - T::constant(1716.0);
+    let v328 = v192 * v327;
+    let v329 = v328 + T::constant(17160.000000000004);
+    let v330 = v192 * v329;
+    let v331 = v330 - T::constant(154440.0);
+    let v332 = v192 * v331;
+    let v333 = v332 + T::constant(1235520.0);
+    let v334 = v192 * v333;
+    let v335 = v334 - T::constant(8648640.000000002);
+    let v336 = v192 * v335;
+    let v337 = v336 + T::constant(51891840.0);
+    let v338 = v192 * v337;
+    let v339 = v338 - T::constant(259459200.0);
+    let v340 = v192 * v339;
+    let v341 = v340 + T::constant(1037836800.0);
+    let v342 = v192 * v341;
+    let v343 = v342 - T::constant(3113510400.0000005);
+    let v344 = v192 * T::constant(1.6059043836821613e-10);
+    let v345 = v343 * v344;
+    let v346 = T::constant(1.0) + v345;
+    let v347 = T::constant(1.0) / v192;
+    let v348 = v306 - T::constant(1.0);
+    let v349 = v347 * v348;
+    let v350 = -v349;
+    let v351 = T::select_lt(v193, T::constant(0.04), v346, v350);
+    let v352 = v307 * T::constant(0.008333333333333333);
+    let v353 = v200 * T::constant(0.16666666666666666);
+    let v354 = T::constant(1.0) - v353;
+    let v355 = v352 + v354;
+    let v356 = T::constant(1.0) / v312;
+    let v357 = T::sin(v312);
+    let v358 = v356 * v357;
+    let v359 = T::select_lt(v200, T::constant(1e-6), v355, v358);
+    let v360 = v306 * v359;
+    let v361 = v351 - v360;
+    let v362 = v192 * v361;
+    let v363 = v321 + v362;
+    let v364 = v304 * v363;
+    let v365 = T::select_lt(v201, T::constant(0.04), v303, v364);
+    let v366 = v191 + T::constant(12.857142857142856);
+    let v367 = v192 * v366;
+    let v368 = -v367;
+    let v369 = v368 + T::constant(152.30769230769232);
+    let v370 = v192 * v369;
+    let v371 = v370 - T::constant(1650.0);
+    let v372 = v192 * v371;
+    let v373 = v372 + T::constant(16200.0);
+    let v374 = v192 * v373;
+    let v375 = v374 - T::constant(142560.0);
+    let v376 = v192 * v375;
+    let v377 = v376 + T::constant(1108800.0);
+    let v378 = v192 * v377;
+    let v379 = v378 - T::constant(7484400.0);
+    let v380 = v192 * v379;
+    let v381 = v380 + T::constant(42768000.0);
+    let v382 = v192 * v381;
+    let v383 = v382 - T::constant(199584000.0);
+    let v384 = v192 * v383;
+    let v385 = v384 + T::constant(718502400.0);
+    let v386 = v192 * v385;
+    let v387 = v386 - T::constant(1796256000.0);
+    let v388 = v192 * T::constant(6.958918995956033e-11);
+    let v389 = v387 * v388;
+    let v390 = v191 + T::constant(10.714285714285715);
+    let v391 = v192 * v390;
+    let v392 = -v391;
+    let v393 = v392 + T::constant(103.84615384615385);
+    let v394 = v192 * v393;
+    let v395 = v394 - T::constant(900.0000000000001);
+    let v396 = v192 * v395;
+    let v397 = v396 + T::constant(6872.727272727274);
+    let v398 = v192 * v397;
+    let v399 = v398 - T::constant(45360.0);
+    let v400 = v192 * v399;
+    let v401 = v400 + T::constant(252000.0);
+    let v402 = v192 * v401;
+    let v403 = v402 - T::constant(1134000.0);
+    let v404 = v192 * v403;
+    let v405 = v404 + T::constant(3888000.0);
+    let v406 = v192 * v405;
+    let v407 = v406 - T::constant(9072000.0);
+    let v408 = v192 * v407;
+    let v409 = v191 + T::constant(8.571428571428573);
+    let v410 = v192 * v409;
+    let v411 = -v410;
+    let v412 = v411 + T::constant(64.61538461538463);
+    let v413 = v192 * v412;
+    let v414 = v413 - T::constant(420.00000000000006);
+    let v415 = v192 * v414;
+    let v416 = v415 + T::constant(2290.909090909091);
+    let v417 = v192 * v416;
+    let v418 = v417 - T::constant(10080.0);
+    let v419 = v192 * v418;
+    let v420 = v419 + T::constant(33600.0);
+    let v421 = v192 * v420;
+    let v422 = v421 - T::constant(75600.0);
+    let v423 = v192 * v422;
+    let v424 = v191 + T::constant(2.1428571428571432);
+    let v425 = v192 * v424;
+    let v426 = -v425;
+    let v427 = v426 * T::constant(91.0);
+    let v428 = v427 + T::constant(209.99999999999997);
+    let v429 = v200 - v428;
+    let v430 = v200 * T::constant(0.000999000999000999);
+    let v431 = v429 * v430;
+    let v432 = v191 + T::constant(4.2857142857142865);
+    let v433 = v192 * v432;
+    let v434 = -v433;
+    let v435 = v434 + T::constant(13.846153846153847);
+    let v436 = v192 * v435;
+    let v437 = v436 - T::constant(30.000000000000004);
+    let v438 = v192 * v437;
+    let v439 = v438 + T::constant(32.727272727272734);
+    let v440 = v431 + v439;
+    let v441 = v200 * T::constant(0.3333333333333333);
+    let v442 = v440 * v441;
+    let v443 = v191 + T::constant(6.428571428571429);
+    let v444 = v192 * v443;
+    let v445 = -v444;
+    let v446 = v445 + T::constant(34.61538461538462);
+    let v447 = v192 * v446;
+    let v448 = v447 - T::constant(150.00000000000003);
+    let v449 = v192 * v448;
+    let v450 = v449 + T::constant(490.90909090909093);
+    let v451 = v192 * v450;
+    let v452 = v451 - T::constant(1080.0);
+    let v453 = v192 * v452;
+    let v454 = v453 + T::constant(1200.0000000000002);
+    let v455 = v454 - v442;
+    let v456 = v200 * v455;
+    let v457 = v423 + T::constant(86400.0);
+    let v458 = v457 - v456;
+    let v459 = T::constant(3.0) * v200;
+    let v460 = v458 * v459;
+    let v461 = v408 + T::constant(10886400.0);
+    let v462 = v461 - v460;
+    let v463 = v200 * T::constant(7.654810895551636e-10);
+    let v464 = v462 * v463;
+    let v465 = T::constant(0.16666666666666666) + v389;
+    let v466 = v465 - v464;
+    let v467 = v192 * v306;
+    let v468 = v319 * v467;
+    let v469 = v361 - v468;
+    let v470 = v304 * v469;
+    let v471 = T::select_lt(v201, T::constant(0.04), v466, v470);
+    let v472 = v200 * v471;
+    let v473 = v351 - v472;
+    let v474 = v473 * v473;
+    let v475 = v200 * v365;
+    let v476 = v365 * v475;
+    let v477 = v474 + v476;
+    let v478 = T::constant(1.0) / v477;
+    let v479 = v86 * v478;
+    let v480 = v365 * v479;
+    let v481 = v54 * v480;
+    let v482 = v365 * v365;
+    let v483 = v471 * v473;
+    let v484 = v482 - v483;
+    let v485 = T::constant(1.0) / v351;
+    let v486 = v478 * v485;
+    let v487 = v484 * v486;
+    let v488 = v194 * v487;
+    let v489 = v43 * v488;
+    let v490 = v65 * v489;
+    let v491 = v481 + v490;
+    let v492 = v189 * v491;
+    let v493 = v94 - v97;
+    let v494 = measured[4] * v493;
+    let v495 = v100 + v101;
+    let v496 = T::constant(2.0) * measured[5];
+    let v497 = v495 * v496;
+    let v498 = measured[0] * measured[2];
+    let v499 = measured[3] * measured[1];
+    let v500 = v498 - v499;
+    let v501 = v106 * v500;
+    let v502 = v497 + v501;
+    let v503 = v494 + v502;
+    let v504 = T::constant(0.5) * v493;
+    let v505 = v162 * v504;
+    let v506 = v142 * v495;
+    let v507 = T::constant(2.0) * v500;
+    let v508 = v183 * v507;
+    let v509 = v506 - v505;
+    let v510 = v508 + v509;
+    let v511 = T::constant(2.0) * v510;
+    let v512 = v503 - v511;
+    let v513 = v91 * v512;
+    let v514 = v195 + v198;
+    let v515 = v487 * v514;
+    let v516 = v485 - v515;
+    let v517 = v513 * v516;
+    let v518 = v92 + v93;
+    let v519 = v95 + v96;
+    let v520 = v518 - v519;
+    let v521 = measured[6] * T::constant(0.5);
+    let v522 = v520 * v521;
+    let v523 = v103 - v104;
+    let v524 = measured[5] * v523;
+    let v525 = v498 + v499;
+    let v526 = measured[4] * v525;
+    let v527 = v524 + v526;
+    let v528 = v527 - v522;
+    let v529 = v142 * v523;
+    let v530 = v162 * v525;
+    let v531 = v183 * v520;
+    let v532 = v529 - v530;
+    let v533 = v532 - v531;
+    let v534 = v528 - v533;
+    let v535 = v91 * v534;
+    let v536 = v65 * v480;
+    let v537 = v54 * v489;
+    let v538 = v536 - v537;
+    let v539 = T::constant(2.0) * v535;
+    let v540 = v538 * v539;
+    let v541 = v492 - v517;
+    let v542 = v540 + v541;
+    let v543 = v481 - v490;
+    let v544 = v513 * v543;
+    let v545 = v195 + v197;
+    let v546 = v487 * v545;
+    let v547 = v485 - v546;
+    let v548 = v189 * v547;
+    let v549 = v43 * v480;
+    let v550 = v54 * v65;
+    let v551 = v488 * v550;
+    let v552 = v549 + v551;
+    let v553 = v539 * v552;
+    let v554 = v548 - v553;
+    let v555 = v544 + v554;
+    let v556 = v549 - v551;
+    let v557 = v189 * v556;
+    let v558 = v536 + v537;
+    let v559 = v513 * v558;
+    let v560 = v199 * v487;
+    let v561 = v485 - v560;
+    let v562 = v539 * v561;
+    let v563 = v557 + v562;
+    let v564 = v559 + v563;
+    let v565 = -v564;
+    residual[0] = v87;
+    residual[1] = v88;
+    residual[2] = v89;
+    residual[3] = v542;
+    residual[4] = v555;
+    residual[5] = v565;
+    residual[6] = v305;
+    let (
+        v566,
+        v568,
+        v569,
+        v570,
+        v572,
+        v574,
+        v575,
+        v578,
+        v579,
+        v580,
+        v581,
+        v582,
+        v583,
+        v585,
+        v586,
+        v587,
+        v588,
+        v589,
+        v590,
+        v591,
+        v592,
+        v593,
+    ) = if d_sim_i_pose.is_some() || d_sim_i_log_scale.is_some()
+        || d_sim_j_pose.is_some() || d_sim_j_log_scale.is_some()
+    {
+        let v566 = v365 * v478;
+        let v567 = v304 * v304;
+        let v568 = v363 * v567;
+        let v569 = v54 * v479;
+        let v570 = v469 * v567;
+        let v571 = v479 * v566;
+        let v572 = v54 * v571;
+        let v573 = v478 * v489;
+        let v574 = v65 * v573;
+        let v575 = T::constant(0.5) * v473;
+        let v576 = v194 * v486;
+        let v577 = v43 * v576;
+        let v578 = v65 * v577;
+        let v579 = v65 * v479;
+        let v580 = v65 * v571;
+        let v581 = v54 * v573;
+        let v582 = v54 * v577;
+        let v583 = v486 * v514;
+        let v584 = v478 * v487;
+        let v585 = v514 * v584;
+        let v586 = v43 * v479;
+        let v587 = v43 * v571;
+        let v588 = v478 * v551;
+        let v589 = v550 * v576;
+        let v590 = v486 * v545;
+        let v591 = v545 * v584;
+        let v592 = v199 * v486;
+        let v593 = v199 * v584;
+        (
+            v566,
+            v568,
+            v569,
+            v570,
+            v572,
+            v574,
+            v575,
+            v578,
+            v579,
+            v580,
+            v581,
+            v582,
+            v583,
+            v585,
+            v586,
+            v587,
+            v588,
+            v589,
+            v590,
+            v591,
+            v592,
+            v593,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v602, v613, v622, v628, v634, v639, v644, v649, v654) = if d_sim_i_pose
+        .is_some() || d_sim_i_log_scale.is_some() || d_sim_j_pose.is_some()
+    {
+        let v594 = v91 * v493;
+        let v595 = T::constant(0.5) * v594;
+        let v596 = v516 * v595;
+        let v597 = v91 * v102;
+        let v598 = v491 * v597;
+        let v599 = v91 * v525;
+        let v600 = v538 * v599;
+        let v601 = v596 + v598;
+        let v602 = v601 - v600;
+        let v603 = v91 * v98;
+        let v604 = v491 * v603;
+        let v605 = v91 * v495;
+        let v606 = T::constant(2.0) * v605;
+        let v607 = v91 * v523;
+        let v608 = T::constant(2.0) * v607;
+        let v609 = v516 * v605;
+        let v610 = v538 * v607;
+        let v611 = v610 - v609;
+        let v612 = T::constant(2.0) * v611;
+        let v613 = v604 + v612;
+        let v614 = v91 * v520;
+        let v615 = T::constant(0.5) * v614;
+        let v616 = v538 * v615;
+        let v617 = v91 * v105;
+        let v618 = v491 * v617;
+        let v619 = v91 * v500;
+        let v620 = v516 * v619;
+        let v621 = v616 + v620;
+        let v622 = v618 + v621;
+        let v623 = v543 * v594;
+        let v624 = v547 * v597;
+        let v625 = v552 * v599;
+        let v626 = v624 + v625;
+        let v627 = T::constant(2.0) * v626;
+        let v628 = v623 - v627;
+        let v629 = T::constant(0.5) * v603;
+        let v630 = v547 * v629;
+        let v631 = v543 * v605;
+        let v632 = v552 * v607;
+        let v633 = v630 - v632;
+        let v634 = v631 + v633;
+        let v635 = v552 * v615;
+        let v636 = v543 * v619;
+        let v637 = v547 * v617;
+        let v638 = v635 - v637;
+        let v639 = v636 + v638;
+        let v640 = v558 * v595;
+        let v641 = v556 * v597;
+        let v642 = v561 * v599;
+        let v643 = v641 - v642;
+        let v644 = v643 - v640;
+        let v645 = v556 * v603;
+        let v646 = v558 * v606;
+        let v647 = v561 * v608;
+        let v648 = v646 + v647;
+        let v649 = v645 + v648;
+        let v650 = v561 * v615;
+        let v651 = v556 * v617;
+        let v652 = v558 * v619;
+        let v653 = v650 + v651;
+        let v654 = v653 - v652;
+        (v602, v613, v622, v628, v634, v639, v644, v649, v654)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v655, v656, v657) = if d_sim_i_pose.is_some() || d_sim_i_log_scale.is_some() {
+        let v655 = T::constant(2.0) * v142;
+        let v656 = v183 * T::constant(4.0);
+        let v657 = T::constant(2.0) * v162;
+        (v655, v656, v657)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let (
+        v658,
+        v659,
+        v660,
+        v661,
+        v662,
+        v663,
+        v664,
+        v665,
+        v666,
+        v667,
+        v668,
+        v669,
+        v742,
+        v794,
+        v802,
+        v810,
+        v818,
+        v825,
+        v1138,
+        v1419,
+        v1487,
+        v1550,
+        v1578,
+        v1605,
+        v1608,
+        v1611,
+        v1614,
+        v1617,
+        v1620,
+        v1623,
+        v1626,
+        v1629,
+        v1632,
+        v1635,
+        v1638,
+        v1641,
+        v1644,
+        v1647,
+        v1650,
+        v1653,
+        v1656,
+        v1659,
+        v1662,
+        v1665,
+        v1668,
+        v1671,
+        v1674,
+        v1677,
+    ) = if d_sim_i_pose.is_some() || d_sim_j_pose.is_some() {
+        let v658 = v113 * v602;
+        let v659 = T::constant(2.0) * v127;
+        let v660 = v113 * v613;
+        let v661 = v113 * v622;
+        let v662 = v113 * v628;
+        let v663 = v113 * v634;
+        let v664 = v113 * v639;
+        let v665 = v113 * v644;
+        let v666 = v113 * v649;
+        let v667 = v113 * v654;
+        let v668 = T::constant(2.0) * v124;
+        let v669 = v167 * T::constant(0.25);
+        let v670 = -measured[3];
+        let v671 = T::select_lt(v34, T::constant(0.0), v670, measured[3]);
+        let v672 = v86 * v671;
+        let v673 = -measured[0];
+        let v674 = T::select_lt(v34, T::constant(0.0), v673, measured[0]);
+        let v675 = v70 * v77;
+        let v676 = v674 * T::constant(0.6666666666666666);
+        let v677 = v675 * v676;
+        let v678 = v69 * T::constant(1.2000000000000002);
+        let v679 = v74 * v678;
+        let v680 = v72 - v679;
+        let v681 = v674 * v680;
+        let v682 = v43 * v671;
+        let v683 = -measured[2];
+        let v684 = T::select_lt(v34, T::constant(0.0), measured[2], v683);
+        let v685 = v65 * v684;
+        let v686 = -measured[1];
+        let v687 = T::select_lt(v34, T::constant(0.0), v686, measured[1]);
+        let v688 = v54 * v687;
+        let v689 = v682 + v685;
+        let v690 = v688 + v689;
+        let v691 = v73 * T::constant(1.2000000000000002);
+        let v692 = v691 - v70;
+        let v693 = v690 * v692;
+        let v694 = v681 + v693;
+        let v695 = v69 * T::constant(1.3333333333333333);
+        let v696 = v694 * v695;
+        let v697 = v677 + v696;
+        let v698 = v83 / v68;
+        let v699 = v45 * v81;
+        let v700 = v690 * v699;
+        let v701 = v80 * v674;
+        let v702 = v700 - v701;
+        let v703 = v45 * v45;
+        let v704 = v68 + v703;
+        let v705 = v81 / v704;
+        let v706 = v690 * v698;
+        let v707 = v702 * v705;
+        let v708 = v707 - v706;
+        let v709 = T::constant(2.0) * v708;
+        let v710 = T::select_lt(v71, T::constant(1e-6), v697, v709);
+        let v711 = T::select_lt(T::constant(0.0), v45, v710, v709);
+        let v712 = v43 * v711;
+        let v713 = v672 + v712;
+        let v714 = v6 * v713;
+        let v715 = T::select_lt(v34, T::constant(0.0), measured[0], v673);
+        let v716 = v86 * v715;
+        let v717 = v671 * T::constant(0.6666666666666666);
+        let v718 = v675 * v717;
+        let v719 = v671 * v680;
+        let v720 = v43 * v715;
+        let v721 = T::select_lt(v34, T::constant(0.0), measured[1], v686);
+        let v722 = v65 * v721;
+        let v723 = v54 * v684;
+        let v724 = v720 + v722;
+        let v725 = v723 + v724;
+        let v726 = v692 * v725;
+        let v727 = v719 + v726;
+        let v728 = v695 * v727;
+        let v729 = v718 + v728;
+        let v730 = v699 * v725;
+        let v731 = v80 * v671;
+        let v732 = v730 - v731;
+        let v733 = v698 * v725;
+        let v734 = v705 * v732;
+        let v735 = v734 - v733;
+        let v736 = T::constant(2.0) * v735;
+        let v737 = T::select_lt(v71, T::constant(1e-6), v729, v736);
+        let v738 = T::select_lt(T::constant(0.0), v45, v737, v736);
+        let v739 = v43 * v738;
+        let v740 = v716 + v739;
+        let v741 = v14 * v740;
+        let v742 = v714 - v741;
+        let v743 = T::select_lt(v34, T::constant(0.0), v683, measured[2]);
+        let v744 = v86 * v743;
+        let v745 = T::constant(0.6666666666666666) * v687;
+        let v746 = v675 * v745;
+        let v747 = v680 * v687;
+        let v748 = v43 * v743;
+        let v749 = v65 * v671;
+        let v750 = v54 * v715;
+        let v751 = v748 + v749;
+        let v752 = v750 + v751;
+        let v753 = v692 * v752;
+        let v754 = v747 + v753;
+        let v755 = v695 * v754;
+        let v756 = v746 + v755;
+        let v757 = v699 * v752;
+        let v758 = v80 * v687;
+        let v759 = v757 - v758;
+        let v760 = v698 * v752;
+        let v761 = v705 * v759;
+        let v762 = v761 - v760;
+        let v763 = T::constant(2.0) * v762;
+        let v764 = T::select_lt(v71, T::constant(1e-6), v756, v763);
+        let v765 = T::select_lt(T::constant(0.0), v45, v764, v763);
+        let v766 = v43 * v765;
+        let v767 = v744 + v766;
+        let v768 = v30 * v767;
+        let v769 = v86 * v721;
+        let v770 = T::constant(0.6666666666666666) * v743;
+        let v771 = v675 * v770;
+        let v772 = v680 * v743;
+        let v773 = v43 * v721;
+        let v774 = v65 * v674;
+        let v775 = v54 * v671;
+        let v776 = v773 + v774;
+        let v777 = v775 + v776;
+        let v778 = v692 * v777;
+        let v779 = v772 + v778;
+        let v780 = v695 * v779;
+        let v781 = v771 + v780;
+        let v782 = v699 * v777;
+        let v783 = v80 * v743;
+        let v784 = v782 - v783;
+        let v785 = v698 * v777;
+        let v786 = v705 * v784;
+        let v787 = v786 - v785;
+        let v788 = T::constant(2.0) * v787;
+        let v789 = T::select_lt(v71, T::constant(1e-6), v781, v788);
+        let v790 = T::select_lt(T::constant(0.0), v45, v789, v788);
+        let v791 = v43 * v790;
+        let v792 = v769 + v791;
+        let v793 = v22 * v792;
+        let v794 = v768 - v793;
+        let v795 = v86 * v684;
+        let v796 = v65 * v711;
+        let v797 = v795 + v796;
+        let v798 = v6 * v797;
+        let v799 = v65 * v738;
+        let v800 = v769 + v799;
+        let v801 = v14 * v800;
+        let v802 = v798 - v801;
+        let v803 = v65 * v765;
+        let v804 = v672 + v803;
+        let v805 = v30 * v804;
+        let v806 = v86 * v674;
+        let v807 = v65 * v790;
+        let v808 = v806 + v807;
+        let v809 = v22 * v808;
+        let v810 = v805 - v809;
+        let v811 = v86 * v687;
+        let v812 = v54 * v711;
+        let v813 = v811 + v812;
+        let v814 = v6 * v813;
+        let v815 = v54 * v738;
+        let v816 = v795 + v815;
+        let v817 = v14 * v816;
+        let v818 = v814 - v817;
+        let v819 = v54 * v765;
+        let v820 = v716 + v819;
+        let v821 = v30 * v820;
+        let v822 = v54 * v790;
+        let v823 = v672 + v822;
+        let v824 = v22 * v823;
+        let v825 = v821 - v824;
+        let v826 = v480 * v687;
+        let v827 = v54 * v566;
+        let v828 = v711 * v827;
+        let v829 = v826 + v828;
+        let v830 = v54 * v194;
+        let v831 = v687 * v830;
+        let v832 = v55 * v86;
+        let v833 = v711 * v832;
+        let v834 = v831 + v833;
+        let v835 = v196 * v671;
+        let v836 = v43 * v87;
+        let v837 = v711 * v836;
+        let v838 = v835 + v837;
+        let v839 = v65 * v194;
+        let v840 = v684 * v839;
+        let v841 = v66 * v86;
+        let v842 = v711 * v841;
+        let v843 = v840 + v842;
+        let v844 = v838 + v843;
+        let v845 = v834 + v844;
+        let v846 = v845 * T::constant(6.561266481901403e-9);
+        let v847 = v299 * v846;
+        let v848 = v295 * v845;
+        let v849 = v265 * v845;
+        let v850 = v200 * v845;
+        let v851 = v849 + v850;
+        let v852 = v266 * v851;
+        let v853 = v276 * v845;
+        let v854 = v852 + v853;
+        let v855 = v200 * T::constant(0.41666666666666674);
+        let v856 = v854 * v855;
+        let v857 = v291 * v845;
+        let v858 = v857 - v856;
+        let v859 = v292 * v858;
+        let v860 = v848 - v859;
+        let v861 = v200 * T::constant(2.9525699168556307e-8);
+        let v862 = v860 * v861;
+        let v863 = v862 - v847;
+        let v864 = T::constant(2.0) * v845;
+        let v865 = v850 * T::constant(0.005555555555555557);
+        let v866 = v845 * T::constant(0.08333333333333333);
+        let v867 = v865 - v866;
+        let v868 = T::cos(v313);
+        let v869 = T::constant(0.5) * v356;
+        let v870 = v868 * v869;
+        let v871 = v316 - v870;
+        let v872 = v316 * v871;
+        let v873 = T::constant(4.0) * v845;
+        let v874 = v872 * v873;
+        let v875 = -v874;
+        let v876 = T::select_lt(v200, T::constant(1e-6), v867, v875);
+        let v877 = v200 * v306;
+        let v878 = T::constant(0.5) * v877;
+        let v879 = v850 * T::constant(0.03333333333333333);
+        let v880 = T::constant(0.3333333333333333) * v845;
+        let v881 = v879 - v880;
+        let v882 = T::cos(v312);
+        let v883 = v358 - v882;
+        let v884 = v315 * v883;
+        let v885 = v845 * v884;
+        let v886 = -v885;
+        let v887 = T::select_lt(v200, T::constant(1e-6), v881, v886);
+        let v888 = T::constant(0.5) * v467;
+        let v889 = v876 * v877;
+        let v890 = v467 * v887;
+        let v891 = v889 - v890;
+        let v892 = T::constant(0.5) * v891;
+        let v893 = v320 * v845;
+        let v894 = v892 + v893;
+        let v895 = T::constant(2.0) * v304;
+        let v896 = v845 * v568;
+        let v897 = v304 * v894;
+        let v898 = v897 - v896;
+        let v899 = T::constant(2.0) * v898;
+        let v900 = T::select_lt(v201, T::constant(0.04), v863, v899);
+        let v901 = v900 * v569;
+        let v902 = T::constant(0.5) * v475;
+        let v903 = v482 * v845;
+        let v904 = v475 * v900;
+        let v905 = v903 + v904;
+        let v906 = T::constant(0.5) * v905;
+        let v907 = v845 * T::constant(1.5309621791103272e-9);
+        let v908 = v462 * v907;
+        let v909 = v458 * v845;
+        let v910 = v429 * v845;
+        let v911 = v850 + v910;
+        let v912 = v430 * v911;
+        let v913 = v440 * v845;
+        let v914 = v912 + v913;
+        let v915 = v441 * v914;
+        let v916 = v455 * v845;
+        let v917 = v916 - v915;
+        let v918 = v200 * v917;
+        let v919 = v909 - v918;
+        let v920 = v200 * T::constant(4.5928865373309815e-9);
+        let v921 = v919 * v920;
+        let v922 = v921 - v908;
+        let v923 = v306 * v887;
+        let v924 = v467 * v876;
+        let v925 = v923 + v924;
+        let v926 = v304 * v925;
+        let v927 = v864 * v570;
+        let v928 = v926 + v927;
+        let v929 = -v928;
+        let v930 = T::select_lt(v201, T::constant(0.04), v922, v929);
+        let v931 = T::constant(0.5) * v200;
+        let v932 = v930 * v931;
+        let v933 = v471 * v845;
+        let v934 = v932 + v933;
+        let v935 = v473 * v934;
+        let v936 = v935 - v906;
+        let v937 = T::constant(4.0) * v936;
+        let v938 = v572 * v937;
+        let v939 = v901 + v938;
+        let v940 = v829 + v939;
+        let v941 = v87 * v487;
+        let v942 = v65 * v941;
+        let v943 = v711 * v942;
+        let v944 = T::constant(2.0) * v936;
+        let v945 = v574 * v944;
+        let v946 = v943 + v945;
+        let v947 = v65 * v488;
+        let v948 = v671 * v947;
+        let v949 = v489 * v684;
+        let v950 = v948 + v949;
+        let v951 = T::constant(0.5) * v950;
+        let v952 = v930 * v575;
+        let v953 = v365 * v900;
+        let v954 = v471 * v934;
+        let v955 = v954 - v952;
+        let v956 = v953 + v955;
+        let v957 = v956 * v578;
+        let v958 = v951 + v957;
+        let v959 = v946 + v958;
+        let v960 = T::constant(2.0) * v959;
+        let v961 = v940 + v960;
+        let v962 = v189 * v961;
+        let v963 = v480 * v684;
+        let v964 = v65 * v566;
+        let v965 = v711 * v964;
+        let v966 = v963 + v965;
+        let v967 = v900 * v579;
+        let v968 = v937 * v580;
+        let v969 = v967 + v968;
+        let v970 = v966 + v969;
+        let v971 = v54 * v941;
+        let v972 = v711 * v971;
+        let v973 = v944 * v581;
+        let v974 = v972 + v973;
+        let v975 = v54 * v488;
+        let v976 = v671 * v975;
+        let v977 = v489 * v687;
+        let v978 = v976 + v977;
+        let v979 = T::constant(0.5) * v978;
+        let v980 = v956 * v582;
+        let v981 = v979 + v980;
+        let v982 = v974 + v981;
+        let v983 = T::constant(2.0) * v982;
+        let v984 = v970 - v983;
+        let v985 = v539 * v984;
+        let v986 = T::constant(0.5) * v956;
+        let v987 = v834 + v843;
+        let v988 = v956 * v583;
+        let v989 = v487 * v987;
+        let v990 = v988 + v989;
+        let v991 = T::constant(0.5) * v990;
+        let v992 = v936 * v585;
+        let v993 = v991 + v992;
+        let v994 = T::constant(4.0) * v513;
+        let v995 = v993 * v994;
+        let v996 = v962 + v995;
+        let v997 = v985 + v996;
+        let v998 = v6 * v997;
+        let v999 = v738 * v827;
+        let v1000 = v963 + v999;
+        let v1001 = v684 * v830;
+        let v1002 = v738 * v832;
+        let v1003 = v1001 + v1002;
+        let v1004 = v196 * v715;
+        let v1005 = v738 * v836;
+        let v1006 = v1004 + v1005;
+        let v1007 = v721 * v839;
+        let v1008 = v738 * v841;
+        let v1009 = v1007 + v1008;
+        let v1010 = v1006 + v1009;
+        let v1011 = v1003 + v1010;
+        let v1012 = T::constant(6.561266481901403e-9) * v1011;
+        let v1013 = v299 * v1012;
+        let v1014 = v295 * v1011;
+        let v1015 = v265 * v1011;
+        let v1016 = v200 * v1011;
+        let v1017 = v1015 + v1016;
+        let v1018 = v266 * v1017;
+        let v1019 = v276 * v1011;
+        let v1020 = v1018 + v1019;
+        let v1021 = v855 * v1020;
+        let v1022 = v291 * v1011;
+        let v1023 = v1022 - v1021;
+        let v1024 = v292 * v1023;
+        let v1025 = v1014 - v1024;
+        let v1026 = v861 * v1025;
+        let v1027 = v1026 - v1013;
+        let v1028 = T::constant(2.0) * v1011;
+        let v1029 = v568 * v1028;
+        let v1030 = T::constant(0.005555555555555557) * v1016;
+        let v1031 = T::constant(0.08333333333333333) * v1011;
+        let v1032 = v1030 - v1031;
+        let v1033 = T::constant(4.0) * v1011;
+        let v1034 = v872 * v1033;
+        let v1035 = -v1034;
+        let v1036 = T::select_lt(v200, T::constant(1e-6), v1032, v1035);
+        let v1037 = v878 * v1036;
+        let v1038 = T::constant(0.03333333333333333) * v1016;
+        let v1039 = T::constant(0.3333333333333333) * v1011;
+        let v1040 = v1038 - v1039;
+        let v1041 = v884 * v1011;
+        let v1042 = -v1041;
+        let v1043 = T::select_lt(v200, T::constant(1e-6), v1040, v1042);
+        let v1044 = v888 * v1043;
+        let v1045 = v1037 - v1044;
+        let v1046 = v320 * v1011;
+        let v1047 = v1045 + v1046;
+        let v1048 = v895 * v1047;
+        let v1049 = v1048 - v1029;
+        let v1050 = T::select_lt(v201, T::constant(0.04), v1027, v1049);
+        let v1051 = v569 * v1050;
+        let v1052 = T::constant(0.5) * v1011;
+        let v1053 = v482 * v1052;
+        let v1054 = v902 * v1050;
+        let v1055 = v1053 + v1054;
+        let v1056 = T::constant(1.5309621791103272e-9) * v1011;
+        let v1057 = v462 * v1056;
+        let v1058 = v458 * v1011;
+        let v1059 = v429 * v1011;
+        let v1060 = v1016 + v1059;
+        let v1061 = v430 * v1060;
+        let v1062 = v440 * v1011;
+        let v1063 = v1061 + v1062;
+        let v1064 = v441 * v1063;
+        let v1065 = v455 * v1011;
+        let v1066 = v1065 - v1064;
+        let v1067 = v200 * v1066;
+        let v1068 = v1058 - v1067;
+        let v1069 = v920 * v1068;
+        let v1070 = v1069 - v1057;
+        let v1071 = v306 * v1043;
+        let v1072 = v467 * v1036;
+        let v1073 = v1071 + v1072;
+        let v1074 = v304 * v1073;
+        let v1075 = v570 * v1028;
+        let v1076 = v1074 + v1075;
+        let v1077 = -v1076;
+        let v1078 = T::select_lt(v201, T::constant(0.04), v1070, v1077);
+        let v1079 = v931 * v1078;
+        let v1080 = v471 * v1011;
+        let v1081 = v1079 + v1080;
+        let v1082 = v473 * v1081;
+        let v1083 = v1082 - v1055;
+        let v1084 = T::constant(4.0) * v1083;
+        let v1085 = v572 * v1084;
+        let v1086 = v1051 + v1085;
+        let v1087 = v1000 + v1086;
+        let v1088 = v738 * v942;
+        let v1089 = T::constant(2.0) * v1083;
+        let v1090 = v574 * v1089;
+        let v1091 = v1088 + v1090;
+        let v1092 = v715 * v947;
+        let v1093 = v489 * v721;
+        let v1094 = v1092 + v1093;
+        let v1095 = T::constant(0.5) * v1094;
+        let v1096 = v575 * v1078;
+        let v1097 = v365 * v1050;
+        let v1098 = v471 * v1081;
+        let v1099 = v1097 - v1096;
+        let v1100 = v1098 + v1099;
+        let v1101 = v578 * v1100;
+        let v1102 = v1095 + v1101;
+        let v1103 = v1091 + v1102;
+        let v1104 = T::constant(2.0) * v1103;
+        let v1105 = v1087 + v1104;
+        let v1106 = v189 * v1105;
+        let v1107 = v480 * v721;
+        let v1108 = v738 * v964;
+        let v1109 = v1107 + v1108;
+        let v1110 = v579 * v1050;
+        let v1111 = v580 * v1084;
+        let v1112 = v1110 + v1111;
+        let v1113 = v1109 + v1112;
+        let v1114 = v738 * v971;
+        let v1115 = v581 * v1089;
+        let v1116 = v1114 + v1115;
+        let v1117 = v715 * v975;
+        let v1118 = v949 + v1117;
+        let v1119 = T::constant(0.5) * v1118;
+        let v1120 = v582 * v1100;
+        let v1121 = v1119 + v1120;
+        let v1122 = v1116 + v1121;
+        let v1123 = T::constant(2.0) * v1122;
+        let v1124 = v1123 - v1113;
+        let v1125 = v539 * v1124;
+        let v1126 = T::constant(0.5) * v1100;
+        let v1127 = v1003 + v1009;
+        let v1128 = v583 * v1100;
+        let v1129 = v487 * v1127;
+        let v1130 = v1128 + v1129;
+        let v1131 = T::constant(0.5) * v1130;
+        let v1132 = v585 * v1083;
+        let v1133 = v1131 + v1132;
+        let v1134 = v994 * v1133;
+        let v1135 = v1106 + v1134;
+        let v1136 = v1135 - v1125;
+        let v1137 = v14 * v1136;
+        let v1138 = v998 - v1137;
+        let v1139 = v480 * v715;
+        let v1140 = v765 * v827;
+        let v1141 = v1139 + v1140;
+        let v1142 = v715 * v830;
+        let v1143 = v765 * v832;
+        let v1144 = v1142 + v1143;
+        let v1145 = v196 * v743;
+        let v1146 = v765 * v836;
+        let v1147 = v1145 + v1146;
+        let v1148 = v671 * v839;
+        let v1149 = v765 * v841;
+        let v1150 = v1148 + v1149;
+        let v1151 = v1147 + v1150;
+        let v1152 = v1144 + v1151;
+        let v1153 = T::constant(6.561266481901403e-9) * v1152;
+        let v1154 = v299 * v1153;
+        let v1155 = v295 * v1152;
+        let v1156 = v265 * v1152;
+        let v1157 = v200 * v1152;
+        let v1158 = v1156 + v1157;
+        let v1159 = v266 * v1158;
+        let v1160 = v276 * v1152;
+        let v1161 = v1159 + v1160;
+        let v1162 = v855 * v1161;
+        let v1163 = v291 * v1152;
+        let v1164 = v1163 - v1162;
+        let v1165 = v292 * v1164;
+        let v1166 = v1155 - v1165;
+        let v1167 = v861 * v1166;
+        let v1168 = v1167 - v1154;
+        let v1169 = T::constant(2.0) * v1152;
+        let v1170 = v568 * v1169;
+        let v1171 = T::constant(0.005555555555555557) * v1157;
+        let v1172 = T::constant(0.08333333333333333) * v1152;
+        let v1173 = v1171 - v1172;
+        let v1174 = T::constant(4.0) * v1152;
+        let v1175 = v872 * v1174;
+        let v1176 = -v1175;
+        let v1177 = T::select_lt(v200, T::constant(1e-6), v1173, v1176);
+        let v1178 = v878 * v1177;
+        let v1179 = T::constant(0.03333333333333333) * v1157;
+        let v1180 = T::constant(0.3333333333333333) * v1152;
+        let v1181 = v1179 - v1180;
+        let v1182 = v884 * v1152;
+        let v1183 = -v1182;
+        let v1184 = T::select_lt(v200, T::constant(1e-6), v1181, v1183);
+        let v1185 = v888 * v1184;
+        let v1186 = v1178 - v1185;
+        let v1187 = v320 * v1152;
+        let v1188 = v1186 + v1187;
+        let v1189 = v895 * v1188;
+        let v1190 = v1189 - v1170;
+        let v1191 = T::select_lt(v201, T::constant(0.04), v1168, v1190);
+        let v1192 = v569 * v1191;
+        let v1193 = T::constant(0.5) * v1152;
+        let v1194 = v482 * v1193;
+        let v1195 = v902 * v1191;
+        let v1196 = v1194 + v1195;
+        let v1197 = T::constant(1.5309621791103272e-9) * v1152;
+        let v1198 = v462 * v1197;
+        let v1199 = v458 * v1152;
+        let v1200 = v429 * v1152;
+        let v1201 = v1157 + v1200;
+        let v1202 = v430 * v1201;
+        let v1203 = v440 * v1152;
+        let v1204 = v1202 + v1203;
+        let v1205 = v441 * v1204;
+        let v1206 = v455 * v1152;
+        let v1207 = v1206 - v1205;
+        let v1208 = v200 * v1207;
+        let v1209 = v1199 - v1208;
+        let v1210 = v920 * v1209;
+        let v1211 = v1210 - v1198;
+        let v1212 = v306 * v1184;
+        let v1213 = v467 * v1177;
+        let v1214 = v1212 + v1213;
+        let v1215 = v304 * v1214;
+        let v1216 = v570 * v1169;
+        let v1217 = v1215 + v1216;
+        let v1218 = -v1217;
+        let v1219 = T::select_lt(v201, T::constant(0.04), v1211, v1218);
+        let v1220 = v931 * v1219;
+        let v1221 = v471 * v1152;
+        let v1222 = v1220 + v1221;
+        let v1223 = v473 * v1222;
+        let v1224 = v1223 - v1196;
+        let v1225 = T::constant(4.0) * v1224;
+        let v1226 = v572 * v1225;
+        let v1227 = v1192 + v1226;
+        let v1228 = v1141 + v1227;
+        let v1229 = v765 * v942;
+        let v1230 = T::constant(2.0) * v1224;
+        let v1231 = v574 * v1230;
+        let v1232 = v1229 + v1231;
+        let v1233 = v743 * v947;
+        let v1234 = v489 * v671;
+        let v1235 = v1233 + v1234;
+        let v1236 = T::constant(0.5) * v1235;
+        let v1237 = v575 * v1219;
+        let v1238 = v365 * v1191;
+        let v1239 = v471 * v1222;
+        let v1240 = v1238 - v1237;
+        let v1241 = v1239 + v1240;
+        let v1242 = v578 * v1241;
+        let v1243 = v1236 + v1242;
+        let v1244 = v1232 + v1243;
+        let v1245 = T::constant(2.0) * v1244;
+        let v1246 = v1228 + v1245;
+        let v1247 = v189 * v1246;
+        let v1248 = v480 * v671;
+        let v1249 = v765 * v964;
+        let v1250 = v1248 + v1249;
+        let v1251 = v579 * v1191;
+        let v1252 = v580 * v1225;
+        let v1253 = v1251 + v1252;
+        let v1254 = v1250 + v1253;
+        let v1255 = v765 * v971;
+        let v1256 = v581 * v1230;
+        let v1257 = v1255 + v1256;
+        let v1258 = v743 * v975;
+        let v1259 = v489 * v715;
+        let v1260 = v1258 + v1259;
+        let v1261 = T::constant(0.5) * v1260;
+        let v1262 = v582 * v1241;
+        let v1263 = v1261 + v1262;
+        let v1264 = v1257 + v1263;
+        let v1265 = T::constant(2.0) * v1264;
+        let v1266 = v1254 - v1265;
+        let v1267 = v539 * v1266;
+        let v1268 = T::constant(0.5) * v1241;
+        let v1269 = v1144 + v1150;
+        let v1270 = v583 * v1241;
+        let v1271 = v487 * v1269;
+        let v1272 = v1270 + v1271;
+        let v1273 = T::constant(0.5) * v1272;
+        let v1274 = v585 * v1224;
+        let v1275 = v1273 + v1274;
+        let v1276 = v994 * v1275;
+        let v1277 = v1247 + v1276;
+        let v1278 = v1267 + v1277;
+        let v1279 = v30 * v1278;
+        let v1280 = v790 * v827;
+        let v1281 = v1248 + v1280;
+        let v1282 = v671 * v830;
+        let v1283 = v790 * v832;
+        let v1284 = v1282 + v1283;
+        let v1285 = v196 * v721;
+        let v1286 = v790 * v836;
+        let v1287 = v1285 + v1286;
+        let v1288 = v674 * v839;
+        let v1289 = v790 * v841;
+        let v1290 = v1288 + v1289;
+        let v1291 = v1287 + v1290;
+        let v1292 = v1284 + v1291;
+        let v1293 = T::constant(6.561266481901403e-9) * v1292;
+        let v1294 = v299 * v1293;
+        let v1295 = v295 * v1292;
+        let v1296 = v265 * v1292;
+        let v1297 = v200 * v1292;
+        let v1298 = v1296 + v1297;
+        let v1299 = v266 * v1298;
+        let v1300 = v276 * v1292;
+        let v1301 = v1299 + v1300;
+        let v1302 = v855 * v1301;
+        let v1303 = v291 * v1292;
+        let v1304 = v1303 - v1302;
+        let v1305 = v292 * v1304;
+        let v1306 = v1295 - v1305;
+        let v1307 = v861 * v1306;
+        let v1308 = v1307 - v1294;
+        let v1309 = T::constant(2.0) * v1292;
+        let v1310 = v568 * v1309;
+        let v1311 = T::constant(0.005555555555555557) * v1297;
+        let v1312 = T::constant(0.08333333333333333) * v1292;
+        let v1313 = v1311 - v1312;
+        let v1314 = T::constant(4.0) * v1292;
+        let v1315 = v872 * v1314;
+        let v1316 = -v1315;
+        let v1317 = T::select_lt(v200, T::constant(1e-6), v1313, v1316);
+        let v1318 = v878 * v1317;
+        let v1319 = T::constant(0.03333333333333333) * v1297;
+        let v1320 = T::constant(0.3333333333333333) * v1292;
+        let v1321 = v1319 - v1320;
+        let v1322 = v884 * v1292;
+        let v1323 = -v1322;
+        let v1324 = T::select_lt(v200, T::constant(1e-6), v1321, v1323);
+        let v1325 = v888 * v1324;
+        let v1326 = v1318 - v1325;
+        let v1327 = v320 * v1292;
+        let v1328 = v1326 + v1327;
+        let v1329 = v895 * v1328;
+        let v1330 = v1329 - v1310;
+        let v1331 = T::select_lt(v201, T::constant(0.04), v1308, v1330);
+        let v1332 = v569 * v1331;
+        let v1333 = T::constant(0.5) * v1292;
+        let v1334 = v482 * v1333;
+        let v1335 = v902 * v1331;
+        let v1336 = v1334 + v1335;
+        let v1337 = T::constant(1.5309621791103272e-9) * v1292;
+        let v1338 = v462 * v1337;
+        let v1339 = v458 * v1292;
+        let v1340 = v429 * v1292;
+        let v1341 = v1297 + v1340;
+        let v1342 = v430 * v1341;
+        let v1343 = v440 * v1292;
+        let v1344 = v1342 + v1343;
+        let v1345 = v441 * v1344;
+        let v1346 = v455 * v1292;
+        let v1347 = v1346 - v1345;
+        let v1348 = v200 * v1347;
+        let v1349 = v1339 - v1348;
+        let v1350 = v920 * v1349;
+        let v1351 = v1350 - v1338;
+        let v1352 = v306 * v1324;
+        let v1353 = v467 * v1317;
+        let v1354 = v1352 + v1353;
+        let v1355 = v304 * v1354;
+        let v1356 = v570 * v1309;
+        let v1357 = v1355 + v1356;
+        let v1358 = -v1357;
+        let v1359 = T::select_lt(v201, T::constant(0.04), v1351, v1358);
+        let v1360 = v931 * v1359;
+        let v1361 = v471 * v1292;
+        let v1362 = v1360 + v1361;
+        let v1363 = v473 * v1362;
+        let v1364 = v1363 - v1336;
+        let v1365 = T::constant(4.0) * v1364;
+        let v1366 = v572 * v1365;
+        let v1367 = v1332 + v1366;
+        let v1368 = v1281 + v1367;
+        let v1369 = v790 * v942;
+        let v1370 = T::constant(2.0) * v1364;
+        let v1371 = v574 * v1370;
+        let v1372 = v1369 + v1371;
+        let v1373 = v721 * v947;
+        let v1374 = v489 * v674;
+        let v1375 = v1373 + v1374;
+        let v1376 = T::constant(0.5) * v1375;
+        let v1377 = v575 * v1359;
+        let v1378 = v365 * v1331;
+        let v1379 = v471 * v1362;
+        let v1380 = v1378 - v1377;
+        let v1381 = v1379 + v1380;
+        let v1382 = v578 * v1381;
+        let v1383 = v1376 + v1382;
+        let v1384 = v1372 + v1383;
+        let v1385 = T::constant(2.0) * v1384;
+        let v1386 = v1368 + v1385;
+        let v1387 = v189 * v1386;
+        let v1388 = v480 * v674;
+        let v1389 = v790 * v964;
+        let v1390 = v1388 + v1389;
+        let v1391 = v579 * v1331;
+        let v1392 = v580 * v1365;
+        let v1393 = v1391 + v1392;
+        let v1394 = v1390 + v1393;
+        let v1395 = v790 * v971;
+        let v1396 = v581 * v1370;
+        let v1397 = v1395 + v1396;
+        let v1398 = v721 * v975;
+        let v1399 = v1234 + v1398;
+        let v1400 = T::constant(0.5) * v1399;
+        let v1401 = v582 * v1381;
+        let v1402 = v1400 + v1401;
+        let v1403 = v1397 + v1402;
+        let v1404 = T::constant(2.0) * v1403;
+        let v1405 = v1404 - v1394;
+        let v1406 = v539 * v1405;
+        let v1407 = T::constant(0.5) * v1381;
+        let v1408 = v1284 + v1290;
+        let v1409 = v583 * v1381;
+        let v1410 = v487 * v1408;
+        let v1411 = v1409 + v1410;
+        let v1412 = T::constant(0.5) * v1411;
+        let v1413 = v585 * v1364;
+        let v1414 = v1412 + v1413;
+        let v1415 = v994 * v1414;
+        let v1416 = v1387 + v1415;
+        let v1417 = v1416 - v1406;
+        let v1418 = v22 * v1417;
+        let v1419 = v1279 - v1418;
+        let v1420 = v940 - v960;
+        let v1421 = v513 * v1420;
+        let v1422 = v43 * v566;
+        let v1423 = v711 * v1422;
+        let v1424 = v1248 + v1423;
+        let v1425 = v900 * v586;
+        let v1426 = v937 * v587;
+        let v1427 = v1425 + v1426;
+        let v1428 = v1424 + v1427;
+        let v1429 = v86 * v487;
+        let v1430 = v550 * v1429;
+        let v1431 = v711 * v1430;
+        let v1432 = v944 * v588;
+        let v1433 = v1431 + v1432;
+        let v1434 = v684 * v975;
+        let v1435 = v687 * v947;
+        let v1436 = v1434 + v1435;
+        let v1437 = T::constant(0.5) * v1436;
+        let v1438 = v956 * v589;
+        let v1439 = v1437 + v1438;
+        let v1440 = v1433 + v1439;
+        let v1441 = T::constant(2.0) * v1440;
+        let v1442 = v1428 + v1441;
+        let v1443 = v539 * v1442;
+        let v1444 = v986 * v590;
+        let v1445 = v834 + v838;
+        let v1446 = T::constant(0.5) * v1445;
+        let v1447 = v487 * v1446;
+        let v1448 = v1444 + v1447;
+        let v1449 = v936 * v591;
+        let v1450 = v1448 + v1449;
+        let v1451 = T::constant(4.0) * v189;
+        let v1452 = v1450 * v1451;
+        let v1453 = v1421 - v1452;
+        let v1454 = v1453 - v1443;
+        let v1455 = v6 * v1454;
+        let v1456 = v1087 - v1104;
+        let v1457 = v513 * v1456;
+        let v1458 = v738 * v1422;
+        let v1459 = v1139 + v1458;
+        let v1460 = v1050 * v586;
+        let v1461 = v1084 * v587;
+        let v1462 = v1460 + v1461;
+        let v1463 = v1459 + v1462;
+        let v1464 = v738 * v1430;
+        let v1465 = v1089 * v588;
+        let v1466 = v1464 + v1465;
+        let v1467 = v684 * v947;
+        let v1468 = v1398 + v1467;
+        let v1469 = T::constant(0.5) * v1468;
+        let v1470 = v1100 * v589;
+        let v1471 = v1469 + v1470;
+        let v1472 = v1466 + v1471;
+        let v1473 = T::constant(2.0) * v1472;
+        let v1474 = v1463 + v1473;
+        let v1475 = v539 * v1474;
+        let v1476 = v1126 * v590;
+        let v1477 = v1003 + v1006;
+        let v1478 = T::constant(0.5) * v1477;
+        let v1479 = v487 * v1478;
+        let v1480 = v1476 + v1479;
+        let v1481 = v1083 * v591;
+        let v1482 = v1480 + v1481;
+        let v1483 = v1451 * v1482;
+        let v1484 = v1457 - v1483;
+        let v1485 = v1484 - v1475;
+        let v1486 = v14 * v1485;
+        let v1487 = v1455 - v1486;
+        let v1488 = v1228 - v1245;
+        let v1489 = v513 * v1488;
+        let v1490 = v480 * v743;
+        let v1491 = v765 * v1422;
+        let v1492 = v1490 + v1491;
+        let v1493 = v1191 * v586;
+        let v1494 = v1225 * v587;
+        let v1495 = v1493 + v1494;
+        let v1496 = v1492 + v1495;
+        let v1497 = v765 * v1430;
+        let v1498 = v1230 * v588;
+        let v1499 = v1497 + v1498;
+        let v1500 = v976 + v1092;
+        let v1501 = T::constant(0.5) * v1500;
+        let v1502 = v1241 * v589;
+        let v1503 = v1501 + v1502;
+        let v1504 = v1499 + v1503;
+        let v1505 = T::constant(2.0) * v1504;
+        let v1506 = v1496 + v1505;
+        let v1507 = v539 * v1506;
+        let v1508 = v1268 * v590;
+        let v1509 = v1144 + v1147;
+        let v1510 = T::constant(0.5) * v1509;
+        let v1511 = v487 * v1510;
+        let v1512 = v1508 + v1511;
+        let v1513 = v1224 * v591;
+        let v1514 = v1512 + v1513;
+        let v1515 = v1451 * v1514;
+        let v1516 = v1489 - v1515;
+        let v1517 = v1516 - v1507;
+        let v1518 = v30 * v1517;
+        let v1519 = v1368 - v1385;
+        let v1520 = v513 * v1519;
+        let v1521 = v790 * v1422;
+        let v1522 = v1107 + v1521;
+        let v1523 = v1331 * v586;
+        let v1524 = v1365 * v587;
+        let v1525 = v1523 + v1524;
+        let v1526 = v1522 + v1525;
+        let v1527 = v790 * v1430;
+        let v1528 = v1370 * v588;
+        let v1529 = v1527 + v1528;
+        let v1530 = v674 * v975;
+        let v1531 = v948 + v1530;
+        let v1532 = T::constant(0.5) * v1531;
+        let v1533 = v1381 * v589;
+        let v1534 = v1532 + v1533;
+        let v1535 = v1529 + v1534;
+        let v1536 = T::constant(2.0) * v1535;
+        let v1537 = v1526 + v1536;
+        let v1538 = v539 * v1537;
+        let v1539 = v1407 * v590;
+        let v1540 = v1284 + v1287;
+        let v1541 = T::constant(0.5) * v1540;
+        let v1542 = v487 * v1541;
+        let v1543 = v1539 + v1542;
+        let v1544 = v1364 * v591;
+        let v1545 = v1543 + v1544;
+        let v1546 = v1451 * v1545;
+        let v1547 = v1520 - v1546;
+        let v1548 = v1547 - v1538;
+        let v1549 = v22 * v1548;
+        let v1550 = v1518 - v1549;
+        let v1551 = v1428 - v1441;
+        let v1552 = v189 * v1551;
+        let v1553 = v970 + v983;
+        let v1554 = v513 * v1553;
+        let v1555 = v487 * v844;
+        let v1556 = v956 * v592;
+        let v1557 = v944 * v593;
+        let v1558 = v1555 + v1556;
+        let v1559 = v1557 + v1558;
+        let v1560 = T::constant(4.0) * v535;
+        let v1561 = v1559 * v1560;
+        let v1562 = v1552 - v1561;
+        let v1563 = v1554 + v1562;
+        let v1564 = v6 * v1563;
+        let v1565 = v1463 - v1473;
+        let v1566 = v189 * v1565;
+        let v1567 = v1113 + v1123;
+        let v1568 = v513 * v1567;
+        let v1569 = v487 * v1010;
+        let v1570 = v1100 * v592;
+        let v1571 = v1089 * v593;
+        let v1572 = v1569 + v1570;
+        let v1573 = v1571 + v1572;
+        let v1574 = v1560 * v1573;
+        let v1575 = v1566 - v1574;
+        let v1576 = v1568 + v1575;
+        let v1577 = v14 * v1576;
+        let v1578 = v1564 - v1577;
+        let v1579 = v1505 - v1496;
+        let v1580 = v189 * v1579;
+        let v1581 = v1254 + v1265;
+        let v1582 = v513 * v1581;
+        let v1583 = v487 * v1151;
+        let v1584 = v1241 * v592;
+        let v1585 = v1230 * v593;
+        let v1586 = v1583 + v1584;
+        let v1587 = v1585 + v1586;
+        let v1588 = v1560 * v1587;
+        let v1589 = v1580 + v1588;
+        let v1590 = v1589 - v1582;
+        let v1591 = v30 * v1590;
+        let v1592 = v1536 - v1526;
+        let v1593 = v189 * v1592;
+        let v1594 = v1394 + v1404;
+        let v1595 = v513 * v1594;
+        let v1596 = v487 * v1291;
+        let v1597 = v1381 * v592;
+        let v1598 = v1370 * v593;
+        let v1599 = v1596 + v1597;
+        let v1600 = v1598 + v1599;
+        let v1601 = v1560 * v1600;
+        let v1602 = v1593 + v1601;
+        let v1603 = v1602 - v1595;
+        let v1604 = v22 * v1603;
+        let v1605 = v1591 - v1604;
+        let v1606 = v30 * v713;
+        let v1607 = v14 * v792;
+        let v1608 = v1606 - v1607;
+        let v1609 = v6 * v767;
+        let v1610 = v22 * v740;
+        let v1611 = v1609 - v1610;
+        let v1612 = v30 * v797;
+        let v1613 = v14 * v808;
+        let v1614 = v1612 - v1613;
+        let v1615 = v6 * v804;
+        let v1616 = v22 * v800;
+        let v1617 = v1615 - v1616;
+        let v1618 = v30 * v813;
+        let v1619 = v14 * v823;
+        let v1620 = v1618 - v1619;
+        let v1621 = v6 * v820;
+        let v1622 = v22 * v816;
+        let v1623 = v1621 - v1622;
+        let v1624 = v30 * v997;
+        let v1625 = v14 * v1417;
+        let v1626 = v1624 - v1625;
+        let v1627 = v6 * v1278;
+        let v1628 = v22 * v1136;
+        let v1629 = v1627 - v1628;
+        let v1630 = v30 * v1454;
+        let v1631 = v14 * v1548;
+        let v1632 = v1630 - v1631;
+        let v1633 = v6 * v1517;
+        let v1634 = v22 * v1485;
+        let v1635 = v1633 - v1634;
+        let v1636 = v30 * v1563;
+        let v1637 = v14 * v1603;
+        let v1638 = v1636 + v1637;
+        let v1639 = v6 * v1590;
+        let v1640 = v22 * v1576;
+        let v1641 = v1639 + v1640;
+        let v1642 = v22 * v713;
+        let v1643 = v14 * v767;
+        let v1644 = v1642 - v1643;
+        let v1645 = v6 * v792;
+        let v1646 = v30 * v740;
+        let v1647 = v1645 - v1646;
+        let v1648 = v22 * v797;
+        let v1649 = v14 * v804;
+        let v1650 = v1648 - v1649;
+        let v1651 = v6 * v808;
+        let v1652 = v30 * v800;
+        let v1653 = v1651 - v1652;
+        let v1654 = v22 * v813;
+        let v1655 = v14 * v820;
+        let v1656 = v1654 - v1655;
+        let v1657 = v6 * v823;
+        let v1658 = v30 * v816;
+        let v1659 = v1657 - v1658;
+        let v1660 = v22 * v997;
+        let v1661 = v14 * v1278;
+        let v1662 = v1660 - v1661;
+        let v1663 = v6 * v1417;
+        let v1664 = v30 * v1136;
+        let v1665 = v1663 - v1664;
+        let v1666 = v22 * v1454;
+        let v1667 = v14 * v1517;
+        let v1668 = v1666 - v1667;
+        let v1669 = v6 * v1548;
+        let v1670 = v30 * v1485;
+        let v1671 = v1669 - v1670;
+        let v1672 = v22 * v1563;
+        let v1673 = v14 * v1590;
+        let v1674 = v1672 + v1673;
+        let v1675 = v6 * v1603;
+        let v1676 = v30 * v1576;
+        let v1677 = v1675 + v1676;
+        (
+            v658,
+            v659,
+            v660,
+            v661,
+            v662,
+            v663,
+            v664,
+            v665,
+            v666,
+            v667,
+            v668,
+            v669,
+            v742,
+            v794,
+            v802,
+            v810,
+            v818,
+            v825,
+            v1138,
+            v1419,
+            v1487,
+            v1550,
+            v1578,
+            v1605,
+            v1608,
+            v1611,
+            v1614,
+            v1617,
+            v1620,
+            v1623,
+            v1626,
+            v1629,
+            v1632,
+            v1635,
+            v1638,
+            v1641,
+            v1644,
+            v1647,
+            v1650,
+            v1653,
+            v1656,
+            v1659,
+            v1662,
+            v1665,
+            v1668,
+            v1671,
+            v1674,
+            v1677,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (v1753, v1774, v1776, v1777, v1779, v1855, v1857, v1859, v1860) = if d_sim_i_log_scale
+        .is_some() || d_sim_j_log_scale.is_some()
+    {
+        let v1678 = T::constant(2.0) * v281;
+        let v1679 = v205 + v1678;
+        let v1680 = v192 * v1679;
+        let v1681 = v207 + v1680;
+        let v1682 = v192 * v1681;
+        let v1683 = v209 + v1682;
+        let v1684 = v192 * v1683;
+        let v1685 = v211 + v1684;
+        let v1686 = v192 * v1685;
+        let v1687 = v213 + v1686;
+        let v1688 = v192 * v1687;
+        let v1689 = v215 + v1688;
+        let v1690 = v192 * v1689;
+        let v1691 = v217 + v1690;
+        let v1692 = v192 * v1691;
+        let v1693 = v219 + v1692;
+        let v1694 = v192 * v1693;
+        let v1695 = v221 + v1694;
+        let v1696 = v192 * v1695;
+        let v1697 = v191 + T::constant(5.384615384615384);
+        let v1698 = v192 * T::constant(-2.0);
+        let v1699 = v1697 * v1698;
+        let v1700 = v229 + v1699;
+        let v1701 = v192 * v1700;
+        let v1702 = v231 + v1701;
+        let v1703 = v192 * v1702;
+        let v1704 = v233 + v1703;
+        let v1705 = v192 * v1704;
+        let v1706 = v235 + v1705;
+        let v1707 = v192 * v1706;
+        let v1708 = v237 + v1707;
+        let v1709 = v192 * v1708;
+        let v1710 = v239 + v1709;
+        let v1711 = v192 * v1710;
+        let v1712 = v241 + v1711;
+        let v1713 = v192 * v1712;
+        let v1714 = T::constant(2.0) * v270;
+        let v1715 = v248 + v1714;
+        let v1716 = v192 * v1715;
+        let v1717 = v250 + v1716;
+        let v1718 = v192 * v1717;
+        let v1719 = v252 + v1718;
+        let v1720 = v192 * v1719;
+        let v1721 = v254 + v1720;
+        let v1722 = v192 * v1721;
+        let v1723 = v256 + v1722;
+        let v1724 = v192 * v1723;
+        let v1725 = v191 + T::constant(1.0769230769230769);
+        let v1726 = v1725 * T::constant(-0.21818181818181817);
+        let v1727 = v200 * v1726;
+        let v1728 = T::constant(2.0) * v262;
+        let v1729 = v271 + v1728;
+        let v1730 = v192 * v1729;
+        let v1731 = v273 + v1730;
+        let v1732 = v1731 - v1727;
+        let v1733 = v277 * v1732;
+        let v1734 = v191 + T::constant(3.2307692307692304);
+        let v1735 = v1698 * v1734;
+        let v1736 = v282 + v1735;
+        let v1737 = v192 * v1736;
+        let v1738 = v284 + v1737;
+        let v1739 = v192 * v1738;
+        let v1740 = v286 + v1739;
+        let v1741 = v192 * v1740;
+        let v1742 = v288 + v1741;
+        let v1743 = v1742 - v1733;
+        let v1744 = v292 * v1743;
+        let v1745 = v258 + v1724;
+        let v1746 = v1745 - v1744;
+        let v1747 = v296 * v1746;
+        let v1748 = v243 + v1713;
+        let v1749 = v1748 - v1747;
+        let v1750 = v200 * T::constant(22.0);
+        let v1751 = v1749 * v1750;
+        let v1752 = v223 + v1696;
+        let v1753 = v1752 - v1751;
+        let v1754 = v191 + T::constant(6.500000000000001);
+        let v1755 = v1698 * v1754;
+        let v1756 = v325 + v1755;
+        let v1757 = v192 * v1756;
+        let v1758 = v327 + v1757;
+        let v1759 = v192 * v1758;
+        let v1760 = v329 + v1759;
+        let v1761 = v192 * v1760;
+        let v1762 = v331 + v1761;
+        let v1763 = v192 * v1762;
+        let v1764 = v333 + v1763;
+        let v1765 = v192 * v1764;
+        let v1766 = v335 + v1765;
+        let v1767 = v192 * v1766;
+        let v1768 = v337 + v1767;
+        let v1769 = v192 * v1768;
+        let v1770 = v339 + v1769;
+        let v1771 = v192 * v1770;
+        let v1772 = v341 + v1771;
+        let v1773 = v192 * v1772;
+        let v1774 = v343 + v1773;
+        let v1775 = v306 + v349;
+        let v1776 = v347 * v1775;
+        let v1777 = v321 - v361;
+        let v1778 = v192 * v568;
+        let v1779 = T::constant(2.0) * v1778;
+        let v1780 = v191 + T::constant(6.428571428571428);
+        let v1781 = v1698 * v1780;
+        let v1782 = v369 + v1781;
+        let v1783 = v192 * v1782;
+        let v1784 = v371 + v1783;
+        let v1785 = v192 * v1784;
+        let v1786 = v373 + v1785;
+        let v1787 = v192 * v1786;
+        let v1788 = v375 + v1787;
+        let v1789 = v192 * v1788;
+        let v1790 = v377 + v1789;
+        let v1791 = v192 * v1790;
+        let v1792 = v379 + v1791;
+        let v1793 = v192 * v1792;
+        let v1794 = v381 + v1793;
+        let v1795 = v192 * v1794;
+        let v1796 = v383 + v1795;
+        let v1797 = v192 * v1796;
+        let v1798 = v385 + v1797;
+        let v1799 = v192 * v1798;
+        let v1800 = v191 + T::constant(5.357142857142858);
+        let v1801 = v1698 * v1800;
+        let v1802 = v393 + v1801;
+        let v1803 = v192 * v1802;
+        let v1804 = v395 + v1803;
+        let v1805 = v192 * v1804;
+        let v1806 = v397 + v1805;
+        let v1807 = v192 * v1806;
+        let v1808 = v399 + v1807;
+        let v1809 = v192 * v1808;
+        let v1810 = v401 + v1809;
+        let v1811 = v192 * v1810;
+        let v1812 = v403 + v1811;
+        let v1813 = v192 * v1812;
+        let v1814 = v405 + v1813;
+        let v1815 = v192 * v1814;
+        let v1816 = T::constant(2.0) * v434;
+        let v1817 = v412 + v1816;
+        let v1818 = v192 * v1817;
+        let v1819 = v414 + v1818;
+        let v1820 = v192 * v1819;
+        let v1821 = v416 + v1820;
+        let v1822 = v192 * v1821;
+        let v1823 = v418 + v1822;
+        let v1824 = v192 * v1823;
+        let v1825 = v420 + v1824;
+        let v1826 = v192 * v1825;
+        let v1827 = v191 + T::constant(1.0714285714285716);
+        let v1828 = v1827 * T::constant(-0.18181818181818182);
+        let v1829 = v200 * v1828;
+        let v1830 = T::constant(2.0) * v426;
+        let v1831 = v435 + v1830;
+        let v1832 = v192 * v1831;
+        let v1833 = v437 + v1832;
+        let v1834 = v1833 - v1829;
+        let v1835 = v441 * v1834;
+        let v1836 = v191 + T::constant(3.2142857142857144);
+        let v1837 = v1698 * v1836;
+        let v1838 = v446 + v1837;
+        let v1839 = v192 * v1838;
+        let v1840 = v448 + v1839;
+        let v1841 = v192 * v1840;
+        let v1842 = v450 + v1841;
+        let v1843 = v192 * v1842;
+        let v1844 = v452 + v1843;
+        let v1845 = v1844 - v1835;
+        let v1846 = v200 * v1845;
+        let v1847 = v422 + v1826;
+        let v1848 = v1847 - v1846;
+        let v1849 = v459 * v1848;
+        let v1850 = v407 + v1815;
+        let v1851 = v1850 - v1849;
+        let v1852 = v200 * T::constant(11.0);
+        let v1853 = v1851 * v1852;
+        let v1854 = v387 + v1799;
+        let v1855 = v1854 - v1853;
+        let v1856 = v360 + v468;
+        let v1857 = v320 - v1856;
+        let v1858 = v192 * v570;
+        let v1859 = T::constant(2.0) * v1858;
+        let v1860 = T::constant(0.5) * v471;
+        (v1753, v1774, v1776, v1777, v1779, v1855, v1857, v1859, v1860)
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(d_sim_i_pose) = d_sim_i_pose {
+        let v1861 = v144 * v144;
+        let v1862 = v146 * v146;
+        let v1863 = v151 * v151;
+        let v1864 = v1862 + v1863;
+        let v1865 = T::constant(4.0) * v1864;
+        let v1866 = v1861 + v1865;
+        let v1867 = T::constant(2.0) * v1866;
+        let v1868 = v120 * v146;
+        let v1869 = v124 * v144;
+        let v1870 = v151 * v659;
+        let v1871 = v1868 - v1869;
+        let v1872 = v1871 - v1870;
+        let v1873 = T::constant(2.0) * v1872;
+        let v1874 = v1866 * v658;
+        let v1875 = v1872 * v660;
+        let v1876 = v1874 + v1875;
+        let v1877 = T::constant(2.0) * v1876;
+        let v1878 = v144 * v172;
+        let v1879 = v151 * v167;
+        let v1880 = v1878 - v1879;
+        let v1881 = T::constant(0.5) * v1880;
+        let v1882 = v146 * v170;
+        let v1883 = v1881 + v1882;
+        let v1884 = v1883 * T::constant(8.0);
+        let v1885 = v661 * v1884;
+        let v1886 = v1877 + v1885;
+        let v1887 = -v1886;
+        let v1888 = v1866 * v662;
+        let v1889 = T::constant(4.0) * v1872;
+        let v1890 = v663 * v1889;
+        let v1891 = v1884 * v664;
+        let v1892 = v1891 - v1890;
+        let v1893 = v1888 + v1892;
+        let v1894 = v1867 * v665;
+        let v1895 = v1873 * v666;
+        let v1896 = v1894 + v1895;
+        let v1897 = v1884 * v667;
+        let v1898 = v1896 + v1897;
+        let v1899 = v120 * v120;
+        let v1900 = v124 * v124;
+        let v1901 = v127 * v127;
+        let v1902 = v1900 + v1901;
+        let v1903 = T::constant(4.0) * v1902;
+        let v1904 = v1899 + v1903;
+        let v1905 = v660 * v1904;
+        let v1906 = v658 * v1889;
+        let v1907 = v120 * v170;
+        let v1908 = v127 * v167;
+        let v1909 = v172 * v668;
+        let v1910 = v1907 + v1908;
+        let v1911 = v1910 - v1909;
+        let v1912 = T::constant(4.0) * v1911;
+        let v1913 = v661 * v1912;
+        let v1914 = v1906 + v1913;
+        let v1915 = v1905 + v1914;
+        let v1916 = v1873 * v662;
+        let v1917 = T::constant(2.0) * v1904;
+        let v1918 = v663 * v1917;
+        let v1919 = v1918 - v1916;
+        let v1920 = v664 * v1912;
+        let v1921 = v1919 - v1920;
+        let v1922 = v666 * v1904;
+        let v1923 = v1889 * v665;
+        let v1924 = v667 * v1912;
+        let v1925 = v1923 + v1924;
+        let v1926 = v1922 + v1925;
+        let v1927 = -v1926;
+        let v1928 = T::constant(2.0) * v1911;
+        let v1929 = v660 * v1928;
+        let v1930 = v658 * v1884;
+        let v1931 = v167 * v669;
+        let v1932 = v170 * v170;
+        let v1933 = v172 * v172;
+        let v1934 = v1932 + v1933;
+        let v1935 = v1931 + v1934;
+        let v1936 = T::constant(8.0) * v1935;
+        let v1937 = v661 * v1936;
+        let v1938 = v1930 + v1937;
+        let v1939 = v1929 + v1938;
+        let v1940 = -v1939;
+        let v1941 = T::constant(4.0) * v1883;
+        let v1942 = v662 * v1941;
+        let v1943 = v663 * v1912;
+        let v1944 = v1942 - v1943;
+        let v1945 = v664 * v1936;
+        let v1946 = v1944 + v1945;
+        let v1947 = v666 * v1928;
+        let v1948 = v1884 * v665;
+        let v1949 = v667 * v1936;
+        let v1950 = v1948 + v1949;
+        let v1951 = v1947 + v1950;
+        let v1952 = v794 - v742;
+        let v1953 = T::constant(0.5) * v1952;
+        let v1954 = v810 - v802;
+        let v1955 = T::constant(0.5) * v1954;
+        let v1956 = v825 - v818;
+        let v1957 = T::constant(0.5) * v1956;
+        let v1958 = v1419 - v1138;
+        let v1959 = T::constant(0.5) * v1958;
+        let v1960 = T::constant(2.0) * v183;
+        let v1961 = v183 * v613;
+        let v1962 = v142 * v622;
+        let v1963 = v1961 + v1962;
+        let v1964 = T::constant(2.0) * v1963;
+        let v1965 = v1959 - v1964;
+        let v1966 = v1550 - v1487;
+        let v1967 = T::constant(0.5) * v1966;
+        let v1968 = v639 * v655;
+        let v1969 = v634 * v656;
+        let v1970 = v1968 - v1969;
+        let v1971 = v1967 + v1970;
+        let v1972 = v1578 + v1605;
+        let v1973 = T::constant(0.5) * v1972;
+        let v1974 = v649 * v1960;
+        let v1975 = v654 * v655;
+        let v1976 = v1974 + v1975;
+        let v1977 = v1973 + v1976;
+        let v1978 = v1608 + v1611;
+        let v1979 = T::constant(0.5) * v1978;
+        let v1980 = -v1979;
+        let v1981 = v1614 + v1617;
+        let v1982 = T::constant(0.5) * v1981;
+        let v1983 = -v1982;
+        let v1984 = v1620 + v1623;
+        let v1985 = T::constant(0.5) * v1984;
+        let v1986 = -v1985;
+        let v1987 = v1626 + v1629;
+        let v1988 = T::constant(0.5) * v1987;
+        let v1989 = v622 * v657;
+        let v1990 = v602 * v656;
+        let v1991 = v1989 + v1990;
+        let v1992 = v1988 + v1991;
+        let v1993 = -v1992;
+        let v1994 = v1632 + v1635;
+        let v1995 = T::constant(0.5) * v1994;
+        let v1996 = v628 * v1960;
+        let v1997 = v639 * v657;
+        let v1998 = v1996 + v1997;
+        let v1999 = v1998 - v1995;
+        let v2000 = v1638 - v1641;
+        let v2001 = T::constant(0.5) * v2000;
+        let v2002 = v654 * v657;
+        let v2003 = v644 * v656;
+        let v2004 = v2002 + v2003;
+        let v2005 = v2001 + v2004;
+        let v2006 = v1644 - v1647;
+        let v2007 = T::constant(0.5) * v2006;
+        let v2008 = v1650 - v1653;
+        let v2009 = T::constant(0.5) * v2008;
+        let v2010 = v1656 - v1659;
+        let v2011 = T::constant(0.5) * v2010;
+        let v2012 = v1662 - v1665;
+        let v2013 = T::constant(0.5) * v2012;
+        let v2014 = v162 * v613;
+        let v2015 = v602 * v655;
+        let v2016 = v2015 - v2014;
+        let v2017 = v2013 + v2016;
+        let v2018 = v1668 - v1671;
+        let v2019 = T::constant(0.5) * v2018;
+        let v2020 = v142 * v628;
+        let v2021 = v634 * v657;
+        let v2022 = v2020 + v2021;
+        let v2023 = v2019 - v2022;
+        let v2024 = v1674 + v1677;
+        let v2025 = T::constant(0.5) * v2024;
+        let v2026 = v162 * v649;
+        let v2027 = v644 * v655;
+        let v2028 = v2026 - v2027;
+        let v2029 = v2028 - v2025;
+        d_sim_i_pose[0] = T::constant(0.0);
+        d_sim_i_pose[1] = T::constant(0.0);
+        d_sim_i_pose[2] = T::constant(0.0);
+        d_sim_i_pose[3] = v1887;
+        d_sim_i_pose[4] = v1893;
+        d_sim_i_pose[5] = v1898;
+        d_sim_i_pose[6] = T::constant(0.0);
+        d_sim_i_pose[7] = T::constant(0.0);
+        d_sim_i_pose[8] = T::constant(0.0);
+        d_sim_i_pose[9] = T::constant(0.0);
+        d_sim_i_pose[10] = v1915;
+        d_sim_i_pose[11] = v1921;
+        d_sim_i_pose[12] = v1927;
+        d_sim_i_pose[13] = T::constant(0.0);
+        d_sim_i_pose[14] = T::constant(0.0);
+        d_sim_i_pose[15] = T::constant(0.0);
+        d_sim_i_pose[16] = T::constant(0.0);
+        d_sim_i_pose[17] = v1940;
+        d_sim_i_pose[18] = v1946;
+        d_sim_i_pose[19] = v1951;
+        d_sim_i_pose[20] = T::constant(0.0);
+        d_sim_i_pose[21] = v1953;
+        d_sim_i_pose[22] = v1955;
+        d_sim_i_pose[23] = v1957;
+        d_sim_i_pose[24] = v1965;
+        d_sim_i_pose[25] = v1971;
+        d_sim_i_pose[26] = v1977;
+        d_sim_i_pose[27] = T::constant(0.0);
+        d_sim_i_pose[28] = v1980;
+        d_sim_i_pose[29] = v1983;
+        d_sim_i_pose[30] = v1986;
+        d_sim_i_pose[31] = v1993;
+        d_sim_i_pose[32] = v1999;
+        d_sim_i_pose[33] = v2005;
+        d_sim_i_pose[34] = T::constant(0.0);
+        d_sim_i_pose[35] = v2007;
+        d_sim_i_pose[36] = v2009;
+        d_sim_i_pose[37] = v2011;
+        d_sim_i_pose[38] = v2017;
+        d_sim_i_pose[39] = v2023;
+        d_sim_i_pose[40] = v2029;
+        d_sim_i_pose[41] = T::constant(0.0);
+    }
+    if let Some(d_sim_i_log_scale) = d_sim_i_log_scale {
+        let v2030 = T::constant(1.4911969277048643e-10) * v1753;
+        let v2031 = T::constant(1.6059043836821613e-10) * v1774;
+        let v2032 = T::select_lt(v193, T::constant(0.04), v2031, v1776);
+        let v2033 = v360 + v2032;
+        let v2034 = v192 * v2033;
+        let v2035 = v1777 - v2034;
+        let v2036 = v304 * v2035;
+        let v2037 = v2036 + v1779;
+        let v2038 = -v2037;
+        let v2039 = T::select_lt(v201, T::constant(0.04), v2030, v2038);
+        let v2040 = v569 * v2039;
+        let v2041 = T::constant(6.958918995956033e-11) * v1855;
+        let v2042 = v2032 - v1857;
+        let v2043 = v304 * v2042;
+        let v2044 = v2043 - v1859;
+        let v2045 = T::select_lt(v201, T::constant(0.04), v2041, v2044);
+        let v2046 = v200 * v2045;
+        let v2047 = v2032 - v2046;
+        let v2048 = v473 * v2047;
+        let v2049 = v475 * v2039;
+        let v2050 = v2048 + v2049;
+        let v2051 = T::constant(2.0) * v2050;
+        let v2052 = v572 * v2051;
+        let v2053 = v2040 - v2052;
+        let v2054 = v485 * v2032;
+        let v2055 = v490 * v2054;
+        let v2056 = v574 * v2051;
+        let v2057 = v2055 + v2056;
+        let v2058 = T::constant(0.5) * v2057;
+        let v2059 = v575 * v2045;
+        let v2060 = v2047 * v1860;
+        let v2061 = v2059 + v2060;
+        let v2062 = v365 * v2039;
+        let v2063 = v2062 - v2061;
+        let v2064 = v578 * v2063;
+        let v2065 = v2064 - v2058;
+        let v2066 = T::constant(2.0) * v2065;
+        let v2067 = v2053 + v2066;
+        let v2068 = v189 * v2067;
+        let v2069 = v485 * v2054;
+        let v2070 = v515 * v2054;
+        let v2071 = v585 * v2051;
+        let v2072 = T::constant(2.0) * v2063;
+        let v2073 = v583 * v2072;
+        let v2074 = v2073 - v2071;
+        let v2075 = v2069 - v2070;
+        let v2076 = v2074 + v2075;
+        let v2077 = v513 * v2076;
+        let v2078 = v142 * v613;
+        let v2079 = v579 * v2039;
+        let v2080 = v580 * v2051;
+        let v2081 = v2079 - v2080;
+        let v2082 = v537 * v2054;
+        let v2083 = v581 * v2051;
+        let v2084 = v2082 + v2083;
+        let v2085 = T::constant(0.5) * v2084;
+        let v2086 = v582 * v2063;
+        let v2087 = v2086 - v2085;
+        let v2088 = T::constant(2.0) * v2087;
+        let v2089 = v2081 - v2088;
+        let v2090 = v539 * v2089;
+        let v2091 = v602 * v657;
+        let v2092 = v2090 + v2091;
+        let v2093 = v622 * v656;
+        let v2094 = v2077 - v2093;
+        let v2095 = v2078 + v2094;
+        let v2096 = v2068 + v2095;
+        let v2097 = v2092 + v2096;
+        let v2098 = v2053 - v2066;
+        let v2099 = v513 * v2098;
+        let v2100 = v546 * v2054;
+        let v2101 = v591 * v2051;
+        let v2102 = v590 * v2072;
+        let v2103 = v2102 - v2101;
+        let v2104 = v2069 - v2100;
+        let v2105 = v2103 + v2104;
+        let v2106 = v189 * v2105;
+        let v2107 = v162 * v628;
+        let v2108 = v586 * v2039;
+        let v2109 = v587 * v2051;
+        let v2110 = v2108 - v2109;
+        let v2111 = v551 * v2054;
+        let v2112 = v588 * v2051;
+        let v2113 = v2111 + v2112;
+        let v2114 = T::constant(0.5) * v2113;
+        let v2115 = v589 * v2063;
+        let v2116 = v2115 - v2114;
+        let v2117 = T::constant(2.0) * v2116;
+        let v2118 = v2110 + v2117;
+        let v2119 = v539 * v2118;
+        let v2120 = v634 * v655;
+        let v2121 = v2120 - v2119;
+        let v2122 = v639 * v656;
+        let v2123 = v2122 - v2106;
+        let v2124 = v2123 - v2107;
+        let v2125 = v2099 + v2124;
+        let v2126 = v2121 + v2125;
+        let v2127 = v2110 - v2117;
+        let v2128 = v189 * v2127;
+        let v2129 = v2081 + v2088;
+        let v2130 = v513 * v2129;
+        let v2131 = v142 * v649;
+        let v2132 = v560 * v2054;
+        let v2133 = v593 * v2051;
+        let v2134 = v592 * v2072;
+        let v2135 = v2134 - v2133;
+        let v2136 = v2069 - v2132;
+        let v2137 = v2135 + v2136;
+        let v2138 = v539 * v2137;
+        let v2139 = v644 * v657;
+        let v2140 = v2138 - v2139;
+        let v2141 = v654 * v656;
+        let v2142 = v2141 - v2131;
+        let v2143 = v2140 + v2142;
+        let v2144 = v2143 - v2128;
+        let v2145 = v2144 - v2130;
+        d_sim_i_log_scale[0] = T::constant(0.0);
+        d_sim_i_log_scale[1] = T::constant(0.0);
+        d_sim_i_log_scale[2] = T::constant(0.0);
+        d_sim_i_log_scale[3] = v2097;
+        d_sim_i_log_scale[4] = v2126;
+        d_sim_i_log_scale[5] = v2145;
+        d_sim_i_log_scale[6] = T::constant(-1.0);
+    }
+    if let Some(d_sim_j_pose) = d_sim_j_pose {
+        let v2146 = T::constant(0.5) * v172;
+        let v2147 = sim_j_pose[4] * sim_j_pose[4];
+        let v2148 = sim_j_pose[5] * sim_j_pose[5];
+        let v2149 = v2147 - v2148;
+        let v2150 = sim_j_pose[6] * sim_j_pose[6];
+        let v2151 = sim_j_pose[3] * sim_j_pose[3];
+        let v2152 = v2150 - v2151;
+        let v2153 = v2149 - v2152;
+        let v2154 = v144 * v2153;
+        let v2155 = sim_j_pose[4] * sim_j_pose[5];
+        let v2156 = sim_j_pose[3] * sim_j_pose[6];
+        let v2157 = v2155 + v2156;
+        let v2158 = sim_j_pose[4] * sim_j_pose[6];
+        let v2159 = sim_j_pose[3] * sim_j_pose[5];
+        let v2160 = v2158 - v2159;
+        let v2161 = v146 * v2157;
+        let v2162 = v151 * v2160;
+        let v2163 = v2161 + v2162;
+        let v2164 = T::constant(4.0) * v2163;
+        let v2165 = v2154 + v2164;
+        let v2166 = T::constant(2.0) * v2165;
+        let v2167 = v120 * v2157;
+        let v2168 = v124 * v2153;
+        let v2169 = v659 * v2160;
+        let v2170 = v2167 - v2168;
+        let v2171 = v2170 - v2169;
+        let v2172 = T::constant(2.0) * v2171;
+        let v2173 = v658 * v2165;
+        let v2174 = v660 * v2171;
+        let v2175 = v2173 + v2174;
+        let v2176 = T::constant(2.0) * v2175;
+        let v2177 = v2146 * v2153;
+        let v2178 = T::constant(0.5) * v2160;
+        let v2179 = v167 * v2178;
+        let v2180 = v2177 - v2179;
+        let v2181 = v170 * v2157;
+        let v2182 = v2180 + v2181;
+        let v2183 = T::constant(8.0) * v2182;
+        let v2184 = v661 * v2183;
+        let v2185 = v2176 + v2184;
+        let v2186 = v662 * v2165;
+        let v2187 = T::constant(4.0) * v2171;
+        let v2188 = v663 * v2187;
+        let v2189 = v664 * v2183;
+        let v2190 = v2188 - v2189;
+        let v2191 = v2190 - v2186;
+        let v2192 = v665 * v2166;
+        let v2193 = v666 * v2172;
+        let v2194 = v2192 + v2193;
+        let v2195 = v667 * v2183;
+        let v2196 = v2194 + v2195;
+        let v2197 = -v2196;
+        let v2198 = v2149 + v2152;
+        let v2199 = v120 * v2198;
+        let v2200 = v2155 - v2156;
+        let v2201 = sim_j_pose[5] * sim_j_pose[6];
+        let v2202 = sim_j_pose[3] * sim_j_pose[4];
+        let v2203 = v2201 + v2202;
+        let v2204 = v124 * v2200;
+        let v2205 = v127 * v2203;
+        let v2206 = v2204 + v2205;
+        let v2207 = T::constant(4.0) * v2206;
+        let v2208 = v2199 + v2207;
+        let v2209 = v660 * v2208;
+        let v2210 = v144 * v2200;
+        let v2211 = v146 * v2198;
+        let v2212 = T::constant(2.0) * v151;
+        let v2213 = v2203 * v2212;
+        let v2214 = v2210 - v2211;
+        let v2215 = v2213 + v2214;
+        let v2216 = T::constant(4.0) * v2215;
+        let v2217 = v170 * v2198;
+        let v2218 = v167 * v2203;
+        let v2219 = T::constant(2.0) * v172;
+        let v2220 = v2200 * v2219;
+        let v2221 = v2217 + v2218;
+        let v2222 = v2221 - v2220;
+        let v2223 = T::constant(4.0) * v2222;
+        let v2224 = v658 * v2215;
+        let v2225 = v661 * v2222;
+        let v2226 = v2224 - v2225;
+        let v2227 = T::constant(4.0) * v2226;
+        let v2228 = v2227 - v2209;
+        let v2229 = v662 * v2215;
+        let v2230 = v663 * v2208;
+        let v2231 = v2229 + v2230;
+        let v2232 = T::constant(2.0) * v2231;
+        let v2233 = v664 * v2223;
+        let v2234 = v2233 - v2232;
+        let v2235 = v666 * v2208;
+        let v2236 = v665 * v2216;
+        let v2237 = v667 * v2223;
+        let v2238 = v2237 - v2236;
+        let v2239 = v2235 + v2238;
+        let v2240 = v2201 - v2202;
+        let v2241 = v120 * v2240;
+        let v2242 = v2147 + v2148;
+        let v2243 = v2150 + v2151;
+        let v2244 = v2242 - v2243;
+        let v2245 = v127 * v2244;
+        let v2246 = v2158 + v2159;
+        let v2247 = v668 * v2246;
+        let v2248 = v2241 + v2245;
+        let v2249 = v2248 - v2247;
+        let v2250 = T::constant(2.0) * v2249;
+        let v2251 = v660 * v2250;
+        let v2252 = v144 * v2246;
+        let v2253 = v151 * v2244;
+        let v2254 = T::constant(2.0) * v146;
+        let v2255 = v2240 * v2254;
+        let v2256 = v2252 - v2253;
+        let v2257 = v2255 + v2256;
+        let v2258 = T::constant(4.0) * v2257;
+        let v2259 = v658 * v2258;
+        let v2260 = v669 * v2244;
+        let v2261 = v170 * v2240;
+        let v2262 = v172 * v2246;
+        let v2263 = v2261 + v2262;
+        let v2264 = v2260 + v2263;
+        let v2265 = T::constant(8.0) * v2264;
+        let v2266 = v661 * v2265;
+        let v2267 = v2259 + v2266;
+        let v2268 = v2251 + v2267;
+        let v2269 = T::constant(2.0) * v2257;
+        let v2270 = v662 * v2269;
+        let v2271 = T::constant(4.0) * v2249;
+        let v2272 = v663 * v2271;
+        let v2273 = v664 * v2265;
+        let v2274 = v2272 - v2273;
+        let v2275 = v2274 - v2270;
+        let v2276 = v666 * v2250;
+        let v2277 = v665 * v2258;
+        let v2278 = v667 * v2265;
+        let v2279 = v2277 + v2278;
+        let v2280 = v2276 + v2279;
+        let v2281 = -v2280;
+        let v2282 = v742 + v794;
+        let v2283 = T::constant(0.5) * v2282;
+        let v2284 = v802 + v810;
+        let v2285 = T::constant(0.5) * v2284;
+        let v2286 = v818 + v825;
+        let v2287 = T::constant(0.5) * v2286;
+        let v2288 = v1138 + v1419;
+        let v2289 = T::constant(0.5) * v2288;
+        let v2290 = v1487 + v1550;
+        let v2291 = T::constant(0.5) * v2290;
+        let v2292 = v1605 - v1578;
+        let v2293 = T::constant(0.5) * v2292;
+        let v2294 = v1611 - v1608;
+        let v2295 = T::constant(0.5) * v2294;
+        let v2296 = v1617 - v1614;
+        let v2297 = T::constant(0.5) * v2296;
+        let v2298 = v1623 - v1620;
+        let v2299 = T::constant(0.5) * v2298;
+        let v2300 = v1629 - v1626;
+        let v2301 = T::constant(0.5) * v2300;
+        let v2302 = v1635 - v1632;
+        let v2303 = T::constant(0.5) * v2302;
+        let v2304 = v1638 + v1641;
+        let v2305 = T::constant(0.5) * v2304;
+        let v2306 = v1644 + v1647;
+        let v2307 = T::constant(0.5) * v2306;
+        let v2308 = v1650 + v1653;
+        let v2309 = T::constant(0.5) * v2308;
+        let v2310 = v1656 + v1659;
+        let v2311 = T::constant(0.5) * v2310;
+        let v2312 = v1662 + v1665;
+        let v2313 = T::constant(0.5) * v2312;
+        let v2314 = v1668 + v1671;
+        let v2315 = T::constant(0.5) * v2314;
+        let v2316 = v1677 - v1674;
+        let v2317 = T::constant(0.5) * v2316;
+        d_sim_j_pose[0] = T::constant(0.0);
+        d_sim_j_pose[1] = T::constant(0.0);
+        d_sim_j_pose[2] = T::constant(0.0);
+        d_sim_j_pose[3] = v2185;
+        d_sim_j_pose[4] = v2191;
+        d_sim_j_pose[5] = v2197;
+        d_sim_j_pose[6] = T::constant(0.0);
+        d_sim_j_pose[7] = T::constant(0.0);
+        d_sim_j_pose[8] = T::constant(0.0);
+        d_sim_j_pose[9] = T::constant(0.0);
+        d_sim_j_pose[10] = v2228;
+        d_sim_j_pose[11] = v2234;
+        d_sim_j_pose[12] = v2239;
+        d_sim_j_pose[13] = T::constant(0.0);
+        d_sim_j_pose[14] = T::constant(0.0);
+        d_sim_j_pose[15] = T::constant(0.0);
+        d_sim_j_pose[16] = T::constant(0.0);
+        d_sim_j_pose[17] = v2268;
+        d_sim_j_pose[18] = v2275;
+        d_sim_j_pose[19] = v2281;
+        d_sim_j_pose[20] = T::constant(0.0);
+        d_sim_j_pose[21] = v2283;
+        d_sim_j_pose[22] = v2285;
+        d_sim_j_pose[23] = v2287;
+        d_sim_j_pose[24] = v2289;
+        d_sim_j_pose[25] = v2291;
+        d_sim_j_pose[26] = v2293;
+        d_sim_j_pose[27] = T::constant(0.0);
+        d_sim_j_pose[28] = v2295;
+        d_sim_j_pose[29] = v2297;
+        d_sim_j_pose[30] = v2299;
+        d_sim_j_pose[31] = v2301;
+        d_sim_j_pose[32] = v2303;
+        d_sim_j_pose[33] = v2305;
+        d_sim_j_pose[34] = T::constant(0.0);
+        d_sim_j_pose[35] = v2307;
+        d_sim_j_pose[36] = v2309;
+        d_sim_j_pose[37] = v2311;
+        d_sim_j_pose[38] = v2313;
+        d_sim_j_pose[39] = v2315;
+        d_sim_j_pose[40] = v2317;
+        d_sim_j_pose[41] = T::constant(0.0);
+    }
+    if let Some(d_sim_j_log_scale) = d_sim_j_log_scale {
+        let v2318 = v1753 * T::constant(-1.4911969277048643e-10);
+        let v2319 = v1774 * T::constant(-1.6059043836821613e-10);
+        let v2320 = -v1776;
+        let v2321 = T::select_lt(v193, T::constant(0.04), v2319, v2320);
+        let v2322 = v360 - v2321;
+        let v2323 = v192 * v2322;
+        let v2324 = v1777 - v2323;
+        let v2325 = v304 * v2324;
+        let v2326 = v1779 + v2325;
+        let v2327 = T::select_lt(v201, T::constant(0.04), v2318, v2326);
+        let v2328 = v569 * v2327;
+        let v2329 = v1855 * T::constant(-6.958918995956033e-11);
+        let v2330 = v1857 + v2321;
+        let v2331 = v304 * v2330;
+        let v2332 = -v2331;
+        let v2333 = v1859 - v2332;
+        let v2334 = T::select_lt(v201, T::constant(0.04), v2329, v2333);
+        let v2335 = v200 * v2334;
+        let v2336 = v2321 - v2335;
+        let v2337 = v473 * v2336;
+        let v2338 = v475 * v2327;
+        let v2339 = v2337 + v2338;
+        let v2340 = T::constant(2.0) * v2339;
+        let v2341 = v572 * v2340;
+        let v2342 = v2328 - v2341;
+        let v2343 = v485 * v2321;
+        let v2344 = v490 * v2343;
+        let v2345 = v574 * v2340;
+        let v2346 = v2344 + v2345;
+        let v2347 = T::constant(0.5) * v2346;
+        let v2348 = v575 * v2334;
+        let v2349 = v1860 * v2336;
+        let v2350 = v2348 + v2349;
+        let v2351 = v365 * v2327;
+        let v2352 = v2351 - v2350;
+        let v2353 = v578 * v2352;
+        let v2354 = v2353 - v2347;
+        let v2355 = T::constant(2.0) * v2354;
+        let v2356 = v2342 + v2355;
+        let v2357 = v189 * v2356;
+        let v2358 = v485 * v2343;
+        let v2359 = v515 * v2343;
+        let v2360 = v585 * v2340;
+        let v2361 = T::constant(2.0) * v2352;
+        let v2362 = v583 * v2361;
+        let v2363 = v2362 - v2360;
+        let v2364 = v2358 - v2359;
+        let v2365 = v2363 + v2364;
+        let v2366 = v513 * v2365;
+        let v2367 = v579 * v2327;
+        let v2368 = v580 * v2340;
+        let v2369 = v2367 - v2368;
+        let v2370 = v537 * v2343;
+        let v2371 = v581 * v2340;
+        let v2372 = v2370 + v2371;
+        let v2373 = T::constant(0.5) * v2372;
+        let v2374 = v582 * v2352;
+        let v2375 = v2374 - v2373;
+        let v2376 = T::constant(2.0) * v2375;
+        let v2377 = v2369 - v2376;
+        let v2378 = v539 * v2377;
+        let v2379 = v2357 + v2366;
+        let v2380 = v2378 + v2379;
+        let v2381 = v2342 - v2355;
+        let v2382 = v513 * v2381;
+        let v2383 = v546 * v2343;
+        let v2384 = v591 * v2340;
+        let v2385 = v590 * v2361;
+        let v2386 = v2385 - v2384;
+        let v2387 = v2358 - v2383;
+        let v2388 = v2386 + v2387;
+        let v2389 = v189 * v2388;
+        let v2390 = v586 * v2327;
+        let v2391 = v587 * v2340;
+        let v2392 = v2390 - v2391;
+        let v2393 = v551 * v2343;
+        let v2394 = v588 * v2340;
+        let v2395 = v2393 + v2394;
+        let v2396 = T::constant(0.5) * v2395;
+        let v2397 = v589 * v2352;
+        let v2398 = v2397 - v2396;
+        let v2399 = T::constant(2.0) * v2398;
+        let v2400 = v2392 + v2399;
+        let v2401 = v539 * v2400;
+        let v2402 = v2389 + v2401;
+        let v2403 = v2382 - v2402;
+        let v2404 = v2392 - v2399;
+        let v2405 = v189 * v2404;
+        let v2406 = v2369 + v2376;
+        let v2407 = v513 * v2406;
+        let v2408 = v560 * v2343;
+        let v2409 = v593 * v2340;
+        let v2410 = v592 * v2361;
+        let v2411 = v2410 - v2409;
+        let v2412 = v2358 - v2408;
+        let v2413 = v2411 + v2412;
+        let v2414 = v539 * v2413;
+        let v2415 = v2414 - v2405;
+        let v2416 = v2415 - v2407;
+        d_sim_j_log_scale[0] = T::constant(0.0);
+        d_sim_j_log_scale[1] = T::constant(0.0);
+        d_sim_j_log_scale[2] = T::constant(0.0);
+        d_sim_j_log_scale[3] = v2380;
+        d_sim_j_log_scale[4] = v2403;
+        d_sim_j_log_scale[5] = v2416;
+        d_sim_j_log_scale[6] = T::constant(1.0);
+    }
+}
+
+/// The lengths of [`relative_sim3_apex`]'s arrays: each input, the residual, each block (column-major).
+pub const SHAPE_APEX: Shape = Shape {
+    inputs: &[8, 7, 1, 7, 1],
+    residual: 7,
+    blocks: &[42, 7, 42, 7],
+};
+
+/// [`relative_sim3_apex`] over what a solver holds: `stored`, the factor's 24 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (7 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
+#[inline]
+pub fn relative_sim3_apex_host<T: Real>(
+    stored: &[T],
+    parts: &[&[T]],
+    residual: &mut [T],
+    jacobian: Option<&mut [T]>,
+) -> bool {
+    let ([part_0, part_1, part_2, part_3], 24) = (parts, stored.len()) else {
+        return false;
+    };
+    let (
+        Ok(input_0),
+        Ok(input_1),
+        Ok(input_2),
+        Ok(input_3),
+        Ok(input_4),
+        Ok(residual),
+    ) = (
+        <&[T; 8]>::try_from(&stored[0..8]),
+        <&[T; 7]>::try_from(*part_0),
+        <&[T; 1]>::try_from(*part_1),
+        <&[T; 7]>::try_from(*part_2),
+        <&[T; 1]>::try_from(*part_3),
+        <&mut [T; 7]>::try_from(residual),
+    ) else {
+        return false;
+    };
+    match jacobian.map(<&mut [T; 98]>::try_from) {
+        None => {
+            self::relative_sim3_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                None,
+                None,
+                None,
+                None,
+            )
+        }
+        Some(Ok(jacobian)) => {
+            let rest = &mut jacobian[..];
+            let Some((d_sim_i_pose, rest)) = rest.split_first_chunk_mut::<42>() else {
+                return false;
+            };
+            let Some((d_sim_i_log_scale, rest)) = rest.split_first_chunk_mut::<7>() else {
+                return false;
+            };
+            let Some((d_sim_j_pose, rest)) = rest.split_first_chunk_mut::<42>() else {
+                return false;
+            };
+            let Some((d_sim_j_log_scale, rest)) = rest.split_first_chunk_mut::<7>() else {
+                return false;
+            };
+            let _ = rest;
+            self::relative_sim3_apex(
+                input_0,
+                input_1,
+                input_2,
+                input_3,
+                input_4,
+                residual,
+                Some(d_sim_i_pose),
+                Some(d_sim_i_log_scale),
+                Some(d_sim_j_pose),
+                Some(d_sim_j_log_scale),
+            )
+        }
+        Some(Err(_)) => return false,
+    }
     true
 }
 

@@ -175,15 +175,14 @@ pub fn scaled_range_bearing<T: Real>(
     }
 }
 
-/// The lengths of the kernel's arrays: each field's stored scalars, the
-/// residual, each Jacobian block (row-major).
+/// The lengths of the kernel's arrays: each field's stored scalars, the residual, each Jacobian block (row-major).
 pub const SHAPE: Shape = Shape {
     inputs: &[3, 3, 7, 1],
     residual: 3,
     blocks: &[18, 3],
 };
 
-/// [`scaled_range_bearing`] over slices: `inputs` holds one slice per field, `blocks` one entry per variable (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
+/// [`scaled_range_bearing`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
 #[inline]
 pub fn scaled_range_bearing_slices<T: Real>(
     inputs: &[&[T]],

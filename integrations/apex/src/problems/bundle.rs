@@ -13,9 +13,10 @@ use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
 use slam_factors::{RadialIntrinsics, SnavelyReprojection};
 use std::sync::Arc;
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
+use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
-use crate::variables::{apex_pose, pose_from_apex};
+use crate::builder::ProblemBuilder;
+use crate::variables::{apex_pose, from_apex};
 
 /// The variables of a bundle-adjustment problem.
 #[derive(Debug, Clone)]
@@ -73,7 +74,7 @@ fn apex_factor(
 
 /// Builds the bundle adjustment of `bal`.
 pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, BuildError> {
-    let mut builder = ProblemBuilder::new(options, bal.observations.len());
+    let mut builder = ProblemBuilder::with_options(options);
     let mut keys = BundleKeys {
         poses: Vec::with_capacity(bal.cameras.len()),
         intrinsics: Vec::with_capacity(bal.cameras.len()),
@@ -123,13 +124,13 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
     if let Some(&pose) = keys.poses.first() {
         builder.fix(pose, 6)?;
     }
-    Ok(builder.finish(Keys::Bundle(keys), LinearSolverType::ExplicitSparseSchur))
+    builder.finish(Keys::Bundle(keys), LinearSolverType::ExplicitSparseSchur)
 }
 
 impl BundleKeys {
     /// The camera `k` of the solution, as BAL writes it.
     fn camera<'a>(&self, k: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> BalCamera {
-        let pose = pose_from_apex(value(self.poses[k]));
+        let pose = from_apex::<Se3<f64>>(&[value(self.poses[k])]);
         let intrinsics = value(self.intrinsics[k]);
         let q = pose.rotation.quaternion;
         let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(

@@ -21,23 +21,22 @@ pub mod bundle;
 pub mod pose_graph;
 pub mod stereo;
 
-use std::collections::HashMap;
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
 
+use apex_solver::NoiseModel;
 use apex_solver::core::VarKey;
 use apex_solver::core::loss_functions::{CauchyLoss, HuberLoss, LossFunction};
 use apex_solver::core::problem::Problem;
 use apex_solver::core::variable::ManifoldVariable;
 use apex_solver::factors::Factor;
-use apex_solver::linalg::{JacobianMode, LinearSolverType};
-use apex_solver::{ManifoldType, NoiseModel};
+use apex_solver::linalg::LinearSolverType;
 use factor_core::FactorError;
 use slotmap::SlotMap;
 
 use crate::adapter::{Kernels, Rejections};
-use crate::timing::{Marks, PhaseClock, Timed};
+use crate::timing::PhaseClock;
 
 /// The factors a problem is built with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,7 +68,7 @@ pub enum Robust {
 
 impl Robust {
     /// apex-solver's loss.
-    fn loss(self) -> Result<Box<dyn LossFunction + Send + Sync>, BuildError> {
+    pub(crate) fn loss(self) -> Result<Box<dyn LossFunction + Send + Sync>, BuildError> {
         let loss: Result<Box<dyn LossFunction + Send + Sync>, _> = match self {
             Robust::Huber(delta) => HuberLoss::new(delta).map(|l| Box::new(l) as _),
             Robust::Cauchy(delta) => CauchyLoss::new(delta).map(|l| Box::new(l) as _),
@@ -154,6 +153,9 @@ pub enum Keys {
     PoseGraph(pose_graph::PoseGraphKeys),
     /// Stereo visual odometry.
     Stereo(stereo::StereoKeys),
+    /// A problem built with [`crate::builder::ProblemBuilder`]'s typed API:
+    /// its variables' handles are the caller's.
+    Custom,
 }
 
 /// An apex problem built from a data set.
@@ -164,6 +166,8 @@ pub struct Built {
     pub keys: Keys,
     /// The linear solver the problem is meant for.
     pub linear_solver: LinearSolverType,
+    /// How Levenberg–Marquardt damps its steps on this problem.
+    pub damping: crate::solve::Damping,
     /// The residual blocks (observations or edges).
     pub blocks: usize,
     /// The cost at the initial values, `Σ ½ ρ(‖S r‖²)`.
@@ -249,118 +253,4 @@ pub struct KeptBlock {
     pub params: Vec<Vec<f64>>,
     /// The noise model apex whitens the block with.
     pub noise: NoiseModel,
-}
-
-/// An apex problem under construction: its variables' initial values are
-/// kept, so that each block's initial cost is known as it is added (apex
-/// computes it too, but inside its solve, after the first report is due),
-/// and each block is wrapped in [`Timed`], the first and the last marking
-/// the passes on the problem's clock.
-pub(crate) struct ProblemBuilder {
-    problem: Problem,
-    initial: HashMap<VarKey, Vec<f64>>,
-    options: BuildOptions,
-    cost: f64,
-    expected_blocks: usize,
-    blocks: usize,
-    clock: Arc<PhaseClock>,
-    rejections: Arc<Rejections>,
-    kept: Option<Vec<KeptBlock>>,
-}
-
-impl ProblemBuilder {
-    /// An empty sparse problem that will hold `expected_blocks` blocks.
-    pub(crate) fn new(options: &BuildOptions, expected_blocks: usize) -> Self {
-        ProblemBuilder {
-            problem: Problem::new(JacobianMode::Sparse),
-            initial: HashMap::new(),
-            options: *options,
-            cost: 0.0,
-            expected_blocks,
-            blocks: 0,
-            clock: PhaseClock::new(),
-            rejections: Rejections::new(),
-            kept: options.keep_blocks.then(Vec::new),
-        }
-    }
-
-    /// The record of rejected evaluations this problem's factors share.
-    pub(crate) fn rejections(&self) -> Arc<Rejections> {
-        Arc::clone(&self.rejections)
-    }
-
-    /// A variable with initial value `value` (apex's parameters).
-    pub(crate) fn variable(&mut self, manifold: ManifoldType, value: Vec<f64>) -> VarKey {
-        let key = self
-            .problem
-            .add_variable(manifold, nalgebra_apex::DVector::from_column_slice(&value));
-        self.initial.insert(key, value);
-        key
-    }
-
-    /// Marks `key` for elimination by the Schur complement.
-    pub(crate) fn eliminate(&mut self, key: VarKey) {
-        self.problem.mark_for_elimination(key);
-    }
-
-    /// Holds every tangent coordinate of `key` fixed.
-    pub(crate) fn fix(&mut self, key: VarKey, dof: usize) -> Result<(), BuildError> {
-        for coordinate in 0..dof {
-            self.problem
-                .try_fix_variable(key, coordinate)
-                .map_err(|e| BuildError::Solver(e.to_string()))?;
-        }
-        Ok(())
-    }
-
-    /// Registers a block on `keys` and adds its initial cost `½ ρ(‖S r‖²)`
-    /// (apex's objective: `S` the noise model's square root, `ρ` the loss).
-    pub(crate) fn block(
-        &mut self,
-        keys: &[VarKey],
-        factor: Arc<dyn Factor + Send + Sync>,
-        noise: Option<NoiseModel>,
-    ) -> Result<(), BuildError> {
-        let params: Vec<&[f64]> = keys
-            .iter()
-            .map(|key| self.initial.get(key).map_or(&[][..], Vec::as_slice))
-            .collect();
-        let mut residual = vec![0.0; factor.residual_dim()];
-        factor.linearize(&params, &mut residual, None);
-        let noise = noise.unwrap_or_else(NoiseModel::null);
-        noise.whiten_residual(&mut residual);
-        let squared: f64 = residual.iter().map(|r| r * r).sum();
-        let loss = self.options.robust.map(Robust::loss).transpose()?;
-        self.cost += 0.5 * loss.as_ref().map_or(squared, |l| l.evaluate(squared)[0]);
-        if let Some(kept) = &mut self.kept {
-            kept.push(KeptBlock {
-                factor: Arc::clone(&factor),
-                params: params.iter().map(|p| p.to_vec()).collect(),
-                noise: noise.clone(),
-            });
-        }
-        let timed = Timed {
-            factor,
-            marks: Marks::of_block(&self.clock, self.blocks, self.expected_blocks),
-        };
-        self.problem
-            .try_add_residual_block_with_noise(keys, Box::new(timed), loss, noise)
-            .map_err(|e| BuildError::Solver(e.to_string()))?;
-        self.blocks += 1;
-        Ok(())
-    }
-
-    /// The problem, for `linear_solver`.
-    pub(crate) fn finish(self, keys: Keys, linear_solver: LinearSolverType) -> Built {
-        Built {
-            problem: self.problem,
-            keys,
-            linear_solver,
-            blocks: self.blocks,
-            initial_cost: self.cost,
-            clock: self.clock,
-            rejections: self.rejections,
-            kept: self.kept,
-        }
-    }
 }

@@ -13,9 +13,11 @@ use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use slam_data::{Edge, Pose, PoseGraph, Rotation, Vertex};
 use slam_factors::{BetweenFactor, SqrtInformation6};
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
+use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
-use crate::variables::{apex_pose, pose_from_apex};
+use crate::builder::ProblemBuilder;
+use crate::solve::Damping;
+use crate::variables::{apex_pose, from_apex};
 
 /// The variables of a pose graph: each vertex id and its pose's key, in the
 /// file's vertex order (or the odometry chain's, for a file without
@@ -68,7 +70,7 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
     } else {
         graph.vertices.clone()
     };
-    let mut builder = ProblemBuilder::new(options, graph.edges.len());
+    let mut builder = ProblemBuilder::with_options(options);
     let mut keys = PoseGraphKeys {
         poses: Vec::with_capacity(vertices.len()),
     };
@@ -117,7 +119,11 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
     if let Some(&(_, key)) = keys.poses.first() {
         builder.fix(key, 6)?;
     }
-    Ok(builder.finish(Keys::PoseGraph(keys), LinearSolverType::SparseCholesky))
+    // Poses are in one unit system (metres and radians, whitened by the
+    // edges' information): uniform damping, which reaches sphere2500's
+    // optimum in a third of the iterations the diagonal one needs.
+    builder.damping(Damping::Uniform);
+    builder.finish(Keys::PoseGraph(keys), LinearSolverType::SparseCholesky)
 }
 
 impl PoseGraphKeys {
@@ -128,7 +134,7 @@ impl PoseGraphKeys {
             .poses
             .iter()
             .map(|&(id, key)| {
-                let pose = pose_from_apex(value(key));
+                let pose = from_apex::<Se3<f64>>(&[value(key)]);
                 let q = pose.rotation.quaternion;
                 Vertex {
                     id,

@@ -13,9 +13,10 @@ use nalgebra::Vector3;
 use slam_data::{CameraPose, StereoCalibration, StereoObservation, StereoVo};
 use slam_factors::{StereoIntrinsics, StereoReprojection};
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys, ProblemBuilder};
+use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
-use crate::variables::{apex_pose, point_from_apex, pose_from_apex};
+use crate::builder::ProblemBuilder;
+use crate::variables::{apex_pose, from_apex};
 
 /// The variables of a stereo VO problem.
 #[derive(Debug, Clone)]
@@ -88,7 +89,7 @@ pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, Buil
         FactorChoice::Apex => Some(apex_calibration(&vo.calibration)?),
         FactorChoice::Ours(_) => None,
     };
-    let mut builder = ProblemBuilder::new(options, vo.observations.len());
+    let mut builder = ProblemBuilder::with_options(options);
     let mut poses = HashMap::with_capacity(vo.poses.len());
     let mut keys = StereoKeys {
         poses: Vec::with_capacity(vo.poses.len()),
@@ -149,7 +150,7 @@ pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, Buil
     if let Some(&key) = keys.poses.first() {
         builder.fix(key, 6)?;
     }
-    Ok(builder.finish(Keys::Stereo(keys), LinearSolverType::ExplicitSparseSchur))
+    builder.finish(Keys::Stereo(keys), LinearSolverType::ExplicitSparseSchur)
 }
 
 impl StereoKeys {
@@ -160,7 +161,7 @@ impl StereoKeys {
         let mut out = vo.clone();
         let mut solved = HashMap::with_capacity(vo.poses.len());
         for (p, &key) in out.poses.iter_mut().zip(&self.poses) {
-            let pose = pose_from_apex(value(key));
+            let pose = from_apex::<Se3<f64>>(&[value(key)]);
             let pose = if self.world_to_camera {
                 pose.inverse()
             } else {
@@ -173,7 +174,9 @@ impl StereoKeys {
         for o in &mut out.observations {
             if let (Some(pose), Some(&key)) = (solved.get(&o.pose), self.landmarks.get(&o.landmark))
             {
-                o.landmark_in_camera = pose.inverse().transform_point(&point_from_apex(value(key)));
+                o.landmark_in_camera = pose
+                    .inverse()
+                    .transform_point(&from_apex::<Vector3<f64>>(&[value(key)]));
             }
         }
         out

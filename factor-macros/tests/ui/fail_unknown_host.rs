@@ -1,0 +1,15 @@
+use factor_core::{Factor, Scalar};
+use nalgebra::Vector2;
+
+#[derive(Clone, Factor)]
+#[factor(residual = prior, dim = 2, kernel = kernels::prior::prior, hosts(ceres))]
+struct Prior<S: Scalar = f64> {
+    #[variable]
+    x: Vector2<S>,
+}
+
+fn prior<S: Scalar>(f: &Prior<S>) -> Vector2<S> {
+    f.x
+}
+
+fn main() {}
