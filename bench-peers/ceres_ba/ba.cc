@@ -1,9 +1,9 @@
 // Bundle adjustment of a BAL or Bundler file with Ceres (SPARSE_SCHUR,
 // SuiteSparse/CHOLMOD), set up as `slamjac solve` sets its problem up, for
-// the side-by-side comparison of `docs/guide/performance-ba.md`.
+// the side-by-side comparison of `docs/guide/performance.md`.
 //
 //   ba FILE [--threads N] [--max-iterations N] [--robust huber:D|cauchy:D]
-//           [--gauge fixed|free] [--report]
+//           [--gauge fixed|free] [--function-tolerance T] [--report]
 //
 // - One parameter block of 9 per camera, [angle-axis (3), translation (3),
 //   f, k1, k2] (world to camera, P = R X + t), one of 3 per point.
@@ -15,8 +15,9 @@
 //   `slamjac solve` holds it. `--gauge free` leaves every camera free.
 // - Levenberg-Marquardt, SPARSE_SCHUR with the points eliminated (ordering:
 //   points first), SUITE_SPARSE (CHOLMOD), Ceres' default tolerances
-//   (function 1e-6, parameter 1e-8, gradient 1e-10) and at most 100
-//   iterations (`slamjac solve`'s default limit).
+//   (function 1e-6, parameter 1e-8, gradient 1e-10; `--function-tolerance`
+//   sets the first: `slamjac solve` stops at a relative decrease of 1e-8)
+//   and at most 100 iterations (`slamjac solve`'s default limit).
 //
 // Prints one JSON line: the costs (1/2 sum |r|^2, as `slamjac solve`
 // reports them), iterations (steps tried, accepted or rejected), Ceres'
@@ -188,11 +189,13 @@ int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0]);
   if (argc < 2) {
     std::cerr << "usage: ba FILE [--threads N] [--max-iterations N] "
-                 "[--robust huber:D|cauchy:D] [--gauge fixed|free] [--report]\n";
+                 "[--robust huber:D|cauchy:D] [--gauge fixed|free] "
+                 "[--function-tolerance T] [--report]\n";
     return 2;
   }
   const std::string path = argv[1];
   int threads = 1, max_iterations = 100;
+  double function_tolerance = ceres::Solver::Options().function_tolerance;
   bool report = false, fixed_gauge = true;
   std::string robust;
   for (int i = 2; i < argc; ++i) {
@@ -205,6 +208,8 @@ int main(int argc, char** argv) {
     else if (flag == "--max-iterations") max_iterations = std::atoi(value().c_str());
     else if (flag == "--robust") robust = value();
     else if (flag == "--gauge") fixed_gauge = value() != "free";
+    else if (flag == "--function-tolerance")
+      function_tolerance = std::atof(value().c_str());
     else if (flag == "--report") report = true;
     else Fail("unknown argument " + flag);
   }
@@ -242,6 +247,7 @@ int main(int argc, char** argv) {
   options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   options.num_threads = threads;
   options.max_num_iterations = max_iterations;
+  options.function_tolerance = function_tolerance;
   options.minimizer_progress_to_stdout = report;
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (size_t j = 0; j < data.points.size() / 3; ++j)

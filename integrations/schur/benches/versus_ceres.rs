@@ -8,12 +8,13 @@
 //! cargo bench --manifest-path integrations/schur/Cargo.toml --bench versus_ceres -- \
 //!     --slamjac target/release/slamjac --ceres bench-peers/out/ceres_ba \
 //!     [--sizes 1000,10000,100000,1000000] [--visibility ring,local] [--threads 1,2] \
-//!     [--rounds 3] [--apex-max 100000] [--out bench-peers/out/ba] \
+//!     [--rounds 3] [--apex-max 100000] [--files data/Balbianello.out] [--out bench-peers/out/ba] \
 //!     [--markdown FILE.md] [--svg FILE.svg]
 //! ```
 //!
-//! For each visibility (`synth-bal --visibility`) and size (observations:
-//! five views per point; cameras 10, 100, 500 and 2000 at 10³ to 10⁶, else
+//! Each data file of `--files` is measured as it is; then for each
+//! visibility (`synth-bal --visibility`) and size (observations: five views
+//! per point; cameras 10, 100, 500 and 2000 at 10³ to 10⁶, else
 //! `n^(2/3) / 5`; seed 0, no outliers, σ = 1 px) the problem is written
 //! once, then each round runs every solver once, in an order that rotates
 //! from round to round: `slamjac solve` (Schur path) and Ceres on each
@@ -33,8 +34,10 @@ use clap::Parser;
 use factor_testing::rounds::{fail, load_average, median};
 use plotters::prelude::*;
 
-/// The command line (`cargo bench` adds `--bench`).
+/// The command line (`cargo bench` adds `--bench`; an option given twice
+/// takes its last value, so that `run.sh`'s defaults can be overridden).
 #[derive(Parser)]
+#[command(args_override_self = true)]
 struct Args {
     /// `slamjac`, built with `--features solve`.
     #[arg(long)]
@@ -61,6 +64,15 @@ struct Args {
     /// The largest size apex-solver's path runs at.
     #[arg(long, default_value_t = 100_000)]
     apex_max: usize,
+    /// Ceres' function tolerance: `slamjac solve`'s (its relative cost
+    /// decrease, `factor_apex::solve::SolveOptions::default`), so that both
+    /// stop by the same criterion.
+    #[arg(long, default_value_t = 1e-8)]
+    cost_tolerance: f64,
+    /// Data files (BAL or Bundler) measured too, before the synthetic
+    /// problems (in the table, not the plot).
+    #[arg(long, value_delimiter = ',')]
+    files: Vec<PathBuf>,
     /// Where the problems are written.
     #[arg(long, default_value = "bench-peers/out/ba")]
     out: PathBuf,
@@ -169,9 +181,12 @@ fn command(args: &Args, solver: &Solver, file: &Path) -> Command {
                 .args(["--solver", "apex"]);
         }
         Solver::Ceres(t) => {
-            c.arg(&args.ceres)
-                .arg(file)
-                .args(["--threads", &t.to_string()]);
+            c.arg(&args.ceres).arg(file).args([
+                "--threads",
+                &t.to_string(),
+                "--function-tolerance",
+                &args.cost_tolerance.to_string(),
+            ]);
         }
     }
     c
@@ -179,9 +194,11 @@ fn command(args: &Args, solver: &Solver, file: &Path) -> Command {
 
 /// Every round's runs of every solver at one size.
 struct Measured {
+    /// `ring` or `local` (synthetic problems), `data` (a data file).
     visibility: String,
     observations: usize,
-    cameras: usize,
+    /// The table's first column: observations (cameras), or the file's name.
+    label: String,
     solvers: Vec<Solver>,
     runs: Vec<Vec<Run>>,
 }
@@ -208,7 +225,7 @@ impl Measured {
 
 fn table(measured: &[Measured], threads: &[usize]) -> String {
     let mut out = String::new();
-    for visibility in ["ring", "local"] {
+    for visibility in ["data", "ring", "local"] {
         let rows: Vec<&Measured> = measured
             .iter()
             .filter(|m| m.visibility == visibility)
@@ -216,8 +233,12 @@ fn table(measured: &[Measured], threads: &[usize]) -> String {
         if rows.is_empty() {
             continue;
         }
-        let _ = writeln!(out, "\n**{visibility} visibility**\n");
-        let mut head = "| observations (cameras) |".to_owned();
+        let (title, first) = match visibility {
+            "data" => ("data files".to_owned(), "file"),
+            _ => (format!("{visibility} visibility"), "observations (cameras)"),
+        };
+        let _ = writeln!(out, "\n**{title}**\n");
+        let mut head = format!("| {first} |");
         let mut rule = "| --- |".to_owned();
         for t in threads {
             let _ = write!(
@@ -231,7 +252,7 @@ fn table(measured: &[Measured], threads: &[usize]) -> String {
         rule.push_str(" --- | --- | --- |");
         let _ = writeln!(out, "{head}\n{rule}");
         for m in rows {
-            let mut line = format!("| {} ({}) |", m.observations, m.cameras);
+            let mut line = format!("| {} |", m.label);
             for &t in threads {
                 let (Some(a), Some(b)) = (m.index(&Solver::Ours(t)), m.index(&Solver::Ceres(t)))
                 else {
@@ -372,7 +393,17 @@ fn main() {
     std::fs::create_dir_all(&args.out)
         .unwrap_or_else(|e| fail(&format!("{}: {e}", args.out.display())));
     let load_before = load_average();
-    let mut measured = Vec::new();
+    let mut problems: Vec<(String, usize, String, PathBuf)> = args
+        .files
+        .iter()
+        .map(|f| {
+            let name = f.file_name().map_or_else(
+                || f.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            ("data".to_owned(), 0, name, f.clone())
+        })
+        .collect();
     for visibility in &args.visibility {
         for &n in &args.sizes {
             let (c, points) = (cameras(n), n.div_ceil(5));
@@ -402,38 +433,42 @@ fn main() {
                     fail(&format!("synth-bal failed for {}", file.display()));
                 }
             }
-            let mut solvers: Vec<Solver> = Vec::new();
-            for &t in &args.threads {
-                solvers.push(Solver::Ours(t));
-                solvers.push(Solver::Ceres(t));
-            }
-            if n <= args.apex_max {
-                solvers.push(Solver::Apex);
-            }
-            let mut runs = vec![Vec::new(); solvers.len()];
-            for round in 0..args.rounds {
-                for k in 0..solvers.len() {
-                    let k = (k + round) % solvers.len();
-                    let r = run(command(&args, &solvers[k], &file), &solvers[k]);
-                    eprintln!(
-                        "{visibility} {n}: round {round}: {}: {:.3} s, {:.0} MiB, cost {:.12e}, {} iterations",
-                        solvers[k].name(),
-                        r.wall,
-                        r.peak_mib,
-                        r.final_cost,
-                        r.iterations
-                    );
-                    runs[k].push(r);
-                }
-            }
-            measured.push(Measured {
-                visibility: visibility.clone(),
-                observations: n,
-                cameras: c,
-                solvers,
-                runs,
-            });
+            problems.push((visibility.clone(), n, format!("{n} ({c})"), file));
         }
+    }
+    let mut measured = Vec::new();
+    for (visibility, n, label, file) in problems {
+        let mut solvers: Vec<Solver> = Vec::new();
+        for &t in &args.threads {
+            solvers.push(Solver::Ours(t));
+            solvers.push(Solver::Ceres(t));
+        }
+        if n <= args.apex_max {
+            solvers.push(Solver::Apex);
+        }
+        let mut runs = vec![Vec::new(); solvers.len()];
+        for round in 0..args.rounds {
+            for k in 0..solvers.len() {
+                let k = (k + round) % solvers.len();
+                let r = run(command(&args, &solvers[k], &file), &solvers[k]);
+                eprintln!(
+                    "{visibility} {label}: round {round}: {}: {:.3} s, {:.0} MiB, cost {:.12e}, {} iterations",
+                    solvers[k].name(),
+                    r.wall,
+                    r.peak_mib,
+                    r.final_cost,
+                    r.iterations
+                );
+                runs[k].push(r);
+            }
+        }
+        measured.push(Measured {
+            visibility,
+            observations: n,
+            label,
+            solvers,
+            runs,
+        });
     }
     let mut text = table(&measured, &args.threads);
     let _ = writeln!(
