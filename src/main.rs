@@ -5,9 +5,11 @@
 //! slamjac list [--json]
 //! slamjac generate [--out DIR]   # rewrite generated/ from the factor definitions
 //! slamjac check [--dir DIR]      # exit 1 when generated/ is stale
-//! slamjac solve FILE [--format F] [--kernels generated|dual] [--max-iterations N]
-//!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
-//! slamjac synth-bal --cameras N --points M [--views V] [--seed S] [--outliers F] [--noise σ] --output FILE
+//! slamjac solve FILE [--format F] [--kernels generated|dual] [--solver auto|schur|apex]
+//!               [--max-iterations N] [--robust huber:δ|cauchy:δ] [--output FILE]
+//!               [--plot FILE.svg]                                                # feature `solve`
+//! slamjac synth-bal --cameras N --points M [--views V] [--visibility ring|local] [--seed S]
+//!                   [--outliers F] [--noise σ] --output FILE
 //! slamjac audit [--samples N] [--markdown F] [--json F] [--allow-unread]  # the shipped documents
 //! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]             # a document, from its text
 //! ```
@@ -89,11 +91,13 @@ enum Command {
         #[arg(long)]
         allow_unread: bool,
     },
-    /// Solve a real estimation problem with apex-solver (Levenberg–Marquardt),
-    /// its factors linearized by their generated kernels: bundle adjustment
-    /// (BAL, Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3:
-    /// the first pose fixed), stereo visual odometry (KITTI VO files: the
-    /// first pose fixed). Prints a line per iteration and a summary. Needs
+    /// Solve a real estimation problem by Levenberg–Marquardt, its factors
+    /// linearized by their generated kernels: bundle adjustment (BAL,
+    /// Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3: the first
+    /// pose fixed), stereo visual odometry (KITTI VO files: the first pose
+    /// fixed); the landmarks of bundle adjustment and VO eliminated by a
+    /// Schur complement, other problems by apex-solver. Prints a line per
+    /// iteration and a summary. Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
     Solve {
@@ -106,6 +110,12 @@ enum Command {
         /// How the factors are linearized.
         #[arg(long, value_enum, default_value_t)]
         kernels: KernelChoice,
+        /// Which solver: `schur` (landmarks eliminated by a Schur complement
+        /// fed by the fused normal-equation kernels; BAL, Bundler, KITTI VO),
+        /// `apex` (apex-solver, any problem), or `auto` (`schur` where it
+        /// applies with the generated kernels, else `apex`).
+        #[arg(long, value_enum, default_value_t)]
+        solver: SolverFlag,
         /// The most iterations (accepted or rejected steps).
         #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
         max_iterations: u64,
@@ -139,6 +149,11 @@ enum Command {
         /// Cameras that see each point.
         #[arg(long, default_value_t = 5)]
         views: usize,
+        /// Which cameras see a point: `ring` (spread over 60° of the ring,
+        /// points in the central ball) or `local` (consecutive cameras,
+        /// points near them, as in a reconstruction from a sequence).
+        #[arg(long, value_enum, default_value_t)]
+        visibility: VisibilityFlag,
         /// Seed of the random generator.
         #[arg(long, default_value_t = 0)]
         seed: u64,
@@ -164,6 +179,28 @@ enum KernelChoice {
     Dual,
 }
 
+/// `--solver`: which solver `solve` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+enum SolverFlag {
+    /// The Schur-complement solver where it applies, else apex-solver.
+    #[default]
+    Auto,
+    /// The Schur-complement solver (bundle adjustment, stereo VO).
+    Schur,
+    /// apex-solver.
+    Apex,
+}
+
+/// `synth-bal --visibility`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+enum VisibilityFlag {
+    /// Views spread over about 60° of the ring.
+    #[default]
+    Ring,
+    /// Consecutive cameras, points near them.
+    Local,
+}
+
 fn parse_format(name: &str) -> Result<slam_data::Format, String> {
     name.parse()
         .map_err(|e: slam_data::UnknownFormat| e.to_string())
@@ -175,12 +212,14 @@ fn solve(
     file: PathBuf,
     format: Option<slam_data::Format>,
     kernels: KernelChoice,
+    solver: SolverFlag,
     max_iterations: u64,
     robust: Option<String>,
     output: Option<PathBuf>,
     plot: Option<PathBuf>,
 ) -> Result<String, CliError> {
     use factor_apex::Kernels;
+    use slamjac::solve::SolverChoice;
     let robust = robust
         .map(|r| {
             r.parse()
@@ -193,6 +232,11 @@ fn solve(
         kernels: match kernels {
             KernelChoice::Generated => Kernels::Generated,
             KernelChoice::Dual => Kernels::Dual,
+        },
+        solver: match solver {
+            SolverFlag::Auto => SolverChoice::Auto,
+            SolverFlag::Schur => SolverChoice::Schur,
+            SolverFlag::Apex => SolverChoice::Apex,
         },
         max_iterations: usize::try_from(max_iterations).unwrap_or(usize::MAX),
         robust,
@@ -207,6 +251,7 @@ fn solve(
     _file: PathBuf,
     _format: Option<slam_data::Format>,
     _kernels: KernelChoice,
+    _solver: SolverFlag,
     _max_iterations: u64,
     _robust: Option<String>,
     _output: Option<PathBuf>,
@@ -254,15 +299,26 @@ fn main() -> ExitCode {
             file,
             format,
             kernels,
+            solver,
             max_iterations,
             robust,
             output,
             plot,
-        } => solve(file, format, kernels, max_iterations, robust, output, plot),
+        } => solve(
+            file,
+            format,
+            kernels,
+            solver,
+            max_iterations,
+            robust,
+            output,
+            plot,
+        ),
         Command::SynthBal {
             cameras,
             points,
             views,
+            visibility,
             seed,
             outliers,
             noise,
@@ -272,6 +328,10 @@ fn main() -> ExitCode {
                 cameras,
                 points,
                 views,
+                visibility: match visibility {
+                    VisibilityFlag::Ring => slam_data::synthetic::Visibility::Ring,
+                    VisibilityFlag::Local => slam_data::synthetic::Visibility::Local,
+                },
                 seed,
                 outliers,
                 noise,

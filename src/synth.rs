@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use slam_data::synthetic::{self, SyntheticConfig};
+use slam_data::synthetic::{self, SyntheticConfig, Visibility};
 use slamjac_io::Role;
 
 use crate::error::CliError;
@@ -21,6 +21,8 @@ pub struct SynthArgs {
     pub points: usize,
     /// Cameras that see each point.
     pub views: usize,
+    /// Which cameras see a point: spread around the ring, or consecutive.
+    pub visibility: Visibility,
     /// Seed of the random generator.
     pub seed: u64,
     /// Fraction of observations that are outliers.
@@ -44,6 +46,7 @@ pub fn run(args: &SynthArgs, output: &Path) -> Result<String, CliError> {
         cameras: args.cameras,
         points: args.points,
         views_per_point: args.views,
+        visibility: args.visibility,
         seed: args.seed,
         pixel_sigma: args.noise,
         outlier_fraction: args.outliers,

@@ -159,10 +159,16 @@ fn dubrovnik_is_underdetermined() {
     assert!(stdout(&output).contains("iteration limit"));
 }
 
-/// Dual numbers and the generated kernels take the same steps.
+/// Dual numbers and the generated kernels take the same steps (both
+/// through apex-solver: the Schur path takes the generated kernels only).
 #[test]
 fn dual_kernels_reach_the_same_cost() {
-    let generated = costs(&solve_ok(&["solve", &data("Balbianello.out")]));
+    let generated = costs(&solve_ok(&[
+        "solve",
+        &data("Balbianello.out"),
+        "--solver",
+        "apex",
+    ]));
     let dual = costs(&solve_ok(&[
         "solve",
         &data("Balbianello.out"),
@@ -171,6 +177,40 @@ fn dual_kernels_reach_the_same_cost() {
     ]));
     assert_relative(dual.0, generated.0, 1e-12, "initial cost");
     assert_relative(dual.1, generated.1, 1e-10, "final cost");
+}
+
+/// Bundle adjustment and stereo VO go to the Schur-complement solver by
+/// default and reach apex-solver's final cost (within the stopping
+/// tolerance: the two retract poses differently, so their iterates differ);
+/// `--solver schur` refuses what it cannot solve.
+#[test]
+fn the_schur_solver_is_chosen_where_it_applies() {
+    for file in ["Balbianello.out", "VO_stereo_factors_large.txt"] {
+        let schur = solve_ok(&["solve", &data(file)]);
+        let apex = solve_ok(&["solve", &data(file), "--solver", "apex"]);
+        assert!(
+            stdout(&schur).contains("Schur complement"),
+            "{}",
+            stdout(&schur)
+        );
+        assert!(stdout(&apex).contains("(apex-solver)"), "{}", stdout(&apex));
+        let (a, b) = (costs(&schur), costs(&apex));
+        assert_relative(a.0, b.0, 1e-12, "initial cost");
+        assert_relative(a.1, b.1, STOPPING, "final cost");
+    }
+    let graph = solve_ok(&["solve", &data("pose3example.txt")]);
+    assert!(stdout(&graph).contains("(apex-solver)"));
+    let output = slamjac(&["solve", &data("pose3example.txt"), "--solver", "schur"]);
+    assert_error(&output, 2, &["no landmarks"]);
+    let output = slamjac(&[
+        "solve",
+        &data("Balbianello.out"),
+        "--solver",
+        "schur",
+        "--kernels",
+        "dual",
+    ]);
+    assert_error(&output, 2, &["generated kernels"]);
 }
 
 /// `--output` writes the optimized problem in the input's format: solving

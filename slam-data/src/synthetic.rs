@@ -11,7 +11,15 @@
 //!
 //! Each point is seen by `views_per_point` cameras of the ring starting at a
 //! uniformly drawn one, with a stride that spreads them over about 60° of
-//! the ring. An observation is an outlier with probability
+//! the ring ([`Visibility::Ring`]: every camera shares points with cameras
+//! all around the ring). With [`Visibility::Local`], as in a real
+//! reconstruction from a sequence, each point is seen by consecutive
+//! cameras and lies near them: in front of the middle one of its views, at
+//! a distance of about twice the baseline its views span (so that they
+//! see it about 28° apart, at most the ring radius), jittered within its
+//! image, and every view inside its image (redrawn until it is); each
+//! camera then shares points with its `views_per_point − 1` neighbours on
+//! either side only. An observation is an outlier with probability
 //! `outlier_fraction` (default 5%), drawn uniformly in the image; otherwise
 //! it is the exact projection plus Gaussian noise of `pixel_sigma` (default
 //! 1 px) on each coordinate.
@@ -65,6 +73,17 @@ pub const MAX_OBSERVATIONS: usize = 100_000_000;
 /// peaks at 256 MiB at the cap).
 pub const MAX_CAMERAS: usize = 1_000_000;
 
+/// Which cameras see a point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Visibility {
+    /// Cameras spread over about 60° of the ring, points in the central
+    /// ball.
+    #[default]
+    Ring,
+    /// Consecutive cameras, points near them (module documentation).
+    Local,
+}
+
 /// What to generate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SyntheticConfig {
@@ -74,6 +93,8 @@ pub struct SyntheticConfig {
     pub points: usize,
     /// Cameras that see each point (2 to `cameras`).
     pub views_per_point: usize,
+    /// Which cameras see a point, and where the points are.
+    pub visibility: Visibility,
     /// Seed of the random generator.
     pub seed: u64,
     /// Standard deviation of the pixel noise of inliers (px).
@@ -104,6 +125,7 @@ impl SyntheticConfig {
             cameras: (observations / 1000).max(10),
             points: observations.div_ceil(views_per_point),
             views_per_point,
+            visibility: Visibility::Ring,
             seed,
             pixel_sigma: 1.0,
             outlier_fraction: 0.05,
@@ -231,31 +253,50 @@ impl<'a> Scene<'a> {
             models: true_cameras.iter().map(BalCamera::camera).collect(),
             true_cameras,
             cameras,
-            stride: view_stride(config.cameras, config.views_per_point),
+            stride: match config.visibility {
+                Visibility::Ring => view_stride(config.cameras, config.views_per_point),
+                Visibility::Local => 1,
+            },
         }
     }
 
-    /// The true points, drawn again at each call.
-    fn true_points(&self) -> impl Iterator<Item = Vector3<f64>> + use<> {
+    /// The true points, drawn again at each call, each with the first camera
+    /// of its views where the point depends on it ([`Visibility::Local`]; a
+    /// ring point's first camera is drawn with its observations).
+    fn true_points(
+        &self,
+    ) -> impl Iterator<Item = Result<(Option<usize>, Vector3<f64>), SyntheticError>> + '_ {
         let mut rng = rng(self.config.seed, POINT_STREAM);
-        (0..self.config.points).map(move |_| point_in_ball(&mut rng))
+        (0..self.config.points).map(move |_| match self.config.visibility {
+            Visibility::Ring => Ok((None, point_in_ball(&mut rng))),
+            Visibility::Local => {
+                let first = rng.random_range(0..self.config.cameras);
+                local_point(first, self.config, &self.models, &mut rng).map(|p| (Some(first), p))
+            }
+        })
     }
 
     /// The initial points: the true ones perturbed.
-    fn points(&self) -> impl Iterator<Item = Vector3<f64>> + use<> {
+    fn points(&self) -> impl Iterator<Item = Result<Vector3<f64>, SyntheticError>> + '_ {
         let mut noise = rng(self.config.seed, POINT_NOISE_STREAM);
         let sigma = self.config.position_sigma;
         self.true_points()
-            .map(move |p| p + gaussian3(&mut noise) * sigma)
+            .map(move |p| p.map(|(_, p)| p + gaussian3(&mut noise) * sigma))
     }
 
     /// The observations, grouped by point, each with whether it is an
     /// outlier.
-    fn observations(&self) -> impl Iterator<Item = (Observation, bool)> + '_ {
+    fn observations(
+        &self,
+    ) -> impl Iterator<Item = Result<(Observation, bool), SyntheticError>> + '_ {
         let config = self.config;
         let mut rng = rng(config.seed, OBSERVATION_STREAM);
-        self.true_points().enumerate().flat_map(move |(j, point)| {
-            let first = rng.random_range(0..config.cameras);
+        self.true_points().enumerate().flat_map(move |(j, drawn)| {
+            let (first, point) = match drawn {
+                Ok(drawn) => drawn,
+                Err(e) => return vec![Err(e)],
+            };
+            let first = first.unwrap_or_else(|| rng.random_range(0..config.cameras));
             (0..config.views_per_point)
                 .map(|v| {
                     let camera = (first + v * self.stride) % config.cameras;
@@ -268,7 +309,7 @@ impl<'a> Scene<'a> {
                     } else {
                         let exact = self.models[camera]
                             .project(&point)
-                            .expect("a scene point is in front of every ring camera");
+                            .expect("a scene point is in front of the cameras that see it");
                         exact + gaussian2(&mut rng) * config.pixel_sigma
                     };
                     let observation = Observation {
@@ -276,7 +317,7 @@ impl<'a> Scene<'a> {
                         point: j,
                         pixel,
                     };
-                    (observation, outlier)
+                    Ok((observation, outlier))
                 })
                 .collect::<Vec<_>>()
         })
@@ -290,13 +331,18 @@ pub fn generate(config: &SyntheticConfig) -> Result<SyntheticBal, SyntheticError
     let observation_count = config.points * config.views_per_point;
     let mut observations = Vec::with_capacity(observation_count);
     let mut outliers = Vec::new();
-    for (k, (observation, outlier)) in scene.observations().enumerate() {
+    for (k, drawn) in scene.observations().enumerate() {
+        let (observation, outlier) = drawn?;
         if outlier {
             outliers.push(k);
         }
         observations.push(observation);
     }
-    let (points, true_points) = (scene.points().collect(), scene.true_points().collect());
+    let points = scene.points().collect::<Result<_, _>>()?;
+    let true_points = scene
+        .true_points()
+        .map(|p| p.map(|(_, p)| p))
+        .collect::<Result<_, _>>()?;
     Ok(SyntheticBal {
         problem: BalProblem {
             cameras: scene.cameras,
@@ -356,7 +402,9 @@ pub fn write_to(
     let io = |e| io_error(name, e);
     write_header(out, config.cameras, config.points, observations).map_err(io)?;
     let mut outliers = 0;
-    for (k, (o, outlier)) in scene.observations().enumerate() {
+    let unplaced = |e: SyntheticError| Error::file(name, e.to_string());
+    for (k, drawn) in scene.observations().enumerate() {
+        let (o, outlier) = drawn.map_err(unplaced)?;
         check_observation(&o, config.cameras, config.points)
             .map_err(|e| invalid(format!("{}: {e}", ordinal("observation", k, observations))))?;
         outliers += usize::from(outlier);
@@ -368,6 +416,7 @@ pub fn write_to(
         write_camera(out, c).map_err(io)?;
     }
     for (j, p) in scene.points().enumerate() {
+        let p = p.map_err(unplaced)?;
         check_point(&p)
             .map_err(|e| invalid(format!("{}: {e}", ordinal("point", j, config.points))))?;
         write_point(out, &p).map_err(io)?;
@@ -410,6 +459,49 @@ fn point_in_ball(rng: &mut ChaCha8Rng) -> Vector3<f64> {
             return p * SCENE_RADIUS;
         }
     }
+}
+
+/// Attempts at placing a point of [`Visibility::Local`] inside every image
+/// of its views.
+const LOCAL_ATTEMPTS: usize = 1000;
+
+/// A point seen by the `views_per_point` consecutive cameras from `first`:
+/// in front of the middle one, at about twice the baseline they span (at
+/// most the ring radius, at least a tenth of it), jittered across its
+/// image, inside every image of its views.
+fn local_point(
+    first: usize,
+    config: &SyntheticConfig,
+    models: &[SnavelyCamera],
+    rng: &mut ChaCha8Rng,
+) -> Result<Vector3<f64>, SyntheticError> {
+    let n = config.cameras;
+    let views = config.views_per_point;
+    let spacing = std::f64::consts::TAU * RING_RADIUS / n as f64;
+    let distance = (2.0 * (views - 1) as f64 * spacing).clamp(0.1 * RING_RADIUS, RING_RADIUS);
+    let middle = &models[(first + (views - 1) / 2) % n];
+    // World to camera: the camera's axes are the rows of R; it looks down
+    // its −z axis.
+    let centre = middle.centre();
+    let axis = |k: usize| middle.rotation.matrix().row(k).transpose();
+    for _ in 0..LOCAL_ATTEMPTS {
+        let depth = distance * rng.random_range(0.7..1.3);
+        let point = centre - axis(2) * depth
+            + axis(0) * (depth * rng.random_range(-0.2..0.2))
+            + axis(1) * (depth * rng.random_range(-0.15..0.15));
+        let visible = (0..views).all(|v| {
+            models[(first + v) % n]
+                .project(&point)
+                .is_some_and(|pixel| in_image(&(pixel * 1.05)))
+        });
+        if visible {
+            return Ok(point);
+        }
+    }
+    Err(SyntheticError(format!(
+        "local visibility: no point in every image of {views} consecutive cameras of {n} \
+         after {LOCAL_ATTEMPTS} attempts (use fewer views or more cameras)"
+    )))
 }
 
 /// Step between the cameras of a point so that its views span about 60° of

@@ -203,3 +203,42 @@ fn impossible_settings_are_refused() {
         );
     }
 }
+
+/// Local visibility: each point seen by consecutive cameras, inside their
+/// images, so that a camera shares points only with its `views − 1`
+/// neighbours on either side (around the ring).
+#[test]
+fn local_visibility_sees_each_point_from_consecutive_cameras() {
+    use slam_data::synthetic::Visibility;
+    for cameras in [10, 200] {
+        let config = SyntheticConfig {
+            cameras,
+            points: 2_000,
+            views_per_point: 4,
+            visibility: Visibility::Local,
+            outlier_fraction: 0.0,
+            ..SyntheticConfig::with_observations(0, 8)
+        };
+        let s = generate(&config).unwrap();
+        for (j, views) in s.problem.observations.chunks(4).enumerate() {
+            let first = views[0].camera;
+            for (v, o) in views.iter().enumerate() {
+                assert_eq!(o.camera, (first + v) % cameras, "point {j}");
+                let exact = s.true_cameras[o.camera].camera().project(&s.true_points[j]);
+                assert!(
+                    exact.is_some_and(|p| in_image(&p)),
+                    "point {j} in camera {}",
+                    o.camera
+                );
+            }
+        }
+        assert_ne!(
+            s,
+            generate(&SyntheticConfig {
+                visibility: Visibility::Ring,
+                ..config
+            })
+            .unwrap()
+        );
+    }
+}

@@ -1,8 +1,20 @@
 //! `slamjac solve`: a real estimation problem (BAL, Bundler, g2o, EDGE3,
-//! KITTI stereo VO) optimized by apex-solver's Levenberg–Marquardt, its
-//! factors written once with the derive and linearized by their generated
-//! kernels (or, with `--kernels dual`, by dual numbers), served through the
-//! generic adapter of crate `factor-apex`.
+//! KITTI stereo VO) optimized by Levenberg–Marquardt, its factors written
+//! once with the derive and linearized by their generated kernels (or, with
+//! `--kernels dual`, by dual numbers).
+//!
+//! Two solvers, chosen by [`SolverChoice`]:
+//!
+//! - bundle adjustment and stereo VO (landmarks to eliminate) go by default
+//!   to crate `factor-schur` ([`schur`]): the landmarks eliminated by a
+//!   Schur complement formed straight from the fused normal-equation
+//!   kernels in lane batches, the reduced system solved by faer's sparse
+//!   Cholesky;
+//! - everything else, and any problem with `--solver apex` or
+//!   `--kernels dual`, goes to apex-solver through the generic adapter of
+//!   crate `factor-apex` ([`apex`]).
+//!
+//! Both print the same header, iteration lines and summary:
 //!
 //! - [`progress`]: a line per iteration (and a progress bar on long runs);
 //! - [`report`]: the header and the final summary;
@@ -13,20 +25,35 @@
 //! for a problem that is degenerate at its initial values or a solve that
 //! stops on a failure.
 
+mod apex;
 pub mod plot;
 pub mod progress;
 pub mod report;
+mod schur;
 
 use std::path::{Path, PathBuf};
 
 use factor_apex::Kernels;
-use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice, Robust};
-use factor_apex::solve::{SolveOptions, Verdict, solve};
+use factor_apex::problems::{self, Robust};
+use factor_apex::solve::Verdict;
 use slam_data::Format;
 use slamjac_io::Role;
 
 use crate::error::CliError;
 use crate::outputs;
+
+/// Which solver `solve` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverChoice {
+    /// The Schur-complement solver where it applies (BAL, Bundler, KITTI
+    /// VO with the generated kernels), apex-solver elsewhere.
+    #[default]
+    Auto,
+    /// The Schur-complement solver (crate `factor-schur`).
+    Schur,
+    /// apex-solver (crate `factor-apex`).
+    Apex,
+}
 
 /// What `solve` was asked for.
 #[derive(Debug, Clone)]
@@ -37,6 +64,8 @@ pub struct SolveArgs {
     pub format: Option<Format>,
     /// Generated kernels or dual numbers.
     pub kernels: Kernels,
+    /// Which solver.
+    pub solver: SolverChoice,
     /// The most iterations.
     pub max_iterations: usize,
     /// A robust loss on every block.
@@ -79,47 +108,57 @@ fn check_files(args: &SolveArgs) -> Result<(), CliError> {
 /// [`CliError::Usage`] for an output that names an input or another
 /// output, or cannot be written (before anything is read);
 /// [`CliError::Data`] for a file that cannot be read or written,
-/// [`CliError::Usage`] for data that cannot make a problem, and
-/// [`CliError::Solve`] for a problem degenerate at its initial values or a
-/// solve that stopped on a failure (the summary is printed first).
+/// [`CliError::Usage`] for data that cannot make a problem or a solver that
+/// does not apply, and [`CliError::Solve`] for a problem degenerate at its
+/// initial values or a solve that stopped on a failure (the summary is
+/// printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     check_files(args)?;
     let data = slam_data::Problem::read(&args.file, args.format)?;
-    let options = BuildOptions {
-        factors: FactorChoice::Ours(args.kernels),
-        robust: args.robust,
-        keep_blocks: false,
-    };
-    let mut built = problems::build(&data, &options).map_err(|e| match e {
-        BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
-        BuildError::Degenerate { .. } | BuildError::Solver(_) | BuildError::Adapter(_) => {
-            CliError::Solve(at(&args.file, e))
+    let takes = factor_schur::problems::applies(&data);
+    let schur = match args.solver {
+        SolverChoice::Auto => takes && args.kernels == Kernels::Generated,
+        SolverChoice::Apex => false,
+        SolverChoice::Schur if !takes => {
+            return Err(CliError::Usage(at(
+                &args.file,
+                "--solver schur: a pose graph has no landmarks to eliminate (use --solver apex)",
+            )));
         }
-    })?;
-    let before = problems::reprojection_errors(&data);
-    progress::print(&report::header(&args.file, &data, &built, args));
-    let options = SolveOptions {
-        max_iterations: args.max_iterations,
-        ..SolveOptions::default()
+        SolverChoice::Schur if args.kernels != Kernels::Generated => {
+            return Err(CliError::Usage(
+                "--solver schur takes the generated kernels only (--kernels generated)".into(),
+            ));
+        }
+        SolverChoice::Schur => true,
     };
-    let mut progress = progress::Progress::new(args.max_iterations, built.blocks);
-    let outcome = solve(&mut built, &options, progress.callback())
-        .map_err(|e| CliError::Solve(at(&args.file, format!("the solve stopped: {e}"))))?;
-    progress.finish();
-    let solved = built.write_back(&data, &outcome.values);
-    let after = problems::reprojection_errors(&solved);
+    if schur {
+        schur::run(args, &data)
+    } else {
+        apex::run(args, &data)
+    }
+}
+
+/// The end of either path: the plot, the verdict, the output file and the
+/// summary, with the reprojection errors `before` the solve and those of
+/// the `solved` problem.
+fn finish(
+    args: &SolveArgs,
+    solved: &slam_data::Problem,
+    before: Option<Vec<f64>>,
+    finished: &report::Finished<'_>,
+) -> Result<String, CliError> {
+    let after = problems::reprojection_errors(solved);
     let errors = before.as_deref().zip(after.as_deref());
     if let Some(path) = &args.plot {
         outputs::write(
             path,
-            plot::svg(path, built.initial_cost, &outcome.history, errors)?,
+            plot::svg(path, finished.initial_cost, finished.history, errors)?,
         )?;
     }
-    let verdict = outcome.verdict();
-    if let Verdict::Failed(why) = &verdict {
+    if let Verdict::Failed(why) = &finished.verdict {
         progress::print(&report::summary(
-            &built,
-            &outcome,
+            finished,
             errors,
             None,
             args.plot.as_deref(),
@@ -133,8 +172,7 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         solved.write(path)?;
     }
     Ok(report::summary(
-        &built,
-        &outcome,
+        finished,
         errors,
         args.output.as_deref(),
         args.plot.as_deref(),

@@ -1,13 +1,47 @@
 //! The header printed before a solve and the summary after it.
 
 use std::path::Path;
+use std::time::Duration;
 
-use factor_apex::problems::Built;
-use factor_apex::solve::{Outcome, Verdict};
+use factor_apex::solve::{Iteration, Verdict};
 
 use super::SolveArgs;
 use super::progress::duration;
 use crate::field_path::shown_path;
+
+/// What the header says of the problem built, whichever solver has it.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    /// The residual blocks (observations or edges).
+    pub blocks: usize,
+    /// The solver, in words (after "Levenberg–Marquardt").
+    pub solver: String,
+    /// The cost at the initial values.
+    pub initial_cost: f64,
+}
+
+/// What the summary says of a finished solve, whichever solver ran it.
+#[derive(Debug, Clone)]
+pub struct Finished<'a> {
+    /// How it ended.
+    pub verdict: Verdict,
+    /// Iterations run.
+    pub iterations: usize,
+    /// Wall time of the solve (set-up included).
+    pub elapsed: Duration,
+    /// The costs at the initial values and at the solution.
+    pub initial_cost: f64,
+    pub final_cost: f64,
+    /// Each iteration's report.
+    pub history: &'a [Iteration],
+    /// The residual blocks.
+    pub blocks: usize,
+    /// Evaluations a factor rejected, and the first one's message.
+    pub rejected: usize,
+    pub first_rejection: Option<&'a str>,
+    /// Lines of the solver's own (its time's breakdown), if any.
+    pub extra: Vec<String>,
+}
 
 /// The sizes, factor and gauge of a bundle-adjustment problem (BAL or
 /// Bundler), in words.
@@ -24,7 +58,7 @@ fn bundle_adjustment(
 }
 
 /// What the problem is, in words: sizes, factors, kernels, gauge, solver.
-pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &SolveArgs) -> String {
+pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &SolveArgs) -> String {
     let (sizes, factor, gauge) = match data {
         slam_data::Problem::Bal(p) => {
             bundle_adjustment(p.cameras.len(), p.points.len(), p.observations.len())
@@ -60,13 +94,13 @@ pub fn header(file: &Path, data: &slam_data::Problem, built: &Built, args: &Solv
         .map_or_else(|| "least squares".to_owned(), |r| format!("robust {r}"));
     format!(
         "{} ({}): {sizes}\n{} {factor} blocks, {} kernels, {robust}; gauge: {gauge}; \
-         Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
+         Levenberg–Marquardt {}; initial cost {:.10e}",
         shown_path(file),
         data.format(),
-        built.blocks,
+        setup.blocks,
         args.kernels.name(),
-        built.linear_solver,
-        built.initial_cost
+        setup.solver,
+        setup.initial_cost
     )
 }
 
@@ -109,13 +143,12 @@ fn median(errors: &[f64]) -> String {
 /// The summary: verdict, costs, RMS and median reprojection errors, where the time
 /// went, rejected evaluations, peak memory, files written.
 pub fn summary(
-    built: &Built,
-    outcome: &Outcome,
+    outcome: &Finished<'_>,
     errors: Option<(&[f64], &[f64])>,
     output: Option<&Path>,
     plot: Option<&Path>,
 ) -> String {
-    let verdict = match outcome.verdict() {
+    let verdict = match &outcome.verdict {
         Verdict::Converged(why) => format!("converged ({why})"),
         Verdict::IterationLimit => "stopped at the iteration limit, not converged".to_owned(),
         Verdict::Stalled => {
@@ -154,12 +187,20 @@ pub fn summary(
             median(after)
         ));
     }
-    let passes = outcome.history.len().max(1);
+    // Passes that linearized (the Schur path keeps the last linearization
+    // through a rejected step).
+    let passes = outcome
+        .history
+        .iter()
+        .filter(|it| !it.linearization.is_zero())
+        .count()
+        .max(1);
     let linearization: std::time::Duration =
         outcome.history.iter().map(|it| it.linearization).sum();
     let solves: std::time::Duration = outcome.history.iter().map(|it| it.solve).sum();
     let evaluations: std::time::Duration = outcome.history.iter().map(|it| it.evaluation).sum();
-    let per_block = linearization.as_secs_f64() / passes as f64 / built.blocks.max(1) as f64 * 1e9;
+    let per_block =
+        linearization.as_secs_f64() / passes as f64 / outcome.blocks.max(1) as f64 * 1e9;
     lines.push(format!(
         "  time: linearization {} ({per_block:.0} ns per block per pass), linear solves and \
          updates {}, step evaluations {}",
@@ -167,12 +208,13 @@ pub fn summary(
         duration(solves),
         duration(evaluations)
     ));
-    let rejected = built.rejections.count();
-    if rejected > 0 {
+    lines.extend(outcome.extra.iter().cloned());
+    if outcome.rejected > 0 {
         lines.push(format!(
-            "  rejected evaluations: {rejected} trial steps met a degenerate configuration \
+            "  rejected evaluations: {} trial steps met a degenerate configuration \
              (the step was rejected); first: {}",
-            built.rejections.first().unwrap_or("?")
+            outcome.rejected,
+            outcome.first_rejection.unwrap_or("?")
         ));
     }
     if let Some(bytes) = peak_memory() {

@@ -57,7 +57,9 @@ fn intrinsics(c: &StereoCalibration) -> StereoIntrinsics<f64> {
     StereoIntrinsics::new(c.fx, c.fy, c.skew, c.u0, c.v0, c.baseline)
 }
 
-fn factor_of(
+/// The factor of observation `o` of `vo` with the pose and landmark at
+/// `pose` (camera to world) and `landmark`.
+pub fn factor_of(
     vo: &StereoVo,
     o: &StereoObservation,
     pose: &Se3<f64>,

@@ -1,0 +1,106 @@
+//! Bundle adjustment's fast path: Levenberg–Marquardt on problems whose
+//! landmarks (points, and any variable no two of whose factors share
+//! another eliminated variable) are eliminated by a Schur complement, the
+//! normal equations formed straight from the factors' generated fused
+//! kernels, no Jacobian ever stored.
+//!
+//! - [`problem`]: a [`Problem`] of variables (held fixed or eliminated) and
+//!   factors of any type derived with `#[derive(Factor)]` whose kernel has
+//!   normal equations (`factor_core::WithKernel`, the kernel crate's `lanes`
+//!   feature);
+//! - [`solve`]: the iteration ([`lm`]), reporting each iteration as
+//!   `factor_apex::solve::Iteration`, so that `slamjac solve` prints the
+//!   same lines whichever path solves;
+//! - [`problems`]: BAL, Bundler and KITTI stereo VO problems built from
+//!   `slam-data` as the general path (`factor_apex::problems`) builds them,
+//!   and the solution written back.
+//!
+//! # How an iteration runs
+//!
+//! 1. **Linearization** ([`passes`], [`group`]): the factors of each type,
+//!    sorted by their eliminated variable and split among the threads at
+//!    eliminated-variable boundaries, go through `factor_batch::normal` in
+//!    chunks of 256 (inputs gathered from the current values into
+//!    structure-of-arrays columns; 4 × `f64` lanes, the batch loop compiled
+//!    for AVX-512 or AVX2 where the CPU has them). Each chunk's cost,
+//!    gradient blocks and `JᵀwJ` blocks (`w` the robust IRLS weight) are
+//!    added straight into the reduced blocks `U` (each thread its own
+//!    copy), the landmarks' blocks `V` and the cross blocks `W`.
+//! 2. **Elimination** ([`schur`]): `S = U + λD − Σ W V*⁻¹ Wᵀ`, per landmark,
+//!    into `S` laid out as the lower triangle of a compressed-column matrix
+//!    in a fill-reducing order fixed once ([`structure`]).
+//! 3. **Reduced solve** ([`reduced`]): faer's sparse Cholesky (supernodal,
+//!    its dense kernels), the symbolic analysis done once.
+//! 4. **Back-substitution**, the model's decrease, the retraction of every
+//!    variable by its own manifold, and the cost at the trial values (each
+//!    factor validated: a degenerate configuration rejects the step).
+//!
+//! The lanes are 4 × `f64`: `f32` lanes are too coarse for a cost that
+//! must match to 1e-6 relative, and on this project's machine 8 × `f64`
+//! was no faster.
+
+mod csc;
+mod group;
+pub mod lm;
+mod ordering;
+mod partition;
+mod passes;
+pub mod problem;
+pub mod problems;
+mod reduced;
+mod robust;
+mod schur;
+mod structure;
+
+pub use lm::{Outcome, Profile, SolveError, Solver, solve};
+pub use problem::{Problem, VariableId};
+
+/// A problem this solver cannot take.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SchurError {
+    /// A factor given the wrong number of variables.
+    #[error("{factor}: {given} variables given, the factor has {expected}")]
+    Arity {
+        factor: &'static str,
+        given: usize,
+        expected: usize,
+    },
+    /// A factor given one variable twice.
+    #[error("{factor}: variable {variable} given twice")]
+    Repeated {
+        factor: &'static str,
+        variable: usize,
+    },
+    /// A variable whose stored scalars do not fit the factor's field.
+    #[error("{factor}: `{name}` stores {expected} scalars, variable {variable} has {found}")]
+    Scalars {
+        factor: &'static str,
+        variable: usize,
+        name: &'static str,
+        expected: usize,
+        found: usize,
+    },
+    /// Two factors that perturb one variable differently.
+    #[error(
+        "variable {variable}: {first}, {second}: every factor on a variable must declare the same \
+         type, side and tangent"
+    )]
+    Chart {
+        variable: usize,
+        first: String,
+        second: String,
+    },
+    /// A variable id that is not the problem's.
+    #[error("variable {0} does not exist")]
+    UnknownVariable(usize),
+    /// A factor on two eliminated variables: they cannot be eliminated one
+    /// by one.
+    #[error(
+        "{factor} {index} joins two eliminated variables: a Schur complement eliminates variables \
+         no factor joins"
+    )]
+    NotSchur { factor: &'static str, index: usize },
+    /// Beyond the solver's limits (sizes, indices).
+    #[error("{0}")]
+    TooLarge(String),
+}

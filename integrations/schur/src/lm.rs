@@ -1,0 +1,421 @@
+//! Levenberg–Marquardt with the eliminated variables solved by the Schur
+//! complement ([`crate::schur`]): the same algorithm, criteria and reports
+//! as the general path (`factor_apex::solve`, apex-solver's
+//! Levenberg–Marquardt, itself Ceres'):
+//!
+//! - the damped system `(H + λD) δ = −g`, `D = clamp(diag H, 1e-6, 1e32)`,
+//!   λ starting at 1e-4;
+//! - a step is accepted when its gain ratio `ρ` (actual over predicted
+//!   decrease, the prediction `−gᵀδ − ½ δᵀHδ`) exceeds 1e-3; then `λ ←
+//!   λ max(1/3, 1 − (2ρ − 1)³)` and `ν ← 2` (Nielsen), else `λ ← λν`, `ν ←
+//!   2ν`; λ stays within [1e-12, 1e12];
+//! - after an accepted step: converged when `‖g‖ <` the gradient tolerance
+//!   (`g` at the step's start), and from the second iteration on when the
+//!   step is shorter than the parameter tolerance relative to `‖x‖`, or the
+//!   cost fell by less than the cost tolerance relative; stalled after 5
+//!   rejections in a row with λ at its maximum.
+//!
+//! A rejected step costs no linearization: the normal equations of the
+//! current values are kept and only the damping changes. A damped system
+//! that is not positive definite, or a trial step where a factor rejects
+//! its configuration, is a rejected step.
+
+use std::time::{Duration, Instant};
+
+use factor_apex::solve::{Iteration, SolveOptions, Verdict};
+
+use crate::group::{Rejected, Values};
+use crate::partition::Partition;
+use crate::passes;
+use crate::problem::Problem;
+use crate::reduced::ReducedSolver;
+use crate::schur::{self, Normal, StepBuffers, StepTimes};
+use crate::structure::Structure;
+
+const INITIAL_DAMPING: f64 = 1e-4;
+const MIN_DAMPING: f64 = 1e-12;
+const MAX_DAMPING: f64 = 1e12;
+const MIN_RELATIVE_DECREASE: f64 = 1e-3;
+const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
+
+/// Where a solve's time went (wall time unless said).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Profile {
+    /// The structure: ordering, layout, symbolic factorization.
+    pub setup: Duration,
+    /// Linearization passes (gather, fused kernels, scatter).
+    pub linearization: Duration,
+    /// Inside them, the batch normal-equation kernels (summed over the
+    /// threads: thread time, not wall time, on several threads).
+    pub kernels: Duration,
+    /// Forming `S` (damping and eliminating the landmarks).
+    pub eliminate: Duration,
+    /// Factorizing and solving the reduced system.
+    pub factorize: Duration,
+    /// Back-substituting the landmarks (and the model's decrease).
+    pub back_substitute: Duration,
+    /// Retracting the variables by the steps.
+    pub retract: Duration,
+    /// Evaluating the cost at the trial steps (and initially).
+    pub evaluation: Duration,
+    /// Threads.
+    pub threads: usize,
+    /// Entries of `S`'s lower triangle and of its Cholesky factor.
+    pub reduced_entries: usize,
+    pub factor_entries: usize,
+    /// The reduced system's dimension.
+    pub reduced_dim: usize,
+}
+
+/// What a solve ended with; the solution is in the problem's values.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The cost at the initial values.
+    pub initial_cost: f64,
+    /// The cost at the solution.
+    pub final_cost: f64,
+    /// Iterations run (steps tried, accepted or rejected).
+    pub iterations: usize,
+    /// Wall time of the solve (set-up included).
+    pub elapsed: Duration,
+    /// Each iteration's report.
+    pub history: Vec<Iteration>,
+    /// How it ended.
+    pub verdict: Verdict,
+    /// Evaluations at trial steps that a factor rejected (degenerate), and
+    /// the first one's message.
+    pub rejected: usize,
+    pub first_rejection: Option<String>,
+    /// Where the time went.
+    pub profile: Profile,
+}
+
+/// The solve could not start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// The problem is not in the shape this solver takes.
+    #[error(transparent)]
+    Shape(#[from] crate::SchurError),
+    /// The initial cost is not finite, or a factor rejects its initial
+    /// configuration.
+    #[error("{0}")]
+    Initial(String),
+}
+
+/// A solve, prepared: the structure analysed, the initial cost evaluated.
+pub struct Solver<'p> {
+    problem: &'p mut Problem,
+    structure: Structure,
+    partition: Partition,
+    reduced: ReducedSolver,
+    offsets: Vec<usize>,
+    candidate: Vec<f64>,
+    squared: Vec<Vec<f64>>,
+    trial_squared: Vec<Vec<f64>>,
+    normal: Normal,
+    buffers: StepBuffers,
+    profile: Profile,
+    rejected: Rejected,
+    start: Instant,
+    initial_cost: f64,
+}
+
+impl<'p> Solver<'p> {
+    /// Prepares the solve of `problem` from its values: analyses its
+    /// structure (for rayon's threads) and evaluates the initial cost.
+    ///
+    /// # Errors
+    ///
+    /// A problem not in Schur shape ([`crate::SchurError`]), or initial
+    /// values with a non-finite cost or a degenerate factor.
+    pub fn new(problem: &'p mut Problem) -> Result<Self, SolveError> {
+        let start = Instant::now();
+        let threads = rayon::current_num_threads().max(1);
+        let structure = Structure::build(problem)?;
+        let partition = Partition::new(&structure, threads);
+        let reduced = ReducedSolver::new(&structure.csc, partition.parts())?;
+        let normal = Normal::zeros(&structure);
+        let profile = Profile {
+            setup: start.elapsed(),
+            threads: partition.parts(),
+            reduced_entries: structure.csc.len(),
+            factor_entries: reduced.factor_entries(),
+            reduced_dim: structure.csc.dim(),
+            ..Profile::default()
+        };
+        let squared: Vec<Vec<f64>> = problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
+        let mut solver = Solver {
+            offsets: structure
+                .storage_order
+                .iter()
+                .map(|&id| problem.variables[id as usize].offset)
+                .collect(),
+            candidate: problem.values.clone(),
+            trial_squared: squared.clone(),
+            squared,
+            buffers: StepBuffers::new(&normal),
+            normal,
+            structure,
+            partition,
+            reduced,
+            profile,
+            rejected: Rejected::default(),
+            problem,
+            start,
+            initial_cost: f64::NAN,
+        };
+        // The candidate holds the initial values.
+        solver.initial_cost = match solver.evaluate_candidate() {
+            Some(cost) if cost.is_finite() => cost,
+            Some(cost) => return Err(SolveError::Initial(format!("the initial cost is {cost}"))),
+            None => {
+                return Err(SolveError::Initial(format!(
+                    "a factor is degenerate at the initial values: {}",
+                    solver.rejected.first.clone().unwrap_or_default()
+                )));
+            }
+        };
+        std::mem::swap(&mut solver.squared, &mut solver.trial_squared);
+        solver.rejected = Rejected::default();
+        Ok(solver)
+    }
+
+    /// The cost at the initial values, `Σ ½ ρ(‖rᵢ‖²)`.
+    pub fn initial_cost(&self) -> f64 {
+        self.initial_cost
+    }
+
+    /// Linearizes at the current values; the pass's wall time.
+    fn linearize(&mut self) -> Duration {
+        let start = Instant::now();
+        let values = Values {
+            scalars: &self.problem.values,
+            offsets: &self.offsets,
+        };
+        self.profile.kernels += passes::linearize(
+            self.problem,
+            values,
+            &self.structure,
+            &self.partition,
+            &self.squared,
+            &mut self.normal,
+        );
+        let elapsed = start.elapsed();
+        self.profile.linearization += elapsed;
+        elapsed
+    }
+
+    /// The cost at the candidate values (`None` where a factor rejects its
+    /// configuration); their squared norms in `trial_squared`.
+    fn evaluate_candidate(&mut self) -> Option<f64> {
+        let start = Instant::now();
+        let values = Values {
+            scalars: &self.candidate,
+            offsets: &self.offsets,
+        };
+        let (cost, rejected) = passes::evaluate(
+            self.problem,
+            values,
+            &self.partition,
+            &mut self.trial_squared,
+        );
+        self.profile.evaluation += start.elapsed();
+        let ok = rejected.count == 0;
+        self.rejected.merge(rejected);
+        ok.then_some(cost)
+    }
+
+    fn parameter_norm(&self) -> f64 {
+        self.problem
+            .values
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    fn step_norm(&self) -> f64 {
+        self.buffers
+            .reduced
+            .iter()
+            .chain(&self.buffers.eliminated)
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    /// Minimises the cost from the problem's values, which hold the
+    /// solution afterwards; calls `on_iteration` as each iteration ends.
+    pub fn run(
+        mut self,
+        options: &SolveOptions,
+        mut on_iteration: impl FnMut(&Iteration),
+    ) -> Outcome {
+        let s = &mut self;
+        let initial_cost = s.initial_cost;
+        let mut cost = initial_cost;
+        let mut lambda = INITIAL_DAMPING;
+        let mut nu = 2.0;
+        let mut consecutive_rejections = 0;
+        let mut history = Vec::new();
+        // The first iteration's span holds the set-up, as the general
+        // path's does.
+        let mut last = s.start;
+        let mut linearization = s.linearize();
+        let mut verdict = Verdict::IterationLimit;
+        for index in 0..options.max_iterations.max(1) {
+            let gradient_norm = s.normal.gradient_norm();
+            if !gradient_norm.is_finite() {
+                verdict = Verdict::Failed("the normal equations are not finite".into());
+                break;
+            }
+            let mut times = StepTimes::default();
+            let step = schur::step(
+                lambda,
+                &s.normal,
+                &s.structure,
+                &s.partition,
+                &mut s.reduced,
+                &mut s.buffers,
+                &mut times,
+            );
+            s.profile.eliminate += times.eliminate;
+            s.profile.factorize += times.factorize;
+            s.profile.back_substitute += times.back_substitute;
+            let mut evaluation = Duration::ZERO;
+            let mut trial = None;
+            if let Some(step) = &step {
+                let retract_start = Instant::now();
+                passes::retract(
+                    s.problem,
+                    &s.structure,
+                    &s.buffers,
+                    &s.problem.values,
+                    &mut s.candidate,
+                );
+                s.profile.retract += retract_start.elapsed();
+                let evaluation_start = Instant::now();
+                trial = s.evaluate_candidate().map(|c| (c, step));
+                evaluation = evaluation_start.elapsed();
+            }
+            let rho = match trial {
+                Some((new_cost, step)) if new_cost.is_finite() => {
+                    step_quality(cost, new_cost, -step.g_delta - 0.5 * step.h_delta)
+                }
+                _ => f64::NAN,
+            };
+            let accepted = rho > MIN_RELATIVE_DECREASE;
+            if accepted {
+                let coefficient = 2.0 * rho - 1.0;
+                lambda *= (1.0_f64 / 3.0).max(1.0 - coefficient * coefficient * coefficient);
+                nu = 2.0;
+                consecutive_rejections = 0;
+            } else {
+                lambda *= nu;
+                nu *= 2.0;
+                consecutive_rejections += 1;
+            }
+            lambda = lambda.clamp(MIN_DAMPING, MAX_DAMPING);
+            let previous = cost;
+            let step_norm = if step.is_some() { s.step_norm() } else { 0.0 };
+            if accepted {
+                cost = trial.map_or(cost, |(c, _)| c);
+                std::mem::swap(&mut s.problem.values, &mut s.candidate);
+                std::mem::swap(&mut s.squared, &mut s.trial_squared);
+            }
+            let now = Instant::now();
+            let report = Iteration {
+                index,
+                cost,
+                relative_decrease: if previous > 0.0 {
+                    (previous - cost) / previous
+                } else {
+                    0.0
+                },
+                damping: Some(lambda),
+                step_quality: Some(rho),
+                accepted,
+                linearization,
+                evaluation,
+                solve: (now - last).saturating_sub(linearization + evaluation),
+                elapsed: now - s.start,
+            };
+            on_iteration(&report);
+            history.push(report);
+            // apex-solver's criteria, in its order.
+            let converged = if !accepted {
+                None
+            } else if gradient_norm < options.gradient_tolerance {
+                Some("gradient tolerance reached")
+            } else if index > 0
+                && step_norm
+                    <= options.parameter_tolerance
+                        * (s.parameter_norm() + options.parameter_tolerance)
+            {
+                Some("parameter tolerance reached")
+            } else if index > 0
+                && (previous - cost).abs() / previous.max(1e-10) < options.cost_tolerance
+            {
+                Some("cost tolerance reached")
+            } else {
+                None
+            };
+            if index + 1 >= options.max_iterations.max(1) {
+                break;
+            }
+            if let Some(why) = converged {
+                verdict = Verdict::Converged(why.to_owned());
+                break;
+            }
+            if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {
+                verdict = Verdict::Stalled;
+                break;
+            }
+            last = Instant::now();
+            linearization = if accepted {
+                s.linearize()
+            } else {
+                Duration::ZERO
+            };
+        }
+        Outcome {
+            initial_cost,
+            final_cost: cost,
+            iterations: history.len(),
+            elapsed: s.start.elapsed(),
+            history,
+            verdict,
+            rejected: s.rejected.count,
+            first_rejection: s.rejected.first.take(),
+            profile: s.profile,
+        }
+    }
+}
+
+/// Prepares and runs the solve of `problem` ([`Solver::new`],
+/// [`Solver::run`]).
+///
+/// # Errors
+///
+/// As [`Solver::new`].
+pub fn solve(
+    problem: &mut Problem,
+    options: &SolveOptions,
+    on_iteration: impl FnMut(&Iteration),
+) -> Result<Outcome, SolveError> {
+    Ok(Solver::new(problem)?.run(options, on_iteration))
+}
+
+/// The gain ratio, as apex-solver computes it: the actual decrease over
+/// the predicted one, with a prediction that is not positive judged by the
+/// sign of the actual decrease.
+fn step_quality(cost: f64, new_cost: f64, predicted: f64) -> f64 {
+    let actual = cost - new_cost;
+    if predicted < -1e-15 {
+        -1.0
+    } else if predicted.abs() <= 1e-15 {
+        if actual > 0.0 { 1.0 } else { 0.0 }
+    } else {
+        actual / predicted
+    }
+}

@@ -1,0 +1,214 @@
+//! The solver's passes over every factor and variable, split among the
+//! threads by a [`Partition`]: evaluating the cost, linearizing into the
+//! normal equations, and retracting the variables by a step.
+
+use std::time::Duration;
+
+use factor_apex::problems::Robust;
+use rayon::prelude::*;
+
+use crate::group::{Rejected, Sink, Values};
+use crate::partition::Partition;
+use crate::problem::Problem;
+use crate::robust;
+use crate::schur::{Normal, StepBuffers};
+use crate::structure::{Role, Structure};
+
+/// `Σ ½ ρ(‖rᵢ‖²)` at `values`, each factor's `‖rᵢ‖²` kept in `squared` (one
+/// vector per group, in its factors' order): NaN when a factor rejects its
+/// configuration (counted in the returned record).
+pub(crate) fn evaluate(
+    problem: &Problem,
+    values: Values<'_>,
+    partition: &Partition,
+    squared: &mut [Vec<f64>],
+) -> (f64, Rejected) {
+    let robust = problem.robust;
+    let mut cost = 0.0;
+    let mut rejected = Rejected::default();
+    for ((group, cuts), squared) in problem.groups.iter().zip(&partition.factors).zip(squared) {
+        let parts = split_at_bounds(squared, cuts);
+        let results: Vec<(f64, Rejected)> = parts
+            .into_par_iter()
+            .enumerate()
+            .map(|(t, part)| {
+                let mut rejected = Rejected::default();
+                group.evaluate(cuts[t]..cuts[t + 1], values, part, &mut rejected);
+                let cost: f64 = part.iter().map(|&s| 0.5 * robust::loss(robust, s)).sum();
+                (cost, rejected)
+            })
+            .collect();
+        for (c, r) in results {
+            cost += c;
+            rejected.merge(r);
+        }
+    }
+    (cost, rejected)
+}
+
+/// Splits `data` into the pieces `bounds` (increasing indices from 0)
+/// delimit.
+pub(crate) fn split_at_bounds<'a, T>(mut data: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
+    let mut parts = Vec::with_capacity(bounds.len().saturating_sub(1));
+    for w in bounds.windows(2) {
+        let (head, tail) = data.split_at_mut(w[1] - w[0]);
+        parts.push(head);
+        data = tail;
+    }
+    parts
+}
+
+/// The IRLS weights `ρ'(‖rᵢ‖²)` of a group's factors, or `None` (all 1)
+/// for least squares.
+fn weights(robust: Option<Robust>, squared: &[f64]) -> Option<Vec<f64>> {
+    robust.map(|r| {
+        squared
+            .par_iter()
+            .map(|&s| robust::weight(Some(r), s))
+            .collect()
+    })
+}
+
+/// The normal equations at `values` into `normal`, each factor weighted by
+/// its loss at `squared`; returns the time the threads spent in the batch
+/// kernels, summed.
+pub(crate) fn linearize(
+    problem: &Problem,
+    values: Values<'_>,
+    structure: &Structure,
+    partition: &Partition,
+    squared: &[Vec<f64>],
+    normal: &mut Normal,
+) -> Duration {
+    let el = &structure.eliminated;
+    let bounds = &partition.eliminated;
+    let parts = partition.parts();
+    let at = |offsets: &[usize]| -> Vec<usize> { bounds.iter().map(|&b| offsets[b]).collect() };
+    let weights: Vec<Option<Vec<f64>>> =
+        squared.iter().map(|s| weights(problem.robust, s)).collect();
+    // The eliminated variables' data are zeroed as they are reached.
+    normal.u.fill(0.0);
+    normal.diagonal.fill(0.0);
+    normal.g_reduced.fill(0.0);
+    let mut copies: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (1..parts)
+        .map(|_| {
+            (
+                vec![0.0; normal.u.len()],
+                vec![0.0; normal.diagonal.len()],
+                vec![0.0; normal.g_reduced.len()],
+            )
+        })
+        .collect();
+    let mut reduced: Vec<(&mut [f64], &mut [f64], &mut [f64])> = vec![(
+        &mut normal.u[..],
+        &mut normal.diagonal[..],
+        &mut normal.g_reduced[..],
+    )];
+    reduced.extend(
+        copies
+            .iter_mut()
+            .map(|(u, d, g)| (&mut u[..], &mut d[..], &mut g[..])),
+    );
+    let g = split_at_bounds(&mut normal.g_eliminated, &at(&el.tangent));
+    let v = split_at_bounds(&mut normal.v, &at(&el.packed));
+    let w = split_at_bounds(&mut normal.w, &at(&el.cross));
+    let work: Vec<_> = reduced
+        .into_iter()
+        .zip(g)
+        .zip(v)
+        .zip(w)
+        .enumerate()
+        .collect();
+    let kernels: Duration = work
+        .into_par_iter()
+        .map(|(t, ((((u, diagonal, g_reduced), g_eliminated), v), w))| {
+            let mut sink = Sink {
+                u,
+                diagonal,
+                g_reduced,
+                first: bounds[t],
+                g_eliminated,
+                v,
+                w,
+                cleared: bounds[t],
+                kernels: Duration::ZERO,
+            };
+            for ((group, cuts), weights) in
+                problem.groups.iter().zip(&partition.factors).zip(&weights)
+            {
+                let range = cuts[t]..cuts[t + 1];
+                let weights = weights.as_ref().map(|w| &w[range.clone()]);
+                group.linearize(range, values, weights, structure, &mut sink);
+            }
+            if bounds[t + 1] > bounds[t] {
+                sink.clear_through(bounds[t + 1] - 1, structure);
+            }
+            sink.kernels
+        })
+        .sum();
+    for (u, diagonal, g) in &copies {
+        normal.u.par_iter_mut().zip(u).for_each(|(a, b)| *a += b);
+        for (a, b) in normal.diagonal.iter_mut().zip(diagonal) {
+            *a += b;
+        }
+        for (a, b) in normal.g_reduced.iter_mut().zip(g) {
+            *a += b;
+        }
+    }
+    structure.csc.fold_diagonal(&normal.diagonal, &mut normal.u);
+    kernels
+}
+
+/// `candidate` ← `values` with every free variable retracted by its part of
+/// the step in `buffers` (the fixed ones are left as they are in
+/// `candidate`, which holds them already).
+pub(crate) fn retract(
+    problem: &Problem,
+    structure: &Structure,
+    buffers: &StepBuffers,
+    values: &[f64],
+    candidate: &mut [f64],
+) {
+    let variables = &problem.variables;
+    let order = &structure.storage_order;
+    let parts = rayon::current_num_threads().max(1);
+    let per = order.len().div_ceil(parts).max(1);
+    // Piece p holds the values of the variables order[p·per..(p + 1)·per].
+    let bounds: Vec<usize> = (0..=parts)
+        .map(|p| {
+            order
+                .get(p * per)
+                .map_or(values.len(), |&id| variables[id as usize].offset)
+        })
+        .collect();
+    let pieces = split_at_bounds(candidate, &bounds);
+    pieces.into_par_iter().enumerate().for_each(|(p, piece)| {
+        let base = bounds[p];
+        for (i, &id) in order.iter().enumerate().skip(p * per).take(per) {
+            let variable = &variables[id as usize];
+            let delta = match structure.roles[i] {
+                Role::Fixed => continue,
+                Role::Reduced { block, offset } => {
+                    let o = structure.csc.offsets[block as usize] + offset as usize;
+                    &buffers.reduced[o..o + variable.chart.map_or(0, |c| c.tangent)]
+                }
+                Role::Eliminated { index } => {
+                    let el = &structure.eliminated;
+                    let e = index as usize;
+                    &buffers.eliminated[el.tangent[e]..el.tangent[e + 1]]
+                }
+            };
+            let chart = variable
+                .chart
+                .as_ref()
+                .expect("every variable has a factor");
+            let (from, to) = (variable.offset, variable.offset + variable.scalars);
+            problem.groups[chart.group].retract(
+                chart.slot,
+                &values[from..to],
+                delta,
+                &mut piece[from - base..to - base],
+            );
+        }
+    });
+}

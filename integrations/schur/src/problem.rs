@@ -1,0 +1,347 @@
+//! [`Problem`]: variables (their stored scalars, held fixed or eliminated)
+//! and factors of any derived type with a normal-equation kernel, grouped by
+//! type.
+
+use std::any::{Any, TypeId};
+
+use factor_apex::problems::Robust;
+use factor_core::manifold::Perturbation;
+use factor_core::{Factor, WithKernel};
+use factor_lanes::NormalKernel;
+
+use crate::SchurError;
+use crate::group::{FactorGroup, Group};
+use crate::structure::{MAX_SCALARS, MAX_SLOTS};
+
+/// The lane type of the batches (4 × `f64`: see the crate documentation).
+pub type Lane = factor_lanes::F64x4;
+
+/// A variable of a [`Problem`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VariableId(pub(crate) u32);
+
+impl VariableId {
+    /// Its index, in the order the variables were added.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// A variable slot of a factor type, as the factor declares it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct SlotInfo {
+    pub(crate) factor: &'static str,
+    pub(crate) name: &'static str,
+    /// Stored scalars and tangent dimension.
+    pub(crate) scalars: usize,
+    pub(crate) tangent: usize,
+    type_name: &'static str,
+    perturbation: Perturbation,
+    description: &'static str,
+}
+
+impl SlotInfo {
+    /// Each variable slot of `F`.
+    pub(crate) fn of<F: Factor>() -> Vec<SlotInfo> {
+        let scalars = F::fields()
+            .into_iter()
+            .filter(|f| f.variable.is_some())
+            .map(|f| f.scalars);
+        F::variables()
+            .into_iter()
+            .zip(scalars)
+            .map(|(info, scalars)| SlotInfo {
+                factor: F::NAME,
+                name: info.name,
+                scalars,
+                tangent: info.tangent_dim,
+                type_name: info.type_name,
+                perturbation: info.perturbation,
+                description: info.tangent,
+            })
+            .collect()
+    }
+
+    /// Whether a variable in both slots is perturbed the same way.
+    fn same_chart(&self, other: &SlotInfo) -> bool {
+        (
+            self.tangent,
+            self.type_name,
+            self.perturbation,
+            self.description,
+        ) == (
+            other.tangent,
+            other.type_name,
+            other.perturbation,
+            other.description,
+        )
+    }
+
+    /// `factor declares it `type` (side: tangent)`.
+    fn describe(&self) -> String {
+        format!(
+            "{} declares it `{}` ({}: {})",
+            self.factor,
+            self.type_name,
+            self.perturbation.as_str(),
+            self.description
+        )
+    }
+}
+
+/// How the factors on a variable perturb it: as the slot `slot` of group
+/// `group` (the first factor that named it) declares it, which every other
+/// factor on it must match; that factor type's [`Factor::with_retracted`]
+/// retracts it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Chart {
+    pub(crate) group: usize,
+    pub(crate) slot: usize,
+    /// Tangent dimension.
+    pub(crate) tangent: usize,
+}
+
+/// A variable: where its stored scalars are, and its role.
+#[derive(Debug, Clone)]
+pub(crate) struct Variable {
+    pub(crate) offset: usize,
+    pub(crate) scalars: usize,
+    pub(crate) fixed: bool,
+    pub(crate) eliminated: bool,
+    pub(crate) chart: Option<Chart>,
+}
+
+/// A nonlinear least-squares problem, `Σ ½ ρ(‖rᵢ‖²)` over factors of
+/// derived types, in the shape a Schur complement solves: some variables
+/// are eliminated (landmarks), and no factor touches two of them.
+///
+/// Variables hold the stored scalars of the type their factors declare
+/// ([`factor_core::Storage`] order); each is retracted by that type's
+/// [`factor_core::manifold::Manifold::retract`] on the side its factors
+/// declare, and every factor on a variable must declare the same type,
+/// side and tangent ([`SchurError::Chart`] otherwise).
+#[derive(Default)]
+pub struct Problem {
+    /// Every variable's stored scalars, end to end.
+    pub(crate) values: Vec<f64>,
+    pub(crate) variables: Vec<Variable>,
+    pub(crate) groups: Vec<Box<dyn Group>>,
+    group_types: Vec<TypeId>,
+    pub(crate) robust: Option<Robust>,
+}
+
+impl Problem {
+    /// An empty problem (plain least squares).
+    pub fn new() -> Self {
+        Problem::default()
+    }
+
+    /// A robust loss on every factor, or plain least squares.
+    pub fn set_robust(&mut self, robust: Option<Robust>) {
+        self.robust = robust;
+    }
+
+    /// A variable whose value is `stored` (the stored scalars of the type
+    /// its factors declare).
+    pub fn add_variable(&mut self, stored: &[f64]) -> VariableId {
+        let id = VariableId(u32::try_from(self.variables.len()).expect("fewer than 2³² variables"));
+        self.variables.push(Variable {
+            offset: self.values.len(),
+            scalars: stored.len(),
+            fixed: false,
+            eliminated: false,
+            chart: None,
+        });
+        self.values.extend_from_slice(stored);
+        id
+    }
+
+    /// Holds `id` at its value.
+    pub fn fix(&mut self, id: VariableId) {
+        self.variables[id.index()].fixed = true;
+    }
+
+    /// Marks `id` for elimination by the Schur complement (a landmark).
+    pub fn eliminate(&mut self, id: VariableId) {
+        self.variables[id.index()].eliminated = true;
+    }
+
+    /// The variables.
+    pub fn variable_count(&self) -> usize {
+        self.variables.len()
+    }
+
+    /// The factors.
+    pub fn factor_count(&self) -> usize {
+        self.groups.iter().map(|g| g.len()).sum()
+    }
+
+    /// The stored scalars of `id` (after a solve, its solution).
+    pub fn value(&self, id: VariableId) -> &[f64] {
+        let v = &self.variables[id.index()];
+        &self.values[v.offset..v.offset + v.scalars]
+    }
+
+    /// Adds `factor` on `variables` (one per variable of `F`, in declaration
+    /// order). Its constants are kept; its variables' values are the
+    /// problem's ([`Problem::add_variable`]).
+    ///
+    /// # Errors
+    ///
+    /// A count or size that does not fit `F`, a variable named twice, or a
+    /// variable whose chart differs from another factor's.
+    pub fn add<F>(&mut self, factor: &F, variables: &[VariableId]) -> Result<(), SchurError>
+    where
+        F: WithKernel + Send + Sync + 'static,
+        F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+    {
+        let group = self.group_index::<F>()?;
+        let slots = self.groups[group].slot_info();
+        if variables.len() != slots.len() {
+            return Err(SchurError::Arity {
+                factor: F::NAME,
+                given: variables.len(),
+                expected: slots.len(),
+            });
+        }
+        for (k, a) in variables.iter().enumerate() {
+            if variables[..k].contains(a) {
+                return Err(SchurError::Repeated {
+                    factor: F::NAME,
+                    variable: a.index(),
+                });
+            }
+        }
+        for (slot, (id, info)) in variables.iter().zip(slots).enumerate() {
+            let variable = self
+                .variables
+                .get_mut(id.index())
+                .ok_or(SchurError::UnknownVariable(id.index()))?;
+            if variable.scalars != info.scalars {
+                return Err(SchurError::Scalars {
+                    factor: F::NAME,
+                    variable: id.index(),
+                    name: info.name,
+                    expected: info.scalars,
+                    found: variable.scalars,
+                });
+            }
+            match variable.chart {
+                None => {
+                    variable.chart = Some(Chart {
+                        group,
+                        slot,
+                        tangent: info.tangent,
+                    });
+                }
+                // The same slot of the same factor type: the same chart.
+                Some(known) if (known.group, known.slot) == (group, slot) => {}
+                Some(known) => {
+                    let first = &self.groups[known.group].slot_info()[known.slot];
+                    if !first.same_chart(info) {
+                        return Err(SchurError::Chart {
+                            variable: id.index(),
+                            first: first.describe(),
+                            second: info.describe().replace(" declares it", ""),
+                        });
+                    }
+                }
+            }
+        }
+        let ids: Vec<u32> = variables.iter().map(|v| v.0).collect();
+        let any: &mut dyn Any = self.groups[group].as_any_mut();
+        any.downcast_mut::<FactorGroup<F>>()
+            .expect("the group of F's type holds F")
+            .push(factor, &ids);
+        Ok(())
+    }
+
+    /// The index of the group of `F`, created if new.
+    ///
+    /// # Errors
+    ///
+    /// A factor type beyond the solver's buffers.
+    fn group_index<F>(&mut self) -> Result<usize, SchurError>
+    where
+        F: WithKernel + Send + Sync + 'static,
+        F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+    {
+        let type_id = TypeId::of::<F>();
+        if let Some(k) = self.group_types.iter().position(|t| *t == type_id) {
+            return Ok(k);
+        }
+        if F::SCALARS > MAX_SCALARS || F::variables().len() > MAX_SLOTS {
+            return Err(SchurError::TooLarge(format!(
+                "{}: more than {MAX_SCALARS} stored scalars or {MAX_SLOTS} variables",
+                F::NAME
+            )));
+        }
+        self.group_types.push(type_id);
+        self.groups.push(Box::new(FactorGroup::<F>::new()));
+        Ok(self.groups.len() - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use factor_core::Storage;
+    use factor_core::lie::{Se3, Se3RhoTheta, So3};
+    use nalgebra::{Vector2, Vector3};
+    use slam_factors::{
+        RadialIntrinsics, SnavelyReprojection, StereoIntrinsics, StereoReprojection,
+    };
+
+    fn snavely() -> SnavelyReprojection {
+        SnavelyReprojection {
+            observed: Vector2::new(1.0, 2.0),
+            pose: Se3RhoTheta::new(Se3::new(So3::identity(), Vector3::new(0.0, 0.0, -5.0))),
+            intrinsics: RadialIntrinsics::new(500.0, 0.0, 0.0),
+            point: Vector3::new(0.1, 0.2, 0.3),
+        }
+    }
+
+    #[test]
+    fn factors_are_checked_as_they_are_added() {
+        let f = snavely();
+        let mut problem = Problem::new();
+        let pose = problem.add_variable(&f.pose.to_scalars());
+        let intrinsics = problem.add_variable(&[500.0, 0.0, 0.0]);
+        let point = problem.add_variable(&[0.1, 0.2, 0.3]);
+        problem.add(&f, &[pose, intrinsics, point]).unwrap();
+        assert_eq!(problem.factor_count(), 1);
+        assert!(matches!(
+            problem.add(&f, &[pose, intrinsics]),
+            Err(SchurError::Arity {
+                given: 2,
+                expected: 3,
+                ..
+            })
+        ));
+        assert!(matches!(
+            problem.add(&f, &[pose, point, point]),
+            Err(SchurError::Repeated { variable: 2, .. })
+        ));
+        assert!(matches!(
+            problem.add(&f, &[point, intrinsics, pose]),
+            Err(SchurError::Scalars { variable: 2, .. })
+        ));
+        // The stereo factor's landmark is a `Vector3` as the point is, but
+        // its pose (camera to world) is the same `Se3RhoTheta` chart: both
+        // fit. A 3-vector used as intrinsics somewhere and as a point
+        // elsewhere does not.
+        let stereo = StereoReprojection {
+            calibration: StereoIntrinsics::new(500.0, 500.0, 0.0, 0.0, 0.0, 0.5),
+            observed: Vector3::new(0.0, 0.0, 0.0),
+            pose: f.pose,
+            landmark: f.point,
+        };
+        problem.add(&stereo, &[pose, point]).unwrap();
+        let error = problem.add(&stereo, &[pose, intrinsics]).unwrap_err();
+        assert!(
+            matches!(error, SchurError::Chart { variable: 1, .. }),
+            "{error}"
+        );
+        assert!(error.to_string().contains("RadialIntrinsics"), "{error}");
+    }
+}

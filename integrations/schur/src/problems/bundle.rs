@@ -1,0 +1,149 @@
+//! Bundle adjustment of BAL and Bundler problems (Snavely's camera model),
+//! the points eliminated.
+
+use factor_apex::problems::bundle::{camera_pose, factor_of};
+use factor_core::lie::{Se3, Se3RhoTheta};
+use factor_core::{Factor, Storage};
+use nalgebra::{UnitQuaternion, Vector3};
+use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_factors::SnavelyReprojection;
+
+use super::{BuildError, Built, Keys};
+use crate::problem::{Problem, VariableId};
+
+/// The variables of a bundle-adjustment problem.
+#[derive(Debug, Clone)]
+pub struct BundleKeys {
+    /// Each camera's world-to-camera pose (`Se3RhoTheta`).
+    pub poses: Vec<VariableId>,
+    /// Each camera's `[f, k1, k2]`.
+    pub intrinsics: Vec<VariableId>,
+    /// Each point.
+    pub points: Vec<VariableId>,
+}
+
+/// Builds the bundle adjustment of `bal`: camera 0's pose fixed, the
+/// points eliminated.
+pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
+    let mut problem = Problem::new();
+    let mut keys = BundleKeys {
+        poses: Vec::with_capacity(bal.cameras.len()),
+        intrinsics: Vec::with_capacity(bal.cameras.len()),
+        points: Vec::with_capacity(bal.points.len()),
+    };
+    for camera in &bal.cameras {
+        let pose = Se3RhoTheta::new(camera_pose(camera));
+        keys.poses.push(problem.add_variable(&pose.to_scalars()));
+        let SnavelyIntrinsics { focal, k1, k2 } = camera.intrinsics;
+        keys.intrinsics.push(problem.add_variable(&[focal, k1, k2]));
+    }
+    for point in &bal.points {
+        let id = problem.add_variable(point.as_slice());
+        problem.eliminate(id);
+        keys.points.push(id);
+    }
+    // Each camera's pose and intrinsics set once, in a template factor (its
+    // first observation's), rather than at each observation.
+    let mut templates: Vec<Option<SnavelyReprojection>> = vec![None; bal.cameras.len()];
+    for (k, o) in bal.observations.iter().enumerate() {
+        let template = templates[o.camera].get_or_insert_with(|| factor_of(bal, k));
+        let factor = SnavelyReprojection {
+            observed: o.pixel,
+            point: bal.points[o.point],
+            ..template.clone()
+        };
+        factor.validate().map_err(|error| BuildError::Degenerate {
+            which: format!(
+                "observation {k} (camera {}, point {}) at the initial values",
+                o.camera, o.point
+            ),
+            error,
+        })?;
+        problem.add(
+            &factor,
+            &[
+                keys.poses[o.camera],
+                keys.intrinsics[o.camera],
+                keys.points[o.point],
+            ],
+        )?;
+    }
+    // The gauge: camera 0's pose fixed (the scale is left to the damping),
+    // as the general path holds it.
+    if let Some(&pose) = keys.poses.first() {
+        problem.fix(pose);
+    }
+    Ok(Built {
+        problem,
+        keys: Keys::Bundle(keys),
+        blocks: bal.observations.len(),
+    })
+}
+
+impl BundleKeys {
+    /// Camera `k` of the values: its rotation and translation, and its
+    /// intrinsics.
+    fn camera<'a>(
+        &self,
+        k: usize,
+        value: &impl Fn(VariableId) -> &'a [f64],
+    ) -> (UnitQuaternion<f64>, BalCamera) {
+        let pose = Se3RhoTheta::<f64>::from_scalars(value(self.poses[k]));
+        let pose: Se3<f64> = pose.se3();
+        let q = pose.rotation.quaternion;
+        let rotation =
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z));
+        let intrinsics = value(self.intrinsics[k]);
+        let camera = BalCamera {
+            rotation: rotation.scaled_axis(),
+            translation: pose.translation,
+            intrinsics: SnavelyIntrinsics {
+                focal: intrinsics[0],
+                k1: intrinsics[1],
+                k2: intrinsics[2],
+            },
+        };
+        (rotation, camera)
+    }
+
+    fn point<'a>(&self, j: usize, value: &impl Fn(VariableId) -> &'a [f64]) -> Vector3<f64> {
+        Vector3::from_column_slice(value(self.points[j]))
+    }
+
+    /// `bal` with the values' cameras and points.
+    pub fn write_bal<'a>(
+        &self,
+        bal: &BalProblem,
+        value: impl Fn(VariableId) -> &'a [f64],
+    ) -> BalProblem {
+        BalProblem {
+            cameras: (0..bal.cameras.len())
+                .map(|k| self.camera(k, &value).1)
+                .collect(),
+            points: (0..bal.points.len())
+                .map(|j| self.point(j, &value))
+                .collect(),
+            observations: bal.observations.clone(),
+        }
+    }
+
+    /// `bundler` with the values' cameras (rotation matrices) and points
+    /// (colours and feature keys kept).
+    pub fn write_bundler<'a>(
+        &self,
+        bundler: &BundlerProblem,
+        value: impl Fn(VariableId) -> &'a [f64],
+    ) -> BundlerProblem {
+        let mut out = bundler.clone();
+        for (k, camera) in out.cameras.iter_mut().enumerate() {
+            let (rotation, solved) = self.camera(k, &value);
+            camera.rotation = *rotation.to_rotation_matrix().matrix();
+            camera.translation = solved.translation;
+            camera.intrinsics = solved.intrinsics;
+        }
+        for (j, point) in out.points.iter_mut().enumerate() {
+            point.position = self.point(j, &value);
+        }
+        out
+    }
+}

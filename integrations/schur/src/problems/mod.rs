@@ -1,0 +1,115 @@
+//! Real problems for this solver: bundle adjustment (BAL, Bundler) and
+//! stereo visual odometry (KITTI VO), built from `slam-data` with the same
+//! factors, variables, gauge and initial values as the general path
+//! (`factor_apex::problems`), the points and landmarks eliminated; and the
+//! solution written back in the input's format.
+//!
+//! | data set | reduced variables | eliminated | factor | gauge |
+//! | --- | --- | --- | --- | --- |
+//! | BAL, Bundler ([`bundle`]) | per camera its world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]` | the points | `SnavelyReprojection` | camera 0's pose fixed |
+//! | KITTI VO ([`stereo`]) | per pose its camera-to-world pose | the landmarks | `StereoReprojection` | the first pose fixed |
+
+pub mod bundle;
+pub mod stereo;
+
+use factor_core::FactorError;
+
+use crate::SchurError;
+use crate::problem::{Problem, VariableId};
+
+/// Why a problem cannot be built for this solver.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    /// A factor is degenerate at the initial values.
+    #[error("{which}: {error}")]
+    Degenerate {
+        /// The observation, in words.
+        which: String,
+        /// The factor's error.
+        error: FactorError,
+    },
+    /// The data refer to something they do not hold.
+    #[error("{0}")]
+    Data(String),
+    /// Not a problem this solver takes (a pose graph).
+    #[error("{0}")]
+    Unavailable(String),
+    /// The problem is not in the solver's shape.
+    #[error(transparent)]
+    Shape(#[from] SchurError),
+}
+
+/// The variables of a problem, by data-set entity, to read the solution.
+#[derive(Debug, Clone)]
+pub enum Keys {
+    /// Bundle adjustment.
+    Bundle(bundle::BundleKeys),
+    /// Stereo visual odometry.
+    Stereo(stereo::StereoKeys),
+}
+
+/// A problem built from a data set.
+pub struct Built {
+    /// The problem, ready to solve.
+    pub problem: Problem,
+    /// Where each entity's variable is.
+    pub keys: Keys,
+    /// The factors (observations).
+    pub blocks: usize,
+}
+
+/// Whether this solver takes `data`'s problem (bundle adjustment and stereo
+/// VO: landmarks to eliminate), which `slamjac solve` then solves with it.
+pub fn applies(data: &slam_data::Problem) -> bool {
+    matches!(
+        data,
+        slam_data::Problem::Bal(_)
+            | slam_data::Problem::Bundler(_)
+            | slam_data::Problem::KittiVo(_)
+    )
+}
+
+/// Builds `data`'s problem, with `robust` on every factor.
+///
+/// # Errors
+///
+/// A factor degenerate at the initial values, data that refer to what they
+/// lack, or a problem this solver does not take ([`applies`]).
+pub fn build(
+    data: &slam_data::Problem,
+    robust: Option<factor_apex::problems::Robust>,
+) -> Result<Built, BuildError> {
+    let mut built = match data {
+        slam_data::Problem::Bal(bal) => bundle::build(bal)?,
+        slam_data::Problem::Bundler(bundler) => bundle::build(&bundler.to_bal())?,
+        slam_data::Problem::KittiVo(vo) => stereo::build(vo)?,
+        slam_data::Problem::G2o(_) | slam_data::Problem::Edge3(_) => {
+            return Err(BuildError::Unavailable(
+                "a pose graph has no landmarks to eliminate: solve it with apex-solver".into(),
+            ));
+        }
+    };
+    built.problem.set_robust(robust);
+    Ok(built)
+}
+
+impl Built {
+    /// `data` with its variables replaced by the problem's values (after a
+    /// solve, the solution), in the input's format.
+    pub fn write_back(&self, data: &slam_data::Problem) -> slam_data::Problem {
+        let value = |id: VariableId| self.problem.value(id);
+        match (&self.keys, data) {
+            (Keys::Bundle(keys), slam_data::Problem::Bal(bal)) => {
+                slam_data::Problem::Bal(keys.write_bal(bal, value))
+            }
+            (Keys::Bundle(keys), slam_data::Problem::Bundler(bundler)) => {
+                slam_data::Problem::Bundler(keys.write_bundler(bundler, value))
+            }
+            (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
+                slam_data::Problem::KittiVo(keys.write(vo, value))
+            }
+            // Keys are built from the same data they write back.
+            _ => data.clone(),
+        }
+    }
+}

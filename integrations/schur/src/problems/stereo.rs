@@ -1,0 +1,100 @@
+//! Stereo visual odometry (GTSAM's KITTI `VO_*` files), the landmarks
+//! eliminated.
+
+use std::collections::HashMap;
+
+use factor_apex::problems::stereo::{camera_to_world, factor_of};
+use factor_core::lie::{Se3, Se3RhoTheta};
+use factor_core::{Factor, Storage};
+use nalgebra::Vector3;
+use slam_data::StereoVo;
+
+use super::{BuildError, Built, Keys};
+use crate::problem::{Problem, VariableId};
+
+/// The variables of a stereo VO problem.
+#[derive(Debug, Clone)]
+pub struct StereoKeys {
+    /// Each pose's camera-to-world pose, in file order.
+    pub poses: Vec<VariableId>,
+    /// Each landmark id's position.
+    pub landmarks: HashMap<usize, VariableId>,
+}
+
+/// Builds the VO problem of `vo`: the first pose fixed, each landmark
+/// initialised as the file initialises it and eliminated.
+pub(super) fn build(vo: &StereoVo) -> Result<Built, BuildError> {
+    let mut problem = Problem::new();
+    let mut poses = HashMap::with_capacity(vo.poses.len());
+    let mut keys = StereoKeys {
+        poses: Vec::with_capacity(vo.poses.len()),
+        landmarks: HashMap::new(),
+    };
+    for p in &vo.poses {
+        let pose = camera_to_world(p);
+        let id = problem.add_variable(&Se3RhoTheta::new(pose).to_scalars());
+        keys.poses.push(id);
+        poses.insert(p.id, (id, pose));
+    }
+    let mut positions = HashMap::new();
+    for (landmark, position) in vo.initial_landmarks() {
+        let id = problem.add_variable(position.as_slice());
+        problem.eliminate(id);
+        keys.landmarks.insert(landmark, id);
+        positions.insert(landmark, position);
+    }
+    for (k, o) in vo.observations.iter().enumerate() {
+        let missing =
+            |what: &str, id: usize| BuildError::Data(format!("observation {k}: no {what} {id}"));
+        let &(pose_id, pose) = poses.get(&o.pose).ok_or_else(|| missing("pose", o.pose))?;
+        let (&landmark_id, position) = keys
+            .landmarks
+            .get(&o.landmark)
+            .zip(positions.get(&o.landmark))
+            .ok_or_else(|| missing("landmark", o.landmark))?;
+        let factor = factor_of(vo, o, &pose, position);
+        factor.validate().map_err(|error| BuildError::Degenerate {
+            which: format!(
+                "observation {k} (pose {}, landmark {}) at the initial values",
+                o.pose, o.landmark
+            ),
+            error,
+        })?;
+        problem.add(&factor, &[pose_id, landmark_id])?;
+    }
+    // The gauge: the first pose fixed, as GTSAM's example and the general
+    // path do.
+    if let Some(&id) = keys.poses.first() {
+        problem.fix(id);
+    }
+    Ok(Built {
+        problem,
+        keys: Keys::Stereo(keys),
+        blocks: vo.observations.len(),
+    })
+}
+
+impl StereoKeys {
+    /// `vo` with the values' poses, and each observation's landmark in its
+    /// camera's frame recomputed from them (so that reading the file back
+    /// initialises every landmark at its value).
+    pub fn write<'a>(&self, vo: &StereoVo, value: impl Fn(VariableId) -> &'a [f64]) -> StereoVo {
+        let mut out = vo.clone();
+        let mut solved: HashMap<usize, Se3<f64>> = HashMap::with_capacity(vo.poses.len());
+        for (p, &id) in out.poses.iter_mut().zip(&self.poses) {
+            let pose = Se3RhoTheta::<f64>::from_scalars(value(id)).se3();
+            p.rotation = pose.rotation.matrix();
+            p.translation = pose.translation;
+            solved.insert(p.id, pose);
+        }
+        for o in &mut out.observations {
+            if let (Some(pose), Some(&id)) = (solved.get(&o.pose), self.landmarks.get(&o.landmark))
+            {
+                o.landmark_in_camera = pose
+                    .inverse()
+                    .transform_point(&Vector3::from_column_slice(value(id)));
+            }
+        }
+        out
+    }
+}

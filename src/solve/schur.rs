@@ -1,0 +1,88 @@
+//! The fast path of bundle adjustment and stereo VO: crate `factor-schur`
+//! (Levenberg–Marquardt with the landmarks eliminated by a Schur
+//! complement formed straight from the fused normal-equation kernels in
+//! lane batches, the reduced system by faer's sparse Cholesky).
+
+use factor_apex::problems;
+use factor_apex::solve::SolveOptions;
+use factor_schur::problems::BuildError;
+use factor_schur::{Profile, Solver};
+
+use super::progress::duration;
+use super::{SolveArgs, at, finish, progress, report};
+use crate::error::CliError;
+
+/// The solver in words, for the header.
+const SOLVER: &str = "(Schur complement: landmarks eliminated, fused normal-equation kernels \
+                      on 4×f64 lanes, faer sparse Cholesky)";
+
+/// Builds, solves and reports `data` with the Schur-complement solver.
+pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String, CliError> {
+    let mut built = factor_schur::problems::build(data, args.robust).map_err(|e| match e {
+        BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
+        BuildError::Degenerate { .. } | BuildError::Shape(_) => CliError::Solve(at(&args.file, e)),
+    })?;
+    let before = problems::reprojection_errors(data);
+    let blocks = built.blocks;
+    let solver = Solver::new(&mut built.problem)
+        .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
+    let setup = report::Setup {
+        blocks,
+        solver: SOLVER.to_owned(),
+        initial_cost: solver.initial_cost(),
+    };
+    progress::print(&report::header(&args.file, data, &setup, args));
+    let options = SolveOptions {
+        max_iterations: args.max_iterations,
+        ..SolveOptions::default()
+    };
+    let mut progress = progress::Progress::new(args.max_iterations, blocks);
+    let outcome = solver.run(&options, progress.callback());
+    progress.finish();
+    let solved = built.write_back(data);
+    let finished = report::Finished {
+        verdict: outcome.verdict.clone(),
+        iterations: outcome.iterations,
+        elapsed: outcome.elapsed,
+        initial_cost: outcome.initial_cost,
+        final_cost: outcome.final_cost,
+        history: &outcome.history,
+        blocks,
+        rejected: outcome.rejected,
+        first_rejection: outcome.first_rejection.as_deref(),
+        extra: breakdown(&outcome.profile, outcome.elapsed),
+    };
+    finish(args, &solved, before, &finished)
+}
+
+/// Where the solve's time went: the fused kernels' share, and each part.
+fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
+    let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / elapsed.as_secs_f64().max(1e-12);
+    vec![
+        format!(
+            "  fused normal-equation kernels (4×f64 lane batches): {}{} ({:.1}% of the solve), \
+             within linearization passes of {} in all",
+            duration(p.kernels),
+            if p.threads > 1 { " of thread time" } else { "" },
+            share(p.kernels) / p.threads as f64,
+            duration(p.linearization)
+        ),
+        format!(
+            "  Schur complement: set-up {}, eliminating {}, reduced system ({} × {}, {} entries, \
+             Cholesky factor {}) {}, back-substitution {}, retraction {}, cost evaluations {}; \
+             {} thread{}",
+            duration(p.setup),
+            duration(p.eliminate),
+            p.reduced_dim,
+            p.reduced_dim,
+            p.reduced_entries,
+            p.factor_entries,
+            duration(p.factorize),
+            duration(p.back_substitute),
+            duration(p.retract),
+            duration(p.evaluation),
+            p.threads,
+            if p.threads == 1 { "" } else { "s" }
+        ),
+    ]
+}
