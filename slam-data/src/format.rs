@@ -17,6 +17,11 @@ pub enum Format {
     Bundler,
     /// g2o `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` ([`crate::g2o`]).
     G2o,
+    /// g2o's 3D lines and planes beside the poses (`types_slam3d_addons`:
+    /// `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`,
+    /// `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX`;
+    /// [`crate::g2o::read_graph`]).
+    G2oAddons,
     /// `VERTEX3`/`EDGE3` ([`crate::edge3`]).
     Edge3,
     /// GTSAM's KITTI stereo VO files ([`crate::kitti_vo`]).
@@ -25,31 +30,38 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order of their names in messages.
-    pub const ALL: [Format; 5] = [
+    pub const ALL: [Format; 6] = [
         Format::Bal,
         Format::Bundler,
         Format::G2o,
+        Format::G2oAddons,
         Format::Edge3,
         Format::KittiVo,
     ];
 
-    /// The name [`FromStr`] takes: `bal`, `bundler`, `g2o`, `edge3`, `kitti-vo`.
+    /// The name [`FromStr`] takes: `bal`, `bundler`, `g2o`, `g2o-addons`,
+    /// `edge3`, `kitti-vo`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Bal => "bal",
             Format::Bundler => "bundler",
             Format::G2o => "g2o",
+            Format::G2oAddons => "g2o-addons",
             Format::Edge3 => "edge3",
             Format::KittiVo => "kitti-vo",
         }
     }
 
     /// The format of the file at `path`: a file named `VO_*.txt` is KITTI
-    /// VO, `*.out` Bundler, `*.g2o` g2o; any other (`.txt` is ambiguous) is
-    /// told by its content: a first line `# Bundle file v0.3` is Bundler,
-    /// and the first record (skipping blank and `#` lines) starting with
-    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o, with `VERTEX3`/`EDGE3`
-    /// EDGE3, and of three integers BAL.
+    /// VO, `*.out` Bundler, `*.g2o` g2o (with lines and planes,
+    /// [`Format::G2oAddons`], when a record's tag is one only those have:
+    /// `PARAMS_SE3OFFSET`, `VERTEX_LINE3D`, `VERTEX_PLANE`,
+    /// `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `FIX`); any other (`.txt` is ambiguous) is told by its
+    /// content: a first line `# Bundle file v0.3` is Bundler, and the first
+    /// record (skipping blank and `#` lines) starting with
+    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o (or g2o with lines and
+    /// planes, as above), with one of those tags g2o with lines and
+    /// planes, with `VERTEX3`/`EDGE3` EDGE3, and of three integers BAL.
     pub fn detect(path: &Path) -> Result<Format, Error> {
         let name = path
             .file_name()
@@ -60,7 +72,7 @@ impl Format {
         }
         match path.extension().and_then(|e| e.to_str()) {
             Some("out") => return Ok(Format::Bundler),
-            Some("g2o") => return Ok(Format::G2o),
+            Some("g2o") => return g2o_dialect(path),
             _ => {}
         }
         let (reader, name) = input::open(path)?;
@@ -85,7 +97,8 @@ impl Format {
         }
         let fields: Vec<&str> = lines.current_text().split_ascii_whitespace().collect();
         match fields.as_slice() {
-            ["VERTEX_SE3:QUAT" | "EDGE_SE3:QUAT", ..] => Ok(Format::G2o),
+            ["VERTEX_SE3:QUAT" | "EDGE_SE3:QUAT", ..] => g2o_dialect(path),
+            [tag, ..] if ADDON_TAGS.contains(tag) => Ok(Format::G2oAddons),
             ["VERTEX3" | "EDGE3", ..] => Ok(Format::Edge3),
             [a, b, c] if [a, b, c].iter().all(|t| parse_integer(t).is_ok()) => Ok(Format::Bal),
             _ => Err(lines.error(format!(
@@ -94,6 +107,31 @@ impl Format {
             ))),
         }
     }
+}
+
+/// The record tags of g2o's line and plane graphs that its plain pose
+/// graphs do not have.
+const ADDON_TAGS: [&str; 6] = [
+    "PARAMS_SE3OFFSET",
+    "VERTEX_LINE3D",
+    "VERTEX_PLANE",
+    "EDGE_SE3_LINE3D",
+    "EDGE_SE3_PLANE_CALIB",
+    "FIX",
+];
+
+/// [`Format::G2oAddons`] when a record of the g2o file at `path` starts with
+/// one of [`ADDON_TAGS`], [`Format::G2o`] otherwise.
+fn g2o_dialect(path: &Path) -> Result<Format, Error> {
+    let (reader, name) = input::open(path)?;
+    let mut lines = Lines::new(reader, &name);
+    while lines.next_record()?.is_some() {
+        let tag = lines.current_text().split_ascii_whitespace().next();
+        if tag.is_some_and(|t| ADDON_TAGS.contains(&t)) {
+            return Ok(Format::G2oAddons);
+        }
+    }
+    Ok(Format::G2o)
 }
 
 /// The format names, for messages.

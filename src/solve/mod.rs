@@ -16,10 +16,12 @@
 pub mod plot;
 pub mod progress;
 pub mod report;
+pub mod truth;
 
 use std::path::{Path, PathBuf};
 
 use factor_apex::Kernels;
+use factor_apex::problems::g2o_addons::{self, LandmarkFactors};
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice, Robust};
 use factor_apex::solve::{SolveOptions, Verdict, solve};
 use slam_data::Format;
@@ -43,6 +45,11 @@ pub struct SolveArgs {
     pub output: Option<PathBuf>,
     /// Where to write the SVG plot.
     pub plot: Option<PathBuf>,
+    /// The factors of the lines and planes of a g2o line and plane graph.
+    pub landmarks: LandmarkFactors,
+    /// The ground truth to report errors against (a g2o line and plane
+    /// graph; by default `STEM_truth.g2o` beside the file, when it exists).
+    pub truth: Option<PathBuf>,
 }
 
 /// `FILE: what` (made one printable line by [`CliError::one_line`]).
@@ -66,7 +73,16 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         robust: args.robust,
         keep_blocks: false,
     };
-    let mut built = problems::build(&data, &options).map_err(|e| match e {
+    let built = match (&data, args.landmarks) {
+        (slam_data::Problem::G2oAddons(graph), landmarks) => {
+            g2o_addons::build_with(graph, &options, landmarks)
+        }
+        (_, LandmarkFactors::G2o) => problems::build(&data, &options),
+        (_, LandmarkFactors::Documents) => Err(BuildError::Unavailable(
+            "--factors documents: only for g2o line and plane graphs".into(),
+        )),
+    };
+    let mut built = built.map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
         BuildError::Degenerate { .. } | BuildError::Solver(_) | BuildError::Adapter(_) => {
             CliError::Solve(at(&args.file, e))
@@ -85,6 +101,7 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     let solved = built.write_back(&data, &outcome.values);
     let after = problems::reprojection_errors(&solved);
     let errors = before.as_deref().zip(after.as_deref());
+    let truth = truth::against(&args.file, args.truth.as_deref(), &data, &solved)?;
     if let Some(path) = &args.plot {
         plot::write(path, built.initial_cost, &outcome.history, errors)?;
     }
@@ -105,11 +122,16 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     if let Some(path) = &args.output {
         solved.write(path)?;
     }
-    Ok(report::summary(
+    let mut summary = report::summary(
         &built,
         &outcome,
         errors,
         args.output.as_deref(),
         args.plot.as_deref(),
-    ))
+    );
+    if let Some(truth) = truth {
+        summary.push('\n');
+        summary.push_str(&truth);
+    }
+    Ok(summary)
 }
