@@ -439,3 +439,122 @@ fn synthetic_problems_are_generated_and_solved() {
     ]);
     assert_error(&output, 2, &["cameras"]);
 }
+
+/// A problem file: two fixed cameras triangulating a point (observations
+/// computed here from the true point), its factor's noise and robust loss
+/// as written.
+fn triangulation() -> serde_json::Value {
+    let truth = [0.2, -0.1, 4.0];
+    let mut factors = Vec::new();
+    for (name, x) in [("c0", -0.5), ("c1", 0.5)] {
+        let p = [truth[0] + x, truth[1], truth[2]];
+        factors.push(serde_json::json!({
+            "factor": "point_reprojection",
+            "variables": {"pose": name, "point": "p"},
+            "constants": {
+                "intrinsics": [500.0, 500.0, 320.0, 240.0],
+                "observed": [500.0 * p[0] / p[2] + 320.0, 500.0 * p[1] / p[2] + 240.0]
+            },
+            "noise": {"sigmas": [1.0, 2.0]},
+            "robust": "huber:10"
+        }));
+    }
+    let camera = |x: f64| {
+        serde_json::json!({
+            "type": "Se3",
+            "value": {"rotation": [0.0, 0.0, 0.0, 1.0], "translation": [x, 0.0, 0.0]},
+            "fixed": true
+        })
+    };
+    serde_json::json!({
+        "slamjac_problem": 1,
+        "variables": {
+            "p": {"type": "Vector3", "value": [0.0, 0.0, 3.0]},
+            "c0": camera(-0.5),
+            "c1": camera(0.5)
+        },
+        "factors": factors
+    })
+}
+
+/// Solved, the point is the true one; `--output` then `solve` again gives
+/// the same cost.
+#[test]
+fn problem_files_are_solved_and_round_trip() {
+    let dir = temp_dir("problem-file");
+    let input = dir.join("tri.json");
+    std::fs::write(&input, triangulation().to_string()).unwrap();
+    let out = dir.join("tri-solved.json");
+    let first = solve_ok(&[
+        "solve",
+        input.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    let (initial, last) = costs(&first);
+    assert!(initial > 1.0 && last < 1e-12, "{initial} → {last}");
+    let solved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let point: Vec<f64> =
+        serde_json::from_value(solved["variables"]["p"]["value"].clone()).unwrap();
+    for (got, want) in point.iter().zip([0.2, -0.1, 4.0]) {
+        assert!((got - want).abs() < 1e-9, "{point:?}");
+    }
+    let again = solve_ok(&["solve", out.to_str().unwrap(), "--max-iterations", "1"]);
+    assert_relative(costs(&again).0 + 1e-30, last + 1e-30, 1e-6, "re-read cost");
+}
+
+/// Malformed problem files: one line naming the field, exit 2.
+#[test]
+fn malformed_problem_files_name_the_field() {
+    let dir = temp_dir("bad-problem-file");
+    let cases: Vec<(fn(&mut serde_json::Value), &[&str])> = vec![
+        (
+            |p| p["slamjac_problem"] = 2.into(),
+            &["slamjac_problem: version 2"],
+        ),
+        (
+            |p| p["variables"]["p"]["type"] = "Vector2".into(),
+            &["factors[0].variables.point", "is a Vector2"],
+        ),
+        (
+            |p| p["factors"][1]["variables"]["pose"] = "c9".into(),
+            &["factors[1].variables.pose", "no variable \"c9\""],
+        ),
+        (
+            |p| p["factors"][0]["noise"] = serde_json::json!({"sigmas": [1.0]}),
+            &["factors[0].noise.sigmas"],
+        ),
+        (
+            |p| p["factors"][0]["noise"] = serde_json::json!({"sigma": -1.0}),
+            &["factors[0].noise.sigma", "above 0"],
+        ),
+        (
+            |p| p["factors"][0]["robust"] = "tukey:1".into(),
+            &["factors[0].robust", "unknown loss"],
+        ),
+        (
+            |p| p["variables"]["c0"]["value"]["rotation"] = serde_json::json!([0, 0, 0, 2]),
+            &["factors[0].variables.pose.rotation"],
+        ),
+        (
+            |p| p["factors"][0]["factor"] = "nope".into(),
+            &["factors[0].factor", "unknown factor"],
+        ),
+        (
+            |p| p["variables"]["q"] = serde_json::json!({"type": "Vector3", "value": [0, 0, 1]}),
+            &["variables.q", "no factor uses this variable"],
+        ),
+        (
+            |p| p["factors"][0]["extra"] = 1.into(),
+            &["factors[0].extra", "unknown field"],
+        ),
+    ];
+    for (k, (spoil, needles)) in cases.into_iter().enumerate() {
+        let mut problem = triangulation();
+        spoil(&mut problem);
+        let path = dir.join(format!("bad{k}.json"));
+        std::fs::write(&path, problem.to_string()).unwrap();
+        assert_error(&slamjac(&["solve", path.to_str().unwrap()]), 2, needles);
+    }
+}

@@ -14,6 +14,7 @@
 //! stops on a failure.
 
 pub mod plot;
+pub mod problem_file;
 pub mod progress;
 pub mod report;
 pub mod truth;
@@ -67,12 +68,15 @@ fn at(file: &Path, what: impl std::fmt::Display) -> String {
 /// [`CliError::Solve`] for a problem degenerate at its initial values or a
 /// solve that stopped on a failure (the summary is printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
-    let data = slam_data::Problem::read(&args.file, args.format)?;
     let options = BuildOptions {
         factors: FactorChoice::Ours(args.kernels),
         robust: args.robust,
         keep_blocks: false,
     };
+    if args.format.is_none() && args.file.extension().is_some_and(|e| e == "json") {
+        return run_file(args, &options);
+    }
+    let data = slam_data::Problem::read(&args.file, args.format)?;
     let built = match (&data, args.landmarks) {
         (slam_data::Problem::G2oAddons(graph), landmarks) => {
             g2o_addons::build_with(graph, &options, landmarks)
@@ -134,4 +138,48 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         summary.push_str(&truth);
     }
     Ok(summary)
+}
+
+/// [`run`] for a problem file ([`problem_file`]).
+fn run_file(args: &SolveArgs, options: &BuildOptions) -> Result<String, CliError> {
+    let mut problem = problem_file::read(&args.file, options)?;
+    let built = &mut problem.built;
+    progress::print(&format!(
+        "{} (problem file): {} blocks, {} kernels where generated (dual numbers otherwise); \
+         Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
+        args.file.display(),
+        built.blocks,
+        args.kernels.name(),
+        built.linear_solver,
+        built.initial_cost
+    ));
+    let solve_options = SolveOptions {
+        max_iterations: args.max_iterations,
+        ..SolveOptions::default()
+    };
+    let mut progress = progress::Progress::new(args.max_iterations, built.blocks);
+    let outcome = solve(built, &solve_options, progress.callback())
+        .map_err(|e| CliError::Solve(at(&args.file, format!("the solve stopped: {e}"))))?;
+    progress.finish();
+    if let Some(path) = &args.plot {
+        plot::write(path, built.initial_cost, &outcome.history, None)?;
+    }
+    if let Verdict::Failed(why) = outcome.verdict() {
+        return Err(CliError::Solve(at(
+            &args.file,
+            format!("the solve stopped on a failure: {why}; no output written"),
+        )));
+    }
+    if let Some(path) = &args.output {
+        let text = crate::pretty::to_string(&problem.written(&outcome.values));
+        std::fs::write(path, text + "\n")
+            .map_err(|e| CliError::Usage(at(path, format!("cannot write: {e}"))))?;
+    }
+    Ok(report::summary(
+        &problem.built,
+        &outcome,
+        None,
+        args.output.as_deref(),
+        args.plot.as_deref(),
+    ))
 }

@@ -546,6 +546,9 @@ impl ProblemBuilder {
     }
 }
 
+/// A solution's variables ([`crate::solve::Outcome::values`]).
+pub type Values = SlotMap<VarKey, Box<dyn apex_solver::core::variable::ManifoldVariable>>;
+
 /// The range of variable `variable`'s stored scalars in `F`'s storage.
 fn stored_range<F: HostFactor<Apex>>(variable: usize) -> std::ops::Range<usize> {
     let mut offset = 0;
@@ -567,7 +570,7 @@ fn stored_range<F: HostFactor<Apex>>(variable: usize) -> std::ops::Range<usize> 
 /// If a key of `variable` is not among `values`, or `F`'s variable `index`
 /// is not of `variable`'s type.
 pub fn stored_value_of<F: HostFactor<Apex>>(
-    values: &SlotMap<VarKey, Box<dyn apex_solver::core::variable::ManifoldVariable>>,
+    values: &Values,
     variable: &AnyVariable,
     index: usize,
 ) -> Vec<f64> {
