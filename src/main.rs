@@ -117,7 +117,8 @@ enum Command {
     /// its factors linearized by their generated kernels: bundle adjustment
     /// (BAL, Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3:
     /// the first pose fixed), stereo visual odometry (KITTI VO files: the
-    /// first pose fixed). Prints a line per iteration and a summary. Needs
+    /// first pose fixed), g2o's line and plane graphs (the FIX vertices
+    /// fixed), and problem files of any registered factors (`*.json`). Prints a line per iteration and a summary. Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     Solve {
         /// The data file; a KITTI VO problem is named by any of its three

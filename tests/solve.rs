@@ -504,11 +504,14 @@ fn problem_files_are_solved_and_round_trip() {
     assert_relative(costs(&again).0 + 1e-30, last + 1e-30, 1e-6, "re-read cost");
 }
 
+/// A way to spoil a problem file, and what its error must say.
+type Spoiled = (fn(&mut serde_json::Value), &'static [&'static str]);
+
 /// Malformed problem files: one line naming the field, exit 2.
 #[test]
 fn malformed_problem_files_name_the_field() {
     let dir = temp_dir("bad-problem-file");
-    let cases: Vec<(fn(&mut serde_json::Value), &[&str])> = vec![
+    let cases: Vec<Spoiled> = vec![
         (
             |p| p["slamjac_problem"] = 2.into(),
             &["slamjac_problem: version 2"],

@@ -298,7 +298,7 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
         &json,
         "",
         &["slamjac_problem", "variables", "factors"],
-        &["truth"],
+        &[],
     )?;
     let version = top.number("slamjac_problem")?;
     if version != VERSION as f64 {
@@ -489,5 +489,18 @@ impl FileProblem {
             json["variables"][name]["value"] = value_json(&created.field, &stored);
         }
         json
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every registered factor can be read from a problem file.
+    #[test]
+    fn every_registered_factor_has_an_adder() {
+        let adders: Vec<&str> = adders().iter().map(|(name, _)| *name).collect();
+        let registered: Vec<&str> = registry::factors().iter().map(|f| f.name).collect();
+        assert_eq!(adders, registered);
     }
 }
