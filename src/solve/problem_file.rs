@@ -294,12 +294,7 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
     let text = std::fs::read_to_string(file)
         .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
     let json = crate::strict_json::parse_json(&text, &name)?;
-    let top = open(
-        &json,
-        "",
-        &["slamjac_problem", "variables", "factors"],
-        &[],
-    )?;
+    let top = open(&json, "", &["slamjac_problem", "variables", "factors"], &[])?;
     let version = top.number("slamjac_problem")?;
     if version != VERSION as f64 {
         return Err(InputError::new(
