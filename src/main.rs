@@ -6,8 +6,8 @@
 //! slamjac generate [--out DIR]   # rewrite generated/ from the factor definitions
 //! slamjac check [--dir DIR]      # exit 1 when generated/ is stale
 //! slamjac solve FILE [--format F] [--kernels generated|dual] [--solver auto|schur|apex]
-//!               [--max-iterations N] [--robust huber:δ|cauchy:δ] [--output FILE]
-//!               [--plot FILE.svg]                                                # feature `solve`
+//!               [--max-iterations N] [--factors g2o|documents] [--truth FILE]
+//!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
 //! slamjac synth-bal --cameras N --points M [--views V] [--visibility ring|local] [--seed S]
 //!                   [--outliers F] [--noise σ] --output FILE
 //! slamjac audit [--samples N] [--markdown F] [--json F] [--allow-unread]  # the shipped documents
@@ -95,9 +95,11 @@ enum Command {
     /// linearized by their generated kernels: bundle adjustment (BAL,
     /// Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3: the first
     /// pose fixed), stereo visual odometry (KITTI VO files: the first pose
-    /// fixed); the landmarks of bundle adjustment and VO eliminated by a
-    /// Schur complement, other problems by apex-solver. Prints a line per
-    /// iteration and a summary. Needs
+    /// fixed), g2o's line and plane graphs (the FIX vertices fixed), and
+    /// problem files of any registered factors (`*.json`); the landmarks of
+    /// bundle adjustment and VO eliminated by a Schur complement, other
+    /// problems by apex-solver. Prints a line per iteration and a summary.
+    /// Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
     Solve {
@@ -133,6 +135,15 @@ enum Command {
         /// reprojection problems, the reprojection errors before and after.
         #[arg(long, value_name = "FILE.svg")]
         plot: Option<PathBuf>,
+        /// The factors of the lines and planes of a g2o line and plane
+        /// graph: g2o's own errors (the cost is g2o's χ²/2) or the
+        /// documents' orthonormal-line and quaternion-plane factors.
+        #[arg(long, value_enum, default_value_t)]
+        factors: LandmarkChoice,
+        /// Ground truth to report errors against (a g2o line and plane
+        /// graph) [default: STEM_truth.g2o beside the file, if it exists].
+        #[arg(long, value_name = "FILE")]
+        truth: Option<PathBuf>,
     },
     /// Write a seeded synthetic bundle-adjustment problem as a BAL file:
     /// cameras on a ring looking at a ball of points, Gaussian pixel noise,
@@ -201,6 +212,16 @@ enum VisibilityFlag {
     Local,
 }
 
+/// `--factors`: which factors measure the lines and planes of a g2o graph.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+enum LandmarkChoice {
+    /// g2o's own error definitions.
+    #[default]
+    G2o,
+    /// The documents' line and plane factors.
+    Documents,
+}
+
 fn parse_format(name: &str) -> Result<slam_data::Format, String> {
     name.parse()
         .map_err(|e: slam_data::UnknownFormat| e.to_string())
@@ -217,8 +238,11 @@ fn solve(
     robust: Option<String>,
     output: Option<PathBuf>,
     plot: Option<PathBuf>,
+    factors: LandmarkChoice,
+    truth: Option<PathBuf>,
 ) -> Result<String, CliError> {
     use factor_apex::Kernels;
+    use factor_apex::problems::g2o_addons::LandmarkFactors;
     use slamjac::solve::SolverChoice;
     let robust = robust
         .map(|r| {
@@ -242,6 +266,11 @@ fn solve(
         robust,
         output,
         plot,
+        landmarks: match factors {
+            LandmarkChoice::G2o => LandmarkFactors::G2o,
+            LandmarkChoice::Documents => LandmarkFactors::Documents,
+        },
+        truth,
     })
 }
 
@@ -256,6 +285,8 @@ fn solve(
     _robust: Option<String>,
     _output: Option<PathBuf>,
     _plot: Option<PathBuf>,
+    _factors: LandmarkChoice,
+    _truth: Option<PathBuf>,
 ) -> Result<String, CliError> {
     Err(CliError::Usage(
         "solve: this slamjac was built without the feature `solve`; build it with \
@@ -304,6 +335,8 @@ fn main() -> ExitCode {
             robust,
             output,
             plot,
+            factors,
+            truth,
         } => solve(
             file,
             format,
@@ -313,6 +346,8 @@ fn main() -> ExitCode {
             robust,
             output,
             plot,
+            factors,
+            truth,
         ),
         Command::SynthBal {
             cameras,

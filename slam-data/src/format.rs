@@ -20,6 +20,11 @@ pub enum Format {
     Bundler,
     /// g2o `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` ([`crate::g2o`]).
     G2o,
+    /// g2o's 3D lines and planes beside the poses (`types_slam3d_addons`:
+    /// `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`,
+    /// `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX`;
+    /// [`crate::g2o::read_graph`]).
+    G2oAddons,
     /// `VERTEX3`/`EDGE3` ([`crate::edge3`]).
     Edge3,
     /// GTSAM's KITTI stereo VO files ([`crate::kitti_vo`]).
@@ -28,28 +33,32 @@ pub enum Format {
 
 impl Format {
     /// Every format, in the order of their names in messages.
-    pub const ALL: [Format; 5] = [
+    pub const ALL: [Format; 6] = [
         Format::Bal,
         Format::Bundler,
         Format::G2o,
+        Format::G2oAddons,
         Format::Edge3,
         Format::KittiVo,
     ];
 
-    /// The name [`FromStr`] takes: `bal`, `bundler`, `g2o`, `edge3`, `kitti-vo`.
+    /// The name [`FromStr`] takes: `bal`, `bundler`, `g2o`, `g2o-addons`,
+    /// `edge3`, `kitti-vo`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Bal => "bal",
             Format::Bundler => "bundler",
             Format::G2o => "g2o",
+            Format::G2oAddons => "g2o-addons",
             Format::Edge3 => "edge3",
             Format::KittiVo => "kitti-vo",
         }
     }
 
     /// The format a file's name tells: `VO_*.txt` is KITTI VO, `*.out`
-    /// Bundler, `*.g2o` g2o; `None` for any other name (`.txt` is
-    /// ambiguous: see [`Format::from_content`]).
+    /// Bundler; `None` for any other name (`.txt` is ambiguous, and `.g2o`
+    /// a pose graph or one with lines and planes: see
+    /// [`Format::from_content`]).
     pub fn from_name(path: &Path) -> Option<Format> {
         let name = path
             .file_name()
@@ -60,7 +69,8 @@ impl Format {
         }
         match path.extension().and_then(|e| e.to_str()) {
             Some("out") => Some(Format::Bundler),
-            Some("g2o") => Some(Format::G2o),
+            // `.g2o` is a pose graph or one with lines and planes: the
+            // content tells which.
             _ => None,
         }
     }
@@ -68,7 +78,9 @@ impl Format {
     /// The format the start of an input tells (at most [`SNIFF_BYTES`] of
     /// it are looked at): a first line `# Bundle file v0.3` is Bundler, and
     /// the first record (skipping blank and `#` lines) starting with
-    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o, with `VERTEX3`/`EDGE3`
+    /// `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` is g2o (with lines and planes,
+    /// [`Format::G2oAddons`], when a record within the window starts with a
+    /// tag only those have, or the first does), with `VERTEX3`/`EDGE3`
     /// EDGE3, and of three integers BAL. `name` names the input in errors.
     /// [`crate::Problem::read_from`] sniffs a stream this way and reads it
     /// once.
@@ -93,9 +105,15 @@ impl Format {
                 names()
             )));
         }
-        let fields: Vec<&str> = lines.current_text().split_ascii_whitespace().collect();
+        let record: Vec<String> = lines
+            .current_text()
+            .split_ascii_whitespace()
+            .map(str::to_owned)
+            .collect();
+        let fields: Vec<&str> = record.iter().map(String::as_str).collect();
         match fields.as_slice() {
-            ["VERTEX_SE3:QUAT" | "EDGE_SE3:QUAT", ..] => Ok(Format::G2o),
+            ["VERTEX_SE3:QUAT" | "EDGE_SE3:QUAT", ..] => Ok(g2o_dialect(&mut lines)),
+            [tag, ..] if ADDON_TAGS.contains(tag) => Ok(Format::G2oAddons),
             ["VERTEX3" | "EDGE3", ..] => Ok(Format::Edge3),
             [a, b, c] if [a, b, c].iter().all(|t| parse_integer(t).is_ok()) => Ok(Format::Bal),
             _ => Err(lines.error(format!(
@@ -133,6 +151,31 @@ pub(crate) fn sniff<R: BufRead>(reader: R, name: &str) -> (Result<Format, Error>
     replay::sniff(reader, SNIFF_BYTES, |start| {
         Format::from_content(start, name)
     })
+}
+
+/// The record tags of g2o's line and plane graphs that its plain pose
+/// graphs do not have.
+const ADDON_TAGS: [&str; 6] = [
+    "PARAMS_SE3OFFSET",
+    "VERTEX_LINE3D",
+    "VERTEX_PLANE",
+    "EDGE_SE3_LINE3D",
+    "EDGE_SE3_PLANE_CALIB",
+    "FIX",
+];
+
+/// [`Format::G2oAddons`] when a record of the g2o input from `lines` on
+/// (within what the format is told from, [`SNIFF_BYTES`]) starts with one of
+/// [`ADDON_TAGS`], [`Format::G2o`] otherwise. The window may end inside a
+/// record: what cannot be read there ends the search.
+fn g2o_dialect<R: BufRead>(lines: &mut Lines<R>) -> Format {
+    while let Ok(Some(_)) = lines.next_record() {
+        let tag = lines.current_text().split_ascii_whitespace().next();
+        if tag.is_some_and(|t| ADDON_TAGS.contains(&t)) {
+            return Format::G2oAddons;
+        }
+    }
+    Format::G2o
 }
 
 /// The format names, for messages.

@@ -9,7 +9,7 @@
 //! | `bal` | [`bal`] | Bundle Adjustment in the Large: cameras `[ω, t, f, k1, k2]`, points, observations | [`BalProblem`] |
 //! | `bundler` | [`bundler`] | Bundler v0.3 `bundle.out`: cameras `f k1 k2, R, t`, points with colours and views | [`BundlerProblem`] |
 //! | `g2o` | [`g2o`] | `VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` pose graphs | [`PoseGraph`] |
-//! | (g2o, [`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines and planes beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
+//! | `g2o-addons` ([`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines and planes beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
 //! | `edge3` | [`edge3`] | `VERTEX3`, `EDGE3` pose graphs (`sphere2500`) | [`PoseGraph`] |
 //! | `kitti-vo` | [`kitti_vo`] | GTSAM's KITTI stereo VO: calibration, camera poses, stereo observations | [`StereoVo`] |
 //!

@@ -10,6 +10,7 @@ use crate::edge3;
 use crate::error::Error;
 use crate::format::{Format, sniff};
 use crate::g2o;
+use crate::g2o_graph::G2oGraph;
 use crate::input;
 use crate::kitti_vo::{self, StereoVo, VoFiles};
 use crate::pose_graph::PoseGraph;
@@ -23,6 +24,8 @@ pub enum Problem {
     Bundler(BundlerProblem),
     /// A g2o pose graph.
     G2o(PoseGraph),
+    /// A g2o graph with 3D lines and planes.
+    G2oAddons(G2oGraph),
     /// An EDGE3 pose graph.
     Edge3(PoseGraph),
     /// A KITTI stereo VO problem.
@@ -68,6 +71,7 @@ impl Problem {
             Format::Bal => Problem::Bal(bal::read_from(reader, name)?),
             Format::Bundler => Problem::Bundler(bundler::read_from(reader, name)?),
             Format::G2o => Problem::G2o(g2o::read_from(reader, name)?),
+            Format::G2oAddons => Problem::G2oAddons(g2o::read_graph_from(reader, name)?),
             Format::Edge3 => Problem::Edge3(edge3::read_from(reader, name)?),
             Format::KittiVo => {
                 return Err(Error::file(
@@ -107,6 +111,7 @@ impl Problem {
             Problem::Bal(_) => Format::Bal,
             Problem::Bundler(_) => Format::Bundler,
             Problem::G2o(_) => Format::G2o,
+            Problem::G2oAddons(_) => Format::G2oAddons,
             Problem::Edge3(_) => Format::Edge3,
             Problem::KittiVo(_) => Format::KittiVo,
         }
@@ -121,6 +126,7 @@ impl Problem {
             Problem::Bal(problem) => bal::write(problem, path),
             Problem::Bundler(problem) => bundler::write(problem, path),
             Problem::G2o(graph) => g2o::write(graph, path),
+            Problem::G2oAddons(graph) => g2o::write_graph(graph, path),
             Problem::Edge3(graph) => edge3::write(graph, path),
             Problem::KittiVo(vo) => kitti_vo::write(vo, &VoFiles::named(path)?),
         }

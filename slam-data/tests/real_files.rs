@@ -597,8 +597,40 @@ fn formats_are_detected_from_names_and_content() {
     let unknown = "ply".parse::<Format>().unwrap_err().to_string();
     assert_eq!(
         unknown,
-        "unknown format `ply` (one of bal, bundler, g2o, edge3, kitti-vo)"
+        "unknown format `ply` (one of bal, bundler, g2o, g2o-addons, edge3, kitti-vo)"
     );
+}
+
+/// g2o's line and plane graphs are told from plain pose graphs by their
+/// tags, whether named `.g2o` or told by their content.
+#[test]
+fn g2o_line_and_plane_graphs_are_detected() {
+    let addons = |name: &str| {
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../data/g2o-addons")
+            .join(name)
+    };
+    for name in ["line3d.g2o", "plane3d.g2o", "plane3d_calib.g2o"] {
+        assert_eq!(Format::detect(&addons(name)).unwrap(), Format::G2oAddons);
+        let Problem::G2oAddons(graph) = Problem::read(addons(name), None).unwrap() else {
+            panic!("{name}: read as a line and plane graph");
+        };
+        assert_eq!(graph.pose_edges.len(), 160, "{name}");
+    }
+    // Content alone: the same text under a name that says nothing.
+    let dir = std::env::temp_dir().join(format!("slam-data-detect-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plain = dir.join("line3d.txt");
+    std::fs::copy(addons("line3d.g2o"), &plain).unwrap();
+    assert_eq!(Format::detect(&plain).unwrap(), Format::G2oAddons);
+    let posed = dir.join("poses.g2o");
+    std::fs::write(
+        &posed,
+        "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n",
+    )
+    .unwrap();
+    assert_eq!(Format::detect(&posed).unwrap(), Format::G2o);
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -1,20 +1,26 @@
 //! The general path: the problem built for apex-solver through the adapter
-//! of crate `factor-apex`, solved by its Levenberg–Marquardt.
+//! of crate `factor-apex`, solved by its Levenberg–Marquardt; g2o's line and
+//! plane graphs and problem files ([`super::problem_file`]) take it always.
 
-use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
-use factor_apex::solve::{SolveOptions, solve};
+use factor_apex::problems::g2o_addons;
+use factor_apex::problems::{self, BuildError, BuildOptions, Built, FactorChoice};
+use factor_apex::solve::{Outcome, SolveOptions, Verdict, solve};
 
-use super::{SolveArgs, at, finish, progress, report};
+use super::{SolveArgs, at, finish, plot, problem_file, progress, report};
 use crate::error::CliError;
+use crate::field_path::shown_path;
+use crate::outputs;
 
 /// Builds, solves and reports `data` with apex-solver.
 pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String, CliError> {
-    let options = BuildOptions {
-        factors: FactorChoice::Ours(args.kernels),
-        robust: args.robust,
-        keep_blocks: false,
+    let options = build_options(args);
+    let built = match data {
+        slam_data::Problem::G2oAddons(graph) => {
+            g2o_addons::build_with(graph, &options, args.landmarks)
+        }
+        _ => problems::build(data, &options),
     };
-    let mut built = problems::build(data, &options).map_err(|e| match e {
+    let mut built = built.map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
         BuildError::Degenerate { .. } | BuildError::Solver(_) | BuildError::Adapter(_) => {
             CliError::Solve(at(&args.file, e))
@@ -27,16 +33,73 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
         initial_cost: built.initial_cost,
     };
     progress::print(&report::header(&args.file, data, &setup, args));
+    let outcome = solve_built(args, &mut built)?;
+    let solved = built.write_back(data, &outcome.values);
+    finish(args, data, &solved, before, &finished(&built, &outcome))
+}
+
+/// Reads, solves and reports a problem file, and writes it back with the
+/// solution (`--output`).
+pub(super) fn run_problem_file(args: &SolveArgs) -> Result<String, CliError> {
+    let mut problem = problem_file::read(&args.file, &build_options(args))?;
+    let built = &mut problem.built;
+    progress::print(&format!(
+        "{} (problem file): {} blocks, {} kernels where generated (dual numbers otherwise); \
+         Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
+        shown_path(&args.file),
+        built.blocks,
+        args.kernels.name(),
+        built.linear_solver,
+        built.initial_cost
+    ));
+    let outcome = solve_built(args, built)?;
+    let finished = finished(&problem.built, &outcome);
+    if let Some(path) = &args.plot {
+        let svg = plot::svg(path, finished.initial_cost, finished.history, None)?;
+        outputs::write(path, svg)?;
+    }
+    if let Verdict::Failed(why) = &finished.verdict {
+        return Err(CliError::Solve(at(
+            &args.file,
+            format!("the solve stopped on a failure: {why}; no output written"),
+        )));
+    }
+    if let Some(path) = &args.output {
+        let text = crate::pretty::to_string(&problem.written(&outcome.values));
+        outputs::write(path, text + "\n")?;
+    }
+    Ok(report::summary(
+        &finished,
+        None,
+        args.output.as_deref(),
+        args.plot.as_deref(),
+    ))
+}
+
+fn build_options(args: &SolveArgs) -> BuildOptions {
+    BuildOptions {
+        factors: FactorChoice::Ours(args.kernels),
+        robust: args.robust,
+        keep_blocks: false,
+    }
+}
+
+/// Solves `built` with the iteration limit of `args`, with progress.
+fn solve_built(args: &SolveArgs, built: &mut Built) -> Result<Outcome, CliError> {
     let options = SolveOptions {
         max_iterations: args.max_iterations,
         ..SolveOptions::default()
     };
     let mut progress = progress::Progress::new(args.max_iterations, built.blocks);
-    let outcome = solve(&mut built, &options, progress.callback())
+    let outcome = solve(built, &options, progress.callback())
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve stopped: {e}"))))?;
     progress.finish();
-    let solved = built.write_back(data, &outcome.values);
-    let finished = report::Finished {
+    Ok(outcome)
+}
+
+/// What the summary says of `outcome`, a solve of `built`.
+fn finished<'a>(built: &'a Built, outcome: &'a Outcome) -> report::Finished<'a> {
+    report::Finished {
         verdict: outcome.verdict(),
         iterations: outcome.iterations,
         elapsed: outcome.elapsed,
@@ -47,6 +110,5 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
         rejected: built.rejections.count(),
         first_rejection: built.rejections.first(),
         extra: Vec::new(),
-    };
-    finish(args, &solved, before, &finished)
+    }
 }

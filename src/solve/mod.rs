@@ -27,13 +27,16 @@
 
 mod apex;
 pub mod plot;
+pub mod problem_file;
 pub mod progress;
 pub mod report;
 mod schur;
+pub mod truth;
 
 use std::path::{Path, PathBuf};
 
 use factor_apex::Kernels;
+use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::problems::{self, Robust};
 use factor_apex::solve::Verdict;
 use slam_data::Format;
@@ -74,6 +77,11 @@ pub struct SolveArgs {
     pub output: Option<PathBuf>,
     /// Where to write the SVG plot.
     pub plot: Option<PathBuf>,
+    /// The factors of the lines and planes of a g2o line and plane graph.
+    pub landmarks: LandmarkFactors,
+    /// The ground truth to report errors against (a g2o line and plane
+    /// graph; by default `STEM_truth.g2o` beside the file, when it exists).
+    pub truth: Option<PathBuf>,
 }
 
 /// `FILE: what` (made one printable line by [`CliError::one_line`]).
@@ -91,7 +99,10 @@ fn check_files(args: &SolveArgs) -> Result<(), CliError> {
         Some(path) => slam_data::Problem::files_written(path, format)?,
         None => Vec::new(),
     };
-    let inputs: Vec<Role<'_>> = read.iter().map(|p| Role::new("the input", p)).collect();
+    let mut inputs: Vec<Role<'_>> = read.iter().map(|p| Role::new("the input", p)).collect();
+    if let Some(truth) = &args.truth {
+        inputs.push(Role::new("--truth", truth));
+    }
     let mut outputs: Vec<Role<'_>> = written.iter().map(|p| Role::new("--output", p)).collect();
     if let Some(plot) = &args.plot {
         outputs.push(Role::new("--plot", plot));
@@ -114,7 +125,18 @@ fn check_files(args: &SolveArgs) -> Result<(), CliError> {
 /// printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     check_files(args)?;
+    if args.format.is_none() && args.file.extension().is_some_and(|e| e == "json") {
+        return apex::run_problem_file(args);
+    }
     let data = slam_data::Problem::read(&args.file, args.format)?;
+    if args.landmarks == LandmarkFactors::Documents
+        && !matches!(data, slam_data::Problem::G2oAddons(_))
+    {
+        return Err(CliError::Usage(at(
+            &args.file,
+            "--factors documents: only for g2o line and plane graphs",
+        )));
+    }
     let takes = factor_schur::problems::applies(&data);
     let schur = match args.solver {
         SolverChoice::Auto => takes && args.kernels == Kernels::Generated,
@@ -122,7 +144,8 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         SolverChoice::Schur if !takes => {
             return Err(CliError::Usage(at(
                 &args.file,
-                "--solver schur: a pose graph has no landmarks to eliminate (use --solver apex)",
+                "--solver schur takes bundle adjustment and stereo VO, whose landmarks it \
+                 eliminates (use --solver apex)",
             )));
         }
         SolverChoice::Schur if args.kernels != Kernels::Generated => {
@@ -141,15 +164,18 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
 
 /// The end of either path: the plot, the verdict, the output file and the
 /// summary, with the reprojection errors `before` the solve and those of
-/// the `solved` problem.
+/// the `solved` problem, and the errors against the ground truth where
+/// there is one ([`truth`]).
 fn finish(
     args: &SolveArgs,
+    data: &slam_data::Problem,
     solved: &slam_data::Problem,
     before: Option<Vec<f64>>,
     finished: &report::Finished<'_>,
 ) -> Result<String, CliError> {
     let after = problems::reprojection_errors(solved);
     let errors = before.as_deref().zip(after.as_deref());
+    let truth = truth::against(&args.file, args.truth.as_deref(), data, solved)?;
     if let Some(path) = &args.plot {
         outputs::write(
             path,
@@ -171,10 +197,15 @@ fn finish(
     if let Some(path) = &args.output {
         solved.write(path)?;
     }
-    Ok(report::summary(
+    let mut summary = report::summary(
         finished,
         errors,
         args.output.as_deref(),
         args.plot.as_deref(),
-    ))
+    );
+    if let Some(truth) = truth {
+        summary.push('\n');
+        summary.push_str(&truth);
+    }
+    Ok(summary)
 }

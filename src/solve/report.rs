@@ -78,6 +78,26 @@ pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &Solv
             "between",
             "the first pose fixed",
         ),
+        slam_data::Problem::G2oAddons(g) => (
+            format!(
+                "{} poses, {} lines, {} planes; {} pose edges, {} line edges, {} plane edges",
+                g.poses.len(),
+                g.lines.len(),
+                g.planes.len(),
+                g.pose_edges.len(),
+                g.line_edges.len(),
+                g.plane_edges.len()
+            ),
+            match args.landmarks {
+                factor_apex::problems::g2o_addons::LandmarkFactors::G2o => {
+                    "g2o_se3, g2o_se3_line3d, g2o_se3_plane_calib (g2o's errors; cost = χ²/2)"
+                }
+                factor_apex::problems::g2o_addons::LandmarkFactors::Documents => {
+                    "g2o_se3, line_observation, plane (the documents' line and plane factors)"
+                }
+            },
+            "the file's FIX vertices",
+        ),
         slam_data::Problem::KittiVo(vo) => (
             format!(
                 "{} poses, {} landmarks, {} stereo observations",

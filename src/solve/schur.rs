@@ -52,7 +52,7 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
         first_rejection: outcome.first_rejection.as_deref(),
         extra: breakdown(&outcome.profile, outcome.elapsed),
     };
-    finish(args, &solved, before, &finished)
+    finish(args, data, &solved, before, &finished)
 }
 
 /// Where the solve's time went: the fused kernels' share, and each part.

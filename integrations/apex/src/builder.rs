@@ -57,7 +57,7 @@ use crate::adapter::{ApexFactor, Kernels, Rejections};
 use crate::problems::{BuildError, BuildOptions, Built, FactorChoice, KeptBlock, Keys, Robust};
 use crate::solve::Damping;
 use crate::timing::{Marks, PhaseClock, Timed};
-use crate::variables::{manifold_type, to_apex};
+use crate::variables::{manifold_type, split_parts, to_apex};
 
 /// A variable of type `V` in a problem: its apex variables' keys (one per
 /// host part of `V`, [`HostMap::PARTS`]).
@@ -67,7 +67,7 @@ pub struct Variable<V> {
     _type: PhantomData<fn() -> V>,
 }
 
-impl<V: 'static> Variable<V> {
+impl<V: HostMap<Apex> + 'static> Variable<V> {
     /// The apex keys, one per host part.
     pub fn keys(&self) -> &[VarKey] {
         &self.keys
@@ -79,6 +79,7 @@ impl<V: 'static> Variable<V> {
             keys: self.keys.clone(),
             type_id: TypeId::of::<V>(),
             type_name: std::any::type_name::<V>(),
+            dofs: V::PARTS.iter().map(|p| p.manifold.dof()).collect(),
         }
     }
 }
@@ -90,6 +91,14 @@ pub struct AnyVariable {
     keys: Vec<VarKey>,
     type_id: TypeId,
     type_name: &'static str,
+    dofs: Vec<usize>,
+}
+
+impl AnyVariable {
+    /// The apex keys, one per host part.
+    pub fn keys(&self) -> &[VarKey] {
+        &self.keys
+    }
 }
 
 /// A factor's noise model, in its residual space: the residual `r` is
@@ -110,7 +119,7 @@ pub enum Noise {
 
 impl Noise {
     /// apex's noise model for a residual of `dim` components.
-    fn model(&self, dim: usize) -> Result<Option<NoiseModel>, String> {
+    pub(crate) fn model(&self, dim: usize) -> Result<Option<NoiseModel>, String> {
         let sigmas = |sigmas: &[f64]| {
             if sigmas.len() != dim {
                 return Err(format!(
@@ -226,6 +235,50 @@ impl ProblemBuilder {
             keys,
             _type: PhantomData,
         }
+    }
+
+    /// Variable `variable` of `factor` as a new variable of the problem,
+    /// its initial value the factor's: the typed [`ProblemBuilder::add_variable`]
+    /// for a caller that knows the variable's type only through a factor
+    /// (a problem read from a file). Its value is read back with
+    /// [`stored_value_of`].
+    ///
+    /// # Panics
+    ///
+    /// If `F` has no variable `variable`.
+    pub fn add_variable_of<F: HostFactor<Apex> + 'static>(
+        &mut self,
+        factor: &F,
+        variable: usize,
+    ) -> AnyVariable {
+        let stored = factor.to_scalars();
+        let range = stored_range::<F>(variable);
+        let parts = F::host_parts(variable);
+        let mut host = vec![0.0; parts.iter().map(|p| p.manifold.parameters()).sum()];
+        F::host_from_stored(variable, &stored[range], &mut host);
+        let keys = parts
+            .iter()
+            .zip(split_parts(parts, &host))
+            .map(|(part, params)| self.variable(manifold_type(part.manifold), params))
+            .collect();
+        AnyVariable {
+            keys,
+            type_id: F::variable_type(variable),
+            type_name: F::variables()[variable].type_name,
+            dofs: parts.iter().map(|p| p.manifold.dof()).collect(),
+        }
+    }
+
+    /// Holds `variable` fixed (every part, every tangent coordinate).
+    ///
+    /// # Errors
+    ///
+    /// apex's refusal.
+    pub fn fix_any(&mut self, variable: &AnyVariable) -> Result<(), BuildError> {
+        for (key, dof) in variable.keys.iter().zip(&variable.dofs) {
+            self.fix(*key, *dof)?;
+        }
+        Ok(())
     }
 
     /// Holds `variable` fixed (every part, every tangent coordinate).
@@ -418,7 +471,7 @@ impl ProblemBuilder {
 
     /// Registers a block on `keys` and adds its initial cost `½ ρ(‖S r‖²)`
     /// (apex's objective: `S` the noise model's square root, `ρ` the loss).
-    fn block_with_loss(
+    pub(crate) fn block_with_loss(
         &mut self,
         keys: &[VarKey],
         factor: Arc<dyn Factor + Send + Sync>,
@@ -491,6 +544,55 @@ impl ProblemBuilder {
             kept,
         })
     }
+}
+
+/// A solution's variables ([`crate::solve::Outcome::values`]).
+pub type Values = SlotMap<VarKey, Box<dyn apex_solver::core::variable::ManifoldVariable>>;
+
+/// The range of variable `variable`'s stored scalars in `F`'s storage.
+fn stored_range<F: HostFactor<Apex>>(variable: usize) -> std::ops::Range<usize> {
+    let mut offset = 0;
+    for field in F::fields() {
+        if field.variable == Some(variable) {
+            return offset..offset + field.scalars;
+        }
+        offset += field.scalars;
+    }
+    panic!("{} has no variable {variable}", F::NAME)
+}
+
+/// The stored scalars of `variable`, added as variable `index` of factor
+/// type `F` ([`ProblemBuilder::add_variable_of`]), in a solution's
+/// variables.
+///
+/// # Panics
+///
+/// If a key of `variable` is not among `values`, or `F`'s variable `index`
+/// is not of `variable`'s type.
+pub fn stored_value_of<F: HostFactor<Apex>>(
+    values: &Values,
+    variable: &AnyVariable,
+    index: usize,
+) -> Vec<f64> {
+    assert_eq!(
+        F::variable_type(index),
+        variable.type_id,
+        "the variable's type"
+    );
+    let host: Vec<f64> = variable
+        .keys
+        .iter()
+        .flat_map(|key| {
+            values
+                .get(*key)
+                .expect("the variable is one of the problem's")
+                .as_param_slice()
+                .to_vec()
+        })
+        .collect();
+    let mut stored = vec![0.0; stored_range::<F>(index).len()];
+    F::stored_from_host(index, &host, &mut stored);
+    stored
 }
 
 /// The value of `variable` in a solution's variables.

@@ -12,6 +12,8 @@
 //! - [`problems`]: BAL, Bundler, g2o, EDGE3 and KITTI VO problems (crate
 //!   `slam-data`) built as apex problems, with this project's factors or,
 //!   for comparison, apex's own, and the optimized values written back;
+//! - [`inverse_pose`]: a factor on a world-to-camera pose served on the
+//!   body-to-world pose apex holds;
 //! - [`solve`]: Levenberg–Marquardt with a report per iteration;
 //! - [`timing`]: the time of the solver's linearization and evaluation passes.
 //!
@@ -35,6 +37,7 @@
 
 pub mod adapter;
 pub mod builder;
+pub mod inverse_pose;
 pub mod losses;
 pub mod problems;
 pub mod solve;

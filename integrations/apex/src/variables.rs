@@ -10,7 +10,7 @@
 
 use apex_solver::ManifoldType;
 use factor_core::Storage;
-use factor_core::host::{Apex, ApexManifold, HostManifold, HostMap};
+use factor_core::host::{Apex, ApexManifold, HostManifold, HostMap, HostPart};
 
 /// apex-solver's [`ManifoldType`] of `manifold`.
 pub fn manifold_type(manifold: ApexManifold) -> ManifoldType {
@@ -30,7 +30,13 @@ pub fn to_apex<V: HostMap<Apex> + Storage<f64>>(value: &V) -> Vec<Vec<f64>> {
     let parts = V::PARTS;
     let mut host = vec![0.0; parts.iter().map(|p| p.manifold.parameters()).sum()];
     V::host_from_stored(&value.to_scalars(), &mut host);
-    let mut rest = host.as_slice();
+    split_parts(parts, &host)
+}
+
+/// The host parameters `host` of a value (its parts' concatenated) as one
+/// vector per part, quaternions normalised (see [`to_apex`]).
+pub(crate) fn split_parts(parts: &[HostPart<ApexManifold>], host: &[f64]) -> Vec<Vec<f64>> {
+    let mut rest = host;
     parts
         .iter()
         .map(|part| {

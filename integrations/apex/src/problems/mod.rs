@@ -4,6 +4,7 @@
 //! | --- | --- | --- | --- | --- |
 //! | BAL, Bundler ([`bundle`]) | per camera an `SE3` world-to-camera pose and `Rn(3)` `[f, k1, k2]`; per point `Rn(3)` | [`SnavelyReprojection`](slam_factors::SnavelyReprojection), one per observation | camera 0's pose held fixed (the scale, the seventh dimension of the gauge, is left to the damping) | explicit sparse Schur, points eliminated |
 //! | g2o, EDGE3 ([`pose_graph`]) | per vertex an `SE3` body-to-world pose (EDGE3 without vertices: the odometry chain) | [`BetweenFactor`](slam_factors::BetweenFactor), one per edge | the first pose held fixed | sparse Cholesky |
+//! | g2o lines and planes ([`g2o_addons`]) | per vertex an `SE3` body-to-world pose (robot poses and sensor offsets), an orthonormal line, a quaternion plane | g2o's own errors (or the documents' line and plane factors), whitened by each edge's information | the file's `FIX` vertices | sparse Cholesky |
 //! | KITTI stereo VO ([`stereo`]) | per pose an `SE3` camera-to-world pose; per landmark `Rn(3)` | [`StereoReprojection`](slam_factors::StereoReprojection), one per observation | the first pose held fixed, as GTSAM's example | explicit sparse Schur, landmarks eliminated |
 //!
 //! [`FactorChoice::Apex`] builds the same problem with apex-solver's own
@@ -18,6 +19,7 @@
 //! so the first and the last block added time the passes ([`crate::timing`]).
 
 pub mod bundle;
+pub mod g2o_addons;
 pub mod pose_graph;
 pub mod stereo;
 
@@ -165,6 +167,8 @@ pub enum Keys {
     PoseGraph(pose_graph::PoseGraphKeys),
     /// Stereo visual odometry.
     Stereo(stereo::StereoKeys),
+    /// A g2o line and plane graph.
+    G2oAddons(g2o_addons::G2oGraphKeys),
     /// A problem built with [`crate::builder::ProblemBuilder`]'s typed API:
     /// its variables' handles are the caller's.
     Custom,
@@ -210,6 +214,9 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
             pose_graph::build(graph, options)
         }
         slam_data::Problem::KittiVo(vo) => stereo::build(vo, options),
+        slam_data::Problem::G2oAddons(graph) => {
+            g2o_addons::build_with(graph, options, g2o_addons::LandmarkFactors::G2o)
+        }
     }
 }
 
@@ -221,6 +228,10 @@ fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
         slam_data::Problem::Bundler(p) => (p.observations.len(), "observations"),
         slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => (g.edges.len(), "edges"),
         slam_data::Problem::KittiVo(vo) => (vo.observations.len(), "observations"),
+        slam_data::Problem::G2oAddons(g) => (
+            g.pose_edges.len() + g.line_edges.len() + g.plane_edges.len(),
+            "edges",
+        ),
     };
     (blocks == 0).then(|| format!("nothing to solve: the problem has no {what}"))
 }
@@ -250,6 +261,9 @@ impl Built {
             (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
                 slam_data::Problem::KittiVo(keys.write(vo, value))
             }
+            (Keys::G2oAddons(keys), slam_data::Problem::G2oAddons(graph)) => {
+                slam_data::Problem::G2oAddons(keys.write(graph, values))
+            }
             // Keys are built from the same data they write back.
             _ => data.clone(),
         }
@@ -259,7 +273,7 @@ impl Built {
 /// The reprojection error of each observation (pixels: `‖predicted −
 /// observed‖`, two coordinates for BAL and Bundler, `[u_L, u_R, v]` for
 /// stereo) at the problem's values, through this project's factors; `None`
-/// for a pose graph. An observation degenerate at these values is NaN.
+/// for a pose graph (with or without lines and planes). An observation degenerate at these values is NaN.
 pub fn reprojection_errors(data: &slam_data::Problem) -> Option<Vec<f64>> {
     match data {
         slam_data::Problem::Bal(bal) => Some(bundle::reprojection_errors(bal)),
@@ -267,7 +281,9 @@ pub fn reprojection_errors(data: &slam_data::Problem) -> Option<Vec<f64>> {
             Some(bundle::reprojection_errors(&bundler.to_bal()))
         }
         slam_data::Problem::KittiVo(vo) => Some(stereo::reprojection_errors(vo)),
-        slam_data::Problem::G2o(_) | slam_data::Problem::Edge3(_) => None,
+        slam_data::Problem::G2o(_)
+        | slam_data::Problem::Edge3(_)
+        | slam_data::Problem::G2oAddons(_) => None,
     }
 }
 

@@ -88,6 +88,11 @@ pub fn build(
                 "a pose graph has no landmarks to eliminate: solve it with apex-solver".into(),
             ));
         }
+        slam_data::Problem::G2oAddons(_) => {
+            return Err(BuildError::Unavailable(
+                "g2o's line and plane graphs are solved with apex-solver".into(),
+            ));
+        }
     };
     built.problem.set_robust(robust);
     Ok(built)
