@@ -1,7 +1,9 @@
 //! The guide's chapters, Markdown files beside this one: with
 //! `cargo test -p slamjac-guide`, every `rust` code block of them compiles
 //! and runs as a doctest (blocks marked `no_run` compile only; lines
-//! starting with `# ` are hidden in the rendered book).
+//! starting with `# ` are hidden in the rendered book). The chapter on
+//! solver charts needs apex-solver: its blocks run as the documentation
+//! tests of `factor-apex` (`integrations/apex`).
 
 /// `writing-a-factor.md`.
 #[cfg(doctest)]
@@ -12,3 +14,18 @@ pub struct WritingAFactor;
 #[cfg(doctest)]
 #[doc = include_str!("kernels.md")]
 pub struct Kernels;
+
+/// The front page, `README.md`.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct Readme;
+
+/// `generated-kernels.md`.
+#[cfg(doctest)]
+#[doc = include_str!("generated-kernels.md")]
+pub struct GeneratedKernels;
+
+/// `point-line-plane.md`.
+#[cfg(doctest)]
+#[doc = include_str!("point-line-plane.md")]
+pub struct PointLinePlane;
