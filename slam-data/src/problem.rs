@@ -105,6 +105,18 @@ impl Problem {
         }
     }
 
+    /// The problem's measurements: observations (bundle adjustment, stereo
+    /// VO) or edges (pose, line and plane graphs).
+    pub fn measurements(&self) -> usize {
+        match self {
+            Problem::Bal(p) => p.observations.len(),
+            Problem::Bundler(p) => p.observations.len(),
+            Problem::G2o(g) | Problem::Edge3(g) => g.edges.len(),
+            Problem::G2oAddons(g) => g.pose_edges.len() + g.line_edges.len() + g.plane_edges.len(),
+            Problem::KittiVo(vo) => vo.observations.len(),
+        }
+    }
+
     /// The problem's format.
     pub fn format(&self) -> Format {
         match self {

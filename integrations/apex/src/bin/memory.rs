@@ -87,12 +87,7 @@ fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
     println!("{}: factors {}", args.file, args.factors.name());
     let data = slam_data::Problem::read(&args.file, None).map_err(|e| e.to_string())?;
-    let blocks = match &data {
-        slam_data::Problem::Bal(p) => p.observations.len(),
-        slam_data::Problem::Bundler(p) => p.observations.len(),
-        slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => g.edges.len(),
-        slam_data::Problem::KittiVo(vo) => vo.observations.len(),
-    };
+    let blocks = data.measurements();
     report("read", blocks, start);
     let options = BuildOptions {
         factors: args.factors,

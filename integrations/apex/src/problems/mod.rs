@@ -223,16 +223,13 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
 /// Why `data` has nothing to solve, if it has not: no observation or no
 /// edge makes a cost that is identically 0, with no step to take.
 fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
-    let (blocks, what) = match data {
-        slam_data::Problem::Bal(p) => (p.observations.len(), "observations"),
-        slam_data::Problem::Bundler(p) => (p.observations.len(), "observations"),
-        slam_data::Problem::G2o(g) | slam_data::Problem::Edge3(g) => (g.edges.len(), "edges"),
-        slam_data::Problem::KittiVo(vo) => (vo.observations.len(), "observations"),
-        slam_data::Problem::G2oAddons(g) => (
-            g.pose_edges.len() + g.line_edges.len() + g.plane_edges.len(),
-            "edges",
-        ),
+    let what = match data {
+        slam_data::Problem::G2o(_)
+        | slam_data::Problem::Edge3(_)
+        | slam_data::Problem::G2oAddons(_) => "edges",
+        _ => "observations",
     };
+    let blocks = data.measurements();
     (blocks == 0).then(|| format!("nothing to solve: the problem has no {what}"))
 }
 
