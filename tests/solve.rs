@@ -201,7 +201,11 @@ fn the_schur_solver_is_chosen_where_it_applies() {
     let graph = solve_ok(&["solve", &data("pose3example.txt")]);
     assert!(stdout(&graph).contains("(apex-solver)"));
     let output = slamjac(&["solve", &data("pose3example.txt"), "--solver", "schur"]);
-    assert_error(&output, 2, &["no landmarks"]);
+    assert_error(
+        &output,
+        2,
+        &["--solver schur takes bundle adjustment and stereo VO"],
+    );
     let output = slamjac(&[
         "solve",
         &data("Balbianello.out"),

@@ -137,6 +137,9 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
             "--factors documents: only for g2o line and plane graphs",
         )));
     }
+    if let Some(empty) = problems::nothing_to_solve(&data) {
+        return Err(CliError::Usage(at(&args.file, empty)));
+    }
     let takes = factor_schur::problems::applies(&data);
     let schur = match args.solver {
         SolverChoice::Auto => takes && args.kernels == Kernels::Generated,

@@ -222,7 +222,7 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
 
 /// Why `data` has nothing to solve, if it has not: no observation or no
 /// edge makes a cost that is identically 0, with no step to take.
-fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
+pub fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
     let what = match data {
         slam_data::Problem::G2o(_)
         | slam_data::Problem::Edge3(_)

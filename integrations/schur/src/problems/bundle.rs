@@ -5,7 +5,7 @@ use factor_apex::problems::bundle::{camera_pose, factor_of};
 use factor_core::lie::{Se3, Se3RhoTheta};
 use factor_core::{Factor, Storage};
 use nalgebra::{UnitQuaternion, Vector3};
-use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics, ordinal};
 use slam_factors::SnavelyReprojection;
 
 use super::{BuildError, Built, Keys};
@@ -54,8 +54,10 @@ pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
         };
         factor.validate().map_err(|error| BuildError::Degenerate {
             which: format!(
-                "observation {k} (camera {}, point {}) at the initial values",
-                o.camera, o.point
+                "{} (camera index {}, point index {}) at the initial values",
+                ordinal("observation", k, bal.observations.len()),
+                o.camera,
+                o.point
             ),
             error,
         })?;

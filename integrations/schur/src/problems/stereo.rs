@@ -7,7 +7,7 @@ use factor_apex::problems::stereo::{camera_to_world, factor_of};
 use factor_core::lie::{Se3, Se3RhoTheta};
 use factor_core::{Factor, Storage};
 use nalgebra::Vector3;
-use slam_data::StereoVo;
+use slam_data::{StereoVo, ordinal};
 
 use super::{BuildError, Built, Keys};
 use crate::problem::{Problem, VariableId};
@@ -55,8 +55,10 @@ pub(super) fn build(vo: &StereoVo) -> Result<Built, BuildError> {
         let factor = factor_of(vo, o, &pose, position);
         factor.validate().map_err(|error| BuildError::Degenerate {
             which: format!(
-                "observation {k} (pose {}, landmark {}) at the initial values",
-                o.pose, o.landmark
+                "{} (pose {}, landmark {}) at the initial values",
+                ordinal("observation", k, vo.observations.len()),
+                o.pose,
+                o.landmark
             ),
             error,
         })?;
