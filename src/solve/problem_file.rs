@@ -56,7 +56,7 @@ use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
 
 /// The format version this build reads and writes.
-pub const VERSION: u64 = 1;
+pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
 
 /// Reads a variable's stored scalars back from a solution.
 type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
