@@ -21,8 +21,10 @@
 //!   fixes the frame; the second fixes the scale, which points and lines
 //!   seen in pixels leave free (planes' offsets would fix it, but every
 //!   kind combination gets the same gauge so that their errors compare).
-//! - Only landmarks seen twice (points, lines) or once (planes) enter, and
-//!   only cameras with a measurement.
+//! - Only landmarks measured more often than their degrees of freedom
+//!   demand enter (points seen at least twice, lines at least three times:
+//!   two views fit a line exactly, however noisy; planes once), and only
+//!   cameras with a measurement.
 //!
 //! The same seed writes the same file on every platform.
 
@@ -228,7 +230,7 @@ impl Problem {
             for o in scene
                 .segment_observations
                 .iter()
-                .filter(|o| o.segment < kept && views[o.segment] >= 2)
+                .filter(|o| o.segment < kept && views[o.segment] >= 3)
             {
                 cameras_used[o.camera] = true;
                 problem.factors.push(json!({
@@ -238,7 +240,7 @@ impl Problem {
                     "noise": sigma,
                 }));
             }
-            for (i, _) in views.iter().enumerate().filter(|(_, v)| **v >= 2) {
+            for (i, _) in views.iter().enumerate().filter(|(_, v)| **v >= 3) {
                 let (s0, s) = (&initial.segments[i], &truth.segments[i]);
                 problem.add(
                     format!("l{i}"),
