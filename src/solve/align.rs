@@ -29,7 +29,8 @@ pub fn umeyama(
         .map(|x| (x - mu_from).norm_squared())
         .sum::<f64>()
         / n as f64;
-    if !(variance > 0.0) {
+    // Zero, or NaN from non-finite points.
+    if variance.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let covariance = from

@@ -171,13 +171,10 @@ impl Truth {
                 estimated.push((estimate, *truth));
             }
         }
-        let centres = |pick: fn(&(Isometry3<f64>, Isometry3<f64>)) -> &Isometry3<f64>| {
-            poses
-                .iter()
-                .map(|p| pick(p).translation.vector)
-                .collect::<Vec<_>>()
-        };
-        let (from, to) = (centres(|p| &p.0), centres(|p| &p.1));
+        let (from, to): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = poses
+            .iter()
+            .map(|(e, t)| (e.translation.vector, t.translation.vector))
+            .unzip();
         let rms = |sim: &Similarity3<f64>| {
             let sum: f64 = from
                 .iter()
