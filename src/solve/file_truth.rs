@@ -5,7 +5,7 @@
 //!
 //! - over the `Se3` variables (world-to-camera poses), the absolute
 //!   trajectory error: the RMS distance of the camera centres `−Rᵀ t` to the
-//!   true ones after aligning them to the truth ([`super::align::umeyama`])
+//!   true ones after aligning them to the truth (Umeyama's method, `align.rs`)
 //!   as a rigid motion (SE(3)) and as a similarity (Sim(3)), and the RMS
 //!   angle of the camera rotations after the SE(3) alignment (degrees);
 //! - over the `OrthonormalLine` variables, after the SE(3) alignment, the
