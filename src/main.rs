@@ -188,15 +188,17 @@ enum Command {
         /// Seed of the random generator.
         #[arg(long, default_value_t = 0)]
         seed: u64,
-        /// Cameras (at least 2).
-        #[arg(long, default_value_t = 15)]
-        cameras: usize,
-        /// Points (two thirds on the planes, the rest in the room).
-        #[arg(long, default_value_t = 300)]
-        points: usize,
-        /// Lines (the 12 box edges first, then 2 doors, then wall segments).
-        #[arg(long, default_value_t = 30)]
-        lines: usize,
+        /// Cameras (2 to 200).
+        #[arg(long, default_value_t = 15, value_parser = clap::value_parser!(u64).range(2..=200))]
+        cameras: u64,
+        /// Points, up to 10000 (two thirds on the planes, the rest in the
+        /// room).
+        #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u64).range(0..=10_000))]
+        points: u64,
+        /// Lines, up to 1000 (the 12 box edges first, then 2 doors, then
+        /// wall segments).
+        #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(0..=1000))]
+        lines: u64,
         /// The measurements written, comma-separated.
         #[arg(long, default_value = "points,lines,planes")]
         kinds: synth_plp::Kinds,
@@ -407,11 +409,12 @@ fn main() -> ExitCode {
             kinds,
             output,
         } => synth_plp::run(
+            // Within the ranges above.
             &synth_plp::SynthPlpArgs {
                 seed,
-                cameras,
-                points,
-                lines,
+                cameras: cameras as usize,
+                points: points as usize,
+                lines: lines as usize,
                 kinds,
             },
             &output,
