@@ -55,9 +55,14 @@ pub mod solve;
 pub mod source;
 pub mod strict_json;
 pub mod synth;
+pub mod synth_plp;
 pub mod usage;
 pub mod w_first;
 
 pub use error::{CliError, InputError};
+
+/// The version of the problem file format (`slamjac_problem`) this build
+/// reads (`solve`) and writes (`solve --output`, `synth-plp`).
+pub const PROBLEM_FILE_VERSION: u64 = 1;
 pub use eval::Evaluation;
 pub use method::Method;

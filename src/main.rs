@@ -10,6 +10,8 @@
 //!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
 //! slamjac synth-bal --cameras N --points M [--views V] [--visibility ring|local] [--seed S]
 //!                   [--outliers F] [--noise σ] --output FILE
+//! slamjac synth-plp [--seed S] [--cameras N] [--points P] [--lines L]
+//!                   [--kinds points,lines,planes] --output FILE.json
 //! slamjac audit [--samples N] [--markdown F] [--json F] [--allow-unread]  # the shipped documents
 //! slamjac audit DOC.md --symbols DOC.toml [--samples N] [...]             # a document, from its text
 //! ```
@@ -27,7 +29,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use slamjac::cli::{self, FactorCommand};
 use slamjac::usage;
-use slamjac::{CliError, audit, audit_text, init, kernels, synth};
+use slamjac::{CliError, audit, audit_text, init, kernels, synth, synth_plp};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -176,6 +178,32 @@ enum Command {
         noise: f64,
         /// The BAL file to write.
         #[arg(long, value_name = "FILE")]
+        output: PathBuf,
+    },
+    /// Write a seeded point-line-plane room as a problem file of the
+    /// documents' factors (point and orthonormal-line reprojections, the
+    /// quaternion plane) with its ground truth, for `solve FILE.json`:
+    /// pixel noise of 1 px, cameras c0 and c1 fixed at their true poses.
+    SynthPlp {
+        /// Seed of the random generator.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Cameras (2 to 200).
+        #[arg(long, default_value_t = 15, value_parser = clap::value_parser!(u64).range(2..=200))]
+        cameras: u64,
+        /// Points, up to 10000 (two thirds on the planes, the rest in the
+        /// room).
+        #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u64).range(0..=10_000))]
+        points: u64,
+        /// Lines, up to 1000 (the 12 box edges first, then 2 doors, then
+        /// wall segments).
+        #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(0..=1000))]
+        lines: u64,
+        /// The measurements written, comma-separated.
+        #[arg(long, default_value = "points,lines,planes")]
+        kinds: synth_plp::Kinds,
+        /// The problem file to write.
+        #[arg(long, value_name = "FILE.json")]
         output: PathBuf,
     },
 }
@@ -370,6 +398,24 @@ fn main() -> ExitCode {
                 seed,
                 outliers,
                 noise,
+            },
+            &output,
+        ),
+        Command::SynthPlp {
+            seed,
+            cameras,
+            points,
+            lines,
+            kinds,
+            output,
+        } => synth_plp::run(
+            // Within the ranges above.
+            &synth_plp::SynthPlpArgs {
+                seed,
+                cameras: cameras as usize,
+                points: points as usize,
+                lines: lines as usize,
+                kinds,
             },
             &output,
         ),

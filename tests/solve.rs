@@ -929,6 +929,14 @@ fn malformed_problem_files_name_the_field() {
             |p| p["factors"][0]["extra"] = 1.into(),
             &["factors[0].extra", "unknown field"],
         ),
+        (
+            |p| p["truth"] = serde_json::json!({"c9": [0, 0, 1]}),
+            &["truth.c9", "no variable of this name"],
+        ),
+        (
+            |p| p["truth"] = serde_json::json!({"p": [0, 1]}),
+            &["truth.p", "3 numbers"],
+        ),
     ];
     for (k, (spoil, needles)) in cases.into_iter().enumerate() {
         let mut problem = triangulation();
@@ -937,4 +945,60 @@ fn malformed_problem_files_name_the_field() {
         std::fs::write(&path, problem.to_string()).unwrap();
         assert_error(&slamjac(&["solve", path.to_str().unwrap()]), 2, needles);
     }
+}
+
+/// The `(initial, final)` SE(3)-aligned ATE of `solve`'s errors against a
+/// problem file's truth.
+fn ate(output: &Output) -> (f64, f64) {
+    let text = stdout(output);
+    let key = "ATE RMSE SE(3)-aligned ";
+    let at = text
+        .find(key)
+        .unwrap_or_else(|| panic!("no ATE in:\n{text}"))
+        + key.len();
+    let numbers: Vec<f64> = text[at..]
+        .split_whitespace()
+        .take(3)
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    (numbers[0], numbers[1])
+}
+
+/// A `synth-plp` room with points, lines and planes: solved, its trajectory
+/// is nearer the truth than it started; the same seed writes the same file.
+#[test]
+fn synthetic_point_line_plane_rooms_are_solved_against_their_truth() {
+    let dir = temp_dir("plp");
+    let file = dir.join("room.json");
+    let again = dir.join("room-again.json");
+    for path in [&file, &again] {
+        let written = solve_ok(&[
+            "synth-plp",
+            "--seed",
+            "2",
+            "--points",
+            "150",
+            "--output",
+            path.to_str().unwrap(),
+        ]);
+        assert!(
+            stdout(&written).contains("15 cameras"),
+            "{}",
+            stdout(&written)
+        );
+    }
+    assert_eq!(
+        std::fs::read(&file).unwrap(),
+        std::fs::read(&again).unwrap()
+    );
+    let solved = solve_ok(&["solve", file.to_str().unwrap()]);
+    let (initial, last) = ate(&solved);
+    assert!(last < initial, "ATE {initial} → {last}");
+    let text = stdout(&solved);
+    assert!(text.contains(" lines: mean direction") && text.contains(" planes: mean normal"));
+    assert_error(
+        &slamjac(&["synth-plp", "--kinds", "points,walls", "--output", "x.json"]),
+        2,
+        &["--kinds", "walls"],
+    );
 }

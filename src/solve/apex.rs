@@ -68,12 +68,17 @@ pub(super) fn run_problem_file(args: &SolveArgs) -> Result<String, CliError> {
         let text = crate::pretty::to_string(&problem.written(&outcome.values));
         outputs::write(path, text + "\n")?;
     }
-    Ok(report::summary(
+    let mut summary = report::summary(
         &finished,
         None,
         args.output.as_deref(),
         args.plot.as_deref(),
-    ))
+    );
+    if let Some(errors) = problem.truth_errors(&outcome.values) {
+        summary.push('\n');
+        summary.push_str(&errors);
+    }
+    Ok(summary)
 }
 
 fn build_options(args: &SolveArgs) -> BuildOptions {

@@ -25,7 +25,9 @@
 //! for a problem that is degenerate at its initial values or a solve that
 //! stops on a failure.
 
+mod align;
 mod apex;
+pub mod file_truth;
 pub mod plot;
 pub mod problem_file;
 pub mod progress;

@@ -30,6 +30,10 @@
 //!   …]}` (rows of `S`, the cost being `½ ‖S r‖²`; unit by default) — and a
 //!   `robust` loss (`huber:δ` or `cauchy:δ`).
 //!
+//! - `truth` (optional): the true value of variables by name, in the form
+//!   of their `value`; `solve` then reports the errors against it after the
+//!   summary ([`super::file_truth`]).
+//!
 //! Each factor is linearized by its generated apex kernel when it has one,
 //! by dual numbers in apex's chart otherwise. Errors name the field path
 //! (`error: factors[3].variables.pose: …`, exit 2).
@@ -50,13 +54,14 @@ use slam_factors::{
     StereoReprojection,
 };
 
+use super::file_truth::Truth;
 use crate::decode::{decode, record_keys};
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
 
 /// The format version this build reads and writes.
-pub const VERSION: u64 = 1;
+pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
 
 /// Reads a variable's stored scalars back from a solution.
 type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
@@ -78,6 +83,8 @@ pub struct FileProblem {
     /// The apex problem.
     pub built: Built,
     variables: Vec<(String, Created)>,
+    /// The ground truth the file carries.
+    truth: Option<Truth>,
 }
 
 /// What a factor entry needs while it is added.
@@ -293,7 +300,12 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
     let text = std::fs::read_to_string(file)
         .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
     let json = crate::strict_json::parse_json(&text, &name)?;
-    let top = open(&json, "", &["slamjac_problem", "variables", "factors"], &[])?;
+    let top = open(
+        &json,
+        "",
+        &["slamjac_problem", "variables", "factors"],
+        &["truth"],
+    )?;
     let version = top.number("slamjac_problem")?;
     if version != VERSION as f64 {
         return Err(InputError::new(
@@ -320,6 +332,10 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
             }
         }
     }
+    let truth = json
+        .get("truth")
+        .map(|truth| Truth::read(truth, declared))
+        .transpose()?;
     let factors = top
         .get("factors")
         .as_array()
@@ -355,6 +371,7 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
         json,
         built,
         variables,
+        truth,
     })
 }
 
@@ -484,6 +501,14 @@ impl FileProblem {
             json["variables"][name]["value"] = value_json(&created.field, &stored);
         }
         json
+    }
+
+    /// The errors of the initial values and of `values` against the file's
+    /// truth, in words; `None` when it has none.
+    pub fn truth_errors(&self, values: &Values) -> Option<String> {
+        let truth = self.truth.as_ref()?;
+        let solved = self.written(values);
+        Some(truth.describe(&self.json["variables"], &solved["variables"]))
     }
 }
 

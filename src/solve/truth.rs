@@ -83,7 +83,7 @@ fn pose_error(pose: &Pose, truth: &Pose) -> (f64, f64) {
 }
 
 /// The angle between two directions, degrees.
-fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+pub(super) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     (a.dot(b) / (a.norm() * b.norm()))
         .clamp(-1.0, 1.0)
         .acos()
