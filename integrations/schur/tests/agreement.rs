@@ -62,8 +62,16 @@ fn assert_agree(data: &slam_data::Problem, robust: Option<Robust>, what: &str) {
         b.0,
         a.0
     );
+    // Least squares: the same optimum. A robust loss makes the cost
+    // non-convex in the outliers' residuals, and the two solvers (different
+    // damping and charts) may stop in different minima from the same start:
+    // this solver must then reach apex-solver's optimum or a lower one.
+    let agrees = match robust {
+        None => relative(b.1, a.1) <= AGREEMENT,
+        Some(_) => b.1 <= a.1 * (1.0 + AGREEMENT),
+    };
     assert!(
-        relative(b.1, a.1) <= AGREEMENT,
+        agrees,
         "{what}: final cost {} vs apex {}: {:e}",
         b.1,
         a.1,
