@@ -4,12 +4,13 @@
 //! class of bad input gets a one-line error naming the field and a non-zero
 //! exit code, never a panic.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde_json::{Value, json};
+
+mod common;
 
 /// Exit code of rejected input (and clap usage errors).
 const BAD_INPUT: i32 = 2;
@@ -62,20 +63,7 @@ fn method_used(factor: &str, method: &'static str) -> &'static str {
 }
 
 fn slamjac(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("slamjac starts");
-    // A process that exits before reading its input closes the pipe; that is fine.
-    let _ = child
-        .stdin
-        .take()
-        .expect("piped stdin")
-        .write_all(stdin.as_bytes());
-    child.wait_with_output().expect("slamjac runs")
+    common::slamjac_with_stdin(args, stdin.as_bytes())
 }
 
 fn example_path(factor: &str) -> PathBuf {

@@ -12,22 +12,12 @@
 //! - usage errors are one line, every echoed character printable;
 //! - numerical differentiation accepts an exactly zero Jacobian column.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-fn run(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("slamjac starts");
-    let _ = child.stdin.take().expect("piped").write_all(stdin);
-    child.wait_with_output().expect("slamjac runs")
-}
+mod common;
+use common::slamjac_with_stdin as run;
 
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()

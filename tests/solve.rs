@@ -8,9 +8,8 @@
 //! holds it), computed independently of this project.
 #![cfg(feature = "solve")]
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 mod common;
@@ -495,19 +494,6 @@ fn synthetic_problems_are_generated_and_solved() {
     assert_error(&output, 2, &["cameras"]);
 }
 
-/// `slamjac solve` with `stdin` piped in.
-fn slamjac_piped(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("slamjac starts");
-    let _ = child.stdin.take().expect("piped").write_all(stdin);
-    child.wait_with_output().expect("slamjac runs")
-}
-
 /// A copy of the shipped file `name` in `dir`.
 fn copied(name: &str, dir: &Path) -> PathBuf {
     let path = dir.join(name);
@@ -592,7 +578,7 @@ fn piped_problems_are_read_once() {
         "dubrovnik-3-7-pre.txt",
     ] {
         let from_file = costs(&solve_ok(&["solve", &data(name), "--max-iterations", "2"]));
-        let piped = slamjac_piped(
+        let piped = common::slamjac_with_stdin(
             &["solve", "/dev/stdin", "--max-iterations", "2"],
             &std::fs::read(data(name)).unwrap(),
         );

@@ -1,6 +1,25 @@
 //! What the command-line tests share.
 
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+/// `slamjac ARGS` with `stdin` piped in. A process that exits before
+/// reading its input closes the pipe; that is fine.
+#[allow(dead_code)] // not every test file pipes input
+pub fn slamjac_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_slamjac"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("slamjac starts");
+    let _ = child.stdin.take().expect("piped stdin").write_all(stdin);
+    child.wait_with_output().expect("slamjac runs")
+}
+
 /// SplitMix64: a small seeded generator, so that every run fuzzes the same cases.
+#[allow(dead_code)] // not every test file fuzzes
 pub struct Rng(pub u64);
 
 #[allow(dead_code)] // not every test file uses every method
