@@ -34,6 +34,18 @@ pub fn camera_pose(camera: &BalCamera) -> Se3<f64> {
     Se3::new(So3::exp(&camera.rotation), camera.translation)
 }
 
+/// Observation `k` of `bal` as errors name it (counted from 1, as the
+/// readers count, with its camera and point indices).
+pub fn observation_name(bal: &BalProblem, k: usize) -> String {
+    let o = &bal.observations[k];
+    format!(
+        "{} (camera index {}, point index {})",
+        ordinal("observation", k, bal.observations.len()),
+        o.camera,
+        o.point
+    )
+}
+
 /// The factor of observation `k` of `bal` at the problem's values.
 pub fn factor_of(bal: &BalProblem, k: usize) -> SnavelyReprojection {
     let o = &bal.observations[k];
@@ -103,12 +115,7 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
             FactorChoice::Ours(kernels) => {
                 let factor = factor_of(bal, k);
                 factor.validate().map_err(|error| BuildError::Degenerate {
-                    which: format!(
-                        "{} (camera index {}, point index {}) at the initial values",
-                        ordinal("observation", k, bal.observations.len()),
-                        o.camera,
-                        o.point
-                    ),
+                    which: format!("{} at the initial values", observation_name(bal, k)),
                     error,
                 })?;
                 let served =

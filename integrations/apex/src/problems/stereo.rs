@@ -30,6 +30,18 @@ pub struct StereoKeys {
     pub world_to_camera: bool,
 }
 
+/// Observation `k` of `vo` as errors name it (counted from 1, as the
+/// readers count, with its pose and landmark ids).
+pub fn observation_name(vo: &StereoVo, k: usize) -> String {
+    let o = &vo.observations[k];
+    format!(
+        "{} (pose {}, landmark {})",
+        ordinal("observation", k, vo.observations.len()),
+        o.pose,
+        o.landmark
+    )
+}
+
 /// A VO file's camera-to-world pose (its nearest rotation, the quaternion
 /// normalised: `CameraPose::isometry`'s is unit only to about 1e-8).
 pub fn camera_to_world(pose: &CameraPose) -> Se3<f64> {
@@ -126,12 +138,7 @@ pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, Buil
             match (options.factors, &calibration) {
                 (FactorChoice::Ours(kernels), _) => {
                     factor.validate().map_err(|error| BuildError::Degenerate {
-                        which: format!(
-                            "{} (pose {}, landmark {}) at the initial values",
-                            ordinal("observation", k, vo.observations.len()),
-                            o.pose,
-                            o.landmark
-                        ),
+                        which: format!("{} at the initial values", observation_name(vo, k)),
                         error,
                     })?;
                     Arc::new(

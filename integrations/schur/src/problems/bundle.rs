@@ -1,11 +1,11 @@
 //! Bundle adjustment of BAL and Bundler problems (Snavely's camera model),
 //! the points eliminated.
 
-use factor_apex::problems::bundle::{camera_pose, factor_of};
+use factor_apex::problems::bundle::{camera_pose, factor_of, observation_name};
 use factor_core::lie::{Se3, Se3RhoTheta};
 use factor_core::{Factor, Storage};
 use nalgebra::{UnitQuaternion, Vector3};
-use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics, ordinal};
+use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
 
 use super::{BuildError, Built, Keys};
@@ -53,12 +53,7 @@ pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
             ..template.clone()
         };
         factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!(
-                "{} (camera index {}, point index {}) at the initial values",
-                ordinal("observation", k, bal.observations.len()),
-                o.camera,
-                o.point
-            ),
+            which: format!("{} at the initial values", observation_name(bal, k)),
             error,
         })?;
         problem.add(

@@ -3,11 +3,11 @@
 
 use std::collections::HashMap;
 
-use factor_apex::problems::stereo::{camera_to_world, factor_of};
+use factor_apex::problems::stereo::{camera_to_world, factor_of, observation_name};
 use factor_core::lie::{Se3, Se3RhoTheta};
 use factor_core::{Factor, Storage};
 use nalgebra::Vector3;
-use slam_data::{StereoVo, ordinal};
+use slam_data::StereoVo;
 
 use super::{BuildError, Built, Keys};
 use crate::problem::{Problem, VariableId};
@@ -54,12 +54,7 @@ pub(super) fn build(vo: &StereoVo) -> Result<Built, BuildError> {
             .ok_or_else(|| missing("landmark", o.landmark))?;
         let factor = factor_of(vo, o, &pose, position);
         factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!(
-                "{} (pose {}, landmark {}) at the initial values",
-                ordinal("observation", k, vo.observations.len()),
-                o.pose,
-                o.landmark
-            ),
+            which: format!("{} at the initial values", observation_name(vo, k)),
             error,
         })?;
         problem.add(&factor, &[pose_id, landmark_id])?;
