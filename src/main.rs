@@ -8,6 +8,8 @@
 //! slamjac solve FILE [--format F] [--kernels generated|dual] [--solver auto|schur|apex]
 //!               [--max-iterations N] [--factors g2o|documents] [--truth FILE]
 //!               [--robust huber:δ|cauchy:δ] [--output FILE] [--plot FILE.svg]   # feature `solve`
+//! slamjac track FILE.json [--kinds K]... [--map truth|values] [--max-iterations N]
+//!               [--plot FILE.svg] [--output FILE.json]   # feature `solve`
 //! slamjac synth-bal --cameras N --points M [--views V] [--visibility ring|local] [--seed S]
 //!                   [--outliers F] [--noise σ] --output FILE
 //! slamjac synth-plp [--seed S] [--cameras N] [--points P] [--lines L]
@@ -147,6 +149,37 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         truth: Option<PathBuf>,
     },
+    /// Track a problem file's poses frame after frame against its fixed map
+    /// (every landmark held at its truth, or at its value with --map
+    /// values): each frame's pose solved alone by pose-only
+    /// Levenberg–Marquardt from the previous frame's estimate (frame 0 from
+    /// its truth), its point, line and plane observations linearized by the
+    /// generated kernels. Prints the time per frame and the errors against
+    /// the truth (per frame, final frame, ATE) for each --kinds side by side.
+    /// Needs the feature `solve`.
+    Track {
+        /// The problem file (`synth-plp` writes one); its `truth` is needed.
+        file: PathBuf,
+        /// The measurements used, comma-separated; repeat to compare
+        /// several sets side by side [default: `points`, then
+        /// `points,lines,planes`].
+        #[arg(long, default_values = ["points", "points,lines,planes"])]
+        kinds: Vec<synth_plp::Kinds>,
+        /// The fixed map: each landmark's `truth` or its `value`.
+        #[arg(long, value_enum, default_value_t)]
+        map: MapChoice,
+        /// The most iterations per frame.
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        max_iterations: u64,
+        /// Write an SVG plot here: the translation and rotation error per
+        /// frame, a line per --kinds.
+        #[arg(long, value_name = "FILE.svg")]
+        plot: Option<PathBuf>,
+        /// Write the problem file here with its poses at the last --kinds'
+        /// estimates.
+        #[arg(long, value_name = "FILE.json")]
+        output: Option<PathBuf>,
+    },
     /// Write a seeded synthetic bundle-adjustment problem as a BAL file:
     /// cameras on a ring looking at a ball of points, Gaussian pixel noise,
     /// uniform outliers, perturbed initial values. The file is streamed:
@@ -228,6 +261,16 @@ enum SolverFlag {
     Schur,
     /// apex-solver.
     Apex,
+}
+
+/// `track --map`: where the fixed map's values come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+enum MapChoice {
+    /// Each landmark's `truth` (a map known exactly).
+    #[default]
+    Truth,
+    /// Each landmark's `value` (e.g. the map `solve --output` estimated).
+    Values,
 }
 
 /// `synth-bal --visibility`.
@@ -323,6 +366,46 @@ fn solve(
     ))
 }
 
+#[cfg(feature = "solve")]
+fn track(
+    file: PathBuf,
+    kinds: Vec<synth_plp::Kinds>,
+    map: MapChoice,
+    max_iterations: u64,
+    plot: Option<PathBuf>,
+    output: Option<PathBuf>,
+) -> Result<String, CliError> {
+    use slamjac::solve::track::{MapSource, TrackArgs, run};
+    run(&TrackArgs {
+        file,
+        kinds,
+        map: match map {
+            MapChoice::Truth => MapSource::Truth,
+            MapChoice::Values => MapSource::Values,
+        },
+        // Within the range above.
+        max_iterations: max_iterations as usize,
+        plot,
+        output,
+    })
+}
+
+#[cfg(not(feature = "solve"))]
+fn track(
+    _file: PathBuf,
+    _kinds: Vec<synth_plp::Kinds>,
+    _map: MapChoice,
+    _max_iterations: u64,
+    _plot: Option<PathBuf>,
+    _output: Option<PathBuf>,
+) -> Result<String, CliError> {
+    Err(CliError::Usage(
+        "track: this slamjac was built without the feature `solve`; build it with \
+         `cargo run --release --features solve -- track FILE.json`"
+            .into(),
+    ))
+}
+
 fn main() -> ExitCode {
     slamjac_io::atomic::fail_writes_past_the_file_size_limit();
     let cli = match Cli::try_parse() {
@@ -377,6 +460,14 @@ fn main() -> ExitCode {
             factors,
             truth,
         ),
+        Command::Track {
+            file,
+            kinds,
+            map,
+            max_iterations,
+            plot,
+            output,
+        } => track(file, kinds, map, max_iterations, plot, output),
         Command::SynthBal {
             cameras,
             points,

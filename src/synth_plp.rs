@@ -52,6 +52,19 @@ pub struct Kinds {
     pub planes: bool,
 }
 
+/// `points,lines,planes`, the kinds selected, as [`Kinds::from_str`](std::str::FromStr) reads them.
+impl std::fmt::Display for Kinds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names = [
+            (self.points, "points"),
+            (self.lines, "lines"),
+            (self.planes, "planes"),
+        ];
+        let selected: Vec<&str> = names.iter().filter(|(s, _)| *s).map(|(_, n)| *n).collect();
+        f.write_str(&selected.join(","))
+    }
+}
+
 impl std::str::FromStr for Kinds {
     type Err = String;
 

@@ -21,6 +21,9 @@
 //! - [`plot`]: the SVG of the cost per iteration and, for reprojection
 //!   problems, the histogram of reprojection errors before and after.
 //!
+//! [`track`] is `slamjac track`: pose-only tracking of a problem file's
+//! frames against its fixed map (crate `factor-tracking`).
+//!
 //! Exit codes follow [`crate::error`]: 2 for a malformed file or option, 1
 //! for a problem that is degenerate at its initial values or a solve that
 //! stops on a failure.
@@ -33,6 +36,7 @@ pub mod problem_file;
 pub mod progress;
 pub mod report;
 mod schur;
+pub mod track;
 pub mod truth;
 
 use std::path::{Path, PathBuf};

@@ -208,7 +208,7 @@ fn build_error(error: BuildError) -> CliError {
 }
 
 /// An object at `path` with the fields `required` and any of `optional`.
-fn open<'a>(
+pub(crate) fn open<'a>(
     value: &'a Value,
     path: &str,
     required: &[&str],
@@ -235,7 +235,7 @@ fn open<'a>(
 }
 
 /// The noise model at `path`.
-fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
+pub(crate) fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
     let object = open(value, path, &[], &["sigma", "sigmas", "sqrt_information"])?;
     let keys: Vec<&String> = value
         .as_object()

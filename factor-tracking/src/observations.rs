@@ -1,0 +1,272 @@
+//! The observations of one factor type against the fixed map, and their
+//! contribution to the pose's normal equations.
+
+use std::any::Any;
+
+use factor_core::{Factor, FactorError, Perturbation};
+use nalgebra::{DMatrix, Matrix6, Vector6};
+
+use crate::error::PoseError;
+
+/// The most variables a tracked factor may have (one slot per variable in
+/// the Jacobian request, on the stack).
+const MAX_VARIABLES: usize = 8;
+
+/// How an observation's residual `r` is whitened: the cost is `½ ‖S r‖²`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Whitening {
+    /// `S = I`.
+    Unit,
+    /// `S = I / σ`: one standard deviation for every component.
+    Sigma(f64),
+    /// A square-root information matrix `S` (`SᵀS` is the information),
+    /// residual-dimension square.
+    SqrtInformation(DMatrix<f64>),
+}
+
+impl Whitening {
+    /// `S` as a row-major `dim × dim` array, or the error naming `factor`.
+    fn matrix(&self, factor: &'static str, dim: usize) -> Result<Vec<f64>, PoseError> {
+        let diagonal = |s: f64| {
+            (0..dim * dim)
+                .map(|k| if k % (dim + 1) == 0 { s } else { 0.0 })
+                .collect()
+        };
+        match self {
+            Whitening::Unit => Ok(diagonal(1.0)),
+            Whitening::Sigma(sigma) => Ok(diagonal(1.0 / sigma)),
+            Whitening::SqrtInformation(s) if s.nrows() == dim && s.ncols() == dim => {
+                Ok(s.transpose().as_slice().to_vec())
+            }
+            Whitening::SqrtInformation(s) => Err(PoseError::Whitening {
+                factor,
+                rows: s.nrows(),
+                columns: s.ncols(),
+                dim,
+            }),
+        }
+    }
+}
+
+/// The cost `½ Σ ‖S r‖²` of a pose's observations and its normal
+/// equations: `H = Σ J̃ᵀ J̃`, `g = Σ J̃ᵀ r̃` with `J̃ = S J`, `r̃ = S r`, `J` the
+/// residual's Jacobian w.r.t. the pose's tangent (on the factors' side).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Normal {
+    /// `½ Σ ‖S r‖²`.
+    pub cost: f64,
+    /// `H`, symmetric.
+    pub hessian: Matrix6<f64>,
+    /// `g`: the cost's gradient.
+    pub gradient: Vector6<f64>,
+}
+
+impl Normal {
+    fn zero() -> Normal {
+        Normal {
+            cost: 0.0,
+            hessian: Matrix6::zeros(),
+            gradient: Vector6::zeros(),
+        }
+    }
+}
+
+/// Observations of any factor type, as the problem holds them.
+pub(crate) trait Terms {
+    /// Adds the cost and normal equations of the active observations at
+    /// the pose stored as `pose` (`H`'s upper triangle only) to `normal`.
+    fn accumulate(&mut self, pose: &[f64; 7], normal: &mut Normal) -> Result<(), PoseError>;
+    /// Sets aside the observations whose residual is undefined at `pose`
+    /// (inactive), the others active; returns how many were set aside.
+    fn set_aside_undefined(&mut self, pose: &[f64; 7]) -> usize;
+    /// Makes every observation active.
+    fn activate_all(&mut self);
+    /// The active observations.
+    fn active(&self) -> usize;
+    /// Their residual rows.
+    fn rows(&self) -> usize;
+    /// The pose's perturbation side.
+    fn side(&self) -> Perturbation;
+    /// For [`crate::PoseProblem::add`] to find its factor type's terms.
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// Observations of factor type `F`: their stored scalars (the pose's
+/// rewritten at every linearization) and whitening matrices.
+pub(crate) struct Observations<F> {
+    /// Each factor's stored scalars, one after the other.
+    stored: Vec<f64>,
+    /// Each factor's `S`, row-major.
+    whitening: Vec<f64>,
+    /// Each factor's index in the problem.
+    indices: Vec<usize>,
+    /// Whether each factor enters the cost.
+    active: Vec<bool>,
+    /// The pose variable's index among `F`'s variables.
+    pose: usize,
+    /// Its first stored scalar.
+    pose_offset: usize,
+    /// `F`'s variables.
+    variables: usize,
+    side: Perturbation,
+    /// Scratch: the residual, the pose's Jacobian block, the whitened block.
+    residual: Vec<f64>,
+    block: Vec<f64>,
+    whitened: Vec<f64>,
+    _factor: std::marker::PhantomData<F>,
+}
+
+impl<F: Factor> Observations<F> {
+    /// No observations yet; fails when `F` has not exactly one `Se3` variable.
+    pub(crate) fn new() -> Result<Self, PoseError> {
+        let variables = F::variables();
+        let poses: Vec<usize> = (0..variables.len())
+            .filter(|&k| variables[k].type_name == "Se3<S>")
+            .collect();
+        let [pose] = poses[..] else {
+            return Err(PoseError::NoPose {
+                factor: F::NAME,
+                found: poses.len(),
+            });
+        };
+        assert!(
+            variables.len() <= MAX_VARIABLES,
+            "{} variables",
+            variables.len()
+        );
+        let pose_offset = F::fields()
+            .iter()
+            .take_while(|f| f.variable != Some(pose))
+            .map(|f| f.scalars)
+            .sum();
+        let dim = F::RESIDUAL_DIM;
+        Ok(Observations {
+            stored: Vec::new(),
+            whitening: Vec::new(),
+            indices: Vec::new(),
+            active: Vec::new(),
+            pose,
+            pose_offset,
+            variables: variables.len(),
+            side: variables[pose].perturbation,
+            residual: vec![0.0; dim],
+            block: vec![0.0; dim * 6],
+            whitened: vec![0.0; dim * 7],
+            _factor: std::marker::PhantomData,
+        })
+    }
+
+    /// Adds `factor` (its pose's value is not used) as observation `index`.
+    pub(crate) fn push(
+        &mut self,
+        factor: &F,
+        whitening: &Whitening,
+        index: usize,
+    ) -> Result<(), PoseError> {
+        let s = whitening.matrix(F::NAME, F::RESIDUAL_DIM)?;
+        self.stored.extend(factor.to_scalars());
+        self.whitening.extend(s);
+        self.indices.push(index);
+        self.active.push(true);
+        Ok(())
+    }
+}
+
+impl<F: Factor + 'static> Terms for Observations<F> {
+    fn accumulate(&mut self, pose: &[f64; 7], normal: &mut Normal) -> Result<(), PoseError> {
+        let dim = F::RESIDUAL_DIM;
+        let chunks = self
+            .stored
+            .chunks_exact_mut(F::SCALARS)
+            .zip(self.whitening.chunks_exact(dim * dim))
+            .zip(&self.indices)
+            .zip(&self.active)
+            .filter(|(_, active)| **active);
+        for (((stored, s), &index), _) in chunks {
+            stored[self.pose_offset..self.pose_offset + 7].copy_from_slice(pose);
+            let mut slots: [Option<&mut [f64]>; MAX_VARIABLES] = Default::default();
+            slots[self.pose] = Some(&mut self.block[..]);
+            F::linearize_stored_into(stored, &mut self.residual, &mut slots[..self.variables])
+                .map_err(|error: FactorError| PoseError::Observation {
+                    observation: index,
+                    error,
+                })?;
+            // [S J | S r], row by row.
+            for i in 0..dim {
+                let row = &mut self.whitened[i * 7..(i + 1) * 7];
+                row.fill(0.0);
+                for k in 0..dim {
+                    let sik = s[i * dim + k];
+                    if sik != 0.0 {
+                        for (c, x) in row[..6].iter_mut().enumerate() {
+                            *x += sik * self.block[k * 6 + c];
+                        }
+                        row[6] += sik * self.residual[k];
+                    }
+                }
+            }
+            for row in self.whitened.chunks_exact(7) {
+                let r = row[6];
+                normal.cost += 0.5 * r * r;
+                for a in 0..6 {
+                    normal.gradient[a] += row[a] * r;
+                    for b in a..6 {
+                        normal.hessian[(a, b)] += row[a] * row[b];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn set_aside_undefined(&mut self, pose: &[f64; 7]) -> usize {
+        let mut set_aside = 0;
+        for (stored, active) in self
+            .stored
+            .chunks_exact_mut(F::SCALARS)
+            .zip(&mut self.active)
+        {
+            stored[self.pose_offset..self.pose_offset + 7].copy_from_slice(pose);
+            let mut slots: [Option<&mut [f64]>; MAX_VARIABLES] = Default::default();
+            *active =
+                F::linearize_stored_into(stored, &mut self.residual, &mut slots[..self.variables])
+                    .is_ok();
+            set_aside += usize::from(!*active);
+        }
+        set_aside
+    }
+
+    fn activate_all(&mut self) {
+        self.active.fill(true);
+    }
+
+    fn active(&self) -> usize {
+        self.active.iter().filter(|a| **a).count()
+    }
+
+    fn rows(&self) -> usize {
+        self.active() * F::RESIDUAL_DIM
+    }
+
+    fn side(&self) -> Perturbation {
+        self.side
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+/// The normal equations of `terms` at the pose stored as `pose`.
+pub(crate) fn normal(terms: &mut [Box<dyn Terms>], pose: &[f64; 7]) -> Result<Normal, PoseError> {
+    let mut normal = Normal::zero();
+    for t in terms {
+        t.accumulate(pose, &mut normal)?;
+    }
+    for a in 0..6 {
+        for b in 0..a {
+            normal.hessian[(a, b)] = normal.hessian[(b, a)];
+        }
+    }
+    Ok(normal)
+}

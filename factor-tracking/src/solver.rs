@@ -1,0 +1,256 @@
+//! The pose-only problem and its Levenberg–Marquardt solve.
+
+use std::any::TypeId;
+
+use factor_core::lie::Se3;
+use factor_core::{Factor, Manifold, Perturbation, Storage};
+
+use crate::error::PoseError;
+use crate::observations::{Normal, Observations, Terms, Whitening, normal};
+
+/// When [`PoseProblem::solve`] stops, and when it refuses a pose as
+/// undetermined.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// The most iterations (accepted or rejected steps).
+    pub max_iterations: usize,
+    /// Converged once a step's norm `|δ|` (radians and the translation's
+    /// units, mixed) is below this.
+    pub step_tolerance: f64,
+    /// The Gauss–Newton matrix at the initial pose must have its smallest
+    /// eigenvalue above this fraction of its largest.
+    pub min_eigenvalue_ratio: f64,
+    /// The first damping `λ`, relative to `H`'s diagonal (`H + λ diag(H)`).
+    pub initial_damping: f64,
+}
+
+impl Default for Options {
+    /// 20 iterations, steps down to 1e-8, eigenvalue ratio 1e-12, damping 1e-6.
+    fn default() -> Self {
+        Options {
+            max_iterations: 20,
+            step_tolerance: 1e-8,
+            min_eigenvalue_ratio: 1e-12,
+            initial_damping: 1e-6,
+        }
+    }
+}
+
+/// What [`PoseProblem::solve`] reached.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseSolution {
+    /// The pose.
+    pub pose: Se3<f64>,
+    /// Iterations taken (each one linearization).
+    pub iterations: usize,
+    /// The cost at the initial pose (NaN when observations were
+    /// [deferred](PoseSolution::deferred): it is undefined there).
+    pub initial_cost: f64,
+    /// The cost at [`PoseSolution::pose`].
+    pub cost: f64,
+    /// Whether the last step was below [`Options::step_tolerance`] (else
+    /// the iterations ran out, or the damping grew past any use).
+    pub converged: bool,
+    /// The observations undefined at the initial pose (a point behind
+    /// it), left out of a first solve whose pose started the solve with
+    /// all of them.
+    pub deferred: usize,
+}
+
+/// One pose's observations against a fixed map: factors of any types, each
+/// with one `Se3` variable (the pose) and the other variables held at the
+/// values the factor carries.
+#[derive(Default)]
+pub struct PoseProblem {
+    terms: Vec<Box<dyn Terms>>,
+    types: Vec<TypeId>,
+    observations: usize,
+}
+
+/// Damping beyond which a step is not worth trying (the gradient is then
+/// below rounding).
+const MAX_DAMPING: f64 = 1e16;
+
+impl PoseProblem {
+    /// No observations.
+    pub fn new() -> Self {
+        PoseProblem::default()
+    }
+
+    /// Adds `factor`, its residual whitened by `whitening`; its landmarks
+    /// (every variable but the pose) stay at the factor's values, and its
+    /// pose's value is not used. Returns the observation's index (errors
+    /// name it).
+    ///
+    /// # Errors
+    ///
+    /// [`PoseError::NoPose`] when `F` has not exactly one `Se3` variable;
+    /// [`PoseError::MixedSides`] when its pose is perturbed on the other
+    /// side than the problem's other observations';
+    /// [`PoseError::Whitening`] for a matrix of the wrong size.
+    pub fn add<F: Factor + 'static>(
+        &mut self,
+        factor: &F,
+        whitening: &Whitening,
+    ) -> Result<usize, PoseError> {
+        let index = self.observations;
+        let id = TypeId::of::<F>();
+        let at = match self.types.iter().position(|t| *t == id) {
+            Some(at) => at,
+            None => {
+                let terms = Observations::<F>::new()?;
+                if self.terms.first().is_some_and(|t| t.side() != terms.side()) {
+                    return Err(PoseError::MixedSides { factor: F::NAME });
+                }
+                self.terms.push(Box::new(terms));
+                self.types.push(id);
+                self.terms.len() - 1
+            }
+        };
+        let terms = self.terms[at]
+            .as_any_mut()
+            .downcast_mut::<Observations<F>>()
+            .expect("the terms of its type");
+        terms.push(factor, whitening, index)?;
+        self.observations += 1;
+        Ok(index)
+    }
+
+    /// The observations added.
+    pub fn len(&self) -> usize {
+        self.observations
+    }
+
+    /// Whether none was added.
+    pub fn is_empty(&self) -> bool {
+        self.observations == 0
+    }
+
+    /// Their residual rows.
+    pub fn rows(&self) -> usize {
+        self.terms.iter().map(|t| t.rows()).sum()
+    }
+
+    /// The pose's perturbation side (its tangent's meaning); `None` when
+    /// empty.
+    pub fn side(&self) -> Option<Perturbation> {
+        self.terms.first().map(|t| t.side())
+    }
+
+    /// The cost and normal equations at `pose`, each observation linearized
+    /// by its factor's generated kernel (dual numbers for a factor without
+    /// one), the pose's Jacobian block only.
+    ///
+    /// # Errors
+    ///
+    /// [`PoseError::Observation`] for the first one that cannot be
+    /// evaluated there.
+    pub fn normal(&mut self, pose: &Se3<f64>) -> Result<Normal, PoseError> {
+        let mut stored = [0.0; 7];
+        pose.write_scalars(&mut stored);
+        normal(&mut self.terms, &stored)
+    }
+
+    /// Levenberg–Marquardt from `initial`: each step solves the 6 × 6
+    /// system `(H + λ diag(H)) δ = −g` by Cholesky and retracts the pose on
+    /// the factors' side; a step that raises the cost, or leaves an
+    /// observation undefined (a point behind the camera), is rejected and
+    /// `λ` grows tenfold, an accepted one divides it by ten.
+    ///
+    /// Observations undefined at `initial` itself (a landmark behind a
+    /// camera started at the previous frame's pose) are deferred: the pose
+    /// is first solved without them, then with all of them from there
+    /// ([`PoseSolution::deferred`]; the iterations of both count).
+    ///
+    /// # Errors
+    ///
+    /// [`PoseError::NoObservations`]; [`PoseError::Underdetermined`] when
+    /// `H` at the start of either solve is singular (by
+    /// [`Options::min_eigenvalue_ratio`]) or not finite;
+    /// [`PoseError::Observation`] for one still undefined at the first
+    /// solve's pose.
+    pub fn solve(
+        &mut self,
+        initial: &Se3<f64>,
+        options: &Options,
+    ) -> Result<PoseSolution, PoseError> {
+        let side = self.side().ok_or(PoseError::NoObservations)?;
+        let mut stored = [0.0; 7];
+        initial.write_scalars(&mut stored);
+        let deferred: usize = self
+            .terms
+            .iter_mut()
+            .map(|t| t.set_aside_undefined(&stored))
+            .sum();
+        if deferred == 0 {
+            return self.iterate(initial, side, options, 0);
+        }
+        let first = self.iterate(initial, side, options, 0);
+        for t in &mut self.terms {
+            t.activate_all();
+        }
+        let first = first?;
+        let mut solution = self.iterate(&first.pose, side, options, first.iterations)?;
+        solution.initial_cost = f64::NAN;
+        solution.deferred = deferred;
+        Ok(solution)
+    }
+
+    /// Levenberg–Marquardt on the active observations from `initial`, the
+    /// iterations counted from `iterations`.
+    fn iterate(
+        &mut self,
+        initial: &Se3<f64>,
+        side: Perturbation,
+        options: &Options,
+        iterations: usize,
+    ) -> Result<PoseSolution, PoseError> {
+        let mut current = self.normal(initial)?;
+        let eigenvalues = current.hessian.symmetric_eigenvalues();
+        let ratio = eigenvalues.min() / eigenvalues.max();
+        // Also refuses a NaN (incomparable).
+        if ratio.partial_cmp(&options.min_eigenvalue_ratio) != Some(std::cmp::Ordering::Greater) {
+            return Err(PoseError::Underdetermined {
+                observations: self.terms.iter().map(|t| t.active()).sum(),
+                rows: self.rows(),
+                ratio,
+            });
+        }
+        let mut solution = PoseSolution {
+            pose: *initial,
+            iterations,
+            initial_cost: current.cost,
+            cost: current.cost,
+            converged: false,
+            deferred: 0,
+        };
+        let mut lambda = options.initial_damping;
+        while solution.iterations < options.max_iterations && lambda < MAX_DAMPING {
+            solution.iterations += 1;
+            let mut damped = current.hessian;
+            for i in 0..6 {
+                damped[(i, i)] += lambda * current.hessian[(i, i)];
+            }
+            let Some(cholesky) = damped.cholesky() else {
+                lambda *= 10.0;
+                continue;
+            };
+            let step = -cholesky.solve(&current.gradient);
+            let candidate = solution.pose.retract(step.as_slice(), side);
+            match self.normal(&candidate) {
+                Ok(next) if next.cost <= current.cost => {
+                    solution.pose = candidate;
+                    solution.cost = next.cost;
+                    current = next;
+                    lambda = (lambda / 10.0).max(1e-12);
+                }
+                _ => lambda *= 10.0,
+            }
+            if step.norm() < options.step_tolerance {
+                solution.converged = true;
+                break;
+            }
+        }
+        Ok(solution)
+    }
+}
