@@ -4,7 +4,7 @@
 //! fixed.
 //!
 //! - Observations: the factors of one pose against one landmark
-//!   ([`TRACKED`]: `point_reprojection` measures points,
+//!   (`point_reprojection` measures points,
 //!   `line_reprojection`, `plucker_line_reprojection` and
 //!   `line_observation` lines, `plane` planes), each with the file's noise
 //!   model; any other factor, or a `robust` loss (tracking solves least
@@ -146,10 +146,6 @@ fn tracked_factors() -> [Tracked; 5] {
     ]
 }
 
-/// The names of [`tracked_factors`], for the documentation and errors.
-pub const TRACKED: &str =
-    "point_reprojection, line_reprojection, plucker_line_reprojection, line_observation, plane";
-
 /// A world-to-camera pose written `{"rotation": [qx, qy, qz, qw],
 /// "translation": [x, y, z]}` at `path`.
 fn pose(value: &Value, path: &str) -> Result<Se3<f64>, InputError> {
@@ -253,11 +249,13 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
         }
         let factor = object.string("factor")?;
         let entry = tracked.iter().find(|t| t.name == factor).ok_or_else(|| {
+            let names: Vec<&str> = tracked.iter().map(|t| t.name).collect();
             InputError::new(
                 object.path_of("factor"),
                 format!(
-                    "{} is not a factor of one pose against one landmark; track reads {TRACKED}",
-                    quoted(factor)
+                    "{} is not a factor of one pose against one landmark; track reads {}",
+                    quoted(factor),
+                    names.join(", ")
                 ),
             )
         })?;
