@@ -175,6 +175,11 @@ impl PoseProblem {
         options: &Options,
     ) -> Result<PoseSolution, PoseError> {
         let side = self.side().ok_or(PoseError::NoObservations)?;
+        match self.normal(initial) {
+            Ok(start) => return self.iterate(initial, start, side, options, 0),
+            Err(PoseError::Observation { .. }) => {}
+            Err(other) => return Err(other),
+        }
         let mut stored = [0.0; 7];
         initial.write_scalars(&mut stored);
         let deferred: usize = self
@@ -182,30 +187,31 @@ impl PoseProblem {
             .iter_mut()
             .map(|t| t.set_aside_undefined(&stored))
             .sum();
-        if deferred == 0 {
-            return self.iterate(initial, side, options, 0);
-        }
-        let first = self.iterate(initial, side, options, 0);
+        let first = self
+            .normal(initial)
+            .and_then(|start| self.iterate(initial, start, side, options, 0));
         for t in &mut self.terms {
             t.activate_all();
         }
         let first = first?;
-        let mut solution = self.iterate(&first.pose, side, options, first.iterations)?;
+        let start = self.normal(&first.pose)?;
+        let mut solution = self.iterate(&first.pose, start, side, options, first.iterations)?;
         solution.initial_cost = f64::NAN;
         solution.deferred = deferred;
         Ok(solution)
     }
 
-    /// Levenberg–Marquardt on the active observations from `initial`, the
-    /// iterations counted from `iterations`.
+    /// Levenberg–Marquardt on the active observations from `initial`,
+    /// whose normal equations are `current`, the iterations counted from
+    /// `iterations`.
     fn iterate(
         &mut self,
         initial: &Se3<f64>,
+        mut current: Normal,
         side: Perturbation,
         options: &Options,
         iterations: usize,
     ) -> Result<PoseSolution, PoseError> {
-        let mut current = self.normal(initial)?;
         let eigenvalues = current.hessian.symmetric_eigenvalues();
         let ratio = eigenvalues.min() / eigenvalues.max();
         // Also refuses a NaN (incomparable).
