@@ -19,7 +19,10 @@
 //! - each step solves `(H + λ diag(H)) δ = −g` by Cholesky and retracts the
 //!   pose on its factors' perturbation side (for the documents' `Se3`, the
 //!   left: `T ← Exp(δ) T`); a step that raises the cost or leaves an
-//!   observation undefined is rejected.
+//!   observation undefined is rejected. Observations undefined at the
+//!   initial pose itself (a landmark behind the previous frame's camera)
+//!   are deferred: the pose is solved without them, then with all of them
+//!   from there ([`PoseSolution::deferred`]).
 //!
 //! A pose the observations do not determine (fewer than six independent
 //! residual directions) is refused at the start ([`PoseError::Underdetermined`]),
