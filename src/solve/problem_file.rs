@@ -34,8 +34,11 @@
 //!   of their `value`; `solve` then reports the errors against it after the
 //!   summary ([`super::file_truth`]).
 //!
-//! Each factor is linearized by its generated apex kernel when it has one,
-//! by dual numbers in apex's chart otherwise. Errors name the field path
+//! The factors are those a [`Registry`] registered for `solve`
+//! ([`Registry::solve_with_kernel`]: its generated kernel in apex-solver's
+//! chart; [`Registry::solve_with_dual`]: dual numbers in that chart);
+//! `slamjac`'s own is [`crate::kernels::shipped`], a user's command line
+//! has its own ([`crate::cli`]). Errors name the field path
 //! (`error: factors[3].variables.pose: …`, exit 2).
 
 use std::collections::HashMap;
