@@ -93,19 +93,22 @@ pub(crate) struct Assembly<'a> {
     created: HashMap<String, Created>,
 }
 
+/// One factor entry of a problem file, checked: its `variables` (by
+/// field, the problem variables' values) and `constants` objects, the
+/// problem variable named for each variable field, its noise model and
+/// loss.
+pub(crate) struct Entry<'a> {
+    variables: &'a Object<'a>,
+    constants: &'a Object<'a>,
+    names: &'a [(String, String)],
+    noise: &'a Noise,
+    loss: Option<Robust>,
+}
+
 /// How a registered factor is added from a problem file
 /// ([`crate::registry::Registry::solve_with_kernel`],
-/// [`crate::registry::Registry::solve_with_dual`]): given its checked
-/// `variables` (by field, the problem variables' values) and `constants`
-/// objects and the problem variable named for each variable field.
-pub(crate) type AddFn = fn(
-    &mut Assembly,
-    &Object,
-    &Object,
-    &[(String, String)],
-    &Noise,
-    Option<Robust>,
-) -> Result<(), CliError>;
+/// [`crate::registry::Registry::solve_with_dual`]).
+pub(crate) type AddFn = fn(&mut Assembly, &Entry) -> Result<(), CliError>;
 
 /// `Se3` for `Se3<S>`: a type as the file names it.
 fn type_name(info: &str) -> &str {
@@ -150,35 +153,39 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
 /// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.
 pub(crate) fn add_kernel<F: HostKernel<Apex> + 'static>(
     assembly: &mut Assembly,
-    variables: &Object,
-    constants: &Object,
-    names: &[(String, String)],
-    noise: &Noise,
-    loss: Option<Robust>,
+    entry: &Entry,
 ) -> Result<(), CliError> {
-    let factor: F = decode(variables, constants)?;
-    let keys = variables_of(assembly, &factor, names);
-    assembly
-        .builder
-        .add_factor(&factor, &keys, noise, loss)
-        .map_err(build_error)
+    add_with(assembly, entry, ProblemBuilder::add_factor::<F>)
 }
 
 /// [`AddFn`] through dual numbers in apex-solver's chart.
 pub(crate) fn add_dual<F: HostFactor<Apex> + 'static>(
     assembly: &mut Assembly,
-    variables: &Object,
-    constants: &Object,
-    names: &[(String, String)],
-    noise: &Noise,
-    loss: Option<Robust>,
+    entry: &Entry,
 ) -> Result<(), CliError> {
-    let factor: F = decode(variables, constants)?;
-    let keys = variables_of(assembly, &factor, names);
-    assembly
-        .builder
-        .add_factor_dual(&factor, &keys, noise, loss)
-        .map_err(build_error)
+    add_with(assembly, entry, ProblemBuilder::add_factor_dual::<F>)
+}
+
+/// How [`ProblemBuilder`] adds a factor of type `F`.
+type BuilderAdd<F> =
+    fn(&mut ProblemBuilder, &F, &[AnyVariable], &Noise, Option<Robust>) -> Result<(), BuildError>;
+
+/// Decodes `F` from `entry`, creates its variables, and adds it by `add`.
+fn add_with<F: HostFactor<Apex> + 'static>(
+    assembly: &mut Assembly,
+    entry: &Entry,
+    add: BuilderAdd<F>,
+) -> Result<(), CliError> {
+    let factor: F = decode(entry.variables, entry.constants)?;
+    let keys = variables_of(assembly, &factor, entry.names);
+    add(
+        &mut assembly.builder,
+        &factor,
+        &keys,
+        entry.noise,
+        entry.loss,
+    )
+    .map_err(build_error)
 }
 
 fn build_error(error: BuildError) -> CliError {
@@ -433,7 +440,14 @@ fn add_entry(
         ),
         None => default_loss,
     };
-    add(assembly, &variables, &constants, &names, &noise, loss).map_err(|e| match e {
+    let checked = Entry {
+        variables: &variables,
+        constants: &constants,
+        names: &names,
+        noise: &noise,
+        loss,
+    };
+    add(assembly, &checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         other => other,
     })
