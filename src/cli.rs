@@ -55,7 +55,7 @@ use std::process::ExitCode;
 
 use clap::{Args, FromArgMatches, Subcommand, ValueEnum};
 
-pub use factor_codegen::{KernelSpec, Provenance};
+pub use factor_codegen::{HostSpec, KernelSpec, Provenance};
 
 pub use crate::registry::{KernelCrate, Registry};
 

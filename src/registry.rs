@@ -174,9 +174,13 @@ impl Registry {
 
     /// Adds a kernel to what `generate` writes and `check` compares, as
     /// `spec` describes it ([`KernelSpec::with_source`],
-    /// [`KernelSpec::with_normal_equations`]).
+    /// [`KernelSpec::with_normal_equations`]); it replaces a spec of the
+    /// same name given before (each kernel is written once).
     pub fn with_spec(mut self, spec: KernelSpec) -> Self {
-        self.specs.push(spec);
+        match self.specs.iter_mut().find(|s| s.name == spec.name) {
+            Some(given) => *given = spec,
+            None => self.specs.push(spec),
+        }
         self
     }
 
