@@ -26,6 +26,7 @@
 //! fn main() -> ExitCode {
 //!     Registry::new()
 //!         .with_kernel::<PointReprojection>()
+//!         .solve_with_kernel::<PointReprojection>() // `my-cli solve PROBLEM.json`
 //!         .with_kernel_crate(KERNELS)
 //!         .run("my-cli")
 //! }
@@ -37,20 +38,24 @@
 //! shape printed by `list`, errors on one line, exit codes 0, 1 and 2
 //! ([`crate::error`]).
 //!
+//! With `slamjac`'s feature `solve`, `my-cli solve PROBLEM.json` solves a
+//! problem file ([`SolveCommand`]; its format in `slamjac::solve::problem_file`
+//! and the guide's "Solving") of the factors registered with
+//! [`Registry::solve_with_kernel`] (their generated kernel in apex-solver's
+//! chart) or [`Registry::solve_with_dual`] (dual numbers in that chart).
+//!
 //! A binary with subcommands of its own flattens [`FactorCommand`] into its
-//! clap command and hands it to [`Registry::execute`]; `slamjac`'s `main`
-//! does so beside `audit`, `synth-bal` and `solve`. A subcommand that works
-//! on a registry's factors (solving a problem file whose factors are named
-//! as in `eval`) is one more variant of [`FactorCommand`], resolving names
-//! with [`Registry::find`].
+//! clap command and hands it to [`Registry::execute`] (and a
+//! [`SolveCommand`] to [`Registry::solve`]); `slamjac`'s `main` does so
+//! beside `audit`, `synth-bal` and its `solve` of data files.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{FromArgMatches, Subcommand};
+use clap::{Args, FromArgMatches, Subcommand, ValueEnum};
 
-pub use factor_codegen::{KernelSpec, Provenance};
+pub use factor_codegen::{HostSpec, KernelSpec, Provenance};
 
 pub use crate::registry::{KernelCrate, Registry};
 
@@ -101,6 +106,67 @@ pub enum FactorCommand {
     },
 }
 
+/// `solve PROBLEM`: a problem file of the registry's factors solved by
+/// Levenberg–Marquardt (apex-solver), a line per iteration and a summary;
+/// `--output` writes the file back with the solution. Needs `slamjac`'s
+/// feature `solve`.
+#[derive(Debug, Clone, Args)]
+pub struct SolveCommand {
+    /// The file to solve: a problem file (JSON: `slamjac_problem`,
+    /// `variables`, `factors`, optional `truth`; see the guide's "Solving").
+    /// `slamjac solve` also reads data files: BAL, Bundler, g2o, EDGE3,
+    /// KITTI VO (any of its three `VO_*.txt` files).
+    pub file: PathBuf,
+    /// How the factors are linearized: their generated kernels where they
+    /// have one, or dual numbers (for comparison).
+    #[arg(long, value_enum, default_value_t)]
+    pub kernels: KernelChoice,
+    /// The most iterations (accepted or rejected steps).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub max_iterations: u64,
+    /// A robust loss on every factor without one of its own, `huber:δ` or
+    /// `cauchy:δ` (δ in whitened units; for `slamjac solve`'s reprojection
+    /// data files, pixels).
+    #[arg(long, value_name = "LOSS:δ")]
+    pub robust: Option<String>,
+    /// Write the optimized problem here, in the input's format. Outputs are
+    /// checked before any work (none may name an input or the other output)
+    /// and written whole or not at all.
+    #[arg(long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Write an SVG plot here: the cost per iteration and, for
+    /// reprojection data files, the reprojection errors before and after.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// `--kernels`: how `solve` linearizes its factors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum KernelChoice {
+    /// The generated kernels (dual numbers for a factor without one).
+    #[default]
+    Generated,
+    /// Dual numbers through the same factors.
+    Dual,
+}
+
+/// A registry's whole command line: [`FactorCommand`] and `solve`.
+#[derive(Debug, Clone, Subcommand)]
+enum RegistryCommand {
+    #[command(flatten)]
+    Factors(FactorCommand),
+    /// Solve a problem file of the registered factors by Levenberg–Marquardt
+    /// (apex-solver): a line per iteration and a summary; errors against the
+    /// file's `truth` when it has one. Needs slamjac's feature `solve`.
+    #[command(allow_negative_numbers = true)]
+    Solve(SolveCommand),
+}
+
+/// What a binary built without `slamjac`'s feature `solve` says to `solve`.
+pub const WITHOUT_SOLVE: &str = "solve: this binary was built without slamjac's feature \
+    `solve`; enable it (`slamjac = { ..., features = [\"solve\"] }`, or for slamjac itself \
+    `cargo run --release --features solve -- solve FILE`)";
+
 /// What `--help` says after the subcommands: exit codes and the error line.
 pub const AFTER_HELP: &str = "Exit codes: 0 success; 1 degenerate geometry or non-finite \
     result, stale generated files, or a solve that cannot start or stops on a failure; 2 \
@@ -121,23 +187,42 @@ impl Registry {
         }
     }
 
+    /// Solves the problem file of `command` with this registry's factors
+    /// (those registered for `solve`), printing a line per iteration; the
+    /// summary, or the error to report ([`report`]).
+    pub fn solve(&self, command: &SolveCommand) -> Result<String, CliError> {
+        #[cfg(feature = "solve")]
+        {
+            crate::solve::run_problem_file(&crate::solve::SolveArgs::of(command)?, self)
+        }
+        #[cfg(not(feature = "solve"))]
+        {
+            let _ = command;
+            Err(CliError::Usage(WITHOUT_SOLVE.into()))
+        }
+    }
+
     /// The whole command line of a binary called `name`: parses the
     /// process's arguments (a usage error exits 2), runs the subcommand and
     /// reports its result.
     pub fn run(&self, name: &'static str) -> ExitCode {
-        let command = FactorCommand::augment_subcommands(
-            clap::Command::new(name)
-                .about("Residuals and exact Jacobians of the factors registered in this binary")
-                .after_help(AFTER_HELP)
-                .subcommand_required(true)
-                .arg_required_else_help(true),
-        );
+        // The about after the subcommands: clap's derive gives the command
+        // the doc comment of `RegistryCommand` otherwise.
+        let command = RegistryCommand::augment_subcommands(clap::Command::new(name))
+            .about(
+                "Residuals and exact Jacobians of the factors registered in this binary; \
+                 problem files of them solved",
+            )
+            .after_help(AFTER_HELP)
+            .subcommand_required(true)
+            .arg_required_else_help(true);
         slamjac_io::atomic::fail_writes_past_the_file_size_limit();
         match command
             .try_get_matches()
-            .and_then(|matches| FactorCommand::from_arg_matches(&matches))
+            .and_then(|matches| RegistryCommand::from_arg_matches(&matches))
         {
-            Ok(command) => report(self.execute(&command)),
+            Ok(RegistryCommand::Factors(command)) => report(self.execute(&command)),
+            Ok(RegistryCommand::Solve(command)) => report(self.solve(&command)),
             Err(error) => usage::print(&error, name),
         }
     }

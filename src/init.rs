@@ -8,7 +8,7 @@
 //! | --- | --- |
 //! | `NAME-factors` | the factors (one example, `PositionPrior`); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
 //! | `NAME-kernels` | the generated kernels: its `Cargo.toml` declares the feature `lanes` the sources use ([`factor_codegen::manifest`]); until the first generation its `src/lib.rs` is a compile error naming the command |
-//! | `NAME-cli` | the command line, binary `NAME`: `list`, `eval`, `generate`, `check` ([`crate::cli`]); the code generator is its dependency, not the factors' |
+//! | `NAME-cli` | the command line, binary `NAME`: `list`, `eval`, `generate`, `check`, and with its feature `solve`, `solve` of problem files ([`crate::cli`]); the code generator is its dependency, not the factors' |
 //!
 //! The workspace's `Cargo.toml` holds the profile entries that make
 //! generation take seconds in a debug build
@@ -112,11 +112,15 @@ slamjac = { path = "@CHECKOUT@", default-features = false }
 # factors without them: `generate` then works when they are missing or stale.
 default = ["kernels"]
 kernels = ["@NAME@-factors/kernels"]
+# `@NAME@ solve PROBLEM.json`: problem files solved by apex-solver (its first
+# build takes minutes; build with `--release --features solve`).
+solve = ["slamjac/solve", "kernels"]
 "#;
 
 /// `NAME-cli/src/main.rs`.
-const CLI_MAIN: &str = r#"//! `@NAME@`: list the factors of `@NAME@-factors`, evaluate them from JSON, and
-//! generate or check their kernels in `@NAME@-kernels`.
+const CLI_MAIN: &str = r#"//! `@NAME@`: list the factors of `@NAME@-factors`, evaluate them from JSON,
+//! generate or check their kernels in `@NAME@-kernels`, and (feature `solve`)
+//! solve problem files of them.
 
 use std::process::ExitCode;
 
@@ -135,7 +139,14 @@ const KERNELS: KernelCrate = KernelCrate {
 
 fn main() -> ExitCode {
     Registry::new()
+        // `list`, `eval`, and its kernel in what `generate` writes.
         .with_kernel::<@IDENT@_factors::PositionPrior>()
+        // `solve`: problem files, linearized by dual numbers in
+        // apex-solver's chart. A factor with `hosts(apex)` and a kernel
+        // generated for that host (`.with_spec(KernelSpec::of::<F>()
+        // .with_host(HostSpec::of::<F, Apex>()))`) is solved through it
+        // with `.solve_with_kernel::<F>()` (in builds with the kernels).
+        .solve_with_dual::<@IDENT@_factors::PositionPrior>()
         .with_kernel_crate(KERNELS)
         .run("@NAME@")
 }
@@ -145,6 +156,18 @@ fn main() -> ExitCode {
 const INPUT: &str = r#"{"factor": "position_prior",
  "variables": {"position": [1.0, 2.0, 3.0]},
  "constants": {"measured": [1.5, 2.0, 2.5]}}
+"#;
+
+/// `inputs/position_problem.json`: a problem file for `solve`, two
+/// measurements of one position (solved: their mean).
+const PROBLEM: &str = r#"{"slamjac_problem": 1,
+ "variables": {"p": {"type": "Vector3", "value": [0.0, 0.0, 0.0]}},
+ "factors": [
+  {"factor": "position_prior", "variables": {"position": "p"},
+   "constants": {"measured": [1.0, 2.0, 3.0]}, "noise": {"sigma": 0.1}},
+  {"factor": "position_prior", "variables": {"position": "p"},
+   "constants": {"measured": [1.2, 2.0, 2.6]}, "noise": {"sigma": 0.1}}
+ ]}
 "#;
 
 /// `README.md`.
@@ -157,12 +180,13 @@ cargo run -p @NAME@-cli --no-default-features -- generate   # (re)write @NAME@-k
 cargo run -p @NAME@-cli -- list                             # the factors, their inputs and kernels
 cargo run -p @NAME@-cli -- eval inputs/position_prior.json  # residual and Jacobians
 cargo run -p @NAME@-cli --no-default-features -- check      # exit 1 when the kernels are stale (CI)
+cargo run --release -p @NAME@-cli --features solve -- solve inputs/position_problem.json
 ```
 
 Add a factor to `@NAME@-factors/src/lib.rs` (with its
 `#[cfg_attr(feature = "kernels", factor(kernel = ..., regenerate = ...))]`),
-register it in `@NAME@-cli/src/main.rs` with `.with_kernel::<YourFactor>()`,
-then generate. The slamjac guide's chapters "Writing a factor" and
+register it in `@NAME@-cli/src/main.rs` with `.with_kernel::<YourFactor>()`
+(and `.solve_with_dual::<YourFactor>()` for `solve`), then generate. The slamjac guide's chapters "Writing a factor" and
 "Kernels of your own factors" say more.
 "#;
 
@@ -199,6 +223,7 @@ pub fn files(name: &str) -> Vec<(String, String)> {
         (".gitignore".into(), GITIGNORE.into()),
         ("README.md".into(), fill(README)),
         ("inputs/position_prior.json".into(), INPUT.into()),
+        ("inputs/position_problem.json".into(), PROBLEM.into()),
         (format!("{name}-factors/Cargo.toml"), fill(FACTORS_MANIFEST)),
         (format!("{name}-factors/src/lib.rs"), fill(FACTORS_LIB)),
         (

@@ -3,6 +3,8 @@
 //! public generator API of `factor-codegen`, as any user's generator does.
 
 use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
+#[cfg(feature = "kernels")]
+use factor_core::host::HostKernel;
 use factor_core::host::{Apex, HostFactor};
 
 use crate::registry::{KernelCrate, Registry};
@@ -87,25 +89,44 @@ pub fn generate_all() -> Result<GeneratedCrate, CodegenError> {
 }
 
 /// `slamjac`'s own registry: the factors `slam-factors` ships, each with
-/// its kernel in the workspace's `generated/` ([`shipped_kernels`]).
+/// its kernel in the workspace's `generated/` ([`shipped_kernels`]), and
+/// each solved from problem files: through its apex kernel, g2o's line and
+/// plane edge errors through dual numbers (they have no kernel).
 pub fn shipped() -> Registry {
-    let registry = Registry::new()
-        .with::<PointReprojection>()
-        .with::<LineReprojection>()
-        .with::<PlaneFactor>()
-        .with::<FreeLineFactor>()
-        .with::<PluckerLineReprojection>()
-        .with::<LineObservation>()
-        .with::<SnavelyReprojection>()
-        .with::<StereoReprojection>()
-        .with::<BetweenFactor>()
-        .with::<G2oSe3Edge>()
-        .with::<G2oLineEdge>()
-        .with::<G2oPlaneEdge>()
+    let with_kernels: [fn(Registry) -> Registry; 10] = [
+        solved::<PointReprojection>,
+        solved::<LineReprojection>,
+        solved::<PlaneFactor>,
+        solved::<FreeLineFactor>,
+        solved::<PluckerLineReprojection>,
+        solved::<LineObservation>,
+        solved::<SnavelyReprojection>,
+        solved::<StereoReprojection>,
+        solved::<BetweenFactor>,
+        solved::<G2oSe3Edge>,
+    ];
+    let registry = with_kernels
+        .into_iter()
+        .fold(Registry::new(), |registry, add| add(registry))
+        .solve_with_dual::<G2oLineEdge>()
+        .solve_with_dual::<G2oPlaneEdge>()
         .with_kernel_crate(KERNEL_CRATE);
     shipped_kernels()
         .into_iter()
         .fold(registry, Registry::with_spec)
+}
+
+/// A shipped factor with a kernel, solved through it; in a build without
+/// the kernels (`--no-default-features`, for `generate`) registered for
+/// `list` and `eval` only.
+#[cfg(feature = "kernels")]
+fn solved<F: HostKernel<Apex> + 'static>(registry: Registry) -> Registry {
+    registry.solve_with_kernel::<F>()
+}
+
+#[cfg(not(feature = "kernels"))]
+fn solved<F: HostFactor<Apex> + 'static>(registry: Registry) -> Registry {
+    registry.with::<F>()
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@ use factor_codegen::OpCounts;
 use serde_json::{Value, json};
 
 use crate::generate::counts_text;
-use crate::registry::{FactorEntry, Registry};
+use crate::registry::{FactorEntry, Registry, SolvedBy};
 
 /// The operation counts of the kernel `registry` generates for `entry`, as
 /// the current definitions generate it: the whole kernel and the residual
@@ -104,19 +104,43 @@ fn factor_table(registry: &Registry, entry: &FactorEntry) -> String {
     out.push_str(&format!("  variables: {}\n", fields(true)));
     out.push_str(&format!("  constants: {}\n", fields(false)));
     out.push_str(&kernel_line(registry, entry));
+    if let Some(line) = solve_line(entry) {
+        out.push_str(&line);
+    }
     out
+}
+
+/// How `solve` linearizes the factor (the `solve:` line of the table), if
+/// it is registered for `solve`.
+fn solve_line(entry: &FactorEntry) -> Option<String> {
+    let how = match entry.solved_by? {
+        SolvedBy::Kernel => "its kernel in apex-solver's chart",
+        SolvedBy::Dual => "dual numbers in apex-solver's chart",
+    };
+    Some(format!("  solve: problem files, through {how}\n"))
+}
+
+/// [`FactorEntry::solved_by`] in the JSON list.
+fn solved_by_json(entry: &FactorEntry) -> Value {
+    match entry.solved_by {
+        Some(SolvedBy::Kernel) => json!("kernel"),
+        Some(SolvedBy::Dual) => json!("dual"),
+        None => Value::Null,
+    }
 }
 
 /// `tangent` states the perturbation side (or "additive") and the column
 /// order in words; `json` is the variable's shape in the `eval` input;
 /// `kernel` is the generated kernel `eval` uses (`null` when it uses dual
 /// numbers) and `operations` the counts by kind of the kernel the current
-/// definitions generate (`residual_operations`: the residual alone).
+/// definitions generate (`residual_operations`: the residual alone);
+/// `solve` is how `solve` linearizes the factor in problem files
+/// (`"kernel"`, `"dual"`, or `null` when it does not solve it).
 ///
 /// `{"factors": [{"name", "residual_dim", "variables": [{"name", "type",
 /// "tangent_dim", "tangent", "json"}], "constants": [{"name", "json"}],
 /// "kernel", "operations": {"add", "mul", "div", "neg", "sqrt", "func",
-/// "branch", "total"}, "residual_operations"}]}`.
+/// "branch", "total"}, "residual_operations", "solve"}]}`.
 pub fn json(registry: &Registry) -> Value {
     let factors: Vec<Value> = registry
         .factors()
@@ -150,6 +174,7 @@ pub fn json(registry: &Registry) -> Value {
                 "kernel": entry.kernel,
                 "operations": counts.as_ref().map(|(all, _)| counts_json(all)),
                 "residual_operations": counts.as_ref().map(|(_, residual)| residual.total()),
+                "solve": solved_by_json(entry),
             })
         })
         .collect();

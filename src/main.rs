@@ -107,38 +107,17 @@ enum Command {
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
     Solve {
-        /// The data file; a KITTI VO problem is named by any of its three
-        /// `VO_*.txt` files.
-        file: PathBuf,
+        #[command(flatten)]
+        problem: cli::SolveCommand,
         /// The format [default: from the file name, `.txt` from its content].
         #[arg(long, value_parser = parse_format)]
         format: Option<slam_data::Format>,
-        /// How the factors are linearized.
-        #[arg(long, value_enum, default_value_t)]
-        kernels: KernelChoice,
         /// Which solver: `schur` (landmarks eliminated by a Schur complement
         /// fed by the fused normal-equation kernels; BAL, Bundler, KITTI VO),
         /// `apex` (apex-solver, any problem), or `auto` (`schur` where it
         /// applies with the generated kernels, else `apex`).
         #[arg(long, value_enum, default_value_t)]
         solver: SolverFlag,
-        /// The most iterations (accepted or rejected steps).
-        #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
-        max_iterations: u64,
-        /// A robust loss on every block, `huber:δ` or `cauchy:δ` (δ in the
-        /// residual's units: pixels, or whitened units for pose graphs).
-        #[arg(long, value_name = "LOSS:δ")]
-        robust: Option<String>,
-        /// Write the optimized problem here, in the input's format (KITTI VO:
-        /// the three `VO_*<S>.txt` files of this name's suffix `S`). Outputs
-        /// are checked before any work (none may name an input or the other
-        /// output) and written whole or not at all.
-        #[arg(long, value_name = "FILE")]
-        output: Option<PathBuf>,
-        /// Write an SVG plot here: the cost per iteration and, for
-        /// reprojection problems, the reprojection errors before and after.
-        #[arg(long, value_name = "FILE.svg")]
-        plot: Option<PathBuf>,
         /// The factors of the lines and planes of a g2o line and plane
         /// graph: g2o's own errors (the cost is g2o's χ²/2) or the
         /// documents' orthonormal-line and quaternion-plane factors.
@@ -241,16 +220,6 @@ enum Command {
     },
 }
 
-/// `--kernels`: how `solve` linearizes its factors.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
-enum KernelChoice {
-    /// The generated kernels of `generated/`.
-    #[default]
-    Generated,
-    /// Dual numbers through the same factors (for comparison).
-    Dual,
-}
-
 /// `--solver`: which solver `solve` uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
 enum SolverFlag {
@@ -298,72 +267,42 @@ fn parse_format(name: &str) -> Result<slam_data::Format, String> {
         .map_err(|e: slam_data::UnknownFormat| e.to_string())
 }
 
+/// `slamjac solve`: `problem` and the options only data files have.
 #[cfg(feature = "solve")]
-#[allow(clippy::too_many_arguments)]
 fn solve(
-    file: PathBuf,
+    problem: &cli::SolveCommand,
     format: Option<slam_data::Format>,
-    kernels: KernelChoice,
     solver: SolverFlag,
-    max_iterations: u64,
-    robust: Option<String>,
-    output: Option<PathBuf>,
-    plot: Option<PathBuf>,
     factors: LandmarkChoice,
     truth: Option<PathBuf>,
 ) -> Result<String, CliError> {
-    use factor_apex::Kernels;
     use factor_apex::problems::g2o_addons::LandmarkFactors;
-    use slamjac::solve::SolverChoice;
-    let robust = robust
-        .map(|r| {
-            r.parse()
-                .map_err(|e| CliError::Usage(format!("--robust: {e}")))
-        })
-        .transpose()?;
-    slamjac::solve::run(&slamjac::solve::SolveArgs {
-        file,
+    use slamjac::solve::{SolveArgs, SolverChoice};
+    slamjac::solve::run(&SolveArgs {
         format,
-        kernels: match kernels {
-            KernelChoice::Generated => Kernels::Generated,
-            KernelChoice::Dual => Kernels::Dual,
-        },
         solver: match solver {
             SolverFlag::Auto => SolverChoice::Auto,
             SolverFlag::Schur => SolverChoice::Schur,
             SolverFlag::Apex => SolverChoice::Apex,
         },
-        max_iterations: usize::try_from(max_iterations).unwrap_or(usize::MAX),
-        robust,
-        output,
-        plot,
         landmarks: match factors {
             LandmarkChoice::G2o => LandmarkFactors::G2o,
             LandmarkChoice::Documents => LandmarkFactors::Documents,
         },
         truth,
+        ..SolveArgs::of(problem)?
     })
 }
 
 #[cfg(not(feature = "solve"))]
-#[allow(clippy::too_many_arguments)]
 fn solve(
-    _file: PathBuf,
+    _problem: &cli::SolveCommand,
     _format: Option<slam_data::Format>,
-    _kernels: KernelChoice,
     _solver: SolverFlag,
-    _max_iterations: u64,
-    _robust: Option<String>,
-    _output: Option<PathBuf>,
-    _plot: Option<PathBuf>,
     _factors: LandmarkChoice,
     _truth: Option<PathBuf>,
 ) -> Result<String, CliError> {
-    Err(CliError::Usage(
-        "solve: this slamjac was built without the feature `solve`; build it with \
-         `cargo run --release --features solve -- solve FILE`"
-            .into(),
-    ))
+    Err(CliError::Usage(cli::WITHOUT_SOLVE.into()))
 }
 
 #[cfg(feature = "solve")]
@@ -438,28 +377,12 @@ fn main() -> ExitCode {
             ..
         } => audit::run(samples, markdown.as_deref(), json.as_deref(), allow_unread),
         Command::Solve {
-            file,
+            problem,
             format,
-            kernels,
             solver,
-            max_iterations,
-            robust,
-            output,
-            plot,
             factors,
             truth,
-        } => solve(
-            file,
-            format,
-            kernels,
-            solver,
-            max_iterations,
-            robust,
-            output,
-            plot,
-            factors,
-            truth,
-        ),
+        } => solve(&problem, format, solver, factors, truth),
         Command::Track {
             file,
             kinds,

@@ -8,6 +8,7 @@
 //! storage ([`crate::decode`]).
 
 use factor_codegen::{KernelSpec, Provenance};
+use factor_core::host::{Apex, HostFactor, HostKernel};
 use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
 
 use crate::decode::{decode, json_shape};
@@ -34,6 +35,24 @@ pub struct FactorEntry {
     /// validates it and linearizes it with the given method; returns the
     /// method used (see [`linearize`]).
     pub linearize: LinearizeFn,
+    /// How `solve` linearizes it in apex-solver's chart, when it was
+    /// registered for `solve` ([`Registry::solve_with_kernel`],
+    /// [`Registry::solve_with_dual`]).
+    pub solved_by: Option<SolvedBy>,
+    /// How a problem file's entry of it is added to the problem.
+    #[cfg(feature = "solve")]
+    pub(crate) solve: Option<crate::solve::problem_file::AddFn>,
+}
+
+/// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolvedBy {
+    /// Its generated kernel in apex-solver's chart
+    /// (`#[factor(kernel = …, hosts(apex))]`), or dual numbers under
+    /// `solve --kernels dual`.
+    Kernel,
+    /// Dual numbers in apex-solver's chart.
+    Dual,
 }
 
 /// How a [`FactorEntry`] evaluates: checked `variables` and `constants`
@@ -53,6 +72,9 @@ impl FactorEntry {
                 let factor: F = decode(variables, constants)?;
                 Ok(linearize(&factor, method)?)
             },
+            solved_by: None,
+            #[cfg(feature = "solve")]
+            solve: None,
         }
     }
 
@@ -95,10 +117,53 @@ impl Registry {
     }
 
     /// Adds factor `F` to `list` and `eval` (its kernel, if the factor names
-    /// one, is what `eval --method generated` runs).
+    /// one, is what `eval --method generated` runs); once only.
     pub fn with<F: Factor>(mut self) -> Self {
-        self.factors.push(FactorEntry::of::<F>());
+        self.entry::<F>();
         self
+    }
+
+    /// Adds factor `F` (as [`Registry::with`]) and lets `solve` read it
+    /// from problem files, linearized by its generated kernel in
+    /// apex-solver's chart: the factor names a kernel crate with
+    /// `#[factor(kernel = …, hosts(apex))]`, and its spec has the host
+    /// (`KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())`).
+    /// `solve` works in a binary built with `slamjac`'s feature `solve`.
+    pub fn solve_with_kernel<F: HostKernel<Apex> + 'static>(mut self) -> Self {
+        let entry = self.entry::<F>();
+        entry.solved_by = Some(SolvedBy::Kernel);
+        #[cfg(feature = "solve")]
+        {
+            entry.solve = Some(crate::solve::problem_file::add_kernel::<F>);
+        }
+        self
+    }
+
+    /// Adds factor `F` (as [`Registry::with`]) and lets `solve` read it
+    /// from problem files, linearized by dual numbers in apex-solver's
+    /// chart: any derived factor whose variables' types map onto apex's
+    /// manifolds (`factor_core::host::HostMap<Apex>`; the guide's "Solver
+    /// charts"), no kernel needed.
+    pub fn solve_with_dual<F: HostFactor<Apex> + 'static>(mut self) -> Self {
+        let entry = self.entry::<F>();
+        entry.solved_by = Some(SolvedBy::Dual);
+        #[cfg(feature = "solve")]
+        {
+            entry.solve = Some(crate::solve::problem_file::add_dual::<F>);
+        }
+        self
+    }
+
+    /// Factor `F`'s entry, added at the end when it is not yet registered.
+    fn entry<F: Factor>(&mut self) -> &mut FactorEntry {
+        let index = match self.factors.iter().position(|f| f.name == F::NAME) {
+            Some(index) => index,
+            None => {
+                self.factors.push(FactorEntry::of::<F>());
+                self.factors.len() - 1
+            }
+        };
+        &mut self.factors[index]
     }
 
     /// Adds factor `F` to `list` and `eval`, and its kernel
@@ -109,9 +174,13 @@ impl Registry {
 
     /// Adds a kernel to what `generate` writes and `check` compares, as
     /// `spec` describes it ([`KernelSpec::with_source`],
-    /// [`KernelSpec::with_normal_equations`]).
+    /// [`KernelSpec::with_normal_equations`]); it replaces a spec of the
+    /// same name given before (each kernel is written once).
     pub fn with_spec(mut self, spec: KernelSpec) -> Self {
-        self.specs.push(spec);
+        match self.specs.iter_mut().find(|s| s.name == spec.name) {
+            Some(given) => *given = spec,
+            None => self.specs.push(spec),
+        }
         self
     }
 

@@ -2,8 +2,9 @@
 //! `cargo test -p slamjac-guide`, every `rust` code block of them compiles
 //! and runs as a doctest (blocks marked `no_run` compile only; lines
 //! starting with `# ` are hidden in the rendered book). The chapter on
-//! solver charts needs apex-solver: its blocks run as the documentation
-//! tests of `factor-apex` (`integrations/apex`).
+//! solver charts and the front page (`README.md`, whose example solves)
+//! need apex-solver: their blocks run as the documentation tests of
+//! `factor-apex` (`integrations/apex`).
 
 /// `writing-a-factor.md`.
 #[cfg(doctest)]
@@ -14,11 +15,6 @@ pub struct WritingAFactor;
 #[cfg(doctest)]
 #[doc = include_str!("kernels.md")]
 pub struct Kernels;
-
-/// The front page, `README.md`.
-#[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-pub struct Readme;
 
 /// `generated-kernels.md`.
 #[cfg(doctest)]

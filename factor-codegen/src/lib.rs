@@ -58,7 +58,7 @@
 //! #[factor(residual = offset_residual, dim = 3)]
 //! // with the generated crate: #[cfg_attr(feature = "kernels", factor(
 //! //     kernel = my_kernels::offset::offset,
-//! //     regenerate = "cargo run -p my-factors --no-default-features --bin generate-kernels"))]
+//! //     regenerate = "cargo run -p my-cli --no-default-features -- generate"))]
 //! pub struct Offset<S: Scalar = f64> {
 //!     /// The measured translation `t̃`.
 //!     pub measured: Vector3<S>,
@@ -73,8 +73,8 @@
 //!
 //! const PROVENANCE: Provenance = Provenance::new(
 //!     "Residual-and-Jacobian kernels of `my-factors`.",
-//!     "cargo run -p my-factors --bin generate-kernels",
-//!     "cargo run -p my-factors --bin generate-kernels -- --check",
+//!     "cargo run -p my-cli --no-default-features -- generate",
+//!     "cargo run -p my-cli --no-default-features -- check",
 //! );
 //!
 //! let kernels = GeneratedCrate::generate(PROVENANCE, &[KernelSpec::of::<Offset>()])?;
@@ -86,9 +86,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! `examples/user-factor/` in the workspace is another complete example
-//! (crates `user-factors` and `user-kernels`, with a generator binary of
-//! its own). Debug builds generate in seconds only with the symbolic
+//! `slamjac::cli::Registry` does these steps for a command line's `generate`
+//! and `check` (`slamjac init` writes such a project);
+//! `examples/user-factor/` in the workspace is a complete example (crates
+//! `user-factors`, `user-kernels` and the command line `user-cli`). Debug builds generate in seconds only with the symbolic
 //! engine and the generator optimised ([`build_profile`]).
 
 pub mod build_profile;

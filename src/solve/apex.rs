@@ -10,6 +10,7 @@ use super::{SolveArgs, at, finish, plot, problem_file, progress, report};
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::outputs;
+use crate::registry::Registry;
 
 /// Builds, solves and reports `data` with apex-solver.
 pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String, CliError> {
@@ -40,8 +41,8 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
 
 /// Reads, solves and reports a problem file, and writes it back with the
 /// solution (`--output`).
-pub(super) fn run_problem_file(args: &SolveArgs) -> Result<String, CliError> {
-    let mut problem = problem_file::read(&args.file, &build_options(args))?;
+pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String, CliError> {
+    let mut problem = problem_file::read(&args.file, &build_options(args), registry)?;
     let built = &mut problem.built;
     progress::print(&format!(
         "{} (problem file): {} blocks, {} kernels where generated (dual numbers otherwise); \

@@ -48,8 +48,10 @@ use factor_apex::solve::Verdict;
 use slam_data::Format;
 use slamjac_io::Role;
 
+use crate::cli::{KernelChoice, SolveCommand};
 use crate::error::CliError;
 use crate::outputs;
+use crate::registry::Registry;
 
 /// Which solver `solve` uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -95,12 +97,45 @@ fn at(file: &Path, what: impl std::fmt::Display) -> String {
     format!("{}: {what}", file.display())
 }
 
+impl SolveArgs {
+    /// A registry's `solve` ([`crate::cli::SolveCommand`]): a problem file,
+    /// apex-solver, no other data.
+    ///
+    /// # Errors
+    ///
+    /// [`CliError::Usage`] for a `--robust` that is not a loss.
+    pub fn of(command: &SolveCommand) -> Result<Self, CliError> {
+        let robust = command
+            .robust
+            .as_deref()
+            .map(|r| {
+                r.parse()
+                    .map_err(|e| CliError::Usage(format!("--robust: {e}")))
+            })
+            .transpose()?;
+        Ok(SolveArgs {
+            file: command.file.clone(),
+            format: None,
+            kernels: match command.kernels {
+                KernelChoice::Generated => Kernels::Generated,
+                KernelChoice::Dual => Kernels::Dual,
+            },
+            solver: SolverChoice::Auto,
+            max_iterations: usize::try_from(command.max_iterations).unwrap_or(usize::MAX),
+            robust,
+            output: command.output.clone(),
+            plot: command.plot.clone(),
+            landmarks: LandmarkFactors::G2o,
+            truth: None,
+        })
+    }
+}
+
 /// Refuses, before any work, an output (`--output`, each of the three
-/// files of a KITTI VO output, `--plot`) that names an input file or
-/// another output, or that cannot be written.
-fn check_files(args: &SolveArgs) -> Result<(), CliError> {
+/// files of a KITTI VO output, `--plot`) that names one of the files
+/// `read` or another output, or that cannot be written.
+fn check_files(args: &SolveArgs, read: &[PathBuf]) -> Result<(), CliError> {
     let format = args.format.or_else(|| Format::from_name(&args.file));
-    let read = slam_data::Problem::files_read(&args.file, format)?;
     let written = match &args.output {
         Some(path) => slam_data::Problem::files_written(path, format)?,
         None => Vec::new(),
@@ -130,10 +165,11 @@ fn check_files(args: &SolveArgs) -> Result<(), CliError> {
 /// initial values or a solve that stopped on a failure (the summary is
 /// printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
-    check_files(args)?;
     if args.format.is_none() && args.file.extension().is_some_and(|e| e == "json") {
-        return apex::run_problem_file(args);
+        return run_problem_file(args, &crate::kernels::shipped());
     }
+    let format = args.format.or_else(|| Format::from_name(&args.file));
+    check_files(args, &slam_data::Problem::files_read(&args.file, format)?)?;
     let data = slam_data::Problem::read(&args.file, args.format)?;
     if args.landmarks == LandmarkFactors::Documents
         && !matches!(data, slam_data::Problem::G2oAddons(_))
@@ -169,6 +205,19 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     } else {
         apex::run(args, &data)
     }
+}
+
+/// Solves the problem file `args.file` ([`problem_file`]) of the factors
+/// `registry` registered for `solve`, through apex-solver; errors and
+/// output as [`run`].
+///
+/// # Errors
+///
+/// As [`run`]; an entry naming a factor the registry does not solve is
+/// [`CliError::Input`] at its field path.
+pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String, CliError> {
+    check_files(args, std::slice::from_ref(&args.file))?;
+    apex::run_problem_file(args, registry)
 }
 
 /// The end of either path: the plot, the verdict, the output file and the

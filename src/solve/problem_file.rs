@@ -34,8 +34,11 @@
 //!   of their `value`; `solve` then reports the errors against it after the
 //!   summary ([`super::file_truth`]).
 //!
-//! Each factor is linearized by its generated apex kernel when it has one,
-//! by dual numbers in apex's chart otherwise. Errors name the field path
+//! The factors are those a [`Registry`] registered for `solve`
+//! ([`Registry::solve_with_kernel`]: its generated kernel in apex-solver's
+//! chart; [`Registry::solve_with_dual`]: dual numbers in that chart);
+//! `slamjac`'s own is [`crate::kernels::shipped`], a user's command line
+//! has its own ([`crate::cli`]). Errors name the field path
 //! (`error: factors[3].variables.pose: …`, exit 2).
 
 use std::collections::HashMap;
@@ -45,20 +48,16 @@ use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_va
 use factor_apex::problems::{BuildError, BuildOptions, Built, Robust};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::host::{Apex, HostFactor, HostKernel};
-use factor_core::{Factor, FieldInfo, Layout, Storage};
+use factor_core::{FieldInfo, Layout, Storage};
 
 use serde_json::{Map, Value};
-use slam_factors::{
-    BetweenFactor, FreeLineFactor, G2oLineEdge, G2oPlaneEdge, G2oSe3Edge, LineObservation,
-    LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection, SnavelyReprojection,
-    StereoReprojection,
-};
 
 use super::file_truth::Truth;
 use crate::decode::{decode, record_keys};
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
+use crate::registry::Registry;
 
 /// The format version this build reads and writes.
 pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
@@ -88,45 +87,28 @@ pub struct FileProblem {
 }
 
 /// What a factor entry needs while it is added.
-struct Assembly<'a> {
+pub(crate) struct Assembly<'a> {
     builder: ProblemBuilder,
     declared: &'a Map<String, Value>,
     created: HashMap<String, Created>,
 }
 
-/// Adds one factor of type `F`, given its checked `variables` (by field,
-/// the problem variables' values) and `constants` objects and the problem
-/// variable named for each variable field.
-type AddFn = fn(
-    &mut Assembly,
-    &Object,
-    &Object,
-    &[(String, String)],
-    &Noise,
-    Option<Robust>,
-) -> Result<(), CliError>;
-
-/// Every registered factor with how to add it: its generated apex kernel,
-/// or dual numbers where it has none.
-fn adders() -> Vec<(&'static str, AddFn)> {
-    vec![
-        (PointReprojection::NAME, add_kernel::<PointReprojection>),
-        (LineReprojection::NAME, add_kernel::<LineReprojection>),
-        (PlaneFactor::NAME, add_kernel::<PlaneFactor>),
-        (FreeLineFactor::NAME, add_kernel::<FreeLineFactor>),
-        (
-            PluckerLineReprojection::NAME,
-            add_kernel::<PluckerLineReprojection>,
-        ),
-        (LineObservation::NAME, add_kernel::<LineObservation>),
-        (SnavelyReprojection::NAME, add_kernel::<SnavelyReprojection>),
-        (StereoReprojection::NAME, add_kernel::<StereoReprojection>),
-        (BetweenFactor::NAME, add_kernel::<BetweenFactor>),
-        (G2oSe3Edge::NAME, add_kernel::<G2oSe3Edge>),
-        (G2oLineEdge::NAME, add_dual::<G2oLineEdge>),
-        (G2oPlaneEdge::NAME, add_dual::<G2oPlaneEdge>),
-    ]
+/// One factor entry of a problem file, checked: its `variables` (by
+/// field, the problem variables' values) and `constants` objects, the
+/// problem variable named for each variable field, its noise model and
+/// loss.
+pub(crate) struct Entry<'a> {
+    variables: &'a Object<'a>,
+    constants: &'a Object<'a>,
+    names: &'a [(String, String)],
+    noise: &'a Noise,
+    loss: Option<Robust>,
 }
+
+/// How a registered factor is added from a problem file
+/// ([`crate::registry::Registry::solve_with_kernel`],
+/// [`crate::registry::Registry::solve_with_dual`]).
+pub(crate) type AddFn = fn(&mut Assembly, &Entry) -> Result<(), CliError>;
 
 /// `Se3` for `Se3<S>`: a type as the file names it.
 fn type_name(info: &str) -> &str {
@@ -168,36 +150,42 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
         .collect()
 }
 
-fn add_kernel<F: HostKernel<Apex> + 'static>(
+/// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.
+pub(crate) fn add_kernel<F: HostKernel<Apex> + 'static>(
     assembly: &mut Assembly,
-    variables: &Object,
-    constants: &Object,
-    names: &[(String, String)],
-    noise: &Noise,
-    loss: Option<Robust>,
+    entry: &Entry,
 ) -> Result<(), CliError> {
-    let factor: F = decode(variables, constants)?;
-    let keys = variables_of(assembly, &factor, names);
-    assembly
-        .builder
-        .add_factor(&factor, &keys, noise, loss)
-        .map_err(build_error)
+    add_with(assembly, entry, ProblemBuilder::add_factor::<F>)
 }
 
-fn add_dual<F: HostFactor<Apex> + 'static>(
+/// [`AddFn`] through dual numbers in apex-solver's chart.
+pub(crate) fn add_dual<F: HostFactor<Apex> + 'static>(
     assembly: &mut Assembly,
-    variables: &Object,
-    constants: &Object,
-    names: &[(String, String)],
-    noise: &Noise,
-    loss: Option<Robust>,
+    entry: &Entry,
 ) -> Result<(), CliError> {
-    let factor: F = decode(variables, constants)?;
-    let keys = variables_of(assembly, &factor, names);
-    assembly
-        .builder
-        .add_factor_dual(&factor, &keys, noise, loss)
-        .map_err(build_error)
+    add_with(assembly, entry, ProblemBuilder::add_factor_dual::<F>)
+}
+
+/// How [`ProblemBuilder`] adds a factor of type `F`.
+type BuilderAdd<F> =
+    fn(&mut ProblemBuilder, &F, &[AnyVariable], &Noise, Option<Robust>) -> Result<(), BuildError>;
+
+/// Decodes `F` from `entry`, creates its variables, and adds it by `add`.
+fn add_with<F: HostFactor<Apex> + 'static>(
+    assembly: &mut Assembly,
+    entry: &Entry,
+    add: BuilderAdd<F>,
+) -> Result<(), CliError> {
+    let factor: F = decode(entry.variables, entry.constants)?;
+    let keys = variables_of(assembly, &factor, entry.names);
+    add(
+        &mut assembly.builder,
+        &factor,
+        &keys,
+        entry.noise,
+        entry.loss,
+    )
+    .map_err(build_error)
 }
 
 fn build_error(error: BuildError) -> CliError {
@@ -289,13 +277,18 @@ pub(crate) fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, Inpu
     }
 }
 
-/// Reads and builds the problem file `file`.
+/// Reads and builds the problem file `file`, its factors those `registry`
+/// registered for `solve`.
 ///
 /// # Errors
 ///
 /// [`CliError::Input`] naming the field at fault (exit 2), a factor
 /// degenerate at the initial values (exit 1), apex's refusal.
-pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError> {
+pub fn read(
+    file: &Path,
+    options: &BuildOptions,
+    registry: &Registry,
+) -> Result<FileProblem, CliError> {
     let name = file.display().to_string();
     let text = std::fs::read_to_string(file)
         .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
@@ -345,10 +338,9 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
         declared,
         created: HashMap::new(),
     };
-    let adders = adders();
     for (k, spec) in factors.iter().enumerate() {
         let path = format!("factors[{k}]");
-        add_entry(&mut assembly, &adders, spec, &path, options.robust)?;
+        add_entry(&mut assembly, registry, spec, &path, options.robust)?;
     }
     for name in &fixed {
         let created = assembly.created.get(name).ok_or_else(|| {
@@ -378,7 +370,7 @@ pub fn read(file: &Path, options: &BuildOptions) -> Result<FileProblem, CliError
 /// Adds the factor entry `spec` at `path`.
 fn add_entry(
     assembly: &mut Assembly,
-    adders: &[(&'static str, AddFn)],
+    registry: &Registry,
     spec: &Value,
     path: &str,
     default_loss: Option<Robust>,
@@ -389,8 +381,17 @@ fn add_entry(
         &["factor", "variables", "constants"],
         &["noise", "robust"],
     )?;
-    let registry = crate::kernels::shipped();
     let entry = registry.find(object.string("factor")?, &object.path_of("factor"))?;
+    let add = entry.solve.ok_or_else(|| {
+        InputError::new(
+            object.path_of("factor"),
+            format!(
+                "the factor {} is not registered for solve (Registry::solve_with_kernel or \
+                 solve_with_dual)",
+                quoted(entry.name)
+            ),
+        )
+    })?;
     let infos = (entry.variables)();
     let variable_fields: Vec<&str> = infos.iter().map(|v| v.name).collect();
     let named = object.object("variables", &variable_fields)?;
@@ -439,12 +440,14 @@ fn add_entry(
         ),
         None => default_loss,
     };
-    let add = adders
-        .iter()
-        .find(|(name, _)| *name == entry.name)
-        .map(|(_, add)| *add)
-        .expect("every registered factor has an adder");
-    add(assembly, &variables, &constants, &names, &noise, loss).map_err(|e| match e {
+    let checked = Entry {
+        variables: &variables,
+        constants: &constants,
+        names: &names,
+        noise: &noise,
+        loss,
+    };
+    add(assembly, &checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         other => other,
     })
@@ -514,14 +517,11 @@ impl FileProblem {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
-    /// Every registered factor can be read from a problem file.
+    /// Every factor `slamjac` ships is registered for `solve`.
     #[test]
-    fn every_registered_factor_has_an_adder() {
-        let adders: Vec<&str> = adders().iter().map(|(name, _)| *name).collect();
-        let shipped = crate::kernels::shipped();
-        let registered: Vec<&str> = shipped.factors().iter().map(|f| f.name).collect();
-        assert_eq!(adders, registered);
+    fn every_shipped_factor_can_be_solved() {
+        for entry in crate::kernels::shipped().factors() {
+            assert!(entry.solve.is_some(), "{}", entry.name);
+        }
     }
 }

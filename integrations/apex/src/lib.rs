@@ -69,3 +69,10 @@ pub enum AdapterError {
 #[cfg(doctest)]
 #[doc = include_str!("../../../docs/guide/solver-charts.md")]
 pub struct SolverChartsGuide;
+
+/// The front page, `README.md`, whose example defines a factor and solves
+/// it through this crate: its Rust blocks run as this crate's
+/// documentation tests too.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct Readme;

@@ -21,7 +21,7 @@ use crate::unit_vector::UnitVector3;
     feature = "kernels",
     factor(
         kernel = user_kernels::direction::direction,
-        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels",
+        regenerate = "cargo run -p user-cli --no-default-features -- generate",
         hosts(apex)
     )
 )]
@@ -53,7 +53,7 @@ pub fn direction_residual<S: Scalar>(f: &Direction<S>) -> Vector2<S> {
     feature = "kernels",
     factor(
         kernel = user_kernels::relative_sim3::relative_sim3,
-        regenerate = "cargo run -p user-factors --no-default-features --bin generate-kernels",
+        regenerate = "cargo run -p user-cli --no-default-features -- generate",
         hosts(apex)
     )
 )]

@@ -140,25 +140,7 @@ impl BundleKeys {
     /// The camera `k` of the solution, as BAL writes it.
     fn camera<'a>(&self, k: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> BalCamera {
         let pose = from_apex::<Se3<f64>>(&[value(self.poses[k])]);
-        let intrinsics = value(self.intrinsics[k]);
-        let q = pose.rotation.quaternion;
-        let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-            q.w, q.x, q.y, q.z,
-        ));
-        BalCamera {
-            rotation: rotation.scaled_axis(),
-            translation: pose.translation,
-            intrinsics: SnavelyIntrinsics {
-                focal: intrinsics[0],
-                k1: intrinsics[1],
-                k2: intrinsics[2],
-            },
-        }
-    }
-
-    fn point<'a>(&self, j: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> Vector3<f64> {
-        let p = value(self.points[j]);
-        Vector3::new(p[0], p[1], p[2])
+        bal_camera(&pose, value(self.intrinsics[k]))
     }
 
     /// `bal` with the solution's cameras and points.
@@ -167,36 +149,72 @@ impl BundleKeys {
         bal: &BalProblem,
         value: impl Fn(VarKey) -> &'a [f64],
     ) -> BalProblem {
-        BalProblem {
-            cameras: (0..bal.cameras.len())
-                .map(|k| self.camera(k, &value))
-                .collect(),
-            points: (0..bal.points.len())
-                .map(|j| self.point(j, &value))
-                .collect(),
-            observations: bal.observations.clone(),
-        }
+        solved_bal(
+            bal,
+            |k| self.camera(k, &value),
+            |j| Vector3::from_column_slice(value(self.points[j])),
+        )
     }
 
-    /// `bundler` with the solution's cameras (rotation matrices) and points
-    /// (colours and feature keys kept).
+    /// `bundler` with the solution's cameras and points.
     pub fn write_bundler<'a>(
         &self,
         bundler: &BundlerProblem,
         value: impl Fn(VarKey) -> &'a [f64],
     ) -> BundlerProblem {
-        let mut out = bundler.clone();
-        for (k, camera) in out.cameras.iter_mut().enumerate() {
-            let solved = self.camera(k, &value);
-            camera.rotation = *Rotation3::new(solved.rotation).matrix();
-            camera.translation = solved.translation;
-            camera.intrinsics = solved.intrinsics;
-        }
-        for (j, point) in out.points.iter_mut().enumerate() {
-            point.position = self.point(j, &value);
-        }
-        out
+        solved_bundler(
+            bundler,
+            |k| self.camera(k, &value),
+            |j| Vector3::from_column_slice(value(self.points[j])),
+        )
     }
+}
+
+/// The BAL camera of world-to-camera pose `pose` and intrinsics
+/// `[f, k1, k2]`: the inverse of [`camera_pose`].
+pub fn bal_camera(pose: &Se3<f64>, intrinsics: &[f64]) -> BalCamera {
+    BalCamera {
+        rotation: pose.rotation.log(),
+        translation: pose.translation,
+        intrinsics: SnavelyIntrinsics {
+            focal: intrinsics[0],
+            k1: intrinsics[1],
+            k2: intrinsics[2],
+        },
+    }
+}
+
+/// `bal` with a solution's cameras (`camera(k)`) and points (`point(j)`).
+pub fn solved_bal(
+    bal: &BalProblem,
+    camera: impl Fn(usize) -> BalCamera,
+    point: impl Fn(usize) -> Vector3<f64>,
+) -> BalProblem {
+    BalProblem {
+        cameras: (0..bal.cameras.len()).map(camera).collect(),
+        points: (0..bal.points.len()).map(point).collect(),
+        observations: bal.observations.clone(),
+    }
+}
+
+/// `bundler` with a solution's cameras (`camera(k)`, written as rotation
+/// matrices) and points (`point(j)`; colours and feature keys kept).
+pub fn solved_bundler(
+    bundler: &BundlerProblem,
+    camera: impl Fn(usize) -> BalCamera,
+    point: impl Fn(usize) -> Vector3<f64>,
+) -> BundlerProblem {
+    let mut out = bundler.clone();
+    for (k, written) in out.cameras.iter_mut().enumerate() {
+        let solved = camera(k);
+        written.rotation = *Rotation3::new(solved.rotation).matrix();
+        written.translation = solved.translation;
+        written.intrinsics = solved.intrinsics;
+    }
+    for (j, written) in out.points.iter_mut().enumerate() {
+        written.position = point(j);
+    }
+    out
 }
 
 /// `‖f r p − observed‖` of each observation (NaN where degenerate).

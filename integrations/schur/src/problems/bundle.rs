@@ -1,10 +1,12 @@
 //! Bundle adjustment of BAL and Bundler problems (Snavely's camera model),
 //! the points eliminated.
 
-use factor_apex::problems::bundle::{camera_pose, factor_of, observation_name};
-use factor_core::lie::{Se3, Se3RhoTheta};
+use factor_apex::problems::bundle::{
+    bal_camera, camera_pose, factor_of, observation_name, solved_bal, solved_bundler,
+};
+use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
 
@@ -78,33 +80,10 @@ pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
 }
 
 impl BundleKeys {
-    /// Camera `k` of the values: its rotation and translation, and its
-    /// intrinsics.
-    fn camera<'a>(
-        &self,
-        k: usize,
-        value: &impl Fn(VariableId) -> &'a [f64],
-    ) -> (UnitQuaternion<f64>, BalCamera) {
-        let pose = Se3RhoTheta::<f64>::from_scalars(value(self.poses[k]));
-        let pose: Se3<f64> = pose.se3();
-        let q = pose.rotation.quaternion;
-        let rotation =
-            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z));
-        let intrinsics = value(self.intrinsics[k]);
-        let camera = BalCamera {
-            rotation: rotation.scaled_axis(),
-            translation: pose.translation,
-            intrinsics: SnavelyIntrinsics {
-                focal: intrinsics[0],
-                k1: intrinsics[1],
-                k2: intrinsics[2],
-            },
-        };
-        (rotation, camera)
-    }
-
-    fn point<'a>(&self, j: usize, value: &impl Fn(VariableId) -> &'a [f64]) -> Vector3<f64> {
-        Vector3::from_column_slice(value(self.points[j]))
+    /// Camera `k` of the values, as BAL writes it.
+    fn camera<'a>(&self, k: usize, value: &impl Fn(VariableId) -> &'a [f64]) -> BalCamera {
+        let pose = Se3RhoTheta::<f64>::from_scalars(value(self.poses[k])).se3();
+        bal_camera(&pose, value(self.intrinsics[k]))
     }
 
     /// `bal` with the values' cameras and points.
@@ -113,34 +92,23 @@ impl BundleKeys {
         bal: &BalProblem,
         value: impl Fn(VariableId) -> &'a [f64],
     ) -> BalProblem {
-        BalProblem {
-            cameras: (0..bal.cameras.len())
-                .map(|k| self.camera(k, &value).1)
-                .collect(),
-            points: (0..bal.points.len())
-                .map(|j| self.point(j, &value))
-                .collect(),
-            observations: bal.observations.clone(),
-        }
+        solved_bal(
+            bal,
+            |k| self.camera(k, &value),
+            |j| Vector3::from_column_slice(value(self.points[j])),
+        )
     }
 
-    /// `bundler` with the values' cameras (rotation matrices) and points
-    /// (colours and feature keys kept).
+    /// `bundler` with the values' cameras and points.
     pub fn write_bundler<'a>(
         &self,
         bundler: &BundlerProblem,
         value: impl Fn(VariableId) -> &'a [f64],
     ) -> BundlerProblem {
-        let mut out = bundler.clone();
-        for (k, camera) in out.cameras.iter_mut().enumerate() {
-            let (rotation, solved) = self.camera(k, &value);
-            camera.rotation = *rotation.to_rotation_matrix().matrix();
-            camera.translation = solved.translation;
-            camera.intrinsics = solved.intrinsics;
-        }
-        for (j, point) in out.points.iter_mut().enumerate() {
-            point.position = self.point(j, &value);
-        }
-        out
+        solved_bundler(
+            bundler,
+            |k| self.camera(k, &value),
+            |j| Vector3::from_column_slice(value(self.points[j])),
+        )
     }
 }

@@ -4,7 +4,7 @@
 //! share of the peak).
 //!
 //! ```sh
-//! cargo run --release --manifest-path integrations/apex/Cargo.toml --bin memory -- \
+//! cargo run --release --manifest-path integrations/apex/Cargo.toml --example memory -- \
 //!     FILE [--factors generated|dual|apex] [--max-iterations N]
 //! ```
 //!
@@ -17,50 +17,43 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
+
 use factor_apex::Kernels;
 use factor_apex::problems::{BuildOptions, FactorChoice, build};
 use factor_apex::solve::{SolveOptions, solve};
 
+/// What to measure.
+#[derive(Parser)]
+#[command(about = "Peak memory of reading, building and solving one problem")]
 struct Args {
+    /// The data file (any format `slamjac solve` reads).
     file: String,
-    factors: FactorChoice,
+    /// Whose factors: this project's generated kernels or dual numbers, or
+    /// apex-solver's own.
+    #[arg(long, value_enum, default_value_t = Factors::Generated)]
+    factors: Factors,
+    /// Iterations of the solve (0: build only).
+    #[arg(long, default_value_t = 1)]
     max_iterations: usize,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let usage = "usage: memory FILE [--factors generated|dual|apex] [--max-iterations N]";
-    let mut file = None;
-    let mut factors = FactorChoice::Ours(Kernels::Generated);
-    let mut max_iterations = 1;
-    let mut it = std::env::args().skip(1);
-    while let Some(arg) = it.next() {
-        let mut value = || {
-            it.next()
-                .ok_or_else(|| format!("{arg} needs a value; {usage}"))
-        };
-        match arg.as_str() {
-            "--factors" => {
-                factors = match value()?.as_str() {
-                    "generated" => FactorChoice::Ours(Kernels::Generated),
-                    "dual" => FactorChoice::Ours(Kernels::Dual),
-                    "apex" => FactorChoice::Apex,
-                    other => return Err(format!("--factors: unknown `{other}`; {usage}")),
-                }
-            }
-            "--max-iterations" => {
-                max_iterations = value()?
-                    .parse()
-                    .map_err(|_| format!("--max-iterations: not a count; {usage}"))?
-            }
-            _ if file.is_none() && !arg.starts_with("--") => file = Some(arg),
-            other => return Err(format!("unexpected argument `{other}`; {usage}")),
+/// `--factors`.
+#[derive(Clone, Copy, ValueEnum)]
+enum Factors {
+    Generated,
+    Dual,
+    Apex,
+}
+
+impl Factors {
+    fn choice(self) -> FactorChoice {
+        match self {
+            Factors::Generated => FactorChoice::Ours(Kernels::Generated),
+            Factors::Dual => FactorChoice::Ours(Kernels::Dual),
+            Factors::Apex => FactorChoice::Apex,
         }
     }
-    Ok(Args {
-        file: file.ok_or(usage)?,
-        factors,
-        max_iterations,
-    })
 }
 
 /// The peak resident memory so far, bytes (Linux `VmHWM`).
@@ -85,12 +78,12 @@ fn report(stage: &str, blocks: usize, start: Instant) {
 
 fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
-    println!("{}: factors {}", args.file, args.factors.name());
+    println!("{}: factors {}", args.file, args.factors.choice().name());
     let data = slam_data::Problem::read(&args.file, None).map_err(|e| e.to_string())?;
     let blocks = data.measurements();
     report("read", blocks, start);
     let options = BuildOptions {
-        factors: args.factors,
+        factors: args.factors.choice(),
         robust: None,
         keep_blocks: false,
     };
@@ -112,7 +105,7 @@ fn run(args: &Args) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    match parse_args().and_then(|args| run(&args)) {
+    match run(&Args::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -5,7 +5,7 @@
 //! `bench-peers/gtsam_solve.py`.
 //!
 //! ```sh
-//! cargo run --release --manifest-path integrations/apex/Cargo.toml --bin compare -- \
+//! cargo run --release --manifest-path integrations/apex/Cargo.toml --example compare -- \
 //!     [--data DIR] [--gtsam out/gtsam.json] [--rounds 15] [--max-iterations 1000]
 //! ```
 //!
@@ -28,6 +28,8 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+
+use clap::Parser;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -50,60 +52,37 @@ const CHOICES: [FactorChoice; 3] = [
     FactorChoice::Apex,
 ];
 
+/// The comparison's options.
+#[derive(Parser)]
+#[command(about = "Agreement and speed of this project's factors against apex-solver's own")]
 struct Args {
+    /// The directory of the shipped data sets.
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data"))]
     data: PathBuf,
+    /// GTSAM 4.3's results, written by `bench-peers/gtsam_solve.py`.
+    #[arg(long)]
     gtsam: Option<PathBuf>,
+    /// Timed rounds of the linearization pass (a third as many whole solves).
+    #[arg(long, default_value_t = 15)]
     rounds: usize,
+    /// The most iterations of the agreement runs.
+    #[arg(long, default_value_t = 1000)]
     max_iterations: usize,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let mut args = Args {
-        data: Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data"),
-        gtsam: None,
-        rounds: 15,
-        max_iterations: 1000,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
-        match flag.as_str() {
-            "--data" => args.data = PathBuf::from(value()?),
-            "--gtsam" => args.gtsam = Some(PathBuf::from(value()?)),
-            "--rounds" => {
-                args.rounds = value()?
-                    .parse()
-                    .map_err(|_| "--rounds: not a count".to_owned())?
-            }
-            "--max-iterations" => {
-                args.max_iterations = value()?
-                    .parse()
-                    .map_err(|_| "--max-iterations: not a count".to_owned())?
-            }
-            other => return Err(format!("unknown argument `{other}`")),
-        }
-    }
-    Ok(args)
-}
-
-/// GTSAM's `final_cost` and `iterations` per data set, from the script's JSON
-/// (a flat object of objects of numbers, read without a JSON crate).
+/// GTSAM's `final_cost` and `iterations` per data set, from the script's
+/// JSON (`{"<data set>": {"final_cost": …, "iterations": …, …}, …}`).
 fn read_gtsam(path: &Path) -> Result<HashMap<String, (f64, u64)>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let text = std::fs::read_to_string(path).map_err(|e| at(&e))?;
+    let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| at(&e))?;
     let mut out = HashMap::new();
     for name in DATA_SETS {
-        let Some(start) = text.find(&format!("\"{name}\"")) else {
-            continue;
-        };
-        let block = &text[start..];
-        let block = &block[..block.find('}').unwrap_or(block.len())];
-        let number = |key: &str| -> Option<f64> {
-            let rest = &block[block.find(&format!("\"{key}\":"))? + key.len() + 3..];
-            let end = rest.find([',', '\n', '}']).unwrap_or(rest.len());
-            rest[..end].trim().parse().ok()
-        };
-        if let (Some(cost), Some(iterations)) = (number("final_cost"), number("iterations")) {
-            out.insert(name.to_owned(), (cost, iterations as u64));
+        let entry = &json[name];
+        if let (Some(cost), Some(iterations)) =
+            (entry["final_cost"].as_f64(), entry["iterations"].as_u64())
+        {
+            out.insert(name.to_owned(), (cost, iterations));
         }
     }
     Ok(out)
@@ -330,13 +309,7 @@ fn speed(args: &Args, problems: &[(&str, slam_data::Problem)]) {
 }
 
 fn main() -> ExitCode {
-    let args = match parse_args() {
-        Ok(args) => args,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    let args = Args::parse();
     let gtsam = match &args.gtsam {
         Some(path) => match read_gtsam(path) {
             Ok(costs) => costs,
