@@ -130,6 +130,13 @@ pub fn run(args: &SynthPlpArgs, output: &Path) -> Result<String, CliError> {
     };
     let scene = plp_scene::generate(&config).map_err(|e| CliError::Usage(e.to_string()))?;
     let problem = Problem::of(&scene, args)?;
+    if problem.factors.is_empty() {
+        return Err(CliError::Usage(format!(
+            "synth-plp: nothing measured with --cameras {} --kinds {} (seed {}): a point enters \
+             when two cameras see it, a line when three do; use more cameras or other kinds",
+            args.cameras, args.kinds, args.seed
+        )));
+    }
     let summary = format!(
         "wrote {}: {} cameras, {} points, {} lines, {} planes, {} factors, seed {}",
         shown_path(output),

@@ -987,4 +987,21 @@ fn synthetic_point_line_plane_rooms_are_solved_against_their_truth() {
         2,
         &["--kinds", "walls"],
     );
+    // Four cameras of the room see no point twice: refused, nothing written.
+    let empty = std::env::temp_dir().join(format!("plp-empty-{}.json", std::process::id()));
+    let refused = slamjac(&[
+        "synth-plp",
+        "--cameras",
+        "4",
+        "--kinds",
+        "points",
+        "--output",
+        empty.to_str().unwrap(),
+    ]);
+    assert_error(
+        &refused,
+        2,
+        &["nothing measured with --cameras 4 --kinds points"],
+    );
+    assert!(!empty.exists(), "nothing written");
 }

@@ -6,13 +6,13 @@
 //! Two solvers, chosen by [`SolverChoice`]:
 //!
 //! - bundle adjustment and stereo VO (landmarks to eliminate) go by default
-//!   to crate `factor-schur` ([`schur`]): the landmarks eliminated by a
+//!   to crate `factor-schur` (module `schur`): the landmarks eliminated by a
 //!   Schur complement formed straight from the fused normal-equation
 //!   kernels in lane batches, the reduced system solved by faer's sparse
 //!   Cholesky;
 //! - everything else, and any problem with `--solver apex` or
 //!   `--kernels dual`, goes to apex-solver through the generic adapter of
-//!   crate `factor-apex` ([`apex`]).
+//!   crate `factor-apex` (module `apex`).
 //!
 //! Both print the same header, iteration lines and summary:
 //!

@@ -18,7 +18,7 @@ pub fn print(text: &str) {
     let _ = writeln!(std::io::stdout().lock(), "{text}");
 }
 
-/// The column heads of [`line`].
+/// The column heads of [`line()`].
 pub const HEAD: &str = "iter           cost  rel.decrease      damping  step      rho   linearize       solve    evaluate";
 
 /// One iteration: cost, relative decrease, damping λ, whether the step was
@@ -89,8 +89,8 @@ impl Progress {
     }
 
     /// The solver's callback: prints each iteration's line and moves the
-    /// bar, showing it once the solve has run for [`BAR_AFTER`] on a
-    /// terminal.
+    /// bar, showing it once the solve has run for a few seconds
+    /// (`BAR_AFTER`) on a terminal.
     pub fn callback(&mut self) -> impl FnMut(&Iteration) + Send + 'static {
         let bar = self.bar.clone();
         let start = Instant::now();
