@@ -3,6 +3,9 @@
 //! the single-pass and per-block dual linearizations agree with each other,
 //! with central differences, and with known Jacobians exactly.
 
+use factor_core::host::{
+    Apex, ApexManifold, HostFactor, HostLayout, linearize_host, linearize_host_dual,
+};
 use factor_core::lie::Se3;
 use factor_core::{Factor, FactorError, Manifold, Perturbation, Scalar, Storage};
 use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
@@ -330,9 +333,15 @@ fn to_dyn_keeps_the_blocks_in_declaration_order() {
 /// `r = a · (x − y)`, with a hand-written kernel in the calling convention of
 /// the generated kernels: every field flattened, the residual, then one
 /// optional row-major block per variable, beside its `SHAPE` and its slice
-/// entry, as a generated module holds them.
+/// entry, as a generated module holds them, and its entry in apex-solver's
+/// chart.
 #[derive(Clone, Debug, Factor)]
-#[factor(residual = weighted_residual, dim = 2, kernel = weighted::weighted)]
+#[factor(
+    residual = weighted_residual,
+    dim = 2,
+    kernel = weighted::weighted,
+    hosts(apex)
+)]
 pub struct Weighted<S: Scalar = f64> {
     pub weight: S,
     #[variable]
@@ -405,6 +414,30 @@ mod weighted {
         weighted(weight, x, y, residual, d_x, d_y);
         true
     }
+
+    /// The entry in apex-solver's chart: the stored scalars (`weight` read),
+    /// one `Rn(2)` part per variable, the column-major 2 × 4 Jacobian.
+    pub fn weighted_apex_host(
+        stored: &[f64],
+        parts: &[&[f64]],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> bool {
+        let (Some(&a), [x, y]) = (stored.first(), parts) else {
+            return false;
+        };
+        if x.len() != 2 || y.len() != 2 || residual.len() != 2 {
+            return false;
+        }
+        residual.copy_from_slice(&[a * (x[0] - y[0]), a * (x[1] - y[1])]);
+        if let Some(d) = jacobian {
+            if d.len() != 8 {
+                return false;
+            }
+            d.copy_from_slice(&[a, 0.0, 0.0, a, -a, 0.0, 0.0, -a]);
+        }
+        true
+    }
 }
 
 #[test]
@@ -447,7 +480,8 @@ fn a_kernel_is_what_linearize_goes_through() {
     residual = flipped_residual,
     dim = 2,
     kernel = weighted::weighted,
-    regenerate = "cargo run -p my-factors --no-default-features --bin generate-kernels"
+    regenerate = "cargo run -p my-cli --no-default-features -- generate",
+    hosts(apex)
 )]
 pub struct Flipped<S: Scalar = f64> {
     pub weight: S,
@@ -479,8 +513,8 @@ const STALE_RESIDUAL: [f64; 2] = [1.0, 12.0];
         expected = "the generated kernel `weighted::weighted` is stale: its residual[0] is 1 \
                     where dual numbers through the current definition give -1 (a residual, a \
                     function it calls or a variable's retraction changed since the kernel was \
-                    generated); regenerate it with `cargo run -p my-factors \
-                    --no-default-features --bin generate-kernels`"
+                    generated); regenerate it with `cargo run -p my-cli \
+                    --no-default-features -- generate`"
     )
 )]
 fn a_stale_kernel_panics_at_its_first_linearization_in_debug_builds() {
@@ -499,5 +533,50 @@ fn a_stale_kernel_panics_on_the_solver_path_too() {
     flipped()
         .linearize_into(&mut residual, &mut [Some(&mut d_x[..]), Some(&mut d_y[..])])
         .unwrap();
+    assert_eq!(residual, STALE_RESIDUAL);
+}
+
+/// `flipped()` in apex-solver's chart: its stored scalars and its two
+/// `Rn(2)` parts.
+fn in_apex_chart<F: HostFactor<Apex>>(f: &F) -> (HostLayout<ApexManifold>, Vec<f64>) {
+    (HostLayout::of::<F, Apex>(), f.to_scalars())
+}
+
+/// A current kernel in a host's chart runs without complaint and gives
+/// dual numbers' outputs in that chart.
+#[test]
+fn a_current_host_kernel_agrees_with_dual_numbers_in_its_chart() {
+    let f = Weighted {
+        weight: 2.0,
+        x: Vector2::new(1.0, 5.0),
+        y: Vector2::new(0.5, -1.0),
+    };
+    let (layout, stored) = in_apex_chart(&f);
+    let parts: [&[f64]; 2] = [&[1.0, 5.0], &[0.5, -1.0]];
+    let (mut r, mut j) = ([0.0; 2], [0.0; 8]);
+    linearize_host::<Weighted, Apex>(&layout, &stored, &parts, &mut r, Some(&mut j)).unwrap();
+    let (mut r_dual, mut j_dual) = ([0.0; 2], [0.0; 8]);
+    linearize_host_dual::<Weighted, Apex>(&layout, &stored, &parts, &mut r_dual, Some(&mut j_dual))
+        .unwrap();
+    assert_eq!((r, j), (r_dual, j_dual));
+    assert_eq!(r, [1.0, 12.0]);
+}
+
+/// The stale kernel served in apex-solver's chart, as a solver calls it:
+/// a debug build panics at the first call (its residual only, as a
+/// solver's cost evaluation asks), a release build returns the old values.
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    should_panic(
+        expected = "the generated kernel `weighted::weighted_apex` is stale: its residual[0] is 1 \
+                    where dual numbers through the current definition give -1"
+    )
+)]
+fn a_stale_host_kernel_panics_at_its_first_call_in_debug_builds() {
+    let (layout, stored) = in_apex_chart(&flipped());
+    let parts: [&[f64]; 2] = [&[1.0, 5.0], &[0.5, -1.0]];
+    let mut residual = [0.0; 2];
+    linearize_host::<Flipped, Apex>(&layout, &stored, &parts, &mut residual, None).unwrap();
     assert_eq!(residual, STALE_RESIDUAL);
 }

@@ -16,14 +16,17 @@
 //!    layout (a sign in the residual, a helper it calls, a variable's
 //!    retraction) still compiles, so `#[derive(Factor)]` compares the
 //!    kernel with dual numbers through the current definition on the first
-//!    [`DEBUG_CHECKS`] linearizations of each factor type in a process
-//!    (`#[cfg(debug_assertions)]`, in the crate that defines the factor).
+//!    [`DEBUG_CHECKS`] linearizations of each factor type in a process,
+//!    and each kernel in a solver's chart (`hosts(…)`) with dual numbers in
+//!    that chart on its first [`DEBUG_CHECKS`] calls
+//!    ([`host_kernel_mismatch`]; `#[cfg(debug_assertions)]`, in the crate
+//!    that defines the factor).
 //!    When an output differs by more than [`STALE_TOLERANCE`]
 //!    ([`kernel_mismatch`]) the linearization panics before returning,
 //!    naming the output, both values and the `regenerate` command. Rounding
 //!    separates the two by about 1e-13 relative; a changed definition by
 //!    the size of the change. Any run of the user's code in a debug build
-//!    (a test, `cargo run`, the command line's `eval`) catches the edit,
+//!    (a test, `cargo run`, the command line's `eval` or `solve`) catches the edit,
 //!    though the user wrote no test for it. Release builds compile none of
 //!    it: no atomic counter, no branch, no dual numbers.
 //! 3. **Text, in CI.** The generator's `check` regenerates every kernel and
@@ -129,14 +132,7 @@ pub fn kernel_mismatch<F: Factor>(
     kernel: &DynLinearization,
     dual: &DynLinearization,
 ) -> Option<KernelMismatch> {
-    let differs = |k: f64, d: f64, scale: f64| {
-        k.is_finite() && (k - d).abs() > STALE_TOLERANCE * scale.max(1.0)
-    };
-    let largest = |values: &[f64]| values.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let scale = largest(dual.residual.as_slice());
-    if let Some(i) =
-        (0..dual.residual.len()).find(|&i| differs(kernel.residual[i], dual.residual[i], scale))
-    {
+    if let Some(i) = first_difference(kernel.residual.as_slice(), dual.residual.as_slice()) {
         return Some(KernelMismatch {
             output: format!("residual[{i}]"),
             kernel: kernel.residual[i],
@@ -144,24 +140,63 @@ pub fn kernel_mismatch<F: Factor>(
         });
     }
     for (k, (block, reference)) in kernel.jacobians.iter().zip(&dual.jacobians).enumerate() {
-        let scale = largest(reference.as_slice());
-        for row in 0..reference.nrows() {
-            for column in 0..reference.ncols() {
-                let (a, b) = (block[(row, column)], reference[(row, column)]);
-                if differs(a, b, scale) {
-                    return Some(KernelMismatch {
-                        output: format!(
-                            "Jacobian w.r.t. `{}` (row {row}, column {column})",
-                            F::variables()[k].name
-                        ),
-                        kernel: a,
-                        dual: b,
-                    });
-                }
-            }
+        // Column-major: index `i` is row `i % rows`, column `i / rows`.
+        if let Some(i) = first_difference(block.as_slice(), reference.as_slice()) {
+            let rows = reference.nrows().max(1);
+            return Some(KernelMismatch {
+                output: format!(
+                    "Jacobian w.r.t. `{}` (row {}, column {})",
+                    F::variables()[k].name,
+                    i % rows,
+                    i / rows
+                ),
+                kernel: block.as_slice()[i],
+                dual: reference.as_slice()[i],
+            });
         }
     }
     None
+}
+
+/// [`kernel_mismatch`] for a kernel in a host's chart
+/// ([`crate::host::HostKernel`]): its `residual` and column-major
+/// `jacobian` (`residual.len()` rows) against dual numbers' in the same
+/// chart at the same host values.
+pub fn host_kernel_mismatch(
+    residual: &[f64],
+    jacobian: Option<&[f64]>,
+    dual_residual: &[f64],
+    dual_jacobian: &[f64],
+) -> Option<KernelMismatch> {
+    if let Some(i) = first_difference(residual, dual_residual) {
+        return Some(KernelMismatch {
+            output: format!("residual[{i}]"),
+            kernel: residual[i],
+            dual: dual_residual[i],
+        });
+    }
+    let jacobian = jacobian?;
+    let rows = residual.len().max(1);
+    first_difference(jacobian, dual_jacobian).map(|i| KernelMismatch {
+        output: format!(
+            "Jacobian in the host's chart (row {}, column {})",
+            i % rows,
+            i / rows
+        ),
+        kernel: jacobian[i],
+        dual: dual_jacobian[i],
+    })
+}
+
+/// The first index where `kernel` differs from `dual` beyond
+/// [`STALE_TOLERANCE`] relative to the largest `|dual|` (at least 1);
+/// non-finite kernel entries are not compared.
+fn first_difference(kernel: &[f64], dual: &[f64]) -> Option<usize> {
+    let scale = dual.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    kernel
+        .iter()
+        .zip(dual)
+        .position(|(k, d)| k.is_finite() && (k - d).abs() > STALE_TOLERANCE * scale)
 }
 
 #[cfg(test)]

@@ -119,15 +119,55 @@ pub mod __private {
         regenerate: &str,
     ) {
         if let Some(mismatch) = crate::kernel::kernel_mismatch::<F>(kernel, dual) {
-            panic!(
-                "the generated kernel `{kernel_path}` is stale: {mismatch} (a residual, a \
-                 function it calls or a variable's retraction changed since the kernel was \
-                 generated); {regenerate}. Debug builds compare the first {} kernel \
-                 linearizations of each factor type with dual numbers; release builds do not, \
-                 and the generator's `check` catches every change.",
-                crate::kernel::DEBUG_CHECKS
-            );
+            stale(kernel_path, &mismatch, regenerate);
         }
+    }
+
+    /// [`assert_kernel_current`] for `F`'s kernel in host `H`'s chart
+    /// (`kernel_path`), which wrote `residual` and `jacobian` at the stored
+    /// scalars `stored` and host parameters `parts`: compared with dual
+    /// numbers in the same chart ([`crate::host::linearize_host_dual`]),
+    /// unless the factor is invalid there (the solver reports that).
+    #[track_caller]
+    pub fn assert_host_kernel_current<F: crate::host::HostFactor<H>, H: crate::host::Host>(
+        stored: &[f64],
+        parts: &[&[f64]],
+        residual: &[f64],
+        jacobian: Option<&[f64]>,
+        kernel_path: &str,
+        regenerate: &str,
+    ) {
+        let layout = crate::host::HostLayout::<H::Manifold>::of::<F, H>();
+        let mut dual_residual = vec![0.0; residual.len()];
+        let mut dual_jacobian = vec![0.0; jacobian.map_or(0, <[f64]>::len)];
+        let dual = crate::host::linearize_host_dual::<F, H>(
+            &layout,
+            stored,
+            parts,
+            &mut dual_residual,
+            jacobian.map(|_| dual_jacobian.as_mut_slice()),
+        );
+        if dual.is_err() {
+            return;
+        }
+        if let Some(mismatch) =
+            crate::kernel::host_kernel_mismatch(residual, jacobian, &dual_residual, &dual_jacobian)
+        {
+            stale(kernel_path, &mismatch, regenerate);
+        }
+    }
+
+    /// The panic of a stale kernel.
+    #[track_caller]
+    fn stale(kernel_path: &str, mismatch: &crate::kernel::KernelMismatch, regenerate: &str) -> ! {
+        panic!(
+            "the generated kernel `{kernel_path}` is stale: {mismatch} (a residual, a function \
+             it calls or a variable's retraction changed since the kernel was generated); \
+             {regenerate}. Debug builds compare the first {} kernel linearizations of each \
+             factor type with dual numbers; release builds do not, and the generator's `check` \
+             catches every change.",
+            crate::kernel::DEBUG_CHECKS
+        );
     }
 
     /// Whether two strings are equal, in a constant: the derive's check

@@ -14,7 +14,7 @@ use quote::{format_ident, quote, quote_spanned};
 use syn::spanned::Spanned;
 
 use super::Context;
-use super::kernel::{path_text, sibling};
+use super::kernel::{path_text, regenerate_text, sibling};
 
 /// `tokens` with every identifier `from` replaced by `f64`: a field type of
 /// the generic struct at the `f64` instance (`Se3<S>` → `Se3<f64>`).
@@ -127,6 +127,7 @@ fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
         &format_ident!("{}_{}_host", last, name, span = span),
     );
     let text = path_text(&sibling(kernel, &function));
+    let regenerate = regenerate_text(cx);
     let name_text = name.to_string();
     let mismatch = format!(
         "`hosts({name_text} = …)` names a host whose `Host::NAME` is not \"{name_text}\": the \
@@ -147,9 +148,28 @@ fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
                 stored: &[f64],
                 parts: &[&[f64]],
                 residual: &mut [f64],
-                jacobian: ::core::option::Option<&mut [f64]>,
+                mut jacobian: ::core::option::Option<&mut [f64]>,
             ) -> bool {
-                #entry(stored, parts, residual, jacobian)
+                let done = #entry(stored, parts, residual, jacobian.as_deref_mut());
+                // Debug builds: the kernel against dual numbers in the same
+                // chart on the first calls (`factor_core::kernel`, "A stale
+                // kernel never runs unnoticed").
+                #[cfg(debug_assertions)]
+                {
+                    static CHECKS: #krate::__private::FirstCalls =
+                        #krate::__private::FirstCalls::new();
+                    if done && CHECKS.take() {
+                        #krate::__private::assert_host_kernel_current::<Self, #host_type>(
+                            stored,
+                            parts,
+                            residual,
+                            jacobian.as_deref(),
+                            #text,
+                            #regenerate,
+                        );
+                    }
+                }
+                done
             }
         }
     }

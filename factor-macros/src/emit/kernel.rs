@@ -37,6 +37,17 @@ pub(super) fn sibling(path: &Path, last: &syn::Ident) -> Path {
     sibling
 }
 
+/// How the messages of a stale kernel say to regenerate it: the
+/// `regenerate` command of the attribute, or where to find one.
+pub(super) fn regenerate_text(cx: &Context) -> String {
+    match &cx.model.regenerate {
+        Some(command) => format!("regenerate it with `{command}`"),
+        None => "regenerate the crate that holds it with the generator that wrote it (named in \
+                 its module header), built without the feature that compiles the kernels"
+            .to_owned(),
+    }
+}
+
 /// The panic of a stale kernel, for the linearizations' documentation.
 const STALE_PANIC: &str = "on one of the first linearizations of this factor type, if the \
     kernel disagrees with dual numbers through the current definition: it is stale (see \
@@ -83,12 +94,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         .map(|k| format_ident!("__d_{}", k))
         .collect();
 
-    let regenerate = match &cx.model.regenerate {
-        Some(command) => format!("regenerate it with `{command}`"),
-        None => "regenerate the crate that holds it with the generator that wrote it (named in \
-                 its module header), built without the feature that compiles the kernels"
-            .to_owned(),
-    };
+    let regenerate = regenerate_text(cx);
     let stale = format!(
         "the generated kernel `{kernel_text}` does not match `{ident}`: it was generated for \
          another layout of the factor (a field, its storage or a tangent changed since); \
