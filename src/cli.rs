@@ -56,6 +56,8 @@ use std::process::ExitCode;
 use clap::{Args, FromArgMatches, Subcommand, ValueEnum};
 
 pub use factor_codegen::{HostSpec, KernelSpec, Provenance};
+/// apex-solver's chart, the host of `solve` ([`HostSpec::of`], [`Registry::solve_with_kernel`]).
+pub use factor_core::host::Apex;
 
 pub use crate::registry::{KernelCrate, Registry};
 

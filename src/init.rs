@@ -6,7 +6,7 @@
 //!
 //! | crate | what |
 //! | --- | --- |
-//! | `NAME-factors` | the factors (one example, `PositionPrior`); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
+//! | `NAME-factors` | the factors (one example, `PositionPrior`, and a test of its Jacobians); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
 //! | `NAME-kernels` | the generated kernels: its `Cargo.toml` declares the feature `lanes` the sources use ([`factor_codegen::manifest`]); until the first generation its `src/lib.rs` is a compile error naming the command |
 //! | `NAME-cli` | the command line, binary `NAME`: `list`, `eval`, `generate`, `check`, and with its feature `solve`, `solve` of problem files ([`crate::cli`]); the code generator is its dependency, not the factors' |
 //!
@@ -59,6 +59,29 @@ factor-core = { path = "@CHECKOUT@/factor-core" }
 # `@GENERATE@` builds them.
 default = ["kernels"]
 kernels = ["dep:@NAME@-kernels"]
+
+[dev-dependencies]
+# `assert_correct_jacobians`: each factor's Jacobians against central
+# differences on its variables' manifolds (tests/jacobians.rs).
+factor-testing = { path = "@CHECKOUT@/factor-testing" }
+"#;
+
+/// `NAME-factors/tests/jacobians.rs`: the example factor's Jacobians checked.
+const FACTORS_TEST: &str = r#"//! Each factor's Jacobians (through its kernel, with the feature `kernels`)
+//! against central differences on its variables' manifolds.
+
+use factor_core::nalgebra::Vector3;
+use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
+use @IDENT@_factors::PositionPrior;
+
+#[test]
+fn position_prior_jacobians_are_correct() {
+    let f = PositionPrior {
+        measured: Vector3::new(1.5, 2.0, 2.5),
+        position: Vector3::new(1.0, 2.0, 3.0),
+    };
+    assert_correct_jacobians(&f, DEFAULT_TOLERANCE);
+}
 "#;
 
 /// `NAME-factors/src/lib.rs`: one example factor.
@@ -180,6 +203,7 @@ cargo run -p @NAME@-cli --no-default-features -- generate   # (re)write @NAME@-k
 cargo run -p @NAME@-cli -- list                             # the factors, their inputs and kernels
 cargo run -p @NAME@-cli -- eval inputs/position_prior.json  # residual and Jacobians
 cargo run -p @NAME@-cli --no-default-features -- check      # exit 1 when the kernels are stale (CI)
+cargo test -p @NAME@-factors                                 # the factors' Jacobians against central differences
 cargo run --release -p @NAME@-cli --features solve -- solve inputs/position_problem.json
 ```
 
@@ -226,6 +250,10 @@ pub fn files(name: &str) -> Vec<(String, String)> {
         ("inputs/position_problem.json".into(), PROBLEM.into()),
         (format!("{name}-factors/Cargo.toml"), fill(FACTORS_MANIFEST)),
         (format!("{name}-factors/src/lib.rs"), fill(FACTORS_LIB)),
+        (
+            format!("{name}-factors/tests/jacobians.rs"),
+            fill(FACTORS_TEST),
+        ),
         (
             format!("{kernels}/Cargo.toml"),
             manifest(&kernels, &generate, &check, Membership::Member),

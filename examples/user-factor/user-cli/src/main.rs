@@ -23,8 +23,7 @@
 
 use std::process::ExitCode;
 
-use factor_core::host::Apex;
-use slamjac::cli::{HostSpec, KernelCrate, KernelSpec, Provenance, Registry};
+use slamjac::cli::{Apex, HostSpec, KernelCrate, KernelSpec, Provenance, Registry};
 use user_factors::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
 
 /// The crate `generate` writes and `check` compares.
