@@ -381,6 +381,16 @@ fn degenerate_initial_values_exit_1() {
             "behind the camera",
         ],
     );
+    // A problem file's point behind its cameras: the entry is named.
+    let mut problem = triangulation();
+    problem["variables"]["p"]["value"] = serde_json::json!([0.0, 0.0, -3.0]);
+    let file = dir.join("behind.json");
+    std::fs::write(&file, problem.to_string()).unwrap();
+    assert_error(
+        &slamjac(&["solve", file.to_str().unwrap()]),
+        1,
+        &["error: factors[0]: point_reprojection: degenerate geometry"],
+    );
 }
 
 /// Values within the readers' range (magnitudes up to 1e100) whose
@@ -901,7 +911,11 @@ fn malformed_problem_files_name_the_field() {
         ),
         (
             |p| p["variables"]["c0"]["value"]["rotation"] = serde_json::json!([0, 0, 0, 2]),
-            &["factors[0].variables.pose.rotation"],
+            &["error: variables.c0.value.rotation: ", "norm"],
+        ),
+        (
+            |p| p["variables"]["p"]["value"] = serde_json::json!([0, 0, "x"]),
+            &["error: variables.p.value[2]: "],
         ),
         (
             |p| p["factors"][0]["factor"] = "nope".into(),

@@ -449,8 +449,28 @@ fn add_entry(
     };
     add(assembly, &checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
+        // Degenerate at the initial values: which entry (exit 1).
+        CliError::Factor(_) | CliError::Hinted { .. } => CliError::Solve(format!("{path}: {e}")),
+        CliError::Input(error) => CliError::Input(at_value(error, &variables, &names)),
         other => other,
     })
+}
+
+/// `error` at the value it is about: a path into a factor entry's variable
+/// field (`factors[0].variables.gravity[2]`), the values read from the
+/// variable named there, becomes the path into that variable's value
+/// (`variables.g.value[2]`).
+fn at_value(error: InputError, variables: &Object, names: &[(String, String)]) -> InputError {
+    for (field, name) in names {
+        let prefix = variables.path_of(field);
+        if let Some(rest) = error.path.strip_prefix(&prefix)
+            && (rest.is_empty() || rest.starts_with(['[', '.']))
+        {
+            let value = join(&join("variables", name), "value");
+            return InputError::new(format!("{value}{rest}"), error.message);
+        }
+    }
+    error
 }
 
 /// The JSON of stored scalars `stored` of a value of field `field`, in the
