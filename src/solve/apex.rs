@@ -44,12 +44,13 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
 pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String, CliError> {
     let mut problem = problem_file::read(&args.file, &build_options(args), registry)?;
     let built = &mut problem.built;
+    let [kernels, duals] = problem.linearized_by;
     progress::print(&format!(
-        "{} (problem file): {} blocks, {} kernels where generated (dual numbers otherwise); \
-         Levenberg–Marquardt (apex-solver), {:?}; initial cost {:.10e}",
+        "{} (problem file): {} blocks, {kernels} through generated kernels and {duals} through \
+         dual numbers in apex-solver's chart; Levenberg–Marquardt (apex-solver), {:?}; initial \
+         cost {:.10e}",
         shown_path(&args.file),
         built.blocks,
-        args.kernels.name(),
         built.linear_solver,
         built.initial_cost
     ));

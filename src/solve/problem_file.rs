@@ -44,8 +44,9 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use factor_apex::Kernels;
 use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_value_of};
-use factor_apex::problems::{BuildError, BuildOptions, Built, Robust};
+use factor_apex::problems::{BuildError, BuildOptions, Built, FactorChoice, Robust};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::host::{Apex, HostFactor, HostKernel};
 use factor_core::{FieldInfo, Layout, Storage};
@@ -57,7 +58,7 @@ use crate::decode::{decode, record_keys};
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
-use crate::registry::Registry;
+use crate::registry::{Registry, SolvedBy};
 
 /// The format version this build reads and writes.
 pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
@@ -84,6 +85,9 @@ pub struct FileProblem {
     variables: Vec<(String, Created)>,
     /// The ground truth the file carries.
     truth: Option<Truth>,
+    /// How many factors go through generated kernels, how many through
+    /// dual numbers.
+    pub linearized_by: [usize; 2],
 }
 
 /// What a factor entry needs while it is added.
@@ -91,6 +95,10 @@ pub(crate) struct Assembly<'a> {
     builder: ProblemBuilder,
     declared: &'a Map<String, Value>,
     created: HashMap<String, Created>,
+    /// [`FileProblem::linearized_by`] so far.
+    linearized_by: [usize; 2],
+    /// Whether factors with a kernel go through it (not `--kernels dual`).
+    kernels: bool,
 }
 
 /// One factor entry of a problem file, checked: its `variables` (by
@@ -337,6 +345,8 @@ pub fn read(
         builder: ProblemBuilder::with_options(options),
         declared,
         created: HashMap::new(),
+        linearized_by: [0; 2],
+        kernels: options.factors == FactorChoice::Ours(Kernels::Generated),
     };
     for (k, spec) in factors.iter().enumerate() {
         let path = format!("factors[{k}]");
@@ -356,6 +366,7 @@ pub fn read(
             InputError::new(join("variables", unused), "no factor uses this variable").into(),
         );
     }
+    let linearized_by = assembly.linearized_by;
     let built = assembly.builder.build().map_err(build_error)?;
     let mut variables: Vec<(String, Created)> = assembly.created.into_iter().collect();
     variables.sort_by(|a, b| a.0.cmp(&b.0));
@@ -364,6 +375,7 @@ pub fn read(
         built,
         variables,
         truth,
+        linearized_by,
     })
 }
 
@@ -447,6 +459,8 @@ fn add_entry(
         noise: &noise,
         loss,
     };
+    let by_kernel = assembly.kernels && entry.solved_by == Some(SolvedBy::Kernel);
+    assembly.linearized_by[usize::from(!by_kernel)] += 1;
     add(assembly, &checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         // Degenerate at the initial values: which entry (exit 1).
