@@ -144,6 +144,18 @@ fn a_sim3_loop_of_the_users_factor_reaches_its_truth() {
             out.to_str().unwrap(),
         ]);
         assert_success(&output);
+        // Every factor through the user's apex kernel, or every one through
+        // dual numbers.
+        let header = if kernels == "generated" {
+            "6 through generated kernels and 0 through dual numbers"
+        } else {
+            "0 through generated kernels and 6 through dual numbers"
+        };
+        assert!(
+            String::from_utf8_lossy(&output.stdout).contains(header),
+            "{}",
+            String::from_utf8_lossy(&output.stdout)
+        );
         costs.push(final_cost(&output));
         for (k, t) in truth.iter().enumerate() {
             let error = t
