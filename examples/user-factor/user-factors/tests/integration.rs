@@ -1,0 +1,8 @@
+//! The crate's integration tests, one binary (see `Cargo.toml`): each file
+//! of `tests/` is a module here.
+
+mod generate_kernels;
+mod generated;
+mod manifold_factors;
+mod retraction_rules;
+mod sim3_group;
