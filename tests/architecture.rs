@@ -217,11 +217,13 @@ fn test_targets(manifest: &str) -> Vec<String> {
 fn every_integration_test_file_is_compiled() {
     let members = std::fs::read_to_string(workspace().join("Cargo.toml")).expect("manifest");
     let mut checked = 0;
-    for member in members
-        .lines()
-        .map(str::trim)
-        .filter_map(|l| l.strip_prefix('"')?.strip_suffix("\","))
-    {
+    // The root package (".") and every member.
+    for member in std::iter::once(".").chain(
+        members
+            .lines()
+            .map(str::trim)
+            .filter_map(|l| l.strip_prefix('"')?.strip_suffix("\",")),
+    ) {
         let dir = workspace().join(member);
         let Ok(manifest) = std::fs::read_to_string(dir.join("Cargo.toml")) else {
             continue;

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde_json::{Value, json};
 
-mod common;
+use crate::common;
 
 /// Exit code of rejected input (and clap usage errors).
 const BAD_INPUT: i32 = 2;

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-mod common;
+use crate::common;
 use common::slamjac_with_stdin as run;
 
 fn stderr(output: &Output) -> String {

@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
-mod common;
+use crate::common;
 use common::Rng;
 
 /// A run slower than this is a hang or a blow-up (see the module docs).

@@ -2,7 +2,7 @@
 //! label or anchor in the document and read: structural facts about each
 //! tree, checked against the printed formula (mistakes included).
 
-mod common;
+use crate::common;
 
 use common::*;
 use doc_latex::Locator;

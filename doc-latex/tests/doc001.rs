@@ -2,7 +2,7 @@
 //! label in the document and read: structural facts about each tree,
 //! checked against the printed formula.
 
-mod common;
+use crate::common;
 
 use common::*;
 use doc_latex::ast::{Accent, Base, DerivativeKind, Expr, Font, Head, PostfixOp, Sign, Symbol};

@@ -5,7 +5,7 @@
 //! stack overflow, and macros that expand without end are an error rather
 //! than a hang.
 
-mod common;
+use crate::common;
 
 use common::{DOC000, DOC001};
 use doc_latex::{

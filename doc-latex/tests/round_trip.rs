@@ -1,7 +1,7 @@
 //! parse(render(tree)) == tree for every statement read from the documents,
 //! and only the lines whose printed LaTeX is broken fail to parse.
 
-mod common;
+use crate::common;
 
 use common::{DOC000, DOC001, all_claims, doc000, doc001};
 use doc_latex::{Document, parse_statement, render};

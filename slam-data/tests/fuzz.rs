@@ -2,7 +2,7 @@
 //! line `FILE:LINE: what` with a line inside the input. Seeded, with a
 //! bounded number of cases per format.
 
-mod common;
+use crate::common;
 
 use common::data;
 use proptest::prelude::*;

@@ -1,7 +1,7 @@
 //! Hostile and broken input: each gets a one-line error at its line, never
 //! a panic, a hang or an allocation sized by a claimed count.
 
-mod common;
+use crate::common;
 
 use std::fmt::Debug;
 

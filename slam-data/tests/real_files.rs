@@ -6,7 +6,7 @@
 // Literals are the file's text, digit for digit, even where a double needs fewer.
 #![allow(clippy::excessive_precision)]
 
-mod common;
+use crate::common;
 
 use common::data;
 use nalgebra::{Matrix3, Matrix6, Vector2, Vector3};

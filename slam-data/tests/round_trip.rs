@@ -1,7 +1,7 @@
 //! read → write → read gives the same problem, bit for bit, on every
 //! shipped file; conversions between pose-graph dialects keep rotations.
 
-mod common;
+use crate::common;
 
 use common::{SINGLE_FILES, data};
 use slam_data::{Format, Problem, VoFiles, bal, bundler, edge3, g2o, kitti_vo};

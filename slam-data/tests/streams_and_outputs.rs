@@ -1,7 +1,7 @@
 //! Inputs read once (a pipe cannot be read twice), outputs that are either
 //! complete or untouched, and synthetic problems streamed to their file.
 
-mod common;
+use crate::common;
 
 use std::io::{BufReader, Read};
 

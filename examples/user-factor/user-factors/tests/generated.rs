@@ -1,7 +1,7 @@
 //! The generated kernels of `user-kernels`: `linearize()` goes through them,
 //! and they agree with dual numbers to rounding (and with central
 //! differences) at 200 random configurations per factor.
-//! (`tests/generate_kernels.rs` checks that they are current.)
+//! (`user-cli check`, a test of `user-cli`, checks that they are current.)
 #![cfg(feature = "kernels")]
 
 use factor_core::Factor;

@@ -1,0 +1,7 @@
+//! The crate's integration tests, one binary (see `Cargo.toml`): each file
+//! of `tests/` is a module here.
+
+mod generated;
+mod manifold_factors;
+mod retraction_rules;
+mod sim3_group;
