@@ -142,6 +142,43 @@ pub struct SolveCommand {
     pub plot: Option<PathBuf>,
 }
 
+#[cfg(feature = "solve")]
+impl SolveCommand {
+    /// What `solve` is asked for: a problem file, apex-solver, no other
+    /// data (`slamjac solve` sets the options only data files have).
+    ///
+    /// # Errors
+    ///
+    /// [`CliError::Usage`] for a `--robust` that is not a loss.
+    pub fn args(&self) -> Result<crate::solve::SolveArgs, CliError> {
+        use factor_apex::Kernels;
+        use factor_apex::problems::g2o_addons::LandmarkFactors;
+        let robust = self
+            .robust
+            .as_deref()
+            .map(|r| {
+                r.parse()
+                    .map_err(|e| CliError::Usage(format!("--robust: {e}")))
+            })
+            .transpose()?;
+        Ok(crate::solve::SolveArgs {
+            file: self.file.clone(),
+            format: None,
+            kernels: match self.kernels {
+                KernelChoice::Generated => Kernels::Generated,
+                KernelChoice::Dual => Kernels::Dual,
+            },
+            solver: crate::solve::SolverChoice::Auto,
+            max_iterations: usize::try_from(self.max_iterations).unwrap_or(usize::MAX),
+            robust,
+            output: self.output.clone(),
+            plot: self.plot.clone(),
+            landmarks: LandmarkFactors::G2o,
+            truth: None,
+        })
+    }
+}
+
 /// `--kernels`: how `solve` linearizes its factors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
 pub enum KernelChoice {
@@ -195,7 +232,7 @@ impl Registry {
     pub fn solve(&self, command: &SolveCommand) -> Result<String, CliError> {
         #[cfg(feature = "solve")]
         {
-            crate::solve::run_problem_file(&crate::solve::SolveArgs::of(command)?, self)
+            crate::solve::run_problem_file(&command.args()?, self)
         }
         #[cfg(not(feature = "solve"))]
         {

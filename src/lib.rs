@@ -29,6 +29,8 @@
 //! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
 //! - [`outputs`]: the files a command writes, checked before any work;
 //! - [`usage`]: clap's usage errors as one line;
+//! - `problem_assembly` (feature `solve`): a problem file's factor entries
+//!   added to an apex-solver problem, the adders a registry keeps;
 //! - `solve` (feature `solve`): real estimation problems solved by
 //!   apex-solver through the factors' generated kernels;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
@@ -49,6 +51,8 @@ pub mod list;
 pub mod method;
 pub mod outputs;
 pub mod pretty;
+#[cfg(feature = "solve")]
+mod problem_assembly;
 pub mod registry;
 #[cfg(feature = "solve")]
 pub mod solve;

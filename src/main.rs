@@ -290,7 +290,7 @@ fn solve(
             LandmarkChoice::Documents => LandmarkFactors::Documents,
         },
         truth,
-        ..SolveArgs::of(problem)?
+        ..problem.args()?
     })
 }
 

@@ -41,7 +41,7 @@ pub struct FactorEntry {
     pub solved_by: Option<SolvedBy>,
     /// How a problem file's entry of it is added to the problem.
     #[cfg(feature = "solve")]
-    pub(crate) solve: Option<crate::solve::problem_file::AddFn>,
+    pub(crate) solve: Option<crate::problem_assembly::AddFn>,
 }
 
 /// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
@@ -134,7 +134,7 @@ impl Registry {
         entry.solved_by = Some(SolvedBy::Kernel);
         #[cfg(feature = "solve")]
         {
-            entry.solve = Some(crate::solve::problem_file::add_kernel::<F>);
+            entry.solve = Some(crate::problem_assembly::add_kernel::<F>);
         }
         self
     }
@@ -149,7 +149,7 @@ impl Registry {
         entry.solved_by = Some(SolvedBy::Dual);
         #[cfg(feature = "solve")]
         {
-            entry.solve = Some(crate::solve::problem_file::add_dual::<F>);
+            entry.solve = Some(crate::problem_assembly::add_dual::<F>);
         }
         self
     }

@@ -48,7 +48,6 @@ use factor_apex::solve::Verdict;
 use slam_data::Format;
 use slamjac_io::Role;
 
-use crate::cli::{KernelChoice, SolveCommand};
 use crate::error::CliError;
 use crate::outputs;
 use crate::registry::Registry;
@@ -95,40 +94,6 @@ pub struct SolveArgs {
 /// `FILE: what` (made one printable line by [`CliError::one_line`]).
 fn at(file: &Path, what: impl std::fmt::Display) -> String {
     format!("{}: {what}", file.display())
-}
-
-impl SolveArgs {
-    /// A registry's `solve` ([`crate::cli::SolveCommand`]): a problem file,
-    /// apex-solver, no other data.
-    ///
-    /// # Errors
-    ///
-    /// [`CliError::Usage`] for a `--robust` that is not a loss.
-    pub fn of(command: &SolveCommand) -> Result<Self, CliError> {
-        let robust = command
-            .robust
-            .as_deref()
-            .map(|r| {
-                r.parse()
-                    .map_err(|e| CliError::Usage(format!("--robust: {e}")))
-            })
-            .transpose()?;
-        Ok(SolveArgs {
-            file: command.file.clone(),
-            format: None,
-            kernels: match command.kernels {
-                KernelChoice::Generated => Kernels::Generated,
-                KernelChoice::Dual => Kernels::Dual,
-            },
-            solver: SolverChoice::Auto,
-            max_iterations: usize::try_from(command.max_iterations).unwrap_or(usize::MAX),
-            robust,
-            output: command.output.clone(),
-            plot: command.plot.clone(),
-            landmarks: LandmarkFactors::G2o,
-            truth: None,
-        })
-    }
 }
 
 /// Refuses, before any work, an output (`--output`, each of the three

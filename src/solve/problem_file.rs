@@ -45,36 +45,23 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use factor_apex::Kernels;
-use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_value_of};
-use factor_apex::problems::{BuildError, BuildOptions, Built, FactorChoice, Robust};
+use factor_apex::builder::{Noise, ProblemBuilder, Values};
+use factor_apex::problems::{BuildOptions, Built, FactorChoice, Robust};
 use factor_core::geometry::OrthonormalLine;
-use factor_core::host::{Apex, HostFactor, HostKernel};
 use factor_core::{FieldInfo, Layout, Storage};
 
 use serde_json::{Map, Value};
 
 use super::file_truth::Truth;
-use crate::decode::{decode, record_keys};
+use crate::decode::record_keys;
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
+use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};
 
 /// The format version this build reads and writes.
 pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
-
-/// Reads a variable's stored scalars back from a solution.
-type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
-
-/// A problem variable once a factor has created it.
-struct Created {
-    variable: AnyVariable,
-    /// The factor variable it was created as: its field (layouts) and how
-    /// to read it back.
-    field: FieldInfo,
-    index: usize,
-    read_back: ReadBack,
-}
 
 /// A problem read from a file and built for apex.
 pub struct FileProblem {
@@ -90,117 +77,9 @@ pub struct FileProblem {
     pub linearized_by: [usize; 2],
 }
 
-/// What a factor entry needs while it is added.
-pub(crate) struct Assembly<'a> {
-    builder: ProblemBuilder,
-    declared: &'a Map<String, Value>,
-    created: HashMap<String, Created>,
-    /// [`FileProblem::linearized_by`] so far.
-    linearized_by: [usize; 2],
-    /// Whether factors with a kernel go through it (not `--kernels dual`).
-    kernels: bool,
-}
-
-/// One factor entry of a problem file, checked: its `variables` (by
-/// field, the problem variables' values) and `constants` objects, the
-/// problem variable named for each variable field, its noise model and
-/// loss.
-pub(crate) struct Entry<'a> {
-    variables: &'a Object<'a>,
-    constants: &'a Object<'a>,
-    names: &'a [(String, String)],
-    noise: &'a Noise,
-    loss: Option<Robust>,
-}
-
-/// How a registered factor is added from a problem file
-/// ([`crate::registry::Registry::solve_with_kernel`],
-/// [`crate::registry::Registry::solve_with_dual`]).
-pub(crate) type AddFn = fn(&mut Assembly, &Entry) -> Result<(), CliError>;
-
 /// `Se3` for `Se3<S>`: a type as the file names it.
 fn type_name(info: &str) -> &str {
     info.strip_suffix("<S>").unwrap_or(info)
-}
-
-/// The factor's variables as problem variables: created from the factor's
-/// value of them at the first factor that names them.
-fn variables_of<F: HostFactor<Apex> + 'static>(
-    assembly: &mut Assembly,
-    factor: &F,
-    names: &[(String, String)],
-) -> Vec<AnyVariable> {
-    let fields = F::fields();
-    names
-        .iter()
-        .enumerate()
-        .map(|(index, (_, name))| {
-            if let Some(created) = assembly.created.get(name) {
-                return created.variable.clone();
-            }
-            let variable = assembly.builder.add_variable_of(factor, index);
-            let field = fields
-                .iter()
-                .find(|f| f.variable == Some(index))
-                .cloned()
-                .expect("every variable is a field");
-            assembly.created.insert(
-                name.clone(),
-                Created {
-                    variable: variable.clone(),
-                    field,
-                    index,
-                    read_back: stored_value_of::<F>,
-                },
-            );
-            variable
-        })
-        .collect()
-}
-
-/// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.
-pub(crate) fn add_kernel<F: HostKernel<Apex> + 'static>(
-    assembly: &mut Assembly,
-    entry: &Entry,
-) -> Result<(), CliError> {
-    add_with(assembly, entry, ProblemBuilder::add_factor::<F>)
-}
-
-/// [`AddFn`] through dual numbers in apex-solver's chart.
-pub(crate) fn add_dual<F: HostFactor<Apex> + 'static>(
-    assembly: &mut Assembly,
-    entry: &Entry,
-) -> Result<(), CliError> {
-    add_with(assembly, entry, ProblemBuilder::add_factor_dual::<F>)
-}
-
-/// How [`ProblemBuilder`] adds a factor of type `F`.
-type BuilderAdd<F> =
-    fn(&mut ProblemBuilder, &F, &[AnyVariable], &Noise, Option<Robust>) -> Result<(), BuildError>;
-
-/// Decodes `F` from `entry`, creates its variables, and adds it by `add`.
-fn add_with<F: HostFactor<Apex> + 'static>(
-    assembly: &mut Assembly,
-    entry: &Entry,
-    add: BuilderAdd<F>,
-) -> Result<(), CliError> {
-    let factor: F = decode(entry.variables, entry.constants)?;
-    let keys = variables_of(assembly, &factor, entry.names);
-    add(
-        &mut assembly.builder,
-        &factor,
-        &keys,
-        entry.noise,
-        entry.loss,
-    )
-    .map_err(build_error)
-}
-
-fn build_error(error: BuildError) -> CliError {
-    match error {
-        BuildError::Degenerate { error, .. } => CliError::Factor(error),
-        other => CliError::Solve(other.to_string()),
-    }
 }
 
 /// An object at `path` with the fields `required` and any of `optional`.
