@@ -164,18 +164,15 @@ pub(crate) fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, Inpu
     }
 }
 
-/// Reads and builds the problem file `file`, its factors those `registry`
-/// registered for `solve`.
+/// Reads the problem file `file`: its JSON, the top level checked (only
+/// `slamjac_problem`, `variables`, `factors` and `truth`), the version
+/// this build reads, `variables` an object ([`variables`]).
 ///
 /// # Errors
 ///
-/// [`CliError::Input`] naming the field at fault (exit 2), a factor
-/// degenerate at the initial values (exit 1), apex's refusal.
-pub fn read(
-    file: &Path,
-    options: &BuildOptions,
-    registry: &Registry,
-) -> Result<FileProblem, CliError> {
+/// [`CliError::Usage`] for a file that cannot be read, [`CliError::Input`]
+/// at the field at fault.
+pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
     let name = file.display().to_string();
     let text = std::fs::read_to_string(file)
         .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
@@ -194,10 +191,33 @@ pub fn read(
         )
         .into());
     }
-    let declared = top
-        .get("variables")
+    if !json["variables"].is_object() {
+        return Err(InputError::new("variables", "expected an object of named variables").into());
+    }
+    Ok(json)
+}
+
+/// The `variables` of a problem file [`read_json`] accepted.
+pub(crate) fn variables(json: &Value) -> &Map<String, Value> {
+    json["variables"]
         .as_object()
-        .ok_or_else(|| InputError::new("variables", "expected an object of named variables"))?;
+        .expect("read_json checked `variables`")
+}
+
+/// Reads and builds the problem file `file`, its factors those `registry`
+/// registered for `solve`.
+///
+/// # Errors
+///
+/// [`CliError::Input`] naming the field at fault (exit 2), a factor
+/// degenerate at the initial values (exit 1), apex's refusal.
+pub fn read(
+    file: &Path,
+    options: &BuildOptions,
+    registry: &Registry,
+) -> Result<FileProblem, CliError> {
+    let json = read_json(file)?;
+    let declared = variables(&json);
     let mut fixed = Vec::new();
     for (name, spec) in declared {
         let path = join("variables", name);
@@ -216,8 +236,7 @@ pub fn read(
         .get("truth")
         .map(|truth| Truth::read(truth, declared))
         .transpose()?;
-    let factors = top
-        .get("factors")
+    let factors = json["factors"]
         .as_array()
         .ok_or_else(|| InputError::new("factors", "expected an array of factors"))?;
     let mut assembly = Assembly {

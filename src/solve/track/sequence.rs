@@ -29,7 +29,7 @@ use slam_factors::{
 };
 
 use super::super::file_truth::Truth;
-use super::super::problem_file::{VERSION, noise, open};
+use super::super::problem_file::{noise, open, read_json, variables};
 use crate::decode::decode;
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
@@ -171,28 +171,8 @@ fn type_name(info: &str) -> &str {
 /// for a pose (or, with [`MapSource::Truth`], for a landmark), a factor
 /// that is not one pose against one landmark, a robust loss.
 pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
-    let name = file.display().to_string();
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
-    let json = crate::strict_json::parse_json(&text, &name)?;
-    let top = open(
-        &json,
-        "",
-        &["slamjac_problem", "variables", "factors"],
-        &["truth"],
-    )?;
-    let version = top.number("slamjac_problem")?;
-    if version != VERSION as f64 {
-        return Err(InputError::new(
-            "slamjac_problem",
-            format!("version {version} is not the version this slamjac reads ({VERSION})"),
-        )
-        .into());
-    }
-    let declared = top
-        .get("variables")
-        .as_object()
-        .ok_or_else(|| InputError::new("variables", "expected an object of named variables"))?;
+    let json = read_json(file)?;
+    let declared = variables(&json);
     for (name, spec) in declared {
         open(
             spec,
@@ -226,8 +206,7 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
     if frames.is_empty() {
         return Err(InputError::new("variables", "no Se3 variable: no frame to track").into());
     }
-    let factors = top
-        .get("factors")
+    let factors = json["factors"]
         .as_array()
         .ok_or_else(|| InputError::new("factors", "expected an array of factors"))?;
     let tracked = tracked_factors();
