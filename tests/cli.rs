@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use serde_json::{Value, json};
 
 use crate::common;
+use common::stderr;
 
 /// Exit code of rejected input (and clap usage errors).
 const BAD_INPUT: i32 = 2;
@@ -83,10 +84,6 @@ fn temp_path(tag: &str) -> PathBuf {
         "slamjac-test-{}-{tag}-{n}.json",
         std::process::id()
     ))
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 /// Runs `eval -` on `text` and parses the output, which must succeed.

@@ -9,17 +9,14 @@
 #![cfg(feature = "solve")]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::process::Output;
 
 mod common;
-use common::Rng;
+use common::{Rng, slamjac, stderr, stdout};
 
-fn slamjac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_slamjac"))
-        .args(args)
-        .output()
-        .expect("slamjac runs")
+/// A fresh directory for this file's tests.
+fn temp_dir(tag: &str) -> PathBuf {
+    common::temp_dir("solve", tag)
 }
 
 fn data(file: &str) -> String {
@@ -28,23 +25,6 @@ fn data(file: &str) -> String {
         .join(file)
         .to_string_lossy()
         .into_owned()
-}
-
-/// A fresh directory in the temporary directory.
-fn temp_dir(tag: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("slamjac-solve-{}-{tag}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temporary directory");
-    dir
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 /// `(initial, final)` costs of the summary line `cost: initial X, final Y`.

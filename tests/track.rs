@@ -8,7 +8,6 @@
 #![cfg(feature = "solve")]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use factor_apex::builder::{Noise, ProblemBuilder, stored_value_of};
 use factor_apex::solve::{SolveOptions, solve};
@@ -21,26 +20,12 @@ use serde_json::Value;
 use slam_data::plp_scene::{PlpConfig, generate};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 
-fn slamjac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_slamjac"))
-        .args(args)
-        .output()
-        .expect("slamjac runs")
-}
+mod common;
+use common::{slamjac, stderr, stdout};
 
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// A fresh directory in the temporary directory.
+/// A fresh directory for this file's tests.
 fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("slamjac-track-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temporary directory");
-    dir
+    common::temp_dir("track", tag)
 }
 
 /// `synth-plp --seed 2 --cameras 10` written into `dir`.

@@ -1,7 +1,40 @@
 //! What the command-line tests share.
 
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// `slamjac ARGS`, with nothing on its standard input.
+#[allow(dead_code)] // not every test file runs it so
+pub fn slamjac(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_slamjac"))
+        .args(args)
+        .output()
+        .expect("slamjac runs")
+}
+
+/// A run's standard output.
+#[allow(dead_code)] // not every test file reads it
+pub fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+/// A run's standard error.
+pub fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A fresh directory `slamjac-GROUP-PID-TAG-N` in the temporary directory.
+#[allow(dead_code)] // not every test file writes files
+pub fn temp_dir(group: &str, tag: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir =
+        std::env::temp_dir().join(format!("slamjac-{group}-{}-{tag}-{n}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary directory");
+    dir
+}
 
 /// `slamjac ARGS` with `stdin` piped in. A process that exits before
 /// reading its input closes the pipe; that is fine.
