@@ -118,8 +118,25 @@ where
         // SAFETY: `g · LANES + LANES ≤ len`, the rows of every column.
         unsafe { group::<L, E>(eval, range, g * L::LANES) };
     }
-    for at in groups * L::LANES..len {
-        // SAFETY: `at + 1 ≤ len`.
-        unsafe { group::<L::Scalar, E>(eval, range, at) };
+    // SAFETY: every column has `len` rows (asserted above).
+    unsafe { tail::<L::Scalar, E>(eval, range, groups * L::LANES) };
+}
+
+/// Evaluates rows `from..range.len` one at a time with the scalar `S`: the
+/// rows fewer than a lane group that [`run`] leaves over. Not inlined, so
+/// each kernel's scalar tail is compiled once per scalar type rather than
+/// copied into every lane type's and instruction set's instance of [`run`]
+/// (which would add a kernel's code to each, for at most `LANES − 1` rows
+/// of a range). Results are the same in either: Rust never contracts to
+/// FMA, so the instruction set changes no rounding.
+///
+/// # Safety
+///
+/// Every column of `range` (inputs, weights, outputs) has `range.len` rows.
+#[inline(never)]
+unsafe fn tail<S: Lanes, E: Eval<S>>(eval: &E, range: &mut Range<S::Scalar>, from: usize) {
+    for at in from..range.len {
+        // SAFETY: `at + 1 ≤ len`, the rows of every column (the caller's promise).
+        unsafe { group::<S, E>(eval, range, at) };
     }
 }

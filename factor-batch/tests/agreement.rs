@@ -1,6 +1,7 @@
-//! Batches agree with the scalar kernel and with dual numbers, for the five
-//! document factors and a user's factor (`user_factors::RelativePose`) at
-//! 10⁴ + 3 configurations each (the plane's straddling both of its branch
+//! How batches are checked against the scalar kernel and dual numbers
+//! ([`check`]), for the five document factors (`document_factors.rs`) and a
+//! user's factor (`users_factor.rs`, its own test binary) at 10⁴ + 3
+//! configurations each (the plane's straddling both of its branch
 //! points, `factor_testing::branch_points`), in every lane type, Jacobians
 //! and fused normal equations alike.
 //!
@@ -44,14 +45,14 @@
 use factor_batch::{Columns, JacobianColumns, NormalColumns, Options, linearize, normal, pairs};
 use factor_core::{DynLinearization, Factor, WithKernel};
 use factor_lanes::{Array, F32x8, F64x4, F64x8, Kernel, Lanes, NormalKernel};
+use factor_testing::GENERATED_TOLERANCE;
 use factor_testing::generated::{compare, input_scale};
 use factor_testing::samples::Sampler;
-use factor_testing::{GENERATED_TOLERANCE, branch_points};
 use nalgebra::{DMatrix, DVector};
 
 /// Configurations per factor: not a multiple of any lane count, so the
 /// scalar tail runs too.
-const COUNT: usize = 10_003;
+pub(crate) const COUNT: usize = 10_003;
 
 /// `F32x8` vs dual numbers, as [`compare`] measures (the residual relative
 /// to the inputs' scale, blocks relative Frobenius): inputs rounded to
@@ -63,7 +64,7 @@ const F32_VS_DUAL: f64 = 1e-3;
 const NORMAL_VS_DUAL: f64 = 3e-12;
 
 /// The kernel over every number type the tests run.
-trait AllLanes:
+pub(crate) trait AllLanes:
     Kernel<f64>
     + Kernel<f32>
     + Kernel<F64x4>
@@ -380,7 +381,7 @@ where
 /// Every check of this file for one factor type, whose kernel calls `sin`,
 /// `cos`, `atan2`, … when `transcendental` (then lanes are not bit for bit
 /// the scalar kernel).
-fn check<F>(factors: &[F], seed: u64, transcendental: bool)
+pub(crate) fn check<F>(factors: &[F], seed: u64, transcendental: bool)
 where
     F: WithKernel,
     F::Kernel: AllLanes,
@@ -473,51 +474,8 @@ where
     );
 }
 
-fn sampled<F>(seed: u64, mut sample: impl FnMut(&mut Sampler) -> F) -> Vec<F> {
+/// `COUNT` factors drawn by `sample` from a sampler seeded with `seed`.
+pub(crate) fn sampled<F>(seed: u64, mut sample: impl FnMut(&mut Sampler) -> F) -> Vec<F> {
     let mut sampler = Sampler::new(seed);
     (0..COUNT).map(|_| sample(&mut sampler)).collect()
-}
-
-#[test]
-fn point_reprojection_batches_agree() {
-    check(&sampled(21, Sampler::point_reprojection), 1, false);
-}
-
-#[test]
-fn line_reprojection_batches_agree() {
-    check(&sampled(22, Sampler::line_reprojection), 2, false);
-}
-
-#[test]
-fn plucker_line_reprojection_batches_agree() {
-    check(&sampled(23, Sampler::plucker_line_reprojection), 3, false);
-}
-
-#[test]
-fn plane_batches_agree_across_both_branch_points() {
-    let mut sampler = Sampler::new(24);
-    let factors = branch_points::plane_branch_configurations(&mut sampler, COUNT);
-    check(&factors, 4, true);
-}
-
-#[test]
-fn free_line_batches_agree() {
-    check(&sampled(25, Sampler::free_line), 5, false);
-}
-
-/// A user's factor (`examples/user-factor`), whose kernel crate declares the
-/// `lanes` feature as the crate writer asks: poses `T_i`, `T_j` and a
-/// measurement within 0.2 rad and 0.2 of the truth.
-#[test]
-fn a_users_relative_pose_batches_agree() {
-    let factors = sampled(26, |s| {
-        let (pose_i, pose_j) = (s.pose(), s.pose());
-        let noise = factor_core::lie::Se3::new(s.small_rotation(0.2), s.vector3(0.2));
-        user_factors::RelativePose {
-            measured: noise.compose(&pose_i.inverse().compose(&pose_j)),
-            pose_i,
-            pose_j,
-        }
-    });
-    check(&factors, 6, true);
 }

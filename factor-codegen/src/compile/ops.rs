@@ -2,7 +2,7 @@
 //! ([`Op`]), interned in an arena ([`Compiler`]), and the queries every stage
 //! makes of it (operands, liveness, use counts).
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::HashMap;
 
 use factor_symbolic::graph::{Expr, Graph, Real};
 
@@ -99,10 +99,12 @@ impl Compiler<'_> {
         }
     }
 
-    pub(super) fn operands(&self, op: usize) -> Vec<usize> {
+    /// Calls `f` with each operand of `op`, in order (repeated factors of a
+    /// product repeatedly).
+    pub(super) fn each_operand(&self, op: usize, mut f: impl FnMut(usize)) {
         match &self.ops[op] {
             Op::Leaf(leaf) => match *leaf {
-                LeafOp::Input(_) | LeafOp::Const(_) => Vec::new(),
+                LeafOp::Input(_) | LeafOp::Const(_) => {}
                 LeafOp::Sqrt(x)
                 | LeafOp::Sin(x)
                 | LeafOp::Cos(x)
@@ -110,50 +112,55 @@ impl Compiler<'_> {
                 | LeafOp::Ln(x)
                 | LeafOp::Acos(x)
                 | LeafOp::Asin(x)
-                | LeafOp::Atan(x) => vec![x],
-                LeafOp::Atan2(y, x) => vec![y, x],
-                LeafOp::Select(args) => args.to_vec(),
+                | LeafOp::Atan(x) => f(x),
+                LeafOp::Atan2(y, x) => {
+                    f(y);
+                    f(x);
+                }
+                LeafOp::Select(args) => args.into_iter().for_each(f),
             },
-            Op::Recip(x) => vec![*x],
-            Op::Product { factors, .. } => factors.clone(),
-            Op::Sum { terms, .. } => terms.iter().map(|(t, _)| *t).collect(),
+            Op::Recip(x) => f(*x),
+            Op::Product { factors, .. } => factors.iter().copied().for_each(f),
+            Op::Sum { terms, .. } => terms.iter().for_each(|(t, _)| f(*t)),
         }
+    }
+
+    /// Whether each op is reachable from `from` (the ops themselves
+    /// included). The rewrites ask this once per extraction, so it is a flag
+    /// per op rather than a set.
+    fn reachable(&self, from: impl IntoIterator<Item = usize>) -> Vec<bool> {
+        let mut seen = vec![false; self.ops.len()];
+        let mut stack: Vec<usize> = from.into_iter().collect();
+        while let Some(op) = stack.pop() {
+            if !std::mem::replace(&mut seen[op], true) {
+                self.each_operand(op, |x| stack.push(x));
+            }
+        }
+        seen
     }
 
     /// Ops reachable from the roots, in increasing id order.
     pub(super) fn live(&self, roots: &[usize]) -> Vec<usize> {
-        let mut seen = BTreeSet::new();
-        let mut stack = roots.to_vec();
-        while let Some(op) = stack.pop() {
-            if seen.insert(op) {
-                stack.extend(self.operands(op));
-            }
-        }
-        seen.into_iter().collect()
+        let seen = self.reachable(roots.iter().copied());
+        (0..seen.len()).filter(|op| seen[*op]).collect()
     }
 
-    /// The live ops a reciprocal or a square root depends on.
-    pub(super) fn urgent(&self, live: &[usize]) -> BTreeSet<usize> {
-        let mut stack: Vec<usize> = live
-            .iter()
-            .filter(|op| matches!(self.ops[**op], Op::Recip(_) | Op::Leaf(LeafOp::Sqrt(_))))
-            .flat_map(|op| self.operands(*op))
-            .collect();
-        let mut urgent = BTreeSet::new();
-        while let Some(op) = stack.pop() {
-            if urgent.insert(op) {
-                stack.extend(self.operands(op));
-            }
-        }
-        urgent
-    }
-
-    pub(super) fn use_counts(&self, live: &[usize]) -> HashMap<usize, usize> {
-        let mut uses = HashMap::new();
+    /// Whether each op is one a live reciprocal or square root depends on.
+    pub(super) fn urgent(&self, live: &[usize]) -> Vec<bool> {
+        let mut operands = Vec::new();
         for &op in live {
-            for operand in self.operands(op) {
-                *uses.entry(operand).or_insert(0) += 1;
+            if matches!(self.ops[op], Op::Recip(_) | Op::Leaf(LeafOp::Sqrt(_))) {
+                self.each_operand(op, |x| operands.push(x));
             }
+        }
+        self.reachable(operands)
+    }
+
+    /// How many times the live ops use each op (indexed by op).
+    pub(super) fn use_counts(&self, live: &[usize]) -> Vec<usize> {
+        let mut uses = vec![0; self.ops.len()];
+        for &op in live {
+            self.each_operand(op, |x| uses[x] += 1);
         }
         uses
     }

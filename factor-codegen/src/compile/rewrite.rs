@@ -5,94 +5,126 @@
 //! heuristic (canonical operand order makes it deterministic). Distributive
 //! factoring `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` is tried by some strategies.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 use factor_symbolic::graph::Real;
 
 use super::ops::{Compiler, Op};
 
 impl Compiler<'_> {
-    /// Factors the most common factor out of one live sum's product terms
-    /// (only single-use ones unless `shared`): `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` saves a multiplication per
-    /// term beyond the first.
+    /// Factors the most common factor out of the first live sum that has
+    /// one, among its product terms (only single-use ones unless `shared`):
+    /// `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` saves a multiplication per term beyond the
+    /// first.
     pub(super) fn factor_sum(&mut self, live: &[usize], shared: bool) -> bool {
         let uses = self.use_counts(live);
-        for &op in live {
-            let Op::Sum { constant, terms } = self.ops[op].clone() else {
-                continue;
-            };
-            // Each term as (coefficient inside, factor multiset), if eligible.
-            let split: Vec<Option<(f64, Vec<usize>)>> = terms
-                .iter()
-                .map(|(t, _)| match &self.ops[*t] {
-                    Op::Product {
-                        coefficient,
-                        factors,
-                    } if shared || uses.get(t) == Some(&1) => Some((*coefficient, factors.clone())),
-                    Op::Product { .. } => None,
-                    _ => Some((1.0, vec![*t])),
-                })
-                .collect();
-            let mut counts: BTreeMap<usize, usize> = BTreeMap::new();
-            for (_, factors) in split.iter().flatten() {
-                for f in factors.iter().collect::<BTreeSet<_>>() {
-                    *counts.entry(*f).or_insert(0) += 1;
-                }
-            }
-            let Some((&f, _)) = counts
-                .iter()
-                .filter(|(_, n)| **n >= 2)
-                .max_by_key(|(f, n)| (**n, std::cmp::Reverse(**f)))
-            else {
-                continue;
-            };
-            let mut inner_constant = 0.0;
-            let mut inner: BTreeMap<usize, f64> = BTreeMap::new();
-            let mut outer: Vec<(usize, f64)> = Vec::new();
-            for ((t, c), parts) in terms.iter().zip(split) {
-                match parts {
-                    Some((k, mut factors)) if factors.contains(&f) => {
-                        let i = factors.iter().position(|x| *x == f).expect("contains");
-                        factors.remove(i);
-                        match self.product(k, factors) {
-                            Some(cofactor) => *inner.entry(cofactor).or_insert(0.0) += c,
-                            None => inner_constant += c * k,
-                        }
+        let mut held = Vec::new();
+        let Some((op, f)) = live
+            .iter()
+            .find_map(|&op| Some((op, self.common_factor(op, &uses, shared, &mut held)?)))
+        else {
+            return false;
+        };
+        let Op::Sum { constant, terms } = self.ops[op].clone() else {
+            unreachable!("a common factor is found in sums only");
+        };
+        let split: Vec<Option<(f64, Vec<usize>)>> = terms
+            .iter()
+            .map(|(t, _)| {
+                self.term_factors(t, &uses, shared)
+                    .map(|(k, factors)| (k, factors.to_vec()))
+            })
+            .collect();
+        let mut inner_constant = 0.0;
+        let mut inner: BTreeMap<usize, f64> = BTreeMap::new();
+        let mut outer: Vec<(usize, f64)> = Vec::new();
+        for ((t, c), parts) in terms.iter().zip(split) {
+            match parts {
+                Some((k, mut factors)) if factors.contains(&f) => {
+                    let i = factors.iter().position(|x| *x == f).expect("contains");
+                    factors.remove(i);
+                    match self.product(k, factors) {
+                        Some(cofactor) => *inner.entry(cofactor).or_insert(0.0) += c,
+                        None => inner_constant += c * k,
                     }
-                    _ => outer.push((*t, *c)),
                 }
+                _ => outer.push((*t, *c)),
             }
-            let mut inner: Vec<(usize, f64)> =
-                inner.into_iter().filter(|(_, c)| *c != 0.0).collect();
-            // A sum whose terms are all negative would cost a negation: carry
-            // its sign out to this sum's coefficient instead.
-            let sign = if inner.iter().all(|(_, c)| *c < 0.0) && inner_constant <= 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            inner.iter_mut().for_each(|(_, c)| *c *= sign);
-            let inner_sum = self.push(Op::Sum {
-                constant: inner_constant * sign,
-                terms: inner,
-            });
-            let factored = self.push(Op::Product {
-                coefficient: 1.0,
-                factors: {
-                    let mut v = vec![f, inner_sum];
-                    v.sort_unstable();
-                    v
-                },
-            });
-            outer.push((factored, sign));
-            outer.sort_unstable_by_key(|(t, _)| *t);
-            self.ops[op] = Op::Sum {
-                constant,
-                terms: outer,
-            };
-            return true;
         }
-        false
+        let mut inner: Vec<(usize, f64)> = inner.into_iter().filter(|(_, c)| *c != 0.0).collect();
+        // A sum whose terms are all negative would cost a negation: carry
+        // its sign out to this sum's coefficient instead.
+        let sign = if inner.iter().all(|(_, c)| *c < 0.0) && inner_constant <= 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        inner.iter_mut().for_each(|(_, c)| *c *= sign);
+        let inner_sum = self.push(Op::Sum {
+            constant: inner_constant * sign,
+            terms: inner,
+        });
+        let factored = self.push(Op::Product {
+            coefficient: 1.0,
+            factors: {
+                let mut v = vec![f, inner_sum];
+                v.sort_unstable();
+                v
+            },
+        });
+        outer.push((factored, sign));
+        outer.sort_unstable_by_key(|(t, _)| *t);
+        self.ops[op] = Op::Sum {
+            constant,
+            terms: outer,
+        };
+        true
+    }
+
+    /// A sum's term as `coefficient · Π factors` if factoring may split it:
+    /// a product only this sum uses (any product when `shared`), or any
+    /// other op as its own single factor; `None` for a product that stays
+    /// whole.
+    fn term_factors<'a>(
+        &'a self,
+        term: &'a usize,
+        uses: &[usize],
+        shared: bool,
+    ) -> Option<(f64, &'a [usize])> {
+        match &self.ops[*term] {
+            Op::Product {
+                coefficient,
+                factors,
+            } if shared || uses[*term] == 1 => Some((*coefficient, factors)),
+            Op::Product { .. } => None,
+            _ => Some((1.0, std::slice::from_ref(term))),
+        }
+    }
+
+    /// The factor most of the sum `op`'s splittable terms hold, if two do
+    /// (a term counts it once; factor lists are sorted), the smallest among
+    /// equally frequent ones. `held` is scratch space.
+    fn common_factor(
+        &self,
+        op: usize,
+        uses: &[usize],
+        shared: bool,
+        held: &mut Vec<usize>,
+    ) -> Option<usize> {
+        let Op::Sum { terms, .. } = &self.ops[op] else {
+            return None;
+        };
+        held.clear();
+        for (t, _) in terms {
+            if let Some((_, factors)) = self.term_factors(t, uses, shared) {
+                held.extend(factors.chunk_by(|a, b| a == b).map(|run| run[0]));
+            }
+        }
+        held.sort_unstable();
+        held.chunk_by(|a, b| a == b)
+            .filter(|run| run.len() >= 2)
+            .max_by_key(|run| (run.len(), std::cmp::Reverse(run[0])))
+            .map(|run| run[0])
     }
 
     /// Extracts the most frequent operand pair of the live products.

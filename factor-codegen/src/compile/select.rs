@@ -20,15 +20,17 @@ use crate::ir::{Instr, Program, Value};
 
 pub(super) struct Emitter<'a> {
     pub(super) ops: &'a [Op],
-    pub(super) uses: HashMap<usize, usize>,
+    /// How many times the program's ops use each op (indexed by op).
+    pub(super) uses: Vec<usize>,
     pub(super) program: Program,
     pub(super) values: HashMap<usize, Value>,
     /// Estimated ready time of each instruction emitted so far
     /// ([`Instr::latency`] along its longest operand path).
     pub(super) ready: Vec<u32>,
-    /// Ops a reciprocal or a square root depends on: everything after those
-    /// waits for them, so their latency is worth an operation.
-    pub(super) urgent: BTreeSet<usize>,
+    /// Whether a reciprocal or a square root depends on each op (indexed by
+    /// op): everything after those waits for them, so their latency is worth
+    /// an operation.
+    pub(super) urgent: Vec<bool>,
 }
 
 impl Emitter<'_> {
@@ -178,7 +180,7 @@ impl Emitter<'_> {
         let mut denominator = Vec::new();
         for &f in factors {
             match self.ops[f] {
-                Op::Recip(x) if self.uses.get(&f) == Some(&1) && !self.values.contains_key(&f) => {
+                Op::Recip(x) if self.uses[f] == 1 && !self.values.contains_key(&f) => {
                     denominator.push(x)
                 }
                 _ => numerator.push(f),
@@ -243,9 +245,7 @@ impl Emitter<'_> {
     /// A sum op only this use reads and not yet emitted: `(constant, terms)`.
     fn private_sum(&self, op: usize) -> Option<(f64, Vec<(usize, f64)>)> {
         match &self.ops[op] {
-            Op::Sum { constant, terms }
-                if self.uses.get(&op) == Some(&1) && !self.values.contains_key(&op) =>
-            {
+            Op::Sum { constant, terms } if self.uses[op] == 1 && !self.values.contains_key(&op) => {
                 Some((*constant, terms.clone()))
             }
             _ => None,
@@ -278,7 +278,7 @@ impl Emitter<'_> {
                     self.cost_since(late.0, start),
                 );
                 let sooner = self.ready(early.0) < self.ready(late.0);
-                let urgent = self.urgent.contains(&op);
+                let urgent = self.urgent[op];
                 signed.push(if sooner && (urgent || early_cost <= late_cost) {
                     early
                 } else {
@@ -371,7 +371,7 @@ impl Emitter<'_> {
             Op::Product {
                 coefficient,
                 factors,
-            } if self.uses.get(&op) == Some(&1) && !self.values.contains_key(&op) => {
+            } if self.uses[op] == 1 && !self.values.contains_key(&op) => {
                 Some((*coefficient, factors.clone()))
             }
             _ => None,
