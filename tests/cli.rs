@@ -6,7 +6,6 @@
 
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde_json::{Value, json};
 
@@ -78,12 +77,7 @@ fn example(factor: &str) -> Value {
 
 /// A fresh path in the temporary directory.
 fn temp_path(tag: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    std::env::temp_dir().join(format!(
-        "slamjac-test-{}-{tag}-{n}.json",
-        std::process::id()
-    ))
+    common::temp_path("test", tag).with_extension("json")
 }
 
 /// Runs `eval -` on `text` and parses the output, which must succeed.
@@ -768,9 +762,7 @@ fn non_finite_results_are_reported() {
 
 /// A fresh directory in the temporary directory.
 fn temp_dir(tag: &str) -> PathBuf {
-    let dir = temp_path(tag).with_extension("d");
-    std::fs::create_dir_all(&dir).expect("temporary directory");
-    dir
+    common::temp_dir("test", tag)
 }
 
 #[test]

@@ -17,7 +17,6 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
@@ -43,9 +42,7 @@ struct Run {
 
 /// A fresh path in the temporary directory.
 fn temp_path(tag: &str) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    std::env::temp_dir().join(format!("slamjac-hostile-{}-{tag}-{n}", std::process::id()))
+    common::temp_path("hostile", tag)
 }
 
 /// Runs `slamjac args…` with `stdin`, panicking when it outlives [`CASE_TIMEOUT`]

@@ -25,13 +25,19 @@ pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-/// A fresh directory `slamjac-GROUP-PID-TAG-N` in the temporary directory.
+/// A fresh path `slamjac-GROUP-PID-TAG-N` in the temporary directory,
+/// nothing created there.
 #[allow(dead_code)] // not every test file writes files
-pub fn temp_dir(group: &str, tag: &str) -> PathBuf {
+pub fn temp_path(group: &str, tag: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir =
-        std::env::temp_dir().join(format!("slamjac-{group}-{}-{tag}-{n}", std::process::id()));
+    std::env::temp_dir().join(format!("slamjac-{group}-{}-{tag}-{n}", std::process::id()))
+}
+
+/// A fresh directory [`temp_path`], created.
+#[allow(dead_code)] // not every test file writes files
+pub fn temp_dir(group: &str, tag: &str) -> PathBuf {
+    let dir = temp_path(group, tag);
     std::fs::create_dir_all(&dir).expect("temporary directory");
     dir
 }
