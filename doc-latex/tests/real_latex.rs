@@ -58,6 +58,7 @@ fn functions_of_every_kind() {
         Expr::Apply {
             head: Head::Function(f),
             args,
+            ..
         } => (f.name, f.sub.map(|s| s.to_string()), args.len()),
         other => panic!("{latex}: {other}"),
     };

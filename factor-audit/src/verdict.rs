@@ -6,7 +6,9 @@
 //!   its tangent blocks swapped, or with a homogeneous coordinate kept;
 //! - `wrong`: agrees with nothing; the largest error is reported with a
 //!   guess at the erratum (sign, constant factor, transpose, which columns);
-//! - `malformed`: the printed formula cannot be evaluated as printed.
+//! - `malformed`: the printed formula cannot be evaluated as printed;
+//! - `ambiguous` (audits from a document's text): wrong or malformed as
+//!   read by default, right under another reading of its notation.
 
 use nalgebra::DMatrix;
 
@@ -29,16 +31,24 @@ pub enum Verdict {
     Wrong(Option<String>),
     /// Not well formed as printed; why.
     Malformed(String),
+    /// Wrong or malformed as the notation is read by default, but right
+    /// under another reading of it the document may mean (a script's
+    /// scope, a function's argument, a grouping): that reading, in words,
+    /// with every grouping explicit. Never reported as `wrong`: the audit
+    /// cannot tell which reading the author meant.
+    Ambiguous(String),
 }
 
 impl Verdict {
-    /// The JSON vocabulary: `correct`, `convention`, `wrong`, `malformed`.
+    /// The JSON vocabulary: `correct`, `convention`, `wrong`, `malformed`,
+    /// `ambiguous`.
     pub fn keyword(&self) -> &'static str {
         match self {
             Verdict::Correct => "correct",
             Verdict::Convention(_) => "convention",
             Verdict::Wrong(_) => "wrong",
             Verdict::Malformed(_) => "malformed",
+            Verdict::Ambiguous(_) => "ambiguous",
         }
     }
 }

@@ -128,7 +128,12 @@ const SEEDS: &[Seed] = &[
         line: 304,
         from: "\\vGa(\\vv)^\\transpose",
         to: "\\vGa(\\vv)",
-        corrected: None,
+        // The transpose put back on the whole application, bracketed so it
+        // reads so whatever `Γ` is (printed on the parenthesis, it would
+        // be the group's when the application is a product).
+        corrected: Some(
+            "\\boldsymbol{\\Gamma}(-\\boldsymbol{v}) = \\left(\\boldsymbol{\\Gamma}(\\boldsymbol{v})\\right)^{T}",
+        ),
     },
     Seed {
         dir: "kindr",
@@ -297,12 +302,11 @@ fn check_seed(seed: &Seed) {
     let symbols = only_claim(&symbols, seed.claim);
     let file = format!("{}.tex", seed.name);
     // (Correct as printed: `every_corpus_claim_keeps_its_verdict`.)
-    let printed = only(
+    let original = only(
         TextAudit::read(&file, &text, &symbols).expect("the document reads"),
         seed.claim,
-    )
-    .claims[0]
-        .understood();
+    );
+    let printed = original.claims[0].with_rhs(&original.claims[0].printed_ast);
     let changed = seeded(&text, seed);
     let audit = only(
         TextAudit::read(&file, &changed, &symbols).expect("the seeded document reads"),

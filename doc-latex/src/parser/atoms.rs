@@ -57,9 +57,16 @@ impl Parser<'_> {
                         if apply && matches!(self.peek(), Some(Tok::Open(Delim::Paren))) =>
                     {
                         let args = self.call_arguments()?;
-                        self.scripts_on_expr(Expr::Apply {
+                        // Scripts on the closing parenthesis: the symbol
+                        // table decides what they apply to.
+                        let scripts = match self.scripts_on_expr(Expr::Placeholder)? {
+                            Expr::Placeholder => None,
+                            chain => Some(Box::new(chain)),
+                        };
+                        Ok(Expr::Apply {
                             head: Head::Symbol(s),
                             args,
+                            scripts,
                         })
                     }
                     e => Ok(e),
@@ -317,23 +324,31 @@ impl Parser<'_> {
                 sub = e;
             }
         }
-        let args = match self.peek() {
-            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => self.call_arguments()?,
+        let (args, bare) = match self.peek() {
+            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => {
+                (self.call_arguments()?, false)
+            }
             _ => {
                 self.skip_spaces();
                 if !self.starts_operand(self.pos) {
                     if sub.is_none() {
                         return Err(self.error_here(ErrorKind::MissingOperand(name)));
                     }
-                    Vec::new()
+                    (Vec::new(), false)
                 } else {
-                    vec![self.simple_factor()?]
+                    (vec![self.simple_factor()?], true)
                 }
             }
         };
         self.scripts_on_expr(Expr::Apply {
-            head: Head::Function(Function { name, power, sub }),
+            head: Head::Function(Function {
+                name,
+                power,
+                sub,
+                bare,
+            }),
             args,
+            scripts: None,
         })
     }
 

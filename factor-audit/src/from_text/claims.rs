@@ -21,7 +21,14 @@ use factor_core::manifold::Perturbation;
 use factor_core::scalar::Scalar;
 
 /// The verdict keywords a claim may expect.
-pub const KEYWORDS: [&str; 5] = ["correct", "convention", "wrong", "malformed", "unread"];
+pub const KEYWORDS: [&str; 6] = [
+    "correct",
+    "convention",
+    "wrong",
+    "malformed",
+    "ambiguous",
+    "unread",
+];
 
 /// A convention to try, lowered.
 #[derive(Debug, Clone)]
@@ -81,17 +88,15 @@ pub struct TextClaim {
     /// For a differential, the tangent its printed right side is linear
     /// in (the printed term is the difference quotient over it).
     pub differential_in: Option<SymbolId>,
+    /// The printed formula as it is evaluated, every grouping explicit
+    /// ([`super::understood`]): `lhs rel rhs`.
+    pub understood: String,
 }
 
 impl TextClaim {
     /// The claim's scope in its context.
     pub fn scope(&self) -> Scope {
         Some(self.index)
-    }
-
-    /// The printed formula as the parser understood it: `lhs rel rhs`.
-    pub fn understood(&self) -> String {
-        self.with_rhs(&self.printed_ast)
     }
 
     /// `lhs rel rhs` with another right side.
@@ -556,6 +561,7 @@ pub fn compile(
         convention,
         spec.erratum.as_deref(),
     );
+    let understood = understood_line(ctx, located.lhs.as_ref(), located.relation, &printed);
     Ok(TextClaim {
         index,
         context: context_index,
@@ -585,7 +591,26 @@ pub fn compile(
             super::edits::nearby_terms(&others, &located.rhs)
         },
         differential_in,
+        understood,
     })
+}
+
+/// `lhs rel rhs` with the right side as evaluated (a differential's
+/// numerator, as printed in its tangent).
+fn understood_line(ctx: &Context, lhs: Option<&Expr>, relation: Rel, printed: &Term) -> String {
+    let rhs = match printed {
+        Term::Quotient {
+            numerator,
+            limit: false,
+            ..
+        } => numerator.as_ref(),
+        other => other,
+    };
+    let rhs = super::understood::Names::of(ctx).render(rhs);
+    match lhs {
+        Some(l) => format!("{l} {} {rhs}", doc_latex::render::relation_latex(relation)),
+        None => rhs,
+    }
 }
 
 /// The canonical LaTeX other formulas write a claim's derivative with.

@@ -81,6 +81,16 @@ pub enum Found {
     Value,
 }
 
+/// What a symbol before a parenthesised group was read as.
+enum Application {
+    /// A function applied to the group.
+    Call(Term),
+    /// The symbol written with its variables (`T(ξ)`).
+    Written(Term),
+    /// A value multiplying the group: the value.
+    Product(Term),
+}
+
 /// What a derivative in a chain rule stands for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Link {
@@ -282,7 +292,16 @@ impl<'r> Lowering<'r> {
             }
             Expr::Norm { body, .. } => Term::Norm(Box::new(self.expr(body)?)),
             Expr::Skew(x) => Term::Hat(Box::new(self.expr(x)?)),
-            Expr::Apply { head, args } => self.apply(head, args, e)?,
+            Expr::Apply {
+                head,
+                args,
+                scripts: None,
+            } => self.apply(head, args, e)?,
+            Expr::Apply {
+                head,
+                args,
+                scripts: Some(chain),
+            } => self.scripted_application(head, args, chain, e)?,
             Expr::Power { base, exponent } => {
                 let p = number(exponent)
                     .ok_or_else(|| LowerError::at(e, "the exponent is not a number"))?;
@@ -535,7 +554,7 @@ impl<'r> Lowering<'r> {
         Ok(if factors.len() == 1 {
             factors.pop().expect("one factor").1
         } else {
-            Term::Product(factors)
+            cross_of_products(factors)
         })
     }
 
@@ -565,6 +584,89 @@ impl<'r> Lowering<'r> {
             }
             Some((_, Found::Template(t))) if !inverse => Some(Term::Template(t, vec![arg?])),
             _ => None,
+        })
+    }
+
+    /// `f(args)` with scripts on its closing parenthesis: on the call when
+    /// `f` is a function, on `f` when it is written with its variables
+    /// (`T(ξ)^{-1}`), else on the parenthesised group of the product
+    /// (`R (R Q)^\top` is `R ((R Q)^\top)`).
+    fn scripted_application(
+        &mut self,
+        head: &Head,
+        args: &[Expr],
+        chain: &Expr,
+        e: &Expr,
+    ) -> Result<Term, LowerError> {
+        let call = Expr::Apply {
+            head: head.clone(),
+            args: args.to_vec(),
+            scripts: None,
+        };
+        let Head::Symbol(s) = head else {
+            return self.expr(&Expr::with_scripts_of(chain, call));
+        };
+        match self.symbol_application(s, args, e)? {
+            Application::Call(_) => self.expr(&Expr::with_scripts_of(chain, call)),
+            Application::Written(_) => {
+                self.expr(&Expr::with_scripts_of(chain, Expr::Symbol(s.clone())))
+            }
+            Application::Product(head) => {
+                let group = match args {
+                    [one] => one.clone(),
+                    many => Expr::Tuple(many.to_vec()),
+                };
+                let scripted = self.expr(&Expr::with_scripts_of(chain, group))?;
+                Ok(Term::Product(vec![(Op::Mul, head), (Op::Mul, scripted)]))
+            }
+        }
+    }
+
+    /// What a symbol before a parenthesised group is: a function applied,
+    /// the symbol written with its variables (`T(ξ)`, `E(ξ, ω)`: every
+    /// argument a variable or tangent), or a value multiplying the group.
+    fn symbol_application(
+        &mut self,
+        s: &ast::Symbol,
+        args: &[Expr],
+        e: &Expr,
+    ) -> Result<Application, LowerError> {
+        let key = symbol_key(s);
+        let found = self.resolver.symbol(&key)?;
+        match found {
+            Some((_, Found::Function(b))) => return Ok(Application::Call(self.call(b, args, e)?)),
+            Some((_, Found::Template(t))) => {
+                return Ok(Application::Call(Term::Template(
+                    t,
+                    args.iter()
+                        .map(|a| self.expr(a))
+                        .collect::<Result<_, _>>()?,
+                )));
+            }
+            _ => {}
+        }
+        let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
+        // `f(\cdot)`: the function written with its argument's place.
+        if args.iter().all(|a| *a == Expr::Placeholder) {
+            return Ok(Application::Written(head));
+        }
+        let group_head = matches!(found, Some((_, Found::Stored { group: true })));
+        let mut parameters = true;
+        for a in args {
+            let is_parameter = match a {
+                Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
+                    Some((_, Found::Tangent(_))) => true,
+                    Some((_, Found::Stored { .. })) => !group_head,
+                    _ => false,
+                },
+                _ => false,
+            };
+            parameters &= is_parameter;
+        }
+        Ok(if parameters {
+            Application::Written(head)
+        } else {
+            Application::Product(head)
         })
     }
 
@@ -662,53 +764,20 @@ impl<'r> Lowering<'r> {
                     None => call,
                 })
             }
-            Head::Symbol(s) => {
-                let key = symbol_key(s);
-                let found = self.resolver.symbol(&key)?;
-                match found {
-                    Some((_, Found::Function(b))) => return self.call(b, args, e),
-                    Some((_, Found::Template(t))) => {
-                        return Ok(Term::Template(
-                            t,
-                            args.iter()
+            Head::Symbol(s) => Ok(match self.symbol_application(s, args, e)? {
+                Application::Call(t) | Application::Written(t) => t,
+                Application::Product(head) => {
+                    let arg = match args {
+                        [one] => self.expr(one)?,
+                        many => Term::Stack(
+                            many.iter()
                                 .map(|a| self.expr(a))
                                 .collect::<Result<_, _>>()?,
-                        ));
-                    }
-                    _ => {}
-                }
-                let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
-                // `f(\cdot)`: the function written with its argument's place.
-                if args.iter().all(|a| *a == Expr::Placeholder) {
-                    return Ok(head);
-                }
-                let group_head = matches!(found, Some((_, Found::Stored { group: true })));
-                let mut parameters = true;
-                for a in args {
-                    let is_parameter = match a {
-                        Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
-                            Some((_, Found::Tangent(_))) => true,
-                            Some((_, Found::Stored { .. })) => !group_head,
-                            _ => false,
-                        },
-                        _ => false,
+                        ),
                     };
-                    parameters &= is_parameter;
+                    Term::Product(vec![(Op::Mul, head), (Op::Mul, arg)])
                 }
-                if parameters {
-                    // `T(ξ)`, `E(ξ, ω)`: the symbol, written with its variables.
-                    return Ok(head);
-                }
-                let arg = match args {
-                    [one] => self.expr(one)?,
-                    many => Term::Stack(
-                        many.iter()
-                            .map(|a| self.expr(a))
-                            .collect::<Result<_, _>>()?,
-                    ),
-                };
-                Ok(Term::Product(vec![(Op::Mul, head), (Op::Mul, arg)]))
-            }
+            }),
         }
     }
 
@@ -799,6 +868,40 @@ impl<'r> Lowering<'r> {
             stack: self.stacked_fractions,
         })
     }
+}
+
+/// A product whose `\times` separates juxtaposed factors: juxtaposition
+/// binds tighter (`ω × R p` is `ω × (R p)`), the crosses then taken left to
+/// right; other products as printed.
+fn cross_of_products(factors: Vec<(Op, Term)>) -> Term {
+    let crosses = factors
+        .iter()
+        .skip(1)
+        .filter(|(op, _)| *op == Op::Cross)
+        .count();
+    if crosses == 0 || crosses + 1 == factors.len() {
+        return Term::Product(factors);
+    }
+    let mut segments: Vec<(Op, Vec<(Op, Term)>)> = Vec::new();
+    for (i, (op, t)) in factors.into_iter().enumerate() {
+        match segments.last_mut() {
+            Some((_, segment)) if i > 0 && op != Op::Cross => segment.push((op, t)),
+            _ => segments.push((op, vec![(Op::Mul, t)])),
+        }
+    }
+    Term::Product(
+        segments
+            .into_iter()
+            .map(|(op, mut segment)| {
+                let t = if segment.len() == 1 {
+                    segment.pop().expect("one factor").1
+                } else {
+                    Term::Product(segment)
+                };
+                (op, t)
+            })
+            .collect(),
+    )
 }
 
 /// The meaning of a product operator.

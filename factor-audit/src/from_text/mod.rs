@@ -85,11 +85,13 @@ pub mod factors;
 pub mod functions;
 mod load;
 pub mod lower;
+pub mod readings;
 pub mod report;
 pub mod stored;
 pub mod symbols;
 pub mod term;
 pub mod tree;
+pub mod understood;
 pub mod value;
 
 use doc_latex::ParseError;
@@ -263,6 +265,16 @@ impl TextAudit {
                 )
             })
             .collect();
+        // A formula wrong or malformed as read may be right as its author
+        // meant the notation: never reported wrong then.
+        for (finding, claim) in findings.iter_mut().zip(&self.claims) {
+            if matches!(finding.verdict, Verdict::Wrong(_) | Verdict::Malformed(_))
+                && let Some(reading) = readings::settle(self, claim, samples)
+            {
+                finding.verdict = Verdict::Ambiguous(reading);
+                finding.corrected_latex = None;
+            }
+        }
         localise(&mut findings, &self.chains());
         let mut budget = errata::MAX_CANDIDATES_PER_RUN;
         findings
@@ -289,7 +301,7 @@ impl TextAudit {
                     finding,
                     line: claim.line,
                     quote: claim.quote.clone(),
-                    understood: claim.understood(),
+                    understood: claim.understood.clone(),
                     expected: claim.expected.clone(),
                     diagnosis,
                     searched: searched.map(|s| s.evaluated),
