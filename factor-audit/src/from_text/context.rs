@@ -88,6 +88,19 @@ pub struct Context {
 /// The canonical LaTeX of a name the symbols file defines: a symbol, or
 /// any printed expression but a number (`\pi'(q)`, `u v`, `\hat{\xi}_b^*`).
 pub fn canonical_symbol(written: &str, vocabulary: &Vocabulary) -> Result<String, String> {
+    // A function's name alone (`\exp`, `Exp`): the document's function
+    // given another meaning (`{ function = "expm" }`), keyed as written.
+    let name = written.trim();
+    let letters = name.strip_prefix('\\').unwrap_or(name);
+    if !letters.is_empty()
+        && letters.chars().all(|c| c.is_ascii_alphabetic())
+        && matches!(
+            doc_latex::parse_expr_with(name, vocabulary),
+            Err(e) if matches!(e.kind, doc_latex::ErrorKind::MissingOperand(_))
+        )
+    {
+        return Ok(name.to_string());
+    }
     match doc_latex::parse_expr_with(written, vocabulary) {
         Ok(Expr::Symbol(s)) => Ok(symbol_key(&s)),
         Ok(e @ (Expr::Number(_) | Expr::Relation { .. } | Expr::Text(_))) => {
@@ -178,10 +191,11 @@ impl Context {
                 SymbolSpec::Sample {
                     name,
                     size,
+                    shape,
                     range,
                     perturbation,
                 } => {
-                    let sample = FreeSample::from_spec(&name, size, range)
+                    let sample = FreeSample::from_spec(&name, size, shape, range)
                         .map_err(|m| symbol_error(written, None, m))?;
                     let offset = names.len();
                     names.extend(sampled_names(sample, written));

@@ -9,7 +9,9 @@
 //!   `[sin(θ/2) ω/θ, cos(θ/2)]` (as document 000 writes it); of a quaternion
 //!   (4-vector `[x, y, z, w]`) the quaternion exponential `e^w [sin|v| v/|v|,
 //!   cos|v|]`; of a 3 × 3 skew matrix (`so(3)`) the rotation; of a 4 × 4
-//!   twist matrix (`se(3)`) the pose. `log` inverts each: of a quaternion its
+//!   twist matrix (`se(3)`) the pose; of any other square matrix (a 3 × 3
+//!   that is not skew, a 4 × 4 that is no twist: the structure is read from
+//!   its value) the matrix exponential. `log` inverts each: of a quaternion its
 //!   logarithm `θ/2`-vector, of a rotation its `so(3)` matrix, of a pose its
 //!   twist matrix.
 //! - `Exp` of a 3-vector (or `so(3)` matrix) is SO(3)'s, of a 6-vector (or
@@ -320,7 +322,10 @@ impl Builtin {
             Builtin::Exp => match x.shape() {
                 Some((1, 1)) => scalar(|x| x.exp(), x),
                 Some((4, 1)) => Ok(quaternion_value(&quaternion_exp(&x.quaternion(what)?))),
-                Some((3, 3) | (4, 4)) => group_exp(x),
+                // A matrix of so(3) or se(3) exponentiates to its group
+                // element; any other square matrix (a 4 × 4 that is no
+                // twist) to its matrix exponential.
+                Some((3, 3) | (4, 4)) if x.in_algebra() != Some(false) => group_exp(x),
                 Some((n, m)) if n == m => Ok(Value::Matrix(matrix_exp(x.matrix()?))),
                 _ => Ok(quaternion_value(&Quaternion::exp(&x.vector3("exp")?))),
             },

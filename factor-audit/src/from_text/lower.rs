@@ -695,10 +695,25 @@ impl<'r> Lowering<'r> {
                         _ => return Err(LowerError::at(e, "one argument is expected")),
                     });
                 }
-                // A function the file defines (its `log`, `between`) comes
-                // before the built-in one of the same name.
+                // A function the file defines (its `log`, `between`, its
+                // `\exp` as `expm`) comes before the built-in one of the
+                // same name, written with or without its backslash.
+                let keys = [format!("\\{}", f.name), f.name.clone()];
+                let mut redefined = None;
+                for key in &keys {
+                    if let Some((_, Found::Function(b))) = self.resolver.symbol(key)? {
+                        redefined = Some(b);
+                        break;
+                    }
+                }
+                let mut template = None;
+                for key in &keys {
+                    if template.is_none() {
+                        template = self.resolver.template(key)?;
+                    }
+                }
                 if f.power.is_none()
-                    && let Some((t, arity)) = self.resolver.template(&f.name)?
+                    && let Some((t, arity)) = template
                 {
                     if args.len() != arity {
                         return Err(LowerError::at(
@@ -714,7 +729,9 @@ impl<'r> Lowering<'r> {
                     ));
                 }
                 let count = Builtin::indices(&f.name);
-                let builtin = if count > 0 {
+                let builtin = if let Some(b) = redefined {
+                    Some(b)
+                } else if count > 0 {
                     let mut k = Vec::with_capacity(count);
                     for _ in 0..count {
                         let index = args

@@ -8,9 +8,11 @@
 //! reading listed here to be wrong too.
 //!
 //! The choices:
-//! - scripts printed on a symbol's closing parenthesis (`R (R Q)^\top`):
-//!   on the whole application, on the parenthesised group (a product), or
-//!   on the symbol written with its variables (`T(ξ)^{-1}`);
+//! - scripts printed on a symbol's closing parenthesis: on the argument
+//!   of a function (`f(x)^2` as `f(x^2)`); after a value, on the
+//!   parenthesised group of a product, or on the symbol written with its
+//!   variables (`T(ξ)^{-1}` as `T^{-1}`), never on the whole product
+//!   (`R (R Q)^\top` is no `(R (R Q))^\top`);
 //! - a symbol before parentheses: a product, or the symbol written with its
 //!   variables, whichever the symbol table did not choose;
 //! - a script on a function's call (`\sin(x)^2`): on its argument instead;
@@ -27,8 +29,8 @@ use super::TextAudit;
 use super::claims::TextClaim;
 use super::context::Context;
 use super::errata::{MAX_SEARCHED_NODES, confirmed, lower_variant};
-use super::lower::number;
-use super::term::Term;
+use super::lower::{number, symbol_key};
+use super::term::{Meaning, Term};
 use super::tree::{Path, at_mut, nodes};
 use super::understood::Names;
 
@@ -48,8 +50,10 @@ pub struct Reading {
 }
 
 /// The other reading of each choice in the printed tree `root` (one change
-/// each).
-pub fn readings(root: &Expr) -> Vec<Reading> {
+/// each); `is_function` tells which symbols the symbols file makes
+/// functions (scripts after a value's parentheses never apply to the
+/// whole product: `R (R Q)^\top` is no `(R (R Q))^\top` for a matrix `R`).
+pub fn readings(root: &Expr, is_function: impl Fn(&Symbol) -> bool) -> Vec<Reading> {
     let mut out = Vec::new();
     for (path, node) in nodes(root) {
         let mut add = |replacement: Expr, words: String| {
@@ -71,24 +75,32 @@ pub fn readings(root: &Expr) -> Vec<Reading> {
                     scripts: None,
                 };
                 let shown = call.to_string();
-                add(
-                    Expr::with_scripts_of(chain, call),
-                    format!("the script after `{shown}` on the whole of it"),
-                );
-                add(
-                    product(s, Expr::with_scripts_of(chain, group(args))),
-                    format!("the script after `{shown}` on its parenthesised group"),
-                );
-                add(
-                    Expr::with_scripts_of(chain, Expr::Symbol(s.clone())),
-                    format!("`{shown}` as its symbol written with its variables"),
-                );
+                if is_function(s) {
+                    // `f(x)^2` read `f(x^2)`.
+                    add(
+                        Expr::Apply {
+                            head: Head::Symbol(s.clone()),
+                            args: vec![Expr::with_scripts_of(chain, group(args))],
+                            scripts: None,
+                        },
+                        format!("the script after `{shown}` on its argument"),
+                    );
+                } else {
+                    add(
+                        product(s, Expr::with_scripts_of(chain, group(args))),
+                        format!("the script after `{shown}` on its parenthesised group"),
+                    );
+                    add(
+                        Expr::with_scripts_of(chain, Expr::Symbol(s.clone())),
+                        format!("`{shown}` as its symbol written with its variables"),
+                    );
+                }
             }
             Expr::Apply {
                 head: Head::Symbol(s),
                 args,
                 scripts: None,
-            } if !args.iter().all(|a| *a == Expr::Placeholder) => {
+            } if !is_function(s) && !args.iter().all(|a| *a == Expr::Placeholder) => {
                 add(product(s, group(args)), format!("`{node}` as a product"));
                 add(
                     Expr::Symbol(s.clone()),
@@ -311,10 +323,19 @@ pub fn settle(audit: &TextAudit, claim: &TextClaim, samples: usize) -> Option<St
     if nodes(&claim.printed_ast).len() > MAX_SEARCHED_NODES {
         return None;
     }
-    let singles = readings(&claim.printed_ast);
+    let ctx = &audit.contexts[claim.context];
+    let is_function = |s: &Symbol| {
+        ctx.lookup(claim.scope(), &symbol_key(s)).is_some_and(|id| {
+            matches!(
+                ctx.table.entries[id].meaning,
+                Meaning::Function(_) | Meaning::Template(_)
+            )
+        })
+    };
+    let singles = readings(&claim.printed_ast, is_function);
     let mut trial = Trial {
         claim,
-        ctx: &audit.contexts[claim.context],
+        ctx,
         samples,
         seen: vec![claim.printed.clone()],
     };

@@ -261,6 +261,8 @@ pub enum SymbolSpec {
         name: String,
         /// Entries of a `vector`.
         size: Option<usize>,
+        /// Rows and columns of a `matrix`.
+        shape: Option<[usize; 2]>,
         /// Where entries are drawn.
         range: Option<[f64; 2]>,
         /// The default perturbation.
@@ -298,6 +300,7 @@ struct SymbolTable {
     field: Option<String>,
     sample: Option<String>,
     size: Option<usize>,
+    shape: Option<[usize; 2]>,
     range: Option<[f64; 2]>,
     function: Option<String>,
     perturbs: Option<String>,
@@ -361,8 +364,8 @@ impl SymbolSpec {
         if t.latex.is_none() && t.field.is_none() && !t.components.is_empty() {
             return Err(bad("`components` goes with `latex` or `field`".into()));
         }
-        if t.sample.is_none() && (t.size.is_some() || t.range.is_some()) {
-            return Err(bad("`size` and `range` go with `sample`".into()));
+        if t.sample.is_none() && (t.size.is_some() || t.shape.is_some() || t.range.is_some()) {
+            return Err(bad("`size`, `shape` and `range` go with `sample`".into()));
         }
         if t.latex.is_none() && t.args.is_some() {
             return Err(bad("`args` goes with `latex`".into()));
@@ -391,6 +394,7 @@ impl SymbolSpec {
             SymbolSpec::Sample {
                 name,
                 size: t.size,
+                shape: t.shape,
                 range: t.range,
                 perturbation,
             }

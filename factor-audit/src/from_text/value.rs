@@ -386,9 +386,49 @@ impl<S: Scalar> Value<S> {
         }
     }
 
+    /// Whether it is a matrix of so(3) (3 × 3 skew) or se(3) (a 4 × 4
+    /// twist: a skew block, a translation column, a zero last row), read
+    /// from its numbers; `None` for a value with no numbers (symbolic) or
+    /// of another size.
+    pub fn in_algebra(&self) -> Option<bool> {
+        let m = match self {
+            Value::Matrix(m) => m,
+            Value::Rotation(_) | Value::Pose(_) | Value::Similarity(_) => return Some(false),
+            _ => return None,
+        };
+        let n = m.nrows();
+        if !matches!(m.shape(), (3, 3) | (4, 4)) {
+            return None;
+        }
+        let at = |r: usize, c: usize| m[(r, c)].known_value();
+        let mut scale: f64 = 0.0;
+        let mut off: f64 = 0.0;
+        for r in 0..n {
+            for c in 0..n {
+                let v = at(r, c)?;
+                scale = scale.max(v.abs());
+                let broken = if r == 3 {
+                    v
+                } else if c < 3 {
+                    v + at(c, r)?
+                } else {
+                    0.0
+                };
+                off = off.max(broken.abs());
+            }
+        }
+        Some(off <= 1e-9 * scale.max(1.0))
+    }
+
     /// `S^∨`: the vector of a 3 × 3 skew matrix, or the 6-vector `[ω, ρ]`
-    /// of a 4 × 4 twist matrix.
+    /// of a 4 × 4 twist matrix (another matrix has none).
     pub fn vee(self) -> Result<Self, ShapeError> {
+        if self.in_algebra() == Some(false) {
+            return fail(format!(
+                "the vee of {} that is not in so(3) or se(3)",
+                self.describe()
+            ));
+        }
         let m = self.matrix()?;
         match m.shape() {
             (3, 3) => Ok(Value::column(&[m[(2, 1)], m[(0, 2)], m[(1, 0)]])),
