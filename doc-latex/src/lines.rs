@@ -64,6 +64,17 @@ pub(crate) fn lines(
         None => layout(&toks, &env),
     };
     let base = body.clone().next().map_or(0, |i| env[i]);
+    // `multline` holds one equation broken over rows.
+    let one_equation = environment
+        .map(str::to_string)
+        .or_else(|| match toks.iter().find(|t| !matches!(t.tok, Tok::Quad | Tok::Space)) {
+            Some(Token {
+                tok: Tok::Begin(name),
+                ..
+            }) => Some(name.clone()),
+            _ => None,
+        })
+        .is_some_and(|name| name.starts_with("multline"));
     let mut out = Vec::new();
     let mut row_start = body.start;
     for i in body.clone().chain(std::iter::once(body.end)) {
@@ -75,7 +86,65 @@ pub(crate) fn lines(
             row_start = i + 1;
         }
     }
+    if layout != Layout::Cases {
+        out = joined(out, one_equation);
+    }
     Ok(out)
+}
+
+/// Rows that continue the expression of the row before them joined to it:
+/// a row starting with a binary operator (`&+ b`, `&\quad - c`, `\cdot
+/// d`) and holding no relation of its own, a row after one that ends with
+/// such an operator (`a = b +`), and every row of a `multline`.
+fn joined(rows: Vec<Line>, one_equation: bool) -> Vec<Line> {
+    let mut out: Vec<Line> = Vec::with_capacity(rows.len());
+    for row in rows {
+        let continues = out.last().is_some_and(|prev: &Line| {
+            one_equation || ends_in_operator(&prev.statements[0]) || starts_a_continuation(&row)
+        });
+        match out.last_mut() {
+            Some(prev) if continues => {
+                let mut statements = row.statements.into_iter();
+                if let Some(first) = statements.next() {
+                    prev.statements[0].extend(first);
+                }
+                prev.statements.extend(statements);
+                prev.span.end = prev.span.end.max(row.span.end);
+            }
+            _ => out.push(row),
+        }
+    }
+    out
+}
+
+/// Whether `tok` is an operator that needs an operand on each side.
+fn is_binary_operator(tok: &Tok) -> bool {
+    match tok {
+        Tok::Plus | Tok::Minus | Tok::Star => true,
+        Tok::Command(c) => lookup(crate::names::MULOP_COMMANDS, c).is_some(),
+        _ => false,
+    }
+}
+
+/// Whether a row's claim starts with a binary operator and states no
+/// relation: the rest of an expression begun on an earlier row.
+fn starts_a_continuation(row: &Line) -> bool {
+    let claim = &row.statements[0];
+    claim.first().is_some_and(|t| is_binary_operator(&t.tok))
+        && !row.continued
+        && !claim.iter().any(|t| is_relation(&t.tok))
+}
+
+/// Whether a statement ends with a binary operator (its expression goes
+/// on in the next row); a script's marker (`^\wedge`, `^*`) is none.
+fn ends_in_operator(statement: &[Token]) -> bool {
+    match statement {
+        [.., before, last] => {
+            is_binary_operator(&last.tok) && !matches!(before.tok, Tok::Sup | Tok::Sub)
+        }
+        [last] => is_binary_operator(&last.tok),
+        [] => false,
+    }
 }
 
 /// The depth of `\begin…\end` nesting before each token (an `\end`
@@ -298,6 +367,22 @@ mod tests {
             texts("E(\\xi, \\omega) = (a \\quad b), c = d"),
             vec![vec!["E(\\xi, \\omega) = (a \\quad b)", "c = d"]]
         );
+    }
+
+    #[test]
+    fn a_sum_continued_over_rows_is_one_line() {
+        // `&+`, `\quad -`, a row ending in an operator, `\notag`.
+        let math = "\\begin{align} a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e \\\\ f &= g \\end{align}";
+        assert_eq!(
+            texts(math),
+            vec![vec!["a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e"], vec!["f &= g"]]
+        );
+        // A script's marker is no operator; a row starting with a sign that
+        // states a relation is a line.
+        assert_eq!(texts("a = b^\\wedge \\\\ c = d^* \\\\ e = f").len(), 3);
+        assert_eq!(texts("a = b \\\\ -c = d").len(), 2);
+        // `multline`: one equation.
+        assert_eq!(texts("\\begin{multline} a = b \\\\ c d \\end{multline}").len(), 1);
     }
 
     #[test]

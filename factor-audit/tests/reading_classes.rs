@@ -207,3 +207,71 @@ anchor = "\\Psi = \\exp"
         assert_eq!(verdict(&findings, id), "correct", "{id}");
     }
 }
+
+/// Class 2: a sum continued over rows (`\\ &+`, a row ending in `+`,
+/// `\notag`, in `align`, `split` and `multline`) is audited whole.
+#[test]
+fn a_sum_continued_over_rows_is_audited_whole() {
+    let document = "\
+\\begin{align}
+\\frac{\\partial y}{\\partial x} &= 2 x \\sin x \\notag \\\\
+&\\quad + x^2 \\cos x
+\\end{align}
+
+$$
+\\begin{split}
+\\frac{\\partial z}{\\partial x} &= 3 x^2 \\cos x - \\\\
+& x^3 \\sin x
+\\end{split}
+$$
+
+\\begin{multline}
+\\frac{\\partial w}{\\partial x} = \\cos x \\\\
+- x \\sin x
+\\end{multline}
+
+\\begin{align}
+\\frac{\\partial u}{\\partial x} &= 2 x \\sin x \\notag \\\\
+&\\quad - x^2 \\cos x
+\\end{align}
+";
+    let symbols = r#"
+document = "notes.md"
+[context.c.symbols]
+"x" = { sample = "scalar", range = [0.2, 2.0] }
+"y" = "x^2 \\sin x"
+"z" = "x^3 \\cos x"
+"w" = "x \\cos x"
+"u" = "x^2 \\sin x"
+
+[[claim]]
+id = "align, notag, &+"
+context = "c"
+anchor = "\\frac{\\partial y}{\\partial x}"
+
+[[claim]]
+id = "split, a row ending in -"
+context = "c"
+anchor = "\\frac{\\partial z}{\\partial x}"
+
+[[claim]]
+id = "multline"
+context = "c"
+anchor = "\\frac{\\partial w}{\\partial x}"
+
+[[claim]]
+id = "a sign wrong on the second row"
+context = "c"
+anchor = "\\frac{\\partial u}{\\partial x}"
+expected = "wrong"
+"#;
+    let findings = audit(document, symbols);
+    for id in ["align, notag, &+", "split, a row ending in -", "multline"] {
+        assert_eq!(verdict(&findings, id), "correct", "{id}");
+    }
+    let wrong = finding(&findings, "a sign wrong on the second row");
+    assert_eq!(wrong.finding.verdict.keyword(), "wrong");
+    // The diagnosis is about the continued row, not "columns … are wrong".
+    let d = wrong.diagnosis.as_ref().expect("a diagnosis");
+    assert!(d.corrected.contains("+ x^{2}"), "{}", d.corrected);
+}
