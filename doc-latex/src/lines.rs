@@ -67,12 +67,17 @@ pub(crate) fn lines(
     // `multline` holds one equation broken over rows.
     let one_equation = environment
         .map(str::to_string)
-        .or_else(|| match toks.iter().find(|t| !matches!(t.tok, Tok::Quad | Tok::Space)) {
-            Some(Token {
-                tok: Tok::Begin(name),
-                ..
-            }) => Some(name.clone()),
-            _ => None,
+        .or_else(|| {
+            match toks
+                .iter()
+                .find(|t| !matches!(t.tok, Tok::Quad | Tok::Space))
+            {
+                Some(Token {
+                    tok: Tok::Begin(name),
+                    ..
+                }) => Some(name.clone()),
+                _ => None,
+            }
         })
         .is_some_and(|name| name.starts_with("multline"));
     let mut out = Vec::new();
@@ -375,14 +380,20 @@ mod tests {
         let math = "\\begin{align} a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e \\\\ f &= g \\end{align}";
         assert_eq!(
             texts(math),
-            vec![vec!["a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e"], vec!["f &= g"]]
+            vec![
+                vec!["a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e"],
+                vec!["f &= g"]
+            ]
         );
         // A script's marker is no operator; a row starting with a sign that
         // states a relation is a line.
         assert_eq!(texts("a = b^\\wedge \\\\ c = d^* \\\\ e = f").len(), 3);
         assert_eq!(texts("a = b \\\\ -c = d").len(), 2);
         // `multline`: one equation.
-        assert_eq!(texts("\\begin{multline} a = b \\\\ c d \\end{multline}").len(), 1);
+        assert_eq!(
+            texts("\\begin{multline} a = b \\\\ c d \\end{multline}").len(),
+            1
+        );
     }
 
     #[test]

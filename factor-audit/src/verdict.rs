@@ -165,6 +165,8 @@ pub fn audit<D: Derivation>(
     let mut conventions: Option<Vec<String>> = None;
     let mut halves_swapped = true;
     let mut homogeneous = true;
+    // A first-order claim whose sides differ at the point.
+    let mut gap = None;
     // The samples are drawn and judged one at a time (nothing is kept per
     // sample), so the memory does not grow with `samples`.
     for index in 0..samples.max(1) {
@@ -176,6 +178,9 @@ pub fn audit<D: Derivation>(
             &drawn
         };
         let t = truth(d);
+        if gap.is_none() {
+            gap = d.gap();
+        }
         let p = match d.printed() {
             Printed::Evaluated(p) => p,
             Printed::Malformed(reason) => {
@@ -214,7 +219,9 @@ pub fn audit<D: Derivation>(
         halves_swapped &= swap_column_halves(&t).is_some_and(|s| agree(&p, &s));
         homogeneous &= without_homogeneous_row(&p, &t).is_some_and(|q| agree(&q, &t));
     }
-    let verdict = if worst <= TOLERANCE {
+    let verdict = if let Some(gap) = gap {
+        Verdict::Wrong(Some(gap))
+    } else if worst <= TOLERANCE {
         Verdict::Correct
     } else if let Some(name) = conventions.unwrap_or_default().first() {
         Verdict::Convention(name.clone())

@@ -275,3 +275,83 @@ expected = "wrong"
     let d = wrong.diagnosis.as_ref().expect("a diagnosis");
     assert!(d.corrected.contains("+ x^{2}"), "{}", d.corrected);
 }
+
+/// Class 5: `\approx` and `\simeq` between values claim agreement to first
+/// order in the small quantities printed (increments, expanded about
+/// zero): the same value there and the same derivative. BCH for a small
+/// angle and a linearised propagation in two small quantities are
+/// `correct`; a wrong Jacobian, or sides that differ at the expansion
+/// point, are `wrong` (never `malformed`).
+#[test]
+fn first_order_claims_are_audited_as_first_order() {
+    let document = "\
+$$ \\operatorname{Exp}(\\phi + \\delta\\phi) \\approx \\operatorname{Exp}(\\phi) \\operatorname{Exp}(J_r(\\phi) \\delta\\phi) $$
+
+$$ \\operatorname{Log}(\\operatorname{Exp}(\\phi) \\operatorname{Exp}(\\delta\\phi)) \\approx \\phi + J_r^{-1}(\\phi) \\delta\\phi $$
+
+$$ \\delta x_{k+1} \\simeq F \\delta x_k + G \\delta n $$
+
+$$ \\operatorname{Exp}(\\phi + \\delta\\theta) \\approx \\operatorname{Exp}(\\phi) \\operatorname{Exp}(J_l(\\phi) \\delta\\theta) $$
+
+$$ \\operatorname{Exp}(\\phi + \\delta\\psi) \\approx \\operatorname{Exp}(J_r(\\phi) \\delta\\psi) $$
+";
+    let symbols = r#"
+document = "notes.md"
+[context.c.symbols]
+"\\phi" = { sample = "rotation_vector" }
+"\\delta\\phi" = { sample = "vector3" }
+"\\delta\\theta" = { sample = "vector3" }
+"\\delta\\psi" = { sample = "vector3" }
+"J_r" = { function = "right_jacobian" }
+"J_l" = { function = "left_jacobian" }
+"x_k" = { sample = "vector", size = 2 }
+"\\delta x_k" = { sample = "vector", size = 2 }
+"\\delta n" = { sample = "vector", size = 2 }
+"f" = { args = ["x", "n"], latex = "\\begin{bmatrix} \\sin(\\operatorname{entry}(x, 1)) + \\operatorname{entry}(x, 2)^2 + \\operatorname{entry}(n, 1) \\\\ \\operatorname{entry}(x, 1) \\operatorname{entry}(x, 2) + \\cos(\\operatorname{entry}(n, 2)) \\end{bmatrix}" }
+"\\delta x_{k+1}" = "f(x_k + \\delta x_k, \\delta n) - f(x_k, 0_2)"
+"F" = "\\begin{bmatrix} \\cos(\\operatorname{entry}(x_k, 1)) & 2 \\operatorname{entry}(x_k, 2) \\\\ \\operatorname{entry}(x_k, 2) & \\operatorname{entry}(x_k, 1) \\end{bmatrix}"
+"G" = "\\begin{bmatrix} 1 & 0 \\\\ 0 & 0 \\end{bmatrix}"
+
+[[claim]]
+id = "BCH, right Jacobian"
+context = "c"
+anchor = "\\operatorname{Exp}(\\phi + \\delta\\phi)"
+
+[[claim]]
+id = "Log of a perturbed Exp"
+context = "c"
+anchor = "\\operatorname{Log}(\\operatorname{Exp}(\\phi)"
+
+[[claim]]
+id = "linearised propagation"
+context = "c"
+anchor = "\\delta x_{k+1}"
+
+[[claim]]
+id = "BCH with the left Jacobian"
+context = "c"
+anchor = "J_l(\\phi) \\delta\\theta"
+expected = "wrong"
+
+[[claim]]
+id = "BCH without the point"
+context = "c"
+anchor = "\\operatorname{Exp}(\\phi + \\delta\\psi)"
+expected = "wrong"
+"#;
+    let findings = audit(document, symbols);
+    for id in [
+        "BCH, right Jacobian",
+        "Log of a perturbed Exp",
+        "linearised propagation",
+    ] {
+        assert_eq!(verdict(&findings, id), "correct", "{id}");
+    }
+    assert_eq!(verdict(&findings, "BCH with the left Jacobian"), "wrong");
+    let gap = finding(&findings, "BCH without the point");
+    assert!(
+        matches!(&gap.finding.verdict, Verdict::Wrong(Some(w)) if w.contains("expansion point")),
+        "{:?}",
+        gap.finding.verdict
+    );
+}

@@ -396,13 +396,18 @@ pub fn compile(
         Some(Expr::Derivative { of, wrt, .. }) => Some((of.as_ref().clone(), wrt.as_ref().clone())),
         _ => None,
     };
-    let kind = spec
-        .kind
-        .unwrap_or(if derivative.is_some() || spec.wrt.is_some() {
-            ClaimKind::Jacobian
-        } else {
-            ClaimKind::Value
-        });
+    // `≈`, `≃` between values: a first-order claim (BCH for a small angle,
+    // a linearised propagation), in the small quantities it prints.
+    let approximate = matches!(located.relation, Rel::Approx | Rel::Simeq);
+    let kind = spec.kind.unwrap_or(if derivative.is_some() {
+        ClaimKind::Jacobian
+    } else if approximate {
+        ClaimKind::FirstOrder
+    } else if spec.wrt.is_some() {
+        ClaimKind::Jacobian
+    } else {
+        ClaimKind::Value
+    });
     let vocabulary = ctx.vocabulary.clone();
     let from_lhs = |part: &str| {
         claim_error(
@@ -439,6 +444,7 @@ pub fn compile(
         (None, Some((_, wrt))) => Some(wrt.clone()),
         (None, None) => None,
     };
+    let mut wrt_names = None;
     let variable = match (kind, &spec.update) {
         (ClaimKind::Value, _) => None,
         (_, Some(update)) => {
@@ -453,13 +459,18 @@ pub fn compile(
                     .map_err(|m| claim_error(spec, m))?,
             )
         }
-        (_, None) => {
-            let wrt = wrt_ast.as_ref().ok_or_else(|| from_lhs("wrt"))?;
-            Some(
+        (_, None) => match &wrt_ast {
+            Some(wrt) => Some(
                 ctx.variable_of(scope, wrt, spec.side, spec.at_zero)
                     .map_err(|m| claim_error(spec, m))?,
-            )
-        }
+            ),
+            None if kind == ClaimKind::FirstOrder => {
+                let (variable, names) = small_quantities(ctx, scope, &located, spec)?;
+                wrt_names = Some(names);
+                Some(variable)
+            }
+            None => return Err(from_lhs("wrt")),
+        },
     };
     // The differential `J δ` printed in the tangent `δ`: `J` is the linear
     // map it is in `δ`.
@@ -569,7 +580,9 @@ pub fn compile(
         kind,
         of,
         variable,
-        wrt_text: wrt_ast.map_or_else(String::new, |w| short(&w.to_string())),
+        wrt_text: wrt_names
+            .or_else(|| wrt_ast.map(|w| short(&w.to_string())))
+            .unwrap_or_default(),
         output,
         printed,
         printed_ast: located.rhs.clone(),
@@ -593,6 +606,65 @@ pub fn compile(
         differential_in,
         understood,
     })
+}
+
+/// The small quantities a first-order claim expands in, when the file
+/// names none (`wrt`): the increments it prints on either side (`\delta
+/// \phi`, `\Delta t`, `\delta \tilde{x}_k`) that are values of the
+/// context, each expanded about zero; several together are one variable.
+fn small_quantities(
+    ctx: &mut Context,
+    scope: Scope,
+    located: &Located,
+    spec: &ClaimSpec,
+) -> Result<(Variable, String), TextError> {
+    let mut keys: Vec<(String, Expr)> = Vec::new();
+    for side in located.lhs.iter().chain(std::iter::once(&located.rhs)) {
+        for (_, node) in super::tree::nodes(side) {
+            if !matches!(node, Expr::Symbol(s) if s.delta.is_some()) {
+                continue;
+            }
+            let key = node.to_string();
+            // A free increment: sampled, or a constant (`δφ = 0`); one the
+            // file derives from others (`δx_{k+1}`) is what is expanded.
+            let free = ctx.lookup(scope, &key).is_some_and(|id| {
+                ctx.lower_pending(id).is_ok()
+                    && match &ctx.table.entries[id].meaning {
+                        Meaning::Stored { .. } => true,
+                        Meaning::Definition(t) => !mentions_symbols(t),
+                        _ => false,
+                    }
+            });
+            if free && !keys.iter().any(|(k, _)| *k == key) {
+                keys.push((key, node.clone()));
+            }
+        }
+    }
+    if keys.is_empty() {
+        return Err(claim_error(
+            spec,
+            "a first-order claim (`≈`) expands in small quantities, but it prints no increment              (`\\delta x`, `\\Delta t`) the symbols file defines: give `wrt`",
+        ));
+    }
+    let mut parts = Vec::with_capacity(keys.len());
+    for (_, e) in &keys {
+        parts.push(
+            ctx.variable_of(scope, e, spec.side, true)
+                .map_err(|m| claim_error(spec, m))?,
+        );
+    }
+    let names: Vec<String> = keys.into_iter().map(|(k, _)| k).collect();
+    let variable = if parts.len() == 1 {
+        parts.pop().expect("one part")
+    } else {
+        Variable::Joint(parts)
+    };
+    Ok((variable, short(&names.join(", "))))
+}
+
+/// Whether a term refers to any symbol.
+fn mentions_symbols(t: &Term) -> bool {
+    matches!(t, Term::Symbol(_)) || t.children().into_iter().any(mentions_symbols)
 }
 
 /// `lhs rel rhs` with the right side as evaluated (a differential's
@@ -846,6 +918,32 @@ impl<'a> TextDerivation<'a> {
         }
     }
 
+    /// For a first-order claim, why `term` (its printed side, or a variant
+    /// of it) is not right even at the expansion point: the two sides'
+    /// values there differ (their derivatives are compared apart).
+    pub fn gap_at_point(&self, term: &Term) -> Option<String> {
+        if self.claim.kind != ClaimKind::FirstOrder {
+            return None;
+        }
+        let zero = vec![0.0; self.input_len()];
+        let at = |t: &Term| {
+            self.evaluate(t, self.claim.variable.as_ref(), None, &zero, &self.stored)
+                .and_then(Value::matrix)
+        };
+        let (truth, printed) = (at(&self.claim.of).ok()?, at(term).ok()?);
+        let error = if truth.shape() == printed.shape() {
+            factor_core::factor::relative_frobenius_error(&printed, &truth, 1e-9)
+        } else {
+            f64::INFINITY
+        };
+        (error > crate::verdict::TOLERANCE).then(|| {
+            format!(
+                "the two sides differ at the expansion point (relative error {error:.1e}), so \
+                 they do not agree to first order"
+            )
+        })
+    }
+
     /// The truths under the claim's conventions at this sample.
     fn convention_truths(&self) -> Vec<(String, DMatrix<f64>)> {
         let p = lift::<DualSVec64<1>>(&self.stored);
@@ -910,5 +1008,8 @@ impl Derivation for TextDerivation<'_> {
     }
     fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         self.convention_truths()
+    }
+    fn gap(&self) -> Option<String> {
+        self.gap_at_point(&self.claim.printed)
     }
 }

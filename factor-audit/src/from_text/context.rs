@@ -727,7 +727,7 @@ impl Context {
     }
 
     /// Lowers symbol `id`'s definition if it still waits.
-    fn lower_pending(&mut self, id: SymbolId) -> Result<(), LowerError> {
+    pub fn lower_pending(&mut self, id: SymbolId) -> Result<(), LowerError> {
         match std::mem::replace(&mut self.states[id], State::InProgress) {
             State::Done => {
                 self.states[id] = State::Done;

@@ -195,6 +195,9 @@ pub fn confirmed(
         let Printed::Evaluated(p) = d.printed_term(term) else {
             return false;
         };
+        if d.gap_at_point(term).is_some() {
+            return false;
+        }
         let t = truth(&d);
         let conventions = claim.conventions.len();
         let t = match target {

@@ -146,6 +146,17 @@ impl<'a, S: Scalar> Env<'a, S> {
                 let value = self.eval(update)?;
                 self.bind(*symbol, value);
             }
+            Variable::Joint(parts) => {
+                let mut at = 0;
+                for part in parts {
+                    let n = part.dim();
+                    let piece = x.get(at..at + n).ok_or_else(|| {
+                        ShapeError("the input is shorter than the variables".into())
+                    })?;
+                    self.perturb(part, piece)?;
+                    at += n;
+                }
+            }
         }
         Ok(())
     }

@@ -329,21 +329,33 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
         claim: id.clone(),
         message: m,
     };
-    let fix = |v: &mut Option<Variable>| -> Result<(), TextError> {
+    fn fix(
+        v: &mut Variable,
+        ctx: &Context,
+        stored: &[f64],
+        error: &dyn Fn(String) -> TextError,
+    ) -> Result<(), TextError> {
         match v {
-            Some(Variable::Defined { symbol, shape, .. }) => {
+            Variable::Defined { symbol, shape, .. } => {
                 *shape = shape_of(ctx, stored, *symbol).map_err(|e| error(e.0))?;
             }
-            Some(Variable::Update { symbol, dim, .. }) => {
+            Variable::Update { symbol, dim, .. } => {
                 *dim = dims_of(ctx, stored, *symbol).map_err(|e| error(e.0))?.1;
             }
-            _ => {}
+            Variable::Joint(parts) => {
+                for part in parts {
+                    fix(part, ctx, stored, error)?;
+                }
+            }
+            Variable::Stored { .. } => {}
         }
         Ok(())
-    };
-    fix(&mut claim.variable)?;
-    for c in &mut claim.conventions {
-        fix(&mut c.variable)?;
+    }
+    for v in std::iter::once(&mut claim.variable)
+        .chain(claim.conventions.iter_mut().map(|c| &mut c.variable))
+        .flatten()
+    {
+        fix(v, ctx, stored, &error)?;
     }
     let value = TextDerivation::new(claim, ctx, stored.to_vec())
         .map_value()

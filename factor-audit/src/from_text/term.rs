@@ -200,6 +200,10 @@ pub enum Variable {
         /// The input's length.
         dim: usize,
     },
+    /// Several variables together, the input their inputs one after another
+    /// (a first-order claim in several small quantities: `x̃_{k+1} ≃ Φ x̃_k
+    /// + G n`).
+    Joint(Vec<Variable>),
 }
 
 impl Variable {
@@ -209,6 +213,7 @@ impl Variable {
             Variable::Stored { coordinates, .. } => coordinates.len(),
             Variable::Defined { shape, .. } => shape.0 * shape.1,
             Variable::Update { dim, .. } => *dim,
+            Variable::Joint(parts) => parts.iter().map(Variable::dim).sum(),
         }
     }
 }
