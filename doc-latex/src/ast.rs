@@ -46,6 +46,9 @@ pub enum Expr {
     Text(String),
     /// `\cdot` or `.` standing for an argument, as in `\lfloor . \rfloor_\times`.
     Placeholder,
+    /// `\cdots`, `\ldots`, `\vdots`, `\ddots`: what is not printed (more
+    /// arguments, more blocks).
+    Ellipsis,
     /// `-x`.
     Neg(Box<Expr>),
     /// `+x` (a line continuing a sum across displays starts so).

@@ -63,9 +63,10 @@ pub enum ErrorKind {
     /// A font or accent over more than one symbol.
     #[error("`\\{0}` over something other than one symbol")]
     NotASymbol(String),
-    /// `\lfloor x \rfloor` without the `_\times` of a skew matrix.
-    #[error("`\\lfloor … \\rfloor` without `_\\times`")]
-    FloorWithoutTimes,
+    /// `\lfloor x \rfloor` with a subscript other than the `_\times` of a
+    /// skew matrix.
+    #[error("`\\lfloor … \\rfloor` with a subscript other than `_\\times`")]
+    FloorSubscript,
     /// Nesting deeper than [`crate::MAX_DEPTH`].
     #[error("nesting deeper than {0} levels")]
     TooDeep(usize),

@@ -52,6 +52,7 @@ pub fn expr(e: &Expr) -> String {
         Expr::Text(t) => format!("\\text{{{t}}}"),
         // Braced: a bare `\cdot` is read as an operator unless a closer follows.
         Expr::Placeholder => "{\\cdot}".into(),
+        Expr::Ellipsis => "\\cdots".into(),
         Expr::Neg(x) => format!("-{}", operand(x)),
         Expr::Pos(x) => format!("+{}", operand(x)),
         Expr::Sum { first, rest } => {
@@ -303,6 +304,7 @@ fn script_base(e: &Expr) -> String {
         } => parens(e),
         Expr::Number(_)
         | Expr::Text(_)
+        | Expr::Ellipsis
         | Expr::Apply { .. }
         | Expr::Norm { .. }
         | Expr::Matrix(_)

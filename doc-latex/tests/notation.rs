@@ -307,7 +307,7 @@ fn malformed_latex_is_an_error() {
             expected: ")".into()
         }
     );
-    assert_eq!(error("\\lfloor x \\rfloor"), ErrorKind::FloorWithoutTimes);
+    assert_eq!(error("\\lfloor x \\rfloor_{y}"), ErrorKind::FloorSubscript);
     assert_eq!(
         error("(= a)"),
         ErrorKind::RelationWithoutLeftSide("=".into())

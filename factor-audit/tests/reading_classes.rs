@@ -355,3 +355,105 @@ expected = "wrong"
         gap.finding.verdict
     );
 }
+
+/// Class 6: VIO and robotics notation: frame pre-scripts (`{}^{C}_{I}R`,
+/// `\text{}^{I_k}_{G}`, a line starting with `^G v`), `\lfloor a \rfloor`
+/// for the skew matrix, `\cdots` among arguments, `\mathbf{0}_3` sized by
+/// its neighbours, and JPL quaternions stated once in the symbols file.
+#[test]
+fn vio_notation_is_read() {
+    let document = "\
+\\f[ {}^{C}\\mathbf{p}_f = {}^{C}_{I}\\mathbf{R} \\, {}^{I}_{G}\\mathbf{R} ({}^{G}\\mathbf{p}_f - {}^{G}\\mathbf{p}_I) + {}^{C}\\mathbf{p}_I \\f]
+
+\\f[ \\frac{\\partial {}^{C}\\mathbf{p}_f}{\\partial \\delta\\boldsymbol{\\theta}} = {}^{C}_{I}\\mathbf{R} \\lfloor \\text{}^{I}_{G}\\mathbf{R} ({}^{G}\\mathbf{p}_f - {}^{G}\\mathbf{p}_I) \\rfloor \\f]
+
+\\f[ \\frac{\\partial \\mathbf{h}({}^{C}\\mathbf{p}_f, \\cdots)}{\\partial {}^{C}\\mathbf{p}_f} = \\begin{bmatrix} \\frac{1}{z} & 0 & -\\frac{x}{z^2} \\\\ 0 & \\frac{1}{z} & -\\frac{y}{z^2} \\end{bmatrix} \\f]
+
+\\f[ \\frac{\\partial {}^{G}\\mathbf{p}_I}{\\partial \\mathbf{x}_I} = \\begin{bmatrix} \\mathbf{I}_3 & \\mathbf{0}_3 \\end{bmatrix} \\f]
+
+\\f[ ^{G}\\mathbf{v} = {}^{I}_{G}\\mathbf{R}^\\top \\, {}^{I}\\mathbf{v} \\f]
+
+\\f[ \\mathbf{C}(\\bar{q}) = (2 q_4^2 - 1) \\mathbf{I}_3 - 2 q_4 \\lfloor \\mathbf{q} \\rfloor + 2 \\mathbf{q} \\mathbf{q}^\\top \\f]
+";
+    let symbols = |quaternions: &str| {
+        format!(
+            r#"
+document = "notes.md"
+{quaternions}
+[context.c.symbols]
+"{{}}^{{C}}_{{I}}\\mathbf{{R}}" = {{ sample = "rotation" }}
+"{{}}^{{I}}_{{G}}\\mathbf{{R}}" = {{ sample = "rotation", update = "\\operatorname{{Exp}}(-\\delta) {{}}^{{I}}_{{G}}\\mathbf{{R}}" }}
+"{{}}^{{G}}\\mathbf{{p}}_f" = {{ sample = "vector3" }}
+"{{}}^{{C}}\\mathbf{{p}}_I" = {{ sample = "vector3" }}
+"\\mathbf{{x}}_I" = {{ sample = "vector", size = 6 }}
+"{{}}^{{G}}\\mathbf{{p}}_I" = "\\operatorname{{rows}}(\\mathbf{{x}}_I, 1, 3)"
+"{{}}^{{C}}\\mathbf{{p}}_f" = {{ latex = "{{}}^{{C}}_{{I}}\\mathbf{{R}} \\, {{}}^{{I}}_{{G}}\\mathbf{{R}} ({{}}^{{G}}\\mathbf{{p}}_f - {{}}^{{G}}\\mathbf{{p}}_I) + {{}}^{{C}}\\mathbf{{p}}_I", components = ["x", "y", "z"] }}
+"\\delta\\boldsymbol{{\\theta}}" = {{ perturbs = "{{}}^{{I}}_{{G}}\\mathbf{{R}}" }}
+"\\mathbf{{h}}" = "\\begin{{bmatrix}} x / z \\\\ y / z \\end{{bmatrix}}"
+"{{}}^{{I}}\\mathbf{{v}}" = {{ sample = "vector3" }}
+"^{{G}}\\mathbf{{v}}" = "({{}}^{{I}}_{{G}}\\mathbf{{R}})^{{-1}} {{}}^{{I}}\\mathbf{{v}}"
+"\\bar{{q}}" = {{ sample = "unit_quaternion" }}
+"\\mathbf{{q}}" = "\\operatorname{{vector}}(\\bar{{q}})"
+"q_4" = "\\operatorname{{scalar}}(\\bar{{q}})"
+"\\mathbf{{C}}" = {{ function = "rotation" }}
+
+[[claim]]
+id = "the point in the camera"
+context = "c"
+anchor = "{{}}^{{C}}\\mathbf{{p}}_f = "
+
+[[claim]]
+id = "JPL orientation error, bare floor"
+context = "c"
+anchor = "\\partial \\delta\\boldsymbol{{\\theta}}"
+
+[[claim]]
+id = "an ellipsis among the arguments"
+context = "c"
+anchor = "\\cdots"
+
+[[claim]]
+id = "0_3 beside I_3"
+context = "c"
+anchor = "\\mathbf{{0}}_3"
+
+[[claim]]
+id = "a line starting with a pre-script"
+context = "c"
+anchor = "^{{G}}\\mathbf{{v}} ="
+
+[[claim]]
+id = "C(q) of JPL"
+context = "c"
+anchor = "\\mathbf{{C}}(\\bar{{q}})"
+expected = "{expected}"
+"#,
+            expected = if quaternions.is_empty() {
+                "wrong"
+            } else {
+                "correct"
+            }
+        )
+    };
+    let jpl = audit(document, &symbols("quaternions = \"jpl\""));
+    for f in &jpl {
+        assert_eq!(
+            f.finding.verdict.keyword(),
+            "correct",
+            "{}: {}",
+            f.finding.label.equation,
+            f.note()
+        );
+    }
+    assert!(
+        finding(&jpl, "0_3 beside I_3")
+            .note()
+            .contains("sized by its block row and column"),
+        "{}",
+        finding(&jpl, "0_3 beside I_3").note()
+    );
+    // Without the statement, C(q) is Hamilton's rotation: the JPL formula
+    // is its transpose, and the audit says so.
+    let hamilton = audit(document, &symbols(""));
+    assert_eq!(verdict(&hamilton, "C(q) of JPL"), "wrong");
+}

@@ -93,6 +93,13 @@ impl Parser<'_> {
                 self.pos += 1;
                 Ok(Atom::Function(w))
             }
+            // `\text{}^{I_k}_{G} R`, `^G v`: pre-scripts on the symbol that
+            // follows (an empty text or nothing carrying them).
+            Tok::Text(t) if t.trim().is_empty() && self.script_at(self.pos + 1) => {
+                self.pos += 1;
+                self.prescripted_symbol()
+            }
+            Tok::Sup | Tok::Sub => self.prescripted_symbol(),
             Tok::Text(t) => {
                 self.pos += 1;
                 Ok(match operator_word(t.trim()) {
@@ -211,6 +218,10 @@ impl Parser<'_> {
                 self.pos += 1;
                 Ok(Atom::Expr(Expr::Placeholder))
             }
+            "cdots" | "ldots" | "dots" | "dotsc" | "dotsb" | "dotsm" | "vdots" | "ddots" => {
+                self.pos += 1;
+                Ok(Atom::Expr(Expr::Ellipsis))
+            }
             _ if lookup(crate::names::RELATION_COMMANDS, name).is_some()
                 || lookup(crate::names::MULOP_COMMANDS, name).is_some()
                 || name == "mid" =>
@@ -244,6 +255,11 @@ impl Parser<'_> {
         inner.delta = Some(s.font);
         inner.capital_delta = capital;
         Ok(inner)
+    }
+
+    /// Whether token `i` is a sub- or superscript.
+    fn script_at(&self, i: usize) -> bool {
+        matches!(self.peek_at(i), Some(Tok::Sub | Tok::Sup))
     }
 
     /// Whether token `i` begins a symbol (for `\delta x` and `{}_W x`).

@@ -69,14 +69,15 @@ impl Parser<'_> {
                     self.close(open, sized, delim)?;
                     return Ok(Atom::Expr(Expr::Skew(Box::new(body))));
                 }
+                // `\lfloor v \rfloor_\times`, or `\lfloor v \rfloor` alone
+                // (JPL and Trawny's notation for the same skew matrix).
                 let body = self.relation(Ctx::default())?;
                 self.close(open, sized, delim)?;
-                if self.peek() != Some(&Tok::Sub) {
-                    return Err(self.error_here(ErrorKind::FloorWithoutTimes));
-                }
-                self.pos += 1;
-                if !self.script_argument(false)?.times {
-                    return Err(self.error_before(ErrorKind::FloorWithoutTimes));
+                if self.peek() == Some(&Tok::Sub) {
+                    self.pos += 1;
+                    if !self.script_argument(false)?.times {
+                        return Err(self.error_before(ErrorKind::FloorSubscript));
+                    }
                 }
                 Expr::Skew(Box::new(body))
             }

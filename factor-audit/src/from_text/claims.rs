@@ -91,6 +91,8 @@ pub struct TextClaim {
     /// The printed formula as it is evaluated, every grouping explicit
     /// ([`super::understood`]): `lhs rel rhs`.
     pub understood: String,
+    /// What a reader should know of how it was read.
+    pub notes: Vec<String>,
 }
 
 impl TextClaim {
@@ -385,13 +387,18 @@ pub fn compile(
             ),
         ));
     }
-    let printed = Lowering::new(&mut ctx.resolver(scope), spec.stacked_fractions)
-        .expr(&located.rhs)
-        .map_err(|error| TextError::Formula {
-            claim: spec.id.clone(),
-            line: located.line,
-            error,
-        })?;
+    let (printed, notes) = {
+        let mut resolver = ctx.resolver(scope);
+        let mut lowering = Lowering::new(&mut resolver, spec.stacked_fractions);
+        let printed = lowering
+            .expr(&located.rhs)
+            .map_err(|error| TextError::Formula {
+                claim: spec.id.clone(),
+                line: located.line,
+                error,
+            })?;
+        (printed, lowering.notes)
+    };
     let derivative = match &located.lhs {
         Some(Expr::Derivative { of, wrt, .. }) => Some((of.as_ref().clone(), wrt.as_ref().clone())),
         _ => None,
@@ -605,6 +612,7 @@ pub fn compile(
         },
         differential_in,
         understood,
+        notes,
     })
 }
 

@@ -83,6 +83,8 @@ pub struct Context {
     link_specs: Vec<LinkSpec>,
     /// Why a link stated in words could not be read, by its key.
     link_errors: HashMap<String, String>,
+    /// The symbols file states JPL quaternions.
+    pub jpl_quaternions: bool,
 }
 
 /// The canonical LaTeX of a name the symbols file defines: a symbol, or
@@ -178,6 +180,7 @@ impl Context {
             truth_links: Vec::new(),
             link_specs: spec.links.clone(),
             link_errors: HashMap::new(),
+            jpl_quaternions: false,
         };
         for (written, t) in &spec.operators {
             let id = ctx.template(written, t, None)?;
@@ -1135,6 +1138,10 @@ impl Resolver for ScopeResolver<'_> {
         self.ctx.lower_template(t)?;
         Ok(Some((t, self.ctx.templates[t].params.len())))
     }
+
+    fn jpl_quaternions(&self) -> bool {
+        self.ctx.jpl_quaternions
+    }
 }
 
 /// Lowering in one scope of a context whose definitions are all lowered
@@ -1163,6 +1170,10 @@ impl Resolver for FrozenResolver<'_> {
             .ctx
             .template_of(self.scope, key)
             .map(|t| (t, self.ctx.templates[t].params.len())))
+    }
+
+    fn jpl_quaternions(&self) -> bool {
+        self.ctx.jpl_quaternions
     }
 }
 

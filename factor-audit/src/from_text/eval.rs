@@ -201,6 +201,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                             Op::Mul => a.times(v)?,
                             Op::Cross => a.cross(v)?,
                             Op::Oplus => a.oplus(v)?,
+                            Op::OplusJpl => a.oplus_jpl(v)?,
                             Op::Div => a.divided_by(v)?,
                         },
                     });
@@ -239,6 +240,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 Blocks::build(values)
             }
             Term::Zero => Ok(Value::Zero),
+            Term::BlockZero(rows, cols) => Ok(Value::BlockZero(*rows, *cols)),
             Term::Identity(None) => Ok(Value::Identity(S::one())),
             Term::Identity(Some(n)) => Value::Identity(S::one())
                 .sized((Some(*n), Some(*n)))

@@ -121,8 +121,13 @@ pub enum Builtin {
     TransformLine,
     /// `plucker(L)`: the Plücker coordinates `[n, v]` of an orthonormal line.
     Plucker,
-    /// `rotation(T)`: the rotation of a pose.
+    /// `rotation(T)`: the rotation of a pose; `rotation(q)`: the rotation
+    /// of a unit quaternion `[x, y, z, w]` (Hamilton's, active:
+    /// `R(q) v = q ⊗ [v, 0] ⊗ q⁻¹`).
     RotationOf,
+    /// `rotation(q)` in a file that states JPL quaternions: the rotation
+    /// `C(q)` of JPL's convention, `R(q)ᵀ` (a pose's rotation unchanged).
+    JplRotationOf,
     /// `translation(T)`: the translation of a pose.
     TranslationOf,
     /// `vector(q)`: the vector part `[x, y, z]` of a quaternion.
@@ -264,12 +269,21 @@ impl Builtin {
         }
     }
 
+    /// The same function in a file that states JPL quaternions.
+    pub fn in_jpl(self) -> Builtin {
+        match self {
+            Builtin::RotationOf => Builtin::JplRotationOf,
+            other => other,
+        }
+    }
+
     /// The name as written.
     pub fn name(self) -> &'static str {
         match self {
             Builtin::Column(_) => "column",
             Builtin::Entry(_) => "entry",
             Builtin::Rows(..) => "rows",
+            Builtin::JplRotationOf => "rotation",
             other => NAMES
                 .iter()
                 .find(|(_, b)| *b == other)
@@ -455,7 +469,17 @@ impl Builtin {
                     other.describe()
                 ))),
             },
-            Builtin::RotationOf => Ok(Value::Rotation(x.pose(what)?.rotation)),
+            Builtin::RotationOf | Builtin::JplRotationOf => match x.shape() {
+                Some((4, 1)) => {
+                    let r = So3::from_quaternion(x.quaternion(what)?.normalized());
+                    Ok(Value::Rotation(if self == Builtin::JplRotationOf {
+                        r.inverse()
+                    } else {
+                        r
+                    }))
+                }
+                _ => Ok(Value::Rotation(x.pose(what)?.rotation)),
+            },
             Builtin::TranslationOf => Ok(Value::column(x.pose(what)?.translation.as_slice())),
             Builtin::VectorPart => {
                 let q = x.quaternion(what)?;

@@ -11,7 +11,7 @@ use factor_testing::samples::Sampler;
 use super::claims::{self, TextClaim, TextDerivation, compile, links, locate};
 use super::context::Context;
 use super::eval::{Env, Space};
-use super::symbols::SymbolsFile;
+use super::symbols::{Quaternions, SymbolsFile};
 use super::term::{Meaning, Variable};
 use super::value::ShapeError;
 use super::{MAX_DOCUMENT_BYTES, TextAudit, TextError, on_large_stack};
@@ -124,7 +124,8 @@ impl TextAudit {
         let mut built: Vec<(String, Result<usize, TextError>)> = Vec::new();
         for (name, spec) in &file.context {
             match Context::build(name, spec, &vocabulary) {
-                Ok(c) => {
+                Ok(mut c) => {
+                    c.jpl_quaternions = file.quaternions == Some(Quaternions::Jpl);
                     built.push((name.clone(), Ok(contexts.len())));
                     contexts.push(c);
                 }

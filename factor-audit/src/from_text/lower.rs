@@ -121,6 +121,11 @@ pub trait Resolver {
     /// The template (and its number of arguments) an operator, word or
     /// symbol written `key` names (its body lowered first).
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError>;
+    /// Whether the symbols file states JPL quaternions (`⊗` and
+    /// `rotation(q)` in JPL's convention).
+    fn jpl_quaternions(&self) -> bool {
+        false
+    }
 }
 
 /// One lowering, with the reading options of the formula.
@@ -131,6 +136,9 @@ pub struct Lowering<'r> {
     /// Read a name no symbol has as the claim that states it (`D_2 g(ξ)`);
     /// off for a claim's own left side.
     pub names_claims: bool,
+    /// What a reader should know of how the formula was read (a zero
+    /// block's printed size overridden by its row and column).
+    pub notes: Vec<String>,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
@@ -178,6 +186,7 @@ impl<'r> Lowering<'r> {
             resolver,
             stacked_fractions,
             names_claims: true,
+            notes: Vec::new(),
         }
     }
 
@@ -231,6 +240,13 @@ impl<'r> Lowering<'r> {
                 ));
             }
             Expr::Placeholder => return Err(LowerError::at(e, "a placeholder is not a quantity")),
+            Expr::Ellipsis => {
+                return Err(LowerError::at(
+                    e,
+                    "an ellipsis stands for what the formula does not print (more blocks, more \
+                     terms): it cannot be evaluated",
+                ));
+            }
             Expr::Neg(x) => Term::Neg(Box::new(self.expr(x)?)),
             Expr::Pos(x) => self.expr(x)?,
             Expr::Sum { .. } => Term::Sum(
@@ -396,9 +412,19 @@ impl<'r> Lowering<'r> {
                     .iter()
                     .map(|row| {
                         row.iter()
-                            .map(|x| match zero_block(x) {
-                                Some(None) => Ok(Term::Zero),
-                                _ => self.expr(x),
+                            .map(|x| match printed_zero(x) {
+                                Some((None, None)) => Ok(Term::Zero),
+                                Some((rows, cols)) => {
+                                    let note = format!(
+                                        "`{x}` is a zero block sized by its block row and \
+                                         column (its printed size only where they do not tell)"
+                                    );
+                                    if !self.notes.contains(&note) {
+                                        self.notes.push(note);
+                                    }
+                                    Ok(Term::BlockZero(rows, cols))
+                                }
+                                None => self.expr(x),
                             })
                             .collect()
                     })
@@ -512,14 +538,14 @@ impl<'r> Lowering<'r> {
                 && let Some((id, Found::Stored { .. } | Found::Value)) =
                     self.resolver.symbol(&pair.to_string())?
             {
-                factors.push((operator(op, x)?, Term::Symbol(id)));
+                factors.push((self.operator(op, x)?, Term::Symbol(id)));
                 i += 2;
                 continue;
             }
             if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
                 && let Some(applied) = self.applied(x, next.1)?
             {
-                factors.push((operator(op, x)?, applied));
+                factors.push((self.operator(op, x)?, applied));
                 i += 2;
                 continue;
             }
@@ -546,7 +572,7 @@ impl<'r> Lowering<'r> {
                 }
                 (None, previous) => {
                     factors.extend(previous);
-                    factors.push((operator(op, x)?, self.expr(x)?));
+                    factors.push((self.operator(op, x)?, self.expr(x)?));
                 }
             }
             i += 1;
@@ -650,10 +676,13 @@ impl<'r> Lowering<'r> {
         if args.iter().all(|a| *a == Expr::Placeholder) {
             return Ok(Application::Written(head));
         }
+        // `h(x, \cdots)`: the symbol written with some of its variables.
+        let ellipsis = args.contains(&Expr::Ellipsis);
         let group_head = matches!(found, Some((_, Found::Stored { group: true })));
         let mut parameters = true;
         for a in args {
             let is_parameter = match a {
+                Expr::Ellipsis => true,
                 Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
                     Some((_, Found::Tangent(_))) => true,
                     Some((_, Found::Stored { .. })) => !group_head,
@@ -663,7 +692,7 @@ impl<'r> Lowering<'r> {
             };
             parameters &= is_parameter;
         }
-        Ok(if parameters {
+        Ok(if parameters || ellipsis {
             Application::Written(head)
         } else {
             Application::Product(head)
@@ -798,7 +827,30 @@ impl<'r> Lowering<'r> {
         }
     }
 
+    /// The meaning of a product operator (`⊗` JPL's product in a file that
+    /// states JPL quaternions).
+    fn operator(&self, op: MulOp, x: &Expr) -> Result<Op, LowerError> {
+        Ok(match op {
+            MulOp::Implicit | MulOp::Cdot | MulOp::Star => Op::Mul,
+            MulOp::Times => Op::Cross,
+            MulOp::Oplus | MulOp::Otimes if self.resolver.jpl_quaternions() => Op::OplusJpl,
+            MulOp::Oplus | MulOp::Otimes => Op::Oplus,
+            MulOp::Slash => Op::Div,
+            other => {
+                return Err(LowerError::at(
+                    x,
+                    format!("the operator {other:?} is not evaluated"),
+                ));
+            }
+        })
+    }
+
     fn call(&mut self, b: Builtin, args: &[Expr], e: &Expr) -> Result<Term, LowerError> {
+        let b = if self.resolver.jpl_quaternions() {
+            b.in_jpl()
+        } else {
+            b
+        };
         if args.len() != b.arity() {
             return Err(LowerError::at(
                 e,
@@ -921,22 +973,6 @@ fn cross_of_products(factors: Vec<(Op, Term)>) -> Term {
     )
 }
 
-/// The meaning of a product operator.
-fn operator(op: MulOp, x: &Expr) -> Result<Op, LowerError> {
-    Ok(match op {
-        MulOp::Implicit | MulOp::Cdot | MulOp::Star => Op::Mul,
-        MulOp::Times => Op::Cross,
-        MulOp::Oplus | MulOp::Otimes => Op::Oplus,
-        MulOp::Slash => Op::Div,
-        other => {
-            return Err(LowerError::at(
-                x,
-                format!("the operator {other:?} is not evaluated"),
-            ));
-        }
-    })
-}
-
 /// `Some(size)` when `s` is the identity: `I`, `\mathbf{I}`, `\mathbb{I}`,
 /// `\mathds{1}`, with a size or not (`I_3`, `I_{3×3}`).
 fn identity(s: &ast::Symbol) -> Option<Result<Option<usize>, String>> {
@@ -1048,15 +1084,35 @@ fn zero_block(e: &Expr) -> Option<Option<(usize, usize)>> {
     }
 }
 
+/// The rows and columns a zero block inside a matrix is printed with
+/// (`0`: neither; `0_3`: 3 rows; `0_3^\top`: 3 columns; `0_{3 \times 1}`:
+/// both), when it is one.
+fn printed_zero(e: &Expr) -> Option<(Option<usize>, Option<usize>)> {
+    let single = |s: &ast::Symbol| s.sub.as_deref().is_some_and(|sub| number(sub).is_some());
+    match e {
+        Expr::Symbol(s) if single(s) => zero_block(e).map(|shape| (shape.map(|s| s.0), None)),
+        Expr::Postfix {
+            base,
+            op: PostfixOp::Transpose,
+        } if matches!(base.as_ref(), Expr::Symbol(s) if single(s)) => {
+            zero_block(base).map(|shape| (None, shape.map(|s| s.0)))
+        }
+        _ => zero_block(e).map(|shape| (shape.map(|s| s.0), shape.map(|s| s.1))),
+    }
+}
+
 /// The degree of `t` in the symbols `names` (`None` when it is not a
 /// polynomial in them: inside a function, a norm, a denominator, …).
 pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
     let free = |t: &Term| degree(t, names) == Some(0);
     match t {
         Term::Symbol(id) => Some(u32::from(names.contains(id))),
-        Term::Number(_) | Term::Zero | Term::Identity(_) | Term::Link(_) | Term::TruthLink(_) => {
-            Some(0)
-        }
+        Term::Number(_)
+        | Term::Zero
+        | Term::BlockZero(..)
+        | Term::Identity(_)
+        | Term::Link(_)
+        | Term::TruthLink(_) => Some(0),
         Term::Neg(x) | Term::Hat(x) | Term::Vee(x) | Term::Transpose(x) | Term::Shaped(x, _) => {
             degree(x, names)
         }
@@ -1075,7 +1131,7 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
             .try_fold(0, |a, d| Some(a.max(d?))),
         Term::Product(factors) => factors.iter().try_fold(0, |acc, (op, x)| match op {
             Op::Div if !free(x) => None,
-            Op::Oplus if !free(x) || acc > 0 => None,
+            Op::Oplus | Op::OplusJpl if !free(x) || acc > 0 => None,
             _ => Some(acc + degree(x, names)?),
         }),
         Term::Fraction {

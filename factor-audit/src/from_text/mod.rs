@@ -302,6 +302,7 @@ impl TextAudit {
                     line: claim.line,
                     quote: claim.quote.clone(),
                     understood: claim.understood.clone(),
+                    notes: claim.notes.clone(),
                     expected: claim.expected.clone(),
                     diagnosis,
                     searched: searched.map(|s| s.evaluated),

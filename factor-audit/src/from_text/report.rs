@@ -39,6 +39,8 @@ pub struct TextFinding {
     pub expected: String,
     /// The engine's diagnosis of a wrong or malformed formula.
     pub diagnosis: Option<Diagnosis>,
+    /// What a reader should know of how the formula was read.
+    pub notes: Vec<String>,
     /// Edited formulas the erratum search evaluated, when it ran.
     pub searched: Option<usize>,
 }
@@ -50,13 +52,18 @@ impl TextFinding {
     }
 
     /// The verdict's explanation (a diagnosis of a malformed formula is
-    /// added to why it is malformed).
+    /// added to why it is malformed), then how the formula was read.
     pub fn note(&self) -> String {
         let base = note(&self.finding);
-        match (&self.finding.verdict, &self.diagnosis) {
+        let base = match (&self.finding.verdict, &self.diagnosis) {
             (Verdict::Malformed(_), Some(d)) => format!("{base}; suspected erratum: {}", d.words),
             _ => base,
-        }
+        };
+        std::iter::once(base)
+            .chain(self.notes.iter().cloned())
+            .filter(|n| !n.is_empty())
+            .collect::<Vec<_>>()
+            .join("; ")
     }
 }
 

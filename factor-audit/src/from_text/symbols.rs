@@ -52,12 +52,26 @@ pub struct SymbolsFile {
     /// the built-in ones.
     #[serde(default)]
     pub words: Vec<String>,
+    /// The document's quaternion convention: `"hamilton"` (the default) or
+    /// `"jpl"` (`q ⊗ p` is JPL's product, `rotation(q)` JPL's `C(q)`).
+    pub quaternions: Option<Quaternions>,
     /// The contexts, by name.
     #[serde(default)]
     pub context: BTreeMap<String, ContextSpec>,
     /// The audited claims, in order.
     #[serde(default, rename = "claim")]
     pub claims: Vec<ClaimSpec>,
+}
+
+/// A document's quaternion convention.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quaternions {
+    /// Hamilton's product; `rotation(q)` the active rotation `q v q⁻¹`.
+    Hamilton,
+    /// JPL's (Trawny and Roumeliotis): `q ⊗ p` is Hamilton's `p ⊗ q`, and
+    /// `C(q)` is Hamilton's rotation transposed.
+    Jpl,
 }
 
 /// A context: the symbols of a part of the document and what samples them.

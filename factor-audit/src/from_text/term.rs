@@ -17,6 +17,9 @@ pub enum Op {
     Cross,
     /// `\oplus`, `\otimes`: a quaternion (or group) product.
     Oplus,
+    /// `\otimes` in a file that states JPL quaternions: `q ⊗ p` is JPL's
+    /// product, Hamilton's `p ⊗ q`.
+    OplusJpl,
     /// `/`.
     Div,
 }
@@ -59,6 +62,11 @@ pub enum Term {
     Blocks(Vec<Vec<Term>>),
     /// A printed `0` inside a matrix: a zero block of the size its place tells.
     Zero,
+    /// A zero printed with a size inside a block matrix (`\mathbf{0}_3`,
+    /// `0_{3 \times 1}`, `0_3^\top`): its block row and column size it,
+    /// the printed rows and columns only where they do not (a single size
+    /// `0_3` stands for a square block when nothing else tells).
+    BlockZero(Option<usize>, Option<usize>),
     /// `I`, `I_3`, `I_{3×3}`.
     Identity(Option<usize>),
     /// `(…)_{r × c}`: the value, sized (and checked) by the annotation.
@@ -126,6 +134,7 @@ impl Term {
             Term::Number(_)
             | Term::Symbol(_)
             | Term::Zero
+            | Term::BlockZero(..)
             | Term::Identity(_)
             | Term::Link(_)
             | Term::TruthLink(_) => Vec::new(),

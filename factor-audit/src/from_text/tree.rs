@@ -15,6 +15,7 @@ pub fn children(e: &Expr) -> Vec<&Expr> {
         | Expr::Symbol(_)
         | Expr::Text(_)
         | Expr::Placeholder
+        | Expr::Ellipsis
         | Expr::Derivative { .. } => Vec::new(),
         Expr::Neg(x)
         | Expr::Pos(x)
@@ -51,6 +52,7 @@ pub fn child_mut(e: &mut Expr, i: usize) -> Option<&mut Expr> {
         | Expr::Symbol(_)
         | Expr::Text(_)
         | Expr::Placeholder
+        | Expr::Ellipsis
         | Expr::Derivative { .. } => None,
         Expr::Neg(x)
         | Expr::Pos(x)

@@ -50,6 +50,7 @@ impl<'a> Names<'a> {
                             Op::Mul => " \\cdot ",
                             Op::Cross => " \\times ",
                             Op::Oplus => " \\otimes ",
+                            Op::OplusJpl => " \\otimes_{\\text{JPL}} ",
                             Op::Div => " / ",
                         });
                     }
@@ -91,6 +92,11 @@ impl<'a> Names<'a> {
                 )
             }
             Term::Zero => "0".into(),
+            Term::BlockZero(rows, cols) => match (rows, cols) {
+                (Some(r), Some(c)) => format!("0_{{{r} \\times {c}}}"),
+                (Some(n), None) | (None, Some(n)) => format!("0_{{{n}}}"),
+                (None, None) => "0".into(),
+            },
             Term::Identity(None) => "I".into(),
             Term::Identity(Some(n)) => format!("I_{{{n}}}"),
             Term::Shaped(x, (r, c)) => format!("{}_{{{r} \\times {c}}}", self.scripted(x)),
@@ -151,7 +157,11 @@ impl<'a> Names<'a> {
     /// The base of a script: bracketed unless a symbol or a number.
     fn scripted(&self, t: &Term) -> String {
         match t {
-            Term::Symbol(_) | Term::Number(_) | Term::Identity(_) | Term::Zero => {
+            Term::Symbol(_)
+            | Term::Number(_)
+            | Term::Identity(_)
+            | Term::Zero
+            | Term::BlockZero(..) => {
                 format!("{{{}}}", self.render(t))
             }
             other => format!("\\left({}\\right)", self.render(other)),
@@ -166,6 +176,7 @@ fn atomic(t: &Term) -> bool {
         Term::Number(_)
             | Term::Symbol(_)
             | Term::Zero
+            | Term::BlockZero(..)
             | Term::Identity(_)
             | Term::Norm(_)
             | Term::Call(..)

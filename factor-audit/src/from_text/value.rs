@@ -48,6 +48,10 @@ pub enum Value<S: Scalar> {
     Identity(S),
     /// A zero block whose size is told by where it is used.
     Zero,
+    /// A zero block printed with a size in a block matrix: sized by its
+    /// block row and column, the printed rows and columns where they do not
+    /// tell ([`super::term::Term::BlockZero`]).
+    BlockZero(Option<usize>, Option<usize>),
     /// A block matrix some of whose blocks are not sized yet.
     Blocks(Blocks<S>),
     /// A line in orthonormal representation `(U, W)` (no matrix).
@@ -80,6 +84,7 @@ impl<S: Scalar> Value<S> {
             Value::Pose(_) | Value::Similarity(_) => Some((4, 4)),
             Value::Identity(_)
             | Value::Zero
+            | Value::BlockZero(..)
             | Value::Blocks(_)
             | Value::OrthonormalLine(_)
             | Value::FreeLine(_) => None,
@@ -97,6 +102,7 @@ impl<S: Scalar> Value<S> {
             Value::Similarity(_) => "a similarity".into(),
             Value::Identity(_) => "an identity of unprinted size".into(),
             Value::Zero => "a zero of unprinted size".into(),
+            Value::BlockZero(..) => "a zero block".into(),
             Value::Blocks(_) => "a block matrix of unprinted size".into(),
             Value::OrthonormalLine(_) => "an orthonormal line".into(),
             Value::FreeLine(_) => "a free line".into(),
@@ -121,6 +127,10 @@ impl<S: Scalar> Value<S> {
                 Ok(DMatrix::identity(checked(n)?, n) * c)
             }
             Value::Zero => match hint {
+                (Some(r), Some(c)) => Ok(DMatrix::zeros(checked(r)?, checked(c)?)),
+                _ => fail("the size of a zero block cannot be told"),
+            },
+            Value::BlockZero(rows, cols) => match (hint.0.or(rows), hint.1.or(cols).or(rows)) {
                 (Some(r), Some(c)) => Ok(DMatrix::zeros(checked(r)?, checked(c)?)),
                 _ => fail("the size of a zero block cannot be told"),
             },
@@ -198,6 +208,7 @@ impl<S: Scalar> Value<S> {
         Ok(match self {
             Value::Identity(k) => Value::Identity(k * c),
             Value::Zero => Value::Zero,
+            zero @ Value::BlockZero(..) => zero,
             Value::Blocks(b) => Value::Blocks(b.map(|v| v.scale(c))?),
             other => Value::Matrix(other.matrix()? * c),
         })
@@ -207,7 +218,9 @@ impl<S: Scalar> Value<S> {
     pub fn add(self, b: Self, minus: bool) -> Result<Self, ShapeError> {
         let b = if minus { b.negated()? } else { b };
         match (self, b) {
-            (Value::Zero, x) | (x, Value::Zero) => Ok(x),
+            (Value::Zero | Value::BlockZero(..), x) | (x, Value::Zero | Value::BlockZero(..)) => {
+                Ok(x)
+            }
             (Value::Identity(p), Value::Identity(q)) => Ok(Value::Identity(p + q)),
             (a, b) => {
                 let hint = a.shape().or(b.shape());
@@ -237,7 +250,9 @@ impl<S: Scalar> Value<S> {
         }
         match (self, b) {
             (Value::Identity(c), x) | (x, Value::Identity(c)) => x.scale(c),
-            (Value::Zero, _) | (_, Value::Zero) => Ok(Value::Zero),
+            (Value::Zero | Value::BlockZero(..), _) | (_, Value::Zero | Value::BlockZero(..)) => {
+                Ok(Value::Zero)
+            }
             (Value::Rotation(p), Value::Rotation(q)) => Ok(Value::Rotation(p.compose(&q))),
             (Value::Pose(p), Value::Pose(q)) => Ok(Value::Pose(p.compose(&q))),
             (Value::Similarity(p), Value::Similarity(q)) => Ok(Value::Similarity(p.compose(&q))),
@@ -294,6 +309,17 @@ impl<S: Scalar> Value<S> {
         }
     }
 
+    /// `a ⊗ b` of JPL's convention: Hamilton's `b ⊗ a` for quaternions
+    /// (so that `C(q ⊗ p) = C(q) C(p)` with `C(q) = R(q)ᵀ`), a composition
+    /// for group elements.
+    pub fn oplus_jpl(self, b: Self) -> Result<Self, ShapeError> {
+        if self.is_group() {
+            self.oplus(b)
+        } else {
+            b.oplus(self)
+        }
+    }
+
     /// `a / b` for a scalar `b`.
     pub fn divided_by(self, b: Self) -> Result<Self, ShapeError> {
         match b.as_scalar() {
@@ -307,6 +333,7 @@ impl<S: Scalar> Value<S> {
         Ok(match self {
             Value::Rotation(r) => Value::Rotation(r.inverse()),
             Value::Identity(_) | Value::Zero => self,
+            Value::BlockZero(rows, cols) => Value::BlockZero(cols, rows),
             other => Value::Matrix(other.matrix()?.transpose()),
         })
     }
@@ -649,7 +676,10 @@ fn stack<S: Scalar>(parts: &[DMatrix<S>]) -> Result<DMatrix<S>, ShapeError> {
 
 /// Whether a block has no size of its own.
 fn has_no_size<S: Scalar>(v: &Value<S>) -> bool {
-    matches!(v, Value::Identity(_) | Value::Zero | Value::Blocks(_))
+    matches!(
+        v,
+        Value::Identity(_) | Value::Zero | Value::BlockZero(..) | Value::Blocks(_)
+    )
 }
 
 /// A rectangular grid of blocks: heights per block row and widths per
@@ -722,6 +752,11 @@ fn grid<S: Scalar>(
                 widths[j] = Some(1);
             }
         }
+        if (heights.clone(), widths.clone()) == before
+            && printed_zero_sizes(&rows, &mut heights, &mut widths)
+        {
+            continue;
+        }
         if (heights.clone(), widths.clone()) == before {
             // Nothing else tells: a block row of zeros printed once is a
             // row of scalars (`[ω^∧ v; 0 0]`), and so is a column.
@@ -784,6 +819,42 @@ fn grid<S: Scalar>(
         ));
     }
     Ok(out)
+}
+
+/// Fills unknown block heights and widths from the sizes zeros are printed
+/// with (`[\mathbf{0}_3; 1]`), once nothing else tells them: first the
+/// printed rows and columns, then the square block a single size stands for;
+/// whether anything was filled.
+fn printed_zero_sizes<S: Scalar>(
+    rows: &[Vec<Value<S>>],
+    heights: &mut [Option<usize>],
+    widths: &mut [Option<usize>],
+) -> bool {
+    let mut filled = false;
+    for square in [false, true] {
+        for (i, row) in rows.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                let Value::BlockZero(r, c) = v else { continue };
+                let (r, c) = if square {
+                    (r.or(*c), c.or(*r))
+                } else {
+                    (*r, *c)
+                };
+                if heights[i].is_none() && r.is_some() {
+                    heights[i] = r;
+                    filled = true;
+                }
+                if widths[j].is_none() && c.is_some() {
+                    widths[j] = c;
+                    filled = true;
+                }
+            }
+        }
+        if filled {
+            return true;
+        }
+    }
+    false
 }
 
 /// Fills the one unknown size of `sizes` from their total, if known.
