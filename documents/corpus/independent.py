@@ -187,6 +187,22 @@ def confirm(corrected, truth, samples):
     )
 
 
+def claimer(samples, results):
+    """The `claim(cid, printed, truth, alternatives=(), correction=None)` of
+    a check script: the verdict on a formula at `samples` into `results`,
+    with whether a `correction` (the corrected form) agrees with the truth."""
+
+    def claim(cid, printed, truth, alternatives=(), correction=None):
+        verdict, detail = judge(printed, truth, samples, alternatives)
+        if correction is not None:
+            detail += "; corrected form " + (
+                "agrees" if confirm(correction, truth, samples) else "DOES NOT agree"
+            )
+        results[cid] = (verdict, detail)
+
+    return claim
+
+
 def planted_mode():
     """Whether the check runs on the planted copy (`--planted`)."""
     return "--planted" in sys.argv[1:]

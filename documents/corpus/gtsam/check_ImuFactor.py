@@ -24,13 +24,12 @@ from scipy.special import factorial
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from independent import (  # noqa: E402
+    claimer,
     add,
     block,
-    confirm,
     exp_so3,
     hat,
     jacobian,
-    judge,
     log_so3,
     mul,
     planted_mode,
@@ -66,13 +65,7 @@ for _ in range(20):
 results = {}
 
 
-def claim(cid, printed, truth, correction=None):
-    verdict, detail = judge(printed, truth, samples)
-    if correction is not None:
-        detail += "; corrected form " + (
-            "agrees" if confirm(correction, truth, samples) else "DOES NOT agree"
-        )
-    results[cid] = (verdict, detail)
+claim = claimer(samples, results)
 
 
 def Phi(R0, th):

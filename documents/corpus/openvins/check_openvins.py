@@ -32,14 +32,13 @@ from scipy.linalg import expm
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from independent import (  # noqa: E402
+    claimer,
     add,
     block,
     col,
-    confirm,
     exp_so3,
     hat,
     jacobian,
-    judge,
     log_so3,
     mul,
     planted_mode,
@@ -153,13 +152,7 @@ for _ in range(20):
 results = {}
 
 
-def claim(cid, printed, truth, alternatives=(), correction=None):
-    verdict, detail = judge(printed, truth, samples, alternatives)
-    if correction is not None:
-        detail += "; corrected form " + (
-            "agrees" if confirm(correction, truth, samples) else "DOES NOT agree"
-        )
-    results[cid] = (verdict, detail)
+claim = claimer(samples, results)
 
 
 def rotation_jacobian(f, q):
