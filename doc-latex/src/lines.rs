@@ -310,9 +310,21 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
 }
 
 /// Ends the statement being read: a piece opened by `\quad` that starts with
-/// a relation continues the previous statement.
+/// a relation continues the previous statement. Words before a formula on
+/// its row (`{\rm where}~~ \frac{…}{…} = …`) are prose, dropped.
 fn close_statement(statements: &mut Vec<Vec<Token>>, current: &mut Vec<Token>, after_quad: bool) {
-    let piece = std::mem::take(current);
+    let mut piece = std::mem::take(current);
+    let words = piece
+        .iter()
+        .take_while(|t| match &t.tok {
+            Tok::Text(w) => !w.trim().is_empty(),
+            Tok::Space | Tok::Quad => true,
+            _ => false,
+        })
+        .count();
+    if words < piece.len() && piece[..words].iter().any(|t| matches!(t.tok, Tok::Text(_))) {
+        piece.drain(..words);
+    }
     if piece.is_empty() {
         return;
     }

@@ -262,8 +262,9 @@ impl Parser<'_> {
         matches!(self.peek_at(i), Some(Tok::Sub | Tok::Sup))
     }
 
-    /// Whether token `i` begins a symbol (for `\delta x` and `{}_W x`).
-    fn starts_symbol(&self, i: usize) -> bool {
+    /// Whether token `i` begins a symbol (for `\delta x`, `{}_W x` and
+    /// pre-scripts after a group).
+    pub(super) fn starts_symbol(&self, i: usize) -> bool {
         match self.peek_at(i) {
             Some(Tok::Letter(_)) => true,
             Some(Tok::Command(c)) => {

@@ -384,7 +384,10 @@ impl<'a> Parser<'a> {
                 | Tok::Left(_)
                 | Tok::Begin(_)
                 | Tok::Bar
-                | Tok::DoubleBar,
+                | Tok::DoubleBar
+                // Pre-scripts on the next symbol (`(…)^{I}_{G} \hat{R}`).
+                | Tok::Sup
+                | Tok::Sub,
             ) => true,
             Some(Tok::Command(c)) => {
                 c != "mid"
