@@ -457,3 +457,64 @@ expected = "{expected}"
     let hamilton = audit(document, &symbols(""));
     assert_eq!(verdict(&hamilton, "C(q) of JPL"), "wrong");
 }
+
+/// Class 4: a chain rule written as a sum of products of partials, each
+/// holding the function's other arguments (`∂f/∂x = ∂g/∂x + ∂g/∂r ∂r/∂x`),
+/// is read so: a partial printed beside another of the same map holds the
+/// other variables; a link stated in words or a claim says what it holds
+/// with `holding`. The same formula with a sign wrong stays `wrong`.
+#[test]
+fn partials_hold_the_other_arguments() {
+    let document = "\
+$$ \\frac{\\partial f}{\\partial x} = \\frac{\\partial g}{\\partial x} + \\frac{\\partial g}{\\partial r} \\frac{\\partial r}{\\partial x} $$
+
+$$ \\frac{\\partial v}{\\partial x} = \\frac{\\partial g}{\\partial x} - \\frac{\\partial g}{\\partial r} \\frac{\\partial r}{\\partial x} $$
+
+$$ \\frac{\\partial u}{\\partial x} = \\frac{\\partial h}{\\partial x} + \\frac{\\partial h}{\\partial r} \\frac{\\partial r}{\\partial x} $$
+
+$$ \\frac{\\partial h}{\\partial x} = 2 x r $$
+";
+    let symbols = r#"
+document = "notes.md"
+[context.c.symbols]
+"x" = { sample = "scalar", range = [0.5, 2.0] }
+"y" = { sample = "scalar", range = [0.5, 2.0] }
+"r" = "x^2"
+"g" = "x r + y"
+"f" = "g"
+"h" = "x^2 r"
+"u" = "h"
+"v" = "g"
+
+[[claim]]
+id = "a sum of products of partials"
+context = "c"
+anchor = "\\frac{\\partial f}{\\partial x} ="
+
+[[claim]]
+id = "a sign wrong"
+context = "c"
+anchor = "\\frac{\\partial v}{\\partial x} ="
+expected = "wrong"
+
+[[claim]]
+id = "∂h/∂x, holding r"
+context = "c"
+anchor = "\\frac{\\partial h}{\\partial x} = 2 x r"
+holding = ["r"]
+
+[[claim]]
+id = "through the claim that states ∂h/∂x"
+context = "c"
+anchor = "\\frac{\\partial u}{\\partial x} ="
+"#;
+    let findings = audit(document, symbols);
+    for id in [
+        "a sum of products of partials",
+        "∂h/∂x, holding r",
+        "through the claim that states ∂h/∂x",
+    ] {
+        assert_eq!(verdict(&findings, id), "correct", "{id}");
+    }
+    assert_eq!(verdict(&findings, "a sign wrong"), "wrong");
+}

@@ -93,6 +93,8 @@ pub struct TextClaim {
     pub understood: String,
     /// What a reader should know of how it was read.
     pub notes: Vec<String>,
+    /// The other arguments its partial derivative holds (`holding`).
+    pub holding: Vec<SymbolId>,
 }
 
 impl TextClaim {
@@ -391,7 +393,7 @@ pub fn compile(
         let mut resolver = ctx.resolver(scope);
         let mut lowering = Lowering::new(&mut resolver, spec.stacked_fractions);
         let printed = lowering
-            .expr(&located.rhs)
+            .formula(&located.rhs)
             .map_err(|error| TextError::Formula {
                 claim: spec.id.clone(),
                 line: located.line,
@@ -580,6 +582,15 @@ pub fn compile(
         spec.erratum.as_deref(),
     );
     let understood = understood_line(ctx, located.lhs.as_ref(), located.relation, &printed);
+    let mut holding = Vec::with_capacity(spec.holding.len());
+    for held in &spec.holding {
+        let key = super::context::canonical_symbol(held, &vocabulary)
+            .map_err(|m| claim_error(spec, format!("`holding`: {m}")))?;
+        holding.push(
+            ctx.lookup(scope, &key)
+                .ok_or_else(|| claim_error(spec, format!("`holding`: `{held}` is not defined")))?,
+        );
+    }
     Ok(TextClaim {
         index,
         context: context_index,
@@ -613,6 +624,7 @@ pub fn compile(
         differential_in,
         understood,
         notes,
+        holding,
     })
 }
 
@@ -744,10 +756,19 @@ impl<'a> TextDerivation<'a> {
         output: Option<Perturbation>,
         x: &[S],
         p: &[S],
+        holding: &[SymbolId],
     ) -> Result<Value<S>, ShapeError> {
         let mut env = Env::new(self.space(), p.to_vec());
+        // What a partial holds keeps its value while the variable moves.
+        let held = holding
+            .iter()
+            .map(|id| Ok((*id, env.symbol(*id)?)))
+            .collect::<Result<Vec<_>, ShapeError>>()?;
         if let Some(v) = variable {
             env.perturb(v, x)?;
+        }
+        for (id, value) in held {
+            env.bind(id, value);
         }
         let value = env.eval(term)?;
         match (output, variable) {
@@ -772,7 +793,7 @@ impl<'a> TextDerivation<'a> {
             Some(self.claim.value_shape.0),
             Some(self.claim.value_shape.1),
         );
-        self.evaluate(term, variable, self.claim.output, x, p)?
+        self.evaluate(term, variable, self.claim.output, x, p, &self.claim.holding)?
             .sized(if self.claim.value_shape.0 == 0 {
                 (None, None)
             } else {
@@ -790,7 +811,14 @@ impl<'a> TextDerivation<'a> {
         let failure = std::cell::RefCell::new(None);
         let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
             match self
-                .evaluate(&link.of, Some(&link.variable), link.output, x, &p)
+                .evaluate(
+                    &link.of,
+                    Some(&link.variable),
+                    link.output,
+                    x,
+                    &p,
+                    &link.holding,
+                )
                 .and_then(Value::matrix)
             {
                 Ok(m) => m.as_slice().to_vec(),
@@ -861,6 +889,7 @@ impl<'a> TextDerivation<'a> {
             self.claim.output,
             &vec![0.0; dim],
             &self.stored,
+            &self.claim.holding,
         )?
         .matrix()
     }
@@ -935,7 +964,14 @@ impl<'a> TextDerivation<'a> {
         }
         let zero = vec![0.0; self.input_len()];
         let at = |t: &Term| {
-            self.evaluate(t, self.claim.variable.as_ref(), None, &zero, &self.stored)
+            self.evaluate(
+                t,
+                self.claim.variable.as_ref(),
+                None,
+                &zero,
+                &self.stored,
+                &self.claim.holding,
+            )
                 .and_then(Value::matrix)
         };
         let (truth, printed) = (at(&self.claim.of).ok()?, at(term).ok()?);

@@ -886,10 +886,19 @@ impl Context {
         if matches!(variable, Variable::Update { .. }) {
             return Err("a link stated in words differentiates by a symbol, not an update".into());
         }
-        let output = spec.output.map(|s| match s {
-            Side::Left => Perturbation::Left,
-            Side::Right => Perturbation::Right,
-        });
+        let output = match spec.output {
+            Some(Side::Left) => Some(Perturbation::Left),
+            Some(Side::Right) => Some(Perturbation::Right),
+            None => local_coordinates(&variable),
+        };
+        let mut holding = Vec::with_capacity(spec.holding.len());
+        for held in &spec.holding {
+            let written = canonical_symbol(held, &self.vocabulary)?;
+            holding.push(
+                self.lookup(None, &written)
+                    .ok_or_else(|| format!("`holding`: `{held}` is not defined"))?,
+            );
+        }
         self.truth_links.push(TruthLink {
             key: key.clone(),
             of,
@@ -897,6 +906,7 @@ impl Context {
             output,
             broken: None,
             inline: None,
+            holding,
         });
         Ok(())
     }
@@ -912,6 +922,7 @@ impl Context {
         key: &str,
         of: &Expr,
         wrt: &Expr,
+        holding: &[Expr],
     ) -> Result<Link, LowerError> {
         if let Some(k) = self
             .truth_links
@@ -933,13 +944,22 @@ impl Context {
                 "a derivative printed in a formula is taken by a symbol, not an update",
             ));
         }
+        let holding = holding
+            .iter()
+            .filter_map(|h| match h {
+                Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)),
+                other => self.lookup(scope, &other.to_string()),
+            })
+            .collect();
+        let output = local_coordinates(&variable);
         self.truth_links.push(TruthLink {
             key: key.to_string(),
             of,
             variable,
-            output: None,
+            output,
             broken: None,
             inline: Some(scope),
+            holding,
         });
         Ok(Link::Truth(self.truth_links.len() - 1))
     }
@@ -1042,6 +1062,16 @@ impl Context {
     }
 }
 
+/// The local coordinates a group-valued map differentiated by `variable`
+/// is read in: the side the variable is perturbed on, else the right
+/// (`Log(f₀⁻¹ f)`); a map with other values is read as it is.
+fn local_coordinates(variable: &Variable) -> Option<Perturbation> {
+    Some(match variable {
+        Variable::Stored { kind, side, .. } if !kind.is_additive() => *side,
+        _ => Perturbation::Right,
+    })
+}
+
 /// The LaTeX names of a factor's stored scalars: each field named by the
 /// symbol the context binds to the whole field (its layout's names as
 /// subscripts), else by its layout path.
@@ -1127,8 +1157,14 @@ impl Resolver for ScopeResolver<'_> {
         self.ctx.link_of(self.scope, key)
     }
 
-    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
-        self.ctx.inline_link(self.scope, key, of, wrt)
+    fn inline_link(
+        &mut self,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+        holding: &[Expr],
+    ) -> Result<Link, LowerError> {
+        self.ctx.inline_link(self.scope, key, of, wrt, holding)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {

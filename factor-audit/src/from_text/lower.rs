@@ -110,9 +110,17 @@ pub trait Resolver {
     /// What the derivative written `key` stands for.
     fn link(&self, key: &str) -> Option<Link>;
     /// A derivative printed in a formula that no claim or stated link
-    /// names: its true value, when `of` and `wrt` can be read.
-    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
-        let _ = (of, wrt);
+    /// names: its true value, when `of` and `wrt` can be read, `holding`
+    /// the other variables the formula differentiates `of` by (a partial
+    /// holds them).
+    fn inline_link(
+        &mut self,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+        holding: &[Expr],
+    ) -> Result<Link, LowerError> {
+        let _ = (of, wrt, holding);
         Err(LowerError {
             message: "no new derivative is read here".into(),
             fragment: key.to_string(),
@@ -139,6 +147,9 @@ pub struct Lowering<'r> {
     /// What a reader should know of how the formula was read (a zero
     /// block's printed size overridden by its row and column).
     pub notes: Vec<String>,
+    /// For each map the formula differentiates (its canonical LaTeX), the
+    /// variables it differentiates it by: a partial by one holds the others.
+    partials: Vec<(String, Vec<Expr>)>,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
@@ -187,6 +198,7 @@ impl<'r> Lowering<'r> {
             stacked_fractions,
             names_claims: true,
             notes: Vec::new(),
+            partials: Vec::new(),
         }
     }
 
@@ -195,6 +207,23 @@ impl<'r> Lowering<'r> {
     pub fn without_claim_names(mut self) -> Self {
         self.names_claims = false;
         self
+    }
+
+    /// A formula lowered: the partials it prints of one map each hold the
+    /// map's other printed variables (`∂g/∂x + ∂g/∂r ∂r/∂x`).
+    pub fn formula(&mut self, e: &Expr) -> Result<Term, LowerError> {
+        self.partials.clear();
+        for d in super::tree::derivatives(e) {
+            if let Expr::Derivative { of, wrt, .. } = d {
+                let key = of.to_string();
+                match self.partials.iter_mut().find(|(k, _)| *k == key) {
+                    Some((_, wrts)) if !wrts.contains(wrt) => wrts.push(wrt.as_ref().clone()),
+                    Some(_) => {}
+                    None => self.partials.push((key, vec![wrt.as_ref().clone()])),
+                }
+            }
+        }
+        self.expr(e)
     }
 
     /// `e` lowered.
@@ -259,9 +288,15 @@ impl<'r> Lowering<'r> {
             Expr::Fraction { num, den } => self.fraction(num, den)?,
             Expr::Derivative { of, wrt, .. } => {
                 let key = e.to_string();
+                let holding: Vec<Expr> = self
+                    .partials
+                    .iter()
+                    .find(|(k, _)| *k == of.to_string())
+                    .map(|(_, wrts)| wrts.iter().filter(|w| *w != wrt.as_ref()).cloned().collect())
+                    .unwrap_or_default();
                 let link = match self.resolver.link(&key) {
                     Some(link) => link,
-                    None => self.resolver.inline_link(&key, of, wrt).map_err(|err| {
+                    None => self.resolver.inline_link(&key, of, wrt, &holding).map_err(|err| {
                         LowerError::at(
                             e,
                             format!(

@@ -118,6 +118,10 @@ pub struct LinkSpec {
     pub side: Option<Side>,
     /// The local coordinates a group-valued map is read in.
     pub output: Option<Side>,
+    /// The other arguments the partial holds (symbols kept at their values
+    /// while `wrt` moves, though they depend on it).
+    #[serde(default)]
+    pub holding: Vec<String>,
 }
 
 /// What a claim says.
@@ -193,6 +197,11 @@ pub struct ClaimSpec {
     /// Differentiate at the variable's zero instead of its sampled value.
     #[serde(default)]
     pub at_zero: bool,
+    /// The other arguments the claim's partial derivative holds: symbols
+    /// kept at their values while the variable moves, though they depend on
+    /// it (`∂h/∂x` of `h(x, r(x))` holding `r`).
+    #[serde(default)]
+    pub holding: Vec<String>,
     /// How other formulas write this derivative in chain rules (LaTeX); by
     /// default its printed left side.
     pub lhs: Option<String>,

@@ -125,6 +125,10 @@ pub struct TruthLink {
     /// (`R \frac{\partial}{\partial\omega}(e^{\omega^\wedge} p)`), read
     /// with that formula's symbols; `None` for a link the file states.
     pub inline: Option<Option<usize>>,
+    /// The other arguments the partial derivative holds: symbols kept at
+    /// their values while the variable moves, though they depend on it
+    /// (`∂g/∂x` beside `∂g/∂r` in `∂g/∂x + ∂g/∂r ∂r/∂x`).
+    pub holding: Vec<SymbolId>,
 }
 
 impl Term {

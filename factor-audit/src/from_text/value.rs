@@ -296,27 +296,45 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a ⊕ b`: the Hamilton product of quaternions, or a group composition.
+    /// `a ⊕ b`, `a ⊗ b`: a group composition; the Hamilton product of two
+    /// quaternions (4-vectors); the Kronecker product of other matrices
+    /// (`I_3 ⊗ vᵀ`).
     pub fn oplus(self, b: Self) -> Result<Self, ShapeError> {
         match (&self, &b) {
             (Value::Rotation(_), Value::Rotation(_))
             | (Value::Pose(_), Value::Pose(_))
             | (Value::Similarity(_), Value::Similarity(_)) => self.times(b),
-            _ => {
-                let (p, q) = (self.quaternion("⊕")?, b.quaternion("⊕")?);
+            _ if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) => {
+                let (p, q) = (self.quaternion("⊗")?, b.quaternion("⊗")?);
                 Ok(Value::column(p.mul(&q).coords().as_slice()))
             }
+            _ => self.kronecker(b),
         }
     }
 
+    /// `A ⊗ B`: the Kronecker product (block `(i, j)` is `A_ij B`); an
+    /// unsized identity takes the size of a square other factor.
+    fn kronecker(self, b: Self) -> Result<Self, ShapeError> {
+        let square = |v: &Value<S>| v.shape().filter(|(r, c)| r == c).map(|s| s.0);
+        let (ha, hb) = (square(&b), square(&self));
+        let a = self.sized((ha, ha))?;
+        let b = b.sized((hb, hb))?;
+        let (rows, cols) = (a.nrows() * b.nrows(), a.ncols() * b.ncols());
+        checked(rows)?;
+        checked(cols)?;
+        Ok(Value::Matrix(DMatrix::from_fn(rows, cols, |r, c| {
+            a[(r / b.nrows(), c / b.ncols())] * b[(r % b.nrows(), c % b.ncols())]
+        })))
+    }
+
     /// `a ⊗ b` of JPL's convention: Hamilton's `b ⊗ a` for quaternions
-    /// (so that `C(q ⊗ p) = C(q) C(p)` with `C(q) = R(q)ᵀ`), a composition
-    /// for group elements.
+    /// (so that `C(q ⊗ p) = C(q) C(p)` with `C(q) = R(q)ᵀ`), otherwise as
+    /// [`Value::oplus`].
     pub fn oplus_jpl(self, b: Self) -> Result<Self, ShapeError> {
-        if self.is_group() {
-            self.oplus(b)
-        } else {
+        if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) {
             b.oplus(self)
+        } else {
+            self.oplus(b)
         }
     }
 
