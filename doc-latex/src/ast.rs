@@ -180,6 +180,15 @@ pub enum Expr {
     Matrix(Matrix),
     /// `\begin{cases} value & condition \\ … \end{cases}`.
     Cases(Vec<Case>),
+    /// `\left. X \right|_{x = a}`, `X \Big\vert_{t = 0}`: `X` evaluated
+    /// where the subscript says (one or more `name = value` bindings,
+    /// comma-separated or in a `subarray`).
+    At {
+        /// What is evaluated.
+        body: Box<Expr>,
+        /// The subscript, as printed.
+        at: Box<Expr>,
+    },
     /// A relation chain inside an expression (`(φ = …)`, a `δξ → 0` under a
     /// limit, `φ_v ∈ R^3` in a matrix entry).
     Relation {

@@ -122,6 +122,50 @@ fn joined(rows: Vec<Line>, one_equation: bool) -> Vec<Line> {
     out
 }
 
+/// How many tokens at the start of a statement are words, not math:
+/// `\text{where}`, `{\rm where}` (an upright word), with the spaces
+/// around them; none when no word is there.
+fn prose_before(piece: &[Token]) -> usize {
+    let mut i = 0;
+    let mut words = false;
+    while i < piece.len() {
+        match &piece[i].tok {
+            Tok::Space | Tok::Quad => i += 1,
+            Tok::Text(w) if !w.trim().is_empty() => {
+                words = true;
+                i += 1;
+            }
+            _ => match upright_word(&piece[i..]) {
+                Some(n) => {
+                    words = true;
+                    i += n;
+                }
+                None => break,
+            },
+        }
+    }
+    if words { i } else { 0 }
+}
+
+/// The length of an upright word at the start of `toks`: `\mathrm{where}`
+/// (how `{\rm where}` is read), braced or not.
+fn upright_word(toks: &[Token]) -> Option<usize> {
+    if toks.first()?.tok == Tok::LBrace {
+        let inner = upright_word(&toks[1..])?;
+        return (toks.get(1 + inner)?.tok == Tok::RBrace).then_some(inner + 2);
+    }
+    if !matches!(&toks.first()?.tok, Tok::Command(c) if c == "mathrm")
+        || toks.get(1)?.tok != Tok::LBrace
+    {
+        return None;
+    }
+    let letters = toks[2..]
+        .iter()
+        .take_while(|t| matches!(t.tok, Tok::Letter(_)))
+        .count();
+    (letters >= 2 && toks.get(2 + letters)?.tok == Tok::RBrace).then_some(letters + 3)
+}
+
 /// Whether `tok` is an operator that needs an operand on each side.
 fn is_binary_operator(tok: &Tok) -> bool {
     match tok {
@@ -135,7 +179,10 @@ fn is_binary_operator(tok: &Tok) -> bool {
 /// relation: the rest of an expression begun on an earlier row.
 fn starts_a_continuation(row: &Line) -> bool {
     let claim = &row.statements[0];
-    claim.first().is_some_and(|t| is_binary_operator(&t.tok))
+    claim
+        .iter()
+        .find(|t| !matches!(t.tok, Tok::Space | Tok::Quad))
+        .is_some_and(|t| is_binary_operator(&t.tok))
         && !row.continued
         && !claim.iter().any(|t| is_relation(&t.tok))
 }
@@ -314,15 +361,8 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
 /// its row (`{\rm where}~~ \frac{…}{…} = …`) are prose, dropped.
 fn close_statement(statements: &mut Vec<Vec<Token>>, current: &mut Vec<Token>, after_quad: bool) {
     let mut piece = std::mem::take(current);
-    let words = piece
-        .iter()
-        .take_while(|t| match &t.tok {
-            Tok::Text(w) => !w.trim().is_empty(),
-            Tok::Space | Tok::Quad => true,
-            _ => false,
-        })
-        .count();
-    if words < piece.len() && piece[..words].iter().any(|t| matches!(t.tok, Tok::Text(_))) {
+    let words = prose_before(&piece);
+    if words < piece.len() {
         piece.drain(..words);
     }
     if piece.is_empty() {

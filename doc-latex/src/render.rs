@@ -164,6 +164,9 @@ pub fn expr(e: &Expr) -> String {
             format!("\\left({}\\right)", items.join(", "))
         }
         Expr::Matrix(m) => matrix(m),
+        Expr::At { body, at } => {
+            format!("\\left. {} \\right|_{{{}}}", expr(body), expr(at))
+        }
         Expr::Cases(cases) => {
             let rows: Vec<String> = cases.iter().map(case).collect();
             format!("\\begin{{cases}} {} \\end{{cases}}", rows.join(" \\\\ "))
@@ -310,6 +313,7 @@ fn script_base(e: &Expr) -> String {
         | Expr::Matrix(_)
         | Expr::Cases(_)
         | Expr::Sqrt { .. }
+        | Expr::At { .. }
         | Expr::Tuple(_) => expr(e),
         Expr::Symbol(_)
         | Expr::Placeholder

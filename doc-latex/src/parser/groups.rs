@@ -85,7 +85,15 @@ impl Parser<'_> {
                 let items = self.list(Seps::All)?;
                 let closing_invisible =
                     sized && matches!(self.peek(), Some(Tok::Right(Delim::Invisible)));
+                // `\left. X \right|_{x=0}`: `X` evaluated at a point.
+                let evaluation = delim == Delim::Invisible
+                    && matches!(self.peek(), Some(Tok::Right(Delim::Bar)))
+                    && self.peek_at(self.pos + 1) == Some(&Tok::Sub);
                 self.close(open, sized, delim)?;
+                if evaluation {
+                    let body = self.build_group(items)?;
+                    return Ok(Atom::Expr(self.evaluated_at(body)?));
+                }
                 let group = self.build_group(items)?;
                 match group {
                     // `\left\{ \begin{array}{ll} v & c \\ … \end{array} \right.`
@@ -107,6 +115,25 @@ impl Parser<'_> {
             }
         };
         Ok(Atom::Expr(e))
+    }
+
+    /// `body` evaluated where the subscript at the cursor (after its bar)
+    /// says; a subscript `r \times c` is a shape annotation instead
+    /// (`\left. … \right|_{3 \times 9}`).
+    pub(super) fn evaluated_at(&mut self, body: Expr) -> Result<Expr, ParseError> {
+        self.pos += 1; // the `_`
+        let at = self.script_expression(false)?;
+        Ok(match at.shape_annotation() {
+            Some((rows, cols)) => Expr::Shaped {
+                base: Box::new(body),
+                rows,
+                cols,
+            },
+            None => Expr::At {
+                body: Box::new(body),
+                at: Box::new(at),
+            },
+        })
     }
 
     /// The index of a `\times` right before the `\rfloor` closing the

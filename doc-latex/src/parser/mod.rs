@@ -130,7 +130,7 @@ impl<'a> Parser<'a> {
         }
         let head = match self.relation_here() {
             Some(_) => None,
-            None => Some(self.sum(Ctx::default())?),
+            None => Some(self.side(Ctx::default())?),
         };
         let steps = self.steps(Ctx::default())?;
         self.skip_spaces();
@@ -246,7 +246,7 @@ impl<'a> Parser<'a> {
                 let rel = p.text_of(p.pos).to_string();
                 return Err(p.error_here(ErrorKind::RelationWithoutLeftSide(rel)));
             }
-            let first = p.sum(ctx)?;
+            let first = p.side(ctx)?;
             let rest = p.steps(ctx)?;
             Ok(if rest.is_empty() {
                 first
@@ -270,8 +270,28 @@ impl<'a> Parser<'a> {
                 return Ok(steps);
             };
             self.pos += 1;
-            steps.push((rel, self.sum(ctx)?));
+            steps.push((rel, self.side(ctx)?));
         }
+    }
+
+    /// A side of a relation: a sum, evaluated at a point when an
+    /// evaluation bar follows it (`\frac{d f}{d t} \Big\vert_{t=0}`).
+    fn side(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
+        let body = self.sum(ctx)?;
+        if self.evaluation_bar_here(ctx) {
+            self.pos += 1;
+            return self.evaluated_at(body);
+        }
+        Ok(body)
+    }
+
+    /// Whether a bar followed by a subscript is at the cursor where no norm
+    /// is open: an evaluation bar (`\left. … \right|` is read with its
+    /// group).
+    fn evaluation_bar_here(&self, ctx: Ctx) -> bool {
+        ctx.norm.is_none()
+            && self.peek() == Some(&Tok::Bar)
+            && self.peek_at(self.pos + 1) == Some(&Tok::Sub)
     }
 
     fn sum(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
@@ -360,7 +380,9 @@ impl<'a> Parser<'a> {
                     None => Operator::Stop,
                 },
                 // A bar closes a norm open here, separates entries where
-                // bars do, and otherwise opens a norm factor.
+                // bars do, ends the side before an evaluation bar's
+                // subscript, and otherwise opens a norm factor.
+                Tok::Bar if self.evaluation_bar_here(ctx) => Operator::Stop,
                 Tok::Bar if ctx.norm == Some(false) || ctx.seps == Seps::All => Operator::Stop,
                 Tok::DoubleBar if ctx.norm == Some(true) => Operator::Stop,
                 Tok::Bar | Tok::DoubleBar => Operator::Implicit,

@@ -401,9 +401,26 @@ pub fn compile(
             })?;
         (printed, lowering.notes)
     };
-    let derivative = match &located.lhs {
-        Some(Expr::Derivative { of, wrt, .. }) => Some((of.as_ref().clone(), wrt.as_ref().clone())),
-        _ => None,
+    // The left side's derivative, evaluated at zero when a bar says so
+    // (`\left. \frac{∂f}{∂ε} \right|_{ε=0}`).
+    let (derivative, bar_at_zero) = match &located.lhs {
+        Some(Expr::Derivative { of, wrt, .. }) => {
+            (Some((of.as_ref().clone(), wrt.as_ref().clone())), false)
+        }
+        Some(Expr::At { body, at }) => match body.as_ref() {
+            Expr::Derivative { of, wrt, .. } => {
+                let zero = super::lower::evaluation_bindings(at)
+                    .unwrap_or_default()
+                    .iter()
+                    .any(|(name, values)| {
+                        name == wrt.as_ref()
+                            && values.iter().any(|v| super::lower::number(v) == Some(0.0))
+                    });
+                (Some((of.as_ref().clone(), wrt.as_ref().clone())), zero)
+            }
+            _ => (None, false),
+        },
+        _ => (None, false),
     };
     // `≈`, `≃` between values: a first-order claim (BCH for a small angle,
     // a linearised propagation), in the small quantities it prints.
@@ -470,7 +487,7 @@ pub fn compile(
         }
         (_, None) => match &wrt_ast {
             Some(wrt) => Some(
-                ctx.variable_of(scope, wrt, spec.side, spec.at_zero)
+                ctx.variable_of(scope, wrt, spec.side, spec.at_zero || bar_at_zero)
                     .map_err(|m| claim_error(spec, m))?,
             ),
             None if kind == ClaimKind::FirstOrder => {
@@ -758,24 +775,37 @@ impl<'a> TextDerivation<'a> {
         p: &[S],
         holding: &[SymbolId],
     ) -> Result<Value<S>, ShapeError> {
-        let mut env = Env::new(self.space(), p.to_vec());
-        // What a partial holds keeps its value while the variable moves.
-        let held = holding
-            .iter()
-            .map(|id| Ok((*id, env.symbol(*id)?)))
-            .collect::<Result<Vec<_>, ShapeError>>()?;
-        if let Some(v) = variable {
-            env.perturb(v, x)?;
-        }
-        for (id, value) in held {
-            env.bind(id, value);
-        }
-        let value = env.eval(term)?;
-        match (output, variable) {
-            (Some(side), Some(_)) if value.is_group() => {
-                let base = Env::new(self.space(), p.to_vec()).eval(term)?;
-                value.minus(base, side)
+        let at = |x: &[S]| -> Result<Value<S>, ShapeError> {
+            let mut env = Env::new(self.space(), p.to_vec());
+            // What a partial holds keeps its value while the variable moves.
+            let held = holding
+                .iter()
+                .map(|id| Ok((*id, env.symbol(*id)?)))
+                .collect::<Result<Vec<_>, ShapeError>>()?;
+            if let Some(v) = variable {
+                env.perturb(v, x)?;
             }
+            for (id, value) in held {
+                env.bind(id, value);
+            }
+            env.eval(term)
+        };
+        let value = at(x)?;
+        // A group-valued map is read in local coordinates (on the right
+        // unless said): by a variable of several coordinates a Jacobian in
+        // the tangent; by one coordinate (`dR/dt`) it stays the matrix, and
+        // so do both sides of a first-order claim (`Exp(−θ) R ≈ (I − ⌊θ⌋)
+        // R` compares a rotation with a matrix).
+        let first_order = self.claim.kind == ClaimKind::FirstOrder;
+        let side = match (output, variable) {
+            (Some(side), Some(_)) => Some(side),
+            (None, Some(v)) if v.dim() > 1 && !first_order => Some(Perturbation::Right),
+            _ => None,
+        };
+        match side {
+            // About the value at the expansion point (the variable at zero
+            // when it is expanded about zero).
+            Some(side) if value.is_group() => value.minus(at(&vec![S::zero(); x.len()])?, side),
             _ => Ok(value),
         }
     }
@@ -809,6 +839,7 @@ impl<'a> TextDerivation<'a> {
         }
         let p = lift::<DualSVec64<1>>(&self.stored);
         let failure = std::cell::RefCell::new(None);
+        let shape = std::cell::Cell::new((0, 0));
         let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
             match self
                 .evaluate(
@@ -821,17 +852,26 @@ impl<'a> TextDerivation<'a> {
                 )
                 .and_then(Value::matrix)
             {
-                Ok(m) => m.as_slice().to_vec(),
+                Ok(m) => {
+                    shape.set(m.shape());
+                    m.as_slice().to_vec()
+                }
                 Err(e) => {
                     *failure.borrow_mut() = Some(e);
                     Vec::new()
                 }
             }
         });
-        match failure.into_inner() {
-            Some(e) => Err(e),
-            None => Ok(m),
+        if let Some(e) = failure.into_inner() {
+            return Err(e);
         }
+        // The derivative by one coordinate (`dR/dt`) has the map's shape.
+        let (rows, cols) = shape.get();
+        Ok(if m.ncols() == 1 && cols > 1 && rows * cols == m.nrows() {
+            DMatrix::from_column_slice(rows, cols, m.as_slice())
+        } else {
+            m
+        })
     }
 
     /// The values at this sample of the links stated in words `term` uses
@@ -939,6 +979,17 @@ impl<'a> TextDerivation<'a> {
                 ClaimKind::Value => DMatrix::from_column_slice(rows * cols, 1, m.as_slice()),
                 _ => m,
             }),
+            // The derivative by one coordinate printed as a matrix
+            // (`\dot{R} = R [ω]_×`, `[\dot{R}, \dot{p}]`): its entries
+            // column by column (`vec`), as the map's value is read.
+            Ok(m)
+                if claim.kind != ClaimKind::Value
+                    && expected.1 == 1
+                    && m.ncols() > 1
+                    && m.len() == expected.0 =>
+            {
+                Printed::Evaluated(DMatrix::from_column_slice(rows * cols, 1, m.as_slice()))
+            }
             // A homogeneous coordinate kept: the verdict engine names it.
             Ok(m) if m.nrows() == expected.0 + 1 && m.ncols() == expected.1 => {
                 Printed::Evaluated(m)
@@ -972,7 +1023,7 @@ impl<'a> TextDerivation<'a> {
                 &self.stored,
                 &self.claim.holding,
             )
-                .and_then(Value::matrix)
+            .and_then(Value::matrix)
         };
         let (truth, printed) = (at(&self.claim.of).ok()?, at(term).ok()?);
         let error = if truth.shape() == printed.shape() {

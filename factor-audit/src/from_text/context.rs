@@ -552,14 +552,10 @@ impl Context {
                     let scope = self.scope_of(target);
                     return self.update_variable(scope, target, update);
                 }
+                // A group element is perturbed on the right unless said.
                 let side = match (side.or(default.side), additive) {
                     (Some(Side::Left), false) => Perturbation::Left,
-                    (Some(Side::Right), false) => Perturbation::Right,
-                    (None, false) => {
-                        return Err(format!(
-                            "`{key}` is perturbed on a side: say `side = \"left\"` or `\"right\"`"
-                        ));
-                    }
+                    (Some(Side::Right) | None, false) => Perturbation::Right,
                     (_, true) => Perturbation::Left,
                 };
                 if at_zero && !additive {
@@ -587,6 +583,17 @@ impl Context {
                 if side.is_some() || coordinates.is_some() {
                     return Err(format!(
                         "`{key}` is a definition: it is perturbed additively, as a whole"
+                    ));
+                }
+                // A column of other symbols (`xy = [x; y]`): each of them.
+                if let Meaning::Definition(t) = &self.table.entries[target].meaning
+                    && let Some(parts) = stacked_symbols(t)
+                {
+                    return Ok(Variable::Joint(
+                        parts
+                            .into_iter()
+                            .map(|id| self.variable(id, None, None, at_zero))
+                            .collect::<Result<_, _>>()?,
                     ));
                 }
                 Ok(Variable::Defined {
@@ -886,11 +893,10 @@ impl Context {
         if matches!(variable, Variable::Update { .. }) {
             return Err("a link stated in words differentiates by a symbol, not an update".into());
         }
-        let output = match spec.output {
-            Some(Side::Left) => Some(Perturbation::Left),
-            Some(Side::Right) => Some(Perturbation::Right),
-            None => local_coordinates(&variable),
-        };
+        let output = spec.output.map(|s| match s {
+            Side::Left => Perturbation::Left,
+            Side::Right => Perturbation::Right,
+        });
         let mut holding = Vec::with_capacity(spec.holding.len());
         for held in &spec.holding {
             let written = canonical_symbol(held, &self.vocabulary)?;
@@ -923,6 +929,7 @@ impl Context {
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        at_zero: bool,
     ) -> Result<Link, LowerError> {
         if let Some(k) = self
             .truth_links
@@ -936,7 +943,7 @@ impl Context {
         }
         let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
         let variable = self
-            .variable_of(scope, wrt, None, false)
+            .variable_of(scope, wrt, None, at_zero)
             .map_err(|m| LowerError::at(wrt, m))?;
         if matches!(variable, Variable::Update { .. }) {
             return Err(LowerError::at(
@@ -951,12 +958,11 @@ impl Context {
                 other => self.lookup(scope, &other.to_string()),
             })
             .collect();
-        let output = local_coordinates(&variable);
         self.truth_links.push(TruthLink {
             key: key.to_string(),
             of,
             variable,
-            output,
+            output: None,
             broken: None,
             inline: Some(scope),
             holding,
@@ -1006,16 +1012,13 @@ impl Context {
         // A link whose variable cannot be sized is broken: the claims
         // using it cannot be read.
         for k in 0..self.truth_links.len() {
-            if let Variable::Defined { symbol, .. } = self.truth_links[k].variable {
-                match dim_of(self, symbol) {
-                    Ok((s, _)) => {
-                        if let Variable::Defined { shape, .. } = &mut self.truth_links[k].variable {
-                            *shape = s;
-                        }
-                    }
-                    Err(m) => self.truth_links[k].broken = Some(m),
-                }
+            let mut variable = self.truth_links[k].variable.clone();
+            if let Err(m) = size_defined(&mut variable, &|symbol| {
+                dim_of(self, symbol).map(|(shape, _)| shape)
+            }) {
+                self.truth_links[k].broken = Some(m);
             }
+            self.truth_links[k].variable = variable;
         }
         Ok(())
     }
@@ -1062,14 +1065,41 @@ impl Context {
     }
 }
 
-/// The local coordinates a group-valued map differentiated by `variable`
-/// is read in: the side the variable is perturbed on, else the right
-/// (`Log(f₀⁻¹ f)`); a map with other values is read as it is.
-fn local_coordinates(variable: &Variable) -> Option<Perturbation> {
-    Some(match variable {
-        Variable::Stored { kind, side, .. } if !kind.is_additive() => *side,
-        _ => Perturbation::Right,
-    })
+/// Sets the shape of every definition `variable` perturbs (one, or each
+/// of several together) from `shape_of`.
+fn size_defined(
+    variable: &mut Variable,
+    shape_of: &dyn Fn(SymbolId) -> Result<(usize, usize), String>,
+) -> Result<(), String> {
+    match variable {
+        Variable::Defined { symbol, shape, .. } => *shape = shape_of(*symbol)?,
+        Variable::Joint(parts) => {
+            for part in parts {
+                size_defined(part, shape_of)?;
+            }
+        }
+        Variable::Stored { .. } | Variable::Update { .. } => {}
+    }
+    Ok(())
+}
+
+/// The symbols a definition stacks in a column (`[x; y]`, `(x, y)`), when
+/// it is only that.
+fn stacked_symbols(t: &Term) -> Option<Vec<SymbolId>> {
+    let entries: Vec<&Term> = match t {
+        Term::Blocks(rows) if rows.len() > 1 && rows.iter().all(|r| r.len() == 1) => {
+            rows.iter().map(|r| &r[0]).collect()
+        }
+        Term::Stack(items) if items.len() > 1 => items.iter().collect(),
+        _ => return None,
+    };
+    entries
+        .into_iter()
+        .map(|e| match e {
+            Term::Symbol(id) => Some(*id),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The LaTeX names of a factor's stored scalars: each field named by the
@@ -1163,8 +1193,10 @@ impl Resolver for ScopeResolver<'_> {
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        at_zero: bool,
     ) -> Result<Link, LowerError> {
-        self.ctx.inline_link(self.scope, key, of, wrt, holding)
+        self.ctx
+            .inline_link(self.scope, key, of, wrt, holding, at_zero)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {

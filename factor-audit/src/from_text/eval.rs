@@ -296,6 +296,19 @@ impl<'a, S: Scalar> Env<'a, S> {
                 ),
             },
             Term::Template(t, args) => self.template(*t, args),
+            Term::At { body, bindings } => {
+                let mut values = Vec::with_capacity(bindings.len());
+                for (id, t) in bindings {
+                    values.push((*id, self.eval(t)?));
+                }
+                let saved = (self.bound.clone(), self.memo.clone());
+                for (id, v) in values {
+                    self.bind(id, v);
+                }
+                let result = self.eval(body);
+                (self.bound, self.memo) = saved;
+                result
+            }
         }
     }
 

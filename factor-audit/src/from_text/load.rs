@@ -167,6 +167,14 @@ impl TextAudit {
                     continue;
                 }
             };
+            // A name an evaluation bar binds that the file does not define
+            // (`\left. \frac{∂ A ⊕ p}{∂ A} \right|_{A = D}`) is defined by
+            // the bar, in this formula.
+            let bound = bar_definitions(&place, &contexts[c], i);
+            if let Err(e) = contexts[c].add_claim_symbols(i, &spec.id, &bound) {
+                failures.fail(i, e)?;
+                continue;
+            }
             match claims::lhs_key(spec, &place, &vocabulary) {
                 Ok(Some(key)) => {
                     contexts[c].links.entry(key).or_insert(i);
@@ -277,6 +285,36 @@ impl TextAudit {
     pub fn unread(&self) -> &[Unread] {
         &self.unread
     }
+}
+
+/// The names the evaluation bars of a located claim bind that its scope
+/// does not define, with the last value each is given (`A = e^0 D = D`
+/// defines `A` as `D`); bindings to zero are the bar's point, not a
+/// definition.
+fn bar_definitions(
+    place: &claims::Located,
+    ctx: &Context,
+    claim: usize,
+) -> std::collections::BTreeMap<String, toml::Value> {
+    let mut out = std::collections::BTreeMap::new();
+    for side in place.lhs.iter().chain(std::iter::once(&place.rhs)) {
+        for (_, node) in super::tree::nodes(side) {
+            let doc_latex::ast::Expr::At { at, .. } = node else {
+                continue;
+            };
+            for (name, values) in super::lower::evaluation_bindings(at).unwrap_or_default() {
+                let key = name.to_string();
+                let value = values.last().expect("a binding has a value");
+                if ctx.lookup(Some(claim), &key).is_none()
+                    && super::lower::number(value) != Some(0.0)
+                {
+                    out.entry(key)
+                        .or_insert_with(|| toml::Value::String(value.to_string()));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// A chain rule's links must be claims that were read and whose printed

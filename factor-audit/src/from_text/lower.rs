@@ -112,15 +112,16 @@ pub trait Resolver {
     /// A derivative printed in a formula that no claim or stated link
     /// names: its true value, when `of` and `wrt` can be read, `holding`
     /// the other variables the formula differentiates `of` by (a partial
-    /// holds them).
+    /// holds them), taken at `wrt = 0` when `at_zero` (an evaluation bar).
     fn inline_link(
         &mut self,
         key: &str,
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        at_zero: bool,
     ) -> Result<Link, LowerError> {
-        let _ = (of, wrt, holding);
+        let _ = (of, wrt, holding, at_zero);
         Err(LowerError {
             message: "no new derivative is read here".into(),
             fragment: key.to_string(),
@@ -155,6 +156,35 @@ pub struct Lowering<'r> {
 /// The canonical LaTeX of a symbol: the key of the symbols file.
 pub fn symbol_key(s: &ast::Symbol) -> String {
     Expr::Symbol(s.clone()).to_string()
+}
+
+/// The bindings of an evaluation bar's subscript: `x = a = b` (the name
+/// and its printed values), several separated by commas or in the rows of
+/// a `subarray`.
+pub fn evaluation_bindings(at: &Expr) -> Result<Vec<(Expr, Vec<Expr>)>, LowerError> {
+    let items: Vec<&Expr> = match at {
+        Expr::Tuple(items) => items.iter().collect(),
+        Expr::Matrix(m) => m.rows.iter().flatten().collect(),
+        one => vec![one],
+    };
+    items
+        .into_iter()
+        .map(|item| match item {
+            Expr::Relation { first, rest } if rest.iter().all(|(r, _)| *r == Rel::Eq) => Ok((
+                first.as_ref().clone(),
+                rest.iter().map(|(_, v)| v.clone()).collect(),
+            )),
+            other => Err(LowerError::at(
+                other,
+                "an evaluation bar's subscript is `name = value`, or several of them",
+            )),
+        })
+        .collect()
+}
+
+/// Whether `e` is a printed zero (`0`, `\mathbf{0}`, `0_3`).
+fn is_zero(e: &Expr) -> bool {
+    zero_block(e).is_some()
 }
 
 /// Whether `s` is a plain `e` (a superscript aside): Euler's number where
@@ -292,22 +322,30 @@ impl<'r> Lowering<'r> {
                     .partials
                     .iter()
                     .find(|(k, _)| *k == of.to_string())
-                    .map(|(_, wrts)| wrts.iter().filter(|w| *w != wrt.as_ref()).cloned().collect())
+                    .map(|(_, wrts)| {
+                        wrts.iter()
+                            .filter(|w| *w != wrt.as_ref())
+                            .cloned()
+                            .collect()
+                    })
                     .unwrap_or_default();
                 let link = match self.resolver.link(&key) {
                     Some(link) => link,
-                    None => self.resolver.inline_link(&key, of, wrt, &holding).map_err(|err| {
-                        LowerError::at(
-                            e,
-                            format!(
-                                "this derivative is no claim of the symbols file, and what it \
+                    None => self
+                        .resolver
+                        .inline_link(&key, of, wrt, &holding, false)
+                        .map_err(|err| {
+                            LowerError::at(
+                                e,
+                                format!(
+                                    "this derivative is no claim of the symbols file, and what it \
                                  prints cannot be differentiated: {} (add a claim, with `lhs` \
                                  if it is printed differently there, or a \
                                  `[[context.NAME.link]]`)",
-                                err.message
-                            ),
-                        )
-                    })?,
+                                    err.message
+                                ),
+                            )
+                        })?,
                 };
                 match link {
                     Link::Claim(k) => Term::Link(k),
@@ -476,6 +514,54 @@ impl<'r> Lowering<'r> {
                     e,
                     "a relation inside a formula is not a value",
                 ));
+            }
+            Expr::At { body, at } => self.evaluated_at(body, at, e)?,
+        })
+    }
+
+    /// `\left. X \right|_{x = a, …}`: a derivative `X` by `x` at `x = 0`
+    /// is taken at zero; otherwise `X` with the bound symbols given the
+    /// printed values (a name the file does not define is defined by the
+    /// bar, as the claim's own reading).
+    fn evaluated_at(&mut self, body: &Expr, at: &Expr, e: &Expr) -> Result<Term, LowerError> {
+        let bindings = evaluation_bindings(at)?;
+        if let Expr::Derivative { of, wrt, .. } = body {
+            let at_zero = bindings
+                .iter()
+                .any(|(name, values)| name == wrt.as_ref() && values.iter().any(is_zero));
+            if at_zero {
+                let key = e.to_string();
+                return Ok(match self.resolver.link(&key) {
+                    Some(Link::Claim(k)) => Term::Link(k),
+                    Some(Link::Truth(k)) => Term::TruthLink(k),
+                    _ => match self.resolver.inline_link(&key, of, wrt, &[], true)? {
+                        Link::Claim(k) => Term::Link(k),
+                        Link::Truth(k) => Term::TruthLink(k),
+                        Link::Broken(why) => return Err(LowerError::at(e, why)),
+                    },
+                });
+            }
+        }
+        let mut bound = Vec::new();
+        for (name, values) in &bindings {
+            let key = match name {
+                Expr::Symbol(s) => symbol_key(s),
+                other => other.to_string(),
+            };
+            let Some((id, _)) = self.resolver.symbol(&key)? else {
+                continue;
+            };
+            // `A = e^0 D = D`: the last value printed.
+            let value = values.last().expect("a binding has a value");
+            bound.push((id, self.expr(value)?));
+        }
+        let body = self.expr(body)?;
+        Ok(if bound.is_empty() {
+            body
+        } else {
+            Term::At {
+                body: Box::new(body),
+                bindings: bound,
             }
         })
     }
@@ -1186,6 +1272,9 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
         }
         Term::Norm(x) | Term::Quotient { numerator: x, .. } => free(x).then_some(0),
         Term::Call(_, args) | Term::Template(_, args) => args.iter().all(free).then_some(0),
+        Term::At { body, bindings } => {
+            (bindings.iter().all(|(_, t)| free(t)) && free(body)).then_some(0)
+        }
     }
 }
 

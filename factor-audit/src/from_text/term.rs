@@ -94,6 +94,14 @@ pub enum Term {
     /// An operator or function the symbols file defines by LaTeX over its
     /// arguments ([`Template`]), applied.
     Template(usize, Vec<Term>),
+    /// `\left. X \right|_{x = a}`: `X` with symbols bound to values (what
+    /// depends on them recomputed).
+    At {
+        /// `X`.
+        body: Box<Term>,
+        /// The symbols and their values.
+        bindings: Vec<(SymbolId, Term)>,
+    },
 }
 
 /// An operator or function defined by LaTeX over its arguments.
@@ -156,6 +164,9 @@ impl Term {
             Term::Call(_, args) | Term::Stack(args) | Term::Template(_, args) => {
                 args.iter().collect()
             }
+            Term::At { body, bindings } => std::iter::once(body.as_ref())
+                .chain(bindings.iter().map(|(_, t)| t))
+                .collect(),
             Term::Blocks(rows) => rows.iter().flatten().collect(),
         }
     }

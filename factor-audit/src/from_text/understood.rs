@@ -125,6 +125,17 @@ impl<'a> Names<'a> {
                 None => format!("\\left[\\text{{claim {}}}\\right]", k + 1),
             },
             Term::TruthLink(k) => format!("\\left[{}\\right]", self.ctx.truth_links[*k].key),
+            Term::At { body, bindings } => {
+                let at: Vec<String> = bindings
+                    .iter()
+                    .map(|(id, t)| format!("{} = {}", self.ctx.table.key(*id), self.render(t)))
+                    .collect();
+                format!(
+                    "\\left. {} \\right|_{{{}}}",
+                    self.render(body),
+                    at.join(", ")
+                )
+            }
             Term::Template(t, args) => {
                 let key = &self.ctx.templates[*t].key;
                 match (key.strip_prefix('^'), args.as_slice()) {
@@ -190,6 +201,7 @@ fn atomic(t: &Term) -> bool {
             | Term::Transpose(_)
             | Term::Shaped(..)
             | Term::Fraction { .. }
+            | Term::At { .. }
     ) && !matches!(t, Term::Number(x) if *x < 0.0)
 }
 
