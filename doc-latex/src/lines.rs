@@ -15,7 +15,7 @@
 
 use std::ops::Range;
 
-use crate::lexer::{LexError, Tok, Token};
+use crate::lexer::{Delim, LexError, Tok, Token};
 use crate::macros::{Vocabulary, tokens};
 use crate::names::{ALIGNMENT_ENVIRONMENTS, CASES_ENVIRONMENTS, RELATION_COMMANDS, lookup};
 
@@ -129,19 +129,28 @@ fn prose_before(piece: &[Token]) -> usize {
     let mut i = 0;
     let mut words = false;
     while i < piece.len() {
-        match &piece[i].tok {
-            Tok::Space | Tok::Quad => i += 1,
-            Tok::Text(w) if !w.trim().is_empty() => {
-                words = true;
+        let word = match &piece[i].tok {
+            Tok::Space | Tok::Quad => {
                 i += 1;
+                continue;
             }
-            _ => match upright_word(&piece[i..]) {
-                Some(n) => {
-                    words = true;
-                    i += n;
-                }
-                None => break,
-            },
+            Tok::Text(w) if !w.trim().is_empty() => Some(1),
+            _ => upright_word(&piece[i..]),
+        };
+        // A word applied to something (`\mathrm{Ad}(T)`, `\text{Log}_x`) is
+        // a function's name, not prose.
+        let applied = |after: usize| {
+            matches!(
+                piece.get(after).map(|t| &t.tok),
+                Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren) | Tok::Sub | Tok::Sup)
+            )
+        };
+        match word {
+            Some(n) if !applied(i + n) => {
+                words = true;
+                i += n;
+            }
+            _ => break,
         }
     }
     if words { i } else { 0 }
@@ -150,10 +159,8 @@ fn prose_before(piece: &[Token]) -> usize {
 /// The length of an upright word at the start of `toks`: `\mathrm{where}`
 /// (how `{\rm where}` is read), braced or not.
 fn upright_word(toks: &[Token]) -> Option<usize> {
-    if toks.first()?.tok == Tok::LBrace {
-        let inner = upright_word(&toks[1..])?;
-        return (toks.get(1 + inner)?.tok == Tok::RBrace).then_some(inner + 2);
-    }
+    let braced = usize::from(toks.first()?.tok == Tok::LBrace);
+    let toks = &toks[braced..];
     if !matches!(&toks.first()?.tok, Tok::Command(c) if c == "mathrm")
         || toks.get(1)?.tok != Tok::LBrace
     {
@@ -163,7 +170,13 @@ fn upright_word(toks: &[Token]) -> Option<usize> {
         .iter()
         .take_while(|t| matches!(t.tok, Tok::Letter(_)))
         .count();
-    (letters >= 2 && toks.get(2 + letters)?.tok == Tok::RBrace).then_some(letters + 3)
+    if letters < 2 || toks.get(2 + letters)?.tok != Tok::RBrace {
+        return None;
+    }
+    if braced == 1 && toks.get(3 + letters)?.tok != Tok::RBrace {
+        return None;
+    }
+    Some(letters + 3 + 2 * braced)
 }
 
 /// Whether `tok` is an operator that needs an operand on each side.
@@ -362,9 +375,10 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
 fn close_statement(statements: &mut Vec<Vec<Token>>, current: &mut Vec<Token>, after_quad: bool) {
     let mut piece = std::mem::take(current);
     let words = prose_before(&piece);
-    if words < piece.len() {
-        piece.drain(..words);
+    if words == piece.len() && words > 0 {
+        return; // only words: no statement
     }
+    piece.drain(..words);
     if piece.is_empty() {
         return;
     }
@@ -446,6 +460,19 @@ mod tests {
             texts("\\begin{multline} a = b \\\\ c d \\end{multline}").len(),
             1
         );
+    }
+
+    #[test]
+    fn words_before_a_formula_are_prose_but_a_function_name_is_not() {
+        let statements = |math: &str| {
+            lines(math, &Vocabulary::default(), 0, None).unwrap()[0].statements[0]
+                .iter()
+                .map(|t| math[t.start..t.end].to_string())
+                .collect::<String>()
+        };
+        assert_eq!(statements("\\empty {\\rm where}~~ c = d"), "c=d");
+        assert_eq!(statements("\\text{with} \\quad c = d"), "c=d");
+        assert_eq!(statements("\\mathrm{Ad}(T) = x"), "\\mathrm{Ad}(T)=x");
     }
 
     #[test]

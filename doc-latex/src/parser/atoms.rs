@@ -99,7 +99,9 @@ impl Parser<'_> {
                 self.pos += 1;
                 self.prescripted_symbol()
             }
-            Tok::Sup | Tok::Sub => self.prescripted_symbol(),
+            Tok::Sup | Tok::Sub if self.frame_prescripts_follow(self.pos) => {
+                self.prescripted_symbol()
+            }
             Tok::Text(t) => {
                 self.pos += 1;
                 Ok(match operator_word(t.trim()) {

@@ -5,7 +5,7 @@
 //! ```text
 //! statement := ['\Rightarrow'] [sum] (rel sum)*          (one line)
 //! relation  := sum (rel sum)*                            (inside groups)
-//! sum       := term (('+' | '-') term)*
+//! sum       := term (('+' | '-') term)* [bar '_' script] (a bar: evaluated at)
 //! term      := ('-' | '+') term | product
 //! product   := factor (mulop? factor)*                   (juxtaposition = implicit)
 //! factor    := atom scripts [ '(' args ')' scripts ]     (application after a symbol)
@@ -130,7 +130,7 @@ impl<'a> Parser<'a> {
         }
         let head = match self.relation_here() {
             Some(_) => None,
-            None => Some(self.side(Ctx::default())?),
+            None => Some(self.sum(Ctx::default())?),
         };
         let steps = self.steps(Ctx::default())?;
         self.skip_spaces();
@@ -246,7 +246,7 @@ impl<'a> Parser<'a> {
                 let rel = p.text_of(p.pos).to_string();
                 return Err(p.error_here(ErrorKind::RelationWithoutLeftSide(rel)));
             }
-            let first = p.side(ctx)?;
+            let first = p.sum(ctx)?;
             let rest = p.steps(ctx)?;
             Ok(if rest.is_empty() {
                 first
@@ -270,19 +270,8 @@ impl<'a> Parser<'a> {
                 return Ok(steps);
             };
             self.pos += 1;
-            steps.push((rel, self.side(ctx)?));
+            steps.push((rel, self.sum(ctx)?));
         }
-    }
-
-    /// A side of a relation: a sum, evaluated at a point when an
-    /// evaluation bar follows it (`\frac{d f}{d t} \Big\vert_{t=0}`).
-    fn side(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
-        let body = self.sum(ctx)?;
-        if self.evaluation_bar_here(ctx) {
-            self.pos += 1;
-            return self.evaluated_at(body);
-        }
-        Ok(body)
     }
 
     /// Whether a bar followed by a subscript is at the cursor where no norm
@@ -309,14 +298,20 @@ impl<'a> Parser<'a> {
             self.pos += 1;
             rest.push((sign, self.term(ctx)?));
         }
-        Ok(if rest.is_empty() {
+        let sum = if rest.is_empty() {
             first
         } else {
             Expr::Sum {
                 first: Box::new(first),
                 rest,
             }
-        })
+        };
+        // A side evaluated at a point: `\frac{d f}{d t} \Big\vert_{t=0}`.
+        if self.evaluation_bar_here(ctx) {
+            self.pos += 1;
+            return self.evaluated_at(sum);
+        }
+        Ok(sum)
     }
 
     fn term(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
@@ -406,11 +401,10 @@ impl<'a> Parser<'a> {
                 | Tok::Left(_)
                 | Tok::Begin(_)
                 | Tok::Bar
-                | Tok::DoubleBar
-                // Pre-scripts on the next symbol (`(…)^{I}_{G} \hat{R}`).
-                | Tok::Sup
-                | Tok::Sub,
+                | Tok::DoubleBar,
             ) => true,
+            // A frame's pre-scripts on the next symbol (`(…)^{I}_{G} \hat{R}`).
+            Some(Tok::Sup | Tok::Sub) => self.frame_prescripts_follow(i),
             Some(Tok::Command(c)) => {
                 c != "mid"
                     && lookup(RELATION_COMMANDS, c).is_none()

@@ -248,8 +248,8 @@ impl Parser<'_> {
     /// \hat{R}`. They are when a symbol follows directly and they name
     /// frames: both a super- and a subscript, or one starting with a
     /// capital letter, and neither a number, a sign or a postfix marker.
-    fn frame_prescripts_follow(&self) -> bool {
-        let mut i = self.pos;
+    pub(super) fn frame_prescripts_follow(&self, at: usize) -> bool {
+        let mut i = at;
         let (mut sup, mut sub, mut capital) = (false, false, false);
         while let Some(t @ (Tok::Sup | Tok::Sub)) = self.peek_at(i) {
             let is_sup = *t == Tok::Sup;
@@ -282,7 +282,7 @@ impl Parser<'_> {
 
     /// The scripts after anything but a symbol.
     pub(super) fn scripts_on_expr(&mut self, mut e: Expr) -> Result<Expr, ParseError> {
-        if self.frame_prescripts_follow() {
+        if self.frame_prescripts_follow(self.pos) {
             return Ok(e);
         }
         let scripts = self.collect_scripts()?;

@@ -95,6 +95,9 @@ pub struct TextClaim {
     pub notes: Vec<String>,
     /// The other arguments its partial derivative holds (`holding`).
     pub holding: Vec<SymbolId>,
+    /// Its map is not finite where its variable is expanded about zero (a
+    /// removable singularity): it is compared at [`super::eval::NEAR_ZERO`].
+    pub near_zero: bool,
 }
 
 impl TextClaim {
@@ -170,8 +173,18 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             "give one of `label`, `anchor` and `after`",
         ));
     }
+    if spec.chain && spec.line.is_some() {
+        return Err(claim_error(
+            spec,
+            "`chain` follows the chain from the located line to its end: it goes without `line` \
+             (quote the line's own LaTeX in `anchor`)",
+        ));
+    }
+    let region = doc
+        .region(spec.section.as_deref(), spec.occurrence)
+        .map_err(lookup)?;
     let claim = if let Some(after) = &spec.after {
-        let formula = match doc.locate(after).map_err(lookup)? {
+        let formula = match doc.locate_in(&region, after).map_err(lookup)? {
             Found::Prose { after, .. } => after,
             Found::Formula(f) => {
                 return Err(claim_error(
@@ -201,7 +214,7 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
         };
         if let Locator::Anchor(a) = locator {
             // An anchor must be in a formula: never another display silently.
-            if let Found::Prose { line, .. } = doc.locate(a).map_err(lookup)? {
+            if let Found::Prose { line, .. } = doc.locate_in(&region, a).map_err(lookup)? {
                 return Err(lookup(doc_latex::LookupError::AnchorInProse {
                     anchor: short(a),
                     line,
@@ -209,18 +222,33 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             }
         }
         if spec.chain {
-            doc.chain(locator)
+            doc.chain_in(&region, locator)
                 .map_err(lookup)?
                 .pop()
                 .ok_or_else(|| claim_error(spec, "the chain is empty"))?
         } else if let (Locator::Anchor(a), None) = (locator, spec.line) {
-            doc.claim_in_formulas(a).map_err(lookup)?
+            doc.claim_in_formulas_of(&region, a).map_err(lookup)?
         } else {
-            let formula = doc.find(locator).map_err(lookup)?;
-            pick(
-                doc.claims(formula)
-                    .map_err(|e| claim_error(spec, e.to_string()))?,
-            )?
+            let formula = doc.find_in(&region, locator).map_err(lookup)?;
+            let lines = doc
+                .claims(formula)
+                .map_err(|e| claim_error(spec, e.to_string()))?;
+            match (&spec.label, spec.line) {
+                // A `\label` printed on one line of a display names that line.
+                (Some(name), None) if lines.len() > 1 => {
+                    let marker = format!("\\label{{{name}}}");
+                    let own: Vec<_> = lines
+                        .iter()
+                        .filter(|c| c.source.contains(&marker))
+                        .cloned()
+                        .collect();
+                    match <[doc_latex::Claim; 1]>::try_from(own) {
+                        Ok([one]) => one,
+                        Err(_) => pick(lines)?,
+                    }
+                }
+                _ => pick(lines)?,
+            }
         }
     };
     let statement = match spec.statement {
@@ -642,6 +670,7 @@ pub fn compile(
         understood,
         notes,
         holding,
+        near_zero: false,
     })
 }
 
@@ -776,7 +805,7 @@ impl<'a> TextDerivation<'a> {
         holding: &[SymbolId],
     ) -> Result<Value<S>, ShapeError> {
         let at = |x: &[S]| -> Result<Value<S>, ShapeError> {
-            let mut env = Env::new(self.space(), p.to_vec());
+            let mut env = Env::new(self.space(), p.to_vec()).near_zero(self.claim.near_zero);
             // What a partial holds keeps its value while the variable moves.
             let held = holding
                 .iter()

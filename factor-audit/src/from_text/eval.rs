@@ -62,7 +62,16 @@ pub struct Env<'a, S: Scalar> {
     /// The values at this sample of the links stated in words, when the
     /// caller computed them (by context link index).
     truths: Vec<Option<DMatrix<S>>>,
+    /// Where a variable expanded about zero is: `0`, or [`NEAR_ZERO`] in
+    /// each entry when the map is not finite at zero itself.
+    zero: S,
 }
+
+/// Where a variable expanded about zero is put when a map has a removable
+/// singularity there (`k̂ sin(θ/2)` with `k̂ = θ/|θ|`): close enough that
+/// values and derivatives there agree with their limits at zero to far
+/// below the audit's tolerance.
+pub const NEAR_ZERO: f64 = 1e-9;
 
 fn fail<T>(message: impl Into<String>) -> Result<T, ShapeError> {
     Err(ShapeError(message.into()))
@@ -83,7 +92,16 @@ impl<'a, S: Scalar> Env<'a, S> {
             memo: vec![None; n],
             depth: 0,
             truths: Vec::new(),
+            zero: S::zero(),
         }
+    }
+
+    /// The sample with variables expanded about zero put at [`NEAR_ZERO`].
+    pub fn near_zero(mut self, near: bool) -> Self {
+        if near {
+            self.zero = S::from_f64(NEAR_ZERO);
+        }
+        self
     }
 
     /// The sample with the values of the links stated in words.
@@ -114,7 +132,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 }
                 let range = *offset..offset + kind.scalars();
                 let base: Vec<S> = if *at_zero {
-                    vec![S::zero(); kind.scalars()]
+                    vec![self.zero; kind.scalars()]
                 } else {
                     self.stored[range.clone()].to_vec()
                 };
@@ -129,7 +147,7 @@ impl<'a, S: Scalar> Env<'a, S> {
             } => {
                 let increment = DMatrix::from_column_slice(shape.0, shape.1, x);
                 let base = if *at_zero {
-                    DMatrix::zeros(shape.0, shape.1)
+                    DMatrix::from_element(shape.0, shape.1, self.zero)
                 } else {
                     self.symbol(*symbol)?
                         .sized((Some(shape.0), Some(shape.1)))?

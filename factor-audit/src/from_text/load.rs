@@ -396,9 +396,20 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
     {
         fix(v, ctx, stored, &error)?;
     }
-    let value = TextDerivation::new(claim, ctx, stored.to_vec())
+    let mut value = TextDerivation::new(claim, ctx, stored.to_vec())
         .map_value()
         .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
+    if value.iter().any(|x| !x.is_finite()) && expanded_about_zero(claim.variable.as_ref()) {
+        // A removable singularity at zero (`k̂ sin(θ/2)`): next to it.
+        claim.near_zero = true;
+        value = TextDerivation::new(claim, ctx, stored.to_vec())
+            .map_value()
+            .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
+        claim.notes.push(format!(
+            "the map is not finite at zero (a removable singularity): compared at {:e} from it",
+            super::eval::NEAR_ZERO
+        ));
+    }
     if value.iter().any(|x| !x.is_finite()) {
         return Err(error("its map is not finite at a sample".into()));
     }
@@ -407,6 +418,15 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
         independent_of_variable(claim, ctx).map_err(error)?;
     }
     Ok(())
+}
+
+/// Whether a variable is expanded about zero (all of it, for several).
+fn expanded_about_zero(variable: Option<&Variable>) -> bool {
+    match variable {
+        Some(Variable::Stored { at_zero, .. } | Variable::Defined { at_zero, .. }) => *at_zero,
+        Some(Variable::Joint(parts)) => parts.iter().all(|p| expanded_about_zero(Some(p))),
+        _ => false,
+    }
 }
 
 /// An error when the claim's map does not depend on its variable (its

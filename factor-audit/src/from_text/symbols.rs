@@ -165,6 +165,13 @@ pub struct ClaimSpec {
     /// A piece of the prose just before the formula: the first display
     /// after it (said explicitly, never a fallback of `anchor`).
     pub after: Option<String>,
+    /// A piece of the heading of the section the formula is in: `label`,
+    /// `anchor` and `after` are looked for there only (to the next heading
+    /// of the same or a higher level).
+    pub section: Option<String>,
+    /// Which of the places `anchor` or `after` matches (1-based, in the
+    /// document's order), when it matches several.
+    pub occurrence: Option<usize>,
     /// Which line of the formula (1-based).
     pub line: Option<usize>,
     /// Which statement of the line (1-based: the line's claim, then what
