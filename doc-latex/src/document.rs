@@ -367,14 +367,15 @@ impl Document {
     }
 
     /// The first display after the one place the quote occurs in the text
-    /// of `region`; a quote that spans a formula is an error (the display
-    /// after it is never taken for the one it spans).
+    /// of `region`; a quote that spans a display is an error (the display
+    /// after it is never taken for the one it spans; inline math may be
+    /// quoted).
     fn display_after(&self, region: &Region, quote: &str) -> Result<&Formula, LookupError> {
         let (start, end) = self.place_in_text(region, quote)?;
         if let Some(f) = self
             .formulas
             .iter()
-            .find(|f| f.span.start < end && start < f.span.end)
+            .find(|f| f.kind == MathKind::Display && f.span.start < end && start < f.span.end)
         {
             return Err(LookupError::QuoteSpansFormula {
                 quote: crate::error::one_line(quote, 60),

@@ -600,6 +600,11 @@ impl Parser<'_> {
                 self.pos += 1;
                 Ok(Expr::Symbol(Symbol::new(Base::Letter(c))))
             }
+            // `f_\oplus`, `x^\ominus`: an operator named in a script.
+            Some(Tok::Command(c)) if super::scripts::operator_named(&Tok::Command(c.clone())) => {
+                self.pos += 1;
+                Ok(Expr::Symbol(Symbol::new(Base::Command(c))))
+            }
             Some(Tok::Command(_)) => self.nested(|p| match p.atom(Ctx::default())? {
                 Atom::Symbol(s) => Ok(Expr::Symbol(s)),
                 Atom::Expr(e) => Ok(e),

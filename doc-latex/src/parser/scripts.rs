@@ -57,6 +57,13 @@ fn marker(tok: &Tok) -> Option<Marker> {
     }
 }
 
+/// Whether a token is an operator or relation command (named as a symbol
+/// in a script: `f_\oplus`).
+pub(super) fn operator_named(tok: &Tok) -> bool {
+    matches!(tok, Tok::Command(c) if crate::names::lookup(crate::names::MULOP_COMMANDS, c).is_some()
+        || crate::names::lookup(crate::names::RELATION_COMMANDS, c).is_some())
+}
+
 /// The transpose written in a font (`^{\mathsf{T}}`, `^{\mathrm{T}}`): the
 /// four tokens `\font { T }` ending at `end` (exclusive).
 fn fonted_transpose(toks: &[crate::lexer::Token], end: usize) -> bool {
@@ -135,7 +142,11 @@ impl Parser<'_> {
             arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
             stop = open + 1;
         }
-        if stop > open + 1 {
+        if stop == open + 2 && operator_named(&self.toks[open + 1].tok) {
+            // `f_{\oplus}`: an operator named in a script.
+            self.pos = open + 1;
+            arg.expr = Some(self.single_token_argument()?);
+        } else if stop > open + 1 {
             self.pos = open + 1;
             let items = self.bounded(stop, |p| p.list(Seps::None))?;
             if self.pos != stop {

@@ -16,7 +16,7 @@ use super::functions::Builtin;
 use super::lower::{Found, Link, LowerError, Lowering, Resolver, short, symbol_key};
 use super::stored::{FreeSample, Kind, part};
 use super::symbols::{
-    ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec,
+    ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec, one_line,
 };
 use super::term::{Meaning, SymbolId, Table, Template, Term, TruthLink, Variable};
 use crate::transcription::stored_names;
@@ -85,6 +85,9 @@ pub struct Context {
     link_errors: HashMap<String, String>,
     /// The symbols file states JPL quaternions.
     pub jpl_quaternions: bool,
+    /// The symbols whose very key cannot be read, with why: a formula that
+    /// finds a symbol undefined says so.
+    unreadable: Vec<String>,
 }
 
 /// The canonical LaTeX of a name the symbols file defines: a symbol, or
@@ -181,6 +184,7 @@ impl Context {
             link_specs: spec.links.clone(),
             link_errors: HashMap::new(),
             jpl_quaternions: false,
+            unreadable: Vec::new(),
         };
         for (written, t) in &spec.operators {
             let id = ctx.template(written, t, None)?;
@@ -188,46 +192,77 @@ impl Context {
         }
         let mut tangents = Vec::new();
         for (written, value) in &spec.symbols {
-            let meaning = SymbolSpec::read(written, value)?;
-            let id = ctx.declare(None, written, None)?;
-            match meaning {
-                SymbolSpec::Sample {
-                    name,
-                    size,
-                    shape,
-                    range,
-                    perturbation,
-                } => {
-                    let sample = FreeSample::from_spec(&name, size, shape, range)
-                        .map_err(|m| symbol_error(written, None, m))?;
-                    let offset = names.len();
-                    names.extend(sampled_names(sample, written));
-                    ctx.free.push((sample, offset));
-                    ctx.set(
-                        id,
-                        Meaning::Stored {
-                            offset,
-                            kind: sample.kind(),
-                        },
-                    );
-                    ctx.defaults.insert(id, perturbation);
+            // A symbol that cannot be read fails the claims that use it,
+            // not the context.
+            let meaning = match SymbolSpec::read(written, value) {
+                Ok(m) => m,
+                Err(e) => {
+                    ctx.unreadable(written, e);
+                    continue;
                 }
-                SymbolSpec::Template(t) => {
-                    let template = ctx.template(written, &t, None)?;
-                    ctx.set(id, Meaning::Template(template));
+            };
+            let id = match ctx.declare(None, written, None) {
+                Ok(id) => id,
+                Err(e) => {
+                    ctx.unreadable(written, e);
+                    continue;
                 }
-                other => {
-                    if let Some(t) = ctx.meaning(id, written, other, None)? {
-                        tangents.push(t);
+            };
+            let read = (|| -> Result<(), TextError> {
+                match meaning {
+                    SymbolSpec::Sample {
+                        name,
+                        size,
+                        shape,
+                        range,
+                        perturbation,
+                    } => {
+                        let sample = FreeSample::from_spec(&name, size, shape, range)
+                            .map_err(|m| symbol_error(written, None, m))?;
+                        let offset = names.len();
+                        names.extend(sampled_names(sample, written));
+                        ctx.free.push((sample, offset));
+                        ctx.set(
+                            id,
+                            Meaning::Stored {
+                                offset,
+                                kind: sample.kind(),
+                            },
+                        );
+                        ctx.defaults.insert(id, perturbation);
+                    }
+                    SymbolSpec::Template(t) => {
+                        let template = ctx.template(written, &t, None)?;
+                        ctx.set(id, Meaning::Template(template));
+                    }
+                    other => {
+                        if let Some(t) = ctx.meaning(id, written, other, None)? {
+                            tangents.push(t);
+                        }
                     }
                 }
+                Ok(())
+            })();
+            if let Err(e) = read {
+                ctx.set(id, Meaning::Broken(one_line(&e.to_string())));
             }
         }
         ctx.names = names;
         for (id, written, spec) in tangents {
-            ctx.tangent(id, &written, spec, None)?;
+            if let Err(e) = ctx.tangent(id, &written, spec, None) {
+                ctx.set(id, Meaning::Broken(one_line(&e.to_string())));
+            }
         }
         Ok(ctx)
+    }
+
+    /// Records a symbol whose key cannot be read.
+    fn unreadable(&mut self, written: &str, e: TextError) {
+        self.unreadable.push(format!(
+            "`{}` ({})",
+            one_line(written),
+            one_line(&e.to_string())
+        ));
     }
 
     /// Declares a template: its arguments bound in a scope of their own.
@@ -709,6 +744,17 @@ impl Context {
         id
     }
 
+    /// An error when symbol `id`'s meaning could not be read.
+    fn readable(&self, id: SymbolId) -> Result<(), LowerError> {
+        match &self.table.entries[id].meaning {
+            Meaning::Broken(why) => Err(LowerError {
+                message: format!("the symbols file's meaning of it cannot be read: {why}"),
+                fragment: self.table.key(id).to_string(),
+            }),
+            _ => Ok(()),
+        }
+    }
+
     /// The symbol `key` in `scope` (falling back to the context's).
     pub fn lookup(&self, scope: Scope, key: &str) -> Option<SymbolId> {
         scope
@@ -1170,6 +1216,7 @@ impl Resolver for ScopeResolver<'_> {
         let Some(id) = self.ctx.lookup(self.scope, key) else {
             return Ok(None);
         };
+        self.ctx.readable(id)?;
         self.ctx.lower_pending(id).map_err(|e| {
             if e.fragment == key {
                 e
@@ -1210,6 +1257,10 @@ impl Resolver for ScopeResolver<'_> {
     fn jpl_quaternions(&self) -> bool {
         self.ctx.jpl_quaternions
     }
+
+    fn unreadable_symbols(&self) -> &[String] {
+        &self.ctx.unreadable
+    }
 }
 
 /// Lowering in one scope of a context whose definitions are all lowered
@@ -1223,10 +1274,11 @@ pub struct FrozenResolver<'c> {
 
 impl Resolver for FrozenResolver<'_> {
     fn symbol(&mut self, key: &str) -> Result<Option<(SymbolId, Found)>, LowerError> {
-        Ok(self
-            .ctx
-            .lookup(self.scope, key)
-            .map(|id| (id, found(&self.ctx.table.entries[id].meaning))))
+        let Some(id) = self.ctx.lookup(self.scope, key) else {
+            return Ok(None);
+        };
+        self.ctx.readable(id)?;
+        Ok(Some((id, found(&self.ctx.table.entries[id].meaning))))
     }
 
     fn link(&self, key: &str) -> Option<Link> {

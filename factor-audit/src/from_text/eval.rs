@@ -218,8 +218,8 @@ impl<'a, S: Scalar> Env<'a, S> {
                         Some(a) => match op {
                             Op::Mul => a.times(v)?,
                             Op::Cross => a.cross(v)?,
-                            Op::Oplus => a.oplus(v)?,
-                            Op::OplusJpl => a.oplus_jpl(v)?,
+                            Op::Oplus { jpl } => a.oplus(v, *jpl)?,
+                            Op::Otimes { jpl } => a.otimes(v, *jpl)?,
                             Op::Div => a.divided_by(v)?,
                         },
                     });
@@ -494,6 +494,9 @@ impl<'a, S: Scalar> Env<'a, S> {
             }
             Meaning::Bound | Meaning::Pending => {
                 return fail(format!("`{}` has no value here", entry.key));
+            }
+            Meaning::Broken(why) => {
+                return fail(format!("`{}` cannot be read: {why}", entry.key));
             }
         };
         self.memo[id] = Some(value.clone());

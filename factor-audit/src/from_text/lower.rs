@@ -135,6 +135,11 @@ pub trait Resolver {
     fn jpl_quaternions(&self) -> bool {
         false
     }
+    /// The symbols of the file whose keys cannot be read, with why (an
+    /// undefined symbol may be one of them).
+    fn unreadable_symbols(&self) -> &[String] {
+        &[]
+    }
 }
 
 /// One lowering, with the reading options of the formula.
@@ -634,7 +639,18 @@ impl<'r> Lowering<'r> {
                 return Ok(Term::Call(Builtin::Exp, vec![self.expr(sup)?]));
             }
         }
-        Err(LowerError::at(e, "undefined symbol"))
+        let unreadable = self.resolver.unreadable_symbols();
+        Err(LowerError::at(
+            e,
+            if unreadable.is_empty() {
+                "undefined symbol".to_string()
+            } else {
+                format!(
+                    "undefined symbol (the symbols file's {} cannot be read)",
+                    unreadable.join(", ")
+                )
+            },
+        ))
     }
 
     /// A product: factors with their operators; a function symbol before a
@@ -948,14 +964,18 @@ impl<'r> Lowering<'r> {
         }
     }
 
-    /// The meaning of a product operator (`⊗` JPL's product in a file that
-    /// states JPL quaternions).
+    /// The meaning of a product operator (the quaternion product JPL's in a
+    /// file that states JPL quaternions).
     fn operator(&self, op: MulOp, x: &Expr) -> Result<Op, LowerError> {
         Ok(match op {
             MulOp::Implicit | MulOp::Cdot | MulOp::Star => Op::Mul,
             MulOp::Times => Op::Cross,
-            MulOp::Oplus | MulOp::Otimes if self.resolver.jpl_quaternions() => Op::OplusJpl,
-            MulOp::Oplus | MulOp::Otimes => Op::Oplus,
+            MulOp::Oplus => Op::Oplus {
+                jpl: self.resolver.jpl_quaternions(),
+            },
+            MulOp::Otimes => Op::Otimes {
+                jpl: self.resolver.jpl_quaternions(),
+            },
             MulOp::Slash => Op::Div,
             other => {
                 return Err(LowerError::at(
@@ -1252,7 +1272,7 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
             .try_fold(0, |a, d| Some(a.max(d?))),
         Term::Product(factors) => factors.iter().try_fold(0, |acc, (op, x)| match op {
             Op::Div if !free(x) => None,
-            Op::Oplus | Op::OplusJpl if !free(x) || acc > 0 => None,
+            Op::Oplus { .. } | Op::Otimes { .. } if !free(x) || acc > 0 => None,
             _ => Some(acc + degree(x, names)?),
         }),
         Term::Fraction {

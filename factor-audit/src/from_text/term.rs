@@ -15,11 +15,19 @@ pub enum Op {
     Mul,
     /// `\times`: a cross product of 3-vectors, else a product.
     Cross,
-    /// `\oplus`, `\otimes`: a quaternion (or group) product.
-    Oplus,
-    /// `\otimes` in a file that states JPL quaternions: `q ⊗ p` is JPL's
-    /// product, Hamilton's `p ⊗ q`.
-    OplusJpl,
+    /// `\oplus`: a group composition, a pose acting on a point, or the
+    /// product of two quaternions (JPL's in a file that states JPL
+    /// quaternions).
+    Oplus {
+        /// JPL's quaternion product.
+        jpl: bool,
+    },
+    /// `\otimes`: the product of two quaternions (JPL's when said), a
+    /// group composition, or the Kronecker product of matrices.
+    Otimes {
+        /// JPL's quaternion product.
+        jpl: bool,
+    },
     /// `/`.
     Div,
 }
@@ -281,6 +289,9 @@ pub enum Meaning {
     Bound,
     /// Not resolved yet (while the table is built).
     Pending,
+    /// The symbols file's meaning cannot be read (why): the claims that use
+    /// it are unread, the others audited.
+    Broken(String),
 }
 
 /// One symbol.

@@ -49,8 +49,10 @@ impl<'a> Names<'a> {
                         out.push_str(match op {
                             Op::Mul => " \\cdot ",
                             Op::Cross => " \\times ",
-                            Op::Oplus => " \\otimes ",
-                            Op::OplusJpl => " \\otimes_{\\text{JPL}} ",
+                            Op::Oplus { jpl: false } => " \\oplus ",
+                            Op::Oplus { jpl: true } => " \\oplus_{\\text{JPL}} ",
+                            Op::Otimes { jpl: false } => " \\otimes ",
+                            Op::Otimes { jpl: true } => " \\otimes_{\\text{JPL}} ",
                             Op::Div => " / ",
                         });
                     }

@@ -296,20 +296,46 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a ⊕ b`, `a ⊗ b`: a group composition; the Hamilton product of two
-    /// quaternions (4-vectors); the Kronecker product of other matrices
-    /// (`I_3 ⊗ vᵀ`).
-    pub fn oplus(self, b: Self) -> Result<Self, ShapeError> {
+    /// `a ⊕ b`: a group composition, a pose or similarity acting on a
+    /// point (`T ⊕ p = T p`), or the product of two quaternions
+    /// (4-vectors: Hamilton's, or JPL's when `jpl`).
+    pub fn oplus(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
+        match (&self, &b) {
+            _ if self.is_group() => self.times(b),
+            _ if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) => {
+                self.quaternion_product(b, jpl)
+            }
+            _ => fail(format!(
+                "⊕ of {} and {}: it composes group elements, moves a point by a pose or \
+                 multiplies quaternions",
+                self.describe(),
+                b.describe()
+            )),
+        }
+    }
+
+    /// `a ⊗ b`: the product of two quaternions (Hamilton's, or JPL's when
+    /// `jpl`), a group composition, or the Kronecker product of other
+    /// matrices (`I_3 ⊗ vᵀ`).
+    pub fn otimes(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
         match (&self, &b) {
             (Value::Rotation(_), Value::Rotation(_))
             | (Value::Pose(_), Value::Pose(_))
             | (Value::Similarity(_), Value::Similarity(_)) => self.times(b),
             _ if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) => {
-                let (p, q) = (self.quaternion("⊗")?, b.quaternion("⊗")?);
-                Ok(Value::column(p.mul(&q).coords().as_slice()))
+                self.quaternion_product(b, jpl)
             }
             _ => self.kronecker(b),
         }
+    }
+
+    /// The product of two quaternions `[x, y, z, w]`: Hamilton's, or JPL's
+    /// (Hamilton's with the factors swapped, so that `C(q ⊗ p) = C(q) C(p)`
+    /// with `C(q) = R(q)ᵀ`).
+    fn quaternion_product(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
+        let (p, q) = (self.quaternion("⊗")?, b.quaternion("⊗")?);
+        let product = if jpl { q.mul(&p) } else { p.mul(&q) };
+        Ok(Value::column(product.coords().as_slice()))
     }
 
     /// `A ⊗ B`: the Kronecker product (block `(i, j)` is `A_ij B`); an
@@ -325,17 +351,6 @@ impl<S: Scalar> Value<S> {
         Ok(Value::Matrix(DMatrix::from_fn(rows, cols, |r, c| {
             a[(r / b.nrows(), c / b.ncols())] * b[(r % b.nrows(), c % b.ncols())]
         })))
-    }
-
-    /// `a ⊗ b` of JPL's convention: Hamilton's `b ⊗ a` for quaternions
-    /// (so that `C(q ⊗ p) = C(q) C(p)` with `C(q) = R(q)ᵀ`), otherwise as
-    /// [`Value::oplus`].
-    pub fn oplus_jpl(self, b: Self) -> Result<Self, ShapeError> {
-        if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) {
-            b.oplus(self)
-        } else {
-            self.oplus(b)
-        }
     }
 
     /// `a / b` for a scalar `b`.
