@@ -46,6 +46,7 @@ const DISPLAY_ENVIRONMENTS: &[(&str, bool)] = &[
     ("multline*", true),
     ("eqnarray", true),
     ("eqnarray*", true),
+    ("subeqnarray", true),
     ("flalign", true),
     ("flalign*", true),
     ("alignat", true),

@@ -518,3 +518,157 @@ anchor = "\\frac{\\partial u}{\\partial x} ="
     }
     assert_eq!(verdict(&findings, "a sign wrong"), "wrong");
 }
+
+/// Class 7: the same sentence before the same display in two sections is
+/// addressed by `section` or `occurrence`; an `after` quote that spans a
+/// display is refused (never the display after it); `chain` with `line`
+/// is refused; a `\label` on one line of a display names that line.
+#[test]
+fn claims_are_addressed_and_anchors_never_move() {
+    let document = "\
+# Points
+
+The Jacobian is:
+
+$$ \\frac{\\partial y}{\\partial x} = 2 x $$
+
+# Lines
+
+The Jacobian is:
+
+$$ \\frac{\\partial y}{\\partial x} = 3 x^2 $$
+
+\\begin{align}
+\\frac{\\partial y}{\\partial x} &= 2 x \\\\
+\\frac{\\partial z}{\\partial x} &= 3 x^2 \\label{eq:z}
+\\end{align}
+";
+    let symbols = |claims: &str| {
+        format!(
+            r#"
+document = "notes.md"
+[context.points.symbols]
+"x" = {{ sample = "scalar" }}
+"y" = "x^2"
+"z" = "x^3"
+[context.lines.symbols]
+"x" = {{ sample = "scalar" }}
+"y" = "x^3"
+"z" = "x^3"
+{claims}
+"#
+        )
+    };
+    let findings = audit(
+        document,
+        &symbols(
+            r##"
+[[claim]]
+id = "points, by section"
+context = "points"
+section = "Points"
+after = "The Jacobian is:"
+
+[[claim]]
+id = "lines, by section"
+context = "lines"
+section = "# Lines"
+after = "The Jacobian is:"
+
+[[claim]]
+id = "lines, by occurrence"
+context = "lines"
+occurrence = 2
+after = "The Jacobian is:"
+
+[[claim]]
+id = "a \\label names its line"
+context = "lines"
+label = "eq:z"
+"##,
+        ),
+    );
+    for f in &findings {
+        assert_eq!(
+            f.finding.verdict.keyword(),
+            "correct",
+            "{}",
+            f.finding.label.equation
+        );
+    }
+    assert_eq!(finding(&findings, "a \\label names its line").line, 15);
+    let refused = |claim: &str, message: &str| {
+        let e = TextAudit::load("notes.md", document, &symbols(claim))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(message), "{e}");
+    };
+    refused(
+        "[[claim]]\nid = \"two places\"\ncontext = \"points\"\nafter = \"The Jacobian is:\"",
+        "or say which with `section`",
+    );
+    refused(
+        "[[claim]]\nid = \"spans\"\ncontext = \"points\"\nafter = \"The Jacobian is: $$ \\\\frac\"\nsection = \"Points\"",
+        "spans the formula on line 5",
+    );
+    refused(
+        "[[claim]]\nid = \"chain and line\"\ncontext = \"points\"\nanchor = \"2 x $$\"\nchain = true\nline = 1",
+        "`chain` follows the chain",
+    );
+}
+
+/// Class 8: what reading finds wrong with a printed formula (an empty
+/// matrix entry) is a suspected erratum of the claim left unread; one
+/// symbol of the file that cannot be read fails only the claims that use
+/// it.
+#[test]
+fn errata_found_while_reading_are_diagnosed_and_bad_symbols_stay_local() {
+    let document = "\
+$$ \\frac{\\partial y}{\\partial x} = \\begin{bmatrix} 2 x & \\\\ 0 & 1 \\end{bmatrix} $$
+
+$$ \\frac{\\partial u}{\\partial x} = 2 x $$
+
+$$ \\frac{\\partial v}{\\partial x} = w $$
+";
+    let symbols = r#"
+document = "notes.md"
+[context.c.symbols]
+"x" = { sample = "scalar" }
+"y" = "\\begin{bmatrix} x^2 \\\\ 0 \\end{bmatrix}"
+"u" = "x^2"
+"v" = "x^3"
+"w" = "\\frac{1}{"
+
+[[claim]]
+id = "an empty entry"
+context = "c"
+anchor = "\\partial y"
+
+[[claim]]
+id = "untouched by the bad symbol"
+context = "c"
+anchor = "\\partial u"
+
+[[claim]]
+id = "uses the bad symbol"
+context = "c"
+anchor = "\\partial v"
+"#;
+    let audit = TextAudit::read("notes.md", document, symbols).expect("the file loads");
+    let findings = audit.run(SAMPLES);
+    assert_eq!(verdict(&findings, "untouched by the bad symbol"), "correct");
+    let unread = audit.unread();
+    let empty = unread.iter().find(|u| u.id == "an empty entry").unwrap();
+    let erratum = empty.suspected_erratum().expect("a suspected erratum");
+    assert!(erratum.contains("is empty"), "{erratum}");
+    let bad = unread
+        .iter()
+        .find(|u| u.id == "uses the bad symbol")
+        .unwrap();
+    assert!(
+        bad.error.to_string().contains("cannot be read"),
+        "{}",
+        bad.error
+    );
+}

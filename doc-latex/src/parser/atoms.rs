@@ -684,7 +684,10 @@ fn after_d(e: &Expr) -> Option<Expr> {
     })
 }
 
-/// Whether `w` is a word of letters (a function name printed as text).
+/// Whether `w` is a word of letters, maybe hyphenated (a function name
+/// printed as text: `\text{pseudo-log}(T)`).
 fn is_word(w: &str) -> bool {
-    !w.is_empty() && w.chars().all(|c| c.is_ascii_alphabetic())
+    !w.is_empty()
+        && w.split('-')
+            .all(|part| !part.is_empty() && part.chars().all(|c| c.is_ascii_alphabetic()))
 }

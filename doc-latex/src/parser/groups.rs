@@ -265,7 +265,7 @@ impl Parser<'_> {
         }
         let begin = self.pos;
         self.pos += 1;
-        if name == "array" {
+        if name == "array" || name == "subarray" {
             // The column specification (`{c|c}`) only draws rules.
             if self.peek() != Some(&Tok::LBrace) {
                 return Err(self.error_here(ErrorKind::MissingOperand("\\begin{array}".into())));

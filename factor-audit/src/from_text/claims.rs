@@ -234,17 +234,21 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
                 .claims(formula)
                 .map_err(|e| claim_error(spec, e.to_string()))?;
             match (&spec.label, spec.line) {
-                // A `\label` printed on one line of a display names that line.
+                // A `\label` printed on one line of a display names that
+                // line: the last line starting before it.
                 (Some(name), None) if lines.len() > 1 => {
                     let marker = format!("\\label{{{name}}}");
-                    let own: Vec<_> = lines
-                        .iter()
-                        .filter(|c| c.source.contains(&marker))
-                        .cloned()
-                        .collect();
-                    match <[doc_latex::Claim; 1]>::try_from(own) {
-                        Ok([one]) => one,
-                        Err(_) => pick(lines)?,
+                    match formula.source.find(&marker) {
+                        Some(at) => {
+                            let at = formula.span.start + at;
+                            lines
+                                .iter()
+                                .rev()
+                                .find(|c| c.span.start <= at)
+                                .cloned()
+                                .map_or_else(|| pick(lines.clone()), Ok)?
+                        }
+                        None => pick(lines)?,
                     }
                 }
                 _ => pick(lines)?,
@@ -449,6 +453,16 @@ pub fn compile(
             _ => (None, false),
         },
         _ => (None, false),
+    };
+    // A derivative by an expression no symbol names (`∂(T⁻¹ p)/∂(T⁻¹)`):
+    // by a symbol standing for it where the map prints it.
+    let derivative = match derivative {
+        Some((of, wrt)) if spec.of.is_none() && spec.wrt.is_none() => Some(
+            ctx.by_expression(scope, &of, &wrt)
+                .map_err(|m| claim_error(spec, m))?
+                .unwrap_or((of, wrt)),
+        ),
+        other => other,
     };
     // `≈`, `≃` between values: a first-order claim (BCH for a small angle,
     // a linearised propagation), in the small quantities it prints.
@@ -882,8 +896,9 @@ impl<'a> TextDerivation<'a> {
                 .and_then(Value::matrix)
             {
                 Ok(m) => {
-                    shape.set(m.shape());
-                    m.as_slice().to_vec()
+                    let (entries, moving) = super::value::moving_entries(&m);
+                    shape.set(moving);
+                    entries
                 }
                 Err(e) => {
                     *failure.borrow_mut() = Some(e);

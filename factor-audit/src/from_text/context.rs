@@ -987,6 +987,13 @@ impl Context {
         if *of == Expr::Placeholder {
             return Err(LowerError::at(of, "a derivative of nothing"));
         }
+        let by_expression = self
+            .by_expression(scope, of, wrt)
+            .map_err(|m| LowerError::at(wrt, m))?;
+        let (of, wrt) = match &by_expression {
+            Some((of, wrt)) => (of, wrt),
+            None => (of, wrt),
+        };
         let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
         let variable = self
             .variable_of(scope, wrt, None, at_zero)
@@ -1014,6 +1021,56 @@ impl Context {
             holding,
         });
         Ok(Link::Truth(self.truth_links.len() - 1))
+    }
+
+    /// A derivative by an expression no symbol names (`∂(T⁻¹ p)/∂(T⁻¹)`,
+    /// `∂(A B)/∂(A B)`): `of` with the expression replaced by a symbol of
+    /// its own, defined as it in `scope`, and that symbol; `None` when
+    /// `wrt` is a variable already; an error when `of` does not print it.
+    pub fn by_expression(
+        &mut self,
+        scope: Scope,
+        of: &Expr,
+        wrt: &Expr,
+    ) -> Result<Option<(Expr, Expr)>, String> {
+        let named = match wrt {
+            Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)).is_some(),
+            Expr::Tuple(_) => true,
+            other => self.lookup(scope, &other.to_string()).is_some(),
+        };
+        if named {
+            return Ok(None);
+        }
+        let mut places: Vec<super::tree::Path> = super::tree::nodes(of)
+            .into_iter()
+            .filter(|(_, node)| *node == wrt)
+            .map(|(path, _)| path)
+            .collect();
+        if places.is_empty() || matches!(wrt, Expr::Symbol(_)) {
+            return Ok(None);
+        }
+        // A symbol of its own, whose key nothing of the document uses.
+        let name = (1..)
+            .map(|k| format!("\\mathsf{{d}}_{{{k}}}"))
+            .find(|n| {
+                canonical_symbol(n, &self.vocabulary)
+                    .is_ok_and(|key| self.lookup(scope, &key).is_none())
+            })
+            .expect("a free name");
+        let id = self
+            .declare(scope, &name, None)
+            .map_err(|e| e.to_string())?;
+        self.states[id] = State::Pending(Box::new(wrt.clone()), scope);
+        let symbol = doc_latex::parse_expr(&name).map_err(|e| e.to_string())?;
+        let mut substituted = of.clone();
+        places.sort_by(|a, b| b.cmp(a));
+        for path in places {
+            if let Some(node) = super::tree::at_mut(&mut substituted, &path) {
+                *node = symbol.clone();
+            }
+        }
+        self.lower_pending(id).map_err(|e| e.to_string())?;
+        Ok(Some((substituted, symbol)))
     }
 
     /// Sets the input size of every tangent perturbing a definition or by

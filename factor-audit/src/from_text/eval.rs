@@ -146,13 +146,22 @@ impl<'a, S: Scalar> Env<'a, S> {
                 at_zero,
             } => {
                 let increment = DMatrix::from_column_slice(shape.0, shape.1, x);
-                let base = if *at_zero {
+                let mut base = if *at_zero {
                     DMatrix::from_element(shape.0, shape.1, self.zero)
                 } else {
-                    self.symbol(*symbol)?
-                        .sized((Some(shape.0), Some(shape.1)))?
+                    self.symbol(*symbol)?.sized((None, Some(shape.1)))?
                 };
-                self.bind(*symbol, Value::Matrix(base + increment));
+                // A homogeneous transformation moves in its top rows only.
+                if base.ncols() != shape.1 || base.nrows() < shape.0 {
+                    return fail(format!(
+                        "a {} value perturbed by a {} increment",
+                        shape_text(base.shape()),
+                        shape_text(*shape)
+                    ));
+                }
+                let mut top = base.rows_mut(0, shape.0);
+                top += increment;
+                self.bind(*symbol, Value::Matrix(base));
             }
             Variable::Update {
                 symbol,

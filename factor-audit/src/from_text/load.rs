@@ -40,6 +40,32 @@ impl Unread {
     pub fn is_unexpected(&self) -> bool {
         self.expected != "unread"
     }
+
+    /// What the printed formula may have wrong, when the reading stopped on
+    /// something missing from it (an erratum found while reading: an empty
+    /// matrix entry, an operand or a closing delimiter missing); `None` when
+    /// the reading stopped on notation the audit does not read.
+    pub fn suspected_erratum(&self) -> Option<String> {
+        use doc_latex::ErrorKind;
+        let TextError::Parse(e) = &self.error else {
+            return None;
+        };
+        Some(match &e.kind {
+            ErrorKind::Empty("matrix entry") => {
+                "an entry of the printed matrix is empty (a value is missing, or a block is meant \
+                 to span the empty cells)"
+                    .to_string()
+            }
+            ErrorKind::MissingOperand(op) if !op.is_empty() => {
+                format!("the operand after `{op}` is missing")
+            }
+            ErrorKind::Unclosed { open, expected } => {
+                format!("`{open}` is never closed by `{expected}`")
+            }
+            ErrorKind::UnbalancedBraces => "its braces do not balance".to_string(),
+            _ => return None,
+        })
+    }
 }
 
 /// How a build treats an error: stop at the first, or record it against
@@ -467,13 +493,24 @@ fn dims_of(
         super::value::Value::Similarity(_) => Some(7),
         _ => None,
     };
-    let shape = value.matrix()?.shape();
+    let shape = perturbed_shape(value)?;
     Ok((shape, dim.unwrap_or(shape.0 * shape.1)))
 }
 
-/// The shape of symbol `symbol`'s value at the sample `stored`.
+/// The shape of what perturbs symbol `symbol`'s value additively at the
+/// sample `stored`.
 fn shape_of(ctx: &Context, stored: &[f64], symbol: usize) -> Result<(usize, usize), ShapeError> {
-    Ok(value_of(ctx, stored, symbol)?.matrix()?.shape())
+    perturbed_shape(value_of(ctx, stored, symbol)?)
+}
+
+/// The entries of a value a derivative by it moves: all of a matrix's, but
+/// the fixed last row `[0 0 0 1]` of a homogeneous transformation (its top
+/// 3 × 4, column by column, as `vec` of a pose's matrix is taken).
+fn perturbed_shape(value: super::value::Value<f64>) -> Result<(usize, usize), ShapeError> {
+    let m = value.matrix()?;
+    let homogeneous =
+        m.shape() == (4, 4) && (0..4).all(|c| m[(3, c)] == if c == 3 { 1.0 } else { 0.0 });
+    Ok(if homogeneous { (3, 4) } else { m.shape() })
 }
 
 /// Symbol `symbol`'s value at the sample `stored`.

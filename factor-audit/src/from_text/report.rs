@@ -111,15 +111,20 @@ pub fn table(findings: &[TextFinding], unread: &[Unread]) -> String {
         } else {
             String::new()
         };
+        let erratum = u
+            .suspected_erratum()
+            .map(|e| format!(" (suspected erratum: {e})"))
+            .unwrap_or_default();
         let _ = writeln!(
             out,
-            "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}",
+            "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}{}",
             "",
             shown(&u.id),
             u.line.map_or("—".into(), |l| l.to_string()),
             "unread",
             "—",
             one_line(&u.error.to_string()),
+            erratum,
             expected
         );
     }
@@ -219,11 +224,14 @@ pub fn markdown(findings: &[TextFinding], unread: &[Unread]) -> String {
         for u in unread {
             let _ = writeln!(
                 out,
-                "- {} ({}): {}{}",
+                "- {} ({}): {}{}{}",
                 cell(&u.id),
                 u.line
                     .map_or("not found".to_string(), |l| format!("line {l}")),
                 one_line(&u.error.to_string()).replace('|', "\\|"),
+                u.suspected_erratum()
+                    .map(|e| format!("; suspected erratum: {}", e.replace('|', "\\|")))
+                    .unwrap_or_default(),
                 if u.is_unexpected() {
                     String::new()
                 } else {

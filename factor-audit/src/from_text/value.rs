@@ -297,13 +297,22 @@ impl<S: Scalar> Value<S> {
     }
 
     /// `a ⊕ b`: a group composition, a pose or similarity acting on a
-    /// point (`T ⊕ p = T p`), or the product of two quaternions
-    /// (4-vectors: Hamilton's, or JPL's when `jpl`).
+    /// point (`T ⊕ p = T p`), the same with transformations as matrices
+    /// (square ones compose, a homogeneous 4 × 4 moves a point), or the
+    /// product of two quaternions (4-vectors: Hamilton's, or JPL's when
+    /// `jpl`).
     pub fn oplus(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
-        match (&self, &b) {
+        match (self.shape(), b.shape()) {
             _ if self.is_group() => self.times(b),
-            _ if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) => {
-                self.quaternion_product(b, jpl)
+            (Some((4, 1)), Some((4, 1))) => self.quaternion_product(b, jpl),
+            // A transformation's matrix: `A ⊕ B = A B`, `A ⊕ p` moves `p`
+            // by the homogeneous `A` (`R p + t`).
+            (Some((n, m)), Some((k, l))) if n == m && n == k && k == l => self.times(b),
+            (Some((4, 4)), Some((3, 1))) => {
+                let (a, p) = (self.matrix()?, b.matrix()?);
+                Ok(Value::Matrix(
+                    a.view((0, 0), (3, 3)) * p + a.view((0, 3), (3, 1)),
+                ))
             }
             _ => fail(format!(
                 "⊕ of {} and {}: it composes group elements, moves a point by a pose or \
@@ -550,6 +559,21 @@ fn checked(n: usize) -> Result<usize, ShapeError> {
         ));
     }
     Ok(n)
+}
+
+/// The entries of a matrix value a derivative of it moves, column by
+/// column: all of them, but the fixed last row `[0 0 0 1]` of a
+/// homogeneous transformation (its top 3 × 4, as `vec` of a pose's matrix
+/// is taken); and their shape.
+pub fn moving_entries<S: Scalar>(m: &DMatrix<S>) -> (Vec<S>, (usize, usize)) {
+    let homogeneous = m.shape() == (4, 4)
+        && (0..4).all(|c| m[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }));
+    if homogeneous {
+        let top = m.rows(0, 3).into_owned();
+        (top.as_slice().to_vec(), (3, 4))
+    } else {
+        (m.as_slice().to_vec(), m.shape())
+    }
 }
 
 /// A fixed-size matrix as a dynamic one.
