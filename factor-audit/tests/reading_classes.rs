@@ -672,3 +672,56 @@ anchor = "\\partial v"
         bad.error
     );
 }
+
+/// Class 6 continued: a function whose subscript is an argument (a
+/// retraction `\Phi_{R_0}(θ)`, composed `\Phi_{\Phi_{R_0}(θ)}(δ)`), the vee
+/// written as an accent over nothing (`\{…\}\check{}`), and a derivative by
+/// an expression (`∂(T^{-1} p)/∂(T^{-1})`).
+#[test]
+fn subscripted_functions_empty_accents_and_derivatives_by_expressions() {
+    let document = "\
+$$ \\Phi_{R_{0}}\\left(\\theta\\right) \\exp\\left([\\delta]_\\times\\right) = \\Phi_{\\Phi_{R_{0}}\\left(\\theta\\right)}\\left(\\delta\\right) $$
+
+$$ \\omega = \\left\\{ R^{T} \\dot{R} \\right\\} \\check{} $$
+
+$$ \\frac{\\partial (M^{-1} p)}{\\partial (M^{-1})} = p^{T} \\otimes I_3 $$
+";
+    let symbols = r#"
+document = "notes.md"
+[context.c.symbols]
+"R_{0}" = { sample = "rotation" }
+"\\theta" = { sample = "vector3" }
+"\\delta" = { sample = "vector3" }
+"\\Phi" = { args = ["x"], sub = "A", latex = "A \\exp([x]_\\times)" }
+"R" = { sample = "rotation" }
+"\\omega" = { sample = "vector3" }
+"\\dot{R}" = "R [\\omega]_\\times"
+"M" = { sample = "matrix", shape = [3, 3], range = [1, 2] }
+"p" = { sample = "vector3" }
+
+[[claim]]
+id = "retractions composed"
+context = "c"
+anchor = "\\Phi_{\\Phi_{R_{0}}"
+
+[[claim]]
+id = "the vee as an empty accent"
+context = "c"
+anchor = "\\check{}"
+
+[[claim]]
+id = "by an expression, vec column by column"
+context = "c"
+anchor = "\\partial (M^{-1})"
+"#;
+    let findings = audit(document, symbols);
+    for f in &findings {
+        assert_eq!(
+            f.finding.verdict.keyword(),
+            "correct",
+            "{}: {}",
+            f.finding.label.equation,
+            f.note()
+        );
+    }
+}

@@ -278,8 +278,8 @@ impl Context {
         }
         let id = self.templates.len();
         let scope = Some(TEMPLATE_SCOPES + id);
-        let mut params = Vec::with_capacity(t.args.len());
-        for a in &t.args {
+        let mut params = Vec::with_capacity(t.args.len() + 1);
+        for a in t.sub.iter().chain(&t.args) {
             let p = self.declare(scope, a, equation)?;
             self.set(p, Meaning::Bound);
             params.push(p);
@@ -292,7 +292,9 @@ impl Context {
         })?;
         self.templates.push(Template {
             key: operator_key(written),
+            written: written.trim().to_string(),
             params,
+            subscripted: t.sub.is_some(),
             body: Term::Zero,
         });
         self.template_states
@@ -1318,6 +1320,10 @@ impl Resolver for ScopeResolver<'_> {
     fn unreadable_symbols(&self) -> &[String] {
         &self.ctx.unreadable
     }
+
+    fn subscripted(&self, t: usize) -> bool {
+        self.ctx.templates[t].subscripted
+    }
 }
 
 /// Lowering in one scope of a context whose definitions are all lowered
@@ -1351,6 +1357,10 @@ impl Resolver for FrozenResolver<'_> {
 
     fn jpl_quaternions(&self) -> bool {
         self.ctx.jpl_quaternions
+    }
+
+    fn subscripted(&self, t: usize) -> bool {
+        self.ctx.templates[t].subscripted
     }
 }
 

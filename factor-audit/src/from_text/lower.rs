@@ -140,6 +140,11 @@ pub trait Resolver {
     fn unreadable_symbols(&self) -> &[String] {
         &[]
     }
+    /// Whether template `t`'s printed subscript is its first argument.
+    fn subscripted(&self, t: usize) -> bool {
+        let _ = t;
+        false
+    }
 }
 
 /// One lowering, with the reading options of the formula.
@@ -721,6 +726,33 @@ impl<'r> Lowering<'r> {
         })
     }
 
+    /// `f_{a}(args)` with `f` a function of the file whose subscript is an
+    /// argument (`\Phi_{R_0}(θ)`): the application, else `None`.
+    fn subscripted_template(
+        &mut self,
+        s: &ast::Symbol,
+        args: &[Expr],
+    ) -> Result<Option<Term>, LowerError> {
+        let Some(sub) = &s.sub else {
+            return Ok(None);
+        };
+        let bare = ast::Symbol {
+            sub: None,
+            ..s.clone()
+        };
+        let Some((_, Found::Template(t))) = self.resolver.symbol(&symbol_key(&bare))? else {
+            return Ok(None);
+        };
+        if !self.resolver.subscripted(t) {
+            return Ok(None);
+        }
+        let mut terms = vec![self.expr(sub)?];
+        for a in args {
+            terms.push(self.expr(a)?);
+        }
+        Ok(Some(Term::Template(t, terms)))
+    }
+
     /// `f x` with `f` a function symbol (or its inverse `f^{-1}`): the
     /// application, else `None`.
     fn applied(&mut self, f: &Expr, x: &Expr) -> Result<Option<Term>, LowerError> {
@@ -733,6 +765,9 @@ impl<'r> Lowering<'r> {
             },
             _ => return Ok(None),
         };
+        if !inverse && let Some(call) = self.subscripted_template(s, std::slice::from_ref(x))? {
+            return Ok(Some(call));
+        }
         let arg = self.expr(x);
         Ok(match self.resolver.symbol(&symbol_key(s))? {
             Some((_, Found::Function(b))) => {
@@ -807,6 +842,9 @@ impl<'r> Lowering<'r> {
                 )));
             }
             _ => {}
+        }
+        if let Some(call) = self.subscripted_template(s, args)? {
+            return Ok(Application::Call(call));
         }
         let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
         // `f(\cdot)`: the function written with its argument's place.

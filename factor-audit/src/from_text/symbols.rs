@@ -99,6 +99,11 @@ pub struct ContextSpec {
 pub struct TemplateSpec {
     /// The names of its arguments, as written in `latex`.
     pub args: Vec<String>,
+    /// The name its printed subscript is bound to, for a function whose
+    /// subscript is an argument (`\Phi_{R_0}(θ)`: `sub = "A"` binds `A` to
+    /// `R_0`); the function is keyed without its subscript.
+    #[serde(default)]
+    pub sub: Option<String>,
     /// Its value, LaTeX over the arguments and the context's symbols.
     pub latex: String,
 }
@@ -327,6 +332,7 @@ struct SymbolTable {
     #[serde(default)]
     components: Vec<String>,
     args: Option<Vec<String>>,
+    sub: Option<String>,
     field: Option<String>,
     sample: Option<String>,
     size: Option<usize>,
@@ -400,6 +406,9 @@ impl SymbolSpec {
         if t.latex.is_none() && t.args.is_some() {
             return Err(bad("`args` goes with `latex`".into()));
         }
+        if t.args.is_none() && t.sub.is_some() {
+            return Err(bad("`sub` goes with `args` and `latex`".into()));
+        }
         let perturbation = Perturbed {
             side: t.side,
             update: t.update.clone(),
@@ -407,6 +416,7 @@ impl SymbolSpec {
         Ok(if let (Some(latex), Some(args)) = (&t.latex, &t.args) {
             SymbolSpec::Template(TemplateSpec {
                 args: args.clone(),
+                sub: t.sub.clone(),
                 latex: latex.clone(),
             })
         } else if let Some(latex) = t.latex {

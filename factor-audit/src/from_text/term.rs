@@ -115,10 +115,16 @@ pub enum Term {
 /// An operator or function defined by LaTeX over its arguments.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Template {
-    /// How it is written in the symbols file (`\\boxminus`, `^\\odot`, `H`).
+    /// How it is written in the symbols file, normalised for lookups
+    /// (`\\boxminus`, `^\\odot`, `H`: no braces or spaces).
     pub key: String,
-    /// Its arguments: symbols bound while its body is evaluated.
+    /// How it is written in the symbols file, for reports.
+    pub written: String,
+    /// Its arguments: symbols bound while its body is evaluated (the
+    /// subscript's first, when it takes one).
     pub params: Vec<SymbolId>,
+    /// Its printed subscript is its first argument (`\Phi_{R_0}(θ)`).
+    pub subscripted: bool,
     /// Its body, lowered.
     pub body: Term,
 }

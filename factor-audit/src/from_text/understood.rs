@@ -139,13 +139,19 @@ impl<'a> Names<'a> {
                 )
             }
             Term::Template(t, args) => {
-                let key = &self.ctx.templates[*t].key;
+                let template = &self.ctx.templates[*t];
+                let (key, shown) = (&template.key, &template.written);
                 match (key.strip_prefix('^'), args.as_slice()) {
                     (Some(op), [x]) => format!("{}^{{{op}}}", self.scripted(x)),
-                    (None, [a, b]) if key.starts_with('\\') => {
-                        format!("{} {key} {}", self.operand(a), self.operand(b))
+                    (None, [a, b]) if key.starts_with('\\') && !template.subscripted => {
+                        format!("{} {shown} {}", self.operand(a), self.operand(b))
                     }
-                    _ => format!("{key}\\left({}\\right)", self.list(args)),
+                    (None, [sub, rest @ ..]) if template.subscripted => format!(
+                        "{{{shown}}}_{{{}}}\\left({}\\right)",
+                        self.render(sub),
+                        self.list(rest)
+                    ),
+                    _ => format!("{{{shown}}}\\left({}\\right)", self.list(args)),
                 }
             }
         }
