@@ -602,8 +602,8 @@ pub fn scalar_power<S: Scalar>(x: S, p: f64) -> S {
     }
 }
 
-/// The inverse of a square matrix of size 1 to 3 by its adjugate (no
-/// pivoting: generic over the scalar, exact).
+/// The inverse of a square matrix: of size 1 to 3 by its adjugate (no
+/// pivoting: generic over the scalar, exact), larger by elimination.
 fn inverse<S: Scalar>(m: &DMatrix<S>) -> Result<DMatrix<S>, ShapeError> {
     match m.shape() {
         (1, 1) => Ok(DMatrix::from_element(1, 1, m[(0, 0)].recip())),
@@ -627,11 +627,41 @@ fn inverse<S: Scalar>(m: &DMatrix<S>) -> Result<DMatrix<S>, ShapeError> {
             // (A⁻¹)ᵢⱼ = Cⱼᵢ / det, the cyclic cofactors carry their signs.
             Ok(DMatrix::from_fn(3, 3, |i, j| c(j, i) * inv))
         }
-        shape => fail(format!(
-            "the inverse of a {} matrix (only sizes up to 3 × 3 are inverted)",
-            shape_text(shape)
-        )),
+        (n, k) if n == k => Ok(gauss_jordan_inverse(m)),
+        shape => fail(format!("the inverse of a {} matrix", shape_text(shape))),
     }
+}
+
+/// The inverse of a larger square matrix by Gauss–Jordan elimination, each
+/// pivot the entry of largest magnitude in its column (read from the
+/// numbers: a symbolic matrix takes the diagonal in order). A singular
+/// matrix gives non-finite entries, which the audit reports.
+fn gauss_jordan_inverse<S: Scalar>(m: &DMatrix<S>) -> DMatrix<S> {
+    let n = m.nrows();
+    let mut a = m.clone();
+    let mut inv = DMatrix::<S>::identity(n, n);
+    for col in 0..n {
+        let size = |r: usize| a[(r, col)].known_value().map_or(0.0, f64::abs);
+        let pivot = (col..n)
+            .max_by(|&x, &y| size(x).total_cmp(&size(y)))
+            .unwrap_or(col);
+        a.swap_rows(col, pivot);
+        inv.swap_rows(col, pivot);
+        let scale = a[(col, col)].recip();
+        for c in 0..n {
+            a[(col, c)] *= scale;
+            inv[(col, c)] *= scale;
+        }
+        for r in (0..n).filter(|r| *r != col) {
+            let factor = a[(r, col)];
+            for c in 0..n {
+                let (ac, ic) = (a[(col, c)], inv[(col, c)]);
+                a[(r, c)] -= factor * ac;
+                inv[(r, c)] -= factor * ic;
+            }
+        }
+    }
+    inv
 }
 
 /// The determinant of a square matrix of size 1 to 3.
@@ -968,6 +998,21 @@ mod tests {
         let inv = a.clone().inverse().unwrap();
         let id = a.times(inv).unwrap().matrix().unwrap();
         assert!((id - DMatrix::<f64>::identity(3, 3)).norm() < 1e-12);
+        // Larger: by elimination with pivoting (a zero first pivot).
+        let b = m(
+            4,
+            4,
+            &[
+                0.0, 2.0, 1.0, 0.5, 1.0, 0.0, 3.0, 1.0, 2.0, 1.0, 0.0, 4.0, 1.0, 1.0, 1.0, 1.0,
+            ],
+        );
+        let id = b
+            .clone()
+            .times(b.inverse().unwrap())
+            .unwrap()
+            .matrix()
+            .unwrap();
+        assert!((id - DMatrix::<f64>::identity(4, 4)).norm() < 1e-12);
         assert!((scalar_power(4.0, 1.5) - 8.0).abs() < 1e-12);
         assert!((scalar_power(2.0, -2.0) - 0.25).abs() < 1e-12);
     }
