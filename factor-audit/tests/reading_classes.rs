@@ -166,6 +166,8 @@ $$ \\Phi = \\exp(F \\Delta t) $$
 $$ T p = \\exp(\\xi^\\wedge) p $$
 
 $$ \\Psi = \\exp(F \\Delta t) $$
+
+$$ M = \\exp(-v) B $$
 ";
     let symbols = r#"
 document = "notes.md"
@@ -197,15 +199,34 @@ anchor = "T p"
 id = "exp redefined"
 context = "redefined"
 anchor = "\\Psi = \\exp"
+
+[[claim]]
+id = "exp of a 3-vector times a rotation"
+context = "by type"
+anchor = "M = \\exp(-v) B"
+
+[context."by type".symbols]
+"v" = { sample = "vector3" }
+"B" = { sample = "rotation" }
+"M" = "\\operatorname{Exp}(-v) B"
 "#;
     let findings = audit(document, symbols);
     for id in [
         "general matrix exponential",
         "SE(3) exponential",
         "exp redefined",
+        "exp of a 3-vector times a rotation",
     ] {
         assert_eq!(verdict(&findings, id), "correct", "{id}");
     }
+    // The quaternion exponential of a 3-vector does not multiply a matrix:
+    // the types chose the rotation, and the report says so.
+    let by_type = finding(&findings, "exp of a 3-vector times a rotation");
+    assert!(
+        by_type.note().contains("`exp` read as `Exp`"),
+        "{}",
+        by_type.note()
+    );
 }
 
 /// Class 2: a sum continued over rows (`\\ &+`, a row ending in `+`,

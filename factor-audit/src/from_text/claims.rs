@@ -749,7 +749,7 @@ fn mentions_symbols(t: &Term) -> bool {
 
 /// `lhs rel rhs` with the right side as evaluated (a differential's
 /// numerator, as printed in its tangent).
-fn understood_line(ctx: &Context, lhs: Option<&Expr>, relation: Rel, printed: &Term) -> String {
+pub fn understood_line(ctx: &Context, lhs: Option<&Expr>, relation: Rel, printed: &Term) -> String {
     let rhs = match printed {
         Term::Quotient {
             numerator,

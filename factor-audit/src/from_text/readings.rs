@@ -34,6 +34,9 @@ use super::term::{Meaning, Term};
 use super::tree::{Path, at_mut, nodes};
 use super::understood::Names;
 
+/// The end of the words of a reading of which function a name is.
+const DISPATCH: &str = " (the other function of that name)";
+
 /// Most readings of one formula audited (each agreeing or not at its first
 /// samples, almost always).
 pub const MAX_READINGS: usize = 400;
@@ -47,6 +50,10 @@ pub struct Reading {
     pub replacement: Expr,
     /// The choice, in words about the formula as printed.
     pub words: String,
+    /// The choice is which function a name is (`exp` or `Exp`): made by the
+    /// types of what the formula multiplies, when only one of the two
+    /// evaluates.
+    pub dispatch: bool,
 }
 
 /// The other reading of each choice in the printed tree `root` (one change
@@ -60,6 +67,7 @@ pub fn readings(root: &Expr, is_function: impl Fn(&Symbol) -> bool) -> Vec<Readi
             out.push(Reading {
                 path: path.clone(),
                 replacement,
+                dispatch: words.ends_with(DISPATCH),
                 words,
             })
         };
@@ -138,7 +146,7 @@ pub fn readings(root: &Expr, is_function: impl Fn(&Symbol) -> bool) -> Vec<Readi
                             args: args.clone(),
                             scripts: scripts.clone(),
                         },
-                        format!("`{}` read as `{other}`", f.name),
+                        format!("`{}` read as `{other}`{DISPATCH}", f.name),
                     );
                 }
             }
@@ -358,6 +366,50 @@ pub fn settle(audit: &TextAudit, claim: &TextClaim, samples: usize) -> Option<St
         }
     }
     None
+}
+
+/// When `claim` is malformed as read, the one reading of a function name
+/// (`exp` as `Exp`, `log` as `Log`) under which it evaluates at every
+/// sample: the claim read so, with a note saying how (the types of what
+/// the formula multiplies choose the function: `\exp(-v) B` with `B` a
+/// matrix is the rotation `Exp(−v)`, not a quaternion).
+pub fn well_formed(audit: &TextAudit, claim: &TextClaim, samples: usize) -> Option<TextClaim> {
+    if nodes(&claim.printed_ast).len() > MAX_SEARCHED_NODES {
+        return None;
+    }
+    let ctx = &audit.contexts[claim.context];
+    let evaluating: Vec<(Expr, Term, String)> = readings(&claim.printed_ast, |_| false)
+        .into_iter()
+        .filter(|r| r.dispatch)
+        .filter_map(|r| {
+            let mut e = claim.printed_ast.clone();
+            *at_mut(&mut e, &r.path)? = r.replacement.clone();
+            let term = lower_variant(claim, ctx, &e)?;
+            evaluates(claim, ctx, &term, samples).then_some((e, term, r.words))
+        })
+        .collect();
+    let [(printed_ast, printed, words)] = <[_; 1]>::try_from(evaluating).ok()?;
+    let mut read = claim.clone();
+    read.understood =
+        super::claims::understood_line(ctx, claim.lhs.as_ref(), claim.relation, &printed);
+    read.printed_ast = printed_ast;
+    read.printed = printed;
+    read.notes
+        .push(format!("{words}: as printed it does not evaluate"));
+    Some(read)
+}
+
+/// Whether `term` (a variant of the claim's printed side) evaluates at
+/// every one of the audit's samples.
+fn evaluates(claim: &TextClaim, ctx: &Context, term: &Term, samples: usize) -> bool {
+    let mut sampler = factor_testing::samples::Sampler::new(TextAudit::seed(claim.index));
+    (0..samples).all(|_| {
+        let d = super::claims::TextDerivation::new(claim, ctx, ctx.sample(&mut sampler));
+        matches!(
+            d.printed_term(term),
+            crate::derivation::Printed::Evaluated(_)
+        )
+    })
 }
 
 /// The readings of one claim tried so far.
