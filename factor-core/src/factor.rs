@@ -308,6 +308,29 @@ pub trait Factor: Storage<f64> + Sized {
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;
+
+    /// Variable `variable`'s chart over any scalar `T`: `map` of its type's
+    /// [`crate::Manifold`] on its perturbation side, at the value stored as
+    /// `point` ([`crate::manifold::apply_chart`]: `argument` a tangent or
+    /// another value's stored scalars, `out` the result). What a code
+    /// generator traces into a solver's manifold (crate `factor-codegen`,
+    /// Ceres' `Manifold`), from the variable's type alone.
+    ///
+    /// # Errors
+    ///
+    /// [`crate::manifold::NoLocal`] for [`crate::manifold::ChartMap::Local`]
+    /// of a type without [`crate::Manifold::local`].
+    ///
+    /// # Panics
+    ///
+    /// If `variable` is out of range or a slice has the wrong length.
+    fn chart_over<T: Scalar>(
+        variable: usize,
+        map: crate::manifold::ChartMap,
+        point: &[T],
+        argument: &[T],
+        out: &mut [T],
+    ) -> Result<(), crate::manifold::NoLocal>;
 }
 
 /// `‖a − b‖_F / max(‖b‖_F, floor)`: the relative Frobenius error used by every
