@@ -38,7 +38,8 @@ pub const KERNEL_CRATE: KernelCrate = KernelCrate {
 /// line and plane edge errors linearize through dual numbers: their kernels
 /// take the generator 30 s and 19 s, which every `generate` and `check`
 /// would pay; see `slam_factors::g2o`.) Every one also has a kernel in
-/// apex-solver's chart ([`factor_core::host::Apex`]).
+/// apex-solver's chart ([`factor_core::host::Apex`]) and, in the C++ of
+/// `generated/cpp/`, a Ceres cost function and manifolds.
 pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
         with_apex::<PointReprojection>()
@@ -74,9 +75,11 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
 }
 
 /// Factor `F`'s spec with its kernel in apex-solver's chart beside its own
-/// (`<name>_apex`).
+/// (`<name>_apex`), and in its C++ a Ceres cost function and manifolds.
 fn with_apex<F: HostFactor<Apex>>() -> KernelSpec {
-    KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())
+    KernelSpec::of::<F>()
+        .with_host(HostSpec::of::<F, Apex>())
+        .with_ceres()
 }
 
 /// Every shipped kernel, generated in [`shipped_kernels`] order.

@@ -2,6 +2,7 @@
 //! of `tests/` is a module here.
 
 mod generated;
+mod local_coordinates;
 mod manifold_factors;
 mod retraction_rules;
 mod sim3_group;
