@@ -35,8 +35,9 @@ use crate::lower::{LoweredKernel, lower};
 /// `y`).
 #[derive(Debug, Clone)]
 pub struct ChartTrace {
-    /// The chart's name, `<type>_<side>` in snake case (`se3_left`): the
-    /// prefix of its functions and of its solver manifold's file.
+    /// The chart's name, `<type>_<side>` in snake case (`se3_left`,
+    /// [`VariableInfo::chart_name`]): the prefix of its functions and of its
+    /// solver manifold's file.
     pub name: String,
     /// The variable type as the factor writes it (`Se3<S>`).
     pub type_name: &'static str,
@@ -60,29 +61,6 @@ pub struct ChartTrace {
     pub minus: LoweredKernel,
     /// `∂minus/∂y` at `y = x`: `d × n`, row-major.
     pub minus_jacobian: LoweredKernel,
-}
-
-/// `Se3<S>` → `se3`, `OrthonormalLine<S>` → `orthonormal_line`,
-/// `factor_core::lie::Se3RhoTheta<S>` → `se3_rho_theta`.
-pub fn snake_case_type(type_name: &str) -> String {
-    let base = type_name.split('<').next().unwrap_or(type_name).trim();
-    let last = base.rsplit("::").next().unwrap_or(base);
-    let mut out = String::new();
-    let mut previous: Option<char> = None;
-    for c in last.chars() {
-        if c.is_ascii_uppercase() {
-            if previous.is_some_and(|p| p.is_ascii_lowercase() || p.is_ascii_digit()) {
-                out.push('_');
-            }
-            out.push(c.to_ascii_lowercase());
-        } else if c.is_ascii_alphanumeric() {
-            out.push(c);
-        } else {
-            out.push('_');
-        }
-        previous = Some(c);
-    }
-    out
 }
 
 /// Rows × columns of `columns` (one `Vec` per column) as row-major entries.
@@ -139,11 +117,7 @@ pub fn trace_chart<F: Factor>(variable: usize) -> Result<ChartTrace, CodegenErro
     let graph = tracer.finish();
     let lowered = |outputs: &[Expr]| lower(&graph, outputs, &[]);
     Ok(ChartTrace {
-        name: format!(
-            "{}_{}",
-            snake_case_type(info.type_name),
-            info.perturbation.as_str()
-        ),
+        name: info.chart_name(),
         type_name: info.type_name,
         side: info.perturbation,
         tangent: info.tangent,
@@ -165,21 +139,4 @@ pub fn trace_chart<F: Factor>(variable: usize) -> Result<ChartTrace, CodegenErro
 /// As [`trace_chart`].
 pub fn trace_charts<F: Factor>() -> Result<Vec<ChartTrace>, CodegenError> {
     (0..F::variables().len()).map(trace_chart::<F>).collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn type_names_become_snake_case() {
-        assert_eq!(snake_case_type("Se3<S>"), "se3");
-        assert_eq!(snake_case_type("Se3RhoTheta<S>"), "se3_rho_theta");
-        assert_eq!(
-            snake_case_type("factor_core::geometry::OrthonormalLine<S>"),
-            "orthonormal_line"
-        );
-        assert_eq!(snake_case_type("UnitVector3<S>"), "unit_vector3");
-        assert_eq!(snake_case_type("S"), "s");
-    }
 }

@@ -31,7 +31,6 @@
 use nalgebra::{SMatrix, Scalar as NalgebraScalar};
 
 use crate::scalar::Scalar;
-use crate::storage::Storage;
 
 /// Which side a group perturbation acts on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -180,7 +179,8 @@ pub trait Manifold<S: Scalar>: Sized {
 pub struct NoLocal;
 
 /// One map of a variable's chart, as a code generator traces it
-/// ([`apply_chart`], `Factor::chart_over`).
+/// (`Factor::chart_over`, which the derive dispatches to the variable's
+/// type).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ChartMap {
     /// [`Manifold::retract`]: `argument` is the tangent `δ`, the output the
@@ -191,35 +191,6 @@ pub enum ChartMap {
     /// [`Manifold::local`]: `argument` is the other value's stored scalars,
     /// the output its local coordinates (a tangent).
     Local,
-}
-
-/// Applies `map` of `M`'s chart on `side` at the value stored as `point`:
-/// reads `point` (and for [`ChartMap::Local`] `argument`) as stored scalars,
-/// writes the result into `out`. What the derive's `Factor::chart_over`
-/// dispatches to, per variable.
-///
-/// # Errors
-///
-/// [`NoLocal`] for [`ChartMap::Local`] of a type without
-/// [`Manifold::local`].
-///
-/// # Panics
-///
-/// When a slice's length is not the type's (stored scalars, `DIM`).
-pub fn apply_chart<M: Manifold<S> + Storage<S>, S: Scalar>(
-    map: ChartMap,
-    side: Perturbation,
-    point: &[S],
-    argument: &[S],
-    out: &mut [S],
-) -> Result<(), NoLocal> {
-    let value = M::from_scalars(point);
-    match map {
-        ChartMap::Retract => value.retract(argument, side).write_scalars(out),
-        ChartMap::RetractFirstOrder => value.retract_first_order(argument, side).write_scalars(out),
-        ChartMap::Local => value.local(&M::from_scalars(argument), side, out)?,
-    }
-    Ok(())
 }
 
 /// Scalars are a 1-dimensional vector space.

@@ -6,7 +6,7 @@
 
 use factor_core::geometry::{FreeLine, InfinitePlane, OrthonormalLine, PluckerLine};
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So2, So3};
-use factor_core::manifold::{ChartMap, NoLocal, apply_chart};
+use factor_core::manifold::NoLocal;
 use factor_core::{Manifold, Perturbation, Storage};
 use nalgebra::{Vector3, Vector4};
 use proptest::prelude::*;
@@ -19,21 +19,17 @@ fn quaternion(c: [f64; 4]) -> Quaternion<f64> {
     Quaternion::from_coords(v / v.norm())
 }
 
-/// `local(retract(δ)) = δ` and `retract(local(y)) = y` through
-/// [`apply_chart`], on both sides, to `tolerance` (absolute on `δ`, on the
-/// stored scalars of `y`).
+/// `local(retract(δ)) = δ` and `retract(local(y)) = y` on both sides, to
+/// `tolerance` (absolute on `δ`, on the stored scalars of `y`).
 fn assert_inverse<M: Manifold<f64> + Storage<f64>>(
     x: &M,
     y: &M,
     delta: &[f64],
     tolerance: f64,
 ) -> Result<(), TestCaseError> {
-    let (x, y) = (x.to_scalars(), y.to_scalars());
     for side in SIDES {
-        let mut moved = vec![0.0; x.len()];
-        apply_chart::<M, f64>(ChartMap::Retract, side, &x, delta, &mut moved).unwrap();
         let mut back = vec![0.0; delta.len()];
-        apply_chart::<M, f64>(ChartMap::Local, side, &x, &moved, &mut back).unwrap();
+        x.local(&x.retract(delta, side), side, &mut back).unwrap();
         for (a, b) in back.iter().zip(delta) {
             prop_assert!(
                 (a - b).abs() <= tolerance,
@@ -41,9 +37,8 @@ fn assert_inverse<M: Manifold<f64> + Storage<f64>>(
             );
         }
         let mut coordinates = vec![0.0; delta.len()];
-        apply_chart::<M, f64>(ChartMap::Local, side, &x, &y, &mut coordinates).unwrap();
-        let mut reached = vec![0.0; x.len()];
-        apply_chart::<M, f64>(ChartMap::Retract, side, &x, &coordinates, &mut reached).unwrap();
+        x.local(y, side, &mut coordinates).unwrap();
+        let (reached, y) = (x.retract(&coordinates, side).to_scalars(), y.to_scalars());
         for (a, b) in reached.iter().zip(&y) {
             prop_assert!(
                 (a - b).abs() <= tolerance,
@@ -106,24 +101,11 @@ proptest! {
     }
 }
 
-/// A type that gives no `local` is reported, not guessed.
+/// A type that gives no `local` says so, through the trait's default.
 #[test]
 fn a_type_without_local_says_so() {
     #[derive(Clone, Copy)]
     struct Angle(f64);
-    impl Storage<f64> for Angle {
-        type With<T: factor_core::Scalar> = T;
-        const SCALARS: usize = 1;
-        fn layout() -> factor_core::Layout {
-            factor_core::Layout::Scalar
-        }
-        fn map_scalars<T: factor_core::Scalar>(&self, f: &mut impl FnMut(f64) -> T) -> T {
-            f(self.0)
-        }
-        fn read_scalars(next: &mut impl FnMut() -> f64) -> Self {
-            Angle(next())
-        }
-    }
     impl Manifold<f64> for Angle {
         const DIM: usize = 1;
         fn retract(&self, delta: &[f64], _side: Perturbation) -> Self {
@@ -134,8 +116,35 @@ fn a_type_without_local_says_so() {
         }
     }
     let mut out = [0.0];
-    let local = apply_chart::<Angle, f64>(ChartMap::Local, SIDES[0], &[1.0], &[2.0], &mut out);
-    assert_eq!(local, Err(NoLocal));
-    let retract = apply_chart::<Angle, f64>(ChartMap::Retract, SIDES[0], &[1.0], &[2.0], &mut out);
-    assert_eq!((retract, out), (Ok(()), [3.0]));
+    assert_eq!(
+        Angle(1.0).local(&Angle(2.0), SIDES[0], &mut out),
+        Err(NoLocal)
+    );
+    assert_eq!(Angle(1.0).retract(&[2.0], SIDES[1]).0, 3.0);
+}
+
+/// Charts are named after their type and side.
+#[test]
+fn charts_are_named_after_the_type_and_the_side() {
+    let info = |type_name, perturbation| factor_core::VariableInfo {
+        name: "x",
+        type_name,
+        tangent_dim: 1,
+        perturbation,
+        tangent: "",
+    };
+    assert_eq!(info("Se3<S>", Perturbation::Left).chart_name(), "se3_left");
+    assert_eq!(
+        info("factor_core::lie::Se3RhoTheta<S>", Perturbation::Right).chart_name(),
+        "se3_rho_theta_right"
+    );
+    assert_eq!(
+        info("OrthonormalLine<S>", Perturbation::Left).chart_name(),
+        "orthonormal_line_left"
+    );
+    assert_eq!(
+        info("UnitVector3<S>", Perturbation::Left).chart_name(),
+        "unit_vector3_left"
+    );
+    assert_eq!(info("S", Perturbation::Left).chart_name(), "s_left");
 }

@@ -14,9 +14,12 @@
 //! - [`samples`]: seeded, well-conditioned configurations of the shipped
 //!   factors (and the poses, rotations and vectors they are built from);
 //! - [`branch_points`]: configurations straddling the kernels' branch
-//!   points (the plane factor's two selects).
+//!   points (the plane factor's two selects);
+//! - [`cpp`]: a kernel crate's generated C++ compiled and run against the
+//!   Rust kernels, dual numbers and the variables' charts.
 
 pub mod branch_points;
+pub mod cpp;
 #[cfg(feature = "bench")]
 pub mod cpu_time;
 pub mod generated;

@@ -51,10 +51,33 @@ pub fn emit(cx: &Context) -> TokenStream {
             None => quote!(#name: #clone),
         }
     });
+    // The types are named as everywhere else in the derive
+    // (`<Ty as Manifold<S>>::…`), so that a type without the trait is one
+    // error, not one per use.
     let charts = cx.variables.iter().map(|v| {
         let (ty, side, k) = (v.ty, &v.side_tokens, v.index);
-        let apply = quote_spanned!(ty.span()=> #krate::manifold::apply_chart::<#ty, #scalar>);
-        quote!(#k => #apply(map, #side, point, argument, out),)
+        let manifold = quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>);
+        let storage = quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>);
+        let map = quote!(#krate::manifold::ChartMap);
+        quote! {
+            #k => {
+                let value = #storage::from_scalars(point);
+                match map {
+                    #map::Retract => {
+                        #storage::write_scalars(&#manifold::retract(&value, argument, #side), out)
+                    }
+                    #map::RetractFirstOrder => #storage::write_scalars(
+                        &#manifold::retract_first_order(&value, argument, #side),
+                        out,
+                    ),
+                    #map::Local => {
+                        let other = #storage::from_scalars(argument);
+                        #manifold::local(&value, &other, #side, out)?
+                    }
+                }
+                #result::Ok(())
+            }
+        }
     });
     let validate = match &cx.model.validate {
         Some(path) => {
