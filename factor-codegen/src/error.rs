@@ -66,7 +66,9 @@ pub enum CodegenError {
         reason: String,
     },
     /// A field named like a word the C++ emission uses or C++ reserves.
-    #[error("kernel `{kernel}`: field `{field}` is {what} in the emitted C++; rename the field")]
+    #[error(
+        "kernel `{kernel}`: field `{field}` cannot keep its name in C++: {what}; rename the field"
+    )]
     CppName {
         /// The kernel.
         kernel: &'static str,

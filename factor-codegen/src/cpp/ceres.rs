@@ -13,6 +13,8 @@
 
 use std::fmt::Write;
 
+use factor_core::FieldInfo;
+
 use super::{comment, guard_close, guard_open};
 use crate::chart::ChartTrace;
 use crate::kernel::SymbolicKernel;
@@ -198,11 +200,19 @@ pub fn cost_source(
              returns false when an output is not finite; it does not run the factor's \
              validation (a degenerate configuration gives whatever the formulas give)."
         ),
+        String::new(),
+        format!(
+            "Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` \
+             ({r} × {r}, row-major, the square root of the measurement's information: the \
+             cost is `½ ‖S r‖²`); without it the residual is unit-weighted."
+        ),
     ]);
     let file = format!("ceres/{name}");
     let mut out = comment(&header);
     out.push_str(&guard_open(namespace, &file));
-    out.push_str("#include <cmath>\n\n#include <ceres/sized_cost_function.h>\n\n");
+    out.push_str(
+        "#include <cmath>\n\n#include <ceres/manifold.h>\n#include <ceres/sized_cost_function.h>\n\n",
+    );
     let _ = writeln!(out, "#include \"{namespace}/{name}.h\"");
     let mut manifolds: Vec<&str> = charts
         .iter()
@@ -258,6 +268,7 @@ pub fn cost_source(
         }
         out.push_str("  }\n\n");
     }
+    out.push_str(&factories(&class, &constants, &variables, charts));
     out.push_str(
         "  bool Evaluate(double const* const* parameters, double* residuals,\n                \
          double** jacobians) const override {\n",
@@ -282,6 +293,11 @@ pub fn cost_source(
     arguments.push("residuals".to_owned());
     arguments.extend(variables.iter().map(|f| format!("d_{}", f.name)));
     let _ = writeln!(out, "    {name}_ambient<double>({});", arguments.join(", "));
+    out.push_str("    if (whitened_) {\n      Whiten(residuals, 1);\n");
+    for f in &variables {
+        let _ = writeln!(out, "      Whiten(d_{}, {});", f.name, f.scalars);
+    }
+    out.push_str("    }\n");
     let mut checks = vec![format!("Finite(residuals, {r})")];
     checks.extend(
         variables
@@ -289,13 +305,112 @@ pub fn cost_source(
             .map(|f| format!("Finite(d_{}, {})", f.name, r * f.scalars)),
     );
     let _ = writeln!(out, "    return {};\n  }}\n", checks.join(" && "));
-    out.push_str(" private:\n");
+    let _ = write!(
+        out,
+        "  /// Whitens the residual and the Jacobians by `sqrt_information` ({r} × {r}, \
+         row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {{
+    for (int k = 0; k < {rr}; ++k) {{
+      whitening_[k] = sqrt_information[k];
+    }}
+    whitened_ = true;
+  }}
+
+ private:
+  // `block ← S block` for a row-major {r} × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {{
+    if (block == nullptr) {{
+      return;
+    }}
+    for (int c = 0; c < columns; ++c) {{
+      double column[{r}];
+      for (int i = 0; i < {r}; ++i) {{
+        column[i] = 0.0;
+        for (int k = 0; k < {r}; ++k) {{
+          column[i] += whitening_[i * {r} + k] * block[k * columns + c];
+        }}
+      }}
+      for (int i = 0; i < {r}; ++i) {{
+        block[i * columns + c] = column[i];
+      }}
+    }}
+  }}
+
+",
+        rr = r * r
+    );
     out.push_str(FINITE);
     for f in &constants {
         let _ = writeln!(out, "  double {}_[{}];", f.name, f.scalars);
     }
+    let _ = writeln!(
+        out,
+        "  bool whitened_ = false;\n  double whitening_[{}] = {{}};",
+        r * r
+    );
     out.push_str("};\n");
     let _ = writeln!(out, "\n}}  // namespace {namespace}\n");
     out.push_str(&guard_close(namespace, &file));
+    out
+}
+
+/// `FromConstants` (the constants' stored scalars concatenated) and
+/// `NewManifold` (each parameter block's manifold) of a cost function class.
+fn factories(
+    class: &str,
+    constants: &[&FieldInfo],
+    variables: &[&FieldInfo],
+    charts: &[ChartTrace],
+) -> String {
+    let mut out = String::new();
+    let mut at = 0;
+    let mut parts = Vec::new();
+    let mut sizes = Vec::new();
+    for f in constants {
+        parts.push(format!("constants + {at}"));
+        sizes.push(format!("`{}` {}", f.name, f.scalars));
+        at += f.scalars;
+    }
+    let (unused, list) = if constants.is_empty() {
+        ("[[maybe_unused]] ", "none".to_owned())
+    } else {
+        ("", sizes.join(", "))
+    };
+    let _ = writeln!(
+        out,
+        "  /// A cost function from the factor's constants' stored scalars concatenated in \
+         declaration order ({list}).\n  static {class}* FromConstants({unused}const double* \
+         constants) {{\n    return new {class}({});\n  }}\n",
+        parts.join(", ")
+    );
+    let cases: Vec<String> = variables
+        .iter()
+        .zip(charts)
+        .enumerate()
+        .filter(|(_, (_, chart))| !chart.euclidean)
+        .map(|(k, (_, chart))| {
+            format!(
+                "      case {k}:\n        return new {}();\n",
+                manifold_class(&chart.name)
+            )
+        })
+        .collect();
+    let doc = "  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the \
+               caller, or a `ceres::Problem` given it), or null for a Euclidean block.\n";
+    out.push_str(doc);
+    if cases.is_empty() {
+        out.push_str(
+            "  static ceres::Manifold* NewManifold([[maybe_unused]] int block) {\n    return \
+             nullptr;\n  }\n\n",
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  static ceres::Manifold* NewManifold(int block) {{\n    switch (block) {{\n{}      \
+             default:\n        return nullptr;\n    }}\n  }}\n",
+            cases.concat()
+        );
+    }
     out
 }

@@ -174,19 +174,26 @@ const KEYWORDS: &[&str] = &[
     "xor_eq",
 ];
 
-/// Names the emitted functions and classes use for themselves.
+/// Names the emitted code uses for itself where a field's name is in scope
+/// too: the scalar type, the kernels' output, loop counters, the math
+/// functions (called unqualified), the cost functions' members (a field
+/// `f` is the member `f_`).
 const RESERVED: &[&str] = &[
     "T",
     "residual",
-    "residuals",
-    "parameters",
-    "jacobians",
-    "std",
-    "ceres",
     "k",
-    "values",
-    "count",
-    "Finite",
+    "std",
+    "sqrt",
+    "sin",
+    "cos",
+    "atan2",
+    "exp",
+    "log",
+    "acos",
+    "asin",
+    "atan",
+    "whitening",
+    "whitened",
 ];
 
 /// Rejects fields whose names the C++ cannot take: keywords, the emitted
@@ -203,11 +210,11 @@ fn check_names(kernel: &SymbolicKernel) -> Result<(), CodegenError> {
             && name.starts_with('v')
             && name[1..].bytes().all(|b| b.is_ascii_digit());
         let what = if KEYWORDS.contains(&name) {
-            Some("a C++ keyword")
+            Some("it is a C++ keyword")
         } else if RESERVED.contains(&name) || local || jacobians.iter().any(|j| j == name) {
-            Some("a name the emitted C++ uses for itself")
+            Some("the emitted code uses that name itself")
         } else if name.starts_with('_') || name.contains("__") {
-            Some("a name C++ reserves (a leading underscore or a double one)")
+            Some("C++ reserves names with a leading or a double underscore")
         } else {
             None
         };

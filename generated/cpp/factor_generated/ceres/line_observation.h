@@ -8,12 +8,15 @@
 // - `line[6]`: `{u: [qx, qy, qz, qw], w: [cos, sin]}`, manifold `OrthonormalLineLeftManifold`; tangent: left: U ← Exp(δΘ) U, W ← R(δρ) W, columns [δΘ_x, δΘ_y, δΘ_z, δρ]
 //
 // Jacobians: w.r.t. each block's stored scalars (`line_observation_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (4 × 4, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef FACTOR_GENERATED_CERES_LINE_OBSERVATION_H
 #define FACTOR_GENERATED_CERES_LINE_OBSERVATION_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "factor_generated/line_observation.h"
@@ -32,15 +35,65 @@ class LineObservationCost final : public ceres::SizedCostFunction<4, 7, 6> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`measured` 6).
+  static LineObservationCost* FromConstants(const double* constants) {
+    return new LineObservationCost(constants + 0);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new Se3LeftManifold();
+      case 1:
+        return new OrthonormalLineLeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_pose = jacobians != nullptr ? jacobians[0] : nullptr;
     double* d_line = jacobians != nullptr ? jacobians[1] : nullptr;
     line_observation_ambient<double>(measured_, parameters[0], parameters[1], residuals, d_pose, d_line);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_pose, 7);
+      Whiten(d_line, 6);
+    }
     return Finite(residuals, 4) && Finite(d_pose, 28) && Finite(d_line, 24);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (4 × 4, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 16; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 4 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[4];
+      for (int i = 0; i < 4; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 4; ++k) {
+          column[i] += whitening_[i * 4 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 4; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -54,6 +107,8 @@ class LineObservationCost final : public ceres::SizedCostFunction<4, 7, 6> {
     return true;
   }
   double measured_[6];
+  bool whitened_ = false;
+  double whitening_[16] = {};
 };
 
 }  // namespace factor_generated

@@ -8,12 +8,15 @@
 // - `line[6]`: `{u: [qx, qy, qz, qw], w: [cos, sin]}`, manifold `OrthonormalLineLeftManifold`; tangent: left: U ← Exp(δΘ) U, W ← R(δρ) W, columns [δΘ_x, δΘ_y, δΘ_z, δρ]
 //
 // Jacobians: w.r.t. each block's stored scalars (`line_reprojection_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (2 × 2, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef FACTOR_GENERATED_CERES_LINE_REPROJECTION_H
 #define FACTOR_GENERATED_CERES_LINE_REPROJECTION_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "factor_generated/line_reprojection.h"
@@ -38,15 +41,65 @@ class LineReprojectionCost final : public ceres::SizedCostFunction<2, 7, 6> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`intrinsics` 4, `start` 2, `end` 2).
+  static LineReprojectionCost* FromConstants(const double* constants) {
+    return new LineReprojectionCost(constants + 0, constants + 4, constants + 6);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new Se3LeftManifold();
+      case 1:
+        return new OrthonormalLineLeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_pose = jacobians != nullptr ? jacobians[0] : nullptr;
     double* d_line = jacobians != nullptr ? jacobians[1] : nullptr;
     line_reprojection_ambient<double>(intrinsics_, start_, end_, parameters[0], parameters[1], residuals, d_pose, d_line);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_pose, 7);
+      Whiten(d_line, 6);
+    }
     return Finite(residuals, 2) && Finite(d_pose, 14) && Finite(d_line, 12);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (2 × 2, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 4; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 2 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[2];
+      for (int i = 0; i < 2; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 2; ++k) {
+          column[i] += whitening_[i * 2 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 2; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -62,6 +115,8 @@ class LineReprojectionCost final : public ceres::SizedCostFunction<2, 7, 6> {
   double intrinsics_[4];
   double start_[2];
   double end_[2];
+  bool whitened_ = false;
+  double whitening_[4] = {};
 };
 
 }  // namespace factor_generated

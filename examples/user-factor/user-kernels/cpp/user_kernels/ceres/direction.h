@@ -8,12 +8,15 @@
 // - `direction[3]`: `[x, y, z]`, manifold `UnitVector3LeftManifold`; tangent: either side: v ← cos‖δ‖ v + sin‖δ‖/‖δ‖ B(v) δ, columns [δ₁, δ₂] along B(v) = [b₁, b₂] (Duff et al. 2017, branch on the sign of v_z)
 //
 // Jacobians: w.r.t. each block's stored scalars (`direction_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (2 × 2, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef USER_KERNELS_CERES_DIRECTION_H
 #define USER_KERNELS_CERES_DIRECTION_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "user_kernels/direction.h"
@@ -32,15 +35,65 @@ class DirectionCost final : public ceres::SizedCostFunction<2, 4, 3> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`measured` 3).
+  static DirectionCost* FromConstants(const double* constants) {
+    return new DirectionCost(constants + 0);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new So3LeftManifold();
+      case 1:
+        return new UnitVector3LeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_orientation = jacobians != nullptr ? jacobians[0] : nullptr;
     double* d_direction = jacobians != nullptr ? jacobians[1] : nullptr;
     direction_ambient<double>(measured_, parameters[0], parameters[1], residuals, d_orientation, d_direction);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_orientation, 4);
+      Whiten(d_direction, 3);
+    }
     return Finite(residuals, 2) && Finite(d_orientation, 8) && Finite(d_direction, 6);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (2 × 2, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 4; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 2 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[2];
+      for (int i = 0; i < 2; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 2; ++k) {
+          column[i] += whitening_[i * 2 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 2; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -54,6 +107,8 @@ class DirectionCost final : public ceres::SizedCostFunction<2, 4, 3> {
     return true;
   }
   double measured_[3];
+  bool whitened_ = false;
+  double whitening_[4] = {};
 };
 
 }  // namespace user_kernels

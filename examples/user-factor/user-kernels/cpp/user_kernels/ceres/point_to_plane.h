@@ -7,12 +7,15 @@
 // - `pose[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3LeftManifold`; tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
 //
 // Jacobians: w.r.t. each block's stored scalars (`point_to_plane_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (1 × 1, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef USER_KERNELS_CERES_POINT_TO_PLANE_H
 #define USER_KERNELS_CERES_POINT_TO_PLANE_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "user_kernels/point_to_plane.h"
@@ -36,14 +39,61 @@ class PointToPlaneCost final : public ceres::SizedCostFunction<1, 7> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`point` 3, `plane_point` 3, `normal` 3).
+  static PointToPlaneCost* FromConstants(const double* constants) {
+    return new PointToPlaneCost(constants + 0, constants + 3, constants + 6);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new Se3LeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_pose = jacobians != nullptr ? jacobians[0] : nullptr;
     point_to_plane_ambient<double>(point_, plane_point_, normal_, parameters[0], residuals, d_pose);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_pose, 7);
+    }
     return Finite(residuals, 1) && Finite(d_pose, 7);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (1 × 1, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 1; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 1 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[1];
+      for (int i = 0; i < 1; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 1; ++k) {
+          column[i] += whitening_[i * 1 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 1; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -59,6 +109,8 @@ class PointToPlaneCost final : public ceres::SizedCostFunction<1, 7> {
   double point_[3];
   double plane_point_[3];
   double normal_[3];
+  bool whitened_ = false;
+  double whitening_[1] = {};
 };
 
 }  // namespace user_kernels

@@ -8,12 +8,15 @@
 // - `pose_j[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3LeftManifold`; tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
 //
 // Jacobians: w.r.t. each block's stored scalars (`relative_pose_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (6 × 6, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef USER_KERNELS_CERES_RELATIVE_POSE_H
 #define USER_KERNELS_CERES_RELATIVE_POSE_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "user_kernels/relative_pose.h"
@@ -31,15 +34,65 @@ class RelativePoseCost final : public ceres::SizedCostFunction<6, 7, 7> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`measured` 7).
+  static RelativePoseCost* FromConstants(const double* constants) {
+    return new RelativePoseCost(constants + 0);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new Se3LeftManifold();
+      case 1:
+        return new Se3LeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_pose_i = jacobians != nullptr ? jacobians[0] : nullptr;
     double* d_pose_j = jacobians != nullptr ? jacobians[1] : nullptr;
     relative_pose_ambient<double>(measured_, parameters[0], parameters[1], residuals, d_pose_i, d_pose_j);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_pose_i, 7);
+      Whiten(d_pose_j, 7);
+    }
     return Finite(residuals, 6) && Finite(d_pose_i, 42) && Finite(d_pose_j, 42);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (6 × 6, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 36; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 6 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[6];
+      for (int i = 0; i < 6; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 6; ++k) {
+          column[i] += whitening_[i * 6 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 6; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -53,6 +106,8 @@ class RelativePoseCost final : public ceres::SizedCostFunction<6, 7, 7> {
     return true;
   }
   double measured_[7];
+  bool whitened_ = false;
+  double whitening_[36] = {};
 };
 
 }  // namespace user_kernels

@@ -8,12 +8,15 @@
 // - `sim_j[8]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z], log_scale}`, manifold `Sim3LeftManifold`; tangent: left: S ← Exp(δξ) S, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z, δσ]
 //
 // Jacobians: w.r.t. each block's stored scalars (`relative_sim3_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).
+//
+// Noise: `SetSqrtInformation(S)` whitens the residual and the Jacobians by `S` (7 × 7, row-major, the square root of the measurement's information: the cost is `½ ‖S r‖²`); without it the residual is unit-weighted.
 
 #ifndef USER_KERNELS_CERES_RELATIVE_SIM3_H
 #define USER_KERNELS_CERES_RELATIVE_SIM3_H
 
 #include <cmath>
 
+#include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
 #include "user_kernels/relative_sim3.h"
@@ -31,15 +34,65 @@ class RelativeSim3Cost final : public ceres::SizedCostFunction<7, 8, 8> {
     }
   }
 
+  /// A cost function from the factor's constants' stored scalars concatenated in declaration order (`measured` 8).
+  static RelativeSim3Cost* FromConstants(const double* constants) {
+    return new RelativeSim3Cost(constants + 0);
+  }
+
+  /// Parameter block `block`'s manifold in the factor's own chart, new (its owner the caller, or a `ceres::Problem` given it), or null for a Euclidean block.
+  static ceres::Manifold* NewManifold(int block) {
+    switch (block) {
+      case 0:
+        return new Sim3LeftManifold();
+      case 1:
+        return new Sim3LeftManifold();
+      default:
+        return nullptr;
+    }
+  }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     double* d_sim_i = jacobians != nullptr ? jacobians[0] : nullptr;
     double* d_sim_j = jacobians != nullptr ? jacobians[1] : nullptr;
     relative_sim3_ambient<double>(measured_, parameters[0], parameters[1], residuals, d_sim_i, d_sim_j);
+    if (whitened_) {
+      Whiten(residuals, 1);
+      Whiten(d_sim_i, 8);
+      Whiten(d_sim_j, 8);
+    }
     return Finite(residuals, 7) && Finite(d_sim_i, 56) && Finite(d_sim_j, 56);
   }
 
+  /// Whitens the residual and the Jacobians by `sqrt_information` (7 × 7, row-major): the cost becomes `½ ‖S r‖²`.
+  void SetSqrtInformation(const double* sqrt_information) {
+    for (int k = 0; k < 49; ++k) {
+      whitening_[k] = sqrt_information[k];
+    }
+    whitened_ = true;
+  }
+
  private:
+  // `block ← S block` for a row-major 7 × `columns` block (nothing for a
+  // null pointer).
+  void Whiten(double* block, int columns) const {
+    if (block == nullptr) {
+      return;
+    }
+    for (int c = 0; c < columns; ++c) {
+      double column[7];
+      for (int i = 0; i < 7; ++i) {
+        column[i] = 0.0;
+        for (int k = 0; k < 7; ++k) {
+          column[i] += whitening_[i * 7 + k] * block[k * columns + c];
+        }
+      }
+      for (int i = 0; i < 7; ++i) {
+        block[i * columns + c] = column[i];
+      }
+    }
+  }
+
   // Whether all `count` values are finite (true for a null pointer).
   static bool Finite(const double* values, int count) {
     if (values == nullptr) {
@@ -53,6 +106,8 @@ class RelativeSim3Cost final : public ceres::SizedCostFunction<7, 8, 8> {
     return true;
   }
   double measured_[8];
+  bool whitened_ = false;
+  double whitening_[49] = {};
 };
 
 }  // namespace user_kernels
