@@ -2,7 +2,7 @@
 //! kernels, what `slamjac generate` writes into `generated/`, through the
 //! public generator API of `factor-codegen`, as any user's generator does.
 
-use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
+use factor_codegen::{HostSpec, KernelSpec, Provenance};
 #[cfg(feature = "kernels")]
 use factor_core::host::HostKernel;
 use factor_core::host::{Apex, HostFactor};
@@ -80,15 +80,6 @@ fn with_apex<F: HostFactor<Apex>>() -> KernelSpec {
     KernelSpec::of::<F>()
         .with_host(HostSpec::of::<F, Apex>())
         .with_ceres()
-}
-
-/// Every shipped kernel, generated in [`shipped_kernels`] order.
-///
-/// # Errors
-///
-/// As [`GeneratedCrate::generate`] (none for the shipped factors).
-pub fn generate_all() -> Result<GeneratedCrate, CodegenError> {
-    GeneratedCrate::generate(PROVENANCE, &shipped_kernels())
 }
 
 /// `slamjac`'s own registry: the factors `slam-factors` ships, each with
