@@ -59,6 +59,7 @@ pub use factor_codegen::{HostSpec, KernelSpec, Provenance};
 /// apex-solver's chart, the host of `solve` ([`HostSpec::of`], [`Registry::solve_with_kernel`]).
 pub use factor_core::host::Apex;
 
+pub use crate::generate::Lang;
 pub use crate::registry::{KernelCrate, Registry};
 
 use crate::error::CliError;
@@ -117,15 +118,6 @@ pub enum FactorCommand {
         #[arg(long, value_enum, value_delimiter = ',', value_name = "LANG")]
         lang: Vec<Lang>,
     },
-}
-
-/// `--lang`: a language `generate` writes and `check` compares.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Lang {
-    /// The Rust crate's sources, `src/*.rs`.
-    Rust,
-    /// The header-only C++17 library, `cpp/<namespace>/*.h`.
-    Cpp,
 }
 
 /// `solve PROBLEM`: a problem file of the registry's factors solved by

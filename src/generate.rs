@@ -43,7 +43,6 @@ use factor_codegen::{
     Provenance, SymbolicKernel,
 };
 
-use crate::cli::Lang;
 use crate::error::{CliError, InputError};
 use crate::field_path::shown_path;
 use crate::registry::{KernelCrate, Registry};
@@ -217,6 +216,15 @@ pub fn counts_text(c: &OpCounts) -> String {
 
 fn milliseconds(d: Duration) -> String {
     format!("{:.1} ms", d.as_secs_f64() * 1e3)
+}
+
+/// `--lang`: a language `generate` writes and `check` compares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Lang {
+    /// The Rust crate's sources, `src/*.rs`.
+    Rust,
+    /// The header-only C++17 library, `cpp/<namespace>/*.h`.
+    Cpp,
 }
 
 /// Which of Rust and C++ to take: those `given`, or without any Rust, and
