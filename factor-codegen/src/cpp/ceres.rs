@@ -8,8 +8,11 @@
 //! by the block's `PlusJacobian`; the ambient Jacobian is exact in every
 //! tangent direction, so the product is the factor's Jacobian in whichever
 //! manifold the block has: the generated one (the factor's own chart), a
-//! Ceres one, or none. Every method returns `false` (Ceres' "cannot
-//! evaluate here") when an output is not finite.
+//! Ceres one, or none. Every method but `Plus` returns `false` (Ceres'
+//! "cannot evaluate here") when an output is not finite; `Plus` writes what
+//! the retraction gives (Ceres' gradient test steps by the whole gradient,
+//! and fails the solve when `Plus` fails), and a cost function evaluated at
+//! a non-finite point returns `false`.
 
 use std::fmt::Write;
 
@@ -103,9 +106,13 @@ pub fn manifold_source(namespace: &str, chart: &ChartTrace, provenance: &Provena
   int AmbientSize() const override {{ return {n}; }}
   int TangentSize() const override {{ return {d}; }}
 
+  // Always true: Ceres measures its gradient by `Plus(x, -gradient)` and ends
+  // the solve when that fails, while a step large enough to overflow the
+  // retraction (the exponential of a log-scale, say) only needs the cost
+  // there to fail, which Evaluate does for non-finite parameters.
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {{
     {name}_retract<double>(x, delta, x_plus_delta);
-    return Finite(x_plus_delta, {n});
+    return true;
   }}
 
   bool PlusJacobian(const double* x, double* jacobian) const override {{

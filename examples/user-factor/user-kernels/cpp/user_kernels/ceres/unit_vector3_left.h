@@ -21,9 +21,13 @@ class UnitVector3LeftManifold final : public ceres::Manifold {
   int AmbientSize() const override { return 3; }
   int TangentSize() const override { return 2; }
 
+  // Always true: Ceres measures its gradient by `Plus(x, -gradient)` and ends
+  // the solve when that fails, while a step large enough to overflow the
+  // retraction (the exponential of a log-scale, say) only needs the cost
+  // there to fail, which Evaluate does for non-finite parameters.
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
     unit_vector3_left_retract<double>(x, delta, x_plus_delta);
-    return Finite(x_plus_delta, 3);
+    return true;
   }
 
   bool PlusJacobian(const double* x, double* jacobian) const override {
