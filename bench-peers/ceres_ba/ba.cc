@@ -4,7 +4,7 @@
 //
 //   ba FILE [--threads N] [--max-iterations N] [--robust huber:D|cauchy:D]
 //           [--gauge fixed|free] [--function-tolerance T] [--report]
-//           [--cost autodiff|autodiff-quaternion|generated]
+//           [--cost autodiff|autodiff-quaternion|generated|constant]
 //
 // - `--cost autodiff` (the default): one parameter block of 9 per camera,
 //   [angle-axis (3), translation (3), f, k1, k2] (world to camera,
@@ -18,6 +18,10 @@
 // - `--cost autodiff-quaternion`: those blocks and manifold, the residual
 //   differentiated by AutoDiffCostFunction: the same problem as `generated`,
 //   differentiated otherwise.
+// - `--cost constant`: those blocks and manifold with a cost function that
+//   only writes the observation and constant Jacobians: what Ceres itself
+//   spends on a residual block around its cost function (the solve means
+//   nothing).
 // - The residual of an observation: predicted minus observed pixel with
 //   Snavely's model, p = -P_xy / P_z, pixel = f (1 + k1 |p|^2 + k2 |p|^4) p.
 // - The gauge (`--gauge fixed`, the default): camera 0's pose (its first six
@@ -31,14 +35,16 @@
 //
 // Prints one JSON line: the costs (1/2 sum |r|^2, as `slamjac solve`
 // reports them), iterations (steps tried, accepted or rejected), Ceres'
-// termination, and the time to read the file and to solve, with Ceres'
-// own split of it (Jacobian evaluation, residual evaluation, linear solver).
+// termination, and the time to read the file and to solve (wall and CPU),
+// with Ceres' own split of it (Jacobian evaluation, residual evaluation,
+// linear solver: wall times) and the number of Jacobian evaluations.
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
 #include "factor_generated/ceres/snavely_reprojection.h"
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -211,6 +217,24 @@ struct QuaternionReprojection {
   double x, y;
 };
 
+// No arithmetic: the observation as the residual, constant Jacobians.
+class ConstantCost final : public ceres::SizedCostFunction<2, 7, 3, 3> {
+ public:
+  ConstantCost(double x, double y) : x_(x), y_(y) {}
+  bool Evaluate(double const* const*, double* residuals, double** jacobians) const override {
+    residuals[0] = x_;
+    residuals[1] = y_;
+    const int sizes[3] = {14, 6, 6};
+    for (int b = 0; jacobians != nullptr && b < 3; ++b)
+      if (jacobians[b] != nullptr)
+        for (int k = 0; k < sizes[b]; ++k) jacobians[b][k] = 1.0;
+    return true;
+  }
+
+ private:
+  double x_, y_;
+};
+
 // A camera's 9 BAL parameters as a pose [qx, qy, qz, qw, t] and intrinsics.
 void SplitCamera(const double* camera, double* pose, double* intrinsics) {
   double q[4];  // [w, x, y, z]
@@ -228,6 +252,14 @@ bool EndsWith(const std::string& s, const std::string& tail) {
          s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
+// The process's CPU time (every thread's), in seconds: on a shared machine
+// steadier than the wall time of a single-threaded solve.
+double CpuSeconds() {
+  timespec now;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since)
       .count();
@@ -241,7 +273,7 @@ int main(int argc, char** argv) {
     std::cerr << "usage: ba FILE [--threads N] [--max-iterations N] "
                  "[--robust huber:D|cauchy:D] [--gauge fixed|free] "
                  "[--function-tolerance T] [--report] "
-                 "[--cost autodiff|autodiff-quaternion|generated]\n";
+                 "[--cost autodiff|autodiff-quaternion|generated|constant]\n";
     return 2;
   }
   const std::string path = argv[1];
@@ -278,8 +310,9 @@ int main(int argc, char** argv) {
     else if (robust.rfind("cauchy:", 0) == 0) loss.reset(new ceres::CauchyLoss(delta));
     else Fail("--robust: huber:D or cauchy:D");
   }
-  if (cost != "autodiff" && cost != "autodiff-quaternion" && cost != "generated")
-    Fail("--cost: autodiff, autodiff-quaternion or generated");
+  if (cost != "autodiff" && cost != "autodiff-quaternion" && cost != "generated" &&
+      cost != "constant")
+    Fail("--cost: autodiff, autodiff-quaternion, generated or constant");
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -311,12 +344,14 @@ int main(int argc, char** argv) {
     }
     for (const Observation& o : data.observations) {
       const double observed[2] = {o.x, o.y};
-      ceres::CostFunction* function =
-          cost == "generated"
-              ? static_cast<ceres::CostFunction*>(
-                    new factor_generated::SnavelyReprojectionCost(observed))
-              : new ceres::AutoDiffCostFunction<QuaternionReprojection, 2, 7, 3, 3>(
-                    new QuaternionReprojection(o.x, o.y));
+      ceres::CostFunction* function;
+      if (cost == "generated")
+        function = new factor_generated::SnavelyReprojectionCost(observed);
+      else if (cost == "constant")
+        function = new ConstantCost(o.x, o.y);
+      else
+        function = new ceres::AutoDiffCostFunction<QuaternionReprojection, 2, 7, 3, 3>(
+            new QuaternionReprojection(o.x, o.y));
       problem.AddResidualBlock(function, loss.get(), &poses[7 * o.camera],
                                &intrinsics[3 * o.camera], &data.points[3 * o.point]);
     }
@@ -344,22 +379,24 @@ int main(int argc, char** argv) {
 
   ceres::Solver::Summary summary;
   const auto solve_start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
   ceres::Solve(options, &problem, &summary);
   const double solve_seconds = Seconds(solve_start);
+  const double cpu_seconds = CpuSeconds() - cpu_start;
   if (report) std::cerr << summary.FullReport() << "\n";
 
   std::printf(
       "{\"file\": \"%s\", \"cost\": \"%s\", \"threads\": %d, \"cameras\": %d, \"points\": %zu, "
       "\"observations\": %zu, \"initial_cost\": %.15e, \"final_cost\": %.15e, "
       "\"iterations\": %d, \"termination\": \"%s\", \"read_s\": %.6f, "
-      "\"solve_s\": %.6f, \"linear_solver_s\": %.6f, \"jacobian_s\": %.6f, "
-      "\"residual_s\": %.6f}\n",
+      "\"solve_s\": %.6f, \"solve_cpu_s\": %.6f, \"linear_solver_s\": %.6f, \"jacobian_s\": %.6f, "
+      "\"jacobian_evaluations\": %d, \"residual_s\": %.6f}\n",
       path.c_str(), cost.c_str(), threads, cameras, data.points.size() / 3,
       data.observations.size(), summary.initial_cost, summary.final_cost,
       summary.num_successful_steps + summary.num_unsuccessful_steps,
       ceres::TerminationTypeToString(summary.termination_type), read_seconds,
-      solve_seconds, summary.linear_solver_time_in_seconds,
-      summary.jacobian_evaluation_time_in_seconds,
+      solve_seconds, cpu_seconds, summary.linear_solver_time_in_seconds,
+      summary.jacobian_evaluation_time_in_seconds, summary.num_jacobian_evaluations,
       summary.residual_evaluation_time_in_seconds);
   return summary.IsSolutionUsable() ? 0 : 1;
 }

@@ -10,8 +10,9 @@
 #
 # 1. builds the Ceres peer (../ceres_ba/build.sh: Debian's libceres-dev,
 #    installed with apt-get if missing) and, with GoogleTest
-#    (libgmock-dev, for Ceres' manifold_test_utils.h), gradient_check.cc and
-#    problem.cc, all with -Wall -Wextra -Werror;
+#    (libgmock-dev, for Ceres' manifold_test_utils.h), gradient_check.cc,
+#    problem.cc and the guide's example.cc, all with -Wall -Wextra -Werror,
+#    and runs the example;
 # 2. builds the export helper (export/, its own workspace), `slamjac` and
 #    `user-cli` (release, feature `solve`);
 # 3. gradient check: seeded configurations of every factor
@@ -20,8 +21,9 @@
 # 4. bundle adjustment: synthetic BAL problems (`slamjac synth-bal`, no
 #    outliers) of the given sizes (observations; 5 views per point) and
 #    data/Balbianello.out, each solved with `--cost autodiff`,
-#    `autodiff-quaternion` and `generated`, the three alternated for
-#    `--rounds` rounds;
+#    `autodiff-quaternion`, `generated` and `constant` (Ceres' own work
+#    around a cost function), alternated for `--rounds` rounds; before
+#    them, the cost functions alone (cost_speed.cc);
 # 5. problem files: a `synth-plp` room solved by `slamjac solve` and by
 #    Ceres (problem.cc), and a problem of the user crate's five factors
 #    (`ceres-host-export user-problem`) by `user-cli solve` and by Ceres;
@@ -54,9 +56,9 @@ if [[ ! -f /usr/include/gmock/gmock.h ]]; then
     fi
     apt-get install -y libgmock-dev >"$out/apt-gmock.log" 2>&1
 fi
-flags=(-O2 -std=c++17 -Wall -Wextra -Werror -DNDEBUG -I/usr/include/eigen3
+flags=(-O3 -march=native -std=c++17 -Wall -Wextra -Werror -DNDEBUG -I/usr/include/eigen3
        -I"$root/generated/cpp" -I"$root/examples/user-factor/user-kernels/cpp")
-for program in gradient_check problem; do
+for program in gradient_check problem example cost_speed; do
     echo "== compiling $program.cc" >&2
     g++ "${flags[@]}" "$here/$program.cc" -o "$out/$program" \
         -lceres -lglog -lgflags -lgtest -lgmock -lpthread
@@ -70,9 +72,15 @@ export_bin="$CARGO_TARGET_DIR/release/ceres-host-export"
 slamjac="$CARGO_TARGET_DIR/release/slamjac"
 user_cli="$CARGO_TARGET_DIR/release/user-cli"
 
+echo "== the guide's example" >&2
+"$out/example" | tee "$out/example.txt"
+
 echo "== gradient check (load average: $(cut -d' ' -f1-3 /proc/loadavg))" >&2
 "$export_bin" samples "$out/samples" 100
 CERES_HOST_SAMPLES="$out/samples" "$out/gradient_check" --gtest_brief=1 | tee "$out/gradient_check.txt"
+
+echo "== the Snavely cost functions alone (load average: $(cut -d' ' -f1-3 /proc/loadavg))" >&2
+"$out/cost_speed" 21 | tee "$out/cost_speed.txt"
 
 echo "== bundle adjustment (load average: $(cut -d' ' -f1-3 /proc/loadavg))" >&2
 : >"$out/ba.jsonl"
@@ -88,9 +96,9 @@ for n in "${observations[@]}"; do
 done
 for file in "${files[@]}"; do
     for round in $(seq 1 "$rounds"); do
-        costs=(autodiff autodiff-quaternion generated)
+        costs=(autodiff autodiff-quaternion generated constant)
         # Alternate the order from round to round.
-        if (( round % 2 == 0 )); then costs=(generated autodiff-quaternion autodiff); fi
+        if (( round % 2 == 0 )); then costs=(constant generated autodiff-quaternion autodiff); fi
         for cost in "${costs[@]}"; do
             "$ceres_ba" "$file" --cost "$cost" --threads "$threads" \
                 --function-tolerance 1e-8 | tee -a "$out/ba.jsonl"
