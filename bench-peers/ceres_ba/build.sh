@@ -20,6 +20,7 @@ if [[ ! -f /usr/include/ceres/ceres.h ]]; then
 fi
 generated="$here/../../generated/cpp/factor_generated"
 if [[ ! -x "$out/ceres_ba" || "$here/ba.cc" -nt "$out/ceres_ba" \
+      || "$here/snavely_functors.h" -nt "$out/ceres_ba" \
       || -n "$(find "$generated" -newer "$out/ceres_ba" -name '*.h' -print -quit)" ]]; then
     echo "== compiling ba.cc" >&2
     g++ -O3 -march=native -DNDEBUG -std=c++17 -Wall -Wextra -Werror -I/usr/include/eigen3 \

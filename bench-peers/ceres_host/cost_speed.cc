@@ -1,7 +1,8 @@
 // The cost functions alone, outside a solve: CostFunction::Evaluate with
 // every Jacobian, per call, for the generated Snavely cost function and the
-// two AutoDiffCostFunctions of ../ceres_ba/ba.cc (the same residual over
-// the same blocks, and over the 9-parameter angle-axis camera), on 1000
+// two AutoDiffCostFunctions of ../ceres_ba/ba.cc (snavely_functors.h: the
+// same residual over the same blocks, and over the 9-parameter angle-axis
+// camera), on 1000
 // seeded BAL-like configurations, in rounds that alternate the order (the
 // machine is shared: the per-round ratios are what to read).
 //
@@ -22,47 +23,9 @@
 #include <vector>
 
 #include "factor_generated/ceres/snavely_reprojection.h"
+#include "snavely_functors.h"
 
 namespace {
-
-// The residual over [qx, qy, qz, qw, t], [f, k1, k2] and the point, as
-// ../ceres_ba/ba.cc's QuaternionReprojection.
-struct Quaternion {
-  Quaternion(double x, double y) : x(x), y(y) {}
-  template <typename T>
-  bool operator()(const T* pose, const T* intrinsics, const T* point, T* r) const {
-    const T q[4] = {pose[3], pose[0], pose[1], pose[2]};
-    T p[3];
-    ceres::UnitQuaternionRotatePoint(q, point, p);
-    for (int k = 0; k < 3; ++k) p[k] += pose[4 + k];
-    const T u = -p[0] / p[2], v = -p[1] / p[2];
-    const T rho2 = u * u + v * v;
-    const T s = intrinsics[0] * (T(1.0) + rho2 * (intrinsics[1] + intrinsics[2] * rho2));
-    r[0] = s * u - x;
-    r[1] = s * v - y;
-    return true;
-  }
-  double x, y;
-};
-
-// The residual over the angle-axis camera [ω, t, f, k1, k2], as
-// ../ceres_ba/ba.cc's Reprojection.
-struct AngleAxis {
-  AngleAxis(double x, double y) : x(x), y(y) {}
-  template <typename T>
-  bool operator()(const T* camera, const T* point, T* r) const {
-    T p[3];
-    ceres::AngleAxisRotatePoint(camera, point, p);
-    for (int k = 0; k < 3; ++k) p[k] += camera[3 + k];
-    const T u = -p[0] / p[2], v = -p[1] / p[2];
-    const T rho2 = u * u + v * v;
-    const T s = camera[6] * (T(1.0) + rho2 * (camera[7] + camera[8] * rho2));
-    r[0] = s * u - x;
-    r[1] = s * v - y;
-    return true;
-  }
-  double x, y;
-};
 
 struct Configuration {
   double camera[9], pose[7], intrinsics[3], point[3], observed[2];
@@ -122,10 +85,10 @@ int main(int argc, char** argv) {
   // observation: the work per call does not depend on it.
   const double* observed = all[0].observed;
   factor_generated::SnavelyReprojectionCost generated(observed);
-  ceres::AutoDiffCostFunction<Quaternion, 2, 7, 3, 3> quaternion(
-      new Quaternion(observed[0], observed[1]));
-  ceres::AutoDiffCostFunction<AngleAxis, 2, 9, 3> angle_axis(
-      new AngleAxis(observed[0], observed[1]));
+  ceres::AutoDiffCostFunction<QuaternionReprojection, 2, 7, 3, 3> quaternion(
+      new QuaternionReprojection(observed[0], observed[1]));
+  ceres::AutoDiffCostFunction<Reprojection, 2, 9, 3> angle_axis(
+      new Reprojection(observed[0], observed[1]));
   auto split = [](const Configuration& c) {
     return std::array<const double*, 3>{c.pose, c.intrinsics, c.point};
   };

@@ -7,7 +7,8 @@
 use factor_core::geometry::{FreeLine, InfinitePlane, OrthonormalLine, PluckerLine};
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So2, So3};
 use factor_core::manifold::NoLocal;
-use factor_core::{Manifold, Perturbation, Storage};
+use factor_core::{Manifold, Perturbation};
+use factor_testing::local::assert_local_inverts;
 use nalgebra::{Vector3, Vector4};
 use proptest::prelude::*;
 
@@ -17,36 +18,6 @@ const SIDES: [Perturbation; 2] = [Perturbation::Left, Perturbation::Right];
 fn quaternion(c: [f64; 4]) -> Quaternion<f64> {
     let v = Vector4::from(c) + Vector4::new(0.0, 0.0, 0.0, 1e-3);
     Quaternion::from_coords(v / v.norm())
-}
-
-/// `local(retract(δ)) = δ` and `retract(local(y)) = y` on both sides, to
-/// `tolerance` (absolute on `δ`, on the stored scalars of `y`).
-fn assert_inverse<M: Manifold<f64> + Storage<f64>>(
-    x: &M,
-    y: &M,
-    delta: &[f64],
-    tolerance: f64,
-) -> Result<(), TestCaseError> {
-    for side in SIDES {
-        let mut back = vec![0.0; delta.len()];
-        x.local(&x.retract(delta, side), side, &mut back).unwrap();
-        for (a, b) in back.iter().zip(delta) {
-            prop_assert!(
-                (a - b).abs() <= tolerance,
-                "{side:?}: δ {delta:?} → {back:?}"
-            );
-        }
-        let mut coordinates = vec![0.0; delta.len()];
-        x.local(y, side, &mut coordinates).unwrap();
-        let (reached, y) = (x.retract(&coordinates, side).to_scalars(), y.to_scalars());
-        for (a, b) in reached.iter().zip(&y) {
-            prop_assert!(
-                (a - b).abs() <= tolerance,
-                "{side:?}: y {y:?} → {reached:?}"
-            );
-        }
-    }
-    Ok(())
 }
 
 proptest! {
@@ -59,12 +30,12 @@ proptest! {
     ) {
         let (qa, qb) = (quaternion(a), quaternion(b));
         let (so3a, so3b) = (So3::from_quaternion(qa), So3::from_quaternion(qb));
-        assert_inverse(&so3a, &so3b, &d, 1e-12)?;
+        assert_local_inverts(&so3a, &so3b, &d, 1e-12);
         let plane = |q: Quaternion<f64>| InfinitePlane { quaternion: q };
-        assert_inverse(&plane(qa), &plane(qb), &d, 1e-12)?;
+        assert_local_inverts(&plane(qa), &plane(qb), &d, 1e-12);
         let line = |q, distance| FreeLine::new(q, distance);
         let step = [d[0], d[1], d[2], 0.7];
-        assert_inverse(&line(qa, distances[0]), &line(qb, distances[1]), &step, 1e-12)?;
+        assert_local_inverts(&line(qa, distances[0]), &line(qb, distances[1]), &step, 1e-12);
     }
 
     #[test]
@@ -77,8 +48,8 @@ proptest! {
     ) {
         let x = Se3::new(So3::from_quaternion(quaternion(a)), Vector3::from(ta));
         let y = Se3::new(So3::from_quaternion(quaternion(b)), Vector3::from(tb));
-        assert_inverse(&x, &y, &d, 1e-11)?;
-        assert_inverse(&Se3RhoTheta::new(x), &Se3RhoTheta::new(y), &d, 1e-11)?;
+        assert_local_inverts(&x, &y, &d, 1e-11);
+        assert_local_inverts(&Se3RhoTheta::new(x), &Se3RhoTheta::new(y), &d, 1e-11);
     }
 
     #[test]
@@ -91,13 +62,13 @@ proptest! {
     ) {
         let line = |q, angle| OrthonormalLine::new(So3::from_quaternion(q), So2::exp(angle));
         let (x, y) = (line(quaternion(a), angles[0]), line(quaternion(b), angles[1]));
-        assert_inverse(&x, &y, &d[..4], 1e-12)?;
+        assert_local_inverts(&x, &y, &d[..4], 1e-12);
         let plucker = |v: &[f64]| {
             PluckerLine::new(Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]))
         };
-        assert_inverse(&plucker(&p), &plucker(&d), &d, 1e-12)?;
-        assert_inverse(&Vector3::new(p[0], p[1], p[2]), &Vector3::new(d[0], d[1], d[2]), &d[3..], 1e-12)?;
-        assert_inverse(&p[0], &d[0], &d[1..2], 1e-12)?;
+        assert_local_inverts(&plucker(&p), &plucker(&d), &d, 1e-12);
+        assert_local_inverts(&Vector3::new(p[0], p[1], p[2]), &Vector3::new(d[0], d[1], d[2]), &d[3..], 1e-12);
+        assert_local_inverts(&p[0], &d[0], &d[1..2], 1e-12);
     }
 }
 

@@ -7,6 +7,7 @@
 //!   agrees with dual numbers to rounding;
 //! - [`host`]: a factor's Jacobians in a host solver's chart against
 //!   central differences through the host's retraction;
+//! - [`local`]: a manifold's `local` against the retraction it inverts;
 //! - [`mod@reference`]: a factor's residual and Jacobians in double-double
 //!   arithmetic, to measure the accuracy of an `f64` evaluation;
 //! - [`near_degenerate`]: configurations a given distance from a factor's
@@ -24,6 +25,7 @@ pub mod cpp;
 pub mod cpu_time;
 pub mod generated;
 pub mod host;
+pub mod local;
 pub mod near_degenerate;
 pub mod numeric;
 pub mod reference;

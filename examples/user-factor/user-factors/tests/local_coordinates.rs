@@ -6,43 +6,11 @@
 //! the far sheet comes back with that quaternion).
 
 use factor_core::lie::{Quaternion, So3};
-use factor_core::{Manifold, Perturbation, Storage};
+use factor_testing::local::assert_local_inverts;
 use nalgebra::{Vector3, Vector4};
 use proptest::prelude::*;
 use user_factors::sim3::Sim3;
 use user_factors::unit_vector::UnitVector3;
-
-const SIDES: [Perturbation; 2] = [Perturbation::Left, Perturbation::Right];
-
-/// `local(retract(δ)) = δ` and `retract(local(y)) = y` on both sides, to
-/// `tolerance` (absolute on `δ` and on `y`'s stored scalars).
-fn assert_inverse<M: Manifold<f64> + Storage<f64>>(
-    x: &M,
-    y: &M,
-    delta: &[f64],
-    tolerance: f64,
-) -> Result<(), TestCaseError> {
-    for side in SIDES {
-        let mut back = vec![0.0; delta.len()];
-        x.local(&x.retract(delta, side), side, &mut back).unwrap();
-        for (a, b) in back.iter().zip(delta) {
-            prop_assert!(
-                (a - b).abs() <= tolerance,
-                "{side:?}: δ {delta:?} → {back:?}"
-            );
-        }
-        let mut coordinates = vec![0.0; delta.len()];
-        x.local(y, side, &mut coordinates).unwrap();
-        let (reached, y) = (x.retract(&coordinates, side).to_scalars(), y.to_scalars());
-        for (a, b) in reached.iter().zip(&y) {
-            prop_assert!(
-                (a - b).abs() <= tolerance,
-                "{side:?}: y {y:?} → {reached:?}"
-            );
-        }
-    }
-    Ok(())
-}
 
 fn sim3(q: [f64; 4], t: [f64; 3], sigma: f64) -> Sim3<f64> {
     let q = Vector4::from(q) + Vector4::new(0.0, 0.0, 0.0, 1e-3);
@@ -63,7 +31,7 @@ proptest! {
     ) {
         let (x, y) = (sim3(qa, ta, sigmas[0]), sim3(qb, tb, sigmas[1]));
         let delta = [rotation[0], rotation[1], rotation[2], rest[0], rest[1], rest[2], rest[3]];
-        assert_inverse(&x, &y, &delta, 1e-10)?;
+        assert_local_inverts(&x, &y, &delta, 1e-10);
     }
 
     #[test]
@@ -78,6 +46,6 @@ proptest! {
         let (x, y) = (direction(a), direction(b));
         // Not the antipode, where the geodesic has no direction.
         prop_assume!(x.vector().dot(&y.vector()) > -0.999);
-        assert_inverse(&x, &y, &delta, 1e-11)?;
+        assert_local_inverts(&x, &y, &delta, 1e-11);
     }
 }
