@@ -17,7 +17,7 @@
 use std::path::Path;
 
 use factor_core::Factor;
-use factor_testing::cpp::{CppCheck, Driver, calls, check_factor, compiler};
+use factor_testing::cpp::{Driver, Expected, calls, compiler, expected};
 use factor_testing::samples::Sampler;
 use slam_factors::{
     BetweenFactor, FreeLineFactor, G2oSe3Edge, LineObservation, LineReprojection, PlaneFactor,
@@ -49,7 +49,7 @@ fn samples<F>(seed: u64, sample: fn(&mut Sampler) -> F) -> Vec<F> {
 }
 
 /// Every shipped factor with a kernel, in `shipped_kernels` order, with
-/// its sampler: the calls of each, and a check of each.
+/// its sampler: the calls of each, and the Rust side of each's comparison.
 macro_rules! shipped {
     ($($factor:ty => $sampler:ident),* $(,)?) => {
         fn all_calls(library: &Path) -> Vec<factor_testing::cpp::Call> {
@@ -62,12 +62,11 @@ macro_rules! shipped {
             vec![$(<$factor>::NAME),*]
         }
 
-        fn check_all(driver: &Driver) -> Vec<(&'static str, CppCheck)> {
+        fn all_expected() -> Vec<Expected> {
             let mut seed = 0;
             vec![$({
                 seed += 1;
-                let factors = samples(seed, Sampler::$sampler);
-                (<$factor>::NAME, check_factor::<$factor>(driver, &factors, FEW))
+                expected::<$factor>(&samples(seed, Sampler::$sampler), FEW)
             }),*]
         }
     };
@@ -111,7 +110,8 @@ fn the_generated_cpp_compiles_warning_free_and_equals_the_rust_kernels() {
         );
     }
     let dir = temp_dir("cpp", "driver");
-    let driver = Driver::build(
+    // The compiler runs while the Rust side is computed.
+    let pending = Driver::spawn(
         &compiler,
         &include,
         "factor_generated/kernels.h",
@@ -119,8 +119,12 @@ fn the_generated_cpp_compiles_warning_free_and_equals_the_rust_kernels() {
         calls,
         &dir,
     )
-    .unwrap_or_else(|diagnostics| panic!("generated/cpp does not compile:\n{diagnostics}"));
-    for (name, check) in check_all(&driver) {
+    .unwrap_or_else(|e| panic!("the C++ compiler does not start: {e}"));
+    let expected = all_expected();
+    let driver = pending
+        .wait()
+        .unwrap_or_else(|diagnostics| panic!("generated/cpp does not compile:\n{diagnostics}"));
+    for (name, check) in expected.iter().map(|e| (e.name(), e.check(&driver))) {
         eprintln!("{name}: {check:?}");
         assert_eq!(check.configurations, CONFIGURATIONS);
         assert!(check.kernel <= KERNEL_TOLERANCE, "{name}: {check:?}");

@@ -1,7 +1,10 @@
 //! A kernel crate's generated C++ (`generate --lang cpp`) against the Rust,
 //! in tests: the C++ compiler of the machine, a driver that calls the
 //! emitted function templates in `double` and in `float` on configurations
-//! read from a file, and the comparisons of [`check_factor`].
+//! read from a file ([`Driver`], compiled in the background by
+//! [`Driver::spawn`]), and the comparisons: [`expected`] computes the Rust
+//! side (while the compiler runs), [`Expected::check`] runs the C++ and
+//! compares.
 //!
 //! The driver is compiled with `-std=c++17 -Wall -Wextra -Werror -O1` and
 //! instantiates every function it calls in both scalars, so a warning in
@@ -11,7 +14,7 @@
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, Command, Stdio};
 
 use factor_core::Factor;
 use factor_core::manifold::ChartMap;
@@ -152,40 +155,43 @@ pub struct Driver {
 
 impl Driver {
     /// Writes the driver of `calls` (functions of `namespace` declared by
-    /// `header`, found under `include`) into `dir` and compiles it with
-    /// `compiler`; the compiler's output when it fails.
+    /// `header`, found under `include`) into `dir` and starts compiling it
+    /// with `compiler` in the background, so that the caller computes its
+    /// references ([`expected`]) meanwhile; [`PendingDriver::wait`] ends it.
     ///
     /// # Errors
     ///
-    /// The compiler's diagnostics (a warning is an error).
-    pub fn build(
+    /// When the source cannot be written or the compiler not started.
+    pub fn spawn(
         compiler: &str,
         include: &Path,
         header: &str,
         namespace: &str,
         calls: Vec<Call>,
         dir: &Path,
-    ) -> Result<Driver, String> {
+    ) -> Result<PendingDriver, String> {
         std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
         let source = dir.join("driver.cc");
         std::fs::write(&source, driver_source(header, namespace, &calls))
             .map_err(|e| e.to_string())?;
         let binary = dir.join("driver");
-        let output = Command::new(compiler)
+        let child = Command::new(compiler)
             .args(["-std=c++17", "-Wall", "-Wextra", "-Werror", "-O1", "-I"])
             .arg(include)
             .arg(&source)
             .arg("-o")
             .arg(&binary)
-            .output()
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
             .map_err(|e| e.to_string())?;
-        if !output.status.success() {
-            return Err(String::from_utf8_lossy(&output.stderr).into_owned());
-        }
-        Ok(Driver {
-            binary,
-            dir: dir.to_path_buf(),
-            calls,
+        Ok(PendingDriver {
+            child,
+            driver: Driver {
+                binary,
+                dir: dir.to_path_buf(),
+                calls,
+            },
         })
     }
 
@@ -251,6 +257,29 @@ impl Driver {
             .chunks_exact(2 * output_len)
             .map(|c| (c[..output_len].to_vec(), c[output_len..].to_vec()))
             .collect()
+    }
+}
+
+/// A driver being compiled ([`Driver::spawn`]).
+#[derive(Debug)]
+pub struct PendingDriver {
+    child: Child,
+    driver: Driver,
+}
+
+impl PendingDriver {
+    /// Waits for the compiler: the driver, or the compiler's diagnostics.
+    ///
+    /// # Errors
+    ///
+    /// The compiler's diagnostics (a warning is an error).
+    pub fn wait(self) -> Result<Driver, String> {
+        let output = self.child.wait_with_output().map_err(|e| e.to_string())?;
+        if output.status.success() {
+            Ok(self.driver)
+        } else {
+            Err(String::from_utf8_lossy(&output.stderr).into_owned())
+        }
     }
 }
 
@@ -338,7 +367,7 @@ fn variable_sizes<F: Factor>() -> Vec<(usize, usize)> {
 }
 
 /// The worst relative errors ([`relative_error`], per output array) that
-/// [`check_factor`] found, each against its Rust reference.
+/// [`Expected::check`] found, each against its Rust reference.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CppCheck {
     /// The kernel in `double` against the Rust kernel
@@ -450,29 +479,69 @@ fn dual_jacobian(
     jacobian
 }
 
-/// Factor `F`'s C++ (the calls of [`calls`] in `driver`) against the Rust
-/// at `factors`: the kernel at every one, the ambient kernel and the charts
-/// the driver calls at the first `few` (their references are dual numbers,
-/// slower in a debug build). Each chart is exercised at the variable's
-/// value with a seeded tangent step of up to 0.5 per entry and a second
-/// point retracted from it by another.
+/// One chart's configurations and the Rust values the C++ must give there.
+#[derive(Debug, Clone)]
+struct ChartExpected {
+    /// The chart's name (its functions' prefix).
+    name: String,
+    /// Stored scalars and tangent dimension.
+    n: usize,
+    d: usize,
+    /// `[x, δ]` per configuration, and `retract(x, δ)`.
+    steps: Vec<Vec<f64>>,
+    retract: Vec<Vec<f64>>,
+    /// `[x, y]` per configuration, and `local(x, y)`.
+    pairs: Vec<Vec<f64>>,
+    local: Vec<Vec<f64>>,
+    /// The two Jacobians at `x`, by dual numbers.
+    retract_jacobian: Vec<Vec<f64>>,
+    local_jacobian: Vec<Vec<f64>>,
+}
+
+/// The Rust side of [`Expected::check`]: a factor's configurations and what
+/// its C++ must give at them, computed before any C++ runs (so that a test
+/// can compute it while the compiler builds the driver, [`Driver::spawn`]).
+#[derive(Debug, Clone)]
+pub struct Expected {
+    name: &'static str,
+    /// The output arrays' lengths of the kernel and of the ambient kernel.
+    own_sizes: Vec<usize>,
+    ambient_sizes: Vec<usize>,
+    /// Per configuration: its stored scalars, its input scale, the Rust
+    /// kernel's outputs there and at the inputs rounded to `float`.
+    stored: Vec<Vec<f64>>,
+    scales: Vec<f64>,
+    kernel: Vec<Vec<f64>>,
+    rounded: Vec<Vec<f64>>,
+    /// The ambient kernel's reference at the first configurations.
+    ambient: Vec<Vec<f64>>,
+    /// Every variable's chart (the driver calls those the library has).
+    charts: Vec<ChartExpected>,
+}
+
+/// The Rust side of the comparison of factor `F`'s C++ at `factors`: the
+/// kernel at every one (through `Factor::linearize_stored_into`, after the
+/// factor's validation), the ambient kernel and the charts at the first
+/// `few` (by dual numbers, slower in a debug build). Each chart is
+/// exercised at the variable's value with a seeded tangent step of up to
+/// 0.5 per entry and a second point retracted from it by another.
 ///
 /// # Panics
 ///
-/// When a factor cannot be linearized (give valid configurations) or the
-/// driver fails.
-pub fn check_factor<F: Factor>(driver: &Driver, factors: &[F], few: usize) -> CppCheck {
+/// When a factor cannot be linearized (give valid configurations).
+pub fn expected<F: Factor>(factors: &[F], few: usize) -> Expected {
     let r = F::RESIDUAL_DIM;
     let variables = F::variables();
-    let stored: Vec<Vec<f64>> = factors.iter().map(|f| f.to_scalars()).collect();
-    let mut check = CppCheck {
-        configurations: factors.len(),
-        ..CppCheck::default()
-    };
+    let fields = F::fields();
     let mut own_sizes = vec![r];
     own_sizes.extend(variables.iter().map(|v| r * v.tangent_dim));
-    // The `f64` kernel at `stored`, through the Rust kernel (after the
-    // factor's validation).
+    let mut ambient_sizes = vec![r];
+    ambient_sizes.extend(
+        fields
+            .iter()
+            .filter(|f| f.variable.is_some())
+            .map(|f| r * f.scalars),
+    );
     let rust = |stored: &[f64]| {
         let mut outputs = vec![0.0; own_sizes.iter().sum()];
         let (residual, mut rest) = outputs.split_at_mut(r);
@@ -488,62 +557,54 @@ pub fn check_factor<F: Factor>(driver: &Driver, factors: &[F], few: usize) -> Cp
             .unwrap_or_else(|e| panic!("{}: {e}", F::NAME));
         outputs
     };
-    let cpp = driver.run(driver.index(F::NAME), &stored);
-    for ((factor, s), (double, float)) in factors.iter().zip(&stored).zip(&cpp) {
-        let scale = input_scale(factor);
-        check.kernel = check
-            .kernel
-            .max(kernel_error(double, &rust(s), &own_sizes, scale));
-        // `float` sees the inputs rounded to it, branch decisions included
-        // (a direction's `z = 1e-300` is 0 there): its reference is the
-        // `f64` kernel at those rounded inputs.
-        let rounded: Vec<f64> = s.iter().map(|x| f64::from(*x as f32)).collect();
-        check.kernel_float =
-            check
-                .kernel_float
-                .max(kernel_error(float, &rust(&rounded), &own_sizes, scale));
-    }
+    let stored: Vec<Vec<f64>> = factors.iter().map(|f| f.to_scalars()).collect();
+    // `float` sees the inputs rounded to it, branch decisions included (a
+    // direction's `z = 1e-300` is 0 there): its reference is the `f64`
+    // kernel at those rounded inputs.
+    let rounded: Vec<Vec<f64>> = stored
+        .iter()
+        .map(|s| rust(&s.iter().map(|x| f64::from(*x as f32)).collect::<Vec<_>>()))
+        .collect();
     let few = &stored[..few.min(stored.len())];
-    let fields = F::fields();
-    let mut ambient_sizes = vec![r];
-    ambient_sizes.extend(
-        fields
-            .iter()
-            .filter(|f| f.variable.is_some())
-            .map(|f| r * f.scalars),
-    );
-    let cpp = driver.run(driver.index(&format!("{}_ambient", F::NAME)), few);
-    for ((factor, s), (double, _)) in factors.iter().zip(few).zip(&cpp) {
-        let full = dual_jacobian(s, r, |x, out| {
-            out.copy_from_slice(&F::residual_over(x));
-        });
-        let mut reference = F::residual_over(s);
-        let mut offset = 0;
-        for field in &fields {
-            if field.variable.is_some() {
-                for row in 0..r {
-                    let start = row * s.len() + offset;
-                    reference.extend_from_slice(&full[start..start + field.scalars]);
+    let ambient = few
+        .iter()
+        .map(|s| {
+            let full = dual_jacobian(s, r, |x, out| {
+                out.copy_from_slice(&F::residual_over(x));
+            });
+            let mut reference = F::residual_over(s);
+            let mut offset = 0;
+            for field in &fields {
+                if field.variable.is_some() {
+                    for row in 0..r {
+                        let start = row * s.len() + offset;
+                        reference.extend_from_slice(&full[start..start + field.scalars]);
+                    }
                 }
+                offset += field.scalars;
             }
-            offset += field.scalars;
-        }
-        check.ambient = check.ambient.max(kernel_error(
-            double,
-            &reference,
-            &ambient_sizes,
-            input_scale(factor),
-        ));
+            reference
+        })
+        .collect();
+    Expected {
+        name: F::NAME,
+        kernel: stored.iter().map(|s| rust(s)).collect(),
+        scales: factors.iter().map(input_scale).collect(),
+        charts: expected_charts::<F>(few),
+        rounded,
+        ambient,
+        own_sizes,
+        ambient_sizes,
+        stored,
     }
-    check_charts::<F>(driver, few, &mut check);
-    check
 }
 
-/// The charts' part of [`check_factor`].
-fn check_charts<F: Factor>(driver: &Driver, stored: &[Vec<f64>], check: &mut CppCheck) {
+/// Every variable's [`ChartExpected`] at the configurations `stored`.
+fn expected_charts<F: Factor>(stored: &[Vec<f64>]) -> Vec<ChartExpected> {
     let fields = F::fields();
     let variables = F::variables();
     let mut rng = StdRng::seed_from_u64(29);
+    let mut charts = Vec::new();
     let mut offset = 0;
     for field in &fields {
         let range = offset..offset + field.scalars;
@@ -552,18 +613,25 @@ fn check_charts<F: Factor>(driver: &Driver, stored: &[Vec<f64>], check: &mut Cpp
             continue;
         };
         let name = variables[variable].chart_name();
-        let Some(retract) = driver.find(&format!("{name}_retract")) else {
-            continue; // Euclidean: no C++ of its own
-        };
         let (n, d) = (field.scalars, variables[variable].tangent_dim);
         let map = |map: ChartMap, x: &[f64], argument: &[f64], len: usize| {
             let mut out = vec![0.0; len];
-            F::chart_over::<f64>(variable, map, x, argument, &mut out)
-                .unwrap_or_else(|_| panic!("{name}: no local coordinates"));
+            // A type without `local` has no C++ chart: its references are
+            // never read.
+            let _ = F::chart_over::<f64>(variable, map, x, argument, &mut out);
             out
         };
-        let mut steps = Vec::new();
-        let mut pairs = Vec::new();
+        let mut chart = ChartExpected {
+            name,
+            n,
+            d,
+            steps: Vec::new(),
+            retract: Vec::new(),
+            pairs: Vec::new(),
+            local: Vec::new(),
+            retract_jacobian: Vec::new(),
+            local_jacobian: Vec::new(),
+        };
         for s in stored {
             let x = s[range.clone()].to_vec();
             let step = |rng: &mut StdRng| -> Vec<f64> {
@@ -571,46 +639,104 @@ fn check_charts<F: Factor>(driver: &Driver, stored: &[Vec<f64>], check: &mut Cpp
             };
             let (delta, other) = (step(&mut rng), step(&mut rng));
             let y = map(ChartMap::Retract, &x, &other, n);
-            steps.push([x.clone(), delta].concat());
-            pairs.push([x, y].concat());
-        }
-        let retract = driver.run(retract, &steps);
-        let local = driver.run(driver.index(&format!("{name}_local")), &pairs);
-        let points: Vec<Vec<f64>> = pairs.iter().map(|p| p[..n].to_vec()).collect();
-        let plus_jacobians = driver.run(driver.index(&format!("{name}_retract_jacobian")), &points);
-        let minus_jacobians = driver.run(driver.index(&format!("{name}_local_jacobian")), &points);
-        for k in 0..stored.len() {
-            let (x, delta) = steps[k].split_at(n);
-            let y = &pairs[k][n..];
-            let reference = map(ChartMap::Retract, x, delta, n);
-            check.retract = check.retract.max(relative_error(&retract[k].0, &reference));
-            let reference = map(ChartMap::Local, x, y, d);
-            check.local = check.local.max(relative_error(&local[k].0, &reference));
-            let zero = vec![0.0; d];
-            let plus = dual_jacobian(&zero, n, |delta, out| {
-                let x: Vec<_> = x.iter().map(|v| DualSVec64::<1>::from_re(*v)).collect();
-                F::chart_over(variable, ChartMap::RetractFirstOrder, &x, delta, out)
-                    .expect("a retraction is always given");
-            });
-            check.retract_jacobian = check
+            chart.retract.push(map(ChartMap::Retract, &x, &delta, n));
+            chart.local.push(map(ChartMap::Local, &x, &y, d));
+            let lifted = |x: &[f64]| -> Vec<DualSVec64<1>> {
+                x.iter().map(|v| DualSVec64::<1>::from_re(*v)).collect()
+            };
+            chart
                 .retract_jacobian
-                .max(relative_error(&plus_jacobians[k].0, &plus));
-            let minus = dual_jacobian(x, d, |y, out| {
-                let x: Vec<_> = x.iter().map(|v| DualSVec64::<1>::from_re(*v)).collect();
-                F::chart_over(variable, ChartMap::Local, &x, y, out)
-                    .expect("local coordinates were given above");
-            });
-            check.local_jacobian = check
-                .local_jacobian
-                .max(relative_error(&minus_jacobians[k].0, &minus));
-            let (pj, mj) = (&plus_jacobians[k].0, &minus_jacobians[k].0);
-            for i in 0..d {
-                for j in 0..d {
-                    let product: f64 = (0..n).map(|a| mj[i * n + a] * pj[a * d + j]).sum();
-                    let identity = if i == j { 1.0 } else { 0.0 };
-                    check.inverse = check.inverse.max((product - identity).abs());
+                .push(dual_jacobian(&vec![0.0; d], n, |delta, out| {
+                    let _ = F::chart_over(
+                        variable,
+                        ChartMap::RetractFirstOrder,
+                        &lifted(&x),
+                        delta,
+                        out,
+                    );
+                }));
+            chart.local_jacobian.push(dual_jacobian(&x, d, |y, out| {
+                let _ = F::chart_over(variable, ChartMap::Local, &lifted(&x), y, out);
+            }));
+            chart.steps.push([x.clone(), delta].concat());
+            chart.pairs.push([x, y].concat());
+        }
+        charts.push(chart);
+    }
+    charts
+}
+
+impl Expected {
+    /// The factor's name.
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+
+    /// The factor's C++ (the calls of [`calls`] in `driver`) against these
+    /// references: the worst errors found.
+    ///
+    /// # Panics
+    ///
+    /// When the driver fails or lacks the factor's kernels.
+    pub fn check(&self, driver: &Driver) -> CppCheck {
+        let mut check = CppCheck {
+            configurations: self.stored.len(),
+            ..CppCheck::default()
+        };
+        let cpp = driver.run(driver.index(self.name), &self.stored);
+        for (k, (double, float)) in cpp.iter().enumerate() {
+            let scale = self.scales[k];
+            let own = &self.own_sizes;
+            check.kernel = check
+                .kernel
+                .max(kernel_error(double, &self.kernel[k], own, scale));
+            check.kernel_float =
+                check
+                    .kernel_float
+                    .max(kernel_error(float, &self.rounded[k], own, scale));
+        }
+        let few = &self.stored[..self.ambient.len()];
+        let cpp = driver.run(driver.index(&format!("{}_ambient", self.name)), few);
+        for (k, (double, _)) in cpp.iter().enumerate() {
+            let error = kernel_error(
+                double,
+                &self.ambient[k],
+                &self.ambient_sizes,
+                self.scales[k],
+            );
+            check.ambient = check.ambient.max(error);
+        }
+        for chart in &self.charts {
+            let name = &chart.name;
+            let Some(retract) = driver.find(&format!("{name}_retract")) else {
+                continue; // Euclidean: no C++ of its own
+            };
+            let (n, d) = (chart.n, chart.d);
+            let retract = driver.run(retract, &chart.steps);
+            let local = driver.run(driver.index(&format!("{name}_local")), &chart.pairs);
+            let points: Vec<Vec<f64>> = chart.pairs.iter().map(|p| p[..n].to_vec()).collect();
+            let plus = driver.run(driver.index(&format!("{name}_retract_jacobian")), &points);
+            let minus = driver.run(driver.index(&format!("{name}_local_jacobian")), &points);
+            for k in 0..points.len() {
+                let error = |a: &[f64], b: &[f64]| relative_error(a, b);
+                check.retract = check.retract.max(error(&retract[k].0, &chart.retract[k]));
+                check.local = check.local.max(error(&local[k].0, &chart.local[k]));
+                check.retract_jacobian = check
+                    .retract_jacobian
+                    .max(error(&plus[k].0, &chart.retract_jacobian[k]));
+                check.local_jacobian = check
+                    .local_jacobian
+                    .max(error(&minus[k].0, &chart.local_jacobian[k]));
+                let (pj, mj) = (&plus[k].0, &minus[k].0);
+                for i in 0..d {
+                    for j in 0..d {
+                        let product: f64 = (0..n).map(|a| mj[i * n + a] * pj[a * d + j]).sum();
+                        let identity = if i == j { 1.0 } else { 0.0 };
+                        check.inverse = check.inverse.max((product - identity).abs());
+                    }
                 }
             }
         }
+        check
     }
 }
