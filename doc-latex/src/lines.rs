@@ -329,7 +329,11 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
                 Tok::Text(ref words) => {
                     !words.trim().is_empty()
                         && current.iter().any(|c| is_relation(&c.tok))
-                        && current.last().is_some_and(|c| ends_operand(&c.tok))
+                        && current
+                            .iter()
+                            .rev()
+                            .find(|c| !matches!(c.tok, Tok::Space | Tok::Quad))
+                            .is_some_and(|c| ends_operand(&c.tok))
                 }
                 Tok::Amp => layout == Layout::Cases,
                 _ => false,

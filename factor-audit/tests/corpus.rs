@@ -12,10 +12,13 @@ use factor_audit::from_text::TextAudit;
 use factor_audit::from_text::symbols::ClaimKind;
 
 /// A corpus document: its folder and its name (`.tex` and `.symbols.toml`).
-const CORPUS: [(&str, &str); 3] = [
+const CORPUS: [(&str, &str); 6] = [
     ("kindr", "cheatsheet_kindr1"),
     ("gtsam", "math"),
     ("gtsam", "LieGroups"),
+    ("openvins", "openvins"),
+    ("gtsam", "ImuFactor"),
+    ("blanco", "se3_techrep"),
 ];
 
 /// Samples per claim: enough for the verdicts (the CLI's 100 are the gate).
@@ -352,6 +355,55 @@ fn seeded_errors_are_diagnosed_with_their_correction() {
     std::thread::scope(|scope| {
         for seed in SEEDS {
             scope.spawn(move || check_seed(seed));
+        }
+    });
+}
+
+/// The documents with a planted copy (`NAME.planted.tex`, beside a
+/// `NAME.planted.md` whose table names each planted claim by its id).
+const PLANTED: [(&str, &str); 3] = [
+    ("openvins", "openvins"),
+    ("gtsam", "ImuFactor"),
+    ("blanco", "se3_techrep"),
+];
+
+/// The claim ids of a `.planted.md` table: the first cell of each row,
+/// between backquotes.
+fn planted_ids(table: &str) -> Vec<String> {
+    table
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .filter_map(|l| l[3..].split_once('`').map(|(id, _)| id.to_string()))
+        .collect()
+}
+
+#[test]
+fn planted_errors_are_found_wrong() {
+    std::thread::scope(|scope| {
+        for (dir, name) in PLANTED {
+            scope.spawn(move || {
+                let text = read(&format!("{dir}/{name}.planted.tex"));
+                let symbols = read(&format!("{dir}/{name}.symbols.toml"));
+                let ids = planted_ids(&read(&format!("{dir}/{name}.planted.md")));
+                assert!(ids.len() >= 4, "{name}: {ids:?}");
+                let audit = TextAudit::read(&format!("{name}.planted.tex"), &text, &symbols)
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                let findings = audit.run(SAMPLES);
+                for id in &ids {
+                    let finding = findings
+                        .iter()
+                        .find(|f| &f.finding.label.equation == id)
+                        .unwrap_or_else(|| panic!("{name}: the planted claim {id} is not read"));
+                    assert!(
+                        matches!(
+                            finding.finding.verdict,
+                            Verdict::Wrong(_) | Verdict::Malformed(_)
+                        ),
+                        "{name}: planted {id}: {:?}",
+                        finding.finding.verdict
+                    );
+                }
+            });
         }
     });
 }

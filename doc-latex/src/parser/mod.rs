@@ -19,6 +19,7 @@
 mod atoms;
 mod groups;
 mod scripts;
+mod spans;
 
 use crate::ast::{Expr, MulOp, Rel, Sign, Statement};
 use crate::error::{ErrorKind, Lines, ParseError};

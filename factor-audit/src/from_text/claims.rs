@@ -144,6 +144,26 @@ fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
     }
 }
 
+/// The line of a display a `\label` at byte `at` is printed in: the line
+/// it falls in, else the one after the gap it is in when a row break
+/// (`separates(from, to)`: the gap's text holds `\\`) comes before it
+/// there, else the one before.
+fn labelled_row(lines: &[doc_latex::Claim], at: usize, separates: impl Fn(usize, usize) -> bool) -> usize {
+    let after = lines.iter().position(|c| c.span.start > at);
+    match after {
+        None => lines.len() - 1,
+        Some(0) => 0,
+        Some(next) => {
+            let before = &lines[next - 1].span;
+            if at < before.end || !separates(before.end, at) {
+                next - 1
+            } else {
+                next
+            }
+        }
+    }
+}
+
 /// Finds a claim's line in the document (by label, anchor or `after`, a
 /// line of a formula, a statement of the line, the end of a chain, a case
 /// of a `cases`). An anchor found only in the prose is an error naming its
@@ -235,18 +255,16 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
                 .map_err(|e| claim_error(spec, e.to_string()))?;
             match (&spec.label, spec.line) {
                 // A `\label` printed on one line of a display names that
-                // line: the last line starting before it.
+                // line: the row it is printed in, between the `\\`s.
                 (Some(name), None) if lines.len() > 1 => {
                     let marker = format!("\\label{{{name}}}");
                     match formula.source.find(&marker) {
                         Some(at) => {
-                            let at = formula.span.start + at;
-                            lines
-                                .iter()
-                                .rev()
-                                .find(|c| c.span.start <= at)
-                                .cloned()
-                                .map_or_else(|| pick(lines.clone()), Ok)?
+                            let base = formula.span.start;
+                            let row = labelled_row(&lines, at + base, |from, to| {
+                                formula.source[from - base..to - base].contains("\\\\")
+                            });
+                            lines[row].clone()
                         }
                         None => pick(lines)?,
                     }
@@ -433,9 +451,17 @@ pub fn compile(
             })?;
         (printed, lowering.notes)
     };
+    // A derivative's printed size (`\left. \frac{∂f}{∂x} \right|_{6×12}`)
+    // only annotates it.
+    let lhs = match &located.lhs {
+        Some(Expr::Shaped { base, .. }) if matches!(base.as_ref(), Expr::Derivative { .. }) => {
+            Some(base.as_ref())
+        }
+        other => other.as_ref(),
+    };
     // The left side's derivative, evaluated at zero when a bar says so
     // (`\left. \frac{∂f}{∂ε} \right|_{ε=0}`).
-    let (derivative, bar_at_zero) = match &located.lhs {
+    let (derivative, bar_at_zero) = match lhs {
         Some(Expr::Derivative { of, wrt, .. }) => {
             (Some((of.as_ref().clone(), wrt.as_ref().clone())), false)
         }
@@ -485,15 +511,21 @@ pub fn compile(
     };
     let of = match (&spec.of, &derivative, kind, &located.lhs) {
         (Some(latex), ..) => lower_written(ctx, scope, spec, "of", latex)?.1,
-        (None, Some((of, _)), _, _) => Lowering::new(&mut ctx.resolver(scope), false)
-            .without_claim_names()
-            .expr(of)
+        (None, Some((of, wrt)), _, _) => {
+            let mut resolver = ctx.resolver(scope);
+            let mut lowering = Lowering::new(&mut resolver, false).without_claim_names();
+            // Under a left side's evaluation bar, with its other bindings.
+            match &located.lhs {
+                Some(Expr::At { at, .. }) => lowering.map_under_bar(of, wrt, at),
+                _ => lowering.expr(of),
+            }
             .map_err(|e| {
                 claim_error(
                     spec,
                     format!("the differentiated `{}`: {e}", short(&of.to_string())),
                 )
-            })?,
+            })?
+        }
         (None, None, ClaimKind::Value | ClaimKind::FirstOrder, Some(lhs)) => {
             Lowering::new(&mut ctx.resolver(scope), false)
                 .without_claim_names()
@@ -588,6 +620,8 @@ pub fn compile(
         };
         let variable = match (kind, &c.update, &wrt) {
             (ClaimKind::Value, ..) => None,
+            // Another map by the claim's own variable (its update too).
+            (_, None, _) if c.wrt.is_none() && c.side.is_none() => variable.clone(),
             (_, Some(update), Some(Expr::Symbol(s))) => {
                 let symbol = ctx
                     .lookup(scope, &symbol_key(s))
@@ -806,6 +840,20 @@ impl<'a> TextDerivation<'a> {
         }
     }
 
+    /// An environment over the parameters `p` at the claim's point: its
+    /// variable at zero when the claim is a derivative there (`at_zero`,
+    /// `\left. … \right|_{x=0}`), so that what it prints, and the
+    /// derivatives printed in it, are taken there too.
+    fn env_at_point<S: Scalar>(&self, p: Vec<S>, near_zero: bool) -> Result<Env<'_, S>, ShapeError> {
+        let mut env = Env::new(self.space(), p).near_zero(near_zero);
+        if let Some(v) = &self.claim.variable
+            && v.at_zero()
+        {
+            env.perturb(v, &vec![S::zero(); v.dim()])?;
+        }
+        Ok(env)
+    }
+
     /// `term` with `variable` perturbed by `x`, over the parameters `p`; a
     /// group element read in its local coordinates on `output` about its
     /// unperturbed value.
@@ -819,7 +867,7 @@ impl<'a> TextDerivation<'a> {
         holding: &[SymbolId],
     ) -> Result<Value<S>, ShapeError> {
         let at = |x: &[S]| -> Result<Value<S>, ShapeError> {
-            let mut env = Env::new(self.space(), p.to_vec()).near_zero(self.claim.near_zero);
+            let mut env = self.env_at_point(p.to_vec(), self.claim.near_zero)?;
             // What a partial holds keeps its value while the variable moves.
             let held = holding
                 .iter()
@@ -854,7 +902,8 @@ impl<'a> TextDerivation<'a> {
     }
 
     /// `term` with the variable perturbed by `x`, over the parameters `p`,
-    /// its entries in column-major order.
+    /// its entries in column-major order (a homogeneous transformation's
+    /// top 3 × 4 when the map's value is one and the claim its Jacobian).
     fn value<S: Scalar>(
         &self,
         term: &Term,
@@ -862,16 +911,21 @@ impl<'a> TextDerivation<'a> {
         x: &[S],
         p: &[S],
     ) -> Result<DMatrix<S>, ShapeError> {
-        let hint = (
-            Some(self.claim.value_shape.0),
-            Some(self.claim.value_shape.1),
-        );
-        self.evaluate(term, variable, self.claim.output, x, p, &self.claim.holding)?
-            .sized(if self.claim.value_shape.0 == 0 {
-                (None, None)
-            } else {
-                hint
-            })
+        let top_of_homogeneous =
+            self.claim.kind == ClaimKind::Jacobian && self.claim.value_shape == (3, 4);
+        let hint = match self.claim.value_shape {
+            (0, _) => (None, None),
+            _ if top_of_homogeneous => (None, None),
+            (r, c) => (Some(r), Some(c)),
+        };
+        let m = self
+            .evaluate(term, variable, self.claim.output, x, p, &self.claim.holding)?
+            .sized(hint)?;
+        Ok(if top_of_homogeneous && m.shape() == (4, 4) {
+            m.rows(0, 3).into_owned()
+        } else {
+            m
+        })
     }
 
     /// The true derivative of a link the file states in words, at this
@@ -1005,11 +1059,27 @@ impl<'a> TextDerivation<'a> {
                     None => Ok(m),
                 }
             }
-            _ => self.truths::<f64>(term).and_then(|truths| {
-                let mut env = Env::new(self.space(), self.stored.clone()).with_truths(truths);
-                env.eval(term)
-                    .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
-            }),
+            _ => {
+                let at = |near_zero: bool| {
+                    self.truths::<f64>(term).and_then(|truths| {
+                        self.env_at_point(self.stored.clone(), near_zero)?
+                            .with_truths(truths)
+                            .eval(term)
+                            .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
+                    })
+                };
+                match at(claim.near_zero) {
+                    // A removable singularity of the printed formula at
+                    // zero (`sin‖w‖/‖w‖`): next to it.
+                    Ok(m) if m.iter().any(|x| !x.is_finite())
+                        && !claim.near_zero
+                        && claim.variable.as_ref().is_some_and(Variable::at_zero) =>
+                    {
+                        at(true)
+                    }
+                    other => other,
+                }
+            }
         };
         match got {
             Err(e) => Printed::Malformed(e.0),

@@ -687,7 +687,6 @@ impl Context {
                 .lookup(scope, &wrt.to_string())
                 .or_else(|| self.lookup(scope, &symbol_key(s))),
             Expr::Tuple(items) => {
-                // (P_x, P_y, P_z): every entry of one vector, in order.
                 let ids: Option<Vec<usize>> = items
                     .iter()
                     .map(|i| match i {
@@ -695,25 +694,10 @@ impl Context {
                         _ => None,
                     })
                     .collect();
-                let parts: Option<Vec<(usize, usize)>> = ids.and_then(|ids| {
-                    ids.iter()
-                        .map(|id| match self.table.entries[*id].meaning {
-                            Meaning::Component { of, index } => Some((of, index)),
-                            _ => None,
-                        })
-                        .collect()
-                });
-                match parts.as_deref() {
-                    Some([(of, 0), rest @ ..])
-                        if rest
-                            .iter()
-                            .enumerate()
-                            .all(|(i, (o, k))| o == of && *k == i + 1) =>
-                    {
-                        Some(*of)
-                    }
-                    _ => None,
+                if let Some(ids) = ids {
+                    return self.variable_of_symbols(&ids, side, at_zero);
                 }
+                None
             }
             other => self.lookup(scope, &other.to_string()),
         };
@@ -724,6 +708,45 @@ impl Context {
             ));
         };
         self.variable(target, side, None, at_zero)
+    }
+
+    /// The variable of a derivative by several symbols (`(P_x, P_y, P_z)`,
+    /// `\{ω_x, ω_y, ω_z, θ\}`): entries of one vector are its tangent
+    /// coordinates (all of them in order: the vector); other symbols are
+    /// each perturbed, holding the others (`θ` beside `ω` though `θ =
+    /// ‖ω‖`: a partial by each argument).
+    fn variable_of_symbols(
+        &mut self,
+        ids: &[SymbolId],
+        side: Option<Side>,
+        at_zero: bool,
+    ) -> Result<Variable, String> {
+        let parts: Option<Vec<(usize, usize)>> = ids
+            .iter()
+            .map(|id| match self.table.entries[*id].meaning {
+                Meaning::Component { of, index } => Some((of, index)),
+                _ => None,
+            })
+            .collect();
+        if let Some(parts) = parts
+            && let Some(&(of, _)) = parts.first()
+            && parts.iter().all(|(o, _)| *o == of)
+        {
+            let entries = self
+                .table
+                .entries
+                .iter()
+                .filter(|e| matches!(e.meaning, Meaning::Component { of: o, .. } if o == of))
+                .count();
+            let whole = parts.len() == entries && parts.iter().enumerate().all(|(i, (_, k))| *k == i);
+            let coordinates: Vec<usize> = parts.iter().map(|(_, k)| k + 1).collect();
+            return self.variable(of, side, (!whole).then_some(coordinates.as_slice()), at_zero);
+        }
+        Ok(Variable::Joint(
+            ids.iter()
+                .map(|id| self.variable(*id, side, None, at_zero))
+                .collect::<Result<_, _>>()?,
+        ))
     }
 
     /// Follows definitions that are one other symbol (`{}_w p_C = {}_W p_C`),
@@ -977,8 +1000,15 @@ impl Context {
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        bound: &[(SymbolId, Term)],
         at_zero: bool,
     ) -> Result<Link, LowerError> {
+        // The same derivative under other bars is another link.
+        let key = if bound.is_empty() {
+            key.to_string()
+        } else {
+            format!("{key} at {bound:?}")
+        };
         if let Some(k) = self
             .truth_links
             .iter()
@@ -996,7 +1026,13 @@ impl Context {
             Some((of, wrt)) => (of, wrt),
             None => (of, wrt),
         };
-        let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        let mut of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        if !bound.is_empty() {
+            of = Term::At {
+                body: Box::new(of),
+                bindings: bound.to_vec(),
+            };
+        }
         let variable = self
             .variable_of(scope, wrt, None, at_zero)
             .map_err(|m| LowerError::at(wrt, m))?;
@@ -1014,7 +1050,7 @@ impl Context {
             })
             .collect();
         self.truth_links.push(TruthLink {
-            key: key.to_string(),
+            key,
             of,
             variable,
             output: None,
@@ -1299,10 +1335,11 @@ impl Resolver for ScopeResolver<'_> {
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        bound: &[(SymbolId, Term)],
         at_zero: bool,
     ) -> Result<Link, LowerError> {
         self.ctx
-            .inline_link(self.scope, key, of, wrt, holding, at_zero)
+            .inline_link(self.scope, key, of, wrt, holding, bound, at_zero)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {

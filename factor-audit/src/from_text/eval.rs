@@ -36,7 +36,8 @@ fn size_by_neighbours<S: Scalar>(values: &mut [Value<S>], factors: &[(Op, Term)]
         if !matches!(values[i], Value::Blocks(_)) {
             continue;
         }
-        let multiplies = |k: usize| factors.get(k).is_some_and(|(op, _)| *op == Op::Mul);
+        let multiplies =
+            |k: usize| factors.get(k).is_some_and(|(op, _)| matches!(op, Op::Mul | Op::Dot));
         let left = (0..i)
             .rev()
             .take_while(|k| multiplies(k + 1))
@@ -174,6 +175,14 @@ impl<'a, S: Scalar> Env<'a, S> {
                 self.bind(*symbol, value);
             }
             Variable::Joint(parts) => {
+                // Independent arguments: each defined one keeps its value
+                // while the others move (`θ` beside `ω` though `θ = ‖ω‖`).
+                for part in parts {
+                    if let Variable::Defined { symbol, .. } = part {
+                        let value = self.symbol(*symbol)?;
+                        self.bind(*symbol, value);
+                    }
+                }
                 let mut at = 0;
                 for part in parts {
                     let n = part.dim();
@@ -226,6 +235,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                         None => v,
                         Some(a) => match op {
                             Op::Mul => a.times(v)?,
+                            Op::Dot => a.dot(v)?,
                             Op::Cross => a.cross(v)?,
                             Op::Oplus { jpl } => a.oplus(v, *jpl)?,
                             Op::Otimes { jpl } => a.otimes(v, *jpl)?,

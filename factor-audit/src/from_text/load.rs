@@ -425,7 +425,7 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
     let mut value = TextDerivation::new(claim, ctx, stored.to_vec())
         .map_value()
         .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
-    if value.iter().any(|x| !x.is_finite()) && expanded_about_zero(claim.variable.as_ref()) {
+    if value.iter().any(|x| !x.is_finite()) && claim.variable.as_ref().is_some_and(Variable::at_zero) {
         // A removable singularity at zero (`k̂ sin(θ/2)`): next to it.
         claim.near_zero = true;
         value = TextDerivation::new(claim, ctx, stored.to_vec())
@@ -439,20 +439,16 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
     if value.iter().any(|x| !x.is_finite()) {
         return Err(error("its map is not finite at a sample".into()));
     }
-    claim.value_shape = value.shape();
+    // A Jacobian of a homogeneous transformation moves its top 3 × 4 (a
+    // differential is printed as the whole matrix).
+    claim.value_shape = match claim.kind {
+        super::symbols::ClaimKind::Jacobian => super::value::moving_entries(&value).1,
+        _ => value.shape(),
+    };
     if claim.variable.is_some() && claim.kind != super::symbols::ClaimKind::Value {
         independent_of_variable(claim, ctx).map_err(error)?;
     }
     Ok(())
-}
-
-/// Whether a variable is expanded about zero (all of it, for several).
-fn expanded_about_zero(variable: Option<&Variable>) -> bool {
-    match variable {
-        Some(Variable::Stored { at_zero, .. } | Variable::Defined { at_zero, .. }) => *at_zero,
-        Some(Variable::Joint(parts)) => parts.iter().all(|p| expanded_about_zero(Some(p))),
-        _ => false,
-    }
 }
 
 /// An error when the claim's map does not depend on its variable (its

@@ -112,16 +112,18 @@ pub trait Resolver {
     /// A derivative printed in a formula that no claim or stated link
     /// names: its true value, when `of` and `wrt` can be read, `holding`
     /// the other variables the formula differentiates `of` by (a partial
-    /// holds them), taken at `wrt = 0` when `at_zero` (an evaluation bar).
+    /// holds them), taken at `wrt = 0` when `at_zero` (an evaluation bar),
+    /// with the symbols evaluation bars around it bind `bound` to values.
     fn inline_link(
         &mut self,
         key: &str,
         of: &Expr,
         wrt: &Expr,
         holding: &[Expr],
+        bound: &[(SymbolId, Term)],
         at_zero: bool,
     ) -> Result<Link, LowerError> {
-        let _ = (of, wrt, holding, at_zero);
+        let _ = (of, wrt, holding, bound, at_zero);
         Err(LowerError {
             message: "no new derivative is read here".into(),
             fragment: key.to_string(),
@@ -161,6 +163,9 @@ pub struct Lowering<'r> {
     /// For each map the formula differentiates (its canonical LaTeX), the
     /// variables it differentiates it by: a partial by one holds the others.
     partials: Vec<(String, Vec<Expr>)>,
+    /// The symbols the evaluation bars around the term being lowered bind,
+    /// with their values: a derivative inside a bar is taken with them.
+    bars: Vec<(SymbolId, Term)>,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
@@ -239,6 +244,7 @@ impl<'r> Lowering<'r> {
             names_claims: true,
             notes: Vec::new(),
             partials: Vec::new(),
+            bars: Vec::new(),
         }
     }
 
@@ -268,7 +274,9 @@ impl<'r> Lowering<'r> {
 
     /// `e` lowered.
     pub fn expr(&mut self, e: &Expr) -> Result<Term, LowerError> {
-        if (is_name_like(e) || is_applied_product(e))
+        // A key of the file is what it means, whatever it prints
+        // (`\mathbf{M}^{-1}`, `e^{-v}`, `\mathbf{p} \cdot \mathbf{d}`).
+        if !matches!(e, Expr::Number(_) | Expr::Symbol(_) | Expr::Placeholder)
             && let Some((id, found)) = self.resolver.symbol(&e.to_string())?
         {
             return match found {
@@ -343,7 +351,7 @@ impl<'r> Lowering<'r> {
                     Some(link) => link,
                     None => self
                         .resolver
-                        .inline_link(&key, of, wrt, &holding, false)
+                        .inline_link(&key, of, wrt, &holding, &self.bars, false)
                         .map_err(|err| {
                             LowerError::at(
                                 e,
@@ -535,6 +543,77 @@ impl<'r> Lowering<'r> {
     /// bar, as the claim's own reading).
     fn evaluated_at(&mut self, body: &Expr, at: &Expr, e: &Expr) -> Result<Term, LowerError> {
         let bindings = evaluation_bindings(at)?;
+        let wrt = match body {
+            Expr::Derivative { wrt, .. } => Some(wrt.as_ref()),
+            _ => None,
+        };
+        let bound = self.bar_bindings(&bindings, wrt)?;
+        let depth = self.bars.len();
+        self.bars.extend(bound.iter().cloned());
+        let body = self.bar_body(body, &bindings, e);
+        self.bars.truncate(depth);
+        let body = body?;
+        Ok(if bound.is_empty() {
+            body
+        } else {
+            Term::At {
+                body: Box::new(body),
+                bindings: bound,
+            }
+        })
+    }
+
+    /// The symbols an evaluation bar's `bindings` give values (the last
+    /// printed: `A = e^0 D = D`), but the variable `wrt` a derivative is
+    /// taken by (that binding is its point, not a value to hold), and
+    /// names no symbol has.
+    fn bar_bindings(
+        &mut self,
+        bindings: &[(Expr, Vec<Expr>)],
+        wrt: Option<&Expr>,
+    ) -> Result<Vec<(SymbolId, Term)>, LowerError> {
+        let mut bound = Vec::new();
+        for (name, values) in bindings {
+            if Some(name) == wrt {
+                continue;
+            }
+            let key = match name {
+                Expr::Symbol(s) => symbol_key(s),
+                other => other.to_string(),
+            };
+            let Some((id, _)) = self.resolver.symbol(&key)? else {
+                continue;
+            };
+            let value = values.last().expect("a binding has a value");
+            bound.push((id, self.expr(value)?));
+        }
+        Ok(bound)
+    }
+
+    /// `of`, the map a derivative by `wrt` under the evaluation bar `at`
+    /// differentiates, with the bar's other bindings
+    /// (`\left. \frac{∂ A B}{∂ B} \right|_{A = D}`: `D B`).
+    pub fn map_under_bar(&mut self, of: &Expr, wrt: &Expr, at: &Expr) -> Result<Term, LowerError> {
+        let bound = self.bar_bindings(&evaluation_bindings(at)?, Some(wrt))?;
+        let of = self.expr(of)?;
+        Ok(if bound.is_empty() {
+            of
+        } else {
+            Term::At {
+                body: Box::new(of),
+                bindings: bound,
+            }
+        })
+    }
+
+    /// The body of an evaluation bar whose `bindings` (and those around it)
+    /// are in `self.bars`: a derivative by `x` at `x = 0` is taken at zero.
+    fn bar_body(
+        &mut self,
+        body: &Expr,
+        bindings: &[(Expr, Vec<Expr>)],
+        e: &Expr,
+    ) -> Result<Term, LowerError> {
         if let Expr::Derivative { of, wrt, .. } = body {
             let at_zero = bindings
                 .iter()
@@ -544,7 +623,10 @@ impl<'r> Lowering<'r> {
                 return Ok(match self.resolver.link(&key) {
                     Some(Link::Claim(k)) => Term::Link(k),
                     Some(Link::Truth(k)) => Term::TruthLink(k),
-                    _ => match self.resolver.inline_link(&key, of, wrt, &[], true)? {
+                    _ => match self
+                        .resolver
+                        .inline_link(&key, of, wrt, &[], &self.bars, true)?
+                    {
                         Link::Claim(k) => Term::Link(k),
                         Link::Truth(k) => Term::TruthLink(k),
                         Link::Broken(why) => return Err(LowerError::at(e, why)),
@@ -552,28 +634,7 @@ impl<'r> Lowering<'r> {
                 });
             }
         }
-        let mut bound = Vec::new();
-        for (name, values) in &bindings {
-            let key = match name {
-                Expr::Symbol(s) => symbol_key(s),
-                other => other.to_string(),
-            };
-            let Some((id, _)) = self.resolver.symbol(&key)? else {
-                continue;
-            };
-            // `A = e^0 D = D`: the last value printed.
-            let value = values.last().expect("a binding has a value");
-            bound.push((id, self.expr(value)?));
-        }
-        let body = self.expr(body)?;
-        Ok(if bound.is_empty() {
-            body
-        } else {
-            Term::At {
-                body: Box::new(body),
-                bindings: bound,
-            }
-        })
+        self.expr(body)
     }
 
     /// A symbol: defined, a power of a defined one, a zero, or the identity.
@@ -736,6 +797,11 @@ impl<'r> Lowering<'r> {
         let Some(sub) = &s.sub else {
             return Ok(None);
         };
+        // A symbol of the file as printed (`x_n` beside a function `x`, or
+        // in `x`'s own definition) is that symbol.
+        if self.resolver.symbol(&symbol_key(s))?.is_some() {
+            return Ok(None);
+        }
         let bare = ast::Symbol {
             sub: None,
             ..s.clone()
@@ -801,6 +867,10 @@ impl<'r> Lowering<'r> {
             args: args.to_vec(),
             scripts: None,
         };
+        // A key of the file written as the application (`R(t)^{T}`).
+        if self.resolver.symbol(&call.to_string())?.is_some() {
+            return self.expr(&Expr::with_scripts_of(chain, call));
+        }
         let Head::Symbol(s) = head else {
             return self.expr(&Expr::with_scripts_of(chain, call));
         };
@@ -1006,7 +1076,8 @@ impl<'r> Lowering<'r> {
     /// file that states JPL quaternions).
     fn operator(&self, op: MulOp, x: &Expr) -> Result<Op, LowerError> {
         Ok(match op {
-            MulOp::Implicit | MulOp::Cdot | MulOp::Star => Op::Mul,
+            MulOp::Implicit | MulOp::Star => Op::Mul,
+            MulOp::Cdot => Op::Dot,
             MulOp::Times => Op::Cross,
             MulOp::Oplus => Op::Oplus {
                 jpl: self.resolver.jpl_quaternions(),

@@ -11,8 +11,11 @@ pub type SymbolId = usize;
 /// A product's operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Op {
-    /// Juxtaposition, `\cdot`, `*`: a product.
+    /// Juxtaposition, `*`: a product.
     Mul,
+    /// `\cdot`: the scalar product of two columns of one length, else a
+    /// product.
+    Dot,
     /// `\times`: a cross product of 3-vectors, else a product.
     Cross,
     /// `\oplus`: a group composition, a pose acting on a point, or the
@@ -245,6 +248,16 @@ pub enum Variable {
 }
 
 impl Variable {
+    /// Whether the variable is expanded about zero (all of it, for
+    /// several).
+    pub fn at_zero(&self) -> bool {
+        match self {
+            Variable::Stored { at_zero, .. } | Variable::Defined { at_zero, .. } => *at_zero,
+            Variable::Joint(parts) => parts.iter().all(Variable::at_zero),
+            Variable::Update { .. } => false,
+        }
+    }
+
     /// The input's length.
     pub fn dim(&self) -> usize {
         match self {

@@ -47,7 +47,7 @@ impl<'a> Names<'a> {
                 for (i, (op, t)) in factors.iter().enumerate() {
                     if i > 0 {
                         out.push_str(match op {
-                            Op::Mul => " \\cdot ",
+                            Op::Mul | Op::Dot => " \\cdot ",
                             Op::Cross => " \\times ",
                             Op::Oplus { jpl: false } => " \\oplus ",
                             Op::Oplus { jpl: true } => " \\oplus_{\\text{JPL}} ",

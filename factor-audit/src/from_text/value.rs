@@ -264,6 +264,15 @@ impl<S: Scalar> Value<S> {
             (Value::Similarity(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
                 t.act(&Vector3::from_column_slice(m.as_slice())).as_slice(),
             )),
+            // A homogeneous transformation's matrix times a 3-vector (the
+            // only product these shapes have): it moves the point.
+            (Value::Matrix(t), Value::Matrix(p))
+                if t.shape() == (4, 4) && p.shape() == (3, 1) && homogeneous(&t) =>
+            {
+                Ok(Value::Matrix(
+                    t.view((0, 0), (3, 3)) * p + t.view((0, 3), (3, 1)),
+                ))
+            }
             (a, b) => {
                 let a = match a {
                     Value::Blocks(blocks) => blocks.resolve((None, b.shape().map(|s| s.0)))?,
@@ -285,7 +294,19 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a × b` between 3-vectors; otherwise a product.
+    /// `a · b` between two columns of one length: their scalar product;
+    /// otherwise a product.
+    pub fn dot(self, b: Self) -> Result<Self, ShapeError> {
+        match (self.shape(), b.shape()) {
+            (Some((n, 1)), Some((m, 1))) if n == m && n > 1 => {
+                let (a, b) = (self.matrix()?, b.matrix()?);
+                Ok(Value::scalar(a.dot(&b)))
+            }
+            _ => self.times(b),
+        }
+    }
+
+    /// `a × b`: the cross product of two 3-vectors, else a product.
     pub fn cross(self, b: Self) -> Result<Self, ShapeError> {
         match (self.shape(), b.shape()) {
             (Some((3, 1)), Some((3, 1))) => {
@@ -1016,4 +1037,10 @@ mod tests {
         assert!((scalar_power(4.0, 1.5) - 8.0).abs() < 1e-12);
         assert!((scalar_power(2.0, -2.0) - 0.25).abs() < 1e-12);
     }
+}
+
+/// Whether a 4 × 4 matrix's last row is `[0 0 0 1]` (a homogeneous
+/// transformation's), read from its numbers.
+fn homogeneous<S: Scalar>(t: &DMatrix<S>) -> bool {
+    (0..4).all(|c| t[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }))
 }
