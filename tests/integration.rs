@@ -9,4 +9,5 @@ mod common;
 mod derive;
 mod files_and_messages;
 mod hostile_input;
+mod interrupted_and_linked_outputs;
 mod snapshots;
