@@ -883,7 +883,7 @@ fn malformed_problem_files_name_the_field() {
         ),
         (
             |p| p["factors"][0]["noise"] = serde_json::json!({"sigma": -1.0}),
-            &["factors[0].noise.sigma", "above 0"],
+            &["factors[0].noise.sigma", "a standard deviation must be from 1e-100"],
         ),
         (
             |p| p["factors"][0]["robust"] = "tukey:1".into(),
