@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 mod common;
+mod hostile_problems;
 use common::{Rng, slamjac, stderr, stdout};
 
 /// A fresh directory for this file's tests.
