@@ -89,6 +89,8 @@ pub struct Deficiency {
     pub directions: Vec<Vec<(usize, DVector<f64>)>>,
     /// The variables, to name them.
     variables: Vec<Variable>,
+    /// The values linearized at, as messages name them.
+    values: &'static str,
 }
 
 /// How many directions a [`Deficiency`] spells out.
@@ -130,10 +132,11 @@ impl Normal {
             self.diagonal[*a] += ja.transpose() * ja;
             for (b, jb) in &blocks[i + 1..] {
                 let h = ja.transpose() * jb;
-                let entry = |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
-                    *off.entry(at)
-                        .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) += m;
-                };
+                let entry =
+                    |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
+                        *off.entry(at)
+                            .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) += m;
+                    };
                 entry(&mut self.off[*b], *a, h.transpose());
                 entry(&mut self.off[*a], *b, h);
             }
@@ -177,12 +180,11 @@ impl Normal {
                 self.diagonal[*a] -= &h_av_p * h_va;
                 for (b, h_vb) in &neighbours[i + 1..] {
                     let update = &h_av_p * h_vb;
-                    let entry = |off: &mut BTreeMap<usize, DMatrix<f64>>,
-                                 at: usize,
-                                 m: DMatrix<f64>| {
-                        *off.entry(at)
-                            .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) -= m;
-                    };
+                    let entry =
+                        |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
+                            *off.entry(at)
+                                .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) -= m;
+                        };
                     entry(&mut self.off[*b], *a, update.transpose());
                     entry(&mut self.off[*a], *b, update);
                 }
@@ -217,6 +219,7 @@ impl Normal {
             count,
             directions,
             variables: self.variables,
+            values: "the initial values",
         })
     }
 
@@ -227,7 +230,10 @@ impl Normal {
         let scales: Vec<DVector<f64>> = self
             .diagonal
             .iter()
-            .map(|d| d.diagonal().map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 1.0 }))
+            .map(|d| {
+                d.diagonal()
+                    .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 1.0 })
+            })
             .collect();
         for (v, d) in self.diagonal.iter_mut().enumerate() {
             *d = DMatrix::from_diagonal(&scales[v]) * &*d * DMatrix::from_diagonal(&scales[v]);
@@ -250,7 +256,11 @@ impl Normal {
             .into_iter()
             .map(|(w, xw)| (w, xw.component_mul(&scales[w])))
             .collect();
-        let norm = moves.iter().map(|(_, m)| m.norm_squared()).sum::<f64>().sqrt();
+        let norm = moves
+            .iter()
+            .map(|(_, m)| m.norm_squared())
+            .sum::<f64>()
+            .sqrt();
         for (_, m) in &mut moves {
             *m /= norm;
         }
@@ -325,11 +335,11 @@ impl fmt::Display for Deficiency {
         write!(
             f,
             "not observable: {} direction{} of the free variables leave{} every residual \
-             unchanged to first order at the initial values (a gauge left free, or too few \
-             measurements)",
+             unchanged to first order at {} (a gauge left free, or too few measurements)",
             self.count,
             if self.count == 1 { "" } else { "s" },
             if self.count == 1 { "s" } else { "" },
+            self.values,
         )?;
         for (k, direction) in self.directions.iter().enumerate() {
             let moves: Vec<String> = direction
@@ -344,7 +354,10 @@ impl fmt::Display for Deficiency {
                 if k == 0 { "one" } else { "another" },
                 moves.join(", "),
                 if more > 0 {
-                    format!(" and {more} more variable{}", if more == 1 { "" } else { "s" })
+                    format!(
+                        " and {more} more variable{}",
+                        if more == 1 { "" } else { "s" }
+                    )
                 } else {
                     String::new()
                 }
@@ -355,6 +368,13 @@ impl fmt::Display for Deficiency {
 }
 
 impl Deficiency {
+    /// The same, found at `values` (`the true values`; by default `the
+    /// initial values`).
+    pub fn at(mut self, values: &'static str) -> Self {
+        self.values = values;
+        self
+    }
+
     /// `c5 along δρ_x 0.71, δρ_z −0.70`: a variable and its largest moves.
     fn shown(&self, v: usize, m: &DVector<f64>) -> String {
         let variable = &self.variables[v];
@@ -398,7 +418,10 @@ mod tests {
         }
         assert_eq!(direction[0].1[0], direction[1].1[0]);
         let message = deficiency.to_string();
-        assert!(message.contains("1 direction of the free variables leaves"), "{message}");
+        assert!(
+            message.contains("1 direction of the free variables leaves"),
+            "{message}"
+        );
         assert!(message.contains("moves a along x0 "), "{message}");
 
         let mut normal = Normal::new(vec![variable("a", 1), variable("b", 1)]);
@@ -431,9 +454,15 @@ mod tests {
         }
 
         let mut normal = Normal::new(vec![variable("q", 3)]);
-        normal.add(&[(0, DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 0.0]))]);
+        normal.add(&[(
+            0,
+            DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 0.0]),
+        )]);
         let deficiency = normal.deficiency().expect("z unmeasured");
         assert_eq!(deficiency.count, 1);
-        assert!(deficiency.to_string().contains("q along x2 "), "{deficiency}");
+        assert!(
+            deficiency.to_string().contains("q along x2 "),
+            "{deficiency}"
+        );
     }
 }

@@ -17,7 +17,9 @@
 use std::borrow::Cow;
 use std::io::Read;
 
-use json_event_parser::{JsonEvent, JsonParseError, JsonSyntaxError, ReaderJsonParser, SliceJsonParser};
+use json_event_parser::{
+    JsonEvent, JsonParseError, JsonSyntaxError, ReaderJsonParser, SliceJsonParser,
+};
 use serde_json::{Map, Number, Value};
 
 use crate::error::InputError;

@@ -30,9 +30,12 @@
 //!   once), and only cameras with a measurement.
 //! - A problem whose measurements do not determine its free variables (a
 //!   camera that sees two walls and nothing else, a plane seen only by
-//!   free cameras: [`crate::observability`], at the written initial
-//!   values) is refused naming the directions nothing determines; nothing
-//!   is written.
+//!   free cameras: [`crate::observability`], at the true values and at
+//!   the written initial values) is refused naming the directions nothing
+//!   determines; nothing is written. A problem observable at both can still
+//!   be drawn by the solve into a configuration that is not (`--cameras 4`:
+//!   a wall seen only by free cameras rotated parallel to another); `solve`
+//!   refuses that solution.
 //!
 //! The same seed writes the same file on every platform.
 
@@ -205,12 +208,19 @@ fn se3(pose: &Isometry3<f64>) -> Se3<f64> {
 
 /// A measurement the file keeps: its factor entry, the camera it is taken
 /// from, the landmark variable it measures, and its whitened Jacobians
-/// (camera, landmark) at the written initial values.
+/// (camera, landmark) at the written initial values and at the truth.
 struct Measurement {
     camera: usize,
     landmark: String,
     json: Value,
-    jacobians: [DMatrix<f64>; 2],
+    jacobians: [[DMatrix<f64>; 2]; 2],
+}
+
+/// Which values the observability check linearizes at.
+#[derive(Clone, Copy)]
+enum At {
+    Initial = 0,
+    Truth = 1,
 }
 
 /// The whitened Jacobians (pose, landmark) of `factor` at its values,
@@ -248,18 +258,30 @@ impl Problem {
         let pixel = DMatrix::from_diagonal_element(2, 2, 1.0 / config.pixel_sigma);
         let (truth, initial) = (&scene.truth, &scene.initial);
         // The written initial pose: the gauge's cameras at their truth.
-        let start = |i: usize| if i < FIXED_CAMERAS { &truth.cameras[i] } else { &initial.cameras[i] };
+        let start = |i: usize| {
+            if i < FIXED_CAMERAS {
+                &truth.cameras[i]
+            } else {
+                &initial.cameras[i]
+            }
+        };
         let mut measurements: Vec<Measurement> = Vec::new();
         if args.kinds.points {
             let mut points = Vec::new();
             for o in &scene.point_observations {
-                let factor = PointReprojection {
-                    intrinsics,
-                    observed: o.pixel,
-                    pose: se3(start(o.camera)),
-                    point: initial.points[o.point],
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let factor = PointReprojection {
+                        intrinsics,
+                        observed: o.pixel,
+                        pose: se3(camera),
+                        point: state.points[o.point],
+                    };
+                    jacobians(&factor, &pixel)
                 };
-                if let Some(jacobians) = jacobians(&factor, &pixel) {
+                if let (Some(initially), Some(truly)) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
                     points.push(Measurement {
                         camera: o.camera,
                         landmark: format!("p{}", o.point),
@@ -269,30 +291,47 @@ impl Problem {
                             "constants": {"intrinsics": config.intrinsics, "observed": [o.pixel.x, o.pixel.y]},
                             "noise": sigma,
                         }),
-                        jacobians,
+                        jacobians: [initially, truly],
                     });
                 }
             }
             let views = views(&points);
-            let seen: Vec<bool> = points.iter().map(|m| views[m.landmark.as_str()] >= 2).collect();
-            measurements.extend(points.into_iter().zip(seen).filter(|(_, s)| *s).map(|(m, _)| m));
+            let seen: Vec<bool> = points
+                .iter()
+                .map(|m| views[m.landmark.as_str()] >= 2)
+                .collect();
+            measurements.extend(
+                points
+                    .into_iter()
+                    .zip(seen)
+                    .filter(|(_, s)| *s)
+                    .map(|(m, _)| m),
+            );
         }
         if args.kinds.lines {
             let kept = args.lines.min(truth.segments.len());
             let mut lines = Vec::new();
-            for o in scene.segment_observations.iter().filter(|o| o.segment < kept) {
-                let s0 = &initial.segments[o.segment];
-                let Ok(line) = OrthonormalLine::try_from_points(&s0.start, &s0.end) else {
-                    continue;
+            for o in scene
+                .segment_observations
+                .iter()
+                .filter(|o| o.segment < kept)
+            {
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let s = &state.segments[o.segment];
+                    let line = OrthonormalLine::try_from_points(&s.start, &s.end).ok()?;
+                    let factor = LineReprojection {
+                        intrinsics,
+                        start: o.start,
+                        end: o.end,
+                        pose: se3(camera),
+                        line,
+                    };
+                    jacobians(&factor, &pixel)
                 };
-                let factor = LineReprojection {
-                    intrinsics,
-                    start: o.start,
-                    end: o.end,
-                    pose: se3(start(o.camera)),
-                    line,
-                };
-                if let Some(jacobians) = jacobians(&factor, &pixel) {
+                if let (Some(initially), Some(truly)) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
                     lines.push(Measurement {
                         camera: o.camera,
                         landmark: format!("l{}", o.segment),
@@ -302,13 +341,22 @@ impl Problem {
                             "constants": {"intrinsics": config.intrinsics, "start": [o.start.x, o.start.y], "end": [o.end.x, o.end.y]},
                             "noise": sigma,
                         }),
-                        jacobians,
+                        jacobians: [initially, truly],
                     });
                 }
             }
             let views = views(&lines);
-            let seen: Vec<bool> = lines.iter().map(|m| views[m.landmark.as_str()] >= 3).collect();
-            measurements.extend(lines.into_iter().zip(seen).filter(|(_, s)| *s).map(|(m, _)| m));
+            let seen: Vec<bool> = lines
+                .iter()
+                .map(|m| views[m.landmark.as_str()] >= 3)
+                .collect();
+            measurements.extend(
+                lines
+                    .into_iter()
+                    .zip(seen)
+                    .filter(|(_, s)| *s)
+                    .map(|(m, _)| m),
+            );
         }
         if args.kinds.planes {
             // The measurement's noise in g2o's chart of it (azimuth and
@@ -320,22 +368,25 @@ impl Problem {
                 config.plane_offset_sigma.powi(-2),
             ));
             for o in &scene.plane_observations {
-                let camera_to_world = se3(&start(o.camera).inverse());
-                let Ok((factor, residual_information)) = slam_factors::g2o::plane_observation(
-                    &camera_to_world,
-                    &plane_of(&initial.planes[o.plane]),
-                    &Se3::identity(),
-                    &o.measured,
-                    &information,
-                ) else {
-                    continue;
+                // The factor and its square-root information, upper
+                // triangular, at a camera and planes.
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let (factor, residual_information) = slam_factors::g2o::plane_observation(
+                        &se3(&camera.inverse()),
+                        &plane_of(&state.planes[o.plane]),
+                        &Se3::identity(),
+                        &o.measured,
+                        &information,
+                    )
+                    .ok()?;
+                    let upper = residual_information.cholesky()?.l().transpose();
+                    let s = DMatrix::from_column_slice(3, 3, upper.as_slice());
+                    Some((jacobians(&factor, &s)?, upper))
                 };
-                let Some(cholesky) = residual_information.cholesky() else {
-                    continue;
-                };
-                let upper = cholesky.l().transpose();
-                let s = DMatrix::from_column_slice(3, 3, upper.as_slice());
-                if let Some(jacobians) = jacobians(&factor, &s) {
+                if let (Some((initially, upper)), Some((truly, _))) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
                     let rows: Vec<Value> = upper
                         .row_iter()
                         .map(|r| vector_json(&[r[0], r[1], r[2]]))
@@ -349,7 +400,7 @@ impl Problem {
                             "constants": {"measured": vector_json(o.measured.as_slice())},
                             "noise": {"sqrt_information": rows},
                         }),
-                        jacobians,
+                        jacobians: [initially, truly],
                     });
                 }
             }
@@ -378,7 +429,11 @@ impl Problem {
         let mut cameras: Vec<usize> = measurements.iter().map(|m| m.camera).collect();
         cameras.sort_unstable();
         cameras.dedup();
-        observable(&measurements, &cameras, &landmarks, args)?;
+        // Refused where the truth is not observable (parallel walls seen by
+        // a free camera: a perturbation at the initial values hides it) or
+        // the written values are not.
+        observable(&measurements, &cameras, &landmarks, args, At::Truth)?;
+        observable(&measurements, &cameras, &landmarks, args, At::Initial)?;
         for name in &landmarks {
             problem.add_landmark(name, truth, initial);
         }
@@ -458,6 +513,7 @@ fn observable(
     cameras: &[usize],
     landmarks: &[&str],
     args: &SynthPlpArgs,
+    at: At,
 ) -> Result<(), CliError> {
     let tangent = |info: &factor_core::VariableInfo| info.tangent;
     let pose = tangent(&PointReprojection::<f64>::variables()[0]);
@@ -478,18 +534,27 @@ fn observable(
     }
     let mut normal = Normal::new(variables);
     for m in measurements {
-        let mut blocks = vec![(index[m.landmark.as_str()], m.jacobians[1].clone())];
-        if let Some(camera) = index.get(&format!("c{}", m.camera)) {
-            blocks.push((*camera, m.jacobians[0].clone()));
+        let [camera, landmark] = &m.jacobians[at as usize];
+        let mut blocks = vec![(index[m.landmark.as_str()], landmark.clone())];
+        if let Some(free) = index.get(&format!("c{}", m.camera)) {
+            blocks.push((*free, camera.clone()));
         }
         normal.add(&blocks);
     }
     match normal.deficiency() {
         None => Ok(()),
         Some(deficiency) => Err(CliError::Usage(format!(
-            "synth-plp: --cameras {} --points {} --lines {} --kinds {} (seed {}) is {deficiency}; \
+            "synth-plp: --cameras {} --points {} --lines {} --kinds {} (seed {}) is {}; \
              nothing written: use more cameras, points or lines, or other kinds",
-            args.cameras, args.points, args.lines, args.kinds, args.seed
+            args.cameras,
+            args.points,
+            args.lines,
+            args.kinds,
+            args.seed,
+            deficiency.at(match at {
+                At::Initial => "the written initial values",
+                At::Truth => "the true values",
+            })
         ))),
     }
 }

@@ -70,10 +70,26 @@ fn nothing_to_solve_is_an_error() {
     let mut zero = two_poses(true, false);
     zero["factors"][0]["noise"] = json!({"sqrt_information": vec![vec![0; 6]; 6]});
     let cases: [(&str, Value, &[&str]); 4] = [
-        ("empty", empty, &["nothing to solve: the problem has no factors"]),
-        ("all-fixed", all_fixed, &["nothing to solve: every variable is fixed (3 of 3)"]),
-        ("fixed-between", two_poses(true, true), &["every variable is fixed (2 of 2)"]),
-        ("zero", zero, &["factors[0].noise.sqrt_information: not invertible (rank 0 of 6)"]),
+        (
+            "empty",
+            empty,
+            &["nothing to solve: the problem has no factors"],
+        ),
+        (
+            "all-fixed",
+            all_fixed,
+            &["nothing to solve: every variable is fixed (3 of 3)"],
+        ),
+        (
+            "fixed-between",
+            two_poses(true, true),
+            &["every variable is fixed (2 of 2)"],
+        ),
+        (
+            "zero",
+            zero,
+            &["factors[0].noise.sqrt_information: not invertible (rank 0 of 6)"],
+        ),
     ];
     for (name, problem, needles) in cases {
         let path = written(&dir, &format!("{name}.json"), &problem);
@@ -86,7 +102,12 @@ fn nothing_to_solve_is_an_error() {
         .filter(|l| l.starts_with("VERTEX"))
         .map(|l| format!("FIX {}\n", l.split_whitespace().nth(1).unwrap()))
         .collect();
-    fixed.extend(graph.lines().filter(|l| !l.starts_with("FIX")).map(|l| format!("{l}\n")));
+    fixed.extend(
+        graph
+            .lines()
+            .filter(|l| !l.starts_with("FIX"))
+            .map(|l| format!("{l}\n")),
+    );
     let path = dir.join("all-fixed.g2o");
     std::fs::write(&path, fixed).unwrap();
     assert_error(
@@ -119,9 +140,18 @@ fn options_a_problem_file_cannot_honour_are_refused() {
     let dir = temp_dir("options");
     let path = written(&dir, "tri.json", &triangulation());
     for (options, needle) in [
-        (&["--solver", "schur"][..], "--solver schur: a problem file is solved by apex-solver"),
-        (&["--factors", "documents"], "--factors documents: only for g2o line and plane graphs"),
-        (&["--truth", "x.g2o"], "--truth: a problem file carries its own truth"),
+        (
+            &["--solver", "schur"][..],
+            "--solver schur: a problem file is solved by apex-solver",
+        ),
+        (
+            &["--factors", "documents"],
+            "--factors documents: only for g2o line and plane graphs",
+        ),
+        (
+            &["--truth", "x.g2o"],
+            "--truth: a problem file carries its own truth",
+        ),
     ] {
         let mut args = vec!["solve", text(&path)];
         args.extend(options);
@@ -145,21 +175,36 @@ fn truths_are_checked_and_guarded() {
     let pose = room["truth"]["c4"].clone();
     let line = room["truth"]["l0"].clone();
     let spoiled: [(&str, &str, Value, &str); 3] = [
-        ("quaternion", "c4", {
-            let mut p = pose.clone();
-            p["rotation"] = json!([0, 0, 0, 2]);
-            p
-        }, "error: truth.c4.rotation: "),
-        ("far", "c4", {
-            let mut p = pose;
-            p["translation"] = json!([1e308, 0, 0]);
-            p
-        }, "error: truth.c4: 1e308 is out of range"),
-        ("line", "l0", {
-            let mut l = line;
-            l["direction"] = l["normal"].clone();
-            l
-        }, "error: truth.l0"),
+        (
+            "quaternion",
+            "c4",
+            {
+                let mut p = pose.clone();
+                p["rotation"] = json!([0, 0, 0, 2]);
+                p
+            },
+            "error: truth.c4.rotation: ",
+        ),
+        (
+            "far",
+            "c4",
+            {
+                let mut p = pose;
+                p["translation"] = json!([1e308, 0, 0]);
+                p
+            },
+            "error: truth.c4: 1e308 is out of range",
+        ),
+        (
+            "line",
+            "l0",
+            {
+                let mut l = line;
+                l["direction"] = l["normal"].clone();
+                l
+            },
+            "error: truth.l0",
+        ),
     ];
     for (name, variable, value, needle) in spoiled {
         let mut problem = room.clone();
@@ -208,8 +253,17 @@ fn generated_problems_are_accepted_by_the_solver() {
     let dir = temp_dir("generated");
     let path = dir.join("s1.json");
     let output = slamjac(&[
-        "synth-plp", "--seed", "1", "--cameras", "100", "--points", "2500", "--lines", "200",
-        "--output", text(&path),
+        "synth-plp",
+        "--seed",
+        "1",
+        "--cameras",
+        "100",
+        "--points",
+        "2500",
+        "--lines",
+        "200",
+        "--output",
+        text(&path),
     ]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let solved = slamjac(&["solve", text(&path), "--max-iterations", "1"]);
@@ -225,14 +279,23 @@ fn unobservable_problems_are_named() {
     let dir = temp_dir("unobservable");
     let planes = dir.join("planes.json");
     let output = slamjac(&["synth-plp", "--kinds", "planes", "--output", text(&planes)]);
-    assert_error(&output, 2, &["--kinds planes (seed 0) is not observable", " along δρ_"]);
+    assert_error(
+        &output,
+        2,
+        &["--kinds planes (seed 0) is not observable", " along δρ_"],
+    );
     assert!(!planes.exists(), "nothing written");
     // No variable fixed: the gauge of two poses is free (6 directions).
     let path = written(&dir, "gauge.json", &two_poses(false, false));
     assert_error(
         &slamjac(&["solve", text(&path)]),
         1,
-        &["not observable: 6 directions", "moves a along", ", b along", "nothing solved"],
+        &[
+            "not observable: 6 directions",
+            "moves a along",
+            ", b along",
+            "nothing solved",
+        ],
     );
     // A point seen by one camera: its depth is free.
     let mut once = triangulation();
@@ -242,9 +305,79 @@ fn unobservable_problems_are_named() {
     assert_error(
         &slamjac(&["solve", text(&path)]),
         1,
-        &["not observable: 1 direction of the free variables leaves", "moves p along"],
+        &[
+            "not observable: 1 direction of the free variables leaves",
+            "moves p along",
+        ],
     );
+    // Four cameras of the room: observable at the truth and at the written
+    // values, but the solve rotates a wall seen only by the two free
+    // cameras parallel to another and drifts along it (an ATE of 311 m,
+    // exit 0, before): refused at the solution, nothing written.
+    let four = dir.join("four.json");
+    let output = slamjac(&["synth-plp", "--cameras", "4", "--output", text(&four)]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let out = dir.join("four-solved.json");
+    assert_error(
+        &slamjac(&["solve", text(&four), "--output", text(&out)]),
+        1,
+        &[
+            "not observable: ",
+            "at the solution",
+            "moves c",
+            "no output written",
+        ],
+    );
+    assert!(!out.exists(), "nothing written");
+    // `track` with a map point at a camera's centre: no frame is reported
+    // unconverged with exit 0.
+    let mut room = room(&dir);
+    let factor = room["factors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["factor"] == "point_reprojection" && f["variables"]["pose"] == "c5")
+        .unwrap()
+        .clone();
+    let point = factor["variables"]["point"].as_str().unwrap();
+    let centre = centre(&room["truth"]["c5"]);
+    room["variables"][point]["value"] = centre.clone();
+    room["truth"][point] = centre;
+    let path = written(&dir, "centre.json", &room);
+    for map in ["values", "truth"] {
+        let output = slamjac(&["track", text(&path), "--map", map]);
+        assert_error(&output, 1, &["did not converge"]);
+    }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The centre `-Rᵀ t` of the world-to-camera pose `pose` (`rotation` as
+/// `[x, y, z, w]`).
+fn centre(pose: &Value) -> Value {
+    let q: Vec<f64> = serde_json::from_value(pose["rotation"].clone()).unwrap();
+    let t: Vec<f64> = serde_json::from_value(pose["translation"].clone()).unwrap();
+    let (x, y, z, w) = (q[0], q[1], q[2], q[3]);
+    let r = [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - z * w),
+            2.0 * (x * z + y * w),
+        ],
+        [
+            2.0 * (x * y + z * w),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - x * w),
+        ],
+        [
+            2.0 * (x * z - y * w),
+            2.0 * (y * z + x * w),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ];
+    let c: Vec<f64> = (0..3)
+        .map(|i| -(0..3).map(|j| r[j][i] * t[j]).sum::<f64>())
+        .collect();
+    json!(c)
 }
 
 /// Class L: a standard deviation out of range and a plane with a zero
@@ -261,7 +394,10 @@ fn messages_name_the_field_and_both_readers_agree() {
         .iter()
         .position(|f| f["factor"] == "plane")
         .unwrap();
-    let plane = room["factors"][first_plane]["variables"]["plane"].as_str().unwrap().to_owned();
+    let plane = room["factors"][first_plane]["variables"]["plane"]
+        .as_str()
+        .unwrap()
+        .to_owned();
     let mut cases: Vec<(&str, Value, String)> = Vec::new();
     let mut tiny = room.clone();
     tiny["factors"][0]["noise"] = json!({"sigma": 1e-320});
@@ -279,7 +415,11 @@ fn messages_name_the_field_and_both_readers_agree() {
     ));
     let mut unused = room.clone();
     unused["variables"]["q"] = json!({"type": "Vector3", "value": [0, 0, 1]});
-    cases.push(("unused", unused, "error: variables.q: no factor uses this variable".into()));
+    cases.push((
+        "unused",
+        unused,
+        "error: variables.q: no factor uses this variable".into(),
+    ));
     for (name, problem, needle) in cases {
         let path = written(&dir, &format!("{name}.json"), &problem);
         let solve = slamjac(&["solve", text(&path)]);
@@ -312,7 +452,11 @@ fn endless_and_binary_problem_files_fail_fast() {
     let invalid = dir.join("invalid.json");
     std::fs::write(&invalid, b"{\"slamjac_problem\": 1, \"v\xff").unwrap();
     for command in ["solve", "track"] {
-        assert_error(&slamjac(&[command, text(&link)]), 2, &["invalid JSON at line 1 column 1"]);
+        assert_error(
+            &slamjac(&[command, text(&link)]),
+            2,
+            &["invalid JSON at line 1 column 1"],
+        );
         assert_error(&slamjac(&[command, "/dev/urandom"]), 2, &["/dev/urandom"]);
         assert_error(
             &slamjac(&[command, text(&invalid)]),
@@ -327,8 +471,22 @@ fn endless_and_binary_problem_files_fail_fast() {
 /// replaced by a hostile token, a character dropped.
 fn mutated(text: &str, rng: &mut Rng) -> String {
     const TOKENS: &[&str] = &[
-        "0", "-0", "1e308", "1e-320", "-1", "1e101", "null", "true", "[]", "{}", "\"c0\"",
-        "\"p0\"", "\"\\u001b[2J\"", "[0, 0, 0, 3]", "[0, 0, 0, 0]", "1e999",
+        "0",
+        "-0",
+        "1e308",
+        "1e-320",
+        "-1",
+        "1e101",
+        "null",
+        "true",
+        "[]",
+        "{}",
+        "\"c0\"",
+        "\"p0\"",
+        "\"\\u001b[2J\"",
+        "[0, 0, 0, 3]",
+        "[0, 0, 0, 0]",
+        "1e999",
     ];
     let mut out = text.to_owned();
     for _ in 0..1 + rng.below(3) {

@@ -43,7 +43,10 @@ fn listing(dir: &Path) -> Vec<String> {
 fn assert_refused(output: &Output, needles: &[&str]) {
     let err = stderr(output);
     assert_eq!(output.status.code(), Some(2), "stderr: {err}");
-    assert!(err.starts_with("error: ") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.starts_with("error: ") && err.lines().count() == 1,
+        "{err}"
+    );
     for needle in needles {
         assert!(err.contains(needle), "`{err}` lacks `{needle}`");
     }
@@ -76,7 +79,10 @@ fn interrupt_a_streaming_writer(signal: &str, number: i32) {
             start.elapsed() < Duration::from_secs(60),
             "no temporary file appeared"
         );
-        assert!(child.try_wait().unwrap().is_none(), "the writer ended early");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the writer ended early"
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
     // Some of it written: the interruption comes mid-stream.
@@ -119,7 +125,10 @@ fn links_are_written_through_and_bad_destinations_refused_before_any_work() {
     assert!(link.is_symlink(), "the link stays a link");
     let target = dir.join("other/new.json");
     let written = std::fs::read_to_string(&target).unwrap();
-    assert!(written.starts_with("{\n  \"slamjac_problem\": 1"), "{written}");
+    assert!(
+        written.starts_with("{\n  \"slamjac_problem\": 1"),
+        "{written}"
+    );
     let mode = std::fs::metadata(&target).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o666 & !umask());
 
@@ -129,7 +138,10 @@ fn links_are_written_through_and_bad_destinations_refused_before_any_work() {
     assert_refused(&output, &["--output: cannot write here", "does not exist"]);
     let slash = format!("{}/", text(&dir.join("x.json")));
     let output = slamjac(&["synth-plp", "--output", &slash]);
-    assert_refused(&output, &["--output: cannot write here", "does not name a file"]);
+    assert_refused(
+        &output,
+        &["--output: cannot write here", "does not name a file"],
+    );
     let output = slamjac(&[
         "synth-bal",
         "--cameras",
@@ -154,7 +166,10 @@ fn init_writes_its_project_whole_or_not_at_all() {
     let output = slamjac(&["init", text(&project), "--name", &long]);
     let err = stderr(&output);
     assert_eq!(output.status.code(), Some(2), "{err}");
-    assert!(err.contains("cannot write") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.contains("cannot write") && err.lines().count() == 1,
+        "{err}"
+    );
     assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
     // A file-size limit of one block: the first larger file fails.
     let limited = Command::new("sh")
@@ -167,7 +182,11 @@ fn init_writes_its_project_whole_or_not_at_all() {
         .output()
         .unwrap();
     assert_eq!(limited.status.code(), Some(2), "{}", stderr(&limited));
-    assert!(stderr(&limited).contains("File too large"), "{}", stderr(&limited));
+    assert!(
+        stderr(&limited).contains("File too large"),
+        "{}",
+        stderr(&limited)
+    );
     assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
     // Whole, the next time.
     let output = slamjac(&["init", text(&project), "--name", "vio"]);
@@ -183,7 +202,11 @@ fn init_writes_its_project_whole_or_not_at_all() {
         (vec!["init", text(&odd), "--name", "odd"], true),
     ] {
         let output = slamjac(&args);
-        let shown = if out { stdout(&output) } else { stderr(&output) };
+        let shown = if out {
+            stdout(&output)
+        } else {
+            stderr(&output)
+        };
         assert!(!shown.contains('\u{1b}'), "{shown:?}");
         assert!(shown.contains("odd\\u001b[31m\\nname"), "{shown:?}");
     }

@@ -884,7 +884,10 @@ fn malformed_problem_files_name_the_field() {
         ),
         (
             |p| p["factors"][0]["noise"] = serde_json::json!({"sigma": -1.0}),
-            &["factors[0].noise.sigma", "a standard deviation must be from 1e-100"],
+            &[
+                "factors[0].noise.sigma",
+                "a standard deviation must be from 1e-100",
+            ],
         ),
         (
             |p| p["factors"][0]["robust"] = "tukey:1".into(),

@@ -68,6 +68,9 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
             format!("the solve stopped on a failure: {why}; no output written"),
         )));
     }
+    problem
+        .check_solution(&outcome.values)
+        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
     let truth = problem
         .truth_errors(&outcome.values)
         .transpose()

@@ -73,13 +73,18 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
                 UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
             )))
         }
-        "Vector3" => checked::<Vector3<f64>>(&numbers(value, path, 3)?, path).map(|_| Reading::Point),
+        "Vector3" => {
+            checked::<Vector3<f64>>(&numbers(value, path, 3)?, path).map(|_| Reading::Point)
+        }
         "OrthonormalLine" => {
             let line = Object::new(value, path, &["normal", "direction"])?;
             let mut input = line.numbers("normal", 3)?;
             input.extend(line.numbers("direction", 3)?);
             checked::<OrthonormalLine<f64>>(&input, path)?;
-            let (n, v) = (Vector3::from_column_slice(&input[..3]), Vector3::from_column_slice(&input[3..]));
+            let (n, v) = (
+                Vector3::from_column_slice(&input[..3]),
+                Vector3::from_column_slice(&input[3..]),
+            );
             // The moment `n = p × v`: the point nearest the origin is `v × n / |v|²`.
             Ok(Reading::Line(v.cross(&n) / v.norm_squared(), v))
         }

@@ -137,7 +137,12 @@ pub(crate) fn check<'a>(
         .expect("read_json checked `variables`");
     let mut fixed = Vec::new();
     for (name, spec) in declared {
-        let object = open(spec, &join("variables", name), &["type", "value"], &["fixed"])?;
+        let object = open(
+            spec,
+            &join("variables", name),
+            &["type", "value"],
+            &["fixed"],
+        )?;
         object.string("type")?;
         if spec.get("fixed").is_some() {
             let is_fixed = spec["fixed"].as_bool().ok_or_else(|| {

@@ -69,6 +69,8 @@ pub struct FileProblem {
     /// The apex problem.
     pub built: Built,
     variables: Vec<(String, Created)>,
+    /// The names of the variables held fixed.
+    fixed: Vec<String>,
     /// The ground truth the file carries.
     truth: Option<Truth>,
     /// How many factors go through generated kernels, how many through
@@ -92,7 +94,11 @@ fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputEr
     }
     Ok(Shape {
         variables: (entry.variables)(),
-        constants: entry.json_fields(false).into_iter().map(|(n, _)| n).collect(),
+        constants: entry
+            .json_fields(false)
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect(),
         residual_dim: entry.residual_dim,
     })
 }
@@ -141,22 +147,22 @@ pub fn read(
             .map_err(build_error)?;
     }
     let linearized_by = assembly.linearized_by;
-    let mut built = assembly.builder.build().map_err(build_error)?;
-    if let Some(deficiency) = deficiency(&built, &assembly.created, &checked.fixed) {
+    let built = assembly.builder.build().map_err(build_error)?;
+    if let Some(deficiency) = deficiency(&built, &assembly.created, &checked.fixed, None) {
         return Err(CliError::Solve(format!(
             "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or \
              add measurements",
             file.display()
         )));
     }
-    built.kept = None;
     let mut variables: Vec<(String, Created)> = assembly.created.into_iter().collect();
     variables.sort_by(|a, b| a.0.cmp(&b.0));
-    let truth = checked.truth;
+    let (truth, fixed) = (checked.truth, checked.fixed);
     Ok(FileProblem {
         json,
         built,
         variables,
+        fixed,
         truth,
         linearized_by,
     })
@@ -180,20 +186,26 @@ fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
 }
 
 /// The directions of the free variables the built problem's blocks do not
-/// determine at the initial values ([`crate::observability`]), in
-/// apex-solver's chart, through each block's whitened Jacobian.
-fn deficiency(
+/// determine at the initial values, or at `solved` ([`crate::observability`]),
+/// in apex-solver's chart, through each block's whitened Jacobian.
+fn deficiency<'a>(
     built: &Built,
-    created: &HashMap<String, Created>,
+    created: impl IntoIterator<Item = (&'a String, &'a Created)>,
     fixed: &[String],
+    solved: Option<&Values>,
 ) -> Option<Deficiency> {
-    let mut names: Vec<&String> = created.keys().filter(|n| !fixed.contains(n)).collect();
+    let created: HashMap<&String, &Created> = created.into_iter().collect();
+    let mut names: Vec<&String> = created
+        .keys()
+        .copied()
+        .filter(|n| !fixed.contains(n))
+        .collect();
     names.sort();
     // Each free apex key: its variable and its first column there.
     let mut at = HashMap::new();
     let mut variables = Vec::with_capacity(names.len());
     for (index, name) in names.into_iter().enumerate() {
-        let created = &created[name];
+        let created = created[name];
         let mut column = 0;
         for (key, dof) in created.variable.keys().iter().zip(created.variable.dofs()) {
             at.insert(*key, (index, column));
@@ -207,17 +219,37 @@ fn deficiency(
     let widths: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
     let dofs: HashMap<_, usize> = created
         .values()
-        .flat_map(|c| c.variable.keys().iter().copied().zip(c.variable.dofs().iter().copied()))
+        .flat_map(|c| {
+            c.variable
+                .keys()
+                .iter()
+                .copied()
+                .zip(c.variable.dofs().iter().copied())
+        })
         .collect();
     let mut normal = Normal::new(variables);
     for block in built.kept.as_deref().unwrap_or_default() {
-        let (rows, jacobian) = block.whitened_jacobian();
+        let (rows, jacobian) = match solved {
+            Some(values) => {
+                let params: Vec<&[f64]> = block
+                    .keys
+                    .iter()
+                    .map(|k| values[*k].as_param_slice())
+                    .collect();
+                block.whitened_jacobian_at(&params)
+            }
+            None => block.whitened_jacobian(),
+        };
         let mut blocks: Vec<(usize, DMatrix<f64>)> = Vec::new();
         let mut first = 0;
         for key in &block.keys {
             let dof = dofs[key];
             if let Some(&(index, column)) = at.get(key) {
-                let part = DMatrix::from_column_slice(rows, dof, &jacobian[first * rows..(first + dof) * rows]);
+                let part = DMatrix::from_column_slice(
+                    rows,
+                    dof,
+                    &jacobian[first * rows..(first + dof) * rows],
+                );
                 match blocks.iter_mut().find(|(i, _)| *i == index) {
                     Some((_, whole)) => whole.columns_mut(column, dof).copy_from(&part),
                     None => {
@@ -316,6 +348,22 @@ impl FileProblem {
             json["variables"][name]["value"] = value_json(&created.field, &stored);
         }
         json
+    }
+
+    /// Refuses a solution whose free variables the measurements do not
+    /// determine (the solve drifted to a configuration that leaves a
+    /// direction free, as two planes rotated parallel: issue 28's
+    /// `synth-plp --cameras 4`), naming the directions.
+    ///
+    /// # Errors
+    ///
+    /// The deficiency, in words.
+    pub fn check_solution(&self, values: &Values) -> Result<(), String> {
+        let created = self.variables.iter().map(|(name, c)| (name, c));
+        match deficiency(&self.built, created, &self.fixed, Some(values)) {
+            Some(deficiency) => Err(deficiency.at("the solution").to_string()),
+            None => Ok(()),
+        }
     }
 
     /// The errors of the initial values and of `values` against the file's

@@ -208,7 +208,11 @@ impl Errors {
     /// The errors in words, with `before`'s beside them, or why they cannot
     /// be measured.
     fn describe(&self, before: &Errors, path: &Path) -> Result<String, String> {
-        if let Some(x) = before.figures().chain(self.figures()).find(|x| !x.is_finite()) {
+        if let Some(x) = before
+            .figures()
+            .chain(self.figures())
+            .find(|x| !x.is_finite())
+        {
             return Err(format!(
                 "an error against the ground truth {} is {x}: the estimates are too far from \
                  it to measure",

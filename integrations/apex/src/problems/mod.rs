@@ -319,8 +319,14 @@ impl KeptBlock {
     /// linearizes the block: its rows and its entries column-major, the
     /// columns those of the keys' tangents in order.
     pub fn whitened_jacobian(&self) -> (usize, Vec<f64>) {
-        let (rows, columns) = self.factor.jacobian_shape();
         let params: Vec<&[f64]> = self.params.iter().map(Vec::as_slice).collect();
+        self.whitened_jacobian_at(&params)
+    }
+
+    /// [`Self::whitened_jacobian`] at the parameters `params` (one slice
+    /// per key, as apex-solver stores them: a solution's values).
+    pub fn whitened_jacobian_at(&self, params: &[&[f64]]) -> (usize, Vec<f64>) {
+        let (rows, columns) = self.factor.jacobian_shape();
         let mut residual = vec![0.0; rows];
         let mut jacobian = vec![0.0; rows * columns];
         self.factor.linearize(
