@@ -505,7 +505,8 @@ fn mutated(text: &str, rng: &mut Rng) -> String {
         if rng.below(4) == 0 {
             out.remove(at);
         } else {
-            out.replace_range(at..end, *rng.pick(TOKENS));
+            let token: &&str = rng.pick(TOKENS);
+            out.replace_range(at..end, token);
         }
     }
     out

@@ -358,7 +358,7 @@ fn sqrt_information(
     }
     let singular = s.clone().svd(false, false).singular_values;
     let (largest, smallest) = (singular.max(), singular.min());
-    if !(smallest > largest * dim as f64 * f64::EPSILON) {
+    if smallest.is_nan() || smallest <= largest * dim as f64 * f64::EPSILON {
         let rank = singular
             .iter()
             .filter(|v| **v > largest * dim as f64 * f64::EPSILON)
