@@ -212,3 +212,115 @@ fn init_writes_its_project_whole_or_not_at_all() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `init` and a writer over links, fuzzed: seeded names of hostile
+/// characters and lengths, and outputs through seeded chains of links
+/// (dangling, to missing directories, to directories, looping). Each run
+/// ends 0 or 2 with one printable line on error; a refused `init` leaves
+/// nothing; a written output is reached through its links and leaves no
+/// temporary.
+#[test]
+fn init_and_outputs_over_links_fuzzed() {
+    let mut rng = common::Rng(0x0028_11e5);
+    let dir = temp_dir("fuzz");
+    const PIECES: &[&str] = &[
+        "a",
+        "z9",
+        "-",
+        "_",
+        "\u{1b}[2J",
+        "\n",
+        "\u{feff}",
+        "\u{200b}",
+        "é",
+        " ",
+        ".",
+        "..",
+        "A",
+        "\t",
+        "\u{7f}",
+    ];
+    for k in 0..24 {
+        let mut name = String::new();
+        for _ in 0..1 + rng.below(6) {
+            let piece: &&str = rng.pick(PIECES);
+            name.push_str(piece);
+        }
+        if rng.below(4) == 0 {
+            name = name.repeat(1 + rng.below(80));
+        }
+        let project = dir.join(format!("p{k}"));
+        let output = slamjac(&["init", text(&project), "--name", &name]);
+        let err = stderr(&output);
+        match output.status.code() {
+            Some(0) => assert!(project.join("Cargo.toml").is_file(), "{name:?}"),
+            Some(2) => {
+                assert!(
+                    err.starts_with("error: ") && err.lines().count() == 1,
+                    "{err}"
+                );
+                assert!(
+                    !err.contains('\u{1b}') && !err.contains('\u{feff}'),
+                    "{err:?}"
+                );
+                assert!(
+                    !project.exists(),
+                    "{name:?}: a refused init left {project:?}"
+                );
+            }
+            other => panic!("{name:?}: exit {other:?}: {err}"),
+        }
+    }
+    let links = dir.join("links");
+    std::fs::create_dir(&links).unwrap();
+    std::fs::create_dir(links.join("sub")).unwrap();
+    const TARGETS: &[&str] = &[
+        "sub/new.json",
+        "missing/new.json",
+        "sub",
+        "next",
+        "sub/../o",
+        ".",
+    ];
+    for k in 0..24 {
+        let chain: Vec<String> = (0..1 + rng.below(3)).map(|i| format!("l{k}-{i}")).collect();
+        for (i, link) in chain.iter().enumerate() {
+            let target = match chain.get(i + 1) {
+                Some(next) => next.clone(),
+                None => {
+                    let target: &&str = rng.pick(TARGETS);
+                    target.replace("next", &chain[0])
+                }
+            };
+            std::os::unix::fs::symlink(&target, links.join(link)).unwrap();
+        }
+        let first = links.join(&chain[0]);
+        let output = slamjac(&["synth-plp", "--cameras", "8", "--output", text(&first)]);
+        let err = stderr(&output);
+        match output.status.code() {
+            Some(0) => {
+                assert!(first.is_symlink(), "{chain:?}");
+                let written = std::fs::read_to_string(&first).unwrap();
+                assert!(
+                    written.starts_with("{\n  \"slamjac_problem\": 1"),
+                    "{chain:?}"
+                );
+            }
+            Some(2) => {
+                assert!(
+                    err.starts_with("error: ") && err.lines().count() == 1,
+                    "{err}"
+                );
+            }
+            other => panic!("{chain:?}: exit {other:?}: {err}"),
+        }
+        for place in [links.clone(), links.join("sub")] {
+            assert!(
+                listing(&place).iter().all(|n| !n.starts_with('.')),
+                "{chain:?}: a temporary left in {place:?}: {:?}",
+                listing(&place)
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
