@@ -18,7 +18,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::common;
-use common::{slamjac, stderr, stdout};
+use common::{listing, slamjac, stderr, stdout};
 
 /// A fresh directory for this file's tests.
 fn temp_dir(tag: &str) -> PathBuf {
@@ -27,16 +27,6 @@ fn temp_dir(tag: &str) -> PathBuf {
 
 fn text(path: &Path) -> &str {
     path.to_str().expect("UTF-8 path")
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("readable")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Asserts exit 2 and one line `error: …` holding every needle.
