@@ -11,7 +11,7 @@
 //! path (exit 2); what only the factor can judge (a point behind the camera,
 //! parallel bearings, ...) is left to its `validate()`.
 
-use factor_core::{Factor, FieldInfo, Layout};
+use factor_core::{Factor, FieldInfo, Layout, StorageError};
 
 use crate::error::InputError;
 use crate::field_path::join;
@@ -69,18 +69,21 @@ fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Resu
 fn field_scalars(object: &Object, field: &FieldInfo) -> Result<Vec<f64>, InputError> {
     let mut input = Vec::with_capacity(field.input_layout.scalars());
     read(object, field.name, &field.input_layout, &mut input)?;
-    (field.from_input)(&input).map_err(|e| {
-        let mut path = object.path_of(field.name);
-        if !e.path.is_empty() {
-            for part in e.path.split('.') {
-                path = match part.strip_prefix('[') {
-                    Some(_) => format!("{path}{part}"),
-                    None => join(&path, part),
-                };
-            }
+    (field.from_input)(&input).map_err(|e| at_part(object.path_of(field.name), e))
+}
+
+/// The type's refusal `error` of the value at `path`, at the part of it at
+/// fault (`…rotation`, `…[2]`).
+pub(crate) fn at_part(mut path: String, error: StorageError) -> InputError {
+    if !error.path.is_empty() {
+        for part in error.path.split('.') {
+            path = match part.strip_prefix('[') {
+                Some(_) => format!("{path}{part}"),
+                None => join(&path, part),
+            };
         }
-        InputError::new(path, e.message)
-    })
+    }
+    InputError::new(path, error.message)
 }
 
 /// The stored scalars of the factor whose fields are `fields` (in

@@ -18,12 +18,13 @@
 //! command works when they are missing or stale. docs/guide/kernels.md
 //! walks through the project.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use factor_codegen::build_profile::PROFILE_ENTRIES;
 use factor_codegen::manifest::{Membership, manifest, placeholder_lib, toml_escaped};
 
 use crate::error::{CliError, InputError};
+use crate::field_path::{quoted, shown_path};
 
 /// The checkout this binary was built from, which the project depends on.
 const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");
@@ -268,7 +269,10 @@ pub fn files(name: &str) -> Vec<(String, String)> {
 }
 
 /// `slamjac init DIR [--name NAME]`: writes [`files`] into DIR, which must
-/// be new or empty; NAME defaults to DIR's name.
+/// be new or empty; NAME defaults to DIR's name. The project is written
+/// whole or not at all ([`slamjac_io::atomic::write_tree`]): a failure (a
+/// name too long for the file system, a file-size limit) or an
+/// interruption leaves DIR as it was.
 pub fn run(dir: &Path, name: Option<&str>) -> Result<String, CliError> {
     let at = |message: String| -> CliError {
         InputError::new(dir.display().to_string(), message).into()
@@ -282,8 +286,9 @@ pub fn run(dir: &Path, name: Option<&str>) -> Result<String, CliError> {
     };
     if !valid_name(&name) {
         return Err(CliError::Usage(format!(
-            "init: {name:?} cannot name the crates: give --name NAME, a lowercase letter then \
-             lowercase letters, digits, `-` or `_`"
+            "init: {} cannot name the crates: give --name NAME, a lowercase letter then \
+             lowercase letters, digits, `-` or `_`",
+            quoted(&name)
         )));
     }
     match std::fs::read_dir(dir) {
@@ -297,22 +302,19 @@ pub fn run(dir: &Path, name: Option<&str>) -> Result<String, CliError> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(at(format!("cannot read: {e}"))),
     }
-    let files = files(&name);
-    for (path, contents) in &files {
-        let path = dir.join(path);
-        path.parent()
-            .map_or(Ok(()), std::fs::create_dir_all)
-            .and_then(|()| std::fs::write(&path, contents))
-            .map_err(|e| at(format!("cannot write {}: {e}", path.display())))?;
-    }
+    let files: Vec<(PathBuf, Vec<u8>)> = files(&name)
+        .into_iter()
+        .map(|(path, contents)| (path.into(), contents.into_bytes()))
+        .collect();
+    // All or nothing: staged beside DIR and renamed into place.
+    slamjac_io::atomic::write_tree(dir, &files).map_err(|e| at(format!("cannot write: {e}")))?;
+    let shown = shown_path(dir);
     Ok(format!(
-        "wrote {} files into {}: the crates {name}-factors, {name}-kernels and {name}-cli\n\
-         next, in {}:\n  \
+        "wrote {} files into {shown}: the crates {name}-factors, {name}-kernels and {name}-cli\n\
+         next, in {shown}:\n  \
          cargo run -p {name}-cli --no-default-features -- generate\n  \
          cargo run -p {name}-cli -- eval inputs/position_prior.json",
         files.len(),
-        dir.display(),
-        dir.display(),
     ))
 }
 

@@ -20,6 +20,8 @@
 //! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
 //! - [`eval`]: evaluation and the output JSON;
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
+//! - [`observability`]: the directions a problem's residuals do not
+//!   determine (a gauge left free, a rank deficiency), named;
 //! - [`list`]: the factor table, text or JSON;
 //! - [`kernels`]: the shipped factors: `slamjac`'s own registry, their
 //!   kernel specs and provenance;
@@ -49,6 +51,7 @@ pub mod input;
 pub mod kernels;
 pub mod list;
 pub mod method;
+pub mod observability;
 pub mod outputs;
 pub mod pretty;
 #[cfg(feature = "solve")]

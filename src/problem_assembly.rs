@@ -10,12 +10,12 @@ use std::collections::HashMap;
 use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_value_of};
 use factor_apex::problems::{BuildError, Robust};
 use factor_core::FieldInfo;
-use factor_core::host::{Apex, HostFactor, HostKernel};
-use serde_json::{Map, Value};
+use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 
 use crate::decode::decode;
 use crate::error::CliError;
 use crate::input::Object;
+use crate::observability::tangent_columns;
 
 /// Reads a variable's stored scalars back from a solution.
 pub(crate) type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
@@ -28,13 +28,14 @@ pub(crate) struct Created {
     pub(crate) field: FieldInfo,
     pub(crate) index: usize,
     pub(crate) read_back: ReadBack,
+    /// Its tangent coordinates in apex-solver's chart, named (the
+    /// observability check's columns).
+    pub(crate) columns: Vec<String>,
 }
 
 /// What a factor entry needs while it is added.
-pub(crate) struct Assembly<'a> {
+pub(crate) struct Assembly {
     pub(crate) builder: ProblemBuilder,
-    /// The file's `variables`.
-    pub(crate) declared: &'a Map<String, Value>,
     pub(crate) created: HashMap<String, Created>,
     /// How many factors go through generated kernels, how many through
     /// dual numbers, so far.
@@ -81,6 +82,21 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
                 .find(|f| f.variable == Some(index))
                 .cloned()
                 .expect("every variable is a field");
+            let parts = F::host_parts(index);
+            let columns = parts
+                .iter()
+                .flat_map(|part| {
+                    let columns =
+                        tangent_columns(part.manifold.tangent_description(), part.manifold.dof());
+                    columns.into_iter().map(move |c| {
+                        if part.name.is_empty() {
+                            c
+                        } else {
+                            format!("{}.{c}", part.name)
+                        }
+                    })
+                })
+                .collect();
             assembly.created.insert(
                 name.clone(),
                 Created {
@@ -88,6 +104,7 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
                     field,
                     index,
                     read_back: stored_value_of::<F>,
+                    columns,
                 },
             );
             variable

@@ -9,9 +9,17 @@
 //! - arrays and objects nested deeper than [`MAX_DEPTH`] are invalid JSON.
 //!
 //! The events come from `json-event-parser`, which validates the grammar and
-//! hands each number over as its literal text.
+//! hands each number over as its literal text: from text in memory
+//! ([`parse_json`]) or as a reader streams it in ([`parse_json_from`], so
+//! that a source that is not JSON is refused at its first bytes, not once
+//! it has been read whole).
 
-use json_event_parser::{JsonEvent, SliceJsonParser};
+use std::borrow::Cow;
+use std::io::Read;
+
+use json_event_parser::{
+    JsonEvent, JsonParseError, JsonSyntaxError, ReaderJsonParser, SliceJsonParser,
+};
 use serde_json::{Map, Number, Value};
 
 use crate::error::InputError;
@@ -28,15 +36,58 @@ enum Step {
     Index(usize),
 }
 
+/// Why the events stopped: a syntax error, or a read that failed (its
+/// message, one line).
+enum Failure {
+    Syntax(JsonSyntaxError),
+    Read(String),
+}
+
+/// A parser's events, each owned (the reader's borrow its buffer).
+trait Events {
+    fn event(&mut self) -> Result<JsonEvent<'static>, Failure>;
+}
+
+fn owned(event: JsonEvent<'_>) -> JsonEvent<'static> {
+    let own = |text: Cow<'_, str>| Cow::Owned(text.into_owned());
+    match event {
+        JsonEvent::String(text) => JsonEvent::String(own(text)),
+        JsonEvent::Number(text) => JsonEvent::Number(own(text)),
+        JsonEvent::ObjectKey(text) => JsonEvent::ObjectKey(own(text)),
+        JsonEvent::Boolean(b) => JsonEvent::Boolean(b),
+        JsonEvent::Null => JsonEvent::Null,
+        JsonEvent::StartArray => JsonEvent::StartArray,
+        JsonEvent::EndArray => JsonEvent::EndArray,
+        JsonEvent::StartObject => JsonEvent::StartObject,
+        JsonEvent::EndObject => JsonEvent::EndObject,
+        JsonEvent::Eof => JsonEvent::Eof,
+    }
+}
+
+impl Events for SliceJsonParser<'_> {
+    fn event(&mut self) -> Result<JsonEvent<'static>, Failure> {
+        self.parse_next().map(owned).map_err(Failure::Syntax)
+    }
+}
+
+impl<R: Read> Events for ReaderJsonParser<R> {
+    fn event(&mut self) -> Result<JsonEvent<'static>, Failure> {
+        self.parse_next().map(owned).map_err(|e| match e {
+            JsonParseError::Syntax(e) => Failure::Syntax(e),
+            JsonParseError::Io(e) => Failure::Read(e.to_string()),
+        })
+    }
+}
+
 /// Builds the value tree from the parser's events, tracking the path.
-struct Builder<'a> {
-    parser: SliceJsonParser<'a>,
+struct Builder<'a, E> {
+    parser: E,
     source: &'a str,
     /// The keys and indices from the root to the value being read.
     steps: Vec<Step>,
 }
 
-impl<'a> Builder<'a> {
+impl<E: Events> Builder<'_, E> {
     /// The path of the value being read, as errors show it.
     fn path(&self) -> String {
         self.steps
@@ -47,18 +98,21 @@ impl<'a> Builder<'a> {
             })
     }
 
-    fn next(&mut self) -> Result<JsonEvent<'a>, InputError> {
-        self.parser.parse_next().map_err(|e| {
-            let at = e.location().start;
-            InputError::new(
-                source_name(self.source),
-                format!(
-                    "invalid JSON at line {} column {}: {}",
-                    at.line + 1,
-                    at.column + 1,
-                    e.message()
-                ),
-            )
+    fn next(&mut self) -> Result<JsonEvent<'static>, InputError> {
+        self.parser.event().map_err(|e| {
+            let message = match e {
+                Failure::Syntax(e) => {
+                    let at = e.location().start;
+                    format!(
+                        "invalid JSON at line {} column {}: {}",
+                        at.line + 1,
+                        at.column + 1,
+                        e.message()
+                    )
+                }
+                Failure::Read(message) => message,
+            };
+            InputError::new(source_name(self.source), message)
         })
     }
 
@@ -75,7 +129,7 @@ impl<'a> Builder<'a> {
     }
 
     /// The value that starts with `event`.
-    fn value(&mut self, event: JsonEvent<'a>) -> Result<Value, InputError> {
+    fn value(&mut self, event: JsonEvent<'static>) -> Result<Value, InputError> {
         match event {
             JsonEvent::Null => Ok(Value::Null),
             JsonEvent::Boolean(b) => Ok(Value::Bool(b)),
@@ -159,8 +213,21 @@ impl<'a> Builder<'a> {
 /// name the source, line and column; duplicate keys and out-of-range numbers
 /// their field path.
 pub fn parse_json(text: &str, source: &str) -> Result<Value, InputError> {
+    build(SliceJsonParser::new(text.as_bytes()), source)
+}
+
+/// [`parse_json`] of what `reader` streams in (a file read through
+/// [`crate::source::Checked`]): the parse stops at the first byte that is
+/// not JSON, and a failed read is an error naming `source` with the
+/// reader's one-line message.
+pub fn parse_json_from(reader: impl Read, source: &str) -> Result<Value, InputError> {
+    build(ReaderJsonParser::new(reader), source)
+}
+
+/// The whole document of `parser`'s events.
+fn build(parser: impl Events, source: &str) -> Result<Value, InputError> {
     let mut builder = Builder {
-        parser: SliceJsonParser::new(text.as_bytes()),
+        parser,
         source,
         steps: Vec::new(),
     };

@@ -21,24 +21,41 @@
 //!   fixes the frame; the second fixes the scale, which points and lines
 //!   seen in pixels leave free (planes' offsets would fix it, but every
 //!   kind combination gets the same gauge so that their errors compare).
-//! - Only landmarks measured more often than their degrees of freedom
-//!   demand enter (points seen at least twice, lines at least three times:
-//!   two views fit a line exactly, however noisy; planes once), and only
-//!   cameras with a measurement.
+//! - Only measurements defined at the written initial values enter (a
+//!   perturbed point can fall behind a camera that sees it: issue 28, where
+//!   5 of seeds 1–20 of the guide's tracking configuration wrote one that
+//!   `solve` then refused); only landmarks measured more often than their
+//!   degrees of freedom demand (points seen at least twice, lines at least
+//!   three times: two views fit a line exactly, however noisy; planes
+//!   once), and only cameras with a measurement.
+//! - A problem whose measurements do not determine its free variables (a
+//!   camera that sees two walls and nothing else, a plane seen only by
+//!   free cameras: [`crate::observability`], at the true values and at
+//!   the written initial values) is refused naming the directions nothing
+//!   determines; nothing is written. A problem observable at both can still
+//!   be drawn by the solve into a configuration that is not (`--cameras 4`:
+//!   a wall seen only by free cameras rotated parallel to another); `solve`
+//!   refuses that solution.
 //!
 //! The same seed writes the same file on every platform.
 
 use std::path::Path;
 
-use factor_core::geometry::InfinitePlane;
+use std::collections::{BTreeSet, HashMap};
+
+use factor_core::Factor;
+use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, So3};
-use nalgebra::{Isometry3, Matrix3, Vector3, Vector4};
+use nalgebra::{DMatrix, Isometry3, Matrix3, Vector3, Vector4};
 use serde_json::{Map, Value, json};
-use slam_data::plp_scene::{self, PlpConfig, PlpScene};
+use slam_data::plp_scene::{self, PlpConfig, PlpScene, PlpState};
+use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 use slamjac_io::Role;
 
 use crate::error::CliError;
 use crate::field_path::shown_path;
+use crate::method::{Method, linearize};
+use crate::observability::{Normal, Variable};
 use crate::outputs;
 
 /// The measurement kinds a problem holds.
@@ -110,14 +127,17 @@ pub struct SynthPlpArgs {
 /// Segments of the room other than its wall segments: 12 edges, 2 doors.
 const FIXED_SEGMENTS: usize = 12 + 3 * 2;
 
+/// The gauge: cameras `c0` and `c1` fixed at their true poses.
+const FIXED_CAMERAS: usize = 2;
+
 /// Generates the scene and writes the problem file to `output`; describes
 /// it in one line.
 ///
 /// # Errors
 ///
-/// Settings the generator refuses or an output that cannot be written
-/// ([`CliError::Usage`], exit 2); a plane measurement degenerate at the
-/// initial values ([`CliError::Factor`], exit 1).
+/// Settings the generator refuses, a problem it would write that is not
+/// observable, or an output that cannot be written ([`CliError::Usage`],
+/// exit 2).
 pub fn run(args: &SynthPlpArgs, output: &Path) -> Result<String, CliError> {
     outputs::check(&[], &[Role::new("--output", output)])?;
     let plane_points = args.points * 2 / 3;
@@ -186,91 +206,157 @@ fn se3(pose: &Isometry3<f64>) -> Se3<f64> {
     )
 }
 
-/// Counts per index, of the `indices` given.
-fn seen(indices: impl Iterator<Item = usize>, len: usize) -> Vec<usize> {
-    let mut counts = vec![0; len];
-    for i in indices {
-        counts[i] += 1;
+/// A measurement the file keeps: its factor entry, the camera it is taken
+/// from, the landmark variable it measures, and its whitened Jacobians
+/// (camera, landmark) at the written initial values and at the truth.
+struct Measurement {
+    camera: usize,
+    landmark: String,
+    json: Value,
+    jacobians: [[DMatrix<f64>; 2]; 2],
+}
+
+/// Which values the observability check linearizes at.
+#[derive(Clone, Copy)]
+enum At {
+    Initial = 0,
+    Truth = 1,
+}
+
+/// The whitened Jacobians (pose, landmark) of `factor` at its values,
+/// `S J` for the square-root information `s`; `None` where the factor is
+/// undefined (a point behind the camera, a line through its centre).
+fn jacobians<F: Factor>(factor: &F, s: &DMatrix<f64>) -> Option<[DMatrix<f64>; 2]> {
+    let (linearization, _) = linearize(factor, Method::Generated).ok()?;
+    let [pose, landmark] = <[DMatrix<f64>; 2]>::try_from(linearization.jacobians).ok()?;
+    Some([s * pose, s * landmark])
+}
+
+/// How many of `measurements` measure each landmark.
+fn views(measurements: &[Measurement]) -> HashMap<&str, usize> {
+    let mut views = HashMap::new();
+    for m in measurements {
+        *views.entry(m.landmark.as_str()).or_insert(0) += 1;
     }
-    counts
+    views
 }
 
 impl Problem {
+    /// The problem of `scene`: the measurements of `args.kinds` defined at
+    /// the written initial values (any other is left out: the file must be
+    /// solvable from its values), of the landmarks measured often enough.
+    ///
+    /// # Errors
+    ///
+    /// The problem would not be observable ([`CliError::Usage`], naming
+    /// the directions nothing determines).
     fn of(scene: &PlpScene, args: &SynthPlpArgs) -> Result<Problem, CliError> {
         let config = &scene.config;
-        let intrinsics = vector_json(&config.intrinsics);
+        let [fu, fv, cu, cv] = config.intrinsics;
+        let intrinsics = Intrinsics::new(fu, fv, cu, cv);
         let sigma = json!({"sigma": config.pixel_sigma});
-        let mut problem = Problem {
-            variables: Map::new(),
-            truth: Map::new(),
-            factors: Vec::new(),
-            counts: [0; 4],
-        };
+        let pixel = DMatrix::from_diagonal_element(2, 2, 1.0 / config.pixel_sigma);
         let (truth, initial) = (&scene.truth, &scene.initial);
-        let mut cameras_used = vec![false; truth.cameras.len()];
+        // The written initial pose: the gauge's cameras at their truth.
+        let start = |i: usize| {
+            if i < FIXED_CAMERAS {
+                &truth.cameras[i]
+            } else {
+                &initial.cameras[i]
+            }
+        };
+        let mut measurements: Vec<Measurement> = Vec::new();
         if args.kinds.points {
-            let views = seen(
-                scene.point_observations.iter().map(|o| o.point),
-                truth.points.len(),
-            );
-            for o in scene
-                .point_observations
+            let mut points = Vec::new();
+            for o in &scene.point_observations {
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let factor = PointReprojection {
+                        intrinsics,
+                        observed: o.pixel,
+                        pose: se3(camera),
+                        point: state.points[o.point],
+                    };
+                    jacobians(&factor, &pixel)
+                };
+                if let (Some(initially), Some(truly)) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
+                    points.push(Measurement {
+                        camera: o.camera,
+                        landmark: format!("p{}", o.point),
+                        json: json!({
+                            "factor": "point_reprojection",
+                            "variables": {"pose": format!("c{}", o.camera), "point": format!("p{}", o.point)},
+                            "constants": {"intrinsics": config.intrinsics, "observed": [o.pixel.x, o.pixel.y]},
+                            "noise": sigma,
+                        }),
+                        jacobians: [initially, truly],
+                    });
+                }
+            }
+            let views = views(&points);
+            let seen: Vec<bool> = points
                 .iter()
-                .filter(|o| views[o.point] >= 2)
-            {
-                cameras_used[o.camera] = true;
-                problem.factors.push(json!({
-                    "factor": "point_reprojection",
-                    "variables": {"pose": format!("c{}", o.camera), "point": format!("p{}", o.point)},
-                    "constants": {"intrinsics": intrinsics, "observed": [o.pixel.x, o.pixel.y]},
-                    "noise": sigma,
-                }));
-            }
-            for (i, _) in views.iter().enumerate().filter(|(_, v)| **v >= 2) {
-                problem.add(
-                    format!("p{i}"),
-                    "Vector3",
-                    vector_json(initial.points[i].as_slice()),
-                    vector_json(truth.points[i].as_slice()),
-                    false,
-                );
-                problem.counts[1] += 1;
-            }
+                .map(|m| views[m.landmark.as_str()] >= 2)
+                .collect();
+            measurements.extend(
+                points
+                    .into_iter()
+                    .zip(seen)
+                    .filter(|(_, s)| *s)
+                    .map(|(m, _)| m),
+            );
         }
         if args.kinds.lines {
             let kept = args.lines.min(truth.segments.len());
-            let views = seen(
-                scene
-                    .segment_observations
-                    .iter()
-                    .map(|o| o.segment)
-                    .filter(|s| *s < kept),
-                kept,
-            );
+            let mut lines = Vec::new();
             for o in scene
                 .segment_observations
                 .iter()
-                .filter(|o| o.segment < kept && views[o.segment] >= 3)
+                .filter(|o| o.segment < kept)
             {
-                cameras_used[o.camera] = true;
-                problem.factors.push(json!({
-                    "factor": "line_reprojection",
-                    "variables": {"pose": format!("c{}", o.camera), "line": format!("l{}", o.segment)},
-                    "constants": {"intrinsics": intrinsics, "start": [o.start.x, o.start.y], "end": [o.end.x, o.end.y]},
-                    "noise": sigma,
-                }));
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let s = &state.segments[o.segment];
+                    let line = OrthonormalLine::try_from_points(&s.start, &s.end).ok()?;
+                    let factor = LineReprojection {
+                        intrinsics,
+                        start: o.start,
+                        end: o.end,
+                        pose: se3(camera),
+                        line,
+                    };
+                    jacobians(&factor, &pixel)
+                };
+                if let (Some(initially), Some(truly)) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
+                    lines.push(Measurement {
+                        camera: o.camera,
+                        landmark: format!("l{}", o.segment),
+                        json: json!({
+                            "factor": "line_reprojection",
+                            "variables": {"pose": format!("c{}", o.camera), "line": format!("l{}", o.segment)},
+                            "constants": {"intrinsics": config.intrinsics, "start": [o.start.x, o.start.y], "end": [o.end.x, o.end.y]},
+                            "noise": sigma,
+                        }),
+                        jacobians: [initially, truly],
+                    });
+                }
             }
-            for (i, _) in views.iter().enumerate().filter(|(_, v)| **v >= 3) {
-                let (s0, s) = (&initial.segments[i], &truth.segments[i]);
-                problem.add(
-                    format!("l{i}"),
-                    "OrthonormalLine",
-                    line_json(&s0.start, &s0.end),
-                    line_json(&s.start, &s.end),
-                    false,
-                );
-                problem.counts[2] += 1;
-            }
+            let views = views(&lines);
+            let seen: Vec<bool> = lines
+                .iter()
+                .map(|m| views[m.landmark.as_str()] >= 3)
+                .collect();
+            measurements.extend(
+                lines
+                    .into_iter()
+                    .zip(seen)
+                    .filter(|(_, s)| *s)
+                    .map(|(m, _)| m),
+            );
         }
         if args.kinds.planes {
             // The measurement's noise in g2o's chart of it (azimuth and
@@ -281,70 +367,123 @@ impl Problem {
                 config.plane_angle_sigma.powi(-2),
                 config.plane_offset_sigma.powi(-2),
             ));
-            let mut planes_used = vec![false; truth.planes.len()];
             for o in &scene.plane_observations {
-                let plane = plane_of(&initial.planes[o.plane]);
-                let camera_to_world = se3(&initial.cameras[o.camera].inverse());
-                let (_, residual_information) = slam_factors::g2o::plane_observation(
-                    &camera_to_world,
-                    &plane,
-                    &Se3::identity(),
-                    &o.measured,
-                    &information,
-                )?;
-                let upper = residual_information
-                    .cholesky()
-                    .ok_or_else(|| {
-                        CliError::Solve(format!(
-                            "plane {} seen by camera {}: the information in the residual space \
-                             is not positive definite",
-                            o.plane, o.camera
-                        ))
-                    })?
-                    .l()
-                    .transpose();
-                let rows: Vec<Value> = upper
-                    .row_iter()
-                    .map(|r| vector_json(&[r[0], r[1], r[2]]))
-                    .collect();
-                cameras_used[o.camera] = true;
-                planes_used[o.plane] = true;
-                problem.factors.push(json!({
-                    "factor": "plane",
-                    "variables": {"pose": format!("c{}", o.camera), "plane": format!("pi{}", o.plane)},
-                    "constants": {"measured": vector_json(o.measured.as_slice())},
-                    "noise": {"sqrt_information": rows},
-                }));
-            }
-            for (i, _) in planes_used.iter().enumerate().filter(|(_, u)| **u) {
-                problem.add(
-                    format!("pi{i}"),
-                    "InfinitePlane",
-                    vector_json(initial.planes[i].as_slice()),
-                    vector_json(truth.planes[i].as_slice()),
-                    false,
-                );
-                problem.counts[3] += 1;
+                // The factor and its square-root information, upper
+                // triangular, at a camera and planes.
+                let at = |camera: &Isometry3<f64>, state: &PlpState| {
+                    let (factor, residual_information) = slam_factors::g2o::plane_observation(
+                        &se3(&camera.inverse()),
+                        &plane_of(&state.planes[o.plane]),
+                        &Se3::identity(),
+                        &o.measured,
+                        &information,
+                    )
+                    .ok()?;
+                    let upper = residual_information.cholesky()?.l().transpose();
+                    let s = DMatrix::from_column_slice(3, 3, upper.as_slice());
+                    Some((jacobians(&factor, &s)?, upper))
+                };
+                if let (Some((initially, upper)), Some((truly, _))) = (
+                    at(start(o.camera), initial),
+                    at(&truth.cameras[o.camera], truth),
+                ) {
+                    let rows: Vec<Value> = upper
+                        .row_iter()
+                        .map(|r| vector_json(&[r[0], r[1], r[2]]))
+                        .collect();
+                    measurements.push(Measurement {
+                        camera: o.camera,
+                        landmark: format!("pi{}", o.plane),
+                        json: json!({
+                            "factor": "plane",
+                            "variables": {"pose": format!("c{}", o.camera), "plane": format!("pi{}", o.plane)},
+                            "constants": {"measured": vector_json(o.measured.as_slice())},
+                            "noise": {"sqrt_information": rows},
+                        }),
+                        jacobians: [initially, truly],
+                    });
+                }
             }
         }
-        for (i, _) in cameras_used.iter().enumerate().filter(|(_, u)| **u) {
-            // The gauge: the first two cameras at their true poses.
-            let fixed = i < 2;
-            let start = if fixed {
-                &truth.cameras[i]
-            } else {
-                &initial.cameras[i]
-            };
+        let mut problem = Problem {
+            variables: Map::new(),
+            truth: Map::new(),
+            factors: measurements.iter().map(|m| m.json.clone()).collect(),
+            counts: [0; 4],
+        };
+        // Points, lines, planes, each by index, as the scene lists them.
+        let landmarks: BTreeSet<(u8, usize, &str)> = measurements
+            .iter()
+            .map(|m| {
+                let name = m.landmark.as_str();
+                let at = name.find(|c: char| c.is_ascii_digit()).expect("an index");
+                let kind = match &name[..at] {
+                    "p" => 0,
+                    "l" => 1,
+                    _ => 2,
+                };
+                (kind, name[at..].parse().expect("an index"), name)
+            })
+            .collect();
+        let landmarks: Vec<&str> = landmarks.into_iter().map(|(_, _, name)| name).collect();
+        let mut cameras: Vec<usize> = measurements.iter().map(|m| m.camera).collect();
+        cameras.sort_unstable();
+        cameras.dedup();
+        // Refused where the truth is not observable (parallel walls seen by
+        // a free camera: a perturbation at the initial values hides it) or
+        // the written values are not.
+        observable(&measurements, &cameras, &landmarks, args, At::Truth)?;
+        observable(&measurements, &cameras, &landmarks, args, At::Initial)?;
+        for name in &landmarks {
+            problem.add_landmark(name, truth, initial);
+        }
+        for i in cameras {
+            let fixed = i < FIXED_CAMERAS;
             problem.add(
                 format!("c{i}"),
                 "Se3",
-                pose_json(start),
+                pose_json(start(i)),
                 pose_json(&truth.cameras[i]),
                 fixed,
             );
             problem.counts[0] += 1;
         }
         Ok(problem)
+    }
+
+    /// Adds the landmark `name` (`p3`, `l0`, `pi2`) with its initial value
+    /// and its truth.
+    fn add_landmark(&mut self, name: &str, truth: &PlpState, initial: &PlpState) {
+        let (kind, index) = name
+            .find(|c: char| c.is_ascii_digit())
+            .map(|at| name.split_at(at))
+            .expect("a landmark name ends in its index");
+        let i: usize = index.parse().expect("an index");
+        let (type_name, value, true_value, count) = match kind {
+            "p" => (
+                "Vector3",
+                vector_json(initial.points[i].as_slice()),
+                vector_json(truth.points[i].as_slice()),
+                1,
+            ),
+            "l" => {
+                let (s0, s) = (&initial.segments[i], &truth.segments[i]);
+                (
+                    "OrthonormalLine",
+                    line_json(&s0.start, &s0.end),
+                    line_json(&s.start, &s.end),
+                    2,
+                )
+            }
+            _ => (
+                "InfinitePlane",
+                vector_json(initial.planes[i].as_slice()),
+                vector_json(truth.planes[i].as_slice()),
+                3,
+            ),
+        };
+        self.add(name.to_owned(), type_name, value, true_value, false);
+        self.counts[count] += 1;
     }
 
     fn add(&mut self, name: String, kind: &str, value: Value, truth: Value, fixed: bool) {
@@ -363,6 +502,60 @@ impl Problem {
             "factors": self.factors,
             "truth": self.truth,
         })
+    }
+}
+
+/// Refuses a problem whose free variables its measurements do not
+/// determine ([`crate::observability`]): the gauge's two cameras are
+/// fixed, every other camera and every landmark is free.
+fn observable(
+    measurements: &[Measurement],
+    cameras: &[usize],
+    landmarks: &[&str],
+    args: &SynthPlpArgs,
+    at: At,
+) -> Result<(), CliError> {
+    let tangent = |info: &factor_core::VariableInfo| info.tangent;
+    let pose = tangent(&PointReprojection::<f64>::variables()[0]);
+    let mut variables = Vec::new();
+    let mut index: HashMap<String, usize> = HashMap::new();
+    for i in cameras.iter().filter(|i| **i >= FIXED_CAMERAS) {
+        index.insert(format!("c{i}"), variables.len());
+        variables.push(Variable::new(format!("c{i}"), pose, 6));
+    }
+    for name in landmarks {
+        let info = match name.trim_end_matches(|c: char| c.is_ascii_digit()) {
+            "p" => PointReprojection::<f64>::variables()[1].clone(),
+            "l" => LineReprojection::<f64>::variables()[1].clone(),
+            _ => PlaneFactor::<f64>::variables()[1].clone(),
+        };
+        index.insert((*name).to_owned(), variables.len());
+        variables.push(Variable::new(*name, info.tangent, info.tangent_dim));
+    }
+    let mut normal = Normal::new(variables);
+    for m in measurements {
+        let [camera, landmark] = &m.jacobians[at as usize];
+        let mut blocks = vec![(index[m.landmark.as_str()], landmark.clone())];
+        if let Some(free) = index.get(&format!("c{}", m.camera)) {
+            blocks.push((*free, camera.clone()));
+        }
+        normal.add(&blocks);
+    }
+    match normal.deficiency() {
+        None => Ok(()),
+        Some(deficiency) => Err(CliError::Usage(format!(
+            "synth-plp: --cameras {} --points {} --lines {} --kinds {} (seed {}) is {}; \
+             nothing written: use more cameras, points or lines, or other kinds",
+            args.cameras,
+            args.points,
+            args.lines,
+            args.kinds,
+            args.seed,
+            deficiency.at(match at {
+                At::Initial => "the written initial values",
+                At::Truth => "the true values",
+            })
+        ))),
     }
 }
 

@@ -17,7 +17,7 @@ use std::process::{Command, Output};
 
 use crate::common;
 use common::slamjac_with_stdin as run;
-use common::stderr;
+use common::{listing, stderr};
 
 /// A fresh directory for this file's tests.
 fn temp_dir(tag: &str) -> PathBuf {
@@ -43,16 +43,6 @@ fn assert_error(output: &Output, code: i32, needles: &[&str]) {
     for needle in needles {
         assert!(err.contains(needle), "`{err}` lacks `{needle}`");
     }
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("readable")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 fn synth(output: &Path, extra: &[&str]) -> Output {

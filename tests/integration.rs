@@ -1,4 +1,5 @@
-//! The package's integration tests but `solve.rs` and `track.rs` (feature
+//! The package's integration tests but `solve.rs` (with its module
+//! `hostile_problems.rs`) and `track.rs` (feature
 //! `solve`, their own binaries), one binary (see `Cargo.toml`): each other
 //! file of `tests/` is a module here.
 
@@ -10,4 +11,5 @@ mod cpp_kernels;
 mod derive;
 mod files_and_messages;
 mod hostile_input;
+mod interrupted_and_linked_outputs;
 mod snapshots;

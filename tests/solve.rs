@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 mod common;
+mod hostile_problems;
 use common::{Rng, slamjac, stderr, stdout};
 
 /// A fresh directory for this file's tests.
@@ -883,7 +884,10 @@ fn malformed_problem_files_name_the_field() {
         ),
         (
             |p| p["factors"][0]["noise"] = serde_json::json!({"sigma": -1.0}),
-            &["factors[0].noise.sigma", "above 0"],
+            &[
+                "factors[0].noise.sigma",
+                "a standard deviation must be from 1e-100",
+            ],
         ),
         (
             |p| p["factors"][0]["robust"] = "tukey:1".into(),

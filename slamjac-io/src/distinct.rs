@@ -3,8 +3,8 @@
 //!
 //! Two paths name the same file when they lead to the same device and inode
 //! (links, `..`, symbolic links and other spellings included); a path that
-//! does not exist yet names the file its canonical directory and its name
-//! give. Character devices are exempt (`--plot /dev/null --output
+//! does not exist yet (a dangling symbolic link: the target it would
+//! create) names the file its canonical directory and its name give. Character devices are exempt (`--plot /dev/null --output
 //! /dev/null` destroys nothing). An output is writable when it is not a
 //! directory and a temporary file can be created beside it (it is created
 //! and removed, as [`crate::AtomicFile`] will create the real one).
@@ -13,6 +13,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use crate::atomic::AtomicFile;
+use crate::destination::{directory, resolve};
 use crate::printable::escape;
 
 /// A path and the part it plays in the run, as messages name it:
@@ -90,13 +91,10 @@ fn identity(path: &Path) -> Option<(Identity, bool)> {
             }
         }
         Err(_) => {
-            let name = path.file_name()?;
-            let parent = match path.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p,
-                _ => Path::new("."),
-            };
-            let parent = std::fs::canonicalize(parent).ok()?;
-            Some((Identity::Path(parent.join(name)), false))
+            // A dangling symbolic link names the file it would create.
+            let path = resolve(path).ok()?;
+            let parent = std::fs::canonicalize(directory(&path)).ok()?;
+            Some((Identity::Path(parent.join(path.file_name()?)), false))
         }
     }
 }

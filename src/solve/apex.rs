@@ -6,14 +6,20 @@ use factor_apex::problems::g2o_addons;
 use factor_apex::problems::{self, BuildError, BuildOptions, Built, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, Verdict, solve};
 
+use super::truth::Truth;
 use super::{SolveArgs, at, finish, plot, problem_file, progress, report};
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::outputs;
 use crate::registry::Registry;
 
-/// Builds, solves and reports `data` with apex-solver.
-pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String, CliError> {
+/// Builds, solves and reports `data` with apex-solver, against `truth`
+/// where there is one.
+pub(super) fn run(
+    args: &SolveArgs,
+    data: &slam_data::Problem,
+    truth: Option<&Truth>,
+) -> Result<String, CliError> {
     let options = build_options(args);
     let built = match data {
         slam_data::Problem::G2oAddons(graph) => {
@@ -36,7 +42,7 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
     progress::print(&report::header(&args.file, data, &setup, args));
     let outcome = solve_built(args, &mut built)?;
     let solved = built.write_back(data, &outcome.values);
-    finish(args, data, &solved, before, &finished(&built, &outcome))
+    finish(args, &solved, truth, before, &finished(&built, &outcome))
 }
 
 /// Reads, solves and reports a problem file, and writes it back with the
@@ -56,15 +62,22 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
     ));
     let outcome = solve_built(args, built)?;
     let finished = finished(&problem.built, &outcome);
-    if let Some(path) = &args.plot {
-        let svg = plot::svg(path, finished.initial_cost, finished.history, None)?;
-        outputs::write(path, svg)?;
-    }
     if let Verdict::Failed(why) = &finished.verdict {
         return Err(CliError::Solve(at(
             &args.file,
             format!("the solve stopped on a failure: {why}; no output written"),
         )));
+    }
+    problem
+        .check_solution(&outcome.values)
+        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
+    let truth = problem
+        .truth_errors(&outcome.values)
+        .transpose()
+        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
+    if let Some(path) = &args.plot {
+        let svg = plot::svg(path, finished.initial_cost, finished.history, None)?;
+        outputs::write(path, svg)?;
     }
     if let Some(path) = &args.output {
         let text = crate::pretty::to_string(&problem.written(&outcome.values));
@@ -76,7 +89,7 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
         args.output.as_deref(),
         args.plot.as_deref(),
     );
-    if let Some(errors) = problem.truth_errors(&outcome.values) {
+    if let Some(errors) = truth {
         summary.push('\n');
         summary.push_str(&errors);
     }

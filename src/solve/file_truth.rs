@@ -18,11 +18,15 @@
 //! `Vector3` variables may carry a truth (it is checked) but are not
 //! reported; other types may not.
 
+use factor_core::Storage;
+use factor_core::geometry::{InfinitePlane, OrthonormalLine};
+use factor_core::lie::Se3;
 use nalgebra::{Isometry3, Point3, Similarity3, UnitQuaternion, Vector3, Vector4};
 use serde_json::{Map, Value};
 
 use super::align::umeyama;
 use super::truth::angle;
+use crate::decode::at_part;
 use crate::error::InputError;
 use crate::field_path::join;
 use crate::input::{Object, numbers};
@@ -39,44 +43,55 @@ enum Reading {
     Plane(Vector4<f64>),
 }
 
-/// The value `value` at `path` of a variable of type `kind`.
+/// The value `value` at `path` of a variable of type `kind`, checked as a
+/// value of that type is (its type's `Storage::from_input`: a unit
+/// quaternion, Plücker coordinates, a plane with a normal) and with every
+/// number of magnitude at most [`slam_data::MAX_MAGNITUDE`], so that the
+/// errors computed from it stay finite.
 fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError> {
-    let nonzero = |v: Vector3<f64>, what: &str| {
-        if v.norm() > 0.0 {
-            Ok(v)
-        } else {
-            Err(InputError::new(path, format!("{what} is zero")))
+    fn checked<T: Storage<f64>>(input: &[f64], path: &str) -> Result<Vec<f64>, InputError> {
+        if let Some(x) = input.iter().find(|x| x.abs() > slam_data::MAX_MAGNITUDE) {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "{x:e} is out of range: a truth's numbers are at most {:e} in magnitude",
+                    slam_data::MAX_MAGNITUDE
+                ),
+            ));
         }
-    };
+        T::from_input(input).map_err(|e| at_part(path.to_owned(), e))
+    }
     match kind {
         "Se3" => {
             let pose = Object::new(value, path, &["rotation", "translation"])?;
-            let q = pose.numbers("rotation", 4)?;
-            let t = pose.numbers("translation", 3)?;
-            let q = nalgebra::Quaternion::new(q[3], q[0], q[1], q[2]);
-            if q.norm() == 0.0 {
-                return Err(InputError::new(pose.path_of("rotation"), "zero quaternion"));
-            }
+            let mut input = pose.quaternion("rotation")?;
+            input.extend(pose.numbers("translation", 3)?);
+            let stored = checked::<Se3<f64>>(&input, path)?;
+            let (q, t) = (&stored[..4], &stored[4..]);
             Ok(Reading::Pose(Isometry3::from_parts(
                 Vector3::new(t[0], t[1], t[2]).into(),
-                UnitQuaternion::from_quaternion(q),
+                UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
             )))
         }
-        "Vector3" => numbers(value, path, 3).map(|_| Reading::Point),
+        "Vector3" => {
+            checked::<Vector3<f64>>(&numbers(value, path, 3)?, path).map(|_| Reading::Point)
+        }
         "OrthonormalLine" => {
             let line = Object::new(value, path, &["normal", "direction"])?;
-            let n = Vector3::from_vec(line.numbers("normal", 3)?);
-            let v = nonzero(
-                Vector3::from_vec(line.numbers("direction", 3)?),
-                "direction",
-            )?;
+            let mut input = line.numbers("normal", 3)?;
+            input.extend(line.numbers("direction", 3)?);
+            checked::<OrthonormalLine<f64>>(&input, path)?;
+            let (n, v) = (
+                Vector3::from_column_slice(&input[..3]),
+                Vector3::from_column_slice(&input[3..]),
+            );
             // The moment `n = p × v`: the point nearest the origin is `v × n / |v|²`.
             Ok(Reading::Line(v.cross(&n) / v.norm_squared(), v))
         }
         "InfinitePlane" => {
             let c = Vector4::from_vec(numbers(value, path, 4)?);
-            let n = nonzero(c.xyz(), "the normal [a, b, c]")?;
-            Ok(Reading::Plane(c / n.norm()))
+            checked::<InfinitePlane<f64>>(c.as_slice(), path)?;
+            Ok(Reading::Plane(c / c.xyz().norm()))
         }
         other => Err(InputError::new(
             path,
@@ -127,8 +142,28 @@ impl Truth {
 
     /// The errors of `initial` and `solved` (the files' `variables`
     /// objects) in words.
-    pub fn describe(&self, initial: &Value, solved: &Value) -> String {
-        let (before, after) = (self.errors(initial), self.errors(solved));
+    ///
+    /// # Errors
+    ///
+    /// An estimate out of the range a truth may hold, or an error that is
+    /// not finite (estimates too far off to measure): why, in words; no
+    /// figure is printed.
+    pub fn describe(&self, initial: &Value, solved: &Value) -> Result<String, String> {
+        let (before, after) = (self.errors(initial)?, self.errors(solved)?);
+        let figures = [&before, &after].into_iter().flat_map(|e| {
+            let line = |l: Option<(usize, f64, f64)>| l.map(|(_, a, d)| [a, d]);
+            [e.ate_se3, e.ate_sim3, e.rotation]
+                .into_iter()
+                .flatten()
+                .chain(line(e.lines).into_iter().flatten())
+                .chain(line(e.planes).into_iter().flatten())
+        });
+        if let Some(x) = figures.into_iter().find(|x| !x.is_finite()) {
+            return Err(format!(
+                "an error against the file's truth is {x}: the estimates are too far from it to \
+                 measure"
+            ));
+        }
         let mut lines = vec!["  errors against the file's truth, initially → finally:".to_owned()];
         let pair = |a: Option<f64>, b: Option<f64>, digits: usize| match (a, b) {
             (Some(a), Some(b)) => format!("{a:.digits$} → {b:.digits$}"),
@@ -154,22 +189,22 @@ impl Truth {
                 ));
             }
         }
-        lines.join("\n")
+        Ok(lines.join("\n"))
     }
 
-    /// The errors of the values `variables` (a file's `variables` object).
-    fn errors(&self, variables: &Value) -> Errors {
+    /// The errors of the values `variables` (a file's `variables` object),
+    /// or why they cannot be measured.
+    fn errors(&self, variables: &Value) -> Result<Errors, String> {
         let mut estimated = Vec::new();
         let mut poses = Vec::new();
         for (name, kind, truth) in &self.values {
             let value = &variables[name.as_str()]["value"];
-            // Values were checked when the file was read, or written by us.
-            if let Ok(estimate) = reading(kind, value, name) {
-                if let (Reading::Pose(e), Reading::Pose(t)) = (estimate, truth) {
-                    poses.push((e.inverse(), t.inverse()));
-                }
-                estimated.push((estimate, *truth));
+            let estimate = reading(kind, value, &join("variables", name))
+                .map_err(|e| format!("the estimate of {e}"))?;
+            if let (Reading::Pose(e), Reading::Pose(t)) = (estimate, truth) {
+                poses.push((e.inverse(), t.inverse()));
             }
+            estimated.push((estimate, *truth));
         }
         let (from, to): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = poses
             .iter()
@@ -228,14 +263,14 @@ impl Truth {
                 )
             })
         };
-        Errors {
+        Ok(Errors {
             cameras: poses.len(),
             ate_se3: se3.as_ref().map(rms),
             ate_sim3: sim3.as_ref().map(rms),
             rotation,
             lines: mean(&lines),
             planes: mean(&planes),
-        }
+        })
     }
 }
 

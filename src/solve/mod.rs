@@ -32,6 +32,7 @@ mod align;
 mod apex;
 pub mod file_truth;
 pub mod plot;
+mod problem_checks;
 pub mod problem_file;
 pub mod progress;
 pub mod report;
@@ -98,7 +99,9 @@ fn at(file: &Path, what: impl std::fmt::Display) -> String {
 
 /// Refuses, before any work, an output (`--output`, each of the three
 /// files of a KITTI VO output, `--plot`) that names one of the files
-/// `read` or another output, or that cannot be written.
+/// `read` or another output, or that cannot be written. The files read are
+/// those named and those read implicitly: the ground truth beside a g2o
+/// graph ([`truth::file`]).
 fn check_files(args: &SolveArgs, read: &[PathBuf]) -> Result<(), CliError> {
     let format = args.format.or_else(|| Format::from_name(&args.file));
     let written = match &args.output {
@@ -106,8 +109,9 @@ fn check_files(args: &SolveArgs, read: &[PathBuf]) -> Result<(), CliError> {
         None => Vec::new(),
     };
     let mut inputs: Vec<Role<'_>> = read.iter().map(|p| Role::new("the input", p)).collect();
-    if let Some(truth) = &args.truth {
-        inputs.push(Role::new("--truth", truth));
+    let truth = truth::file(&args.file, format, args.truth.as_deref());
+    if let Some((path, role)) = &truth {
+        inputs.push(Role::new(role, path));
     }
     let mut outputs: Vec<Role<'_>> = written.iter().map(|p| Role::new("--output", p)).collect();
     if let Some(plot) = &args.plot {
@@ -118,35 +122,47 @@ fn check_files(args: &SolveArgs, read: &[PathBuf]) -> Result<(), CliError> {
 
 /// Checks the output paths, then reads, builds, solves and reports; prints
 /// the header and a line per iteration as they come and returns the
-/// summary. Outputs are written to temporary files renamed into place.
+/// summary. Outputs are written to temporary files renamed into place,
+/// and only after a solve that did not fail.
 ///
 /// # Errors
 ///
 /// [`CliError::Usage`] for an output that names an input or another
-/// output, or cannot be written (before anything is read);
+/// output, or cannot be written (before anything is read), and for an
+/// option the problem cannot honour (`--solver schur` where there are no
+/// landmarks to eliminate, `--factors documents` or `--truth` on anything
+/// but a g2o line and plane graph: before the solve);
 /// [`CliError::Data`] for a file that cannot be read or written,
-/// [`CliError::Usage`] for data that cannot make a problem or a solver that
-/// does not apply, and [`CliError::Solve`] for a problem degenerate at its
-/// initial values or a solve that stopped on a failure (the summary is
-/// printed first).
+/// [`CliError::Usage`] for data that cannot make a problem, and
+/// [`CliError::Solve`] for a problem degenerate at its initial values or a
+/// solve that stopped on a failure (the summary is printed first).
 pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     if args.format.is_none() && args.file.extension().is_some_and(|e| e == "json") {
+        refuse_data_options(args)?;
         return run_problem_file(args, &crate::kernels::shipped());
     }
     let format = args.format.or_else(|| Format::from_name(&args.file));
     check_files(args, &slam_data::Problem::files_read(&args.file, format)?)?;
     let data = slam_data::Problem::read(&args.file, args.format)?;
-    if args.landmarks == LandmarkFactors::Documents
-        && !matches!(data, slam_data::Problem::G2oAddons(_))
-    {
+    let lines_and_planes = matches!(data, slam_data::Problem::G2oAddons(_));
+    if args.landmarks == LandmarkFactors::Documents && !lines_and_planes {
         return Err(CliError::Usage(at(
             &args.file,
             "--factors documents: only for g2o line and plane graphs",
         )));
     }
+    if let Some(path) = &args.truth
+        && !lines_and_planes
+    {
+        return Err(CliError::Usage(format!(
+            "--truth {}: ground truth is read for g2o line and plane graphs only",
+            path.display()
+        )));
+    }
     if let Some(empty) = problems::nothing_to_solve(&data) {
         return Err(CliError::Usage(at(&args.file, empty)));
     }
+    let truth = truth::Truth::read(&args.file, format, args.truth.as_deref(), &data)?;
     let takes = factor_schur::problems::applies(&data);
     let schur = match args.solver {
         SolverChoice::Auto => takes && args.kernels == Kernels::Generated,
@@ -166,10 +182,32 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         SolverChoice::Schur => true,
     };
     if schur {
-        schur::run(args, &data)
+        schur::run(args, &data, truth.as_ref())
     } else {
-        apex::run(args, &data)
+        apex::run(args, &data, truth.as_ref())
     }
+}
+
+/// Refuses the options of `solve` that only data files have, given with a
+/// problem file: it is solved by apex-solver, names its own factors and
+/// carries its own truth.
+fn refuse_data_options(args: &SolveArgs) -> Result<(), CliError> {
+    let refused = if args.solver == SolverChoice::Schur {
+        Some(
+            "--solver schur: a problem file is solved by apex-solver (--solver apex or auto); \
+             the Schur-complement solver takes bundle adjustment and stereo VO files",
+        )
+    } else if args.landmarks == LandmarkFactors::Documents {
+        Some(
+            "--factors documents: only for g2o line and plane graphs; a problem file names \
+             its factors",
+        )
+    } else if args.truth.is_some() {
+        Some("--truth: a problem file carries its own truth (its `truth` object)")
+    } else {
+        None
+    };
+    refused.map_or(Ok(()), |why| Err(CliError::Usage(at(&args.file, why))))
 }
 
 /// Solves the problem file `args.file` ([`problem_file`]) of the factors
@@ -185,37 +223,36 @@ pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String,
     apex::run_problem_file(args, registry)
 }
 
-/// The end of either path: the plot, the verdict, the output file and the
+/// The end of either path: the verdict, the errors against the ground
+/// truth where there is one ([`truth`]), the plot, the output file and the
 /// summary, with the reprojection errors `before` the solve and those of
-/// the `solved` problem, and the errors against the ground truth where
-/// there is one ([`truth`]).
+/// the `solved` problem. Nothing is written after a failed solve, or when
+/// the errors against the truth cannot be measured.
 fn finish(
     args: &SolveArgs,
-    data: &slam_data::Problem,
     solved: &slam_data::Problem,
+    truth: Option<&truth::Truth>,
     before: Option<Vec<f64>>,
     finished: &report::Finished<'_>,
 ) -> Result<String, CliError> {
     let after = problems::reprojection_errors(solved);
     let errors = before.as_deref().zip(after.as_deref());
-    let truth = truth::against(&args.file, args.truth.as_deref(), data, solved)?;
+    if let Verdict::Failed(why) = &finished.verdict {
+        progress::print(&report::summary(finished, errors, None, None));
+        return Err(CliError::Solve(at(
+            &args.file,
+            format!("the solve stopped on a failure: {why}; no output written"),
+        )));
+    }
+    let truth = truth
+        .map(|truth| truth.describe(solved))
+        .transpose()
+        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
     if let Some(path) = &args.plot {
         outputs::write(
             path,
             plot::svg(path, finished.initial_cost, finished.history, errors)?,
         )?;
-    }
-    if let Verdict::Failed(why) = &finished.verdict {
-        progress::print(&report::summary(
-            finished,
-            errors,
-            None,
-            args.plot.as_deref(),
-        ));
-        return Err(CliError::Solve(at(
-            &args.file,
-            format!("the solve stopped on a failure: {why}; no output written"),
-        )));
     }
     if let Some(path) = &args.output {
         solved.write(path)?;

@@ -45,23 +45,22 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use factor_apex::Kernels;
-use factor_apex::builder::{Noise, ProblemBuilder, Values};
+use factor_apex::builder::{ProblemBuilder, Values};
 use factor_apex::problems::{BuildOptions, Built, FactorChoice, Robust};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::{FieldInfo, Layout, Storage};
 
+use nalgebra::DMatrix;
 use serde_json::{Map, Value};
 
 use super::file_truth::Truth;
+use super::problem_checks::{self as checks, Shape, at_value, read_json};
 use crate::decode::record_keys;
 use crate::error::{CliError, InputError};
-use crate::field_path::{join, quoted};
-use crate::input::{Object, numbers};
+use crate::field_path::quoted;
+use crate::observability::{Deficiency, Normal, Variable};
 use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};
-
-/// The format version this build reads and writes.
-pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
 
 /// A problem read from a file and built for apex.
 pub struct FileProblem {
@@ -70,6 +69,8 @@ pub struct FileProblem {
     /// The apex problem.
     pub built: Built,
     variables: Vec<(String, Created)>,
+    /// The names of the variables held fixed.
+    fixed: Vec<String>,
     /// The ground truth the file carries.
     truth: Option<Truth>,
     /// How many factors go through generated kernels, how many through
@@ -77,131 +78,29 @@ pub struct FileProblem {
     pub linearized_by: [usize; 2],
 }
 
-/// `Se3` for `Se3<S>`: a type as the file names it.
-fn type_name(info: &str) -> &str {
-    info.strip_suffix("<S>").unwrap_or(info)
-}
-
-/// An object at `path` with the fields `required` and any of `optional`.
-pub(crate) fn open<'a>(
-    value: &'a Value,
-    path: &str,
-    required: &[&str],
-    optional: &[&str],
-) -> Result<Object<'a>, InputError> {
-    let present: Vec<&str> = match value.as_object() {
-        Some(map) => {
-            let allowed: Vec<&str> = required.iter().chain(optional).copied().collect();
-            if let Some(unknown) = map.keys().find(|k| !allowed.contains(&k.as_str())) {
-                return Err(InputError::new(
-                    join(path, unknown),
-                    format!("unknown field; expected only {}", allowed.join(", ")),
-                ));
-            }
-            required
-                .iter()
-                .copied()
-                .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
-                .collect()
-        }
-        None => required.to_vec(),
-    };
-    Object::new(value, path, &present)
-}
-
-/// The noise model at `path`.
-pub(crate) fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
-    let object = open(value, path, &[], &["sigma", "sigmas", "sqrt_information"])?;
-    let keys: Vec<&String> = value
-        .as_object()
-        .map(|m| m.keys().collect())
-        .unwrap_or_default();
-    let [key] = keys.as_slice() else {
+/// What `solve` knows of the factor `factor` of `registry`: those
+/// registered for `solve` (an error at `path` for any other).
+fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputError> {
+    let entry = registry.find(factor, path)?;
+    if entry.solve.is_none() {
         return Err(InputError::new(
             path,
-            "expected exactly one of sigma, sigmas, sqrt_information",
+            format!(
+                "the factor {} is not registered for solve (Registry::solve_with_kernel or \
+                 solve_with_dual)",
+                quoted(entry.name)
+            ),
         ));
-    };
-    let at = object.path_of(key);
-    let positive = |x: f64, at: &str| {
-        if x > 0.0 {
-            Ok(x)
-        } else {
-            Err(InputError::new(
-                at,
-                format!("a standard deviation must be above 0, found {x}"),
-            ))
-        }
-    };
-    match key.as_str() {
-        "sigma" => Ok(Noise::Sigma(positive(object.number(key)?, &at)?)),
-        "sigmas" => {
-            let sigmas = object.numbers(key, dim)?;
-            for (i, s) in sigmas.iter().enumerate() {
-                positive(*s, &format!("{at}[{i}]"))?;
-            }
-            Ok(Noise::Sigmas(sigmas))
-        }
-        _ => {
-            let rows = object
-                .get(key)
-                .as_array()
-                .filter(|r| r.len() == dim)
-                .ok_or_else(|| {
-                    InputError::new(&at, format!("expected {dim} rows of {dim} numbers"))
-                })?;
-            let mut s = nalgebra::DMatrix::zeros(dim, dim);
-            for (i, row) in rows.iter().enumerate() {
-                for (j, x) in numbers(row, &format!("{at}[{i}]"), dim)?
-                    .into_iter()
-                    .enumerate()
-                {
-                    s[(i, j)] = x;
-                }
-            }
-            Ok(Noise::SqrtInformation(s))
-        }
     }
-}
-
-/// Reads the problem file `file`: its JSON, the top level checked (only
-/// `slamjac_problem`, `variables`, `factors` and `truth`), the version
-/// this build reads, `variables` an object ([`variables`]).
-///
-/// # Errors
-///
-/// [`CliError::Usage`] for a file that cannot be read, [`CliError::Input`]
-/// at the field at fault.
-pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
-    let name = file.display().to_string();
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| CliError::Usage(format!("{name}: cannot read: {e}")))?;
-    let json = crate::strict_json::parse_json(&text, &name)?;
-    let top = open(
-        &json,
-        "",
-        &["slamjac_problem", "variables", "factors"],
-        &["truth"],
-    )?;
-    let version = top.number("slamjac_problem")?;
-    if version != VERSION as f64 {
-        return Err(InputError::new(
-            "slamjac_problem",
-            format!("version {version} is not the version this slamjac reads ({VERSION})"),
-        )
-        .into());
-    }
-    if !json["variables"].is_object() {
-        return Err(InputError::new("variables", "expected an object of named variables").into());
-    }
-    Ok(json)
-}
-
-/// The `variables` of a problem file [`read_json`] accepted.
-pub(crate) fn variables(json: &Value) -> &Map<String, Value> {
-    json["variables"]
-        .as_object()
-        .expect("read_json checked `variables`")
+    Ok(Shape {
+        variables: (entry.variables)(),
+        constants: entry
+            .json_fields(false)
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect(),
+        residual_dim: entry.residual_dim,
+    })
 }
 
 /// Reads and builds the problem file `file`, its factors those `registry`
@@ -209,7 +108,9 @@ pub(crate) fn variables(json: &Value) -> &Map<String, Value> {
 ///
 /// # Errors
 ///
-/// [`CliError::Input`] naming the field at fault (exit 2), a factor
+/// [`CliError::Input`] naming the field at fault (exit 2; the checks of
+/// [`checks`], shared with `track`), nothing to solve (every variable
+/// fixed, or no factor: [`CliError::Usage`], exit 2), a factor
 /// degenerate at the initial values (exit 1), apex's refusal.
 pub fn read(
     file: &Path,
@@ -217,172 +118,183 @@ pub fn read(
     registry: &Registry,
 ) -> Result<FileProblem, CliError> {
     let json = read_json(file)?;
-    let declared = variables(&json);
-    let mut fixed = Vec::new();
-    for (name, spec) in declared {
-        let path = join("variables", name);
-        let object = open(spec, &path, &["type", "value"], &["fixed"])?;
-        object.string("type")?;
-        if spec.get("fixed").is_some() {
-            let is_fixed = spec["fixed"].as_bool().ok_or_else(|| {
-                InputError::new(object.path_of("fixed"), "expected true or false")
-            })?;
-            if is_fixed {
-                fixed.push(name.clone());
-            }
-        }
+    let checked = checks::check(&json, |factor, path| shape(registry, factor, path))?;
+    if let Some(why) = nothing_to_solve(&checked) {
+        return Err(CliError::Usage(format!(
+            "{}: nothing to solve: {why}",
+            file.display()
+        )));
     }
-    let truth = json
-        .get("truth")
-        .map(|truth| Truth::read(truth, declared))
-        .transpose()?;
-    let factors = json["factors"]
-        .as_array()
-        .ok_or_else(|| InputError::new("factors", "expected an array of factors"))?;
+    // Every block kept, for the observability check.
+    let options = BuildOptions {
+        keep_blocks: true,
+        ..*options
+    };
     let mut assembly = Assembly {
-        builder: ProblemBuilder::with_options(options),
-        declared,
+        builder: ProblemBuilder::with_options(&options),
         created: HashMap::new(),
         linearized_by: [0; 2],
         kernels: options.factors == FactorChoice::Ours(Kernels::Generated),
     };
-    for (k, spec) in factors.iter().enumerate() {
-        let path = format!("factors[{k}]");
-        add_entry(&mut assembly, registry, spec, &path, options.robust)?;
+    for entry in &checked.entries {
+        add_entry(&mut assembly, registry, entry, options.robust)?;
     }
-    for name in &fixed {
-        let created = assembly.created.get(name).ok_or_else(|| {
-            InputError::new(join("variables", name), "no factor uses this variable")
-        })?;
+    for name in &checked.fixed {
+        let created = &assembly.created[name];
         assembly
             .builder
             .fix_any(&created.variable)
             .map_err(build_error)?;
     }
-    if let Some(unused) = declared.keys().find(|n| !assembly.created.contains_key(*n)) {
-        return Err(
-            InputError::new(join("variables", unused), "no factor uses this variable").into(),
-        );
-    }
     let linearized_by = assembly.linearized_by;
     let built = assembly.builder.build().map_err(build_error)?;
+    if let Some(deficiency) = deficiency(&built, &assembly.created, &checked.fixed, None) {
+        return Err(CliError::Solve(format!(
+            "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or \
+             add measurements",
+            file.display()
+        )));
+    }
     let mut variables: Vec<(String, Created)> = assembly.created.into_iter().collect();
     variables.sort_by(|a, b| a.0.cmp(&b.0));
+    let (truth, fixed) = (checked.truth, checked.fixed);
     Ok(FileProblem {
         json,
         built,
         variables,
+        fixed,
         truth,
         linearized_by,
     })
 }
 
-/// Adds the factor entry `spec` at `path`.
+/// Why the checked file has nothing to solve, if it has not: no factor, or
+/// every variable held fixed (every variable is used by a factor, so a
+/// factor on fixed variables only is among these).
+fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
+    if checked.entries.is_empty() {
+        Some("the problem has no factors".into())
+    } else if checked.fixed.len() == checked.declared.len() {
+        Some(format!(
+            "every variable is fixed ({} of {}): no value is left to estimate",
+            checked.fixed.len(),
+            checked.declared.len()
+        ))
+    } else {
+        None
+    }
+}
+
+/// The directions of the free variables the built problem's blocks do not
+/// determine at the initial values, or at `solved` ([`crate::observability`]),
+/// in apex-solver's chart, through each block's whitened Jacobian.
+fn deficiency<'a>(
+    built: &Built,
+    created: impl IntoIterator<Item = (&'a String, &'a Created)>,
+    fixed: &[String],
+    solved: Option<&Values>,
+) -> Option<Deficiency> {
+    let created: HashMap<&String, &Created> = created.into_iter().collect();
+    let mut names: Vec<&String> = created
+        .keys()
+        .copied()
+        .filter(|n| !fixed.contains(n))
+        .collect();
+    names.sort();
+    // Each free apex key: its variable and its first column there.
+    let mut at = HashMap::new();
+    let mut variables = Vec::with_capacity(names.len());
+    for (index, name) in names.into_iter().enumerate() {
+        let created = created[name];
+        let mut column = 0;
+        for (key, dof) in created.variable.keys().iter().zip(created.variable.dofs()) {
+            at.insert(*key, (index, column));
+            column += dof;
+        }
+        variables.push(Variable {
+            name: name.clone(),
+            columns: created.columns.clone(),
+        });
+    }
+    let widths: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
+    let dofs: HashMap<_, usize> = created
+        .values()
+        .flat_map(|c| {
+            c.variable
+                .keys()
+                .iter()
+                .copied()
+                .zip(c.variable.dofs().iter().copied())
+        })
+        .collect();
+    let mut normal = Normal::new(variables);
+    for block in built.kept.as_deref().unwrap_or_default() {
+        let (rows, jacobian) = match solved {
+            Some(values) => {
+                let params: Vec<&[f64]> = block
+                    .keys
+                    .iter()
+                    .map(|k| values[*k].as_param_slice())
+                    .collect();
+                block.whitened_jacobian_at(&params)
+            }
+            None => block.whitened_jacobian(),
+        };
+        let mut blocks: Vec<(usize, DMatrix<f64>)> = Vec::new();
+        let mut first = 0;
+        for key in &block.keys {
+            let dof = dofs[key];
+            if let Some(&(index, column)) = at.get(key) {
+                let part = DMatrix::from_column_slice(
+                    rows,
+                    dof,
+                    &jacobian[first * rows..(first + dof) * rows],
+                );
+                match blocks.iter_mut().find(|(i, _)| *i == index) {
+                    Some((_, whole)) => whole.columns_mut(column, dof).copy_from(&part),
+                    None => {
+                        let mut whole = DMatrix::zeros(rows, widths[index]);
+                        whole.columns_mut(column, dof).copy_from(&part);
+                        blocks.push((index, whole));
+                    }
+                }
+            }
+            first += dof;
+        }
+        normal.add(&blocks);
+    }
+    normal.deficiency()
+}
+
+/// Adds the checked factor entry `entry`.
 fn add_entry(
     assembly: &mut Assembly,
     registry: &Registry,
-    spec: &Value,
-    path: &str,
+    entry: &checks::Entry<'_>,
     default_loss: Option<Robust>,
 ) -> Result<(), CliError> {
-    let object = open(
-        spec,
-        path,
-        &["factor", "variables", "constants"],
-        &["noise", "robust"],
-    )?;
-    let entry = registry.find(object.string("factor")?, &object.path_of("factor"))?;
-    let add = entry.solve.ok_or_else(|| {
-        InputError::new(
-            object.path_of("factor"),
-            format!(
-                "the factor {} is not registered for solve (Registry::solve_with_kernel or \
-                 solve_with_dual)",
-                quoted(entry.name)
-            ),
-        )
-    })?;
-    let infos = (entry.variables)();
-    let variable_fields: Vec<&str> = infos.iter().map(|v| v.name).collect();
-    let named = object.object("variables", &variable_fields)?;
-    let mut names = Vec::with_capacity(infos.len());
-    let mut values = Map::new();
-    for info in &infos {
-        let at = named.path_of(info.name);
-        let name = named.string(info.name)?;
-        let declared = assembly.declared.get(name).ok_or_else(|| {
-            InputError::new(&at, format!("no variable {} in variables", quoted(name)))
-        })?;
-        let declared_type = declared["type"].as_str().unwrap_or_default();
-        if declared_type != type_name(info.type_name) {
-            return Err(InputError::new(
-                &at,
-                format!(
-                    "variable {} is a {declared_type}, the factor's {} is a {}",
-                    quoted(name),
-                    info.name,
-                    type_name(info.type_name)
-                ),
-            )
-            .into());
-        }
-        names.push((info.name.to_owned(), name.to_owned()));
-        values.insert(info.name.to_owned(), declared["value"].clone());
-    }
-    let values = Value::Object(values);
-    let variables = Object::new(&values, &object.path_of("variables"), &variable_fields)?;
-    let constant_fields: Vec<&str> = entry
-        .json_fields(false)
-        .into_iter()
-        .map(|(n, _)| n)
-        .collect();
-    let constants = object.object("constants", &constant_fields)?;
-    let noise = match spec.get("noise") {
-        Some(value) => noise(value, &object.path_of("noise"), entry.residual_dim)?,
-        None => Noise::Unit,
-    };
-    let loss = match spec.get("robust") {
-        Some(_) => Some(
-            object
-                .string("robust")?
-                .parse()
-                .map_err(|e: String| InputError::new(object.path_of("robust"), e))?,
-        ),
-        None => default_loss,
-    };
+    let factor = registry
+        .find(entry.factor, &entry.path)
+        .expect("checked: a registered factor");
+    let add = factor.solve.expect("checked: registered for solve");
+    let variables = entry.variables()?;
     let checked = Entry {
         variables: &variables,
-        constants: &constants,
-        names: &names,
-        noise: &noise,
-        loss,
+        constants: &entry.constants,
+        names: &entry.names,
+        noise: &entry.noise,
+        loss: entry.robust.or(default_loss),
     };
-    let by_kernel = assembly.kernels && entry.solved_by == Some(SolvedBy::Kernel);
+    let by_kernel = assembly.kernels && factor.solved_by == Some(SolvedBy::Kernel);
     assembly.linearized_by[usize::from(!by_kernel)] += 1;
+    let path = &entry.path;
     add(assembly, &checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         // Degenerate at the initial values: which entry (exit 1).
         CliError::Factor(_) | CliError::Hinted { .. } => CliError::Solve(format!("{path}: {e}")),
-        CliError::Input(error) => CliError::Input(at_value(error, &variables, &names)),
+        CliError::Input(error) => CliError::Input(at_value(error, entry)),
         other => other,
     })
-}
-
-/// `error` at the value it is about: a path into a factor entry's variable
-/// field (`factors[0].variables.gravity[2]`), the values read from the
-/// variable named there, becomes the path into that variable's value
-/// (`variables.g.value[2]`).
-fn at_value(error: InputError, variables: &Object, names: &[(String, String)]) -> InputError {
-    for (field, name) in names {
-        let prefix = variables.path_of(field);
-        if let Some(rest) = error.path.strip_prefix(&prefix)
-            && (rest.is_empty() || rest.starts_with(['[', '.']))
-        {
-            let value = join(&join("variables", name), "value");
-            return InputError::new(format!("{value}{rest}"), error.message);
-        }
-    }
-    error
 }
 
 /// The JSON of stored scalars `stored` of a value of field `field`, in the
@@ -438,9 +350,29 @@ impl FileProblem {
         json
     }
 
+    /// Refuses a solution whose free variables the measurements do not
+    /// determine (the solve drifted to a configuration that leaves a
+    /// direction free, as two planes rotated parallel: issue 28's
+    /// `synth-plp --cameras 4`), naming the directions.
+    ///
+    /// # Errors
+    ///
+    /// The deficiency, in words.
+    pub fn check_solution(&self, values: &Values) -> Result<(), String> {
+        let created = self.variables.iter().map(|(name, c)| (name, c));
+        match deficiency(&self.built, created, &self.fixed, Some(values)) {
+            Some(deficiency) => Err(deficiency.at("the solution").to_string()),
+            None => Ok(()),
+        }
+    }
+
     /// The errors of the initial values and of `values` against the file's
     /// truth, in words; `None` when it has none.
-    pub fn truth_errors(&self, values: &Values) -> Option<String> {
+    ///
+    /// # Errors
+    ///
+    /// Errors that cannot be measured ([`Truth::describe`]), in words.
+    pub fn truth_errors(&self, values: &Values) -> Option<Result<String, String>> {
         let truth = self.truth.as_ref()?;
         let solved = self.written(values);
         Some(truth.describe(&self.json["variables"], &solved["variables"]))

@@ -9,6 +9,7 @@ use factor_schur::problems::BuildError;
 use factor_schur::{Profile, Solver};
 
 use super::progress::duration;
+use super::truth::Truth;
 use super::{SolveArgs, at, finish, progress, report};
 use crate::error::CliError;
 
@@ -16,8 +17,13 @@ use crate::error::CliError;
 const SOLVER: &str = "(Schur complement: landmarks eliminated, fused normal-equation kernels \
                       on 4×f64 lanes, faer sparse Cholesky)";
 
-/// Builds, solves and reports `data` with the Schur-complement solver.
-pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String, CliError> {
+/// Builds, solves and reports `data` with the Schur-complement solver
+/// (its ground truth, where it has one, is `truth`).
+pub(super) fn run(
+    args: &SolveArgs,
+    data: &slam_data::Problem,
+    truth: Option<&Truth>,
+) -> Result<String, CliError> {
     let mut built = factor_schur::problems::build(data, args.robust).map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
         BuildError::Degenerate { .. } | BuildError::Shape(_) => CliError::Solve(at(&args.file, e)),
@@ -52,7 +58,7 @@ pub(super) fn run(args: &SolveArgs, data: &slam_data::Problem) -> Result<String,
         first_rejection: outcome.first_rejection.as_deref(),
         extra: breakdown(&outcome.profile, outcome.elapsed),
     };
-    finish(args, data, &solved, before, &finished)
+    finish(args, &solved, truth, before, &finished)
 }
 
 /// Where the solve's time went: the fused kernels' share, and each part.

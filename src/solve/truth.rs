@@ -12,44 +12,28 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
-use slam_data::{G2oGraph, Pose};
+use slam_data::{Format, G2oGraph, Pose};
 
 use crate::error::CliError;
+use crate::field_path::shown_path;
 
-/// The errors of the problem before (`data`) and after (`solved`) the solve
-/// against the truth, in words; `None` for a problem that is not a g2o line
-/// and plane graph or has no truth.
-///
-/// # Errors
-///
-/// A truth file that cannot be read.
-pub fn against(
+/// The ground truth a solve of `file` (in `format`, when given or told by
+/// the name) reads, and its part in messages: `--truth` when given; else,
+/// for a file that may be a g2o graph (`format` g2o with lines and planes,
+/// or told from the content), `STEM_truth.g2o` beside it, if it exists.
+/// The outputs are checked against it as against any input.
+pub fn file(
     file: &Path,
+    format: Option<Format>,
     truth: Option<&Path>,
-    data: &slam_data::Problem,
-    solved: &slam_data::Problem,
-) -> Result<Option<String>, CliError> {
-    let (slam_data::Problem::G2oAddons(initial), slam_data::Problem::G2oAddons(solved)) =
-        (data, solved)
-    else {
-        return match truth {
-            Some(path) => Err(CliError::Usage(format!(
-                "--truth {}: ground truth is read for g2o line and plane graphs only",
-                path.display()
-            ))),
-            None => Ok(None),
-        };
-    };
-    let path = match truth {
-        Some(path) => path.to_owned(),
-        None => match beside(file) {
-            Some(path) => path,
-            None => return Ok(None),
-        },
-    };
-    let truth = slam_data::g2o::read_graph(&path)?;
-    let (before, after) = (Errors::of(initial, &truth), Errors::of(solved, &truth));
-    Ok(Some(after.describe(&before, &path)))
+) -> Option<(PathBuf, &'static str)> {
+    match truth {
+        Some(path) => Some((path.to_owned(), "--truth")),
+        None if matches!(format, None | Some(Format::G2oAddons)) => {
+            beside(file).map(|path| (path, "the ground truth read beside the input"))
+        }
+        None => None,
+    }
 }
 
 /// `STEM_truth.g2o` beside `file`, if it exists.
@@ -57,6 +41,71 @@ fn beside(file: &Path) -> Option<PathBuf> {
     let stem = file.file_stem()?.to_str()?;
     let path = file.with_file_name(format!("{stem}_truth.g2o"));
     path.is_file().then_some(path)
+}
+
+/// The ground truth of a g2o line and plane graph, read before the solve.
+pub struct Truth {
+    path: PathBuf,
+    graph: G2oGraph,
+    /// The errors of the initial values.
+    before: Errors,
+}
+
+impl Truth {
+    /// The truth of `data`, read from `file`'s truth ([`file`]) when
+    /// `data` is a g2o line and plane graph and it has one.
+    ///
+    /// # Errors
+    ///
+    /// A truth file that cannot be read, or that holds none of the graph's
+    /// robot poses (there would be nothing to compare).
+    pub fn read(
+        file: &Path,
+        format: Option<Format>,
+        truth: Option<&Path>,
+        data: &slam_data::Problem,
+    ) -> Result<Option<Truth>, CliError> {
+        let slam_data::Problem::G2oAddons(initial) = data else {
+            return Ok(None);
+        };
+        let Some((path, _)) = self::file(file, format, truth) else {
+            return Ok(None);
+        };
+        let graph = slam_data::g2o::read_graph(&path)?;
+        let before = Errors::of(initial, &graph);
+        if before.poses.is_empty() {
+            let offsets: HashSet<usize> = initial.plane_edges.iter().map(|e| e.offset).collect();
+            let poses = initial
+                .poses
+                .iter()
+                .filter(|v| !offsets.contains(&v.id))
+                .count();
+            return Err(CliError::Usage(format!(
+                "{}: the ground truth holds none of the graph's {poses} robot poses (by id): \
+                 nothing to compare",
+                shown_path(&path)
+            )));
+        }
+        Ok(Some(Truth {
+            path,
+            graph,
+            before,
+        }))
+    }
+
+    /// The errors of the initial values and of `solved` in words.
+    ///
+    /// # Errors
+    ///
+    /// An error that is not finite (estimates too far off to measure), in
+    /// words.
+    pub fn describe(&self, solved: &slam_data::Problem) -> Result<String, String> {
+        let slam_data::Problem::G2oAddons(solved) = solved else {
+            unreachable!("the solution of a g2o line and plane graph is one");
+        };
+        let after = Errors::of(solved, &self.graph);
+        after.describe(&self.before, &self.path)
+    }
 }
 
 /// The errors of a graph's vertices against the truth.
@@ -147,14 +196,35 @@ impl Errors {
         [rms(|p| p.0), max(|p| p.0), rms(|p| p.1), max(|p| p.1)]
     }
 
-    /// The errors in words, with `before`'s beside them.
-    fn describe(&self, before: &Errors, path: &Path) -> String {
+    /// Every figure, to check they are finite.
+    fn figures(&self) -> impl Iterator<Item = f64> + '_ {
+        self.pose_summary()
+            .into_iter()
+            .chain(self.lines.iter().flat_map(|l| [l.1, l.2]))
+            .chain(self.planes.iter().flat_map(|p| [p.1, p.2]))
+            .chain(self.offsets.iter().flat_map(|o| [o.1, o.2]))
+    }
+
+    /// The errors in words, with `before`'s beside them, or why they cannot
+    /// be measured.
+    fn describe(&self, before: &Errors, path: &Path) -> Result<String, String> {
+        if let Some(x) = before
+            .figures()
+            .chain(self.figures())
+            .find(|x| !x.is_finite())
+        {
+            return Err(format!(
+                "an error against the ground truth {} is {x}: the estimates are too far from \
+                 it to measure",
+                shown_path(path)
+            ));
+        }
         let [t, tm, r, rm] = self.pose_summary();
         let [t0, tm0, r0, rm0] = before.pose_summary();
         let mut lines = vec![
             format!(
                 "  errors against {} (no alignment), initially → finally:",
-                path.display()
+                shown_path(path)
             ),
             format!(
                 "    {} poses: translation RMS {t0:.4} → {t:.4} m (max {tm0:.4} → {tm:.4}), \
@@ -178,6 +248,6 @@ impl Errors {
                  {dr:.3}°"
             ));
         }
-        lines.join("\n")
+        Ok(lines.join("\n"))
     }
 }

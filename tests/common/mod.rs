@@ -80,3 +80,14 @@ impl Rng {
         &items[self.below(items.len())]
     }
 }
+
+/// The names in `dir`, sorted.
+#[allow(dead_code)] // not every test file lists directories
+pub fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("readable")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}

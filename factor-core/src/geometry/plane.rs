@@ -100,7 +100,7 @@ pub fn transpose_transform<S: Scalar>(pose: &Se3<S>, pi: &Vector4<S>) -> Vector4
 
 /// Stored as the unit quaternion `q(π)`, named `[a, b, c, d]`; users give
 /// any non-zero scale, normalised over the whole `f64` range
-/// ([`crate::linalg::unit_of`]).
+/// ([`crate::linalg::unit_of`]), with a normal `[a, b, c]` that is not zero.
 impl<S: Scalar> Storage<S> for InfinitePlane<S> {
     type With<T: Scalar> = InfinitePlane<T>;
     const SCALARS: usize = 4;
@@ -118,9 +118,16 @@ impl<S: Scalar> Storage<S> for InfinitePlane<S> {
         }
     }
     fn from_input(input: &[f64]) -> Result<Vec<f64>, StorageError> {
-        unit_of(&Vector4::from_column_slice(input))
-            .map(|unit| unit.as_slice().to_vec())
-            .ok_or_else(|| StorageError::new("plane vector [a, b, c, d] has zero norm"))
+        let unit = unit_of(&Vector4::from_column_slice(input))
+            .ok_or_else(|| StorageError::new("plane vector [a, b, c, d] has zero norm"))?;
+        // `[0, 0, 0, d]` (or a normal below `d` by more than the range of
+        // f64) is no plane: its normal has no direction.
+        if unit.xyz() == Vector3::zeros() {
+            return Err(StorageError::new(
+                "plane vector [a, b, c, d] has a zero normal [a, b, c]: it is no plane",
+            ));
+        }
+        Ok(unit.as_slice().to_vec())
     }
 }
 

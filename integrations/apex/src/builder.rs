@@ -49,8 +49,8 @@ use apex_solver::core::VarKey;
 use apex_solver::core::problem::Problem;
 use apex_solver::factors::Factor;
 use apex_solver::linalg::{JacobianMode, LinearSolverType};
-use factor_core::Storage;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold, HostMap};
+use factor_core::{FactorError, Storage};
 use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};
@@ -98,6 +98,11 @@ impl AnyVariable {
     /// The apex keys, one per host part.
     pub fn keys(&self) -> &[VarKey] {
         &self.keys
+    }
+
+    /// The tangent dimension of each key's variable.
+    pub fn dofs(&self) -> &[usize] {
+        &self.dofs
     }
 }
 
@@ -405,7 +410,19 @@ impl ProblemBuilder {
             .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", F::NAME)))?;
         let keys: Vec<VarKey> = variables.iter().flat_map(|v| v.keys.clone()).collect();
         let served = served.with_rejections(self.rejections());
-        self.block_with_loss(&keys, Arc::new(served), noise, loss)
+        self.block_with_loss(&keys, Arc::new(served), noise, loss)?;
+        // The blocks before were finite (each is checked as it is added):
+        // this one is the first whose cost is not.
+        if !self.cost.is_finite() {
+            return Err(BuildError::Degenerate {
+                which: format!("{} at the initial values", F::NAME),
+                error: FactorError::NonFinite {
+                    factor: F::NAME,
+                    what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
+                },
+            });
+        }
+        Ok(())
     }
 
     /// Damps the solve's steps with `damping` (by default
@@ -515,6 +532,7 @@ impl ProblemBuilder {
             if let Some(kept) = &mut kept {
                 kept.push(KeptBlock {
                     factor: Arc::clone(&block.factor),
+                    keys: block.keys.clone(),
                     params: block
                         .keys
                         .iter()

@@ -40,9 +40,14 @@
 //! Errors: a frame with no observation of a measurement set, or whose
 //! observations do not determine its pose (fewer than six independent
 //! residuals), or an observation undefined at the frame's initial pose
-//! (a point behind the camera) stops the run naming the frame and the
-//! file's factor (exit 1); a malformed file, a missing truth, a factor
-//! other than one pose against one landmark or a robust loss, exit 2.
+//! (a point behind the camera), or whose pose does not converge within
+//! `--max-iterations` (a map point at the camera centre stalls every step:
+//! named when it is undefined at the last estimate) stops the run naming
+//! the frame and the file's factor (exit 1), as does an estimate whose
+//! error against the truth is not finite; the file is read and checked as
+//! `solve` reads and checks it (`problem_checks`: the same file gets the
+//! same error from both, exit 2), and a missing truth, a factor other than
+//! one pose against one landmark or a robust loss is exit 2 too.
 
 mod plot;
 mod report;
@@ -160,7 +165,32 @@ fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tra
         let solution = problem.solve(&initial, &options);
         let seconds = start.elapsed().as_secs_f64();
         let solution = solution.map_err(|e| frame_error(args, at, frame, e, &factors))?;
+        if !solution.converged {
+            // An observation undefined near the estimate (a map point at the
+            // camera centre) stalls the steps: named where it is one.
+            let why = match problem.normal(&solution.pose) {
+                Err(PoseError::Observation { observation, error }) => format!(
+                    "; factors[{}] is undefined at the last estimate: {error}",
+                    factors[observation]
+                ),
+                _ => String::new(),
+            };
+            return Err(CliError::Solve(format!(
+                "{}: frame {at} ({}): the pose did not converge in {} iterations{why}; nothing \
+                 reported",
+                args.file.display(),
+                frame.name,
+                solution.iterations
+            )));
+        }
         let (translation, rotation) = errors(&solution.pose, &frame.truth);
+        if !(translation.is_finite() && rotation.is_finite()) {
+            return Err(CliError::Solve(format!(
+                "{}: frame {at} ({}): the estimate is too far from the truth to measure its error",
+                args.file.display(),
+                frame.name
+            )));
+        }
         tracked.push(Tracked {
             observations: problem.len(),
             seconds,

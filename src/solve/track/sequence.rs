@@ -20,6 +20,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use factor_apex::builder::Noise;
 use factor_core::lie::Se3;
 use factor_core::{Factor, Storage};
 use factor_tracking::{PoseError, PoseProblem, Whitening};
@@ -28,8 +29,7 @@ use slam_factors::{
     LineObservation, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
 
-use super::super::file_truth::Truth;
-use super::super::problem_file::{noise, open, read_json, variables};
+use super::super::problem_checks::{self as checks, Shape, at_value, read_json};
 use crate::decode::decode;
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
@@ -115,9 +115,7 @@ pub struct Sequence {
 struct Tracked {
     name: &'static str,
     kind: Kind,
-    residual_dim: usize,
-    variables: fn() -> Vec<factor_core::VariableInfo>,
-    fields: fn() -> Vec<factor_core::FieldInfo>,
+    shape: fn() -> Shape,
     read: fn(&Object, &Object, Whitening) -> Result<Adder, InputError>,
 }
 
@@ -125,9 +123,15 @@ fn tracked<F: Factor + 'static>(kind: Kind) -> Tracked {
     Tracked {
         name: F::NAME,
         kind,
-        residual_dim: F::RESIDUAL_DIM,
-        variables: F::variables,
-        fields: F::fields,
+        shape: || Shape {
+            variables: F::variables(),
+            constants: F::fields()
+                .into_iter()
+                .filter(|f| f.variable.is_none())
+                .map(|f| f.name)
+                .collect(),
+            residual_dim: F::RESIDUAL_DIM,
+        },
         read: |variables, constants, whitening| {
             let factor: F = decode(variables, constants)?;
             Ok(Box::new(move |problem| problem.add(&factor, &whitening)))
@@ -146,6 +150,18 @@ fn tracked_factors() -> [Tracked; 5] {
     ]
 }
 
+/// The whitening of a noise model.
+fn whitening(noise: &Noise) -> Whitening {
+    match noise {
+        Noise::Unit => Whitening::Unit,
+        Noise::Sigma(sigma) => Whitening::Sigma(*sigma),
+        Noise::Sigmas(sigmas) => Whitening::SqrtInformation(nalgebra::DMatrix::from_diagonal(
+            &nalgebra::DVector::from_iterator(sigmas.len(), sigmas.iter().map(|s| 1.0 / s)),
+        )),
+        Noise::SqrtInformation(s) => Whitening::SqrtInformation(s.clone()),
+    }
+}
+
 /// A world-to-camera pose written `{"rotation": [qx, qy, qz, qw],
 /// "translation": [x, y, z]}` at `path`.
 fn pose(value: &Value, path: &str) -> Result<Se3<f64>, InputError> {
@@ -157,31 +173,32 @@ fn pose(value: &Value, path: &str) -> Result<Se3<f64>, InputError> {
     Ok(Se3::from_scalars(&stored))
 }
 
-/// `Se3` for `Se3<S>`.
-fn type_name(info: &str) -> &str {
-    info.strip_suffix("<S>").unwrap_or(info)
-}
-
 /// Reads the problem file `file` as a sequence, its map from `map`.
 ///
 /// # Errors
 ///
-/// [`CliError::Usage`] for a file that cannot be read; [`CliError::Input`]
-/// naming the field at fault (exit 2): malformed JSON or problem, no truth
-/// for a pose (or, with [`MapSource::Truth`], for a landmark), a factor
-/// that is not one pose against one landmark, a robust loss.
+/// As `solve` for the same file ([`checks`]: exit 2 naming the field at
+/// fault, values checked by their types); and, for `track` (exit 2): a
+/// factor that is not one pose against one landmark, a robust loss, no
+/// truth for a pose (or, with [`MapSource::Truth`], for a landmark).
 pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
     let json = read_json(file)?;
-    let declared = variables(&json);
-    for (name, spec) in declared {
-        open(
-            spec,
-            &join("variables", name),
-            &["type", "value"],
-            &["fixed"],
-        )?
-        .string("type")?;
-    }
+    let tracked = tracked_factors();
+    let checked = checks::check(&json, |factor, path| {
+        let entry = tracked.iter().find(|t| t.name == factor).ok_or_else(|| {
+            let names: Vec<&str> = tracked.iter().map(|t| t.name).collect();
+            InputError::new(
+                path,
+                format!(
+                    "{} is not a factor of one pose against one landmark; track reads {}",
+                    quoted(factor),
+                    names.join(", ")
+                ),
+            )
+        })?;
+        Ok((entry.shape)())
+    })?;
+    let declared = checked.declared;
     let truth = json.get("truth").ok_or_else(|| {
         InputError::new(
             "truth",
@@ -189,7 +206,6 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
              the truth",
         )
     })?;
-    Truth::read(truth, declared)?;
     let mut frames = Vec::new();
     for (name, spec) in declared.iter().filter(|(_, s)| s["type"] == "Se3") {
         let at = join("truth", name);
@@ -206,70 +222,32 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
     if frames.is_empty() {
         return Err(InputError::new("variables", "no Se3 variable: no frame to track").into());
     }
-    let factors = json["factors"]
-        .as_array()
-        .ok_or_else(|| InputError::new("factors", "expected an array of factors"))?;
-    let tracked = tracked_factors();
     let mut landmarks: HashMap<&str, Kind> = HashMap::new();
-    for (k, spec) in factors.iter().enumerate() {
-        let path = format!("factors[{k}]");
-        let object = open(
-            spec,
-            &path,
-            &["factor", "variables", "constants"],
-            &["noise", "robust"],
-        )?;
-        if spec.get("robust").is_some() {
+    for (k, entry) in checked.entries.iter().enumerate() {
+        if entry.robust.is_some() {
             return Err(InputError::new(
-                object.path_of("robust"),
+                join(&entry.path, "robust"),
                 "track solves least squares: no robust loss",
             )
             .into());
         }
-        let factor = object.string("factor")?;
-        let entry = tracked.iter().find(|t| t.name == factor).ok_or_else(|| {
-            let names: Vec<&str> = tracked.iter().map(|t| t.name).collect();
-            InputError::new(
-                object.path_of("factor"),
-                format!(
-                    "{} is not a factor of one pose against one landmark; track reads {}",
-                    quoted(factor),
-                    names.join(", ")
-                ),
-            )
-        })?;
-        let infos = (entry.variables)();
-        let fields: Vec<&str> = infos.iter().map(|v| v.name).collect();
-        let named = object.object("variables", &fields)?;
-        let mut values = Map::new();
+        let tracked = tracked
+            .iter()
+            .find(|t| t.name == entry.factor)
+            .expect("checked: a tracked factor");
+        let whitening = whitening(&entry.noise);
+        // The file's values, decoded as `solve` decodes them.
+        let mut add = (tracked.read)(&entry.variables()?, &entry.constants, whitening.clone())
+            .map_err(|e| at_value(e, entry))?;
         let mut frame = None;
-        for info in &infos {
-            let at = named.path_of(info.name);
-            let variable = named.string(info.name)?;
-            let spec = declared.get(variable).ok_or_else(|| {
-                InputError::new(
-                    &at,
-                    format!("no variable {} in variables", quoted(variable)),
-                )
-            })?;
-            let declared_type = spec["type"].as_str().unwrap_or_default();
-            if declared_type != type_name(info.type_name) {
-                return Err(InputError::new(
-                    &at,
-                    format!(
-                        "variable {} is a {declared_type}, the factor's {} is a {}",
-                        quoted(variable),
-                        info.name,
-                        type_name(info.type_name)
-                    ),
-                )
-                .into());
-            }
-            let value = if declared_type == "Se3" {
-                frame = frames.iter().position(|f| f.name == variable);
+        let mut values = Map::new();
+        for (field, variable) in &entry.names {
+            let spec = &declared[variable];
+            let value = if spec["type"] == "Se3" {
+                frame = frames.iter().position(|f| &f.name == variable);
                 &spec["value"]
             } else {
-                landmarks.insert(variable, entry.kind);
+                landmarks.insert(variable, tracked.kind);
                 match map {
                     MapSource::Values => &spec["value"],
                     MapSource::Truth => truth.get(variable).ok_or_else(|| {
@@ -281,37 +259,18 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
                     })?,
                 }
             };
-            values.insert(info.name.to_owned(), value.clone());
+            values.insert(field.clone(), value.clone());
         }
-        let values = Value::Object(values);
-        let variables = Object::new(&values, &object.path_of("variables"), &fields)?;
-        let constant_fields: Vec<&str> = (entry.fields)()
-            .into_iter()
-            .filter(|f| f.variable.is_none())
-            .map(|f| f.name)
-            .collect();
-        let constants = object.object("constants", &constant_fields)?;
-        let whitening = match spec.get("noise") {
-            Some(value) => {
-                use factor_apex::builder::Noise;
-                match noise(value, &object.path_of("noise"), entry.residual_dim)? {
-                    Noise::Unit => Whitening::Unit,
-                    Noise::Sigma(sigma) => Whitening::Sigma(sigma),
-                    Noise::Sigmas(sigmas) => Whitening::SqrtInformation(
-                        nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
-                            sigmas.len(),
-                            sigmas.iter().map(|s| 1.0 / s),
-                        )),
-                    ),
-                    Noise::SqrtInformation(s) => Whitening::SqrtInformation(s),
-                }
-            }
-            None => Whitening::Unit,
-        };
-        let add = (entry.read)(&variables, &constants, whitening)?;
+        if map == MapSource::Truth {
+            // The map at its truth (checked as values are by `checks`).
+            let values = Value::Object(values);
+            let fields: Vec<&str> = entry.names.iter().map(|(f, _)| f.as_str()).collect();
+            let variables = Object::new(&values, &join(&entry.path, "variables"), &fields)?;
+            add = (tracked.read)(&variables, &entry.constants, whitening)?;
+        }
         let frame = frame.expect("every tracked factor has an `Se3` pose");
         frames[frame].observations.push(Observation {
-            kind: entry.kind,
+            kind: tracked.kind,
             factor: k,
             add,
         });

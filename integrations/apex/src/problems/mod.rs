@@ -221,7 +221,8 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
 }
 
 /// Why `data` has nothing to solve, if it has not: no observation or no
-/// edge makes a cost that is identically 0, with no step to take.
+/// edge makes a cost that is identically 0, with no step to take, and a
+/// g2o graph whose `FIX` lines hold every vertex has no value to estimate.
 pub fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
     let what = match data {
         slam_data::Problem::G2o(_)
@@ -229,8 +230,23 @@ pub fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
         | slam_data::Problem::G2oAddons(_) => "edges",
         _ => "observations",
     };
-    let blocks = data.measurements();
-    (blocks == 0).then(|| format!("nothing to solve: the problem has no {what}"))
+    if data.measurements() == 0 {
+        return Some(format!("nothing to solve: the problem has no {what}"));
+    }
+    if let slam_data::Problem::G2oAddons(graph) = data {
+        let fixed: std::collections::HashSet<usize> = graph.fixed.iter().copied().collect();
+        let vertices = graph.poses.iter().map(|v| v.id);
+        let vertices = vertices
+            .chain(graph.lines.iter().map(|v| v.id))
+            .chain(graph.planes.iter().map(|v| v.id));
+        if vertices.clone().all(|id| fixed.contains(&id)) {
+            return Some(format!(
+                "nothing to solve: the FIX lines hold every one of the {} vertices",
+                vertices.count()
+            ));
+        }
+    }
+    None
 }
 
 impl Built {
@@ -284,13 +300,45 @@ pub fn reprojection_errors(data: &slam_data::Problem) -> Option<Vec<f64>> {
     }
 }
 
-/// A residual block kept for direct calls (benchmarks): its factor, its
-/// variables' initial apex parameters and its noise model.
+/// A residual block kept for direct calls (benchmarks, the observability
+/// check of a problem file): its factor, its variables' keys and initial
+/// apex parameters and its noise model.
 pub struct KeptBlock {
     /// The factor, as registered.
     pub factor: Arc<dyn Factor + Send + Sync>,
+    /// Its variables' keys, in the factor's order.
+    pub keys: Vec<VarKey>,
     /// Each variable's initial parameters.
     pub params: Vec<Vec<f64>>,
     /// The noise model apex whitens the block with.
     pub noise: NoiseModel,
+}
+
+impl KeptBlock {
+    /// The whitened Jacobian `S J` at the initial parameters, as apex
+    /// linearizes the block: its rows and its entries column-major, the
+    /// columns those of the keys' tangents in order.
+    pub fn whitened_jacobian(&self) -> (usize, Vec<f64>) {
+        let params: Vec<&[f64]> = self.params.iter().map(Vec::as_slice).collect();
+        self.whitened_jacobian_at(&params)
+    }
+
+    /// [`Self::whitened_jacobian`] at the parameters `params` (one slice
+    /// per key, as apex-solver stores them: a solution's values).
+    pub fn whitened_jacobian_at(&self, params: &[&[f64]]) -> (usize, Vec<f64>) {
+        let (rows, columns) = self.factor.jacobian_shape();
+        let mut residual = vec![0.0; rows];
+        let mut jacobian = vec![0.0; rows * columns];
+        self.factor.linearize(
+            &params,
+            &mut residual,
+            Some(faer::MatMut::from_column_major_slice_mut(
+                &mut jacobian,
+                rows,
+                columns,
+            )),
+        );
+        self.noise.whiten_jacobian(&mut jacobian, rows, columns);
+        (rows, jacobian)
+    }
 }

@@ -1,0 +1,468 @@
+//! Whether the residuals of a least-squares problem determine its free
+//! variables, to first order at the given values: the directions of the
+//! variables' tangent spaces along which no whitened residual changes (the
+//! null space of `JᵀJ`), which Levenberg–Marquardt's damping would hide —
+//! it drifts along them and reports a result (issue 28: `synth-plp --kinds
+//! planes` solved to an ATE of 3 421 m). A gauge left free (no variable
+//! fixed, or the scale of a problem measured in pixels only) and a rank
+//! deficiency (a camera that sees two planes only, a point seen once) are
+//! both such directions.
+//!
+//! The normal matrix `H = JᵀJ` is formed block by block (a block per pair
+//! of variables some factor joins), each coordinate scaled to a unit
+//! diagonal (a coordinate no factor measures is a direction at once), and
+//! eliminated variable by variable, the least connected first (landmarks
+//! before the cameras that see them, a pose chain along the chain): the
+//! Schur complement of each variable's diagonal block onto its neighbours.
+//! A direction of a diagonal block whose eigenvalue is at most
+//! [`TOLERANCE`] is left uncoupled by the others (`H` is positive
+//! semi-definite) and is a direction of the null space; back-substitution
+//! through the earlier eliminations gives it over every variable, which
+//! [`Deficiency`] names.
+
+use std::collections::{BTreeMap, BinaryHeap};
+use std::fmt;
+
+use nalgebra::{DMatrix, DVector};
+
+/// The eigenvalue, of a normal matrix scaled to a unit diagonal, at or
+/// below which a direction counts as undetermined: far above rounding
+/// (about 1e-13 for the problems here), far below what any measurement
+/// that determines a direction contributes.
+pub const TOLERANCE: f64 = 1e-9;
+
+/// A free variable, as messages name it.
+#[derive(Debug, Clone)]
+pub struct Variable {
+    /// Its name (`c5`).
+    pub name: String,
+    /// The names of its tangent coordinates, in column order (`δρ_x`).
+    pub columns: Vec<String>,
+}
+
+impl Variable {
+    /// `name`, a variable whose tangent is described as `tangent` and has
+    /// `dim` coordinates ([`tangent_columns`]).
+    pub fn new(name: impl Into<String>, tangent: &str, dim: usize) -> Self {
+        Variable {
+            name: name.into(),
+            columns: tangent_columns(tangent, dim),
+        }
+    }
+}
+
+/// The names of the `dim` coordinates of a tangent described as `tangent`:
+/// its `columns [a, b, …]`, or `δ[k]` where it lists none.
+pub fn tangent_columns(tangent: &str, dim: usize) -> Vec<String> {
+    // `columns [a, b]` or `columns δξ = [a, b]`.
+    let listed: Vec<String> = tangent
+        .split_once("columns ")
+        .and_then(|(_, rest)| rest.split_once('['))
+        .and_then(|(_, rest)| rest.split_once(']'))
+        .map(|(list, _)| list.split(", ").map(str::to_owned).collect())
+        .unwrap_or_default();
+    if listed.len() == dim {
+        listed
+    } else {
+        (0..dim).map(|k| format!("δ[{k}]")).collect()
+    }
+}
+
+/// The normal matrix of a problem being assembled, block by block.
+#[derive(Debug)]
+pub struct Normal {
+    variables: Vec<Variable>,
+    /// Per variable: its diagonal block and its off-diagonal blocks by
+    /// neighbour (`H_vw`, rows of `v`, columns of `w`).
+    diagonal: Vec<DMatrix<f64>>,
+    off: Vec<BTreeMap<usize, DMatrix<f64>>>,
+}
+
+/// The undetermined directions of a problem.
+#[derive(Debug, Clone)]
+pub struct Deficiency {
+    /// How many independent directions there are.
+    pub count: usize,
+    /// The first directions found, each over the variables it moves (by
+    /// index into the variables, with the move in their coordinates, the
+    /// whole of unit norm), largest moves first.
+    pub directions: Vec<Vec<(usize, DVector<f64>)>>,
+    /// The variables, to name them.
+    variables: Vec<Variable>,
+    /// The values linearized at, as messages name them.
+    values: &'static str,
+}
+
+/// How many directions a [`Deficiency`] spells out.
+const SHOWN_DIRECTIONS: usize = 2;
+/// How many variables a direction names.
+const SHOWN_VARIABLES: usize = 4;
+/// A variable moving less than this (of a direction of unit norm) is not
+/// named.
+const NEGLIGIBLE: f64 = 1e-3;
+
+/// One elimination, kept for back-substitution: the variable, the
+/// pseudo-inverse of its diagonal block, and its blocks to the neighbours
+/// left at the time.
+struct Elimination {
+    variable: usize,
+    pseudo_inverse: DMatrix<f64>,
+    neighbours: Vec<(usize, DMatrix<f64>)>,
+}
+
+impl Normal {
+    /// An empty normal matrix over `variables` (the free ones).
+    pub fn new(variables: Vec<Variable>) -> Self {
+        let diagonal = variables
+            .iter()
+            .map(|v| DMatrix::zeros(v.columns.len(), v.columns.len()))
+            .collect();
+        let off = variables.iter().map(|_| BTreeMap::new()).collect();
+        Normal {
+            variables,
+            diagonal,
+            off,
+        }
+    }
+
+    /// Adds a factor's whitened Jacobian blocks on free variables, `(index,
+    /// rows × tangent)`, all with the same rows.
+    pub fn add(&mut self, blocks: &[(usize, DMatrix<f64>)]) {
+        for (i, (a, ja)) in blocks.iter().enumerate() {
+            self.diagonal[*a] += ja.transpose() * ja;
+            for (b, jb) in &blocks[i + 1..] {
+                let h = ja.transpose() * jb;
+                let entry =
+                    |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
+                        *off.entry(at)
+                            .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) += m;
+                    };
+                entry(&mut self.off[*b], *a, h.transpose());
+                entry(&mut self.off[*a], *b, h);
+            }
+        }
+    }
+
+    /// The undetermined directions, if there are any (see the module
+    /// documentation).
+    pub fn deficiency(mut self) -> Option<Deficiency> {
+        let scales = self.scale();
+        let original = Blocks {
+            diagonal: self.diagonal.clone(),
+            off: self.off.clone(),
+        };
+        let mut eliminated = Vec::with_capacity(self.variables.len());
+        // Null directions, each as (variable, direction in its scaled
+        // coordinates, how many eliminations preceded it).
+        let mut null: Vec<(usize, DVector<f64>, usize)> = Vec::new();
+        let mut done = vec![false; self.variables.len()];
+        let mut queue: BinaryHeap<(std::cmp::Reverse<usize>, usize)> = (0..self.variables.len())
+            .map(|v| (std::cmp::Reverse(self.off[v].len()), v))
+            .collect();
+        while let Some((std::cmp::Reverse(degree), v)) = queue.pop() {
+            if done[v] {
+                continue;
+            }
+            if degree != self.off[v].len() {
+                queue.push((std::cmp::Reverse(self.off[v].len()), v));
+                continue;
+            }
+            done[v] = true;
+            let (pseudo_inverse, directions) = split(&self.diagonal[v]);
+            for u in directions {
+                null.push((v, u, eliminated.len()));
+            }
+            let neighbours: Vec<(usize, DMatrix<f64>)> =
+                std::mem::take(&mut self.off[v]).into_iter().collect();
+            for (i, (a, h_va)) in neighbours.iter().enumerate() {
+                self.off[*a].remove(&v);
+                let h_av_p = h_va.transpose() * &pseudo_inverse;
+                self.diagonal[*a] -= &h_av_p * h_va;
+                for (b, h_vb) in &neighbours[i + 1..] {
+                    let update = &h_av_p * h_vb;
+                    let entry =
+                        |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
+                            *off.entry(at)
+                                .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) -= m;
+                        };
+                    entry(&mut self.off[*b], *a, update.transpose());
+                    entry(&mut self.off[*a], *b, update);
+                }
+            }
+            for (a, _) in &neighbours {
+                queue.push((std::cmp::Reverse(self.off[*a].len()), *a));
+            }
+            eliminated.push(Elimination {
+                variable: v,
+                pseudo_inverse,
+                neighbours,
+            });
+        }
+        // Each candidate is checked against the matrix itself: rounding in
+        // the eliminations can leave a block nearly singular where `H` is
+        // not (`xᵀ H x` of a true null direction is at most the tolerance).
+        let null: Vec<BTreeMap<usize, DVector<f64>>> = null
+            .into_iter()
+            .map(|(v, u, step)| lift(&eliminated[..step], v, u))
+            .filter(|x| original.curvature(x) <= TOLERANCE)
+            .collect();
+        if null.is_empty() {
+            return None;
+        }
+        let count = null.len();
+        let directions = null
+            .into_iter()
+            .take(SHOWN_DIRECTIONS)
+            .map(|x| Self::direction(x, &scales))
+            .collect();
+        Some(Deficiency {
+            count,
+            directions,
+            variables: self.variables,
+            values: "the initial values",
+        })
+    }
+
+    /// Scales every coordinate to a unit diagonal; returns the scales (a
+    /// coordinate no factor measures keeps a zero diagonal, and its scale
+    /// 1: it is a null direction of its block).
+    fn scale(&mut self) -> Vec<DVector<f64>> {
+        let scales: Vec<DVector<f64>> = self
+            .diagonal
+            .iter()
+            .map(|d| {
+                d.diagonal()
+                    .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 1.0 })
+            })
+            .collect();
+        for (v, d) in self.diagonal.iter_mut().enumerate() {
+            *d = DMatrix::from_diagonal(&scales[v]) * &*d * DMatrix::from_diagonal(&scales[v]);
+        }
+        for (v, off) in self.off.iter_mut().enumerate() {
+            for (w, h) in off.iter_mut() {
+                *h = DMatrix::from_diagonal(&scales[v]) * &*h * DMatrix::from_diagonal(&scales[*w]);
+            }
+        }
+        scales
+    }
+
+    /// A null direction over every variable (scaled coordinates,
+    /// [`lift`]), unscaled, of unit norm, its moves largest first.
+    fn direction(
+        x: BTreeMap<usize, DVector<f64>>,
+        scales: &[DVector<f64>],
+    ) -> Vec<(usize, DVector<f64>)> {
+        let mut moves: Vec<(usize, DVector<f64>)> = x
+            .into_iter()
+            .map(|(w, xw)| (w, xw.component_mul(&scales[w])))
+            .collect();
+        let norm = moves
+            .iter()
+            .map(|(_, m)| m.norm_squared())
+            .sum::<f64>()
+            .sqrt();
+        for (_, m) in &mut moves {
+            *m /= norm;
+        }
+        moves.retain(|(_, m)| m.norm() >= NEGLIGIBLE);
+        moves.sort_by(|a, b| b.1.norm().total_cmp(&a.1.norm()));
+        moves
+    }
+}
+
+/// The blocks of a normal matrix (scaled), kept to check candidates.
+struct Blocks {
+    diagonal: Vec<DMatrix<f64>>,
+    off: Vec<BTreeMap<usize, DMatrix<f64>>>,
+}
+
+impl Blocks {
+    /// `xᵀ H x / xᵀ x` for the direction `x` (by variable; absent ones
+    /// zero).
+    fn curvature(&self, x: &BTreeMap<usize, DVector<f64>>) -> f64 {
+        let mut quadratic = 0.0;
+        for (v, xv) in x {
+            quadratic += xv.dot(&(&self.diagonal[*v] * xv));
+            for (w, h) in &self.off[*v] {
+                if let Some(xw) = x.get(w) {
+                    quadratic += xv.dot(&(h * xw));
+                }
+            }
+        }
+        quadratic / x.values().map(DVector::norm_squared).sum::<f64>()
+    }
+}
+
+/// The null direction found at `v` (direction `u`, scaled coordinates)
+/// over every variable: zero on those eliminated after `v`,
+/// back-substituted through the `earlier` eliminations.
+fn lift(earlier: &[Elimination], v: usize, u: DVector<f64>) -> BTreeMap<usize, DVector<f64>> {
+    let mut x: BTreeMap<usize, DVector<f64>> = BTreeMap::from([(v, u)]);
+    for step in earlier.iter().rev() {
+        let mut sum = DVector::zeros(step.pseudo_inverse.nrows());
+        for (a, h_va) in &step.neighbours {
+            if let Some(xa) = x.get(a) {
+                sum += h_va * xa;
+            }
+        }
+        x.insert(step.variable, -(&step.pseudo_inverse * sum));
+    }
+    x
+}
+
+/// The pseudo-inverse of the symmetric block `d` on its determined
+/// directions, and its undetermined ones (eigenvalue at most
+/// [`TOLERANCE`]).
+fn split(d: &DMatrix<f64>) -> (DMatrix<f64>, Vec<DVector<f64>>) {
+    let n = d.nrows();
+    let eigen = nalgebra::SymmetricEigen::new(d.clone());
+    let mut pseudo_inverse = DMatrix::zeros(n, n);
+    let mut null = Vec::new();
+    for (k, lambda) in eigen.eigenvalues.iter().enumerate() {
+        let u = eigen.eigenvectors.column(k).into_owned();
+        if *lambda > TOLERANCE {
+            pseudo_inverse += &u * u.transpose() / *lambda;
+        } else {
+            null.push(u);
+        }
+    }
+    (pseudo_inverse, null)
+}
+
+impl fmt::Display for Deficiency {
+    /// One line: how many directions, and what the first ones move.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "not observable: {} direction{} of the free variables leave{} every residual \
+             unchanged to first order at {} (a gauge left free, or too few measurements)",
+            self.count,
+            if self.count == 1 { "" } else { "s" },
+            if self.count == 1 { "s" } else { "" },
+            self.values,
+        )?;
+        for (k, direction) in self.directions.iter().enumerate() {
+            let moves: Vec<String> = direction
+                .iter()
+                .take(SHOWN_VARIABLES)
+                .map(|(v, m)| self.shown(*v, m))
+                .collect();
+            let more = direction.len().saturating_sub(SHOWN_VARIABLES);
+            write!(
+                f,
+                "; {} moves {}{}",
+                if k == 0 { "one" } else { "another" },
+                moves.join(", "),
+                if more > 0 {
+                    format!(
+                        " and {more} more variable{}",
+                        if more == 1 { "" } else { "s" }
+                    )
+                } else {
+                    String::new()
+                }
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl Deficiency {
+    /// The same, found at `values` (`the true values`; by default `the
+    /// initial values`).
+    pub fn at(mut self, values: &'static str) -> Self {
+        self.values = values;
+        self
+    }
+
+    /// `c5 along δρ_x 0.71, δρ_z −0.70`: a variable and its largest moves.
+    fn shown(&self, v: usize, m: &DVector<f64>) -> String {
+        let variable = &self.variables[v];
+        let mut parts: Vec<(usize, f64)> = m.iter().copied().enumerate().collect();
+        parts.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+        let largest = parts[0].1.abs();
+        let named: Vec<String> = parts
+            .iter()
+            .filter(|(_, x)| x.abs() >= 0.3 * largest)
+            .take(3)
+            .map(|(k, x)| format!("{} {x:.2}", variable.columns[*k]))
+            .collect();
+        format!("{} along {}", variable.name, named.join(" "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn variable(name: &str, dim: usize) -> Variable {
+        Variable {
+            name: name.into(),
+            columns: (0..dim).map(|k| format!("x{k}")).collect(),
+        }
+    }
+
+    /// Two scalars measured only through their difference: the direction
+    /// `[1, 1] / √2` moves both; measured alone too, none.
+    #[test]
+    fn a_difference_alone_leaves_the_sum_free() {
+        let one = |x: f64| DMatrix::from_element(1, 1, x);
+        let mut normal = Normal::new(vec![variable("a", 1), variable("b", 1)]);
+        normal.add(&[(0, one(1.0)), (1, one(-1.0))]);
+        let deficiency = normal.deficiency().expect("a free direction");
+        assert_eq!(deficiency.count, 1);
+        let direction = &deficiency.directions[0];
+        assert_eq!(direction.len(), 2);
+        for (_, m) in direction {
+            assert!((m[0].abs() - 0.5_f64.sqrt()).abs() < 1e-12, "{m}");
+        }
+        assert_eq!(direction[0].1[0], direction[1].1[0]);
+        let message = deficiency.to_string();
+        assert!(
+            message.contains("1 direction of the free variables leaves"),
+            "{message}"
+        );
+        assert!(message.contains("moves a along x0 "), "{message}");
+
+        let mut normal = Normal::new(vec![variable("a", 1), variable("b", 1)]);
+        normal.add(&[(0, one(1.0)), (1, one(-1.0))]);
+        normal.add(&[(1, one(3.0))]);
+        assert!(normal.deficiency().is_none());
+    }
+
+    /// A chain of 2-D points measured by their differences, the first
+    /// measured alone in x only: the y of the whole chain is free, and is
+    /// found whatever the order of elimination; an unmeasured coordinate
+    /// is a direction too.
+    #[test]
+    fn a_chain_free_along_one_axis_is_found_over_every_link() {
+        let n = 30;
+        let mut normal = Normal::new((0..n).map(|k| variable(&format!("p{k}"), 2)).collect());
+        let identity = DMatrix::<f64>::identity(2, 2) * 2.0;
+        for k in 0..n - 1 {
+            normal.add(&[(k, identity.clone()), (k + 1, -identity.clone())]);
+        }
+        normal.add(&[(0, DMatrix::from_row_slice(1, 2, &[5.0, 0.0]))]);
+        let deficiency = normal.deficiency().expect("y free");
+        assert_eq!(deficiency.count, 1);
+        let direction = &deficiency.directions[0];
+        assert_eq!(direction.len(), n);
+        let each = 1.0 / (n as f64).sqrt();
+        for (_, m) in direction {
+            assert!(m[0].abs() < 1e-9, "{m}");
+            assert!((m[1].abs() - each).abs() < 1e-9, "{m}");
+        }
+
+        let mut normal = Normal::new(vec![variable("q", 3)]);
+        normal.add(&[(
+            0,
+            DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 0.0]),
+        )]);
+        let deficiency = normal.deficiency().expect("z unmeasured");
+        assert_eq!(deficiency.count, 1);
+        assert!(
+            deficiency.to_string().contains("q along x2 "),
+            "{deficiency}"
+        );
+    }
+}

@@ -1,0 +1,393 @@
+//! What every reader of a problem file checks before it builds anything:
+//! `solve` and `track` read a file through [`read`], so the same file gets
+//! the same exit status and the same message from both (issue 28).
+//!
+//! - The file: at most [`crate::source::MAX_PROBLEM_FILE_BYTES`] of UTF-8
+//!   JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
+//!   only `slamjac_problem`, `variables`, `factors` and `truth` at the top
+//!   level, the version this build reads.
+//! - Each variable: an object with `type`, `value` and optionally `fixed`
+//!   (`true` or `false`); every variable named by some factor.
+//! - The `truth`: checked as values are ([`super::file_truth`]).
+//! - Each factor entry: `factor`, `variables`, `constants`, optionally
+//!   `noise` and `robust`; a `factor` the reader knows ([`Shape`]); each
+//!   variable field naming a declared variable of the field's type, no
+//!   variable named twice in one entry (a factor between a pose and itself
+//!   is no measurement); the `constants` fields the factor has; a noise
+//!   model whose standard deviations lie in `[1e-100, 1e100]` (the
+//!   readers' range: their squares and inverses stay finite) and whose
+//!   square-root information is invertible (every residual direction
+//!   weighed); a loss `huber:δ` or `cauchy:δ`.
+//!
+//! Values themselves are checked by their types when the entries are
+//! decoded, and their errors are moved to the value's path
+//! ([`at_value`]).
+
+use std::path::Path;
+
+use factor_apex::builder::Noise;
+use factor_apex::problems::Robust;
+use factor_core::VariableInfo;
+use serde_json::{Map, Value};
+
+use super::file_truth::Truth;
+use crate::error::{CliError, InputError};
+use crate::field_path::{join, quoted};
+use crate::input::{Object, numbers};
+
+/// The format version this build reads and writes.
+pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
+
+/// What a reader knows of a factor: its variable fields (with their
+/// types), its constant fields and its residual's dimension.
+pub(crate) struct Shape {
+    pub(crate) variables: Vec<VariableInfo>,
+    pub(crate) constants: Vec<&'static str>,
+    pub(crate) residual_dim: usize,
+}
+
+/// A factor entry that passed the checks.
+pub(crate) struct Entry<'a> {
+    /// `factors[k]`.
+    pub(crate) path: String,
+    /// Its `factor`.
+    pub(crate) factor: &'a str,
+    /// Per variable field, in the factor's order: the field and the
+    /// problem variable it names.
+    pub(crate) names: Vec<(String, String)>,
+    /// Its `variables` object: the values of the variables it names, by
+    /// field (at the entry's `variables` path, for [`at_value`]).
+    pub(crate) values: Value,
+    /// Its `constants` object.
+    pub(crate) constants: Object<'a>,
+    /// Its noise model (unit when absent).
+    pub(crate) noise: Noise,
+    /// Its own loss, if it has one.
+    pub(crate) robust: Option<Robust>,
+}
+
+impl Entry<'_> {
+    /// The entry's variable values as an object with exactly its fields.
+    pub(crate) fn variables(&self) -> Result<Object<'_>, InputError> {
+        let fields: Vec<&str> = self.names.iter().map(|(f, _)| f.as_str()).collect();
+        Object::new(&self.values, &join(&self.path, "variables"), &fields)
+    }
+}
+
+/// A problem file that passed the checks.
+pub(crate) struct Checked<'a> {
+    /// The declared variables, by name.
+    pub(crate) declared: &'a Map<String, Value>,
+    /// The names of the variables marked `fixed`.
+    pub(crate) fixed: Vec<String>,
+    /// The truth, checked.
+    pub(crate) truth: Option<Truth>,
+    /// The factor entries, in file order.
+    pub(crate) entries: Vec<Entry<'a>>,
+}
+
+/// Reads the problem file `file`: its JSON, the top level checked (only
+/// `slamjac_problem`, `variables`, `factors` and `truth`), the version
+/// this build reads, `variables` an object.
+///
+/// # Errors
+///
+/// [`CliError::Input`] naming the file (unreadable, over the cap, not UTF-8
+/// or not JSON) or the field at fault.
+pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
+    let name = file.display().to_string();
+    let reader = crate::source::open_problem_file(file)?;
+    let json = crate::strict_json::parse_json_from(std::io::BufReader::new(reader), &name)?;
+    let top = open(
+        &json,
+        "",
+        &["slamjac_problem", "variables", "factors"],
+        &["truth"],
+    )?;
+    let version = top.number("slamjac_problem")?;
+    if version != VERSION as f64 {
+        return Err(InputError::new(
+            "slamjac_problem",
+            format!("version {version} is not the version this slamjac reads ({VERSION})"),
+        )
+        .into());
+    }
+    if !json["variables"].is_object() {
+        return Err(InputError::new("variables", "expected an object of named variables").into());
+    }
+    if !json["factors"].is_array() {
+        return Err(InputError::new("factors", "expected an array of factors").into());
+    }
+    Ok(json)
+}
+
+/// Checks the problem file `json` ([`read_json`]) against the factors
+/// `shape` knows (`shape(factor, path)`: the shape of `factor`, or the
+/// error at `path` for a factor the reader does not take).
+///
+/// # Errors
+///
+/// The first fault, at its field path (see the module documentation).
+pub(crate) fn check<'a>(
+    json: &'a Value,
+    shape: impl Fn(&str, &str) -> Result<Shape, InputError>,
+) -> Result<Checked<'a>, InputError> {
+    let declared = json["variables"]
+        .as_object()
+        .expect("read_json checked `variables`");
+    let mut fixed = Vec::new();
+    for (name, spec) in declared {
+        let object = open(
+            spec,
+            &join("variables", name),
+            &["type", "value"],
+            &["fixed"],
+        )?;
+        object.string("type")?;
+        if spec.get("fixed").is_some() {
+            let is_fixed = spec["fixed"].as_bool().ok_or_else(|| {
+                InputError::new(object.path_of("fixed"), "expected true or false")
+            })?;
+            if is_fixed {
+                fixed.push(name.clone());
+            }
+        }
+    }
+    let truth = json
+        .get("truth")
+        .map(|truth| Truth::read(truth, declared))
+        .transpose()?;
+    let factors = json["factors"]
+        .as_array()
+        .expect("read_json checked `factors`");
+    let mut entries = Vec::with_capacity(factors.len());
+    let mut used = std::collections::HashSet::new();
+    for (k, spec) in factors.iter().enumerate() {
+        let entry = check_entry(spec, &format!("factors[{k}]"), declared, &shape)?;
+        used.extend(entry.names.iter().map(|(_, name)| name.clone()));
+        entries.push(entry);
+    }
+    if let Some(unused) = declared.keys().find(|n| !used.contains(*n)) {
+        return Err(InputError::new(
+            join("variables", unused),
+            "no factor uses this variable",
+        ));
+    }
+    Ok(Checked {
+        declared,
+        fixed,
+        truth,
+        entries,
+    })
+}
+
+/// Checks the factor entry `spec` at `path`.
+fn check_entry<'a>(
+    spec: &'a Value,
+    path: &str,
+    declared: &'a Map<String, Value>,
+    shape: &impl Fn(&str, &str) -> Result<Shape, InputError>,
+) -> Result<Entry<'a>, InputError> {
+    let object = open(
+        spec,
+        path,
+        &["factor", "variables", "constants"],
+        &["noise", "robust"],
+    )?;
+    let factor = object.string("factor")?;
+    let shape = shape(factor, &object.path_of("factor"))?;
+    let fields: Vec<&str> = shape.variables.iter().map(|v| v.name).collect();
+    let named = object.object("variables", &fields)?;
+    let mut names: Vec<(String, String)> = Vec::with_capacity(fields.len());
+    let mut values = Map::new();
+    for info in &shape.variables {
+        let at = named.path_of(info.name);
+        let name = named.string(info.name)?;
+        let variable = declared.get(name).ok_or_else(|| {
+            InputError::new(&at, format!("no variable {} in variables", quoted(name)))
+        })?;
+        let declared_type = variable["type"].as_str().unwrap_or_default();
+        let wanted = type_name(info.type_name);
+        if declared_type != wanted {
+            return Err(InputError::new(
+                &at,
+                format!(
+                    "variable {} is a {declared_type}, the factor's {} is a {wanted}",
+                    quoted(name),
+                    info.name,
+                ),
+            ));
+        }
+        if let Some((other, _)) = names.iter().find(|(_, n)| n == name) {
+            return Err(InputError::new(
+                &at,
+                format!(
+                    "names the variable {} that {other} names: a factor's variables must be \
+                     distinct",
+                    quoted(name)
+                ),
+            ));
+        }
+        names.push((info.name.to_owned(), name.to_owned()));
+        values.insert(info.name.to_owned(), variable["value"].clone());
+    }
+    let constants = object.object("constants", &shape.constants)?;
+    let noise = match spec.get("noise") {
+        Some(value) => noise(value, &object.path_of("noise"), shape.residual_dim)?,
+        None => Noise::Unit,
+    };
+    let robust = match spec.get("robust") {
+        Some(_) => Some(
+            object
+                .string("robust")?
+                .parse()
+                .map_err(|e: String| InputError::new(object.path_of("robust"), e))?,
+        ),
+        None => None,
+    };
+    Ok(Entry {
+        path: path.to_owned(),
+        factor,
+        names,
+        values: Value::Object(values),
+        constants,
+        noise,
+        robust,
+    })
+}
+
+/// `Se3` for `Se3<S>`: a type as the file names it.
+pub(crate) fn type_name(info: &str) -> &str {
+    info.strip_suffix("<S>").unwrap_or(info)
+}
+
+/// An object at `path` with the fields `required` and any of `optional`.
+fn open<'a>(
+    value: &'a Value,
+    path: &str,
+    required: &[&str],
+    optional: &[&str],
+) -> Result<Object<'a>, InputError> {
+    let present: Vec<&str> = match value.as_object() {
+        Some(map) => {
+            let allowed: Vec<&str> = required.iter().chain(optional).copied().collect();
+            if let Some(unknown) = map.keys().find(|k| !allowed.contains(&k.as_str())) {
+                return Err(InputError::new(
+                    join(path, unknown),
+                    format!("unknown field; expected only {}", allowed.join(", ")),
+                ));
+            }
+            required
+                .iter()
+                .copied()
+                .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
+                .collect()
+        }
+        None => required.to_vec(),
+    };
+    Object::new(value, path, &present)
+}
+
+/// The range of a standard deviation, and of the magnitude of a
+/// square-root information's entries: the readers' range of magnitudes,
+/// so that squares and inverses stay finite.
+const NOISE_RANGE: (f64, f64) = (1e-100, 1e100);
+
+/// The noise model at `path`, for a residual of `dim` components.
+fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
+    let object = open(value, path, &[], &["sigma", "sigmas", "sqrt_information"])?;
+    let keys: Vec<&String> = value
+        .as_object()
+        .map(|m| m.keys().collect())
+        .unwrap_or_default();
+    let [key] = keys.as_slice() else {
+        return Err(InputError::new(
+            path,
+            "expected exactly one of sigma, sigmas, sqrt_information",
+        ));
+    };
+    let at = object.path_of(key);
+    let (low, high) = NOISE_RANGE;
+    let deviation = |x: f64, at: &str| {
+        if (low..=high).contains(&x) {
+            Ok(x)
+        } else {
+            Err(InputError::new(
+                at,
+                format!("a standard deviation must be from {low:e} to {high:e}, found {x:e}"),
+            ))
+        }
+    };
+    match key.as_str() {
+        "sigma" => Ok(Noise::Sigma(deviation(object.number(key)?, &at)?)),
+        "sigmas" => {
+            let sigmas = object.numbers(key, dim)?;
+            for (i, s) in sigmas.iter().enumerate() {
+                deviation(*s, &format!("{at}[{i}]"))?;
+            }
+            Ok(Noise::Sigmas(sigmas))
+        }
+        _ => sqrt_information(object.get(key), &at, dim).map(Noise::SqrtInformation),
+    }
+}
+
+/// The square-root information `S` at `at`: `dim` rows of `dim` numbers of
+/// magnitude at most 1e100, invertible to within rounding (its smallest
+/// singular value above `dim · ε` times its largest).
+fn sqrt_information(
+    value: &Value,
+    at: &str,
+    dim: usize,
+) -> Result<nalgebra::DMatrix<f64>, InputError> {
+    let rows = value
+        .as_array()
+        .filter(|r| r.len() == dim)
+        .ok_or_else(|| InputError::new(at, format!("expected {dim} rows of {dim} numbers")))?;
+    let mut s = nalgebra::DMatrix::zeros(dim, dim);
+    for (i, row) in rows.iter().enumerate() {
+        let row_at = format!("{at}[{i}]");
+        for (j, x) in numbers(row, &row_at, dim)?.into_iter().enumerate() {
+            if x.abs() > NOISE_RANGE.1 {
+                return Err(InputError::new(
+                    format!("{row_at}[{j}]"),
+                    format!("magnitude over {:e}", NOISE_RANGE.1),
+                ));
+            }
+            s[(i, j)] = x;
+        }
+    }
+    let singular = s.clone().svd(false, false).singular_values;
+    let (largest, smallest) = (singular.max(), singular.min());
+    if smallest.is_nan() || smallest <= largest * dim as f64 * f64::EPSILON {
+        let rank = singular
+            .iter()
+            .filter(|v| **v > largest * dim as f64 * f64::EPSILON)
+            .count();
+        return Err(InputError::new(
+            at,
+            format!(
+                "not invertible (rank {rank} of {dim}): a square-root information must weigh \
+                 every direction of the residual"
+            ),
+        ));
+    }
+    Ok(s)
+}
+
+/// `error` at the value it is about: a path into a factor entry's variable
+/// field (`factors[0].variables.gravity[2]`), the values read from the
+/// variable named there, becomes the path into that variable's value
+/// (`variables.g.value[2]`).
+pub(crate) fn at_value(error: InputError, entry: &Entry<'_>) -> InputError {
+    let variables = join(&entry.path, "variables");
+    for (field, name) in &entry.names {
+        let prefix = join(&variables, field);
+        if let Some(rest) = error.path.strip_prefix(&prefix)
+            && (rest.is_empty() || rest.starts_with(['[', '.']))
+        {
+            let value = join(&join("variables", name), "value");
+            return InputError::new(format!("{value}{rest}"), error.message);
+        }
+    }
+    error
+}
