@@ -206,6 +206,7 @@ pub use document::{Claim, Document, Formula, Found, Locator, Options, Region};
 pub use error::{ErrorKind, LookupError, ParseError};
 pub use extract::{MathKind, Syntax};
 pub use macros::Vocabulary;
+pub use names::operator_word;
 pub use parser::MAX_DEPTH;
 
 use ast::{Expr, Statement};

@@ -373,3 +373,90 @@ anchor = "y_2 ="
         ],
     );
 }
+
+/// The file's own `^\wedge`, `^\vee` and `Ad` come before the built-in
+/// ones (a document with translation first); the wedge of a 7-vector is
+/// the sim(3) matrix `[ω^ + σI, ρ; 0 0]`, so `exp(ζ^∧)` is the Sim(3)
+/// element and a wedge printed outside the parenthesis is `ambiguous`.
+#[test]
+fn a_documents_own_wedge_vee_and_adjoint_come_first() {
+    let document = "\
+\\begin{equation}
+a^{\\wedge} = \\begin{bmatrix} 0 & 0 \\\\ 0 & 0 \\end{bmatrix}
+\\end{equation}
+\\begin{equation}
+b^{\\vee} = b
+\\end{equation}
+\\begin{equation}
+\\mathcal{T} = \\text{Ad}(T)
+\\end{equation}
+\\begin{equation}
+\\mathcal{U} = \\text{Ad}(T)
+\\end{equation}
+\\begin{equation}
+S = \\exp(\\zeta^{\\wedge})
+\\end{equation}
+\\begin{equation}
+S = \\exp{(\\zeta)}^{\\wedge}
+\\end{equation}
+";
+    let symbols = r#"
+document = "report.tex"
+syntax = "latex"
+[context.c.symbols]
+"a" = { sample = "vector3" }
+"b" = { sample = "vector3" }
+"P" = "\\begin{bmatrix} 0_{3 \\times 3} & I_{3} \\\\ I_{3} & 0_{3 \\times 3} \\end{bmatrix}"
+"T" = { sample = "pose" }
+"\\operatorname{Ad}" = { args = ["X"], latex = "P \\operatorname{adjoint}(X) P" }
+"\\mathcal{T}" = "P \\operatorname{adjoint}(T) P"
+"\\mathcal{U}" = "\\operatorname{adjoint}(T)"
+"\\zeta" = { sample = "vector", size = 7, range = [-0.8, 0.8] }
+"S" = "\\operatorname{Exp}(\\zeta)"
+
+[context.c.operators]
+"^\\wedge" = { args = ["x"], latex = "\\begin{bmatrix} 0 & 0 \\\\ 0 & 0 \\end{bmatrix}" }
+"^\\vee" = { args = ["x"], latex = "x" }
+
+[context.sim.symbols]
+"\\zeta" = { sample = "vector", size = 7, range = [-0.8, 0.8] }
+"S" = "\\operatorname{Exp}(\\zeta)"
+
+[[claim]]
+id = "own wedge"
+context = "c"
+anchor = "a^{\\wedge} ="
+[[claim]]
+id = "own vee"
+context = "c"
+anchor = "b^{\\vee}"
+[[claim]]
+id = "own Ad"
+context = "c"
+anchor = "\\mathcal{T} ="
+[[claim]]
+id = "own Ad, wrong"
+context = "c"
+anchor = "\\mathcal{U} ="
+[[claim]]
+id = "sim(3) wedge"
+context = "sim"
+anchor = "\\exp(\\zeta^{\\wedge})"
+[[claim]]
+id = "sim(3) wedge outside"
+context = "sim"
+anchor = "\\exp{(\\zeta)}^{\\wedge}"
+"#;
+    let findings = audit(document, symbols);
+    expect(
+        &findings,
+        &[
+            ("own wedge", "correct"),
+            ("own vee", "correct"),
+            ("own Ad", "correct"),
+            ("own Ad, wrong", "wrong"),
+            ("sim(3) wedge", "correct"),
+            ("sim(3) wedge outside", "ambiguous"),
+        ],
+    );
+}

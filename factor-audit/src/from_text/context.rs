@@ -95,16 +95,26 @@ pub struct Context {
 /// The canonical LaTeX of a name the symbols file defines: a symbol, or
 /// any printed expression but a number (`\pi'(q)`, `u v`, `\hat{\xi}_b^*`).
 pub fn canonical_symbol(written: &str, vocabulary: &Vocabulary) -> Result<String, String> {
-    // A function's name alone (`\exp`, `Exp`): the document's function
-    // given another meaning (`{ function = "expm" }`), keyed as written.
+    // A function's name alone (`\exp`, `Exp`, `Ad`, `\operatorname{Ad}`):
+    // the document's function given another meaning (`{ function = "expm"
+    // }`, a template), keyed as written (an upright name by its letters).
     let name = written.trim();
+    let upright = ["\\operatorname{", "\\mathrm{", "\\text{"]
+        .iter()
+        .find_map(|w| name.strip_prefix(w)?.strip_suffix('}'));
+    if let Some(word) = upright
+        && doc_latex::operator_word(word).is_some()
+    {
+        return Ok(word.to_string());
+    }
     let letters = name.strip_prefix('\\').unwrap_or(name);
     if !letters.is_empty()
         && letters.chars().all(|c| c.is_ascii_alphabetic())
-        && matches!(
-            doc_latex::parse_expr_with(name, vocabulary),
-            Err(e) if matches!(e.kind, doc_latex::ErrorKind::MissingOperand(_))
-        )
+        && (doc_latex::operator_word(letters).is_some()
+            || matches!(
+                doc_latex::parse_expr_with(name, vocabulary),
+                Err(e) if matches!(e.kind, doc_latex::ErrorKind::MissingOperand(_))
+            ))
     {
         return Ok(name.to_string());
     }

@@ -210,6 +210,8 @@ impl Builtin {
     /// The function named `name` (`column`, `entry` and `rows` need their
     /// indices: [`Builtin::indexed`]).
     pub fn named(name: &str) -> Option<Builtin> {
+        // `right\_jacobian`, as LaTeX escapes it, is `right_jacobian`.
+        let name = name.replace("\\_", "_");
         NAMES.iter().find(|(n, _)| *n == name).map(|(_, b)| *b)
     }
 

@@ -443,6 +443,16 @@ impl<'r> Lowering<'r> {
                     return Ok(Term::Zero);
                 }
                 let lowered = Box::new(self.expr(base)?);
+                // The file's own `^\wedge` or `^\vee` comes before the
+                // built-in one.
+                let own = match op {
+                    PostfixOp::Hat => self.resolver.template("^\\wedge")?,
+                    PostfixOp::Vee => self.resolver.template("^\\vee")?,
+                    _ => None,
+                };
+                if let Some((t, 1)) = own {
+                    return Ok(Term::Template(t, vec![*lowered]));
+                }
                 match op {
                     PostfixOp::Transpose => Term::Transpose(lowered),
                     PostfixOp::Hat => Term::Hat(lowered),
