@@ -222,7 +222,20 @@ pub trait Factor: Storage<f64> + Sized {
     /// # Panics
     ///
     /// If `stored` has the wrong length.
-    fn residual_over<T: Scalar>(stored: &[T]) -> Vec<T>;
+    fn residual_over<T: Scalar>(stored: &[T]) -> Vec<T> {
+        let mut out = vec![T::zero(); Self::RESIDUAL_DIM];
+        Self::residual_over_into(stored, &mut out);
+        out
+    }
+
+    /// [`Factor::residual_over`] written into `out` ([`Factor::RESIDUAL_DIM`]
+    /// entries), with no allocation: the dual-number pass in a host's chart
+    /// ([`crate::host::linearize_host_dual`]).
+    ///
+    /// # Panics
+    ///
+    /// If `stored` or `out` has the wrong length.
+    fn residual_over_into<T: Scalar>(stored: &[T], out: &mut [T]);
 
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;

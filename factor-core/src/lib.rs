@@ -1,9 +1,11 @@
 //! The runtime of `slamjac` factors: what an estimator that embeds them
 //! needs, and nothing that only the code generator needs.
 //!
-//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and
+//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual numbers, and
 //!   the symbolic scalar of crate `factor-symbolic`) that residuals and
 //!   geometry are written against.
+//! - [`dual`]: [`dual::Dual`], the dual numbers every exact linearization
+//!   runs on (derivatives on the stack, as wide as the factor's tangent).
 //! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar,
 //!   with one vocabulary, [`lie::LieGroup`].
 //! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
@@ -33,6 +35,7 @@
 //! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
 //! first; Jacobians are residual rows × tangent columns.
 
+pub mod dual;
 pub mod factor;
 pub mod geometry;
 pub mod host;

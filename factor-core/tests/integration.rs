@@ -4,3 +4,4 @@
 mod geometry_constructors;
 mod lie_group_trait;
 mod lie_properties;
+mod seeding;

@@ -181,9 +181,9 @@ pub fn emit(cx: &Context) -> TokenStream {
                 factor.perturbed_residual(delta).iter().copied().collect()
             }
 
-            fn residual_over<__T: #krate::Scalar>(stored: &[__T]) -> ::std::vec::Vec<__T> {
+            fn residual_over_into<__T: #krate::Scalar>(stored: &[__T], out: &mut [__T]) {
                 let factor: #ident<__T> = #krate::Storage::from_scalars(stored);
-                #ident::<__T>::__factor_residual(&factor).iter().copied().collect()
+                out.copy_from_slice(#ident::<__T>::__factor_residual(&factor).as_slice());
             }
 
             fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {

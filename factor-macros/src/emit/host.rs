@@ -64,6 +64,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         )
     };
     let kernels = cx.model.hosts.iter().map(|h| host_kernel(cx, h));
+    let tangent_dim = cx.tangent_dim_f64();
     quote! {
         #[automatically_derived]
         impl<__H: #host::Host> #host::HostFactor<__H> for #ident<f64>
@@ -100,6 +101,16 @@ pub fn emit(cx: &Context) -> TokenStream {
                     #(#indices => <#types as #host::HostMap<__H>>::host_from_stored(stored, host),)*
                     _ => #out_of_range,
                 }
+            }
+
+            fn linearize_host_dual_pass(
+                layout: &#host::HostLayout<__H::Manifold>,
+                template: &[f64],
+                parts: &[&[f64]],
+                residual: &mut [f64],
+                jacobian: ::core::option::Option<&mut [f64]>,
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                #host::dual_pass::<Self, __H, { #tangent_dim }>(layout, template, parts, residual, jacobian)
             }
         }
 
