@@ -227,7 +227,13 @@ fn check(n: usize, ceres: &str) {
 }
 
 /// Min and median ns per evaluation over `passes` passes of `pass`.
+///
+/// With `JETS_ONLY=FACTOR/METHOD` in the environment, only that one is timed
+/// (for a profiler).
 fn time(factor: &str, method: &str, n: usize, passes: usize, mut pass: impl FnMut() -> f64) {
+    if std::env::var("JETS_ONLY").is_ok_and(|only| only != format!("{factor}/{method}")) {
+        return;
+    }
     let mut ns = Vec::with_capacity(passes);
     let mut sink = 0.0;
     for _ in 0..passes {
@@ -300,10 +306,30 @@ fn time_snavely(n: usize, passes: usize) {
         for s in &stored {
             let blocks = &mut [Some(&mut a[..]), Some(&mut b[..]), Some(&mut c[..])];
             if SnavelyReprojection::linearize_stored_into(black_box(s), &mut r, blocks).is_ok() {
+                black_box((&r, &a, &b, &c));
                 sum += r[0] + a[0];
             }
         }
         sum
+    });
+    time(name, "kernel_slices", n, passes, || {
+        let (mut r, mut a, mut b, mut c) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
+        let mut sum = 0.0;
+        for (o, p, k, x) in &inputs {
+            let ins: [&[f64]; 4] = [o, p, k, x];
+            let mut blocks = [Some(&mut a[..]), Some(&mut b[..]), Some(&mut c[..])];
+            factor_generated::snavely_reprojection::snavely_reprojection_slices(
+                black_box(&ins),
+                &mut r,
+                &mut blocks,
+            );
+            black_box((&r, &blocks));
+            sum += r[0];
+        }
+        sum
+    });
+    time(name, "validate", n, passes, || {
+        factors.iter().map(|f| f64::from(u8::from(black_box(f).validate().is_ok()))).sum()
     });
     time(name, "kernel", n, passes, || {
         let (mut r, mut a, mut b, mut c) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
@@ -311,14 +337,16 @@ fn time_snavely(n: usize, passes: usize) {
         for (o, p, k, x) in &inputs {
             factor_generated::snavely_reprojection::snavely_reprojection(
                 black_box(o),
-                p,
-                k,
-                x,
+                black_box(p),
+                black_box(k),
+                black_box(x),
                 &mut r,
                 Some(&mut a),
                 Some(&mut b),
                 Some(&mut c),
             );
+            // Every output used, so that none is optimized away.
+            black_box((&r, &a, &b, &c));
             sum += r[0] + a[0];
         }
         sum
@@ -367,9 +395,7 @@ fn time_projection(n: usize, passes: usize) {
         factors
             .iter()
             .map(|f| {
-                black_box(f)
-                    .linearize_generated()
-                    .map_or(0.0, |l| l.residual[0] + l.pose_i[0])
+                black_box(black_box(f).linearize_generated()).map_or(0.0, |l| l.residual[0])
             })
             .sum()
     });
@@ -380,18 +406,19 @@ fn time_projection(n: usize, passes: usize) {
         for (oi, oj, w, pi, pj, e, l) in &inputs {
             user_kernels::inverse_depth_projection::inverse_depth_projection(
                 black_box(oi),
-                oj,
-                w,
-                pi,
-                pj,
-                e,
-                l,
+                black_box(oj),
+                black_box(w),
+                black_box(pi),
+                black_box(pj),
+                black_box(e),
+                black_box(l),
                 &mut r,
                 Some(&mut a),
                 Some(&mut b),
                 Some(&mut c),
                 Some(&mut d),
             );
+            black_box((&r, &a, &b, &c, &d));
             sum += r[0] + a[0];
         }
         sum

@@ -185,15 +185,17 @@ fn validate<F: HostFactor<H>, H: Host>(
 }
 
 /// Residual and column-major Jacobian (`None` when not wanted) of factor `F`
-/// in `H`'s chart through its generated host kernel, after the factor's
+/// in `H`'s chart through its generated host kernel, with the factor's
 /// validation at the host's values: `template` is the factor's stored
 /// scalars (its constants; its variables' are not read), `parts` the host
-/// parts' parameters. No allocation.
+/// parts' parameters. No allocation. On an error the outputs hold
+/// unspecified values (the kernel runs before the validation).
 ///
 /// # Errors
 ///
-/// The validation's error, or [`FactorError::NonFinite`] naming the first
-/// non-finite output (a Jacobian column by its variable).
+/// The validation's error, [`FactorError::NonFinite`] naming the first
+/// non-finite output (a Jacobian column by its variable), or (a debug
+/// build) [`FactorError::StaleKernel`].
 ///
 /// # Panics
 ///
@@ -204,10 +206,14 @@ pub fn linearize_host<F: HostKernel<H>, H: Host>(
     template: &[f64],
     parts: &[&[f64]],
     residual: &mut [f64],
-    jacobian: Option<&mut [f64]>,
+    mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
+    run_host_kernel::<F, H>(template, parts, residual, jacobian.as_deref_mut());
+    // After the kernel: the validation between its stores and the check's
+    // loads of the same values keeps those loads from waiting for the stores.
     validate::<F, H>(layout, template, parts)?;
-    linearize_host_validated::<F, H>(layout, template, parts, residual, jacobian)
+    F::check_host_kernel(template, parts, residual, jacobian.as_deref())?;
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
 }
 
 /// [`linearize_host`] at host values the caller knows the factor accepts:
@@ -219,7 +225,8 @@ pub fn linearize_host<F: HostKernel<H>, H: Host>(
 ///
 /// # Errors
 ///
-/// [`FactorError::NonFinite`] naming the first non-finite output.
+/// [`FactorError::NonFinite`] naming the first non-finite output, or (a
+/// debug build) [`FactorError::StaleKernel`].
 ///
 /// # Panics
 ///
@@ -231,13 +238,29 @@ pub fn linearize_host_validated<F: HostKernel<H>, H: Host>(
     residual: &mut [f64],
     mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
+    run_host_kernel::<F, H>(template, parts, residual, jacobian.as_deref_mut());
+    F::check_host_kernel(template, parts, residual, jacobian.as_deref())?;
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
+}
+
+/// `F`'s host kernel on the host values `parts`.
+///
+/// # Panics
+///
+/// If a length differs from the kernel's.
+#[inline(always)]
+fn run_host_kernel<F: HostKernel<H>, H: Host>(
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    jacobian: Option<&mut [f64]>,
+) {
     assert!(
-        F::host_kernel(template, parts, residual, jacobian.as_deref_mut()),
+        F::host_kernel(template, parts, residual, jacobian),
         "{}: the stored scalars, a part, the residual or the Jacobian differ in length from \
          the host kernel's",
         F::NAME
     );
-    check_finite::<F, H>(layout, residual, jacobian.as_deref())
 }
 
 /// [`linearize_host`] by dual numbers: the same outputs to rounding, for

@@ -277,6 +277,7 @@ impl<S: Scalar> Storage<S> for Se3<S> {
 /// quaternion as [`seeded_quaternion`], and `t + δω × t + δρ` (left,
 /// `∂t/∂δω_k = e_k × t`, `∂t/∂δρ_k = e_k`) or `t + R δρ` (right,
 /// `∂t/∂δρ_k = R e_k`).
+#[inline(always)]
 pub(crate) fn seeded_se3<const N: usize>(
     pose: &Se3<f64>,
     side: Perturbation,

@@ -274,6 +274,7 @@ pub(crate) fn perturb_quaternion<S: Scalar>(
 /// [`Quaternion::exp_first_order`] perturbs it: `∂q/∂δ_k = ½ e_k ⊗ q` (left)
 /// or `½ q ⊗ e_k` (right), `e_k` the pure quaternion of axis `k`, at
 /// coordinate `offset + k` ([`Manifold::seeded`] in closed form).
+#[inline(always)]
 pub(crate) fn seeded_quaternion<const N: usize>(
     q: &Quaternion<f64>,
     side: Perturbation,
