@@ -5,6 +5,7 @@
 //! jets write SAMPLES N        N configurations of each factor, in jets.cc's format
 //! jets check N CERES_OUTPUT   Ceres' outputs against ours (exit 1 when they differ)
 //! jets time N PASSES          ns per evaluation of each of our methods, one JSON line each
+//! jets factors N PASSES       every shipped factor: dual numbers, the generated path and its bare kernel
 //! ```
 //!
 //! The configurations are made here from fixed seeds, so `check` and
@@ -329,7 +330,10 @@ fn time_snavely(n: usize, passes: usize) {
         sum
     });
     time(name, "validate", n, passes, || {
-        factors.iter().map(|f| f64::from(u8::from(black_box(f).validate().is_ok()))).sum()
+        factors
+            .iter()
+            .map(|f| f64::from(u8::from(black_box(f).validate().is_ok())))
+            .sum()
     });
     time(name, "kernel", n, passes, || {
         let (mut r, mut a, mut b, mut c) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
@@ -394,9 +398,7 @@ fn time_projection(n: usize, passes: usize) {
     time(name, "generated", n, passes, || {
         factors
             .iter()
-            .map(|f| {
-                black_box(black_box(f).linearize_generated()).map_or(0.0, |l| l.residual[0])
-            })
+            .map(|f| black_box(black_box(f).linearize_generated()).map_or(0.0, |l| l.residual[0]))
             .sum()
     });
     time(name, "kernel", n, passes, || {
@@ -425,6 +427,118 @@ fn time_projection(n: usize, passes: usize) {
     });
 }
 
+/// A kernel's slice entry (`<factor>_slices` of `factor-generated`).
+type Slices = fn(&[&[f64]], &mut [f64], &mut [Option<&mut [f64]>]) -> bool;
+
+/// One factor type's three paths on `factors`, every block requested and
+/// every output kept: `linearize_dual_into` (dual numbers) and
+/// `linearize_into` (the generated kernel), which both validate and check
+/// finiteness, and the bare kernel through its slice entry.
+fn time_factor<F: Factor>(name: &str, factors: &[F], passes: usize, kernel: Slices) {
+    let n = factors.len();
+    let rows = F::RESIDUAL_DIM;
+    let mut residual = vec![0.0; rows];
+    let mut blocks: Vec<Vec<f64>> = F::variables()
+        .iter()
+        .map(|v| vec![0.0; rows * v.tangent_dim])
+        .collect();
+    let mut out: Vec<Option<&mut [f64]>> = blocks.iter_mut().map(|b| Some(&mut b[..])).collect();
+    time(name, "dual", n, passes, || {
+        let mut sum = 0.0;
+        for f in factors {
+            if black_box(f)
+                .linearize_dual_into(&mut residual, &mut out)
+                .is_ok()
+            {
+                black_box((&residual, &out));
+                sum += residual[0];
+            }
+        }
+        sum
+    });
+    time(name, "generated", n, passes, || {
+        let mut sum = 0.0;
+        for f in factors {
+            if black_box(f).linearize_into(&mut residual, &mut out).is_ok() {
+                black_box((&residual, &out));
+                sum += residual[0];
+            }
+        }
+        sum
+    });
+    let stored: Vec<Vec<Vec<f64>>> = factors.iter().map(fields).collect();
+    let inputs: Vec<Vec<&[f64]>> = stored
+        .iter()
+        .map(|v| v.iter().map(Vec::as_slice).collect())
+        .collect();
+    time(name, "kernel", n, passes, || {
+        let mut sum = 0.0;
+        for i in &inputs {
+            kernel(black_box(i), &mut residual, &mut out);
+            black_box((&residual, &out));
+            sum += residual[0];
+        }
+        sum
+    });
+}
+
+/// Every shipped factor with a sampler, `n` configurations each (seed 7).
+fn time_factors(n: usize, passes: usize) {
+    use factor_generated as g;
+    fn sampled<F>(n: usize, sample: impl Fn(&mut Sampler) -> F) -> Vec<F> {
+        let mut sampler = Sampler::new(7);
+        (0..n).map(|_| sample(&mut sampler)).collect()
+    }
+    time_factor(
+        "point_reprojection",
+        &sampled(n, Sampler::point_reprojection),
+        passes,
+        g::point_reprojection::point_reprojection_slices,
+    );
+    time_factor(
+        "line_reprojection",
+        &sampled(n, Sampler::line_reprojection),
+        passes,
+        g::line_reprojection::line_reprojection_slices,
+    );
+    time_factor(
+        "plucker_line_reprojection",
+        &sampled(n, Sampler::plucker_line_reprojection),
+        passes,
+        g::plucker_line_reprojection::plucker_line_reprojection_slices,
+    );
+    time_factor(
+        "plane",
+        &sampled(n, Sampler::plane),
+        passes,
+        g::plane::plane_slices,
+    );
+    time_factor(
+        "free_line",
+        &sampled(n, Sampler::free_line),
+        passes,
+        g::free_line::free_line_slices,
+    );
+    time_factor(
+        "snavely_reprojection",
+        &sampled(n, Sampler::snavely_reprojection),
+        passes,
+        g::snavely_reprojection::snavely_reprojection_slices,
+    );
+    time_factor(
+        "stereo_reprojection",
+        &sampled(n, Sampler::stereo_reprojection),
+        passes,
+        g::stereo_reprojection::stereo_reprojection_slices,
+    );
+    time_factor(
+        "between",
+        &sampled(n, Sampler::between),
+        passes,
+        g::between::between_slices,
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let number = |i: usize| -> usize {
@@ -436,10 +550,14 @@ fn main() {
     match args.first().map(String::as_str) {
         Some("write") if args.len() == 3 => write(&args[1], number(2)),
         Some("check") if args.len() == 3 => check(number(1), &args[2]),
+        Some("factors") if args.len() == 3 => time_factors(number(1), number(2)),
         Some("time") if args.len() == 3 => {
             time_snavely(number(1), number(2));
             time_projection(number(1), number(2));
         }
-        _ => fail("usage: jets write SAMPLES N | jets check N CERES_OUTPUT | jets time N PASSES"),
+        _ => fail(
+            "usage: jets write SAMPLES N | jets check N CERES_OUTPUT | jets time N PASSES | \
+             jets factors N PASSES",
+        ),
     }
 }
