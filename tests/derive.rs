@@ -507,7 +507,16 @@ const STALE_RESIDUAL: [f64; 2] = [1.0, 12.0];
 /// The report of the stale kernel `kernel` of `Flipped` in a debug build.
 fn assert_stale(result: Result<(), FactorError>, kernel: &str) {
     let error = result.expect_err("a debug build reports the stale kernel");
-    assert!(matches!(error, FactorError::StaleKernel { factor: "flipped", .. }), "{error:?}");
+    assert!(
+        matches!(
+            error,
+            FactorError::StaleKernel {
+                factor: "flipped",
+                ..
+            }
+        ),
+        "{error:?}"
+    );
     let message = error.to_string();
     let expected = format!(
         "flipped: the generated kernel `{kernel}` is stale: its residual[0] is 1 where dual \

@@ -178,10 +178,7 @@ impl<const N: usize> Div for Dual<N> {
     fn div(self, rhs: Self) -> Self {
         let inverse = 1.0 / rhs.re;
         let re = self.re * inverse;
-        let mut eps = [0.0; N];
-        for i in 0..N {
-            eps[i] = mul_add(-re, rhs.eps[i], self.eps[i]) * inverse;
-        }
+        let eps = std::array::from_fn(|i| mul_add(-re, rhs.eps[i], self.eps[i]) * inverse);
         Dual { re, eps }
     }
 }

@@ -114,9 +114,9 @@ impl FactorError {
 /// are not looked at).
 #[inline]
 pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Option<Option<usize>> {
-    let finite = blocks
-        .iter()
-        .fold(all_finite(residual), |ok, b| ok & b.as_deref().is_none_or(all_finite));
+    let finite = blocks.iter().fold(all_finite(residual), |ok, b| {
+        ok & b.as_deref().is_none_or(all_finite)
+    });
     if finite {
         return None;
     }
@@ -136,6 +136,7 @@ pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Opti
 /// cache (a failed store-to-load forwarding), which cost more than the
 /// kernel's own arithmetic. This is on every linearization's path.
 #[inline]
+#[expect(clippy::eq_op, reason = "`x - x` is the finiteness test")]
 pub fn all_finite(values: &[f64]) -> bool {
     values.iter().fold(0.0, |sum, x| sum + (x - x)) == 0.0
 }

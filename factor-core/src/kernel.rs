@@ -295,7 +295,11 @@ pub fn host_kernel_stale<F: HostFactor<H>, H: Host>(
 }
 
 /// The report of a stale kernel.
-fn stale<F: Factor>(kernel_path: &'static str, mismatch: &KernelMismatch, regenerate: &str) -> FactorError {
+fn stale<F: Factor>(
+    kernel_path: &'static str,
+    mismatch: &KernelMismatch,
+    regenerate: &str,
+) -> FactorError {
     FactorError::StaleKernel {
         factor: F::NAME,
         kernel: kernel_path,

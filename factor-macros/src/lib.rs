@@ -130,7 +130,8 @@ use syn::{DeriveInput, parse_macro_input};
 /// naming the `regenerate` command. A change that keeps the layout (a sign
 /// in the residual) is caught at run time in debug builds: the first
 /// linearizations of each factor type compare the kernel with dual numbers
-/// and panic, naming the command, when they disagree
+/// and, when they disagree, return `FactorError::StaleKernel` naming the
+/// command, then and at every later linearization of the type
 /// (`factor_core::kernel` documents the checks).
 #[proc_macro_derive(Factor, attributes(factor, variable))]
 pub fn derive_factor(input: TokenStream) -> TokenStream {

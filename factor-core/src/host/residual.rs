@@ -300,7 +300,9 @@ fn scratch<T: Copy, const M: usize, R>(len: usize, zero: T, f: impl FnOnce(&mut 
 }
 
 /// The body of [`linearize_host_dual`] for a factor of `N` tangent columns
-/// (the host's columns, as many): validates the factor at the host's
+/// (the host's columns, when as many; otherwise, for a variable served as
+/// more host coordinates than its dimension, one column at a time):
+/// validates the factor at the host's
 /// values, seeds each host part's parameters through the host's
 /// [`HostManifold::retract_first_order`] (its derivative at `δ = 0`, by
 /// one-component dual numbers per column: a few operations per part), maps
@@ -315,7 +317,7 @@ fn scratch<T: Copy, const M: usize, R>(len: usize, zero: T, f: impl FnOnce(&mut 
 ///
 /// # Panics
 ///
-/// As [`linearize_host`], or when the host's tangent columns are not `N`.
+/// As [`linearize_host`].
 pub fn dual_pass<F: HostFactor<H>, H: Host, const N: usize>(
     layout: &HostLayout<H::Manifold>,
     template: &[f64],
@@ -324,14 +326,9 @@ pub fn dual_pass<F: HostFactor<H>, H: Host, const N: usize>(
     mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
     validate::<F, H>(layout, template, parts)?;
-    assert_eq!(
-        layout.columns(),
-        N,
-        "{}: the host's tangent has {} columns where the factor's has {N}: a `HostMap` maps \
-         a variable onto host manifolds of its own dimension",
-        F::NAME,
-        layout.columns()
-    );
+    if layout.columns() != N {
+        return dual_by_columns::<F, H>(layout, template, parts, residual, jacobian);
+    }
     let zero = Dual::<N>::constant(0.0);
     let rows = layout.residual;
     scratch::<_, STACK_SCALARS, _>(layout.stored, zero, |stored| {
@@ -392,6 +389,42 @@ pub fn dual_pass<F: HostFactor<H>, H: Host, const N: usize>(
             }
         });
     });
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
+}
+
+/// [`dual_pass`] for a factor whose host columns are not its own tangent's
+/// (a variable served as more host coordinates than its dimension, as S²
+/// served as `Rn(3)` normalised): one pass of [`host_residual`] on
+/// one-component dual numbers per column, allocating.
+fn dual_by_columns<F: HostFactor<H>, H: Host>(
+    layout: &HostLayout<H::Manifold>,
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    mut jacobian: Option<&mut [f64]>,
+) -> Result<(), FactorError> {
+    type D = Dual<1>;
+    let lifted: Vec<Vec<D>> = inputs_of(layout, template, parts)
+        .iter()
+        .map(|values| values.iter().map(|x| D::constant(*x)).collect())
+        .collect();
+    let lifted: Vec<&[D]> = lifted.iter().map(Vec::as_slice).collect();
+    let mut delta = vec![D::constant(0.0); layout.columns()];
+    let rows = layout.residual;
+    let value = host_residual::<F, H, D>(layout, &lifted, &delta);
+    for (out, r) in residual.iter_mut().zip(&value) {
+        *out = r.re;
+    }
+    if let Some(jacobian) = jacobian.as_deref_mut() {
+        for (c, column) in jacobian.chunks_mut(rows).enumerate() {
+            delta[c] = D::variable(0.0, 0);
+            let r = host_residual::<F, H, D>(layout, &lifted, &delta);
+            delta[c] = D::constant(0.0);
+            for (out, value) in column.iter_mut().zip(&r) {
+                *out = value.eps[0];
+            }
+        }
+    }
     check_finite::<F, H>(layout, residual, jacobian.as_deref())
 }
 

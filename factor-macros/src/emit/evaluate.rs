@@ -24,20 +24,15 @@ pub fn emit(cx: &Context) -> TokenStream {
     let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
     let block_dims: Vec<_> = cx.variables.iter().map(|v| cx.dim_f64(v)).collect();
     let offsets: Vec<_> = cx.variables.iter().map(|v| cx.offset_f64(v)).collect();
-    // Each field over `Dual<N>`: a constant with no derivative, a variable
-    // seeded through its chart at its offset in the stacked tangent.
-    let seeded = cx.model.fields.iter().map(|field| {
-        let (name, ty) = (&field.ident, &field.ty);
-        match cx.variable(field) {
-            Some(v) => {
-                let (dim, offset, side) = (cx.dim_f64(v), cx.offset_f64(v), &v.side_tokens);
-                quote_spanned! {ty.span()=>
-                    #name: #krate::Manifold::<f64>::seeded::<{ #dim }, __N>(&self.#name, #side, #offset)
-                }
-            }
-            None => quote_spanned! {ty.span()=>
-                #name: #krate::Storage::map_scalars(&self.#name, &mut #krate::dual::Dual::<__N>::constant)
-            },
+    // The struct is lifted to constants through its `Storage` impl (so that a
+    // field type that is not stored is reported there, once), then each
+    // variable is seeded through its chart at its offset in the stacked
+    // tangent; the constant copies of the variables are dead stores.
+    let seeded = cx.variables.iter().map(|v| {
+        let (name, ty) = (v.ident, v.ty);
+        let (dim, offset, side) = (cx.dim_f64(v), cx.offset_f64(v), &v.side_tokens);
+        quote_spanned! {ty.span()=>
+            lifted.#name = #krate::Manifold::<f64>::seeded::<{ #dim }, __N>(&self.#name, #side, #offset);
         }
     });
     let dual_doc = format!(
@@ -125,7 +120,10 @@ pub fn emit(cx: &Context) -> TokenStream {
             /// constants with none, each variable seeded at its tangent's offset.
             #[inline(always)]
             fn __factor_seeded<const __N: usize>(&self) -> #ident<#krate::dual::Dual<__N>> {
-                #ident { #(#seeded,)* }
+                let mut lifted: #ident<#krate::dual::Dual<__N>> =
+                    #krate::Storage::map_scalars(self, &mut #krate::dual::Dual::<__N>::constant);
+                #(#seeded)*
+                lifted
             }
 
             /// Real parts and derivative parts (rows: residual entries) of a dual residual.

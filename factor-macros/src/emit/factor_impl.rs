@@ -26,8 +26,13 @@ pub fn emit(cx: &Context) -> TokenStream {
         let field = v.ident.to_string();
         // The scalar itself is named for what it is at the `f64` instance
         // (a problem file's `"type": "f64"`), not for the parameter (`S`).
-        let is_scalar = matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident(scalar));
-        let type_name = if is_scalar { "f64".to_owned() } else { naming::type_text(ty) };
+        let is_scalar =
+            matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident(scalar));
+        let type_name = if is_scalar {
+            "f64".to_owned()
+        } else {
+            naming::type_text(ty)
+        };
         let tangent_dim = cx.dim_generic(v);
         let tangent =
             quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::tangent_description);

@@ -208,7 +208,13 @@ impl<F: HostFactor<Apex> + 'static> ApexFactor<F> {
         let parts: Vec<&[f64]> = parts.iter().map(Vec::as_slice).collect();
         let mut residual = vec![0.0; layout.residual];
         let mut jacobian = vec![0.0; layout.residual * layout.columns()];
-        (self.evaluate)(layout, &self.stored, &parts, &mut residual, Some(&mut jacobian))
+        (self.evaluate)(
+            layout,
+            &self.stored,
+            &parts,
+            &mut residual,
+            Some(&mut jacobian),
+        )
     }
 
     /// Counts rejected evaluations in `rejections`.

@@ -49,8 +49,8 @@ use apex_solver::core::VarKey;
 use apex_solver::core::problem::Problem;
 use apex_solver::factors::Factor;
 use apex_solver::linalg::{JacobianMode, LinearSolverType};
-use factor_core::{FactorError, Storage};
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold, HostMap};
+use factor_core::{FactorError, Storage};
 use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};

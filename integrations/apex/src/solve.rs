@@ -130,10 +130,7 @@ impl std::fmt::Debug for Outcome {
             .field("final_cost", &self.final_cost)
             .field("iterations", &self.iterations)
             .field("elapsed", &self.elapsed)
-            .field(
-                "values",
-                &format_args!("{} variable(s)", self.values.len()),
-            )
+            .field("values", &format_args!("{} variable(s)", self.values.len()))
             .field("history", &self.history)
             .field("options", &self.options)
             .finish()

@@ -1,6 +1,8 @@
 //! A visual-inertial projection factor with an extrinsic and an inverse
 //! depth, as VINS-Mono's `ProjectionFactor` writes it.
 
+use std::cmp::Ordering;
+
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, FactorError, Scalar};
 use nalgebra::{Vector2, Vector3};
@@ -79,14 +81,15 @@ pub fn validate_inverse_depth_projection(
         factor: InverseDepthProjection::NAME,
         reason,
     };
-    if !(f.inverse_depth > 0.0) {
+    // `partial_cmp` so that NaN is rejected too.
+    if f.inverse_depth.partial_cmp(&0.0) != Some(Ordering::Greater) {
         return Err(degenerate(format!(
             "inverse depth {} is not positive",
             f.inverse_depth
         )));
     }
     let p = point_in_camera_j(f);
-    if !(p.z > 1e-9 * p.norm()) {
+    if p.z.partial_cmp(&(1e-9 * p.norm())) != Some(Ordering::Greater) {
         return Err(degenerate(format!(
             "the point is at or behind camera j (depth {})",
             p.z
