@@ -166,9 +166,13 @@ pub fn report_and_gate(
         }
     );
     if !unexpected.is_empty() {
-        // The table goes out before the one-line error.
+        // The table goes out before the one-line error, which names the
+        // unread claims too (the exit status is the disagreement's).
         let _ = writeln!(std::io::stdout().lock(), "{table}{summary}");
-        return Err(CliError::Disagreement(unexpected));
+        return Err(CliError::Disagreement {
+            disagreeing: unexpected,
+            unread: if allow_unread { Vec::new() } else { unread },
+        });
     }
     if !unread.is_empty() && !allow_unread {
         let _ = writeln!(std::io::stdout().lock(), "{table}{summary}");
@@ -195,7 +199,7 @@ pub fn report_roles<'a>(markdown: Option<&'a Path>, json: Option<&'a Path>) -> V
 /// One object per claim: the verdict engine's fields, plus where it is
 /// (`line`), the formula as printed and as understood, the verdict the
 /// symbols file expects, and the engine's suggested correction; a claim
-/// that could not be read has a `null` verdict and its `reading_error`.
+/// that could not be read has the verdict `unread` and its `reading_error`.
 fn json_report(documents: &[(String, Audited)]) -> String {
     let mut entries: Vec<Value> = Vec::new();
     for (name, a) in documents {
@@ -225,11 +229,12 @@ fn json_report(documents: &[(String, Audited)]) -> String {
             entries.push(json!({
                 "document": name,
                 "equation": u.id,
-                "verdict": Value::Null,
+                "verdict": "unread",
                 "line": u.line,
                 "printed_latex": u.quote,
                 "expected_verdict": u.expected,
                 "reading_error": u.error.to_string(),
+                "suspected_erratum": u.suspected_erratum(),
             }));
         }
     }

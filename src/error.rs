@@ -81,9 +81,27 @@ pub enum CliError {
     #[error("generate: {0}")]
     Codegen(#[from] factor_codegen::CodegenError),
     /// `audit`: these formulas disagree with the truth and are not known
-    /// errata (exit 1).
-    #[error("audit: formulas disagree with the truth: {}", .0.join("; "))]
-    Disagreement(Vec<String>),
+    /// errata (exit 1); the claims that could not be read either (when the
+    /// files do not expect them unread) are named too.
+    #[error(
+        "audit: formulas disagree with the truth: {}{}",
+        .disagreeing.join("; "),
+        if .unread.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; and {} claim(s) could not be read: {}",
+                .unread.len(),
+                .unread.join("; ")
+            )
+        }
+    )]
+    Disagreement {
+        /// The disagreements.
+        disagreeing: Vec<String>,
+        /// The claims that could not be read.
+        unread: Vec<String>,
+    },
     /// A data file that cannot be read or written, `FILE:LINE: what` or
     /// `FILE: what` (exit 2).
     #[error(transparent)]
@@ -106,7 +124,7 @@ impl CliError {
             | CliError::Hinted { .. }
             | CliError::Stale { .. }
             | CliError::Codegen(_)
-            | CliError::Disagreement(_)
+            | CliError::Disagreement { .. }
             | CliError::Solve(_) => EXIT_DEGENERATE,
         }
     }

@@ -46,6 +46,9 @@ pub enum Expr {
     Text(String),
     /// `\cdot` or `.` standing for an argument, as in `\lfloor . \rfloor_\times`.
     Placeholder,
+    /// `\cdots`, `\ldots`, `\vdots`, `\ddots`: what is not printed (more
+    /// arguments, more blocks).
+    Ellipsis,
     /// `-x`.
     Neg(Box<Expr>),
     /// `+x` (a line continuing a sum across displays starts so).
@@ -116,6 +119,19 @@ pub enum Expr {
         head: Head,
         /// The comma-separated arguments.
         args: Vec<Expr>,
+        /// Scripts printed on the closing parenthesis of a symbol's
+        /// application (`R (R Q)^\top`, `T(ξ)^{-1}`, `C(q)'`): a chain of
+        /// script nodes ([`Expr::Postfix`], [`Expr::Power`], …) whose
+        /// innermost base is [`Expr::Placeholder`], the place of what they
+        /// apply to. They apply to the application when the symbol is a
+        /// function (`(J(β))^{-1}`) and to the parenthesised group when the
+        /// application is a product (`R ((R Q)^\top)`): the symbol table
+        /// decides, as it decides the application itself
+        /// ([`Expr::with_scripts_of`] puts either in the place). Scripts
+        /// after a function name's call (`\sin(x)^2`) wrap the call, and
+        /// a group written around the application (`(R (R Q))^\top`) wraps
+        /// it too: neither is here.
+        scripts: Option<Box<Expr>>,
     },
     /// `base^{exponent}`: a negative or fractional exponent on a symbol, or
     /// any superscript on a non-symbol (`|y|^{\frac{3}{2}}`, `J(β)^{-1}`).
@@ -164,6 +180,15 @@ pub enum Expr {
     Matrix(Matrix),
     /// `\begin{cases} value & condition \\ … \end{cases}`.
     Cases(Vec<Case>),
+    /// `\left. X \right|_{x = a}`, `X \Big\vert_{t = 0}`: `X` evaluated
+    /// where the subscript says (one or more `name = value` bindings,
+    /// comma-separated or in a `subarray`).
+    At {
+        /// What is evaluated.
+        body: Box<Expr>,
+        /// The subscript, as printed.
+        at: Box<Expr>,
+    },
     /// A relation chain inside an expression (`(φ = …)`, a `δξ → 0` under a
     /// limit, `φ_v ∈ R^3` in a matrix entry).
     Relation {
@@ -297,6 +322,10 @@ pub struct Function {
     pub power: Option<Box<Expr>>,
     /// A subscript on the name (`Ad_T`, `\log_2`), if any.
     pub sub: Option<Box<Expr>>,
+    /// Applied without parentheses, to the one factor after it (`\sin
+    /// \theta x` is `\sin(\theta) x`; reading it `\sin(\theta x)` is
+    /// the other choice a reader may have meant).
+    pub bare: bool,
 }
 
 /// A matrix as printed: rows of entries (rows may differ in length).
@@ -499,6 +528,46 @@ impl Expr {
             return None;
         };
         Some((r.parse().ok()?, c.parse().ok()?))
+    }
+
+    /// `chain` (a chain of script nodes over [`Expr::Placeholder`], as in
+    /// [`Expr::Apply`]'s `scripts`) with `base` in the placeholder's place.
+    pub fn with_scripts_of(chain: &Expr, base: Expr) -> Expr {
+        fn put(e: &Expr, base: Expr) -> Expr {
+            let rebuilt = |inner: &Expr, base| Box::new(put(inner, base));
+            match e {
+                Expr::Placeholder => base,
+                Expr::Postfix { base: b, op } => Expr::Postfix {
+                    base: rebuilt(b, base),
+                    op: *op,
+                },
+                Expr::Power { base: b, exponent } => Expr::Power {
+                    base: rebuilt(b, base),
+                    exponent: exponent.clone(),
+                },
+                Expr::Indexed { base: b, index } => Expr::Indexed {
+                    base: rebuilt(b, base),
+                    index: index.clone(),
+                },
+                Expr::Shaped {
+                    base: b,
+                    rows,
+                    cols,
+                } => Expr::Shaped {
+                    base: rebuilt(b, base),
+                    rows: *rows,
+                    cols: *cols,
+                },
+                Expr::Primed { base: b, primes } => Expr::Primed {
+                    base: rebuilt(b, base),
+                    primes: *primes,
+                },
+                Expr::Skew(b) => Expr::Skew(rebuilt(b, base)),
+                // Not a script chain: nothing to put in.
+                other => other.clone(),
+            }
+        }
+        put(chain, base)
     }
 
     /// The factors of a product (one factor for anything else).

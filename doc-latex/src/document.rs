@@ -36,6 +36,61 @@ pub struct Document {
     /// Every formula's claims, read run by run on the first lookup that
     /// needs them, so that lookups stay linear in the document together.
     read: OnceLock<Vec<Result<Vec<Claim>, ParseError>>>,
+    /// Its headings, in order.
+    headings: Vec<Heading>,
+}
+
+/// A heading of the document: LaTeX's `\section{…}` and its kin,
+/// Markdown's `#`, Doxygen's `@section name Title`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Heading {
+    /// Where it starts.
+    at: usize,
+    /// Its depth: a chapter or page 0, a section 1, a subsection 2, …
+    level: usize,
+    /// Its line as printed.
+    text: String,
+}
+
+/// Where lookups search: a section of the document (from its heading to
+/// the next heading of the same or a higher level) and, of several places
+/// a quote matches there, which one (1-based, in document order).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Region {
+    range: Option<Range<usize>>,
+    occurrence: Option<usize>,
+}
+
+impl Region {
+    /// The whole document, and a quote must match once.
+    pub fn everywhere() -> Self {
+        Region::default()
+    }
+
+    fn holds(&self, at: usize) -> bool {
+        self.range.as_ref().is_none_or(|r| r.contains(&at))
+    }
+
+    /// The one place of `found` (by their lines, for the error), or the
+    /// occurrence the region names.
+    fn pick<T: Copy>(
+        &self,
+        quote: &str,
+        found: Vec<(T, usize)>,
+        none: impl FnOnce() -> Result<T, LookupError>,
+    ) -> Result<T, LookupError> {
+        match (found.as_slice(), self.occurrence) {
+            ([], _) => none(),
+            ([(one, _)], None | Some(1)) => Ok(*one),
+            (many, Some(k)) if (1..=many.len()).contains(&k) => Ok(many[k - 1].0),
+            (many, Some(k)) => Err(LookupError::NoOccurrence {
+                quote: crate::error::one_line(quote, 60),
+                count: many.len(),
+                occurrence: k,
+            }),
+            (many, None) => Err(ambiguous(quote, many.iter().map(|(_, l)| *l).collect())),
+        }
+    }
 }
 
 /// One formula of a document, as printed.
@@ -151,7 +206,7 @@ impl Document {
     pub fn parse_with(text: &str, options: Options) -> Result<Self, ParseError> {
         let lines = Lines::new(text);
         let vocabulary = Vocabulary::scan(text, options.words, options.syntax == Syntax::Latex);
-        let formulas = extract(text, options.syntax)?
+        let formulas: Vec<Formula> = extract(text, options.syntax)?
             .into_iter()
             .enumerate()
             .map(|(index, f)| {
@@ -174,13 +229,53 @@ impl Document {
                 }
             })
             .collect();
+        let headings = headings(text, &formulas);
         Ok(Document {
             text: text.to_string(),
             lines,
             formulas,
             vocabulary,
             read: OnceLock::new(),
+            headings,
         })
+    }
+
+    /// The region of the section whose heading holds `section` (whitespace
+    /// not counted), with the `occurrence` of a quote to take there.
+    pub fn region(
+        &self,
+        section: Option<&str>,
+        occurrence: Option<usize>,
+    ) -> Result<Region, LookupError> {
+        let range = match section {
+            None => None,
+            Some(quote) => {
+                let key = squeeze(quote);
+                let found: Vec<&Heading> = self
+                    .headings
+                    .iter()
+                    .filter(|h| !key.is_empty() && squeeze(&h.text).contains(&key))
+                    .collect();
+                let shown = || crate::error::one_line(quote, 60);
+                let h = match found.as_slice() {
+                    [h] => *h,
+                    [] => return Err(LookupError::NoSection(shown())),
+                    many => {
+                        return Err(LookupError::AmbiguousSection {
+                            section: shown(),
+                            lines: many.iter().map(|h| self.lines.line_of(h.at)).collect(),
+                        });
+                    }
+                };
+                let end = self
+                    .headings
+                    .iter()
+                    .find(|n| n.at > h.at && n.level <= h.level)
+                    .map_or(self.text.len(), |n| n.at);
+                Some(h.at..end)
+            }
+        };
+        Ok(Region { range, occurrence })
     }
 
     /// Its macros and function words: what the caller reads LaTeX written
@@ -203,6 +298,11 @@ impl Document {
     /// whose LaTeX contains the anchor (else the first display after the
     /// anchor's place in the prose). Exactly one must match.
     pub fn find(&self, locator: Locator) -> Result<&Formula, LookupError> {
+        self.find_in(&Region::everywhere(), locator)
+    }
+
+    /// [`Document::find`] in a region.
+    pub fn find_in(&self, region: &Region, locator: Locator) -> Result<&Formula, LookupError> {
         match locator {
             Locator::Label(l) => {
                 let l = l
@@ -214,6 +314,7 @@ impl Document {
                 let found: Vec<&Formula> = self
                     .formulas
                     .iter()
+                    .filter(|f| region.holds(f.span.start))
                     .filter(|f| f.label.as_deref() == Some(l) || f.names.iter().any(|n| n == l))
                     .collect();
                 match found.as_slice() {
@@ -226,58 +327,71 @@ impl Document {
                 }
             }
             Locator::Anchor(a) => {
-                let key = squeeze(a);
-                let found: Vec<&Formula> = self
-                    .formulas
-                    .iter()
-                    .filter(|f| squeeze(&f.source).contains(&key))
-                    .collect();
-                match found.as_slice() {
-                    [f] => Ok(f),
-                    [] => self.display_after(a),
-                    many => Err(ambiguous(a, many.iter().map(|f| f.line).collect())),
-                }
+                let found = self.formulas_with(region, a);
+                let index = region.pick(a, found, || Ok(self.display_after(region, a)?.index))?;
+                Ok(&self.formulas[index])
             }
         }
+    }
+
+    /// The formulas of `region` whose LaTeX holds `anchor`, with their lines.
+    fn formulas_with(&self, region: &Region, anchor: &str) -> Vec<(usize, usize)> {
+        let key = squeeze(anchor);
+        self.formulas
+            .iter()
+            .filter(|f| region.holds(f.span.start) && squeeze(&f.source).contains(&key))
+            .map(|f| (f.index, f.line))
+            .collect()
     }
 
     /// Where an anchor is: the one formula whose LaTeX holds it, or, when
     /// none does, its one place in the prose and the display after it; the
     /// caller says whether the latter will do (it never is silently).
     pub fn locate(&self, anchor: &str) -> Result<Found<'_>, LookupError> {
-        let key = squeeze(anchor);
-        let found: Vec<&Formula> = self
+        self.locate_in(&Region::everywhere(), anchor)
+    }
+
+    /// [`Document::locate`] in a region.
+    pub fn locate_in(&self, region: &Region, anchor: &str) -> Result<Found<'_>, LookupError> {
+        let found = self.formulas_with(region, anchor);
+        if found.is_empty() {
+            let (at, _) = self.place_in_text(region, anchor)?;
+            let after = self.display_after(region, anchor)?;
+            return Ok(Found::Prose {
+                line: self.lines.line_of(at),
+                after,
+            });
+        }
+        let index = region.pick(anchor, found, || unreachable!("some formula holds it"))?;
+        Ok(Found::Formula(&self.formulas[index]))
+    }
+
+    /// The first display after the one place the quote occurs in the text
+    /// of `region`; a quote that spans a display is an error (the display
+    /// after it is never taken for the one it spans; inline math may be
+    /// quoted).
+    fn display_after(&self, region: &Region, quote: &str) -> Result<&Formula, LookupError> {
+        let (start, end) = self.place_in_text(region, quote)?;
+        if let Some(f) = self
             .formulas
             .iter()
-            .filter(|f| squeeze(&f.source).contains(&key))
-            .collect();
-        match found.as_slice() {
-            [f] => Ok(Found::Formula(f)),
-            [] => {
-                let at = self.place_in_text(anchor)?;
-                let after = self.display_after(anchor)?;
-                Ok(Found::Prose {
-                    line: self.lines.line_of(at),
-                    after,
-                })
-            }
-            many => Err(ambiguous(anchor, many.iter().map(|f| f.line).collect())),
+            .find(|f| f.kind == MathKind::Display && f.span.start < end && start < f.span.end)
+        {
+            return Err(LookupError::QuoteSpansFormula {
+                quote: crate::error::one_line(quote, 60),
+                line: f.line,
+            });
         }
-    }
-
-    /// The first display after the one place the anchor occurs in the text.
-    fn display_after(&self, anchor: &str) -> Result<&Formula, LookupError> {
-        let at = self.place_in_text(anchor)?;
         self.formulas
             .iter()
-            .find(|f| f.kind == MathKind::Display && f.span.start > at)
-            .ok_or_else(|| LookupError::NothingAfterAnchor(crate::error::one_line(anchor, 60)))
+            .find(|f| f.kind == MathKind::Display && f.span.start >= end)
+            .ok_or_else(|| LookupError::NothingAfterAnchor(crate::error::one_line(quote, 60)))
     }
 
-    /// The byte offset of the one occurrence of `anchor` in the text
-    /// (whitespace not counted).
-    fn place_in_text(&self, anchor: &str) -> Result<usize, LookupError> {
-        let key = squeeze(anchor);
+    /// The bytes of the one occurrence of `quote` in the text of `region`
+    /// (whitespace not counted), or of the occurrence it names.
+    fn place_in_text(&self, region: &Region, quote: &str) -> Result<(usize, usize), LookupError> {
+        let key = squeeze(quote);
         if key.is_empty() {
             return Err(LookupError::NoAnchor(String::new()));
         }
@@ -287,18 +401,21 @@ impl Document {
             .filter(|(_, c)| !c.is_whitespace())
             .map(|(i, c)| (c, i))
             .unzip();
-        let hits: Vec<usize> = squeezed
+        let key_chars = key.chars().count();
+        let hits: Vec<((usize, usize), usize)> = squeezed
             .match_indices(&key)
-            .map(|(i, _)| offsets[squeezed[..i].chars().count()])
+            .map(|(i, _)| {
+                let first = squeezed[..i].chars().count();
+                let last = offsets[first + key_chars - 1];
+                let end = last + self.text[last..].chars().next().map_or(1, char::len_utf8);
+                (offsets[first], end)
+            })
+            .filter(|(start, _)| region.holds(*start))
+            .map(|place| (place, self.lines.line_of(place.0)))
             .collect();
-        match hits.as_slice() {
-            [at] => Ok(*at),
-            [] => Err(LookupError::NoAnchor(crate::error::one_line(anchor, 60))),
-            many => Err(ambiguous(
-                anchor,
-                many.iter().map(|at| self.lines.line_of(*at)).collect(),
-            )),
-        }
+        region.pick(quote, hits, || {
+            Err(LookupError::NoAnchor(crate::error::one_line(quote, 60)))
+        })
     }
 
     /// The claims of a formula of this document, one per line.
@@ -326,7 +443,12 @@ impl Document {
 
     /// The one line (of any formula) whose LaTeX contains the anchor, read.
     pub fn claim(&self, anchor: &str) -> Result<Claim, LookupError> {
-        let (formula, line) = self.line_with(anchor)?;
+        self.claim_in(&Region::everywhere(), anchor)
+    }
+
+    /// [`Document::claim`] in a region.
+    pub fn claim_in(&self, region: &Region, anchor: &str) -> Result<Claim, LookupError> {
+        let (formula, line) = self.line_with(region, anchor)?;
         let claims = self.claims(&self.formulas[formula])?;
         claims
             .into_iter()
@@ -338,9 +460,14 @@ impl Document {
     /// formula's first line) and the lines after it that continue it, across
     /// displays, skipping side notes. The last claim is the chain's result.
     pub fn chain(&self, locator: Locator) -> Result<Vec<Claim>, LookupError> {
+        self.chain_in(&Region::everywhere(), locator)
+    }
+
+    /// [`Document::chain`] in a region.
+    pub fn chain_in(&self, region: &Region, locator: Locator) -> Result<Vec<Claim>, LookupError> {
         let (formula, line) = match locator {
-            Locator::Label(_) => (self.find(locator)?.index, 0),
-            Locator::Anchor(a) => self.line_with(a)?,
+            Locator::Label(_) => (self.find_in(region, locator)?.index, 0),
+            Locator::Anchor(a) => self.line_with(region, a)?,
         };
         let mut chain = Vec::new();
         for (i, claims) in self.run_claims(self.run_of(formula)) {
@@ -368,50 +495,49 @@ impl Document {
 
     /// `(formula, line)` of the one line containing the anchor; failing
     /// that, the first line of the display after its place in the prose.
-    fn line_with(&self, anchor: &str) -> Result<(usize, usize), LookupError> {
+    fn line_with(&self, region: &Region, anchor: &str) -> Result<(usize, usize), LookupError> {
         let key = squeeze(anchor);
         let mut found = Vec::new();
-        for f in &self.formulas {
+        for f in self.formulas.iter().filter(|f| region.holds(f.span.start)) {
             let Ok(lines) = self.lines_of(f.index) else {
                 if squeeze(&f.source).contains(&key) {
-                    found.push((f.index, 0));
+                    found.push(((f.index, 0), f.line));
                 }
                 continue;
             };
             for (k, l) in lines.iter().enumerate() {
                 let text = &f.source[l.span.clone()];
                 if squeeze(text).contains(&key) {
-                    found.push((f.index, k));
+                    found.push(((f.index, k), f.line));
                 }
             }
         }
-        match found.as_slice() {
-            [one] => Ok(*one),
-            [] => Ok((self.display_after(anchor)?.index, 0)),
-            many => Err(ambiguous(
-                anchor,
-                many.iter().map(|(f, _)| self.formulas[*f].line).collect(),
-            )),
-        }
+        region.pick(anchor, found, || {
+            Ok((self.display_after(region, anchor)?.index, 0))
+        })
     }
 
     /// The one line of any formula whose LaTeX holds the anchor, read;
     /// unlike [`Document::claim`], an anchor found only in the prose is an
     /// error ([`LookupError::AnchorInProse`]) naming where it is.
     pub fn claim_in_formulas(&self, anchor: &str) -> Result<Claim, LookupError> {
-        let key = squeeze(anchor);
-        let in_formula = self
-            .formulas
-            .iter()
-            .any(|f| squeeze(&f.source).contains(&key));
-        if !in_formula {
-            let at = self.place_in_text(anchor)?;
+        self.claim_in_formulas_of(&Region::everywhere(), anchor)
+    }
+
+    /// [`Document::claim_in_formulas`] in a region.
+    pub fn claim_in_formulas_of(
+        &self,
+        region: &Region,
+        anchor: &str,
+    ) -> Result<Claim, LookupError> {
+        if self.formulas_with(region, anchor).is_empty() {
+            let (at, _) = self.place_in_text(region, anchor)?;
             return Err(LookupError::AnchorInProse {
                 anchor: crate::error::one_line(anchor, 60),
                 line: self.lines.line_of(at),
             });
         }
-        self.claim(anchor)
+        self.claim_in(region, anchor)
     }
 
     /// The formula's lines, or the error that keeps it from being split.
@@ -501,6 +627,70 @@ impl Document {
         })
         .collect()
     }
+}
+
+/// The headings of `text` outside its formulas: LaTeX's `\chapter`,
+/// `\section`, `\subsection`, `\subsubsection`, `\paragraph` (starred or
+/// not); Markdown's `#` lines; Doxygen's `@page`, `@section`,
+/// `@subsection`, `@subsubsection` (or with `\`) lines.
+fn headings(text: &str, formulas: &[Formula]) -> Vec<Heading> {
+    const LATEX: [(&str, usize); 5] = [
+        ("\\chapter", 0),
+        ("\\section", 1),
+        ("\\subsection", 2),
+        ("\\subsubsection", 3),
+        ("\\paragraph", 4),
+    ];
+    const DOXYGEN: [(&str, usize); 4] = [
+        ("page", 0),
+        ("section", 1),
+        ("subsection", 2),
+        ("subsubsection", 3),
+    ];
+    let in_formula = |at: usize| formulas.iter().any(|f| f.span.contains(&at));
+    let mut out = Vec::new();
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        let start = at + (line.len() - trimmed.len());
+        at += line.len();
+        if in_formula(start) {
+            continue;
+        }
+        let level = if let Some(hashes) = trimmed
+            .strip_prefix('#')
+            .map(|rest| 1 + rest.chars().take_while(|c| *c == '#').count())
+            .filter(|n| trimmed[*n..].starts_with(' '))
+        {
+            Some(hashes)
+        } else if let Some((_, level)) = LATEX.iter().find(|(cmd, _)| {
+            trimmed
+                .strip_prefix(cmd)
+                .is_some_and(|rest| rest.starts_with('{') || rest.starts_with("*{"))
+        }) {
+            Some(*level)
+        } else {
+            DOXYGEN
+                .iter()
+                .find(|(cmd, _)| {
+                    ["@", "\\"].iter().any(|p| {
+                        trimmed
+                            .strip_prefix(p)
+                            .and_then(|r| r.strip_prefix(cmd))
+                            .is_some_and(|rest| rest.starts_with(' '))
+                    })
+                })
+                .map(|(_, level)| *level)
+        };
+        if let Some(level) = level {
+            out.push(Heading {
+                at: start,
+                level,
+                text: trimmed.trim_end().to_string(),
+            });
+        }
+    }
+    out
 }
 
 /// `s` without whitespace: anchors match however the LaTeX is spaced.

@@ -64,9 +64,10 @@ pub enum ErrorKind {
     /// A font or accent over more than one symbol.
     #[error("`\\{0}` over something other than one symbol")]
     NotASymbol(String),
-    /// `\lfloor x \rfloor` without the `_\times` of a skew matrix.
-    #[error("`\\lfloor … \\rfloor` without `_\\times`")]
-    FloorWithoutTimes,
+    /// `\lfloor x \rfloor` with a subscript other than the `_\times` of a
+    /// skew matrix.
+    #[error("`\\lfloor … \\rfloor` with a subscript other than `_\\times`")]
+    FloorSubscript,
     /// Nesting deeper than [`crate::MAX_DEPTH`].
     #[error("nesting deeper than {0} levels")]
     TooDeep(usize),
@@ -171,9 +172,10 @@ pub enum LookupError {
     /// The anchor occurs nowhere in the document.
     #[error("the anchor `{0}` occurs nowhere in the document")]
     NoAnchor(String),
-    /// The anchor occurs in several places; quote more of it.
+    /// The anchor occurs in several places; quote more of it, or say which.
     #[error(
-        "the anchor `{anchor}` occurs in {count} places (lines {}); quote more of it",
+        "the anchor `{anchor}` occurs in {count} places (lines {}); quote more of it, or say \
+         which with `section` (a piece of its heading) or `occurrence` (1 to {count})",
         lines.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
     )]
     AmbiguousAnchor {
@@ -198,6 +200,42 @@ pub enum LookupError {
     /// The anchor is in the prose, and no display formula follows it.
     #[error("no display formula follows the anchor `{0}`")]
     NothingAfterAnchor(String),
+    /// No heading holds the quoted section.
+    #[error("no heading holds `{0}`")]
+    NoSection(String),
+    /// Several headings hold the quoted section.
+    #[error(
+        "the section `{section}` is in several headings (lines {}); quote more of it",
+        lines.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+    )]
+    AmbiguousSection {
+        /// The quote.
+        section: String,
+        /// The line of each heading.
+        lines: Vec<usize>,
+    },
+    /// The occurrence asked for is past the places the quote matches.
+    #[error("`{quote}` occurs in {count} place(s) here, so there is no occurrence {occurrence}")]
+    NoOccurrence {
+        /// The quote.
+        quote: String,
+        /// How many places it occurs in.
+        count: usize,
+        /// The occurrence asked for.
+        occurrence: usize,
+    },
+    /// A quote locating the display after it spans a formula: the display
+    /// after would not be the one it is written before.
+    #[error(
+        "the quote `{quote}` spans the formula on line {line}: quote the prose before a display \
+         only"
+    )]
+    QuoteSpansFormula {
+        /// The quote.
+        quote: String,
+        /// The formula's line.
+        line: usize,
+    },
     /// The formula found holds no math (`$$(4.25)$$`).
     #[error("the formula on line {0} holds no math")]
     Empty(usize),

@@ -46,6 +46,7 @@ const DISPLAY_ENVIRONMENTS: &[(&str, bool)] = &[
     ("multline*", true),
     ("eqnarray", true),
     ("eqnarray*", true),
+    ("subeqnarray", true),
     ("flalign", true),
     ("flalign*", true),
     ("alignat", true),
@@ -293,11 +294,17 @@ fn delimited(text: &str, at: usize, syntax: Syntax) -> Result<Option<Delimited>,
     if rest.starts_with("\\f[") {
         return pair("\\f[", "\\f]", MathKind::Display);
     }
+    // `\f{align*}{ … \f}`, or `\f{align*} … \f}` with the brace left out.
     if let Some(env_rest) = rest.strip_prefix("\\f{")
-        && let Some(close) = env_rest.find("}{")
+        && let Some(close) = env_rest.find('}')
+        && env_rest[..close]
+            .trim()
+            .chars()
+            .all(|c| c.is_ascii_alphabetic() || c == '*')
     {
         let name = env_rest[..close].trim().to_string();
-        let mut d = match pair(&rest[..3 + close + 2], "\\f}", MathKind::Display)? {
+        let brace = usize::from(env_rest[close + 1..].starts_with('{'));
+        let mut d = match pair(&rest[..3 + close + 1 + brace], "\\f}", MathKind::Display)? {
             Some(d) => d,
             None => return Ok(None),
         };

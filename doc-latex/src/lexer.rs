@@ -168,6 +168,7 @@ const IGNORED: &[&str] = &[
     "nolimits",
     "nonumber",
     "notag",
+    "empty",
     "hline",
     "big",
     "Big",

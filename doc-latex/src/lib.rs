@@ -202,7 +202,7 @@ mod parser;
 pub mod render;
 mod rewrite;
 
-pub use document::{Claim, Document, Formula, Found, Locator, Options};
+pub use document::{Claim, Document, Formula, Found, Locator, Options, Region};
 pub use error::{ErrorKind, LookupError, ParseError};
 pub use extract::{MathKind, Syntax};
 pub use macros::Vocabulary;

@@ -15,7 +15,7 @@
 
 use std::ops::Range;
 
-use crate::lexer::{LexError, Tok, Token};
+use crate::lexer::{Delim, LexError, Tok, Token};
 use crate::macros::{Vocabulary, tokens};
 use crate::names::{ALIGNMENT_ENVIRONMENTS, CASES_ENVIRONMENTS, RELATION_COMMANDS, lookup};
 
@@ -64,6 +64,22 @@ pub(crate) fn lines(
         None => layout(&toks, &env),
     };
     let base = body.clone().next().map_or(0, |i| env[i]);
+    // `multline` holds one equation broken over rows.
+    let one_equation = environment
+        .map(str::to_string)
+        .or_else(|| {
+            match toks
+                .iter()
+                .find(|t| !matches!(t.tok, Tok::Quad | Tok::Space))
+            {
+                Some(Token {
+                    tok: Tok::Begin(name),
+                    ..
+                }) => Some(name.clone()),
+                _ => None,
+            }
+        })
+        .is_some_and(|name| name.starts_with("multline"));
     let mut out = Vec::new();
     let mut row_start = body.start;
     for i in body.clone().chain(std::iter::once(body.end)) {
@@ -75,7 +91,125 @@ pub(crate) fn lines(
             row_start = i + 1;
         }
     }
+    if layout != Layout::Cases {
+        out = joined(out, one_equation);
+    }
     Ok(out)
+}
+
+/// Rows that continue the expression of the row before them joined to it:
+/// a row starting with a binary operator (`&+ b`, `&\quad - c`, `\cdot
+/// d`) and holding no relation of its own, a row after one that ends with
+/// such an operator (`a = b +`), and every row of a `multline`.
+fn joined(rows: Vec<Line>, one_equation: bool) -> Vec<Line> {
+    let mut out: Vec<Line> = Vec::with_capacity(rows.len());
+    for row in rows {
+        let continues = out.last().is_some_and(|prev: &Line| {
+            one_equation || ends_in_operator(&prev.statements[0]) || starts_a_continuation(&row)
+        });
+        match out.last_mut() {
+            Some(prev) if continues => {
+                let mut statements = row.statements.into_iter();
+                if let Some(first) = statements.next() {
+                    prev.statements[0].extend(first);
+                }
+                prev.statements.extend(statements);
+                prev.span.end = prev.span.end.max(row.span.end);
+            }
+            _ => out.push(row),
+        }
+    }
+    out
+}
+
+/// How many tokens at the start of a statement are words, not math:
+/// `\text{where}`, `{\rm where}` (an upright word), with the spaces
+/// around them; none when no word is there.
+fn prose_before(piece: &[Token]) -> usize {
+    let mut i = 0;
+    let mut words = false;
+    while i < piece.len() {
+        let word = match &piece[i].tok {
+            Tok::Space | Tok::Quad => {
+                i += 1;
+                continue;
+            }
+            Tok::Text(w) if !w.trim().is_empty() => Some(1),
+            _ => upright_word(&piece[i..]),
+        };
+        // A word applied to something (`\mathrm{Ad}(T)`, `\text{Log}_x`) is
+        // a function's name, not prose.
+        let applied = |after: usize| {
+            matches!(
+                piece.get(after).map(|t| &t.tok),
+                Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren) | Tok::Sub | Tok::Sup)
+            )
+        };
+        match word {
+            Some(n) if !applied(i + n) => {
+                words = true;
+                i += n;
+            }
+            _ => break,
+        }
+    }
+    if words { i } else { 0 }
+}
+
+/// The length of an upright word at the start of `toks`: `\mathrm{where}`
+/// (how `{\rm where}` is read), braced or not.
+fn upright_word(toks: &[Token]) -> Option<usize> {
+    let braced = usize::from(toks.first()?.tok == Tok::LBrace);
+    let toks = &toks[braced..];
+    if !matches!(&toks.first()?.tok, Tok::Command(c) if c == "mathrm")
+        || toks.get(1)?.tok != Tok::LBrace
+    {
+        return None;
+    }
+    let letters = toks[2..]
+        .iter()
+        .take_while(|t| matches!(t.tok, Tok::Letter(_)))
+        .count();
+    if letters < 2 || toks.get(2 + letters)?.tok != Tok::RBrace {
+        return None;
+    }
+    if braced == 1 && toks.get(3 + letters)?.tok != Tok::RBrace {
+        return None;
+    }
+    Some(letters + 3 + 2 * braced)
+}
+
+/// Whether `tok` is an operator that needs an operand on each side.
+fn is_binary_operator(tok: &Tok) -> bool {
+    match tok {
+        Tok::Plus | Tok::Minus | Tok::Star => true,
+        Tok::Command(c) => lookup(crate::names::MULOP_COMMANDS, c).is_some(),
+        _ => false,
+    }
+}
+
+/// Whether a row's claim starts with a binary operator and states no
+/// relation: the rest of an expression begun on an earlier row.
+fn starts_a_continuation(row: &Line) -> bool {
+    let claim = &row.statements[0];
+    claim
+        .iter()
+        .find(|t| !matches!(t.tok, Tok::Space | Tok::Quad))
+        .is_some_and(|t| is_binary_operator(&t.tok))
+        && !row.continued
+        && !claim.iter().any(|t| is_relation(&t.tok))
+}
+
+/// Whether a statement ends with a binary operator (its expression goes
+/// on in the next row); a script's marker (`^\wedge`, `^*`) is none.
+fn ends_in_operator(statement: &[Token]) -> bool {
+    match statement {
+        [.., before, last] => {
+            is_binary_operator(&last.tok) && !matches!(before.tok, Tok::Sup | Tok::Sub)
+        }
+        [last] => is_binary_operator(&last.tok),
+        [] => false,
+    }
 }
 
 /// The depth of `\begin…\end` nesting before each token (an `\end`
@@ -195,7 +329,11 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
                 Tok::Text(ref words) => {
                     !words.trim().is_empty()
                         && current.iter().any(|c| is_relation(&c.tok))
-                        && current.last().is_some_and(|c| ends_operand(&c.tok))
+                        && current
+                            .iter()
+                            .rev()
+                            .find(|c| !matches!(c.tok, Tok::Space | Tok::Quad))
+                            .is_some_and(|c| ends_operand(&c.tok))
                 }
                 Tok::Amp => layout == Layout::Cases,
                 _ => false,
@@ -236,9 +374,15 @@ fn line(toks: &[Token], env: &[usize], base: usize, layout: Layout) -> Option<Li
 }
 
 /// Ends the statement being read: a piece opened by `\quad` that starts with
-/// a relation continues the previous statement.
+/// a relation continues the previous statement. Words before a formula on
+/// its row (`{\rm where}~~ \frac{…}{…} = …`) are prose, dropped.
 fn close_statement(statements: &mut Vec<Vec<Token>>, current: &mut Vec<Token>, after_quad: bool) {
-    let piece = std::mem::take(current);
+    let mut piece = std::mem::take(current);
+    let words = prose_before(&piece);
+    if words == piece.len() && words > 0 {
+        return; // only words: no statement
+    }
+    piece.drain(..words);
     if piece.is_empty() {
         return;
     }
@@ -298,6 +442,41 @@ mod tests {
             texts("E(\\xi, \\omega) = (a \\quad b), c = d"),
             vec![vec!["E(\\xi, \\omega) = (a \\quad b)", "c = d"]]
         );
+    }
+
+    #[test]
+    fn a_sum_continued_over_rows_is_one_line() {
+        // `&+`, `\quad -`, a row ending in an operator, `\notag`.
+        let math = "\\begin{align} a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e \\\\ f &= g \\end{align}";
+        assert_eq!(
+            texts(math),
+            vec![
+                vec!["a &= b \\notag \\\\ &\\quad + c \\\\ &- d \\cdot \\\\ & e"],
+                vec!["f &= g"]
+            ]
+        );
+        // A script's marker is no operator; a row starting with a sign that
+        // states a relation is a line.
+        assert_eq!(texts("a = b^\\wedge \\\\ c = d^* \\\\ e = f").len(), 3);
+        assert_eq!(texts("a = b \\\\ -c = d").len(), 2);
+        // `multline`: one equation.
+        assert_eq!(
+            texts("\\begin{multline} a = b \\\\ c d \\end{multline}").len(),
+            1
+        );
+    }
+
+    #[test]
+    fn words_before_a_formula_are_prose_but_a_function_name_is_not() {
+        let statements = |math: &str| {
+            lines(math, &Vocabulary::default(), 0, None).unwrap()[0].statements[0]
+                .iter()
+                .map(|t| math[t.start..t.end].to_string())
+                .collect::<String>()
+        };
+        assert_eq!(statements("\\empty {\\rm where}~~ c = d"), "c=d");
+        assert_eq!(statements("\\text{with} \\quad c = d"), "c=d");
+        assert_eq!(statements("\\mathrm{Ad}(T) = x"), "\\mathrm{Ad}(T)=x");
     }
 
     #[test]

@@ -202,6 +202,7 @@ pub const MATRIX_ENVIRONMENTS: &[&str] = &[
     "Bmatrix",
     "smallmatrix",
     "array",
+    "subarray",
 ];
 
 /// Environments read as cases (`value & condition` rows).
@@ -221,6 +222,7 @@ pub const ALIGNMENT_ENVIRONMENTS: &[&str] = &[
     "multline*",
     "eqnarray",
     "eqnarray*",
+    "subeqnarray",
     "alignat",
     "alignat*",
     "alignedat",

@@ -9,10 +9,8 @@ use crate::ast::{
     Base, Case, DerivativeKind, Expr, Font, Function, Head, Matrix, MulOp, PostfixOp, Sign,
     Statement, Symbol,
 };
-pub use crate::names::mulop_latex;
-use crate::names::{
-    ACCENT_COMMANDS, FONT_COMMANDS, POSTFIX_OPERATORS, function_command, name_of, relation_latex,
-};
+use crate::names::{ACCENT_COMMANDS, FONT_COMMANDS, POSTFIX_OPERATORS, function_command, name_of};
+pub use crate::names::{mulop_latex, relation_latex};
 
 impl fmt::Display for Expr {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -54,6 +52,7 @@ pub fn expr(e: &Expr) -> String {
         Expr::Text(t) => format!("\\text{{{t}}}"),
         // Braced: a bare `\cdot` is read as an operator unless a closer follows.
         Expr::Placeholder => "{\\cdot}".into(),
+        Expr::Ellipsis => "\\cdots".into(),
         Expr::Neg(x) => format!("-{}", operand(x)),
         Expr::Pos(x) => format!("+{}", operand(x)),
         Expr::Sum { first, rest } => {
@@ -100,18 +99,27 @@ pub fn expr(e: &Expr) -> String {
             format!("\\left{bar} {} \\right{bar}", expr(body))
         }
         Expr::Skew(x) => format!("\\lfloor {} \\rfloor_{{\\times}}", expr(x)),
-        Expr::Apply { head, args } => {
+        Expr::Apply {
+            head,
+            args,
+            scripts,
+        } => {
             let args: Vec<String> = args.iter().map(expr).collect();
             let head = match head {
                 Head::Function(f) => function(f),
                 Head::Symbol(s) => symbol(s, &[]),
             };
-            if args.is_empty() {
+            let call = match (args.as_slice(), head_is_bare(e)) {
                 // `Ad_{T}` standing alone: braced so nothing after it reads
                 // as its argument.
-                format!("{{{head}}}")
-            } else {
-                format!("{head}({})", args.join(", "))
+                ([], _) => format!("{{{head}}}"),
+                // `\sin {\theta}`: applied to one factor, no parentheses.
+                ([one], true) => format!("{head} {{{one}}}"),
+                _ => format!("{head}({})", args.join(", ")),
+            };
+            match scripts {
+                Some(chain) => call + &closing_scripts(chain),
+                None => call,
             }
         }
         Expr::Power { base, exponent } => match base.as_ref() {
@@ -156,6 +164,9 @@ pub fn expr(e: &Expr) -> String {
             format!("\\left({}\\right)", items.join(", "))
         }
         Expr::Matrix(m) => matrix(m),
+        Expr::At { body, at } => {
+            format!("\\left. {} \\right|_{{{}}}", expr(body), expr(at))
+        }
         Expr::Cases(cases) => {
             let rows: Vec<String> = cases.iter().map(case).collect();
             format!("\\begin{{cases}} {} \\end{{cases}}", rows.join(" \\\\ "))
@@ -223,16 +234,86 @@ fn factor(e: &Expr, last: bool) -> String {
     }
 }
 
-/// An expression that a script is attached to.
+/// Whether `e` is a function applied without parentheses.
+fn head_is_bare(e: &Expr) -> bool {
+    matches!(
+        e,
+        Expr::Apply {
+            head: Head::Function(Function { bare: true, .. }),
+            ..
+        }
+    )
+}
+
+/// The scripts printed on an application's closing parenthesis, from
+/// their chain over the placeholder ([`Expr::Apply`]'s `scripts`), in the
+/// order the parser reads them back: the subscript, primes, then the
+/// superscript (an exponent, then postfix markers).
+fn closing_scripts(chain: &Expr) -> String {
+    let mut markers = Vec::new();
+    let mut node = chain;
+    while let Expr::Postfix { base, op } = node {
+        markers.push(marker(*op));
+        node = base;
+    }
+    markers.reverse();
+    let mut exponent = None;
+    if let Expr::Power { base, exponent: x } = node {
+        exponent = Some(script(x));
+        node = base;
+    }
+    let mut primes = 0;
+    if let Expr::Primed { base, primes: p } = node {
+        primes = *p as usize;
+        node = base;
+    }
+    let sub = match node {
+        Expr::Indexed { base, index } => {
+            node = base;
+            Some(expr(index))
+        }
+        Expr::Shaped { base, rows, cols } => {
+            node = base;
+            Some(format!("{rows} \\times {cols}"))
+        }
+        Expr::Skew(base) => {
+            node = base;
+            Some("\\times".to_string())
+        }
+        _ => None,
+    };
+    let mut out = String::new();
+    if let Some(sub) = sub {
+        out.push_str(&format!("_{{{sub}}}"));
+    }
+    out.push_str(&"'".repeat(primes));
+    let sup: Vec<String> = exponent.into_iter().chain(markers).collect();
+    if !sup.is_empty() {
+        out.push_str(&format!("^{{{}}}", sup.join(" ")));
+    }
+    let _ = node; // the placeholder: the parenthesis the scripts are on
+    out
+}
+
+/// An expression that a script is attached to. A symbol's application is
+/// bracketed: a script printed on its parenthesis would apply to the
+/// parenthesised group (`R (R Q)^\top`), not to the whole (a function's
+/// call keeps the scripts on the call, `\sin(x)^{2}`).
 fn script_base(e: &Expr) -> String {
     match e {
+        Expr::Apply {
+            head: Head::Symbol(_),
+            ..
+        } => parens(e),
         Expr::Number(_)
         | Expr::Text(_)
+        | Expr::Ellipsis
         | Expr::Apply { .. }
         | Expr::Norm { .. }
         | Expr::Matrix(_)
         | Expr::Cases(_)
         | Expr::Sqrt { .. }
+        | Expr::At { .. }
         | Expr::Tuple(_) => expr(e),
         Expr::Symbol(_)
         | Expr::Placeholder

@@ -2,6 +2,8 @@
 //! that plain TeX writes differently, brought to the forms the parser
 //! reads.
 //!
+//! - an accent over nothing after an operand, `\{…\}\check{}`: the vee (a
+//!   `\hat{}`: the hat) on it;
 //! - `\mathop{\lim}`, `\mathrel{=}`, `\mathbin`, `\mathord`, `\boxed{x}`, …:
 //!   the wrapper is dropped (`\mathop{\lim}\limits_{x \to 0}` is `\lim_{x \to 0}`);
 //! - `\stackrel{\Delta}{=}`, `\overset{a}{b}`, `\underset{a}{b}`,
@@ -49,6 +51,7 @@ const SWITCHES: &[(&str, &str)] = &[
 
 /// Every rewrite, in order.
 pub(crate) fn rewrite(toks: Vec<Token>) -> Vec<Token> {
+    let toks = empty_accents(toks);
     let toks = unwrap_wrappers(toks);
     let toks = drop_decorations(toks);
     let toks = font_switches(toks);
@@ -77,6 +80,49 @@ fn matching(toks: &[Token]) -> Vec<Option<usize>> {
 
 fn is_command(t: &Token, names: &[&str]) -> bool {
     matches!(&t.tok, Tok::Command(c) if names.contains(&c.as_str()))
+}
+
+/// An accent over nothing after an operand is an operator on it:
+/// `\{ R^\top F \} \check{}` → `\{ … \}^{\vee}` (a vee), `X \hat{}` →
+/// `X^{\wedge}` (a hat).
+fn empty_accents(toks: Vec<Token>) -> Vec<Token> {
+    let empty_accent = |i: usize| -> Option<&'static str> {
+        let op = match &toks.get(i)?.tok {
+            Tok::Command(c) if c == "check" => "vee",
+            Tok::Command(c) if c == "hat" || c == "widehat" => "wedge",
+            _ => return None,
+        };
+        (toks.get(i + 1)?.tok == Tok::LBrace
+            && toks.get(i + 2)?.tok == Tok::RBrace
+            && i > 0
+            && matches!(
+                toks[i - 1].tok,
+                Tok::RBrace | Tok::Close(_) | Tok::Right(_) | Tok::Letter(_) | Tok::Number(_)
+            ))
+        .then_some(op)
+    };
+    if !(0..toks.len()).any(|i| empty_accent(i).is_some()) {
+        return toks;
+    }
+    let mut out = Vec::with_capacity(toks.len() + 2);
+    let mut i = 0;
+    while i < toks.len() {
+        if let Some(op) = empty_accent(i) {
+            let (start, end) = (toks[i].start, toks[i + 2].end);
+            let at = |tok| Token { tok, start, end };
+            out.extend([
+                at(Tok::Sup),
+                at(Tok::LBrace),
+                at(Tok::Command(op.into())),
+                at(Tok::RBrace),
+            ]);
+            i += 3;
+            continue;
+        }
+        out.push(toks[i].clone());
+        i += 1;
+    }
+    out
 }
 
 /// `\mathop{x}` → `x`.

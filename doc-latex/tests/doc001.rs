@@ -87,6 +87,7 @@ fn eq3_4_to_3_6_camera_position() {
     let Expr::Apply {
         head: Head::Symbol(c_wb),
         args,
+        ..
     } = negated(rhs(&c6))
     else {
         panic!()

@@ -52,7 +52,9 @@ fn spellings_of_one_thing_read_the_same() {
             &["\\text{Exp}(x)", "Exp(x)", "\\operatorname{Exp}(x)"],
             "\\operatorname{Exp}(x)",
         ),
-        (&["\\exp(x)", "exp(x)", "\\exp x"], "\\exp(x)"),
+        (&["\\exp(x)", "exp(x)"], "\\exp(x)"),
+        // Without parentheses the function takes one factor, and says so.
+        (&["\\exp x", "\\exp{x}", "exp x"], "\\exp {x}"),
         (&["a\\,b\\;c\\!d\\:e", "a b c d e"], "a b c d e"),
         (
             &[
@@ -190,7 +192,7 @@ fn functions() {
     assert!(matches!(read("E(\\xi, \\omega)"), Expr::Apply { args, .. } if args.len() == 2));
     assert_eq!(
         canonical("\\sin\\theta(\\hat{\\omega})^\\wedge"),
-        "\\sin(\\theta) \\hat{\\omega}^{\\wedge}"
+        "\\sin {\\theta} \\hat{\\omega}^{\\wedge}"
     );
     // A symbol before `(` is an application; before `\left(` a product.
     assert!(matches!(
@@ -305,7 +307,7 @@ fn malformed_latex_is_an_error() {
             expected: ")".into()
         }
     );
-    assert_eq!(error("\\lfloor x \\rfloor"), ErrorKind::FloorWithoutTimes);
+    assert_eq!(error("\\lfloor x \\rfloor_{y}"), ErrorKind::FloorSubscript);
     assert_eq!(
         error("(= a)"),
         ErrorKind::RelationWithoutLeftSide("=".into())

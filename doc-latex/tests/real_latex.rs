@@ -58,6 +58,7 @@ fn functions_of_every_kind() {
         Expr::Apply {
             head: Head::Function(f),
             args,
+            ..
         } => (f.name, f.sub.map(|s| s.to_string()), args.len()),
         other => panic!("{latex}: {other}"),
     };
@@ -245,7 +246,54 @@ fn anchors_are_never_silently_moved() {
     let e = doc.locate("a").unwrap_err();
     assert_eq!(
         e.to_string(),
-        "the anchor `a` occurs in 2 places (lines 3, 5); quote more of it"
+        "the anchor `a` occurs in 2 places (lines 3, 5); quote more of it, or say which with \
+         `section` (a piece of its heading) or `occurrence` (1 to 2)"
+    );
+}
+
+/// The same sentence before the same display in two sections: a section
+/// (to the next heading of its level or a higher one) or an occurrence
+/// names each; a quote that spans a display is refused, never read as the
+/// display after it.
+#[test]
+fn a_claim_is_addressed_by_section_and_occurrence() {
+    let text = "\\section{Points}\nThe Jacobian is:\n$$ J = a $$\n\\subsection{Detail}\n\
+                The Jacobian is:\n$$ J = b $$\n\\section{Lines}\nThe Jacobian is:\n$$ J = c $$\n\
+                @section lines2 Lines in Doxygen\nThe Jacobian is:\n$$ J = d $$\n";
+    let doc = Document::parse(text).unwrap();
+    let after = |section: Option<&str>, occurrence: Option<usize>| {
+        let region = doc.region(section, occurrence)?;
+        match doc.locate_in(&region, "The Jacobian is:")? {
+            Found::Prose { after, .. } => Ok(after.source.trim().to_string()),
+            Found::Formula(f) => Ok(f.source.clone()),
+        }
+    };
+    assert!(matches!(
+        after(None, None),
+        Err(LookupError::AmbiguousAnchor { count: 4, .. })
+    ));
+    // `Points` holds its subsection: two places there.
+    assert_eq!(after(Some("Points"), Some(2)).unwrap(), "J = b");
+    assert_eq!(after(Some("Detail"), None).unwrap(), "J = b");
+    assert_eq!(after(Some("{Lines}"), None).unwrap(), "J = c");
+    assert_eq!(after(Some("lines2"), None).unwrap(), "J = d");
+    assert_eq!(after(None, Some(4)).unwrap(), "J = d");
+    assert!(matches!(
+        after(None, Some(5)),
+        Err(LookupError::NoOccurrence { count: 4, .. })
+    ));
+    assert!(matches!(
+        after(Some("Nowhere"), None),
+        Err(LookupError::NoSection(_))
+    ));
+    // A quote running over the first display names neither it nor the
+    // next one.
+    let e = doc
+        .locate("The Jacobian is: $$ J = a $$ \\subsection")
+        .unwrap_err();
+    assert!(
+        matches!(e, LookupError::QuoteSpansFormula { line: 3, .. }),
+        "{e}"
     );
 }
 

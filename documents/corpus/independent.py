@@ -121,6 +121,28 @@ def mul(*factors):
     return out
 
 
+def block(rows):
+    """A block matrix as printed: the blocks of a row must have one height."""
+    try:
+        return np.block([[np.atleast_2d(b) for b in row] for row in rows])
+    except ValueError as e:
+        raise Malformed(str(e))
+
+
+def col(*entries):
+    """A column vector stacked from scalars and vectors."""
+    return np.concatenate([np.atleast_1d(np.asarray(e, dtype=float)) for e in entries]).reshape(
+        -1, 1
+    )
+
+
+def right_jacobian(phi):
+    """J_r(φ) of SO(3) from its definition, Exp(φ + δ) ≈ Exp(φ) Exp(J_r(φ) δ):
+    the derivative of Log(Exp(φ)ᵀ Exp(φ + δ)) at δ = 0 (never a closed form)."""
+    phi = np.asarray(phi, dtype=float)
+    return jacobian(lambda d: log_so3(exp_so3(phi).T @ exp_so3(phi + d)), np.zeros(3))
+
+
 def rotation(rng):
     return Rotation.random(random_state=rng).as_matrix()
 
@@ -163,6 +185,48 @@ def confirm(corrected, truth, samples):
         relative_error(np.atleast_2d(corrected(s)), np.atleast_2d(truth(s))) <= TOLERANCE
         for s in samples
     )
+
+
+def claimer(samples, results):
+    """The `claim(cid, printed, truth, alternatives=(), correction=None)` of
+    a check script: the verdict on a formula at `samples` into `results`,
+    with whether a `correction` (the corrected form) agrees with the truth."""
+
+    def claim(cid, printed, truth, alternatives=(), correction=None):
+        verdict, detail = judge(printed, truth, samples, alternatives)
+        if correction is not None:
+            detail += "; corrected form " + (
+                "agrees" if confirm(correction, truth, samples) else "DOES NOT agree"
+            )
+        results[cid] = (verdict, detail)
+
+    return claim
+
+
+def planted_mode():
+    """Whether the check runs on the planted copy (`--planted`)."""
+    return "--planted" in sys.argv[1:]
+
+
+def report_planted(planted_md, results):
+    """On the planted copy: every claim listed in `<name>.planted.md` (its
+    table's first column, in backquotes) must be found wrong or malformed,
+    and it exits non-zero if one is not."""
+    with open(planted_md, encoding="utf-8") as f:
+        planted = [
+            line.split("|")[1].strip().strip("`")
+            for line in f
+            if line.startswith("| `")
+        ]
+    failures = 0
+    print(f"{'planted claim':<34} {'independent':<12} detail")
+    for cid in planted:
+        verdict, detail = results.get(cid, ("(no check)", ""))
+        caught = verdict in ("wrong", "malformed")
+        failures += not caught
+        print(f"{cid:<34} {verdict:<12} {detail}{'' if caught else '  <-- NOT CAUGHT'}")
+    print(f"{len(planted)} planted errors; {len(planted) - failures} found")
+    sys.exit(1 if failures else 0)
 
 
 def report(symbols_path, results):

@@ -97,6 +97,13 @@ pub trait Derivation {
     fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         Vec::new()
     }
+    /// For a claim of agreement to first order (whose Jacobians are
+    /// compared): why the printed side is not right even at the point, the
+    /// two sides' values differing there; `None` when they agree (or the
+    /// claim is no such claim).
+    fn gap(&self) -> Option<String> {
+        None
+    }
 }
 
 /// What the printed formula should equal: the Jacobian of the map (one

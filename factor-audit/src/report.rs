@@ -19,6 +19,7 @@ pub fn note(f: &Finding) -> String {
         Verdict::Wrong(Some(e)) => format!("suspected erratum: {e}"),
         Verdict::Wrong(None) => "no simple erratum fits".into(),
         Verdict::Malformed(m) => m.clone(),
+        Verdict::Ambiguous(reading) => format!("correct when read as {reading}"),
     }
 }
 

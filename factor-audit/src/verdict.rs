@@ -6,7 +6,9 @@
 //!   its tangent blocks swapped, or with a homogeneous coordinate kept;
 //! - `wrong`: agrees with nothing; the largest error is reported with a
 //!   guess at the erratum (sign, constant factor, transpose, which columns);
-//! - `malformed`: the printed formula cannot be evaluated as printed.
+//! - `malformed`: the printed formula cannot be evaluated as printed;
+//! - `ambiguous` (audits from a document's text): wrong or malformed as
+//!   read by default, right under another reading of its notation.
 
 use nalgebra::DMatrix;
 
@@ -29,16 +31,24 @@ pub enum Verdict {
     Wrong(Option<String>),
     /// Not well formed as printed; why.
     Malformed(String),
+    /// Wrong or malformed as the notation is read by default, but right
+    /// under another reading of it the document may mean (a script's
+    /// scope, a function's argument, a grouping): that reading, in words,
+    /// with every grouping explicit. Never reported as `wrong`: the audit
+    /// cannot tell which reading the author meant.
+    Ambiguous(String),
 }
 
 impl Verdict {
-    /// The JSON vocabulary: `correct`, `convention`, `wrong`, `malformed`.
+    /// The JSON vocabulary: `correct`, `convention`, `wrong`, `malformed`,
+    /// `ambiguous`.
     pub fn keyword(&self) -> &'static str {
         match self {
             Verdict::Correct => "correct",
             Verdict::Convention(_) => "convention",
             Verdict::Wrong(_) => "wrong",
             Verdict::Malformed(_) => "malformed",
+            Verdict::Ambiguous(_) => "ambiguous",
         }
     }
 }
@@ -155,6 +165,8 @@ pub fn audit<D: Derivation>(
     let mut conventions: Option<Vec<String>> = None;
     let mut halves_swapped = true;
     let mut homogeneous = true;
+    // A first-order claim whose sides differ at the point.
+    let mut gap = None;
     // The samples are drawn and judged one at a time (nothing is kept per
     // sample), so the memory does not grow with `samples`.
     for index in 0..samples.max(1) {
@@ -166,6 +178,9 @@ pub fn audit<D: Derivation>(
             &drawn
         };
         let t = truth(d);
+        if gap.is_none() {
+            gap = d.gap();
+        }
         let p = match d.printed() {
             Printed::Evaluated(p) => p,
             Printed::Malformed(reason) => {
@@ -204,7 +219,9 @@ pub fn audit<D: Derivation>(
         halves_swapped &= swap_column_halves(&t).is_some_and(|s| agree(&p, &s));
         homogeneous &= without_homogeneous_row(&p, &t).is_some_and(|q| agree(&q, &t));
     }
-    let verdict = if worst <= TOLERANCE {
+    let verdict = if let Some(gap) = gap {
+        Verdict::Wrong(Some(gap))
+    } else if worst <= TOLERANCE {
         Verdict::Correct
     } else if let Some(name) = conventions.unwrap_or_default().first() {
         Verdict::Convention(name.clone())

@@ -12,10 +12,13 @@ use factor_audit::from_text::TextAudit;
 use factor_audit::from_text::symbols::ClaimKind;
 
 /// A corpus document: its folder and its name (`.tex` and `.symbols.toml`).
-const CORPUS: [(&str, &str); 3] = [
+const CORPUS: [(&str, &str); 6] = [
     ("kindr", "cheatsheet_kindr1"),
     ("gtsam", "math"),
     ("gtsam", "LieGroups"),
+    ("openvins", "openvins"),
+    ("gtsam", "ImuFactor"),
+    ("blanco", "se3_techrep"),
 ];
 
 /// Samples per claim: enough for the verdicts (the CLI's 100 are the gate).
@@ -128,7 +131,12 @@ const SEEDS: &[Seed] = &[
         line: 304,
         from: "\\vGa(\\vv)^\\transpose",
         to: "\\vGa(\\vv)",
-        corrected: None,
+        // The transpose put back on the whole application, bracketed so it
+        // reads so whatever `Γ` is (printed on the parenthesis, it would
+        // be the group's when the application is a product).
+        corrected: Some(
+            "\\boldsymbol{\\Gamma}(-\\boldsymbol{v}) = \\left(\\boldsymbol{\\Gamma}(\\boldsymbol{v})\\right)^{T}",
+        ),
     },
     Seed {
         dir: "kindr",
@@ -297,12 +305,11 @@ fn check_seed(seed: &Seed) {
     let symbols = only_claim(&symbols, seed.claim);
     let file = format!("{}.tex", seed.name);
     // (Correct as printed: `every_corpus_claim_keeps_its_verdict`.)
-    let printed = only(
+    let original = only(
         TextAudit::read(&file, &text, &symbols).expect("the document reads"),
         seed.claim,
-    )
-    .claims[0]
-        .understood();
+    );
+    let printed = original.claims[0].with_rhs(&original.claims[0].printed_ast);
     let changed = seeded(&text, seed);
     let audit = only(
         TextAudit::read(&file, &changed, &symbols).expect("the seeded document reads"),
@@ -348,6 +355,55 @@ fn seeded_errors_are_diagnosed_with_their_correction() {
     std::thread::scope(|scope| {
         for seed in SEEDS {
             scope.spawn(move || check_seed(seed));
+        }
+    });
+}
+
+/// The documents with a planted copy (`NAME.planted.tex`, beside a
+/// `NAME.planted.md` whose table names each planted claim by its id).
+const PLANTED: [(&str, &str); 3] = [
+    ("openvins", "openvins"),
+    ("gtsam", "ImuFactor"),
+    ("blanco", "se3_techrep"),
+];
+
+/// The claim ids of a `.planted.md` table: the first cell of each row,
+/// between backquotes.
+fn planted_ids(table: &str) -> Vec<String> {
+    table
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .filter_map(|l| l[3..].split_once('`').map(|(id, _)| id.to_string()))
+        .collect()
+}
+
+#[test]
+fn planted_errors_are_found_wrong() {
+    std::thread::scope(|scope| {
+        for (dir, name) in PLANTED {
+            scope.spawn(move || {
+                let text = read(&format!("{dir}/{name}.planted.tex"));
+                let symbols = read(&format!("{dir}/{name}.symbols.toml"));
+                let ids = planted_ids(&read(&format!("{dir}/{name}.planted.md")));
+                assert!(ids.len() >= 4, "{name}: {ids:?}");
+                let audit = TextAudit::read(&format!("{name}.planted.tex"), &text, &symbols)
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+                let findings = audit.run(SAMPLES);
+                for id in &ids {
+                    let finding = findings
+                        .iter()
+                        .find(|f| &f.finding.label.equation == id)
+                        .unwrap_or_else(|| panic!("{name}: the planted claim {id} is not read"));
+                    assert!(
+                        matches!(
+                            finding.finding.verdict,
+                            Verdict::Wrong(_) | Verdict::Malformed(_)
+                        ),
+                        "{name}: planted {id}: {:?}",
+                        finding.finding.verdict
+                    );
+                }
+            });
         }
     });
 }

@@ -286,7 +286,12 @@ fn errors_name_the_equation_the_symbol_and_the_fragment() {
         NOTE,
         &symbols_with("\"a\" = \"\"\"\\\\begin{bmatrix} 1 \\\\\n\\u001b d{bmatrix}\"\"\"\n"),
     );
-    assert!(e.starts_with("symbol `a`: cannot read"), "{e}");
+    // (A symbol that cannot be read fails the claims that use it: the
+    // error names the equation, then the symbol.)
+    assert!(
+        e.starts_with("equation (1), line 1: the symbols file's meaning of it cannot be read: symbol `a`: cannot read"),
+        "{e}"
+    );
     assert!(!e.contains('\n') && !e.contains('\u{1b}'), "{e}");
     assert!(e.contains("\\u001b"), "{e}");
     // A wrong key, an unknown sampler, a missing label, TOML syntax.

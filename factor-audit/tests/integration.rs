@@ -7,4 +7,5 @@ mod corpus;
 mod from_text;
 mod from_text_fuzz;
 mod guide;
+mod reading_classes;
 mod textbook_notation;

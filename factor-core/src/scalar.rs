@@ -79,6 +79,14 @@ pub trait Scalar:
     fn abs(self) -> Self {
         Self::select_lt(self, Self::zero(), -self, self)
     }
+    /// The number it stands for (a dual number's real part), when it is
+    /// one; `None` for a symbolic scalar (the default). Residuals never
+    /// branch on it (they branch through [`Scalar::select_lt`]); the audit
+    /// reads it to tell a Lie-algebra matrix from another before
+    /// exponentiating one.
+    fn known_value(self) -> Option<f64> {
+        None
+    }
 }
 
 macro_rules! impl_scalar_for_float {
@@ -131,6 +139,10 @@ macro_rules! impl_scalar_for_float {
             #[inline]
             fn recip(self) -> Self {
                 <$float>::recip(self)
+            }
+            #[inline]
+            fn known_value(self) -> Option<f64> {
+                Some(f64::from(self))
             }
         }
     };
@@ -211,6 +223,10 @@ impl<const N: usize> Scalar for DualSVec64<N> {
     #[inline]
     fn recip(self) -> Self {
         DualNum::recip(&self)
+    }
+    #[inline]
+    fn known_value(self) -> Option<f64> {
+        Some(self.re)
     }
 }
 

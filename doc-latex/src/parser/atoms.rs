@@ -57,9 +57,16 @@ impl Parser<'_> {
                         if apply && matches!(self.peek(), Some(Tok::Open(Delim::Paren))) =>
                     {
                         let args = self.call_arguments()?;
-                        self.scripts_on_expr(Expr::Apply {
+                        // Scripts on the closing parenthesis: the symbol
+                        // table decides what they apply to.
+                        let scripts = match self.scripts_on_expr(Expr::Placeholder)? {
+                            Expr::Placeholder => None,
+                            chain => Some(Box::new(chain)),
+                        };
+                        Ok(Expr::Apply {
                             head: Head::Symbol(s),
                             args,
+                            scripts,
                         })
                     }
                     e => Ok(e),
@@ -85,6 +92,15 @@ impl Parser<'_> {
             Tok::Word(w) => {
                 self.pos += 1;
                 Ok(Atom::Function(w))
+            }
+            // `\text{}^{I_k}_{G} R`, `^G v`: pre-scripts on the symbol that
+            // follows (an empty text or nothing carrying them).
+            Tok::Text(t) if t.trim().is_empty() && self.script_at(self.pos + 1) => {
+                self.pos += 1;
+                self.prescripted_symbol()
+            }
+            Tok::Sup | Tok::Sub if self.frame_prescripts_follow(self.pos) => {
+                self.prescripted_symbol()
             }
             Tok::Text(t) => {
                 self.pos += 1;
@@ -204,6 +220,10 @@ impl Parser<'_> {
                 self.pos += 1;
                 Ok(Atom::Expr(Expr::Placeholder))
             }
+            "cdots" | "ldots" | "dots" | "dotsc" | "dotsb" | "dotsm" | "vdots" | "ddots" => {
+                self.pos += 1;
+                Ok(Atom::Expr(Expr::Ellipsis))
+            }
             _ if lookup(crate::names::RELATION_COMMANDS, name).is_some()
                 || lookup(crate::names::MULOP_COMMANDS, name).is_some()
                 || name == "mid" =>
@@ -239,8 +259,14 @@ impl Parser<'_> {
         Ok(inner)
     }
 
-    /// Whether token `i` begins a symbol (for `\delta x` and `{}_W x`).
-    fn starts_symbol(&self, i: usize) -> bool {
+    /// Whether token `i` is a sub- or superscript.
+    fn script_at(&self, i: usize) -> bool {
+        matches!(self.peek_at(i), Some(Tok::Sub | Tok::Sup))
+    }
+
+    /// Whether token `i` begins a symbol (for `\delta x`, `{}_W x` and
+    /// pre-scripts after a group).
+    pub(super) fn starts_symbol(&self, i: usize) -> bool {
         match self.peek_at(i) {
             Some(Tok::Letter(_)) => true,
             Some(Tok::Command(c)) => {
@@ -317,23 +343,31 @@ impl Parser<'_> {
                 sub = e;
             }
         }
-        let args = match self.peek() {
-            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => self.call_arguments()?,
+        let (args, bare) = match self.peek() {
+            Some(Tok::Open(Delim::Paren) | Tok::Left(Delim::Paren)) => {
+                (self.call_arguments()?, false)
+            }
             _ => {
                 self.skip_spaces();
                 if !self.starts_operand(self.pos) {
                     if sub.is_none() {
                         return Err(self.error_here(ErrorKind::MissingOperand(name)));
                     }
-                    Vec::new()
+                    (Vec::new(), false)
                 } else {
-                    vec![self.simple_factor()?]
+                    (vec![self.simple_factor()?], true)
                 }
             }
         };
         self.scripts_on_expr(Expr::Apply {
-            head: Head::Function(Function { name, power, sub }),
+            head: Head::Function(Function {
+                name,
+                power,
+                sub,
+                bare,
+            }),
             args,
+            scripts: None,
         })
     }
 
@@ -566,6 +600,11 @@ impl Parser<'_> {
                 self.pos += 1;
                 Ok(Expr::Symbol(Symbol::new(Base::Letter(c))))
             }
+            // `f_\oplus`, `x^\ominus`: an operator named in a script.
+            Some(Tok::Command(c)) if super::scripts::operator_named(&Tok::Command(c.clone())) => {
+                self.pos += 1;
+                Ok(Expr::Symbol(Symbol::new(Base::Command(c))))
+            }
             Some(Tok::Command(_)) => self.nested(|p| match p.atom(Ctx::default())? {
                 Atom::Symbol(s) => Ok(Expr::Symbol(s)),
                 Atom::Expr(e) => Ok(e),
@@ -645,7 +684,10 @@ fn after_d(e: &Expr) -> Option<Expr> {
     })
 }
 
-/// Whether `w` is a word of letters (a function name printed as text).
+/// Whether `w` is a word of letters, maybe hyphenated (a function name
+/// printed as text: `\text{pseudo-log}(T)`).
 fn is_word(w: &str) -> bool {
-    !w.is_empty() && w.chars().all(|c| c.is_ascii_alphabetic())
+    !w.is_empty()
+        && w.split('-')
+            .all(|part| !part.is_empty() && part.chars().all(|c| c.is_ascii_alphabetic()))
 }

@@ -2,6 +2,7 @@
 //! `\lfloor…\rfloor_\times`, argument lists and environments (matrices,
 //! `cases`).
 
+use super::spans;
 use super::atoms::Atom;
 use super::{Ctx, Parser, Seps};
 use crate::ast::{Case, Expr, Matrix};
@@ -69,14 +70,15 @@ impl Parser<'_> {
                     self.close(open, sized, delim)?;
                     return Ok(Atom::Expr(Expr::Skew(Box::new(body))));
                 }
+                // `\lfloor v \rfloor_\times`, or `\lfloor v \rfloor` alone
+                // (JPL and Trawny's notation for the same skew matrix).
                 let body = self.relation(Ctx::default())?;
                 self.close(open, sized, delim)?;
-                if self.peek() != Some(&Tok::Sub) {
-                    return Err(self.error_here(ErrorKind::FloorWithoutTimes));
-                }
-                self.pos += 1;
-                if !self.script_argument(false)?.times {
-                    return Err(self.error_before(ErrorKind::FloorWithoutTimes));
+                if self.peek() == Some(&Tok::Sub) {
+                    self.pos += 1;
+                    if !self.script_argument(false)?.times {
+                        return Err(self.error_before(ErrorKind::FloorSubscript));
+                    }
                 }
                 Expr::Skew(Box::new(body))
             }
@@ -84,7 +86,15 @@ impl Parser<'_> {
                 let items = self.list(Seps::All)?;
                 let closing_invisible =
                     sized && matches!(self.peek(), Some(Tok::Right(Delim::Invisible)));
+                // `\left. X \right|_{x=0}`: `X` evaluated at a point.
+                let evaluation = delim == Delim::Invisible
+                    && matches!(self.peek(), Some(Tok::Right(Delim::Bar)))
+                    && self.peek_at(self.pos + 1) == Some(&Tok::Sub);
                 self.close(open, sized, delim)?;
+                if evaluation {
+                    let body = self.build_group(items)?;
+                    return Ok(Atom::Expr(self.evaluated_at(body)?));
+                }
                 let group = self.build_group(items)?;
                 match group {
                     // `\left\{ \begin{array}{ll} v & c \\ … \end{array} \right.`
@@ -106,6 +116,25 @@ impl Parser<'_> {
             }
         };
         Ok(Atom::Expr(e))
+    }
+
+    /// `body` evaluated where the subscript at the cursor (after its bar)
+    /// says; a subscript `r \times c` is a shape annotation instead
+    /// (`\left. … \right|_{3 \times 9}`).
+    pub(super) fn evaluated_at(&mut self, body: Expr) -> Result<Expr, ParseError> {
+        self.pos += 1; // the `_`
+        let at = self.script_expression(false)?;
+        Ok(match at.shape_annotation() {
+            Some((rows, cols)) => Expr::Shaped {
+                base: Box::new(body),
+                rows,
+                cols,
+            },
+            None => Expr::At {
+                body: Box::new(body),
+                at: Box::new(at),
+            },
+        })
     }
 
     /// The index of a `\times` right before the `\rfloor` closing the
@@ -237,16 +266,20 @@ impl Parser<'_> {
         }
         let begin = self.pos;
         self.pos += 1;
-        if name == "array" {
-            // The column specification (`{c|c}`) only draws rules.
+        let mut column_rules = Vec::new();
+        if name == "array" || name == "subarray" {
+            // The column specification (`{c|c}`) draws rules, which tell
+            // which block an empty cell belongs to.
             if self.peek() != Some(&Tok::LBrace) {
                 return Err(self.error_here(ErrorKind::MissingOperand("\\begin{array}".into())));
             }
-            self.pos = self.matching[self.pos] + 1;
+            let close = self.matching[self.pos];
+            column_rules = rules_of(&self.src[self.toks[self.pos].end..self.toks[close].start]);
+            self.pos = close + 1;
         }
         self.nested(|p| {
             if is_matrix {
-                p.matrix_rows(name, begin)
+                p.matrix_rows(name, begin, column_rules)
             } else {
                 p.case_rows(name, begin)
             }
@@ -268,19 +301,35 @@ impl Parser<'_> {
         }
     }
 
-    fn matrix_rows(&mut self, name: &str, begin: usize) -> Result<Expr, ParseError> {
+    fn matrix_rows(
+        &mut self,
+        name: &str,
+        begin: usize,
+        column_rules: Vec<usize>,
+    ) -> Result<Expr, ParseError> {
         let mut rows = Vec::new();
+        let mut row_rules = Vec::new();
         while !self.end_of(name, begin)? {
+            // An `\hline` (dropped by the lexer) in the gap before the row.
+            let gap = self.toks[self.pos - 1].end;
             let mut row = Vec::new();
             loop {
                 self.skip_spaces();
-                if self.no_entry_here() {
-                    return Err(self.error_here(ErrorKind::Empty("matrix entry")));
+                if row.is_empty()
+                    && self.pos < self.end
+                    && self.src[gap..self.toks[self.pos].start].contains("\\hline")
+                {
+                    row_rules.push(rows.len());
                 }
-                row.push(self.relation(Ctx {
-                    norm: None,
-                    seps: Seps::All,
-                })?);
+                if self.no_entry_here() {
+                    // An empty cell: a block beside it may span it.
+                    row.push(Err(self.pos.min(self.end.saturating_sub(1))));
+                } else {
+                    row.push(Ok(self.relation(Ctx {
+                        norm: None,
+                        seps: Seps::All,
+                    })?));
+                }
                 let mut spaced = false;
                 while matches!(self.peek(), Some(Tok::Quad | Tok::Space)) {
                     self.pos += 1;
@@ -304,12 +353,29 @@ impl Parser<'_> {
         if rows.is_empty() {
             return Err(self.error_before(ErrorKind::Empty("matrix")));
         }
-        Ok(Expr::Matrix(Matrix { rows }))
+        spans::resolve(spans::Grid {
+            cells: rows,
+            column_rules,
+            row_rules,
+        })
+        .map_err(|at| {
+            super::error_at(
+                self.place,
+                self.toks[at].start,
+                ErrorKind::Empty("matrix entry"),
+            )
+        })
     }
 
     fn case_rows(&mut self, name: &str, begin: usize) -> Result<Expr, ParseError> {
         let mut cases = Vec::new();
         while !self.end_of(name, begin)? {
+            // A row of nothing (`~ \\`) between the cases is spacing.
+            self.skip_spaces();
+            if self.peek() == Some(&Tok::RowBreak) {
+                self.pos += 1;
+                continue;
+            }
             let value = self.relation(Ctx::default())?;
             self.skip_row_punctuation();
             let condition = if self.peek() == Some(&Tok::Amp) {
@@ -355,4 +421,43 @@ fn row_or_entry(mut row: Vec<Expr>) -> Expr {
     } else {
         Expr::Matrix(Matrix { rows: vec![row] })
     }
+}
+
+/// The column indices a `|` of an array's column specification stands
+/// before (`c|ccc`: 1); none when the specification repeats (`*{3}{c}`).
+fn rules_of(spec: &str) -> Vec<usize> {
+    let mut rules = Vec::new();
+    let mut columns = 0;
+    let mut chars = spec.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '|' => rules.push(columns),
+            'l' | 'c' | 'r' => columns += 1,
+            // `p{3cm}`, `m{…}`, `b{…}` are columns; `@{…}`, `!{…}`,
+            // `>{…}`, `<{…}` decorate them.
+            'p' | 'm' | 'b' | 'X' | '@' | '!' | '>' | '<' => {
+                if matches!(c, 'p' | 'm' | 'b' | 'X') {
+                    columns += 1;
+                }
+                if chars.peek() == Some(&'{') {
+                    let mut depth = 0;
+                    for d in chars.by_ref() {
+                        match d {
+                            '{' => depth += 1,
+                            '}' => {
+                                depth -= 1;
+                                if depth == 0 {
+                                    break;
+                                }
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+            }
+            '*' => return Vec::new(),
+            _ => {}
+        }
+    }
+    rules
 }

@@ -5,7 +5,7 @@
 //! ```text
 //! statement := ['\Rightarrow'] [sum] (rel sum)*          (one line)
 //! relation  := sum (rel sum)*                            (inside groups)
-//! sum       := term (('+' | '-') term)*
+//! sum       := term (('+' | '-') term)* [bar '_' script] (a bar: evaluated at)
 //! term      := ('-' | '+') term | product
 //! product   := factor (mulop? factor)*                   (juxtaposition = implicit)
 //! factor    := atom scripts [ '(' args ')' scripts ]     (application after a symbol)
@@ -19,6 +19,7 @@
 mod atoms;
 mod groups;
 mod scripts;
+mod spans;
 
 use crate::ast::{Expr, MulOp, Rel, Sign, Statement};
 use crate::error::{ErrorKind, Lines, ParseError};
@@ -274,6 +275,15 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// Whether a bar followed by a subscript is at the cursor where no norm
+    /// is open: an evaluation bar (`\left. … \right|` is read with its
+    /// group).
+    fn evaluation_bar_here(&self, ctx: Ctx) -> bool {
+        ctx.norm.is_none()
+            && self.peek() == Some(&Tok::Bar)
+            && self.peek_at(self.pos + 1) == Some(&Tok::Sub)
+    }
+
     fn sum(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
         let first = self.term(ctx)?;
         let mut rest = Vec::new();
@@ -289,14 +299,20 @@ impl<'a> Parser<'a> {
             self.pos += 1;
             rest.push((sign, self.term(ctx)?));
         }
-        Ok(if rest.is_empty() {
+        let sum = if rest.is_empty() {
             first
         } else {
             Expr::Sum {
                 first: Box::new(first),
                 rest,
             }
-        })
+        };
+        // A side evaluated at a point: `\frac{d f}{d t} \Big\vert_{t=0}`.
+        if self.evaluation_bar_here(ctx) {
+            self.pos += 1;
+            return self.evaluated_at(sum);
+        }
+        Ok(sum)
     }
 
     fn term(&mut self, ctx: Ctx) -> Result<Expr, ParseError> {
@@ -360,7 +376,9 @@ impl<'a> Parser<'a> {
                     None => Operator::Stop,
                 },
                 // A bar closes a norm open here, separates entries where
-                // bars do, and otherwise opens a norm factor.
+                // bars do, ends the side before an evaluation bar's
+                // subscript, and otherwise opens a norm factor.
+                Tok::Bar if self.evaluation_bar_here(ctx) => Operator::Stop,
                 Tok::Bar if ctx.norm == Some(false) || ctx.seps == Seps::All => Operator::Stop,
                 Tok::DoubleBar if ctx.norm == Some(true) => Operator::Stop,
                 Tok::Bar | Tok::DoubleBar => Operator::Implicit,
@@ -386,6 +404,8 @@ impl<'a> Parser<'a> {
                 | Tok::Bar
                 | Tok::DoubleBar,
             ) => true,
+            // A frame's pre-scripts on the next symbol (`(…)^{I}_{G} \hat{R}`).
+            Some(Tok::Sup | Tok::Sub) => self.frame_prescripts_follow(i),
             Some(Tok::Command(c)) => {
                 c != "mid"
                     && lookup(RELATION_COMMANDS, c).is_none()

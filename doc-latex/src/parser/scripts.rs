@@ -57,6 +57,13 @@ fn marker(tok: &Tok) -> Option<Marker> {
     }
 }
 
+/// Whether a token is an operator or relation command (named as a symbol
+/// in a script: `f_\oplus`).
+pub(super) fn operator_named(tok: &Tok) -> bool {
+    matches!(tok, Tok::Command(c) if crate::names::lookup(crate::names::MULOP_COMMANDS, c).is_some()
+        || crate::names::lookup(crate::names::RELATION_COMMANDS, c).is_some())
+}
+
 /// The transpose written in a font (`^{\mathsf{T}}`, `^{\mathrm{T}}`): the
 /// four tokens `\font { T }` ending at `end` (exclusive).
 fn fonted_transpose(toks: &[crate::lexer::Token], end: usize) -> bool {
@@ -135,7 +142,11 @@ impl Parser<'_> {
             arg.expr = Some(Expr::Symbol(Symbol::new(Base::Letter('+'))));
             stop = open + 1;
         }
-        if stop > open + 1 {
+        if stop == open + 2 && operator_named(&self.toks[open + 1].tok) {
+            // `f_{\oplus}`: an operator named in a script.
+            self.pos = open + 1;
+            arg.expr = Some(self.single_token_argument()?);
+        } else if stop > open + 1 {
             self.pos = open + 1;
             let items = self.bounded(stop, |p| p.list(Seps::None))?;
             if self.pos != stop {
@@ -242,8 +253,49 @@ impl Parser<'_> {
         Ok(postfix(e, markers))
     }
 
+    /// Whether the scripts at the cursor are a frame's pre-scripts on the
+    /// symbol right after them, not scripts on what is before them:
+    /// `(\mathbf{I} - \lfloor θ \rfloor)^{I}_{G}\hat{\mathbf{R}}`, `\exp(…)^{I_k}_{G}
+    /// \hat{R}`. They are when a symbol follows directly and they name
+    /// frames: both a super- and a subscript, or one starting with a
+    /// capital letter, and neither a number, a sign or a postfix marker.
+    pub(super) fn frame_prescripts_follow(&self, at: usize) -> bool {
+        let mut i = at;
+        let (mut sup, mut sub, mut capital) = (false, false, false);
+        while let Some(t @ (Tok::Sup | Tok::Sub)) = self.peek_at(i) {
+            let is_sup = *t == Tok::Sup;
+            if (is_sup && sup) || (!is_sup && sub) {
+                return false;
+            }
+            let start = i + 1;
+            let end = match self.peek_at(start) {
+                Some(Tok::LBrace) => self.matching[start] + 1,
+                Some(_) => start + 1,
+                None => return false,
+            };
+            let inner = if self.peek_at(start) == Some(&Tok::LBrace) {
+                start + 1..end - 1
+            } else {
+                start..end
+            };
+            match self.toks.get(inner.start).map(|t| &t.tok) {
+                Some(Tok::Letter(c)) if is_sup && *c == 'T' && inner.len() == 1 => return false,
+                Some(Tok::Letter(c)) => capital |= c.is_uppercase(),
+                Some(Tok::Command(c)) if marker(&Tok::Command(c.clone())).is_none() => {}
+                _ => return false,
+            }
+            sup |= is_sup;
+            sub |= !is_sup;
+            i = end;
+        }
+        (sup && sub || capital) && self.starts_symbol(i)
+    }
+
     /// The scripts after anything but a symbol.
     pub(super) fn scripts_on_expr(&mut self, mut e: Expr) -> Result<Expr, ParseError> {
+        if self.frame_prescripts_follow(self.pos) {
+            return Ok(e);
+        }
         let scripts = self.collect_scripts()?;
         if let Some(sub) = scripts.sub {
             e = match (sub.times, sub.expr) {

@@ -19,8 +19,9 @@ from scipy.linalg import expm
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from independent import (  # noqa: E402
-    Malformed,
     add,
+    block,
+    col,
     hat,
     jacobian,
     judge,
@@ -67,20 +68,6 @@ def sim3(r, t, s):
     m = np.eye(4)
     m[:3, :3], m[:3, 3], m[3, 3] = r, t, 1 / s
     return m
-
-
-def block(rows):
-    """A block matrix as printed: the blocks of a row must have one height."""
-    try:
-        return np.block([[np.atleast_2d(b) for b in row] for row in rows])
-    except ValueError as e:
-        raise Malformed(str(e))
-
-
-def col(*entries):
-    return np.concatenate([np.atleast_1d(np.asarray(e, dtype=float)) for e in entries]).reshape(
-        -1, 1
-    )
 
 
 samples = []

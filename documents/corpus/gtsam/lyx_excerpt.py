@@ -4,6 +4,7 @@ macros kept.
 
     python3 lyx_excerpt.py math GTSAM/doc | cat -s > math.tex.body
     python3 lyx_excerpt.py LieGroups GTSAM/doc | cat -s > LieGroups.tex.body
+    python3 lyx_excerpt.py ImuFactor GTSAM/doc | cat -s > ImuFactor.tex.body
 
 (the excerpt is the body after the header comment of the .tex file; `cat -s`
 squeezes the runs of blank lines the dropped markup leaves).
@@ -13,8 +14,9 @@ Rules (LyX 2.3 format 544):
   of the expansion after it is dropped);
 - a `Formula` inset is its LaTeX, verbatim (`$…$`, `\\[…\\]`,
   `\\begin{equation}…\\end{equation}`, `\\begin{align*}…`, `\\begin{eqnarray*}…`);
-- a `Section`/`Subsection` layout is `\\section{…}`/`\\subsection{…}`, a
-  paragraph its words, one line of the LyX file per line;
+- a `Section`/`Subsection`/`Subsubsection` layout (starred or not) is
+  `\\section{…}`/`\\subsection{…}`/`\\subsubsection{…}` (`\\subsubsection*{…}`),
+  a paragraph its words, one line of the LyX file per line;
 - a label inset is `\\label{…}`, a reference `\\ref{…}`, a citation
   `\\cite{…}`, a quote inset `"`, a footnote `\\footnote{…}`;
 - font changes (`\\series`, `\\emph`, `\\family`, …) and page breaks are dropped.
@@ -30,6 +32,10 @@ Rotations" (lines 1390 to 1505), "2D Rigid Transformations" (lines 1775 to
 1871), "3D Rotations" (lines 2479 to 2538), "3D Rigid Transformations"
 (lines 2797 to 2957), and the section "3D Similarity Transformations" (lines
 2958 to 3169).
+
+ImuFactor.tex is doc/macros.lyx whole, then doc/ImuFactor.lyx's own macros
+(lines 103 to 146) and its sections from "Local Coordinates" to "Noise
+Propagation in Combined IMU Factor" (lines 620 to 2091).
 """
 
 import os
@@ -45,6 +51,7 @@ RECIPES = {
             [(1390, 1505), (1775, 1871), (2479, 2538), (2797, 2957), (2958, 3169)],
         ),
     ],
+    "ImuFactor": [("macros.lyx", [(1, None)]), ("ImuFactor.lyx", [(103, 146), (620, 2091)])],
 }
 DROPPED = re.compile(
     r"^\\(series|emph|family|shape|size|bar|strikeout|xout|uuline|uwave|noun|color|lang)\b"
@@ -60,11 +67,11 @@ def convert(lines):
         if line.startswith("\\begin_layout "):
             kind = line.split()[1]
             stack.append(("layout", kind))
-            if kind in ("Section", "Subsection", "Subsubsection"):
+            if kind.rstrip("*") in ("Section", "Subsection", "Subsubsection"):
                 out.append("\\" + kind.lower() + "{")
         elif line == "\\end_layout":
             kind = stack.pop()[1] if stack else ""
-            if kind in ("Section", "Subsection", "Subsubsection"):
+            if kind.rstrip("*") in ("Section", "Subsection", "Subsubsection"):
                 out[-1] = out[-1].rstrip() + "}"
             out.append("")
         elif line.startswith("\\begin_inset "):

@@ -17,12 +17,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from independent import (  # noqa: E402
+    claimer,
     add,
-    confirm,
     exp_so3,
     hat,
     jacobian,
-    judge,
     log_so3,
     mul,
     report,
@@ -68,13 +67,7 @@ zero = np.zeros(3)
 results = {}
 
 
-def claim(cid, printed, truth, alternatives=(), correction=None):
-    verdict, detail = judge(printed, truth, samples, alternatives)
-    if correction is not None:
-        detail += "; the audit's correction " + (
-            "agrees" if confirm(correction, truth, samples) else "DOES NOT agree"
-        )
-    results[cid] = (verdict, detail)
+claim = claimer(samples, results)
 
 
 # The Derivatives table.

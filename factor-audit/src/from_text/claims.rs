@@ -21,7 +21,14 @@ use factor_core::manifold::Perturbation;
 use factor_core::scalar::Scalar;
 
 /// The verdict keywords a claim may expect.
-pub const KEYWORDS: [&str; 5] = ["correct", "convention", "wrong", "malformed", "unread"];
+pub const KEYWORDS: [&str; 6] = [
+    "correct",
+    "convention",
+    "wrong",
+    "malformed",
+    "ambiguous",
+    "unread",
+];
 
 /// A convention to try, lowered.
 #[derive(Debug, Clone)]
@@ -81,17 +88,22 @@ pub struct TextClaim {
     /// For a differential, the tangent its printed right side is linear
     /// in (the printed term is the difference quotient over it).
     pub differential_in: Option<SymbolId>,
+    /// The printed formula as it is evaluated, every grouping explicit
+    /// ([`super::understood`]): `lhs rel rhs`.
+    pub understood: String,
+    /// What a reader should know of how it was read.
+    pub notes: Vec<String>,
+    /// The other arguments its partial derivative holds (`holding`).
+    pub holding: Vec<SymbolId>,
+    /// Its map is not finite where its variable is expanded about zero (a
+    /// removable singularity): it is compared at [`super::eval::NEAR_ZERO`].
+    pub near_zero: bool,
 }
 
 impl TextClaim {
     /// The claim's scope in its context.
     pub fn scope(&self) -> Scope {
         Some(self.index)
-    }
-
-    /// The printed formula as the parser understood it: `lhs rel rhs`.
-    pub fn understood(&self) -> String {
-        self.with_rhs(&self.printed_ast)
     }
 
     /// `lhs rel rhs` with another right side.
@@ -132,6 +144,26 @@ fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
     }
 }
 
+/// The line of a display a `\label` at byte `at` is printed in: the line
+/// it falls in, else the one after the gap it is in when a row break
+/// (`separates(from, to)`: the gap's text holds `\\`) comes before it
+/// there, else the one before.
+fn labelled_row(lines: &[doc_latex::Claim], at: usize, separates: impl Fn(usize, usize) -> bool) -> usize {
+    let after = lines.iter().position(|c| c.span.start > at);
+    match after {
+        None => lines.len() - 1,
+        Some(0) => 0,
+        Some(next) => {
+            let before = &lines[next - 1].span;
+            if at < before.end || !separates(before.end, at) {
+                next - 1
+            } else {
+                next
+            }
+        }
+    }
+}
+
 /// Finds a claim's line in the document (by label, anchor or `after`, a
 /// line of a formula, a statement of the line, the end of a chain, a case
 /// of a `cases`). An anchor found only in the prose is an error naming its
@@ -161,8 +193,18 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             "give one of `label`, `anchor` and `after`",
         ));
     }
+    if spec.chain && spec.line.is_some() {
+        return Err(claim_error(
+            spec,
+            "`chain` follows the chain from the located line to its end: it goes without `line` \
+             (quote the line's own LaTeX in `anchor`)",
+        ));
+    }
+    let region = doc
+        .region(spec.section.as_deref(), spec.occurrence)
+        .map_err(lookup)?;
     let claim = if let Some(after) = &spec.after {
-        let formula = match doc.locate(after).map_err(lookup)? {
+        let formula = match doc.locate_in(&region, after).map_err(lookup)? {
             Found::Prose { after, .. } => after,
             Found::Formula(f) => {
                 return Err(claim_error(
@@ -192,7 +234,7 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
         };
         if let Locator::Anchor(a) = locator {
             // An anchor must be in a formula: never another display silently.
-            if let Found::Prose { line, .. } = doc.locate(a).map_err(lookup)? {
+            if let Found::Prose { line, .. } = doc.locate_in(&region, a).map_err(lookup)? {
                 return Err(lookup(doc_latex::LookupError::AnchorInProse {
                     anchor: short(a),
                     line,
@@ -200,18 +242,35 @@ pub fn locate(doc: &Document, spec: &ClaimSpec) -> Result<Located, TextError> {
             }
         }
         if spec.chain {
-            doc.chain(locator)
+            doc.chain_in(&region, locator)
                 .map_err(lookup)?
                 .pop()
                 .ok_or_else(|| claim_error(spec, "the chain is empty"))?
         } else if let (Locator::Anchor(a), None) = (locator, spec.line) {
-            doc.claim_in_formulas(a).map_err(lookup)?
+            doc.claim_in_formulas_of(&region, a).map_err(lookup)?
         } else {
-            let formula = doc.find(locator).map_err(lookup)?;
-            pick(
-                doc.claims(formula)
-                    .map_err(|e| claim_error(spec, e.to_string()))?,
-            )?
+            let formula = doc.find_in(&region, locator).map_err(lookup)?;
+            let lines = doc
+                .claims(formula)
+                .map_err(|e| claim_error(spec, e.to_string()))?;
+            match (&spec.label, spec.line) {
+                // A `\label` printed on one line of a display names that
+                // line: the row it is printed in, between the `\\`s.
+                (Some(name), None) if lines.len() > 1 => {
+                    let marker = format!("\\label{{{name}}}");
+                    match formula.source.find(&marker) {
+                        Some(at) => {
+                            let base = formula.span.start;
+                            let row = labelled_row(&lines, at + base, |from, to| {
+                                formula.source[from - base..to - base].contains("\\\\")
+                            });
+                            lines[row].clone()
+                        }
+                        None => pick(lines)?,
+                    }
+                }
+                _ => pick(lines)?,
+            }
         }
     };
     let statement = match spec.statement {
@@ -380,24 +439,69 @@ pub fn compile(
             ),
         ));
     }
-    let printed = Lowering::new(&mut ctx.resolver(scope), spec.stacked_fractions)
-        .expr(&located.rhs)
-        .map_err(|error| TextError::Formula {
-            claim: spec.id.clone(),
-            line: located.line,
-            error,
-        })?;
-    let derivative = match &located.lhs {
-        Some(Expr::Derivative { of, wrt, .. }) => Some((of.as_ref().clone(), wrt.as_ref().clone())),
-        _ => None,
+    let (printed, notes) = {
+        let mut resolver = ctx.resolver(scope);
+        let mut lowering = Lowering::new(&mut resolver, spec.stacked_fractions);
+        let printed = lowering
+            .formula(&located.rhs)
+            .map_err(|error| TextError::Formula {
+                claim: spec.id.clone(),
+                line: located.line,
+                error,
+            })?;
+        (printed, lowering.notes)
     };
-    let kind = spec
-        .kind
-        .unwrap_or(if derivative.is_some() || spec.wrt.is_some() {
-            ClaimKind::Jacobian
-        } else {
-            ClaimKind::Value
-        });
+    // A derivative's printed size (`\left. \frac{∂f}{∂x} \right|_{6×12}`)
+    // only annotates it.
+    let lhs = match &located.lhs {
+        Some(Expr::Shaped { base, .. }) if matches!(base.as_ref(), Expr::Derivative { .. }) => {
+            Some(base.as_ref())
+        }
+        other => other.as_ref(),
+    };
+    // The left side's derivative, evaluated at zero when a bar says so
+    // (`\left. \frac{∂f}{∂ε} \right|_{ε=0}`).
+    let (derivative, bar_at_zero) = match lhs {
+        Some(Expr::Derivative { of, wrt, .. }) => {
+            (Some((of.as_ref().clone(), wrt.as_ref().clone())), false)
+        }
+        Some(Expr::At { body, at }) => match body.as_ref() {
+            Expr::Derivative { of, wrt, .. } => {
+                let zero = super::lower::evaluation_bindings(at)
+                    .unwrap_or_default()
+                    .iter()
+                    .any(|(name, values)| {
+                        name == wrt.as_ref()
+                            && values.iter().any(|v| super::lower::number(v) == Some(0.0))
+                    });
+                (Some((of.as_ref().clone(), wrt.as_ref().clone())), zero)
+            }
+            _ => (None, false),
+        },
+        _ => (None, false),
+    };
+    // A derivative by an expression no symbol names (`∂(T⁻¹ p)/∂(T⁻¹)`):
+    // by a symbol standing for it where the map prints it.
+    let derivative = match derivative {
+        Some((of, wrt)) if spec.of.is_none() && spec.wrt.is_none() => Some(
+            ctx.by_expression(scope, &of, &wrt)
+                .map_err(|m| claim_error(spec, m))?
+                .unwrap_or((of, wrt)),
+        ),
+        other => other,
+    };
+    // `≈`, `≃` between values: a first-order claim (BCH for a small angle,
+    // a linearised propagation), in the small quantities it prints.
+    let approximate = matches!(located.relation, Rel::Approx | Rel::Simeq);
+    let kind = spec.kind.unwrap_or(if derivative.is_some() {
+        ClaimKind::Jacobian
+    } else if approximate {
+        ClaimKind::FirstOrder
+    } else if spec.wrt.is_some() {
+        ClaimKind::Jacobian
+    } else {
+        ClaimKind::Value
+    });
     let vocabulary = ctx.vocabulary.clone();
     let from_lhs = |part: &str| {
         claim_error(
@@ -407,15 +511,21 @@ pub fn compile(
     };
     let of = match (&spec.of, &derivative, kind, &located.lhs) {
         (Some(latex), ..) => lower_written(ctx, scope, spec, "of", latex)?.1,
-        (None, Some((of, _)), _, _) => Lowering::new(&mut ctx.resolver(scope), false)
-            .without_claim_names()
-            .expr(of)
+        (None, Some((of, wrt)), _, _) => {
+            let mut resolver = ctx.resolver(scope);
+            let mut lowering = Lowering::new(&mut resolver, false).without_claim_names();
+            // Under a left side's evaluation bar, with its other bindings.
+            match &located.lhs {
+                Some(Expr::At { at, .. }) => lowering.map_under_bar(of, wrt, at),
+                _ => lowering.expr(of),
+            }
             .map_err(|e| {
                 claim_error(
                     spec,
                     format!("the differentiated `{}`: {e}", short(&of.to_string())),
                 )
-            })?,
+            })?
+        }
         (None, None, ClaimKind::Value | ClaimKind::FirstOrder, Some(lhs)) => {
             Lowering::new(&mut ctx.resolver(scope), false)
                 .without_claim_names()
@@ -434,6 +544,7 @@ pub fn compile(
         (None, Some((_, wrt))) => Some(wrt.clone()),
         (None, None) => None,
     };
+    let mut wrt_names = None;
     let variable = match (kind, &spec.update) {
         (ClaimKind::Value, _) => None,
         (_, Some(update)) => {
@@ -448,13 +559,18 @@ pub fn compile(
                     .map_err(|m| claim_error(spec, m))?,
             )
         }
-        (_, None) => {
-            let wrt = wrt_ast.as_ref().ok_or_else(|| from_lhs("wrt"))?;
-            Some(
-                ctx.variable_of(scope, wrt, spec.side, spec.at_zero)
+        (_, None) => match &wrt_ast {
+            Some(wrt) => Some(
+                ctx.variable_of(scope, wrt, spec.side, spec.at_zero || bar_at_zero)
                     .map_err(|m| claim_error(spec, m))?,
-            )
-        }
+            ),
+            None if kind == ClaimKind::FirstOrder => {
+                let (variable, names) = small_quantities(ctx, scope, &located, spec)?;
+                wrt_names = Some(names);
+                Some(variable)
+            }
+            None => return Err(from_lhs("wrt")),
+        },
     };
     // The differential `J δ` printed in the tangent `δ`: `J` is the linear
     // map it is in `δ`.
@@ -504,6 +620,8 @@ pub fn compile(
         };
         let variable = match (kind, &c.update, &wrt) {
             (ClaimKind::Value, ..) => None,
+            // Another map by the claim's own variable (its update too).
+            (_, None, _) if c.wrt.is_none() && c.side.is_none() => variable.clone(),
             (_, Some(update), Some(Expr::Symbol(s))) => {
                 let symbol = ctx
                     .lookup(scope, &symbol_key(s))
@@ -556,6 +674,16 @@ pub fn compile(
         convention,
         spec.erratum.as_deref(),
     );
+    let understood = understood_line(ctx, located.lhs.as_ref(), located.relation, &printed);
+    let mut holding = Vec::with_capacity(spec.holding.len());
+    for held in &spec.holding {
+        let key = super::context::canonical_symbol(held, &vocabulary)
+            .map_err(|m| claim_error(spec, format!("`holding`: {m}")))?;
+        holding.push(
+            ctx.lookup(scope, &key)
+                .ok_or_else(|| claim_error(spec, format!("`holding`: `{held}` is not defined")))?,
+        );
+    }
     Ok(TextClaim {
         index,
         context: context_index,
@@ -563,7 +691,9 @@ pub fn compile(
         kind,
         of,
         variable,
-        wrt_text: wrt_ast.map_or_else(String::new, |w| short(&w.to_string())),
+        wrt_text: wrt_names
+            .or_else(|| wrt_ast.map(|w| short(&w.to_string())))
+            .unwrap_or_default(),
         output,
         printed,
         printed_ast: located.rhs.clone(),
@@ -585,7 +715,88 @@ pub fn compile(
             super::edits::nearby_terms(&others, &located.rhs)
         },
         differential_in,
+        understood,
+        notes,
+        holding,
+        near_zero: false,
     })
+}
+
+/// The small quantities a first-order claim expands in, when the file
+/// names none (`wrt`): the increments it prints on either side (`\delta
+/// \phi`, `\Delta t`, `\delta \tilde{x}_k`) that are values of the
+/// context, each expanded about zero; several together are one variable.
+fn small_quantities(
+    ctx: &mut Context,
+    scope: Scope,
+    located: &Located,
+    spec: &ClaimSpec,
+) -> Result<(Variable, String), TextError> {
+    let mut keys: Vec<(String, Expr)> = Vec::new();
+    for side in located.lhs.iter().chain(std::iter::once(&located.rhs)) {
+        for (_, node) in super::tree::nodes(side) {
+            if !matches!(node, Expr::Symbol(s) if s.delta.is_some()) {
+                continue;
+            }
+            let key = node.to_string();
+            // A free increment: sampled, or a constant (`δφ = 0`); one the
+            // file derives from others (`δx_{k+1}`) is what is expanded.
+            let free = ctx.lookup(scope, &key).is_some_and(|id| {
+                ctx.lower_pending(id).is_ok()
+                    && match &ctx.table.entries[id].meaning {
+                        Meaning::Stored { .. } => true,
+                        Meaning::Definition(t) => !mentions_symbols(t),
+                        _ => false,
+                    }
+            });
+            if free && !keys.iter().any(|(k, _)| *k == key) {
+                keys.push((key, node.clone()));
+            }
+        }
+    }
+    if keys.is_empty() {
+        return Err(claim_error(
+            spec,
+            "a first-order claim (`≈`) expands in small quantities, but it prints no increment              (`\\delta x`, `\\Delta t`) the symbols file defines: give `wrt`",
+        ));
+    }
+    let mut parts = Vec::with_capacity(keys.len());
+    for (_, e) in &keys {
+        parts.push(
+            ctx.variable_of(scope, e, spec.side, true)
+                .map_err(|m| claim_error(spec, m))?,
+        );
+    }
+    let names: Vec<String> = keys.into_iter().map(|(k, _)| k).collect();
+    let variable = if parts.len() == 1 {
+        parts.pop().expect("one part")
+    } else {
+        Variable::Joint(parts)
+    };
+    Ok((variable, short(&names.join(", "))))
+}
+
+/// Whether a term refers to any symbol.
+fn mentions_symbols(t: &Term) -> bool {
+    matches!(t, Term::Symbol(_)) || t.children().into_iter().any(mentions_symbols)
+}
+
+/// `lhs rel rhs` with the right side as evaluated (a differential's
+/// numerator, as printed in its tangent).
+pub fn understood_line(ctx: &Context, lhs: Option<&Expr>, relation: Rel, printed: &Term) -> String {
+    let rhs = match printed {
+        Term::Quotient {
+            numerator,
+            limit: false,
+            ..
+        } => numerator.as_ref(),
+        other => other,
+    };
+    let rhs = super::understood::Names::of(ctx).render(rhs);
+    match lhs {
+        Some(l) => format!("{l} {} {rhs}", doc_latex::render::relation_latex(relation)),
+        None => rhs,
+    }
 }
 
 /// The canonical LaTeX other formulas write a claim's derivative with.
@@ -629,6 +840,20 @@ impl<'a> TextDerivation<'a> {
         }
     }
 
+    /// An environment over the parameters `p` at the claim's point: its
+    /// variable at zero when the claim is a derivative there (`at_zero`,
+    /// `\left. … \right|_{x=0}`), so that what it prints, and the
+    /// derivatives printed in it, are taken there too.
+    fn env_at_point<S: Scalar>(&self, p: Vec<S>, near_zero: bool) -> Result<Env<'_, S>, ShapeError> {
+        let mut env = Env::new(self.space(), p).near_zero(near_zero);
+        if let Some(v) = &self.claim.variable
+            && v.at_zero()
+        {
+            env.perturb(v, &vec![S::zero(); v.dim()])?;
+        }
+        Ok(env)
+    }
+
     /// `term` with `variable` perturbed by `x`, over the parameters `p`; a
     /// group element read in its local coordinates on `output` about its
     /// unperturbed value.
@@ -639,23 +864,46 @@ impl<'a> TextDerivation<'a> {
         output: Option<Perturbation>,
         x: &[S],
         p: &[S],
+        holding: &[SymbolId],
     ) -> Result<Value<S>, ShapeError> {
-        let mut env = Env::new(self.space(), p.to_vec());
-        if let Some(v) = variable {
-            env.perturb(v, x)?;
-        }
-        let value = env.eval(term)?;
-        match (output, variable) {
-            (Some(side), Some(_)) if value.is_group() => {
-                let base = Env::new(self.space(), p.to_vec()).eval(term)?;
-                value.minus(base, side)
+        let at = |x: &[S]| -> Result<Value<S>, ShapeError> {
+            let mut env = self.env_at_point(p.to_vec(), self.claim.near_zero)?;
+            // What a partial holds keeps its value while the variable moves.
+            let held = holding
+                .iter()
+                .map(|id| Ok((*id, env.symbol(*id)?)))
+                .collect::<Result<Vec<_>, ShapeError>>()?;
+            if let Some(v) = variable {
+                env.perturb(v, x)?;
             }
+            for (id, value) in held {
+                env.bind(id, value);
+            }
+            env.eval(term)
+        };
+        let value = at(x)?;
+        // A group-valued map is read in local coordinates (on the right
+        // unless said): by a variable of several coordinates a Jacobian in
+        // the tangent; by one coordinate (`dR/dt`) it stays the matrix, and
+        // so do both sides of a first-order claim (`Exp(−θ) R ≈ (I − ⌊θ⌋)
+        // R` compares a rotation with a matrix).
+        let first_order = self.claim.kind == ClaimKind::FirstOrder;
+        let side = match (output, variable) {
+            (Some(side), Some(_)) => Some(side),
+            (None, Some(v)) if v.dim() > 1 && !first_order => Some(Perturbation::Right),
+            _ => None,
+        };
+        match side {
+            // About the value at the expansion point (the variable at zero
+            // when it is expanded about zero).
+            Some(side) if value.is_group() => value.minus(at(&vec![S::zero(); x.len()])?, side),
             _ => Ok(value),
         }
     }
 
     /// `term` with the variable perturbed by `x`, over the parameters `p`,
-    /// its entries in column-major order.
+    /// its entries in column-major order (a homogeneous transformation's
+    /// top 3 × 4 when the map's value is one and the claim its Jacobian).
     fn value<S: Scalar>(
         &self,
         term: &Term,
@@ -663,16 +911,21 @@ impl<'a> TextDerivation<'a> {
         x: &[S],
         p: &[S],
     ) -> Result<DMatrix<S>, ShapeError> {
-        let hint = (
-            Some(self.claim.value_shape.0),
-            Some(self.claim.value_shape.1),
-        );
-        self.evaluate(term, variable, self.claim.output, x, p)?
-            .sized(if self.claim.value_shape.0 == 0 {
-                (None, None)
-            } else {
-                hint
-            })
+        let top_of_homogeneous =
+            self.claim.kind == ClaimKind::Jacobian && self.claim.value_shape == (3, 4);
+        let hint = match self.claim.value_shape {
+            (0, _) => (None, None),
+            _ if top_of_homogeneous => (None, None),
+            (r, c) => (Some(r), Some(c)),
+        };
+        let m = self
+            .evaluate(term, variable, self.claim.output, x, p, &self.claim.holding)?
+            .sized(hint)?;
+        Ok(if top_of_homogeneous && m.shape() == (4, 4) {
+            m.rows(0, 3).into_owned()
+        } else {
+            m
+        })
     }
 
     /// The true derivative of a link the file states in words, at this
@@ -683,22 +936,40 @@ impl<'a> TextDerivation<'a> {
         }
         let p = lift::<Dual<1>>(&self.stored);
         let failure = std::cell::RefCell::new(None);
+        let shape = std::cell::Cell::new((0, 0));
         let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
             match self
-                .evaluate(&link.of, Some(&link.variable), link.output, x, &p)
+                .evaluate(
+                    &link.of,
+                    Some(&link.variable),
+                    link.output,
+                    x,
+                    &p,
+                    &link.holding,
+                )
                 .and_then(Value::matrix)
             {
-                Ok(m) => m.as_slice().to_vec(),
+                Ok(m) => {
+                    let (entries, moving) = super::value::moving_entries(&m);
+                    shape.set(moving);
+                    entries
+                }
                 Err(e) => {
                     *failure.borrow_mut() = Some(e);
                     Vec::new()
                 }
             }
         });
-        match failure.into_inner() {
-            Some(e) => Err(e),
-            None => Ok(m),
+        if let Some(e) = failure.into_inner() {
+            return Err(e);
         }
+        // The derivative by one coordinate (`dR/dt`) has the map's shape.
+        let (rows, cols) = shape.get();
+        Ok(if m.ncols() == 1 && cols > 1 && rows * cols == m.nrows() {
+            DMatrix::from_column_slice(rows, cols, m.as_slice())
+        } else {
+            m
+        })
     }
 
     /// The values at this sample of the links stated in words `term` uses
@@ -756,6 +1027,7 @@ impl<'a> TextDerivation<'a> {
             self.claim.output,
             &vec![0.0; dim],
             &self.stored,
+            &self.claim.holding,
         )?
         .matrix()
     }
@@ -787,11 +1059,27 @@ impl<'a> TextDerivation<'a> {
                     None => Ok(m),
                 }
             }
-            _ => self.truths::<f64>(term).and_then(|truths| {
-                let mut env = Env::new(self.space(), self.stored.clone()).with_truths(truths);
-                env.eval(term)
-                    .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
-            }),
+            _ => {
+                let at = |near_zero: bool| {
+                    self.truths::<f64>(term).and_then(|truths| {
+                        self.env_at_point(self.stored.clone(), near_zero)?
+                            .with_truths(truths)
+                            .eval(term)
+                            .and_then(|v| v.sized((Some(expected.0), Some(expected.1))))
+                    })
+                };
+                match at(claim.near_zero) {
+                    // A removable singularity of the printed formula at
+                    // zero (`sin‖w‖/‖w‖`): next to it.
+                    Ok(m) if m.iter().any(|x| !x.is_finite())
+                        && !claim.near_zero
+                        && claim.variable.as_ref().is_some_and(Variable::at_zero) =>
+                    {
+                        at(true)
+                    }
+                    other => other,
+                }
+            }
         };
         match got {
             Err(e) => Printed::Malformed(e.0),
@@ -805,6 +1093,17 @@ impl<'a> TextDerivation<'a> {
                 ClaimKind::Value => DMatrix::from_column_slice(rows * cols, 1, m.as_slice()),
                 _ => m,
             }),
+            // The derivative by one coordinate printed as a matrix
+            // (`\dot{R} = R [ω]_×`, `[\dot{R}, \dot{p}]`): its entries
+            // column by column (`vec`), as the map's value is read.
+            Ok(m)
+                if claim.kind != ClaimKind::Value
+                    && expected.1 == 1
+                    && m.ncols() > 1
+                    && m.len() == expected.0 =>
+            {
+                Printed::Evaluated(DMatrix::from_column_slice(rows * cols, 1, m.as_slice()))
+            }
             // A homogeneous coordinate kept: the verdict engine names it.
             Ok(m) if m.nrows() == expected.0 + 1 && m.ncols() == expected.1 => {
                 Printed::Evaluated(m)
@@ -819,6 +1118,39 @@ impl<'a> TextDerivation<'a> {
                 shape_text(expected)
             )),
         }
+    }
+
+    /// For a first-order claim, why `term` (its printed side, or a variant
+    /// of it) is not right even at the expansion point: the two sides'
+    /// values there differ (their derivatives are compared apart).
+    pub fn gap_at_point(&self, term: &Term) -> Option<String> {
+        if self.claim.kind != ClaimKind::FirstOrder {
+            return None;
+        }
+        let zero = vec![0.0; self.input_len()];
+        let at = |t: &Term| {
+            self.evaluate(
+                t,
+                self.claim.variable.as_ref(),
+                None,
+                &zero,
+                &self.stored,
+                &self.claim.holding,
+            )
+            .and_then(Value::matrix)
+        };
+        let (truth, printed) = (at(&self.claim.of).ok()?, at(term).ok()?);
+        let error = if truth.shape() == printed.shape() {
+            factor_core::factor::relative_frobenius_error(&printed, &truth, 1e-9)
+        } else {
+            f64::INFINITY
+        };
+        (error > crate::verdict::TOLERANCE).then(|| {
+            format!(
+                "the two sides differ at the expansion point (relative error {error:.1e}), so \
+                 they do not agree to first order"
+            )
+        })
     }
 
     /// The truths under the claim's conventions at this sample.
@@ -885,5 +1217,8 @@ impl Derivation for TextDerivation<'_> {
     }
     fn conventions(&self) -> Vec<(String, DMatrix<f64>)> {
         self.convention_truths()
+    }
+    fn gap(&self) -> Option<String> {
+        self.gap_at_point(&self.claim.printed)
     }
 }

@@ -16,7 +16,7 @@ use super::functions::Builtin;
 use super::lower::{Found, Link, LowerError, Lowering, Resolver, short, symbol_key};
 use super::stored::{FreeSample, Kind, part};
 use super::symbols::{
-    ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec,
+    ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec, one_line,
 };
 use super::term::{Meaning, SymbolId, Table, Template, Term, TruthLink, Variable};
 use crate::transcription::stored_names;
@@ -83,11 +83,29 @@ pub struct Context {
     link_specs: Vec<LinkSpec>,
     /// Why a link stated in words could not be read, by its key.
     link_errors: HashMap<String, String>,
+    /// The symbols file states JPL quaternions.
+    pub jpl_quaternions: bool,
+    /// The symbols whose very key cannot be read, with why: a formula that
+    /// finds a symbol undefined says so.
+    unreadable: Vec<String>,
 }
 
 /// The canonical LaTeX of a name the symbols file defines: a symbol, or
 /// any printed expression but a number (`\pi'(q)`, `u v`, `\hat{\xi}_b^*`).
 pub fn canonical_symbol(written: &str, vocabulary: &Vocabulary) -> Result<String, String> {
+    // A function's name alone (`\exp`, `Exp`): the document's function
+    // given another meaning (`{ function = "expm" }`), keyed as written.
+    let name = written.trim();
+    let letters = name.strip_prefix('\\').unwrap_or(name);
+    if !letters.is_empty()
+        && letters.chars().all(|c| c.is_ascii_alphabetic())
+        && matches!(
+            doc_latex::parse_expr_with(name, vocabulary),
+            Err(e) if matches!(e.kind, doc_latex::ErrorKind::MissingOperand(_))
+        )
+    {
+        return Ok(name.to_string());
+    }
     match doc_latex::parse_expr_with(written, vocabulary) {
         Ok(Expr::Symbol(s)) => Ok(symbol_key(&s)),
         Ok(e @ (Expr::Number(_) | Expr::Relation { .. } | Expr::Text(_))) => {
@@ -165,6 +183,8 @@ impl Context {
             truth_links: Vec::new(),
             link_specs: spec.links.clone(),
             link_errors: HashMap::new(),
+            jpl_quaternions: false,
+            unreadable: Vec::new(),
         };
         for (written, t) in &spec.operators {
             let id = ctx.template(written, t, None)?;
@@ -172,45 +192,77 @@ impl Context {
         }
         let mut tangents = Vec::new();
         for (written, value) in &spec.symbols {
-            let meaning = SymbolSpec::read(written, value)?;
-            let id = ctx.declare(None, written, None)?;
-            match meaning {
-                SymbolSpec::Sample {
-                    name,
-                    size,
-                    range,
-                    perturbation,
-                } => {
-                    let sample = FreeSample::from_spec(&name, size, range)
-                        .map_err(|m| symbol_error(written, None, m))?;
-                    let offset = names.len();
-                    names.extend(sampled_names(sample, written));
-                    ctx.free.push((sample, offset));
-                    ctx.set(
-                        id,
-                        Meaning::Stored {
-                            offset,
-                            kind: sample.kind(),
-                        },
-                    );
-                    ctx.defaults.insert(id, perturbation);
+            // A symbol that cannot be read fails the claims that use it,
+            // not the context.
+            let meaning = match SymbolSpec::read(written, value) {
+                Ok(m) => m,
+                Err(e) => {
+                    ctx.unreadable(written, e);
+                    continue;
                 }
-                SymbolSpec::Template(t) => {
-                    let template = ctx.template(written, &t, None)?;
-                    ctx.set(id, Meaning::Template(template));
+            };
+            let id = match ctx.declare(None, written, None) {
+                Ok(id) => id,
+                Err(e) => {
+                    ctx.unreadable(written, e);
+                    continue;
                 }
-                other => {
-                    if let Some(t) = ctx.meaning(id, written, other, None)? {
-                        tangents.push(t);
+            };
+            let read = (|| -> Result<(), TextError> {
+                match meaning {
+                    SymbolSpec::Sample {
+                        name,
+                        size,
+                        shape,
+                        range,
+                        perturbation,
+                    } => {
+                        let sample = FreeSample::from_spec(&name, size, shape, range)
+                            .map_err(|m| symbol_error(written, None, m))?;
+                        let offset = names.len();
+                        names.extend(sampled_names(sample, written));
+                        ctx.free.push((sample, offset));
+                        ctx.set(
+                            id,
+                            Meaning::Stored {
+                                offset,
+                                kind: sample.kind(),
+                            },
+                        );
+                        ctx.defaults.insert(id, perturbation);
+                    }
+                    SymbolSpec::Template(t) => {
+                        let template = ctx.template(written, &t, None)?;
+                        ctx.set(id, Meaning::Template(template));
+                    }
+                    other => {
+                        if let Some(t) = ctx.meaning(id, written, other, None)? {
+                            tangents.push(t);
+                        }
                     }
                 }
+                Ok(())
+            })();
+            if let Err(e) = read {
+                ctx.set(id, Meaning::Broken(one_line(&e.to_string())));
             }
         }
         ctx.names = names;
         for (id, written, spec) in tangents {
-            ctx.tangent(id, &written, spec, None)?;
+            if let Err(e) = ctx.tangent(id, &written, spec, None) {
+                ctx.set(id, Meaning::Broken(one_line(&e.to_string())));
+            }
         }
         Ok(ctx)
+    }
+
+    /// Records a symbol whose key cannot be read.
+    fn unreadable(&mut self, written: &str, e: TextError) {
+        self.unreadable.push(format!(
+            "`{}` ({})",
+            one_line(written),
+            one_line(&e.to_string())
+        ));
     }
 
     /// Declares a template: its arguments bound in a scope of their own.
@@ -226,8 +278,8 @@ impl Context {
         }
         let id = self.templates.len();
         let scope = Some(TEMPLATE_SCOPES + id);
-        let mut params = Vec::with_capacity(t.args.len());
-        for a in &t.args {
+        let mut params = Vec::with_capacity(t.args.len() + 1);
+        for a in t.sub.iter().chain(&t.args) {
             let p = self.declare(scope, a, equation)?;
             self.set(p, Meaning::Bound);
             params.push(p);
@@ -240,7 +292,9 @@ impl Context {
         })?;
         self.templates.push(Template {
             key: operator_key(written),
+            written: written.trim().to_string(),
             params,
+            subscripted: t.sub.is_some(),
             body: Term::Zero,
         });
         self.template_states
@@ -535,14 +589,10 @@ impl Context {
                     let scope = self.scope_of(target);
                     return self.update_variable(scope, target, update);
                 }
+                // A group element is perturbed on the right unless said.
                 let side = match (side.or(default.side), additive) {
                     (Some(Side::Left), false) => Perturbation::Left,
-                    (Some(Side::Right), false) => Perturbation::Right,
-                    (None, false) => {
-                        return Err(format!(
-                            "`{key}` is perturbed on a side: say `side = \"left\"` or `\"right\"`"
-                        ));
-                    }
+                    (Some(Side::Right) | None, false) => Perturbation::Right,
                     (_, true) => Perturbation::Left,
                 };
                 if at_zero && !additive {
@@ -570,6 +620,17 @@ impl Context {
                 if side.is_some() || coordinates.is_some() {
                     return Err(format!(
                         "`{key}` is a definition: it is perturbed additively, as a whole"
+                    ));
+                }
+                // A column of other symbols (`xy = [x; y]`): each of them.
+                if let Meaning::Definition(t) = &self.table.entries[target].meaning
+                    && let Some(parts) = stacked_symbols(t)
+                {
+                    return Ok(Variable::Joint(
+                        parts
+                            .into_iter()
+                            .map(|id| self.variable(id, None, None, at_zero))
+                            .collect::<Result<_, _>>()?,
                     ));
                 }
                 Ok(Variable::Defined {
@@ -626,7 +687,6 @@ impl Context {
                 .lookup(scope, &wrt.to_string())
                 .or_else(|| self.lookup(scope, &symbol_key(s))),
             Expr::Tuple(items) => {
-                // (P_x, P_y, P_z): every entry of one vector, in order.
                 let ids: Option<Vec<usize>> = items
                     .iter()
                     .map(|i| match i {
@@ -634,25 +694,10 @@ impl Context {
                         _ => None,
                     })
                     .collect();
-                let parts: Option<Vec<(usize, usize)>> = ids.and_then(|ids| {
-                    ids.iter()
-                        .map(|id| match self.table.entries[*id].meaning {
-                            Meaning::Component { of, index } => Some((of, index)),
-                            _ => None,
-                        })
-                        .collect()
-                });
-                match parts.as_deref() {
-                    Some([(of, 0), rest @ ..])
-                        if rest
-                            .iter()
-                            .enumerate()
-                            .all(|(i, (o, k))| o == of && *k == i + 1) =>
-                    {
-                        Some(*of)
-                    }
-                    _ => None,
+                if let Some(ids) = ids {
+                    return self.variable_of_symbols(&ids, side, at_zero);
                 }
+                None
             }
             other => self.lookup(scope, &other.to_string()),
         };
@@ -663,6 +708,45 @@ impl Context {
             ));
         };
         self.variable(target, side, None, at_zero)
+    }
+
+    /// The variable of a derivative by several symbols (`(P_x, P_y, P_z)`,
+    /// `\{ω_x, ω_y, ω_z, θ\}`): entries of one vector are its tangent
+    /// coordinates (all of them in order: the vector); other symbols are
+    /// each perturbed, holding the others (`θ` beside `ω` though `θ =
+    /// ‖ω‖`: a partial by each argument).
+    fn variable_of_symbols(
+        &mut self,
+        ids: &[SymbolId],
+        side: Option<Side>,
+        at_zero: bool,
+    ) -> Result<Variable, String> {
+        let parts: Option<Vec<(usize, usize)>> = ids
+            .iter()
+            .map(|id| match self.table.entries[*id].meaning {
+                Meaning::Component { of, index } => Some((of, index)),
+                _ => None,
+            })
+            .collect();
+        if let Some(parts) = parts
+            && let Some(&(of, _)) = parts.first()
+            && parts.iter().all(|(o, _)| *o == of)
+        {
+            let entries = self
+                .table
+                .entries
+                .iter()
+                .filter(|e| matches!(e.meaning, Meaning::Component { of: o, .. } if o == of))
+                .count();
+            let whole = parts.len() == entries && parts.iter().enumerate().all(|(i, (_, k))| *k == i);
+            let coordinates: Vec<usize> = parts.iter().map(|(_, k)| k + 1).collect();
+            return self.variable(of, side, (!whole).then_some(coordinates.as_slice()), at_zero);
+        }
+        Ok(Variable::Joint(
+            ids.iter()
+                .map(|id| self.variable(*id, side, None, at_zero))
+                .collect::<Result<_, _>>()?,
+        ))
     }
 
     /// Follows definitions that are one other symbol (`{}_w p_C = {}_W p_C`),
@@ -683,6 +767,17 @@ impl Context {
             }
         }
         id
+    }
+
+    /// An error when symbol `id`'s meaning could not be read.
+    fn readable(&self, id: SymbolId) -> Result<(), LowerError> {
+        match &self.table.entries[id].meaning {
+            Meaning::Broken(why) => Err(LowerError {
+                message: format!("the symbols file's meaning of it cannot be read: {why}"),
+                fragment: self.table.key(id).to_string(),
+            }),
+            _ => Ok(()),
+        }
     }
 
     /// The symbol `key` in `scope` (falling back to the context's).
@@ -713,7 +808,7 @@ impl Context {
     }
 
     /// Lowers symbol `id`'s definition if it still waits.
-    fn lower_pending(&mut self, id: SymbolId) -> Result<(), LowerError> {
+    pub fn lower_pending(&mut self, id: SymbolId) -> Result<(), LowerError> {
         match std::mem::replace(&mut self.states[id], State::InProgress) {
             State::Done => {
                 self.states[id] = State::Done;
@@ -873,6 +968,14 @@ impl Context {
             Side::Left => Perturbation::Left,
             Side::Right => Perturbation::Right,
         });
+        let mut holding = Vec::with_capacity(spec.holding.len());
+        for held in &spec.holding {
+            let written = canonical_symbol(held, &self.vocabulary)?;
+            holding.push(
+                self.lookup(None, &written)
+                    .ok_or_else(|| format!("`holding`: `{held}` is not defined"))?,
+            );
+        }
         self.truth_links.push(TruthLink {
             key: key.clone(),
             of,
@@ -880,6 +983,7 @@ impl Context {
             output,
             broken: None,
             inline: None,
+            holding,
         });
         Ok(())
     }
@@ -895,7 +999,16 @@ impl Context {
         key: &str,
         of: &Expr,
         wrt: &Expr,
+        holding: &[Expr],
+        bound: &[(SymbolId, Term)],
+        at_zero: bool,
     ) -> Result<Link, LowerError> {
+        // The same derivative under other bars is another link.
+        let key = if bound.is_empty() {
+            key.to_string()
+        } else {
+            format!("{key} at {bound:?}")
+        };
         if let Some(k) = self
             .truth_links
             .iter()
@@ -906,9 +1019,22 @@ impl Context {
         if *of == Expr::Placeholder {
             return Err(LowerError::at(of, "a derivative of nothing"));
         }
-        let of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        let by_expression = self
+            .by_expression(scope, of, wrt)
+            .map_err(|m| LowerError::at(wrt, m))?;
+        let (of, wrt) = match &by_expression {
+            Some((of, wrt)) => (of, wrt),
+            None => (of, wrt),
+        };
+        let mut of = Lowering::new(&mut self.resolver(scope), false).expr(of)?;
+        if !bound.is_empty() {
+            of = Term::At {
+                body: Box::new(of),
+                bindings: bound.to_vec(),
+            };
+        }
         let variable = self
-            .variable_of(scope, wrt, None, false)
+            .variable_of(scope, wrt, None, at_zero)
             .map_err(|m| LowerError::at(wrt, m))?;
         if matches!(variable, Variable::Update { .. }) {
             return Err(LowerError::at(
@@ -916,15 +1042,73 @@ impl Context {
                 "a derivative printed in a formula is taken by a symbol, not an update",
             ));
         }
+        let holding = holding
+            .iter()
+            .filter_map(|h| match h {
+                Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)),
+                other => self.lookup(scope, &other.to_string()),
+            })
+            .collect();
         self.truth_links.push(TruthLink {
-            key: key.to_string(),
+            key,
             of,
             variable,
             output: None,
             broken: None,
             inline: Some(scope),
+            holding,
         });
         Ok(Link::Truth(self.truth_links.len() - 1))
+    }
+
+    /// A derivative by an expression no symbol names (`∂(T⁻¹ p)/∂(T⁻¹)`,
+    /// `∂(A B)/∂(A B)`): `of` with the expression replaced by a symbol of
+    /// its own, defined as it in `scope`, and that symbol; `None` when
+    /// `wrt` is a variable already; an error when `of` does not print it.
+    pub fn by_expression(
+        &mut self,
+        scope: Scope,
+        of: &Expr,
+        wrt: &Expr,
+    ) -> Result<Option<(Expr, Expr)>, String> {
+        let named = match wrt {
+            Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)).is_some(),
+            Expr::Tuple(_) => true,
+            other => self.lookup(scope, &other.to_string()).is_some(),
+        };
+        if named {
+            return Ok(None);
+        }
+        let mut places: Vec<super::tree::Path> = super::tree::nodes(of)
+            .into_iter()
+            .filter(|(_, node)| *node == wrt)
+            .map(|(path, _)| path)
+            .collect();
+        if places.is_empty() || matches!(wrt, Expr::Symbol(_)) {
+            return Ok(None);
+        }
+        // A symbol of its own, whose key nothing of the document uses.
+        let name = (1..)
+            .map(|k| format!("\\mathsf{{d}}_{{{k}}}"))
+            .find(|n| {
+                canonical_symbol(n, &self.vocabulary)
+                    .is_ok_and(|key| self.lookup(scope, &key).is_none())
+            })
+            .expect("a free name");
+        let id = self
+            .declare(scope, &name, None)
+            .map_err(|e| e.to_string())?;
+        self.states[id] = State::Pending(Box::new(wrt.clone()), scope);
+        let symbol = doc_latex::parse_expr(&name).map_err(|e| e.to_string())?;
+        let mut substituted = of.clone();
+        places.sort_by(|a, b| b.cmp(a));
+        for path in places {
+            if let Some(node) = super::tree::at_mut(&mut substituted, &path) {
+                *node = symbol.clone();
+            }
+        }
+        self.lower_pending(id).map_err(|e| e.to_string())?;
+        Ok(Some((substituted, symbol)))
     }
 
     /// Sets the input size of every tangent perturbing a definition or by
@@ -969,16 +1153,13 @@ impl Context {
         // A link whose variable cannot be sized is broken: the claims
         // using it cannot be read.
         for k in 0..self.truth_links.len() {
-            if let Variable::Defined { symbol, .. } = self.truth_links[k].variable {
-                match dim_of(self, symbol) {
-                    Ok((s, _)) => {
-                        if let Variable::Defined { shape, .. } = &mut self.truth_links[k].variable {
-                            *shape = s;
-                        }
-                    }
-                    Err(m) => self.truth_links[k].broken = Some(m),
-                }
+            let mut variable = self.truth_links[k].variable.clone();
+            if let Err(m) = size_defined(&mut variable, &|symbol| {
+                dim_of(self, symbol).map(|(shape, _)| shape)
+            }) {
+                self.truth_links[k].broken = Some(m);
             }
+            self.truth_links[k].variable = variable;
         }
         Ok(())
     }
@@ -1023,6 +1204,43 @@ impl Context {
                     })
             })
     }
+}
+
+/// Sets the shape of every definition `variable` perturbs (one, or each
+/// of several together) from `shape_of`.
+fn size_defined(
+    variable: &mut Variable,
+    shape_of: &dyn Fn(SymbolId) -> Result<(usize, usize), String>,
+) -> Result<(), String> {
+    match variable {
+        Variable::Defined { symbol, shape, .. } => *shape = shape_of(*symbol)?,
+        Variable::Joint(parts) => {
+            for part in parts {
+                size_defined(part, shape_of)?;
+            }
+        }
+        Variable::Stored { .. } | Variable::Update { .. } => {}
+    }
+    Ok(())
+}
+
+/// The symbols a definition stacks in a column (`[x; y]`, `(x, y)`), when
+/// it is only that.
+fn stacked_symbols(t: &Term) -> Option<Vec<SymbolId>> {
+    let entries: Vec<&Term> = match t {
+        Term::Blocks(rows) if rows.len() > 1 && rows.iter().all(|r| r.len() == 1) => {
+            rows.iter().map(|r| &r[0]).collect()
+        }
+        Term::Stack(items) if items.len() > 1 => items.iter().collect(),
+        _ => return None,
+    };
+    entries
+        .into_iter()
+        .map(|e| match e {
+            Term::Symbol(id) => Some(*id),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The LaTeX names of a factor's stored scalars: each field named by the
@@ -1093,6 +1311,7 @@ impl Resolver for ScopeResolver<'_> {
         let Some(id) = self.ctx.lookup(self.scope, key) else {
             return Ok(None);
         };
+        self.ctx.readable(id)?;
         self.ctx.lower_pending(id).map_err(|e| {
             if e.fragment == key {
                 e
@@ -1110,8 +1329,17 @@ impl Resolver for ScopeResolver<'_> {
         self.ctx.link_of(self.scope, key)
     }
 
-    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
-        self.ctx.inline_link(self.scope, key, of, wrt)
+    fn inline_link(
+        &mut self,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+        holding: &[Expr],
+        bound: &[(SymbolId, Term)],
+        at_zero: bool,
+    ) -> Result<Link, LowerError> {
+        self.ctx
+            .inline_link(self.scope, key, of, wrt, holding, bound, at_zero)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {
@@ -1120,6 +1348,18 @@ impl Resolver for ScopeResolver<'_> {
         };
         self.ctx.lower_template(t)?;
         Ok(Some((t, self.ctx.templates[t].params.len())))
+    }
+
+    fn jpl_quaternions(&self) -> bool {
+        self.ctx.jpl_quaternions
+    }
+
+    fn unreadable_symbols(&self) -> &[String] {
+        &self.ctx.unreadable
+    }
+
+    fn subscripted(&self, t: usize) -> bool {
+        self.ctx.templates[t].subscripted
     }
 }
 
@@ -1134,10 +1374,11 @@ pub struct FrozenResolver<'c> {
 
 impl Resolver for FrozenResolver<'_> {
     fn symbol(&mut self, key: &str) -> Result<Option<(SymbolId, Found)>, LowerError> {
-        Ok(self
-            .ctx
-            .lookup(self.scope, key)
-            .map(|id| (id, found(&self.ctx.table.entries[id].meaning))))
+        let Some(id) = self.ctx.lookup(self.scope, key) else {
+            return Ok(None);
+        };
+        self.ctx.readable(id)?;
+        Ok(Some((id, found(&self.ctx.table.entries[id].meaning))))
     }
 
     fn link(&self, key: &str) -> Option<Link> {
@@ -1149,6 +1390,14 @@ impl Resolver for FrozenResolver<'_> {
             .ctx
             .template_of(self.scope, key)
             .map(|t| (t, self.ctx.templates[t].params.len())))
+    }
+
+    fn jpl_quaternions(&self) -> bool {
+        self.ctx.jpl_quaternions
+    }
+
+    fn subscripted(&self, t: usize) -> bool {
+        self.ctx.templates[t].subscripted
     }
 }
 

@@ -159,24 +159,62 @@ fn column_agrees(p: &DMatrix<f64>, t: &DMatrix<f64>, c: usize) -> bool {
     p.shape() == t.shape() && (p.column(c) - t.column(c)).norm() <= TOLERANCE * t.norm().max(1e-9)
 }
 
+/// `e`, an edit or another reading of `claim`'s printed right side,
+/// lowered as the printed one was (a differential linear in its tangent).
+pub fn lower_variant(claim: &TextClaim, ctx: &Context, e: &Expr) -> Option<Term> {
+    let mut resolver = FrozenResolver {
+        ctx,
+        scope: claim.scope(),
+    };
+    let term = Lowering::new(&mut resolver, claim.stacked_fractions)
+        .expr(e)
+        .ok()?;
+    Some(match claim.differential_in {
+        Some(tangent) => Term::Quotient {
+            numerator: Box::new(term),
+            tangent,
+            limit: false,
+        },
+        None => term,
+    })
+}
+
+/// Whether `term`, a variant of `claim`'s printed right side, agrees with
+/// target `target` (0 the truth, then the claim's conventions, then the
+/// tangent's halves swapped) at every one of the audit's `samples` samples.
+pub fn confirmed(
+    claim: &TextClaim,
+    ctx: &Context,
+    term: &Term,
+    target: usize,
+    samples: usize,
+) -> bool {
+    let mut sampler = Sampler::new(TextAudit::seed(claim.index));
+    (0..samples).all(|_| {
+        let d = TextDerivation::new(claim, ctx, ctx.sample(&mut sampler));
+        let Printed::Evaluated(p) = d.printed_term(term) else {
+            return false;
+        };
+        if d.gap_at_point(term).is_some() {
+            return false;
+        }
+        let t = truth(&d);
+        let conventions = claim.conventions.len();
+        let t = match target {
+            0 => t,
+            k if k <= conventions => d.conventions().swap_remove(k - 1).1,
+            _ => {
+                let n = t.ncols();
+                DMatrix::from_fn(t.nrows(), n, |r, c| t[(r, (c + n / 2) % n)])
+            }
+        };
+        agree(&p, &t)
+    })
+}
+
 impl Search<'_> {
     fn lower(&self, e: &Expr) -> Option<Term> {
-        let mut resolver = FrozenResolver {
-            ctx: self.ctx,
-            scope: self.claim.scope(),
-        };
-        let term = Lowering::new(&mut resolver, self.claim.stacked_fractions)
-            .expr(e)
-            .ok()?;
-        // A differential is read as its claim was: linear in its tangent.
-        Some(match self.claim.differential_in {
-            Some(tangent) => Term::Quotient {
-                numerator: Box::new(term),
-                tangent,
-                limit: false,
-            },
-            None => term,
-        })
+        lower_variant(self.claim, self.ctx, e)
     }
 
     /// Applies `edits` (the later places first, so earlier ones keep their
@@ -223,27 +261,8 @@ impl Search<'_> {
     /// Whether `edited` agrees with target `target` at every one of the
     /// audit's `samples` samples.
     fn confirm(&self, edited: &Expr, target: usize, samples: usize) -> bool {
-        let Some(term) = self.lower(edited) else {
-            return false;
-        };
-        let mut sampler = Sampler::new(TextAudit::seed(self.claim.index));
-        (0..samples).all(|_| {
-            let d = TextDerivation::new(self.claim, self.ctx, self.ctx.sample(&mut sampler));
-            let Printed::Evaluated(p) = d.printed_term(&term) else {
-                return false;
-            };
-            let t = truth(&d);
-            let conventions = self.claim.conventions.len();
-            let t = match target {
-                0 => t,
-                k if k <= conventions => d.conventions().swap_remove(k - 1).1,
-                _ => {
-                    let n = t.ncols();
-                    DMatrix::from_fn(t.nrows(), n, |r, c| t[(r, (c + n / 2) % n)])
-                }
-            };
-            agree(&p, &t)
-        })
+        self.lower(edited)
+            .is_some_and(|term| confirmed(self.claim, self.ctx, &term, target, samples))
     }
 }
 

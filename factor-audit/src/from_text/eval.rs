@@ -36,7 +36,8 @@ fn size_by_neighbours<S: Scalar>(values: &mut [Value<S>], factors: &[(Op, Term)]
         if !matches!(values[i], Value::Blocks(_)) {
             continue;
         }
-        let multiplies = |k: usize| factors.get(k).is_some_and(|(op, _)| *op == Op::Mul);
+        let multiplies =
+            |k: usize| factors.get(k).is_some_and(|(op, _)| matches!(op, Op::Mul | Op::Dot));
         let left = (0..i)
             .rev()
             .take_while(|k| multiplies(k + 1))
@@ -62,7 +63,16 @@ pub struct Env<'a, S: Scalar> {
     /// The values at this sample of the links stated in words, when the
     /// caller computed them (by context link index).
     truths: Vec<Option<DMatrix<S>>>,
+    /// Where a variable expanded about zero is: `0`, or [`NEAR_ZERO`] in
+    /// each entry when the map is not finite at zero itself.
+    zero: S,
 }
+
+/// Where a variable expanded about zero is put when a map has a removable
+/// singularity there (`k̂ sin(θ/2)` with `k̂ = θ/|θ|`): close enough that
+/// values and derivatives there agree with their limits at zero to far
+/// below the audit's tolerance.
+pub const NEAR_ZERO: f64 = 1e-9;
 
 fn fail<T>(message: impl Into<String>) -> Result<T, ShapeError> {
     Err(ShapeError(message.into()))
@@ -83,7 +93,16 @@ impl<'a, S: Scalar> Env<'a, S> {
             memo: vec![None; n],
             depth: 0,
             truths: Vec::new(),
+            zero: S::zero(),
         }
+    }
+
+    /// The sample with variables expanded about zero put at [`NEAR_ZERO`].
+    pub fn near_zero(mut self, near: bool) -> Self {
+        if near {
+            self.zero = S::from_f64(NEAR_ZERO);
+        }
+        self
     }
 
     /// The sample with the values of the links stated in words.
@@ -114,7 +133,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 }
                 let range = *offset..offset + kind.scalars();
                 let base: Vec<S> = if *at_zero {
-                    vec![S::zero(); kind.scalars()]
+                    vec![self.zero; kind.scalars()]
                 } else {
                     self.stored[range.clone()].to_vec()
                 };
@@ -128,13 +147,22 @@ impl<'a, S: Scalar> Env<'a, S> {
                 at_zero,
             } => {
                 let increment = DMatrix::from_column_slice(shape.0, shape.1, x);
-                let base = if *at_zero {
-                    DMatrix::zeros(shape.0, shape.1)
+                let mut base = if *at_zero {
+                    DMatrix::from_element(shape.0, shape.1, self.zero)
                 } else {
-                    self.symbol(*symbol)?
-                        .sized((Some(shape.0), Some(shape.1)))?
+                    self.symbol(*symbol)?.sized((None, Some(shape.1)))?
                 };
-                self.bind(*symbol, Value::Matrix(base + increment));
+                // A homogeneous transformation moves in its top rows only.
+                if base.ncols() != shape.1 || base.nrows() < shape.0 {
+                    return fail(format!(
+                        "a {} value perturbed by a {} increment",
+                        shape_text(base.shape()),
+                        shape_text(*shape)
+                    ));
+                }
+                let mut top = base.rows_mut(0, shape.0);
+                top += increment;
+                self.bind(*symbol, Value::Matrix(base));
             }
             Variable::Update {
                 symbol,
@@ -145,6 +173,25 @@ impl<'a, S: Scalar> Env<'a, S> {
                 self.bind(*delta, Value::column(x));
                 let value = self.eval(update)?;
                 self.bind(*symbol, value);
+            }
+            Variable::Joint(parts) => {
+                // Independent arguments: each defined one keeps its value
+                // while the others move (`θ` beside `ω` though `θ = ‖ω‖`).
+                for part in parts {
+                    if let Variable::Defined { symbol, .. } = part {
+                        let value = self.symbol(*symbol)?;
+                        self.bind(*symbol, value);
+                    }
+                }
+                let mut at = 0;
+                for part in parts {
+                    let n = part.dim();
+                    let piece = x.get(at..at + n).ok_or_else(|| {
+                        ShapeError("the input is shorter than the variables".into())
+                    })?;
+                    self.perturb(part, piece)?;
+                    at += n;
+                }
             }
         }
         Ok(())
@@ -188,8 +235,10 @@ impl<'a, S: Scalar> Env<'a, S> {
                         None => v,
                         Some(a) => match op {
                             Op::Mul => a.times(v)?,
+                            Op::Dot => a.dot(v)?,
                             Op::Cross => a.cross(v)?,
-                            Op::Oplus => a.oplus(v)?,
+                            Op::Oplus { jpl } => a.oplus(v, *jpl)?,
+                            Op::Otimes { jpl } => a.otimes(v, *jpl)?,
                             Op::Div => a.divided_by(v)?,
                         },
                     });
@@ -228,6 +277,7 @@ impl<'a, S: Scalar> Env<'a, S> {
                 Blocks::build(values)
             }
             Term::Zero => Ok(Value::Zero),
+            Term::BlockZero(rows, cols) => Ok(Value::BlockZero(*rows, *cols)),
             Term::Identity(None) => Ok(Value::Identity(S::one())),
             Term::Identity(Some(n)) => Value::Identity(S::one())
                 .sized((Some(*n), Some(*n)))
@@ -283,6 +333,19 @@ impl<'a, S: Scalar> Env<'a, S> {
                 ),
             },
             Term::Template(t, args) => self.template(*t, args),
+            Term::At { body, bindings } => {
+                let mut values = Vec::with_capacity(bindings.len());
+                for (id, t) in bindings {
+                    values.push((*id, self.eval(t)?));
+                }
+                let saved = (self.bound.clone(), self.memo.clone());
+                for (id, v) in values {
+                    self.bind(id, v);
+                }
+                let result = self.eval(body);
+                (self.bound, self.memo) = saved;
+                result
+            }
         }
     }
 
@@ -450,6 +513,9 @@ impl<'a, S: Scalar> Env<'a, S> {
             }
             Meaning::Bound | Meaning::Pending => {
                 return fail(format!("`{}` has no value here", entry.key));
+            }
+            Meaning::Broken(why) => {
+                return fail(format!("`{}` cannot be read: {why}", entry.key));
             }
         };
         self.memo[id] = Some(value.clone());

@@ -9,7 +9,9 @@
 //!   `[sin(θ/2) ω/θ, cos(θ/2)]` (as document 000 writes it); of a quaternion
 //!   (4-vector `[x, y, z, w]`) the quaternion exponential `e^w [sin|v| v/|v|,
 //!   cos|v|]`; of a 3 × 3 skew matrix (`so(3)`) the rotation; of a 4 × 4
-//!   twist matrix (`se(3)`) the pose. `log` inverts each: of a quaternion its
+//!   twist matrix (`se(3)`) the pose; of any other square matrix (a 3 × 3
+//!   that is not skew, a 4 × 4 that is no twist: the structure is read from
+//!   its value) the matrix exponential. `log` inverts each: of a quaternion its
 //!   logarithm `θ/2`-vector, of a rotation its `so(3)` matrix, of a pose its
 //!   twist matrix.
 //! - `Exp` of a 3-vector (or `so(3)` matrix) is SO(3)'s, of a 6-vector (or
@@ -119,8 +121,13 @@ pub enum Builtin {
     TransformLine,
     /// `plucker(L)`: the Plücker coordinates `[n, v]` of an orthonormal line.
     Plucker,
-    /// `rotation(T)`: the rotation of a pose.
+    /// `rotation(T)`: the rotation of a pose; `rotation(q)`: the rotation
+    /// of a unit quaternion `[x, y, z, w]` (Hamilton's, active:
+    /// `R(q) v = q ⊗ [v, 0] ⊗ q⁻¹`).
     RotationOf,
+    /// `rotation(q)` in a file that states JPL quaternions: the rotation
+    /// `C(q)` of JPL's convention, `R(q)ᵀ` (a pose's rotation unchanged).
+    JplRotationOf,
     /// `translation(T)`: the translation of a pose.
     TranslationOf,
     /// `vector(q)`: the vector part `[x, y, z]` of a quaternion.
@@ -262,12 +269,21 @@ impl Builtin {
         }
     }
 
+    /// The same function in a file that states JPL quaternions.
+    pub fn in_jpl(self) -> Builtin {
+        match self {
+            Builtin::RotationOf => Builtin::JplRotationOf,
+            other => other,
+        }
+    }
+
     /// The name as written.
     pub fn name(self) -> &'static str {
         match self {
             Builtin::Column(_) => "column",
             Builtin::Entry(_) => "entry",
             Builtin::Rows(..) => "rows",
+            Builtin::JplRotationOf => "rotation",
             other => NAMES
                 .iter()
                 .find(|(_, b)| *b == other)
@@ -320,7 +336,10 @@ impl Builtin {
             Builtin::Exp => match x.shape() {
                 Some((1, 1)) => scalar(|x| x.exp(), x),
                 Some((4, 1)) => Ok(quaternion_value(&quaternion_exp(&x.quaternion(what)?))),
-                Some((3, 3) | (4, 4)) => group_exp(x),
+                // A matrix of so(3) or se(3) exponentiates to its group
+                // element; any other square matrix (a 4 × 4 that is no
+                // twist) to its matrix exponential.
+                Some((3, 3) | (4, 4)) if x.in_algebra() != Some(false) => group_exp(x),
                 Some((n, m)) if n == m => Ok(Value::Matrix(matrix_exp(x.matrix()?))),
                 _ => Ok(quaternion_value(&Quaternion::exp(&x.vector3("exp")?))),
             },
@@ -450,7 +469,17 @@ impl Builtin {
                     other.describe()
                 ))),
             },
-            Builtin::RotationOf => Ok(Value::Rotation(x.pose(what)?.rotation)),
+            Builtin::RotationOf | Builtin::JplRotationOf => match x.shape() {
+                Some((4, 1)) => {
+                    let r = So3::from_quaternion(x.quaternion(what)?.normalized());
+                    Ok(Value::Rotation(if self == Builtin::JplRotationOf {
+                        r.inverse()
+                    } else {
+                        r
+                    }))
+                }
+                _ => Ok(Value::Rotation(x.pose(what)?.rotation)),
+            },
             Builtin::TranslationOf => Ok(Value::column(x.pose(what)?.translation.as_slice())),
             Builtin::VectorPart => {
                 let q = x.quaternion(what)?;

@@ -11,7 +11,7 @@ use factor_testing::samples::Sampler;
 use super::claims::{self, TextClaim, TextDerivation, compile, links, locate};
 use super::context::Context;
 use super::eval::{Env, Space};
-use super::symbols::SymbolsFile;
+use super::symbols::{Quaternions, SymbolsFile};
 use super::term::{Meaning, Variable};
 use super::value::ShapeError;
 use super::{MAX_DOCUMENT_BYTES, TextAudit, TextError, on_large_stack};
@@ -39,6 +39,32 @@ impl Unread {
     /// does not expect it unread.
     pub fn is_unexpected(&self) -> bool {
         self.expected != "unread"
+    }
+
+    /// What the printed formula may have wrong, when the reading stopped on
+    /// something missing from it (an erratum found while reading: an empty
+    /// matrix entry, an operand or a closing delimiter missing); `None` when
+    /// the reading stopped on notation the audit does not read.
+    pub fn suspected_erratum(&self) -> Option<String> {
+        use doc_latex::ErrorKind;
+        let TextError::Parse(e) = &self.error else {
+            return None;
+        };
+        Some(match &e.kind {
+            ErrorKind::Empty("matrix entry") => {
+                "an entry of the printed matrix is empty (a value is missing, or a block is meant \
+                 to span the empty cells)"
+                    .to_string()
+            }
+            ErrorKind::MissingOperand(op) if !op.is_empty() => {
+                format!("the operand after `{op}` is missing")
+            }
+            ErrorKind::Unclosed { open, expected } => {
+                format!("`{open}` is never closed by `{expected}`")
+            }
+            ErrorKind::UnbalancedBraces => "its braces do not balance".to_string(),
+            _ => return None,
+        })
     }
 }
 
@@ -124,7 +150,8 @@ impl TextAudit {
         let mut built: Vec<(String, Result<usize, TextError>)> = Vec::new();
         for (name, spec) in &file.context {
             match Context::build(name, spec, &vocabulary) {
-                Ok(c) => {
+                Ok(mut c) => {
+                    c.jpl_quaternions = file.quaternions == Some(Quaternions::Jpl);
                     built.push((name.clone(), Ok(contexts.len())));
                     contexts.push(c);
                 }
@@ -166,6 +193,14 @@ impl TextAudit {
                     continue;
                 }
             };
+            // A name an evaluation bar binds that the file does not define
+            // (`\left. \frac{∂ A ⊕ p}{∂ A} \right|_{A = D}`) is defined by
+            // the bar, in this formula.
+            let bound = bar_definitions(&place, &contexts[c], i);
+            if let Err(e) = contexts[c].add_claim_symbols(i, &spec.id, &bound) {
+                failures.fail(i, e)?;
+                continue;
+            }
             match claims::lhs_key(spec, &place, &vocabulary) {
                 Ok(Some(key)) => {
                     contexts[c].links.entry(key).or_insert(i);
@@ -278,6 +313,36 @@ impl TextAudit {
     }
 }
 
+/// The names the evaluation bars of a located claim bind that its scope
+/// does not define, with the last value each is given (`A = e^0 D = D`
+/// defines `A` as `D`); bindings to zero are the bar's point, not a
+/// definition.
+fn bar_definitions(
+    place: &claims::Located,
+    ctx: &Context,
+    claim: usize,
+) -> std::collections::BTreeMap<String, toml::Value> {
+    let mut out = std::collections::BTreeMap::new();
+    for side in place.lhs.iter().chain(std::iter::once(&place.rhs)) {
+        for (_, node) in super::tree::nodes(side) {
+            let doc_latex::ast::Expr::At { at, .. } = node else {
+                continue;
+            };
+            for (name, values) in super::lower::evaluation_bindings(at).unwrap_or_default() {
+                let key = name.to_string();
+                let value = values.last().expect("a binding has a value");
+                if ctx.lookup(Some(claim), &key).is_none()
+                    && super::lower::number(value) != Some(0.0)
+                {
+                    out.entry(key)
+                        .or_insert_with(|| toml::Value::String(value.to_string()));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// A chain rule's links must be claims that were read and whose printed
 /// formulas are not chain rules themselves (one level is followed).
 fn check_links(compiled: &[Option<TextClaim>], failures: &mut Failures) -> Result<(), TextError> {
@@ -329,29 +394,57 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
         claim: id.clone(),
         message: m,
     };
-    let fix = |v: &mut Option<Variable>| -> Result<(), TextError> {
+    fn fix(
+        v: &mut Variable,
+        ctx: &Context,
+        stored: &[f64],
+        error: &dyn Fn(String) -> TextError,
+    ) -> Result<(), TextError> {
         match v {
-            Some(Variable::Defined { symbol, shape, .. }) => {
+            Variable::Defined { symbol, shape, .. } => {
                 *shape = shape_of(ctx, stored, *symbol).map_err(|e| error(e.0))?;
             }
-            Some(Variable::Update { symbol, dim, .. }) => {
+            Variable::Update { symbol, dim, .. } => {
                 *dim = dims_of(ctx, stored, *symbol).map_err(|e| error(e.0))?.1;
             }
-            _ => {}
+            Variable::Joint(parts) => {
+                for part in parts {
+                    fix(part, ctx, stored, error)?;
+                }
+            }
+            Variable::Stored { .. } => {}
         }
         Ok(())
-    };
-    fix(&mut claim.variable)?;
-    for c in &mut claim.conventions {
-        fix(&mut c.variable)?;
     }
-    let value = TextDerivation::new(claim, ctx, stored.to_vec())
+    for v in std::iter::once(&mut claim.variable)
+        .chain(claim.conventions.iter_mut().map(|c| &mut c.variable))
+        .flatten()
+    {
+        fix(v, ctx, stored, &error)?;
+    }
+    let mut value = TextDerivation::new(claim, ctx, stored.to_vec())
         .map_value()
         .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
+    if value.iter().any(|x| !x.is_finite()) && claim.variable.as_ref().is_some_and(Variable::at_zero) {
+        // A removable singularity at zero (`k̂ sin(θ/2)`): next to it.
+        claim.near_zero = true;
+        value = TextDerivation::new(claim, ctx, stored.to_vec())
+            .map_value()
+            .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
+        claim.notes.push(format!(
+            "the map is not finite at zero (a removable singularity): compared at {:e} from it",
+            super::eval::NEAR_ZERO
+        ));
+    }
     if value.iter().any(|x| !x.is_finite()) {
         return Err(error("its map is not finite at a sample".into()));
     }
-    claim.value_shape = value.shape();
+    // A Jacobian of a homogeneous transformation moves its top 3 × 4 (a
+    // differential is printed as the whole matrix).
+    claim.value_shape = match claim.kind {
+        super::symbols::ClaimKind::Jacobian => super::value::moving_entries(&value).1,
+        _ => value.shape(),
+    };
     if claim.variable.is_some() && claim.kind != super::symbols::ClaimKind::Value {
         independent_of_variable(claim, ctx).map_err(error)?;
     }
@@ -396,13 +489,24 @@ fn dims_of(
         super::value::Value::Similarity(_) => Some(7),
         _ => None,
     };
-    let shape = value.matrix()?.shape();
+    let shape = perturbed_shape(value)?;
     Ok((shape, dim.unwrap_or(shape.0 * shape.1)))
 }
 
-/// The shape of symbol `symbol`'s value at the sample `stored`.
+/// The shape of what perturbs symbol `symbol`'s value additively at the
+/// sample `stored`.
 fn shape_of(ctx: &Context, stored: &[f64], symbol: usize) -> Result<(usize, usize), ShapeError> {
-    Ok(value_of(ctx, stored, symbol)?.matrix()?.shape())
+    perturbed_shape(value_of(ctx, stored, symbol)?)
+}
+
+/// The entries of a value a derivative by it moves: all of a matrix's, but
+/// the fixed last row `[0 0 0 1]` of a homogeneous transformation (its top
+/// 3 × 4, column by column, as `vec` of a pose's matrix is taken).
+fn perturbed_shape(value: super::value::Value<f64>) -> Result<(usize, usize), ShapeError> {
+    let m = value.matrix()?;
+    let homogeneous =
+        m.shape() == (4, 4) && (0..4).all(|c| m[(3, c)] == if c == 3 { 1.0 } else { 0.0 });
+    Ok(if homogeneous { (3, 4) } else { m.shape() })
 }
 
 /// Symbol `symbol`'s value at the sample `stored`.

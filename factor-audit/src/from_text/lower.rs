@@ -81,6 +81,16 @@ pub enum Found {
     Value,
 }
 
+/// What a symbol before a parenthesised group was read as.
+enum Application {
+    /// A function applied to the group.
+    Call(Term),
+    /// The symbol written with its variables (`T(ξ)`).
+    Written(Term),
+    /// A value multiplying the group: the value.
+    Product(Term),
+}
+
 /// What a derivative in a chain rule stands for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Link {
@@ -100,9 +110,20 @@ pub trait Resolver {
     /// What the derivative written `key` stands for.
     fn link(&self, key: &str) -> Option<Link>;
     /// A derivative printed in a formula that no claim or stated link
-    /// names: its true value, when `of` and `wrt` can be read.
-    fn inline_link(&mut self, key: &str, of: &Expr, wrt: &Expr) -> Result<Link, LowerError> {
-        let _ = (of, wrt);
+    /// names: its true value, when `of` and `wrt` can be read, `holding`
+    /// the other variables the formula differentiates `of` by (a partial
+    /// holds them), taken at `wrt = 0` when `at_zero` (an evaluation bar),
+    /// with the symbols evaluation bars around it bind `bound` to values.
+    fn inline_link(
+        &mut self,
+        key: &str,
+        of: &Expr,
+        wrt: &Expr,
+        holding: &[Expr],
+        bound: &[(SymbolId, Term)],
+        at_zero: bool,
+    ) -> Result<Link, LowerError> {
+        let _ = (of, wrt, holding, bound, at_zero);
         Err(LowerError {
             message: "no new derivative is read here".into(),
             fragment: key.to_string(),
@@ -111,6 +132,21 @@ pub trait Resolver {
     /// The template (and its number of arguments) an operator, word or
     /// symbol written `key` names (its body lowered first).
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError>;
+    /// Whether the symbols file states JPL quaternions (`⊗` and
+    /// `rotation(q)` in JPL's convention).
+    fn jpl_quaternions(&self) -> bool {
+        false
+    }
+    /// The symbols of the file whose keys cannot be read, with why (an
+    /// undefined symbol may be one of them).
+    fn unreadable_symbols(&self) -> &[String] {
+        &[]
+    }
+    /// Whether template `t`'s printed subscript is its first argument.
+    fn subscripted(&self, t: usize) -> bool {
+        let _ = t;
+        false
+    }
 }
 
 /// One lowering, with the reading options of the formula.
@@ -121,11 +157,49 @@ pub struct Lowering<'r> {
     /// Read a name no symbol has as the claim that states it (`D_2 g(ξ)`);
     /// off for a claim's own left side.
     pub names_claims: bool,
+    /// What a reader should know of how the formula was read (a zero
+    /// block's printed size overridden by its row and column).
+    pub notes: Vec<String>,
+    /// For each map the formula differentiates (its canonical LaTeX), the
+    /// variables it differentiates it by: a partial by one holds the others.
+    partials: Vec<(String, Vec<Expr>)>,
+    /// The symbols the evaluation bars around the term being lowered bind,
+    /// with their values: a derivative inside a bar is taken with them.
+    bars: Vec<(SymbolId, Term)>,
 }
 
 /// The canonical LaTeX of a symbol: the key of the symbols file.
 pub fn symbol_key(s: &ast::Symbol) -> String {
     Expr::Symbol(s.clone()).to_string()
+}
+
+/// The bindings of an evaluation bar's subscript: `x = a = b` (the name
+/// and its printed values), several separated by commas or in the rows of
+/// a `subarray`.
+pub fn evaluation_bindings(at: &Expr) -> Result<Vec<(Expr, Vec<Expr>)>, LowerError> {
+    let items: Vec<&Expr> = match at {
+        Expr::Tuple(items) => items.iter().collect(),
+        Expr::Matrix(m) => m.rows.iter().flatten().collect(),
+        one => vec![one],
+    };
+    items
+        .into_iter()
+        .map(|item| match item {
+            Expr::Relation { first, rest } if rest.iter().all(|(r, _)| *r == Rel::Eq) => Ok((
+                first.as_ref().clone(),
+                rest.iter().map(|(_, v)| v.clone()).collect(),
+            )),
+            other => Err(LowerError::at(
+                other,
+                "an evaluation bar's subscript is `name = value`, or several of them",
+            )),
+        })
+        .collect()
+}
+
+/// Whether `e` is a printed zero (`0`, `\mathbf{0}`, `0_3`).
+fn is_zero(e: &Expr) -> bool {
+    zero_block(e).is_some()
 }
 
 /// Whether `s` is a plain `e` (a superscript aside): Euler's number where
@@ -168,6 +242,9 @@ impl<'r> Lowering<'r> {
             resolver,
             stacked_fractions,
             names_claims: true,
+            notes: Vec::new(),
+            partials: Vec::new(),
+            bars: Vec::new(),
         }
     }
 
@@ -178,9 +255,28 @@ impl<'r> Lowering<'r> {
         self
     }
 
+    /// A formula lowered: the partials it prints of one map each hold the
+    /// map's other printed variables (`∂g/∂x + ∂g/∂r ∂r/∂x`).
+    pub fn formula(&mut self, e: &Expr) -> Result<Term, LowerError> {
+        self.partials.clear();
+        for d in super::tree::derivatives(e) {
+            if let Expr::Derivative { of, wrt, .. } = d {
+                let key = of.to_string();
+                match self.partials.iter_mut().find(|(k, _)| *k == key) {
+                    Some((_, wrts)) if !wrts.contains(wrt) => wrts.push(wrt.as_ref().clone()),
+                    Some(_) => {}
+                    None => self.partials.push((key, vec![wrt.as_ref().clone()])),
+                }
+            }
+        }
+        self.expr(e)
+    }
+
     /// `e` lowered.
     pub fn expr(&mut self, e: &Expr) -> Result<Term, LowerError> {
-        if (is_name_like(e) || is_applied_product(e))
+        // A key of the file is what it means, whatever it prints
+        // (`\mathbf{M}^{-1}`, `e^{-v}`, `\mathbf{p} \cdot \mathbf{d}`).
+        if !matches!(e, Expr::Number(_) | Expr::Symbol(_) | Expr::Placeholder)
             && let Some((id, found)) = self.resolver.symbol(&e.to_string())?
         {
             return match found {
@@ -221,6 +317,13 @@ impl<'r> Lowering<'r> {
                 ));
             }
             Expr::Placeholder => return Err(LowerError::at(e, "a placeholder is not a quantity")),
+            Expr::Ellipsis => {
+                return Err(LowerError::at(
+                    e,
+                    "an ellipsis stands for what the formula does not print (more blocks, more \
+                     terms): it cannot be evaluated",
+                ));
+            }
             Expr::Neg(x) => Term::Neg(Box::new(self.expr(x)?)),
             Expr::Pos(x) => self.expr(x)?,
             Expr::Sum { .. } => Term::Sum(
@@ -233,20 +336,34 @@ impl<'r> Lowering<'r> {
             Expr::Fraction { num, den } => self.fraction(num, den)?,
             Expr::Derivative { of, wrt, .. } => {
                 let key = e.to_string();
+                let holding: Vec<Expr> = self
+                    .partials
+                    .iter()
+                    .find(|(k, _)| *k == of.to_string())
+                    .map(|(_, wrts)| {
+                        wrts.iter()
+                            .filter(|w| *w != wrt.as_ref())
+                            .cloned()
+                            .collect()
+                    })
+                    .unwrap_or_default();
                 let link = match self.resolver.link(&key) {
                     Some(link) => link,
-                    None => self.resolver.inline_link(&key, of, wrt).map_err(|err| {
-                        LowerError::at(
-                            e,
-                            format!(
-                                "this derivative is no claim of the symbols file, and what it \
+                    None => self
+                        .resolver
+                        .inline_link(&key, of, wrt, &holding, &self.bars, false)
+                        .map_err(|err| {
+                            LowerError::at(
+                                e,
+                                format!(
+                                    "this derivative is no claim of the symbols file, and what it \
                                  prints cannot be differentiated: {} (add a claim, with `lhs` \
                                  if it is printed differently there, or a \
                                  `[[context.NAME.link]]`)",
-                                err.message
-                            ),
-                        )
-                    })?,
+                                    err.message
+                                ),
+                            )
+                        })?,
                 };
                 match link {
                     Link::Claim(k) => Term::Link(k),
@@ -282,7 +399,16 @@ impl<'r> Lowering<'r> {
             }
             Expr::Norm { body, .. } => Term::Norm(Box::new(self.expr(body)?)),
             Expr::Skew(x) => Term::Hat(Box::new(self.expr(x)?)),
-            Expr::Apply { head, args } => self.apply(head, args, e)?,
+            Expr::Apply {
+                head,
+                args,
+                scripts: None,
+            } => self.apply(head, args, e)?,
+            Expr::Apply {
+                head,
+                args,
+                scripts: Some(chain),
+            } => self.scripted_application(head, args, chain, e)?,
             Expr::Power { base, exponent } => {
                 let p = number(exponent)
                     .ok_or_else(|| LowerError::at(e, "the exponent is not a number"))?;
@@ -377,9 +503,19 @@ impl<'r> Lowering<'r> {
                     .iter()
                     .map(|row| {
                         row.iter()
-                            .map(|x| match zero_block(x) {
-                                Some(None) => Ok(Term::Zero),
-                                _ => self.expr(x),
+                            .map(|x| match printed_zero(x) {
+                                Some((None, None)) => Ok(Term::Zero),
+                                Some((rows, cols)) => {
+                                    let note = format!(
+                                        "`{x}` is a zero block sized by its block row and \
+                                         column (its printed size only where they do not tell)"
+                                    );
+                                    if !self.notes.contains(&note) {
+                                        self.notes.push(note);
+                                    }
+                                    Ok(Term::BlockZero(rows, cols))
+                                }
+                                None => self.expr(x),
                             })
                             .collect()
                     })
@@ -397,7 +533,108 @@ impl<'r> Lowering<'r> {
                     "a relation inside a formula is not a value",
                 ));
             }
+            Expr::At { body, at } => self.evaluated_at(body, at, e)?,
         })
+    }
+
+    /// `\left. X \right|_{x = a, …}`: a derivative `X` by `x` at `x = 0`
+    /// is taken at zero; otherwise `X` with the bound symbols given the
+    /// printed values (a name the file does not define is defined by the
+    /// bar, as the claim's own reading).
+    fn evaluated_at(&mut self, body: &Expr, at: &Expr, e: &Expr) -> Result<Term, LowerError> {
+        let bindings = evaluation_bindings(at)?;
+        let wrt = match body {
+            Expr::Derivative { wrt, .. } => Some(wrt.as_ref()),
+            _ => None,
+        };
+        let bound = self.bar_bindings(&bindings, wrt)?;
+        let depth = self.bars.len();
+        self.bars.extend(bound.iter().cloned());
+        let body = self.bar_body(body, &bindings, e);
+        self.bars.truncate(depth);
+        let body = body?;
+        Ok(if bound.is_empty() {
+            body
+        } else {
+            Term::At {
+                body: Box::new(body),
+                bindings: bound,
+            }
+        })
+    }
+
+    /// The symbols an evaluation bar's `bindings` give values (the last
+    /// printed: `A = e^0 D = D`), but the variable `wrt` a derivative is
+    /// taken by (that binding is its point, not a value to hold), and
+    /// names no symbol has.
+    fn bar_bindings(
+        &mut self,
+        bindings: &[(Expr, Vec<Expr>)],
+        wrt: Option<&Expr>,
+    ) -> Result<Vec<(SymbolId, Term)>, LowerError> {
+        let mut bound = Vec::new();
+        for (name, values) in bindings {
+            if Some(name) == wrt {
+                continue;
+            }
+            let key = match name {
+                Expr::Symbol(s) => symbol_key(s),
+                other => other.to_string(),
+            };
+            let Some((id, _)) = self.resolver.symbol(&key)? else {
+                continue;
+            };
+            let value = values.last().expect("a binding has a value");
+            bound.push((id, self.expr(value)?));
+        }
+        Ok(bound)
+    }
+
+    /// `of`, the map a derivative by `wrt` under the evaluation bar `at`
+    /// differentiates, with the bar's other bindings
+    /// (`\left. \frac{∂ A B}{∂ B} \right|_{A = D}`: `D B`).
+    pub fn map_under_bar(&mut self, of: &Expr, wrt: &Expr, at: &Expr) -> Result<Term, LowerError> {
+        let bound = self.bar_bindings(&evaluation_bindings(at)?, Some(wrt))?;
+        let of = self.expr(of)?;
+        Ok(if bound.is_empty() {
+            of
+        } else {
+            Term::At {
+                body: Box::new(of),
+                bindings: bound,
+            }
+        })
+    }
+
+    /// The body of an evaluation bar whose `bindings` (and those around it)
+    /// are in `self.bars`: a derivative by `x` at `x = 0` is taken at zero.
+    fn bar_body(
+        &mut self,
+        body: &Expr,
+        bindings: &[(Expr, Vec<Expr>)],
+        e: &Expr,
+    ) -> Result<Term, LowerError> {
+        if let Expr::Derivative { of, wrt, .. } = body {
+            let at_zero = bindings
+                .iter()
+                .any(|(name, values)| name == wrt.as_ref() && values.iter().any(is_zero));
+            if at_zero {
+                let key = e.to_string();
+                return Ok(match self.resolver.link(&key) {
+                    Some(Link::Claim(k)) => Term::Link(k),
+                    Some(Link::Truth(k)) => Term::TruthLink(k),
+                    _ => match self
+                        .resolver
+                        .inline_link(&key, of, wrt, &[], &self.bars, true)?
+                    {
+                        Link::Claim(k) => Term::Link(k),
+                        Link::Truth(k) => Term::TruthLink(k),
+                        Link::Broken(why) => return Err(LowerError::at(e, why)),
+                    },
+                });
+            }
+        }
+        self.expr(body)
     }
 
     /// A symbol: defined, a power of a defined one, a zero, or the identity.
@@ -468,7 +705,18 @@ impl<'r> Lowering<'r> {
                 return Ok(Term::Call(Builtin::Exp, vec![self.expr(sup)?]));
             }
         }
-        Err(LowerError::at(e, "undefined symbol"))
+        let unreadable = self.resolver.unreadable_symbols();
+        Err(LowerError::at(
+            e,
+            if unreadable.is_empty() {
+                "undefined symbol".to_string()
+            } else {
+                format!(
+                    "undefined symbol (the symbols file's {} cannot be read)",
+                    unreadable.join(", ")
+                )
+            },
+        ))
     }
 
     /// A product: factors with their operators; a function symbol before a
@@ -493,14 +741,14 @@ impl<'r> Lowering<'r> {
                 && let Some((id, Found::Stored { .. } | Found::Value)) =
                     self.resolver.symbol(&pair.to_string())?
             {
-                factors.push((operator(op, x)?, Term::Symbol(id)));
+                factors.push((self.operator(op, x)?, Term::Symbol(id)));
                 i += 2;
                 continue;
             }
             if let Some(next) = items.get(i + 1).filter(|(o, _)| *o == MulOp::Implicit)
                 && let Some(applied) = self.applied(x, next.1)?
             {
-                factors.push((operator(op, x)?, applied));
+                factors.push((self.operator(op, x)?, applied));
                 i += 2;
                 continue;
             }
@@ -527,7 +775,7 @@ impl<'r> Lowering<'r> {
                 }
                 (None, previous) => {
                     factors.extend(previous);
-                    factors.push((operator(op, x)?, self.expr(x)?));
+                    factors.push((self.operator(op, x)?, self.expr(x)?));
                 }
             }
             i += 1;
@@ -535,8 +783,40 @@ impl<'r> Lowering<'r> {
         Ok(if factors.len() == 1 {
             factors.pop().expect("one factor").1
         } else {
-            Term::Product(factors)
+            cross_of_products(factors)
         })
+    }
+
+    /// `f_{a}(args)` with `f` a function of the file whose subscript is an
+    /// argument (`\Phi_{R_0}(θ)`): the application, else `None`.
+    fn subscripted_template(
+        &mut self,
+        s: &ast::Symbol,
+        args: &[Expr],
+    ) -> Result<Option<Term>, LowerError> {
+        let Some(sub) = &s.sub else {
+            return Ok(None);
+        };
+        // A symbol of the file as printed (`x_n` beside a function `x`, or
+        // in `x`'s own definition) is that symbol.
+        if self.resolver.symbol(&symbol_key(s))?.is_some() {
+            return Ok(None);
+        }
+        let bare = ast::Symbol {
+            sub: None,
+            ..s.clone()
+        };
+        let Some((_, Found::Template(t))) = self.resolver.symbol(&symbol_key(&bare))? else {
+            return Ok(None);
+        };
+        if !self.resolver.subscripted(t) {
+            return Ok(None);
+        }
+        let mut terms = vec![self.expr(sub)?];
+        for a in args {
+            terms.push(self.expr(a)?);
+        }
+        Ok(Some(Term::Template(t, terms)))
     }
 
     /// `f x` with `f` a function symbol (or its inverse `f^{-1}`): the
@@ -551,6 +831,9 @@ impl<'r> Lowering<'r> {
             },
             _ => return Ok(None),
         };
+        if !inverse && let Some(call) = self.subscripted_template(s, std::slice::from_ref(x))? {
+            return Ok(Some(call));
+        }
         let arg = self.expr(x);
         Ok(match self.resolver.symbol(&symbol_key(s))? {
             Some((_, Found::Function(b))) => {
@@ -565,6 +848,99 @@ impl<'r> Lowering<'r> {
             }
             Some((_, Found::Template(t))) if !inverse => Some(Term::Template(t, vec![arg?])),
             _ => None,
+        })
+    }
+
+    /// `f(args)` with scripts on its closing parenthesis: on the call when
+    /// `f` is a function, on `f` when it is written with its variables
+    /// (`T(ξ)^{-1}`), else on the parenthesised group of the product
+    /// (`R (R Q)^\top` is `R ((R Q)^\top)`).
+    fn scripted_application(
+        &mut self,
+        head: &Head,
+        args: &[Expr],
+        chain: &Expr,
+        e: &Expr,
+    ) -> Result<Term, LowerError> {
+        let call = Expr::Apply {
+            head: head.clone(),
+            args: args.to_vec(),
+            scripts: None,
+        };
+        // A key of the file written as the application (`R(t)^{T}`).
+        if self.resolver.symbol(&call.to_string())?.is_some() {
+            return self.expr(&Expr::with_scripts_of(chain, call));
+        }
+        let Head::Symbol(s) = head else {
+            return self.expr(&Expr::with_scripts_of(chain, call));
+        };
+        match self.symbol_application(s, args, e)? {
+            Application::Call(_) => self.expr(&Expr::with_scripts_of(chain, call)),
+            Application::Written(_) => {
+                self.expr(&Expr::with_scripts_of(chain, Expr::Symbol(s.clone())))
+            }
+            Application::Product(head) => {
+                let group = match args {
+                    [one] => one.clone(),
+                    many => Expr::Tuple(many.to_vec()),
+                };
+                let scripted = self.expr(&Expr::with_scripts_of(chain, group))?;
+                Ok(Term::Product(vec![(Op::Mul, head), (Op::Mul, scripted)]))
+            }
+        }
+    }
+
+    /// What a symbol before a parenthesised group is: a function applied,
+    /// the symbol written with its variables (`T(ξ)`, `E(ξ, ω)`: every
+    /// argument a variable or tangent), or a value multiplying the group.
+    fn symbol_application(
+        &mut self,
+        s: &ast::Symbol,
+        args: &[Expr],
+        e: &Expr,
+    ) -> Result<Application, LowerError> {
+        let key = symbol_key(s);
+        let found = self.resolver.symbol(&key)?;
+        match found {
+            Some((_, Found::Function(b))) => return Ok(Application::Call(self.call(b, args, e)?)),
+            Some((_, Found::Template(t))) => {
+                return Ok(Application::Call(Term::Template(
+                    t,
+                    args.iter()
+                        .map(|a| self.expr(a))
+                        .collect::<Result<_, _>>()?,
+                )));
+            }
+            _ => {}
+        }
+        if let Some(call) = self.subscripted_template(s, args)? {
+            return Ok(Application::Call(call));
+        }
+        let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
+        // `f(\cdot)`: the function written with its argument's place.
+        if args.iter().all(|a| *a == Expr::Placeholder) {
+            return Ok(Application::Written(head));
+        }
+        // `h(x, \cdots)`: the symbol written with some of its variables.
+        let ellipsis = args.contains(&Expr::Ellipsis);
+        let group_head = matches!(found, Some((_, Found::Stored { group: true })));
+        let mut parameters = true;
+        for a in args {
+            let is_parameter = match a {
+                Expr::Ellipsis => true,
+                Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
+                    Some((_, Found::Tangent(_))) => true,
+                    Some((_, Found::Stored { .. })) => !group_head,
+                    _ => false,
+                },
+                _ => false,
+            };
+            parameters &= is_parameter;
+        }
+        Ok(if parameters || ellipsis {
+            Application::Written(head)
+        } else {
+            Application::Product(head)
         })
     }
 
@@ -593,10 +969,25 @@ impl<'r> Lowering<'r> {
                         _ => return Err(LowerError::at(e, "one argument is expected")),
                     });
                 }
-                // A function the file defines (its `log`, `between`) comes
-                // before the built-in one of the same name.
+                // A function the file defines (its `log`, `between`, its
+                // `\exp` as `expm`) comes before the built-in one of the
+                // same name, written with or without its backslash.
+                let keys = [format!("\\{}", f.name), f.name.clone()];
+                let mut redefined = None;
+                for key in &keys {
+                    if let Some((_, Found::Function(b))) = self.resolver.symbol(key)? {
+                        redefined = Some(b);
+                        break;
+                    }
+                }
+                let mut template = None;
+                for key in &keys {
+                    if template.is_none() {
+                        template = self.resolver.template(key)?;
+                    }
+                }
                 if f.power.is_none()
-                    && let Some((t, arity)) = self.resolver.template(&f.name)?
+                    && let Some((t, arity)) = template
                 {
                     if args.len() != arity {
                         return Err(LowerError::at(
@@ -612,7 +1003,9 @@ impl<'r> Lowering<'r> {
                     ));
                 }
                 let count = Builtin::indices(&f.name);
-                let builtin = if count > 0 {
+                let builtin = if let Some(b) = redefined {
+                    Some(b)
+                } else if count > 0 {
                     let mut k = Vec::with_capacity(count);
                     for _ in 0..count {
                         let index = args
@@ -662,57 +1055,52 @@ impl<'r> Lowering<'r> {
                     None => call,
                 })
             }
-            Head::Symbol(s) => {
-                let key = symbol_key(s);
-                let found = self.resolver.symbol(&key)?;
-                match found {
-                    Some((_, Found::Function(b))) => return self.call(b, args, e),
-                    Some((_, Found::Template(t))) => {
-                        return Ok(Term::Template(
-                            t,
-                            args.iter()
+            Head::Symbol(s) => Ok(match self.symbol_application(s, args, e)? {
+                Application::Call(t) | Application::Written(t) => t,
+                Application::Product(head) => {
+                    let arg = match args {
+                        [one] => self.expr(one)?,
+                        many => Term::Stack(
+                            many.iter()
                                 .map(|a| self.expr(a))
                                 .collect::<Result<_, _>>()?,
-                        ));
-                    }
-                    _ => {}
-                }
-                let head = self.symbol(s, &Expr::Symbol(s.clone()))?;
-                // `f(\cdot)`: the function written with its argument's place.
-                if args.iter().all(|a| *a == Expr::Placeholder) {
-                    return Ok(head);
-                }
-                let group_head = matches!(found, Some((_, Found::Stored { group: true })));
-                let mut parameters = true;
-                for a in args {
-                    let is_parameter = match a {
-                        Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
-                            Some((_, Found::Tangent(_))) => true,
-                            Some((_, Found::Stored { .. })) => !group_head,
-                            _ => false,
-                        },
-                        _ => false,
+                        ),
                     };
-                    parameters &= is_parameter;
+                    Term::Product(vec![(Op::Mul, head), (Op::Mul, arg)])
                 }
-                if parameters {
-                    // `T(ξ)`, `E(ξ, ω)`: the symbol, written with its variables.
-                    return Ok(head);
-                }
-                let arg = match args {
-                    [one] => self.expr(one)?,
-                    many => Term::Stack(
-                        many.iter()
-                            .map(|a| self.expr(a))
-                            .collect::<Result<_, _>>()?,
-                    ),
-                };
-                Ok(Term::Product(vec![(Op::Mul, head), (Op::Mul, arg)]))
-            }
+            }),
         }
     }
 
+    /// The meaning of a product operator (the quaternion product JPL's in a
+    /// file that states JPL quaternions).
+    fn operator(&self, op: MulOp, x: &Expr) -> Result<Op, LowerError> {
+        Ok(match op {
+            MulOp::Implicit | MulOp::Star => Op::Mul,
+            MulOp::Cdot => Op::Dot,
+            MulOp::Times => Op::Cross,
+            MulOp::Oplus => Op::Oplus {
+                jpl: self.resolver.jpl_quaternions(),
+            },
+            MulOp::Otimes => Op::Otimes {
+                jpl: self.resolver.jpl_quaternions(),
+            },
+            MulOp::Slash => Op::Div,
+            other => {
+                return Err(LowerError::at(
+                    x,
+                    format!("the operator {other:?} is not evaluated"),
+                ));
+            }
+        })
+    }
+
     fn call(&mut self, b: Builtin, args: &[Expr], e: &Expr) -> Result<Term, LowerError> {
+        let b = if self.resolver.jpl_quaternions() {
+            b.in_jpl()
+        } else {
+            b
+        };
         if args.len() != b.arity() {
             return Err(LowerError::at(
                 e,
@@ -801,20 +1189,38 @@ impl<'r> Lowering<'r> {
     }
 }
 
-/// The meaning of a product operator.
-fn operator(op: MulOp, x: &Expr) -> Result<Op, LowerError> {
-    Ok(match op {
-        MulOp::Implicit | MulOp::Cdot | MulOp::Star => Op::Mul,
-        MulOp::Times => Op::Cross,
-        MulOp::Oplus | MulOp::Otimes => Op::Oplus,
-        MulOp::Slash => Op::Div,
-        other => {
-            return Err(LowerError::at(
-                x,
-                format!("the operator {other:?} is not evaluated"),
-            ));
+/// A product whose `\times` separates juxtaposed factors: juxtaposition
+/// binds tighter (`ω × R p` is `ω × (R p)`), the crosses then taken left to
+/// right; other products as printed.
+fn cross_of_products(factors: Vec<(Op, Term)>) -> Term {
+    let crosses = factors
+        .iter()
+        .skip(1)
+        .filter(|(op, _)| *op == Op::Cross)
+        .count();
+    if crosses == 0 || crosses + 1 == factors.len() {
+        return Term::Product(factors);
+    }
+    let mut segments: Vec<(Op, Vec<(Op, Term)>)> = Vec::new();
+    for (i, (op, t)) in factors.into_iter().enumerate() {
+        match segments.last_mut() {
+            Some((_, segment)) if i > 0 && op != Op::Cross => segment.push((op, t)),
+            _ => segments.push((op, vec![(Op::Mul, t)])),
         }
-    })
+    }
+    Term::Product(
+        segments
+            .into_iter()
+            .map(|(op, mut segment)| {
+                let t = if segment.len() == 1 {
+                    segment.pop().expect("one factor").1
+                } else {
+                    Term::Product(segment)
+                };
+                (op, t)
+            })
+            .collect(),
+    )
 }
 
 /// `Some(size)` when `s` is the identity: `I`, `\mathbf{I}`, `\mathbb{I}`,
@@ -928,15 +1334,35 @@ fn zero_block(e: &Expr) -> Option<Option<(usize, usize)>> {
     }
 }
 
+/// The rows and columns a zero block inside a matrix is printed with
+/// (`0`: neither; `0_3`: 3 rows; `0_3^\top`: 3 columns; `0_{3 \times 1}`:
+/// both), when it is one.
+fn printed_zero(e: &Expr) -> Option<(Option<usize>, Option<usize>)> {
+    let single = |s: &ast::Symbol| s.sub.as_deref().is_some_and(|sub| number(sub).is_some());
+    match e {
+        Expr::Symbol(s) if single(s) => zero_block(e).map(|shape| (shape.map(|s| s.0), None)),
+        Expr::Postfix {
+            base,
+            op: PostfixOp::Transpose,
+        } if matches!(base.as_ref(), Expr::Symbol(s) if single(s)) => {
+            zero_block(base).map(|shape| (None, shape.map(|s| s.0)))
+        }
+        _ => zero_block(e).map(|shape| (shape.map(|s| s.0), shape.map(|s| s.1))),
+    }
+}
+
 /// The degree of `t` in the symbols `names` (`None` when it is not a
 /// polynomial in them: inside a function, a norm, a denominator, …).
 pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
     let free = |t: &Term| degree(t, names) == Some(0);
     match t {
         Term::Symbol(id) => Some(u32::from(names.contains(id))),
-        Term::Number(_) | Term::Zero | Term::Identity(_) | Term::Link(_) | Term::TruthLink(_) => {
-            Some(0)
-        }
+        Term::Number(_)
+        | Term::Zero
+        | Term::BlockZero(..)
+        | Term::Identity(_)
+        | Term::Link(_)
+        | Term::TruthLink(_) => Some(0),
         Term::Neg(x) | Term::Hat(x) | Term::Vee(x) | Term::Transpose(x) | Term::Shaped(x, _) => {
             degree(x, names)
         }
@@ -955,7 +1381,7 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
             .try_fold(0, |a, d| Some(a.max(d?))),
         Term::Product(factors) => factors.iter().try_fold(0, |acc, (op, x)| match op {
             Op::Div if !free(x) => None,
-            Op::Oplus if !free(x) || acc > 0 => None,
+            Op::Oplus { .. } | Op::Otimes { .. } if !free(x) || acc > 0 => None,
             _ => Some(acc + degree(x, names)?),
         }),
         Term::Fraction {
@@ -975,6 +1401,9 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
         }
         Term::Norm(x) | Term::Quotient { numerator: x, .. } => free(x).then_some(0),
         Term::Call(_, args) | Term::Template(_, args) => args.iter().all(free).then_some(0),
+        Term::At { body, bindings } => {
+            (bindings.iter().all(|(_, t)| free(t)) && free(body)).then_some(0)
+        }
     }
 }
 

@@ -85,12 +85,16 @@ pub mod factors;
 pub mod functions;
 mod load;
 pub mod lower;
+pub mod readings;
 pub mod report;
 pub mod stored;
 pub mod symbols;
 pub mod term;
 pub mod tree;
+pub mod understood;
 pub mod value;
+
+use std::borrow::Cow;
 
 use doc_latex::ParseError;
 use factor_testing::samples::Sampler;
@@ -252,23 +256,41 @@ impl TextAudit {
     }
 
     fn run_here(&self, samples: usize) -> Vec<TextFinding> {
-        let mut findings: Vec<Finding> = self
-            .claims
-            .iter()
-            .map(|c| {
-                let ctx = &self.contexts[c.context];
-                audit(
-                    |s: &mut Sampler| TextDerivation::new(c, ctx, ctx.sample(s)),
-                    samples,
-                    Self::seed(c.index),
-                )
-            })
-            .collect();
+        let audit_one = |c: &TextClaim| {
+            let ctx = &self.contexts[c.context];
+            audit(
+                |s: &mut Sampler| TextDerivation::new(c, ctx, ctx.sample(s)),
+                samples,
+                Self::seed(c.index),
+            )
+        };
+        let mut claims: Vec<Cow<'_, TextClaim>> = self.claims.iter().map(Cow::Borrowed).collect();
+        let mut findings: Vec<Finding> = self.claims.iter().map(audit_one).collect();
+        // A formula malformed as read because of which function a name is
+        // (`exp` or `Exp`) is read with the one that evaluates.
+        for (finding, claim) in findings.iter_mut().zip(claims.iter_mut()) {
+            if matches!(finding.verdict, Verdict::Malformed(_))
+                && let Some(read) = readings::well_formed(self, claim, samples)
+            {
+                *finding = audit_one(&read);
+                *claim = Cow::Owned(read);
+            }
+        }
+        // A formula wrong or malformed as read may be right as its author
+        // meant the notation: never reported wrong then.
+        for (finding, claim) in findings.iter_mut().zip(&claims) {
+            if matches!(finding.verdict, Verdict::Wrong(_) | Verdict::Malformed(_))
+                && let Some(reading) = readings::settle(self, claim, samples)
+            {
+                finding.verdict = Verdict::Ambiguous(reading);
+                finding.corrected_latex = None;
+            }
+        }
         localise(&mut findings, &self.chains());
         let mut budget = errata::MAX_CANDIDATES_PER_RUN;
         findings
             .into_iter()
-            .zip(&self.claims)
+            .zip(&claims)
             .map(|(mut finding, claim)| {
                 let searched = matches!(finding.verdict, Verdict::Wrong(_) | Verdict::Malformed(_))
                     .then(|| {
@@ -290,7 +312,8 @@ impl TextAudit {
                     finding,
                     line: claim.line,
                     quote: claim.quote.clone(),
-                    understood: claim.understood(),
+                    understood: claim.understood.clone(),
+                    notes: claim.notes.clone(),
                     expected: claim.expected.clone(),
                     diagnosis,
                     searched: searched.map(|s| s.evaluated),

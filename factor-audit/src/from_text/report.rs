@@ -39,6 +39,8 @@ pub struct TextFinding {
     pub expected: String,
     /// The engine's diagnosis of a wrong or malformed formula.
     pub diagnosis: Option<Diagnosis>,
+    /// What a reader should know of how the formula was read.
+    pub notes: Vec<String>,
     /// Edited formulas the erratum search evaluated, when it ran.
     pub searched: Option<usize>,
 }
@@ -50,13 +52,18 @@ impl TextFinding {
     }
 
     /// The verdict's explanation (a diagnosis of a malformed formula is
-    /// added to why it is malformed).
+    /// added to why it is malformed), then how the formula was read.
     pub fn note(&self) -> String {
         let base = note(&self.finding);
-        match (&self.finding.verdict, &self.diagnosis) {
+        let base = match (&self.finding.verdict, &self.diagnosis) {
             (Verdict::Malformed(_), Some(d)) => format!("{base}; suspected erratum: {}", d.words),
             _ => base,
-        }
+        };
+        std::iter::once(base)
+            .chain(self.notes.iter().cloned())
+            .filter(|n| !n.is_empty())
+            .collect::<Vec<_>>()
+            .join("; ")
     }
 }
 
@@ -104,15 +111,20 @@ pub fn table(findings: &[TextFinding], unread: &[Unread]) -> String {
         } else {
             String::new()
         };
+        let erratum = u
+            .suspected_erratum()
+            .map(|e| format!(" (suspected erratum: {e})"))
+            .unwrap_or_default();
         let _ = writeln!(
             out,
-            "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}",
+            "{:<26} {:<22} {:>5} {:<11} {:>9}  {}{}{}",
             "",
             shown(&u.id),
             u.line.map_or("—".into(), |l| l.to_string()),
             "unread",
             "—",
             one_line(&u.error.to_string()),
+            erratum,
             expected
         );
     }
@@ -212,11 +224,14 @@ pub fn markdown(findings: &[TextFinding], unread: &[Unread]) -> String {
         for u in unread {
             let _ = writeln!(
                 out,
-                "- {} ({}): {}{}",
+                "- {} ({}): {}{}{}",
                 cell(&u.id),
                 u.line
                     .map_or("not found".to_string(), |l| format!("line {l}")),
                 one_line(&u.error.to_string()).replace('|', "\\|"),
+                u.suspected_erratum()
+                    .map(|e| format!("; suspected erratum: {}", e.replace('|', "\\|")))
+                    .unwrap_or_default(),
                 if u.is_unexpected() {
                     String::new()
                 } else {

@@ -22,6 +22,8 @@ pub enum Kind {
     Scalar,
     /// Named scalars (`[x, y, z]`, `[fu, fv, cu, cv]`), additive.
     Vector(usize),
+    /// A `rows × columns` matrix stored column by column, additive.
+    Matrix(usize, usize),
     /// A unit quaternion `[qx, qy, qz, qw]` read as a rotation.
     Rotation,
     /// A pose `{rotation, translation}`.
@@ -68,6 +70,7 @@ impl Kind {
         match self {
             Kind::Scalar => 1,
             Kind::Vector(n) | Kind::Record(n) => n,
+            Kind::Matrix(r, c) => r * c,
             Kind::Rotation | Kind::Plane => 4,
             Kind::Pose => 7,
             Kind::Plucker | Kind::OrthonormalLine => 6,
@@ -87,13 +90,17 @@ impl Kind {
 
     /// Whether it is perturbed by adding to its scalars (no side).
     pub fn is_additive(self) -> bool {
-        matches!(self, Kind::Scalar | Kind::Vector(_) | Kind::Plucker)
+        matches!(
+            self,
+            Kind::Scalar | Kind::Vector(_) | Kind::Matrix(..) | Kind::Plucker
+        )
     }
 
     /// The value of a formula it stands for.
     pub fn value<S: Scalar>(self, stored: &[S]) -> Result<Value<S>, ShapeError> {
         Ok(match self {
             Kind::Scalar | Kind::Vector(_) | Kind::Plane | Kind::Plucker => Value::column(stored),
+            Kind::Matrix(r, c) => Value::Matrix(nalgebra::DMatrix::from_column_slice(r, c, stored)),
             Kind::Rotation => Value::Rotation(So3::from_scalars(stored)),
             Kind::Pose => Value::Pose(Se3::from_scalars(stored)),
             Kind::OrthonormalLine => Value::OrthonormalLine(OrthonormalLine::from_scalars(stored)),
@@ -172,12 +179,24 @@ pub enum FreeSample {
         /// Where it is drawn.
         range: [f64; 2],
     },
+    /// A `rows × columns` matrix of entries uniform in `range` (a general
+    /// matrix: no structure).
+    Matrix {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+        /// Where each entry is drawn.
+        range: [f64; 2],
+    },
 }
 
 /// The range of a `vector` or `scalar` sample when the file gives none.
 pub const DEFAULT_RANGE: [f64; 2] = [-1.0, 1.0];
 /// Most entries of a sampled `vector`.
 pub const MAX_VECTOR_SIZE: usize = 32;
+/// Most rows (and columns) of a sampled `matrix`.
+pub const MAX_MATRIX_SIDE: usize = 12;
 
 impl FreeSample {
     /// The names a symbols file uses, with their samplers (and `vector`,
@@ -193,20 +212,40 @@ impl FreeSample {
     /// Every sampler name, for messages.
     pub fn all_names() -> String {
         let mut names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
-        names.extend(["vector", "scalar"]);
+        names.extend(["vector", "scalar", "matrix"]);
         names.join(", ")
     }
 
     /// The sampler named `name`, with the `size` and `range` a `vector` or
-    /// `scalar` takes; an error says what is wrong.
+    /// `scalar` takes and the `shape` of a `matrix`; an error says what is
+    /// wrong.
     pub fn from_spec(
         name: &str,
         size: Option<usize>,
+        shape: Option<[usize; 2]>,
         range: Option<[f64; 2]>,
     ) -> Result<Self, String> {
         let range = range.unwrap_or(DEFAULT_RANGE);
         if !(range[0].is_finite() && range[1].is_finite() && range[0] < range[1]) {
             return Err(format!("the range [{}, {}] is empty", range[0], range[1]));
+        }
+        match (name, shape) {
+            ("matrix", Some([r, c]))
+                if (1..=MAX_MATRIX_SIDE).contains(&r) && (1..=MAX_MATRIX_SIDE).contains(&c) =>
+            {
+                return Ok(FreeSample::Matrix {
+                    rows: r,
+                    cols: c,
+                    range,
+                });
+            }
+            ("matrix", _) => {
+                return Err(format!(
+                    "a `matrix` sample needs a `shape = [rows, columns]` of 1 to {MAX_MATRIX_SIDE} each"
+                ));
+            }
+            (_, Some(_)) => return Err("`shape` goes with a `matrix` sample".into()),
+            _ => {}
         }
         let sized = matches!(name, "vector");
         match (name, size) {
@@ -237,6 +276,11 @@ impl FreeSample {
                 Layout::Array((1..=size).map(|i| i.to_string()).collect())
             }
             FreeSample::Scalar { .. } => Layout::Scalar,
+            FreeSample::Matrix { rows, cols, .. } => Layout::Array(
+                (0..rows * cols)
+                    .map(|k| format!("{}{}", k % rows + 1, k / rows + 1))
+                    .collect(),
+            ),
         }
     }
 
@@ -244,6 +288,7 @@ impl FreeSample {
     pub fn kind(self) -> Kind {
         match self {
             FreeSample::UnitQuaternion => Kind::Vector(4),
+            FreeSample::Matrix { rows, cols, .. } => Kind::Matrix(rows, cols),
             other => Kind::of(&other.layout()),
         }
     }
@@ -269,6 +314,9 @@ impl FreeSample {
                 (0..size).map(|_| s.uniform(range[0], range[1])).collect()
             }
             FreeSample::Scalar { range } => vec![s.uniform(range[0], range[1])],
+            FreeSample::Matrix { rows, cols, range } => (0..rows * cols)
+                .map(|_| s.uniform(range[0], range[1]))
+                .collect(),
         }
     }
 }

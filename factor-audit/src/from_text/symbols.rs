@@ -52,12 +52,26 @@ pub struct SymbolsFile {
     /// the built-in ones.
     #[serde(default)]
     pub words: Vec<String>,
+    /// The document's quaternion convention: `"hamilton"` (the default) or
+    /// `"jpl"` (`q ⊗ p` is JPL's product, `rotation(q)` JPL's `C(q)`).
+    pub quaternions: Option<Quaternions>,
     /// The contexts, by name.
     #[serde(default)]
     pub context: BTreeMap<String, ContextSpec>,
     /// The audited claims, in order.
     #[serde(default, rename = "claim")]
     pub claims: Vec<ClaimSpec>,
+}
+
+/// A document's quaternion convention.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quaternions {
+    /// Hamilton's product; `rotation(q)` the active rotation `q v q⁻¹`.
+    Hamilton,
+    /// JPL's (Trawny and Roumeliotis): `q ⊗ p` is Hamilton's `p ⊗ q`, and
+    /// `C(q)` is Hamilton's rotation transposed.
+    Jpl,
 }
 
 /// A context: the symbols of a part of the document and what samples them.
@@ -85,6 +99,11 @@ pub struct ContextSpec {
 pub struct TemplateSpec {
     /// The names of its arguments, as written in `latex`.
     pub args: Vec<String>,
+    /// The name its printed subscript is bound to, for a function whose
+    /// subscript is an argument (`\Phi_{R_0}(θ)`: `sub = "A"` binds `A` to
+    /// `R_0`); the function is keyed without its subscript.
+    #[serde(default)]
+    pub sub: Option<String>,
     /// Its value, LaTeX over the arguments and the context's symbols.
     pub latex: String,
 }
@@ -104,6 +123,10 @@ pub struct LinkSpec {
     pub side: Option<Side>,
     /// The local coordinates a group-valued map is read in.
     pub output: Option<Side>,
+    /// The other arguments the partial holds (symbols kept at their values
+    /// while `wrt` moves, though they depend on it).
+    #[serde(default)]
+    pub holding: Vec<String>,
 }
 
 /// What a claim says.
@@ -147,6 +170,13 @@ pub struct ClaimSpec {
     /// A piece of the prose just before the formula: the first display
     /// after it (said explicitly, never a fallback of `anchor`).
     pub after: Option<String>,
+    /// A piece of the heading of the section the formula is in: `label`,
+    /// `anchor` and `after` are looked for there only (to the next heading
+    /// of the same or a higher level).
+    pub section: Option<String>,
+    /// Which of the places `anchor` or `after` matches (1-based, in the
+    /// document's order), when it matches several.
+    pub occurrence: Option<usize>,
     /// Which line of the formula (1-based).
     pub line: Option<usize>,
     /// Which statement of the line (1-based: the line's claim, then what
@@ -179,6 +209,11 @@ pub struct ClaimSpec {
     /// Differentiate at the variable's zero instead of its sampled value.
     #[serde(default)]
     pub at_zero: bool,
+    /// The other arguments the claim's partial derivative holds: symbols
+    /// kept at their values while the variable moves, though they depend on
+    /// it (`∂h/∂x` of `h(x, r(x))` holding `r`).
+    #[serde(default)]
+    pub holding: Vec<String>,
     /// How other formulas write this derivative in chain rules (LaTeX); by
     /// default its printed left side.
     pub lhs: Option<String>,
@@ -261,6 +296,8 @@ pub enum SymbolSpec {
         name: String,
         /// Entries of a `vector`.
         size: Option<usize>,
+        /// Rows and columns of a `matrix`.
+        shape: Option<[usize; 2]>,
         /// Where entries are drawn.
         range: Option<[f64; 2]>,
         /// The default perturbation.
@@ -295,9 +332,11 @@ struct SymbolTable {
     #[serde(default)]
     components: Vec<String>,
     args: Option<Vec<String>>,
+    sub: Option<String>,
     field: Option<String>,
     sample: Option<String>,
     size: Option<usize>,
+    shape: Option<[usize; 2]>,
     range: Option<[f64; 2]>,
     function: Option<String>,
     perturbs: Option<String>,
@@ -361,11 +400,14 @@ impl SymbolSpec {
         if t.latex.is_none() && t.field.is_none() && !t.components.is_empty() {
             return Err(bad("`components` goes with `latex` or `field`".into()));
         }
-        if t.sample.is_none() && (t.size.is_some() || t.range.is_some()) {
-            return Err(bad("`size` and `range` go with `sample`".into()));
+        if t.sample.is_none() && (t.size.is_some() || t.shape.is_some() || t.range.is_some()) {
+            return Err(bad("`size`, `shape` and `range` go with `sample`".into()));
         }
         if t.latex.is_none() && t.args.is_some() {
             return Err(bad("`args` goes with `latex`".into()));
+        }
+        if t.args.is_none() && t.sub.is_some() {
+            return Err(bad("`sub` goes with `args` and `latex`".into()));
         }
         let perturbation = Perturbed {
             side: t.side,
@@ -374,6 +416,7 @@ impl SymbolSpec {
         Ok(if let (Some(latex), Some(args)) = (&t.latex, &t.args) {
             SymbolSpec::Template(TemplateSpec {
                 args: args.clone(),
+                sub: t.sub.clone(),
                 latex: latex.clone(),
             })
         } else if let Some(latex) = t.latex {
@@ -391,6 +434,7 @@ impl SymbolSpec {
             SymbolSpec::Sample {
                 name,
                 size: t.size,
+                shape: t.shape,
                 range: t.range,
                 perturbation,
             }

@@ -11,12 +11,26 @@ pub type SymbolId = usize;
 /// A product's operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Op {
-    /// Juxtaposition, `\cdot`, `*`: a product.
+    /// Juxtaposition, `*`: a product.
     Mul,
+    /// `\cdot`: the scalar product of two columns of one length, else a
+    /// product.
+    Dot,
     /// `\times`: a cross product of 3-vectors, else a product.
     Cross,
-    /// `\oplus`, `\otimes`: a quaternion (or group) product.
-    Oplus,
+    /// `\oplus`: a group composition, a pose acting on a point, or the
+    /// product of two quaternions (JPL's in a file that states JPL
+    /// quaternions).
+    Oplus {
+        /// JPL's quaternion product.
+        jpl: bool,
+    },
+    /// `\otimes`: the product of two quaternions (JPL's when said), a
+    /// group composition, or the Kronecker product of matrices.
+    Otimes {
+        /// JPL's quaternion product.
+        jpl: bool,
+    },
     /// `/`.
     Div,
 }
@@ -59,6 +73,11 @@ pub enum Term {
     Blocks(Vec<Vec<Term>>),
     /// A printed `0` inside a matrix: a zero block of the size its place tells.
     Zero,
+    /// A zero printed with a size inside a block matrix (`\mathbf{0}_3`,
+    /// `0_{3 \times 1}`, `0_3^\top`): its block row and column size it,
+    /// the printed rows and columns only where they do not (a single size
+    /// `0_3` stands for a square block when nothing else tells).
+    BlockZero(Option<usize>, Option<usize>),
     /// `I`, `I_3`, `I_{3×3}`.
     Identity(Option<usize>),
     /// `(…)_{r × c}`: the value, sized (and checked) by the annotation.
@@ -86,15 +105,29 @@ pub enum Term {
     /// An operator or function the symbols file defines by LaTeX over its
     /// arguments ([`Template`]), applied.
     Template(usize, Vec<Term>),
+    /// `\left. X \right|_{x = a}`: `X` with symbols bound to values (what
+    /// depends on them recomputed).
+    At {
+        /// `X`.
+        body: Box<Term>,
+        /// The symbols and their values.
+        bindings: Vec<(SymbolId, Term)>,
+    },
 }
 
 /// An operator or function defined by LaTeX over its arguments.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Template {
-    /// How it is written in the symbols file (`\\boxminus`, `^\\odot`, `H`).
+    /// How it is written in the symbols file, normalised for lookups
+    /// (`\\boxminus`, `^\\odot`, `H`: no braces or spaces).
     pub key: String,
-    /// Its arguments: symbols bound while its body is evaluated.
+    /// How it is written in the symbols file, for reports.
+    pub written: String,
+    /// Its arguments: symbols bound while its body is evaluated (the
+    /// subscript's first, when it takes one).
     pub params: Vec<SymbolId>,
+    /// Its printed subscript is its first argument (`\Phi_{R_0}(θ)`).
+    pub subscripted: bool,
     /// Its body, lowered.
     pub body: Term,
 }
@@ -117,6 +150,10 @@ pub struct TruthLink {
     /// (`R \frac{\partial}{\partial\omega}(e^{\omega^\wedge} p)`), read
     /// with that formula's symbols; `None` for a link the file states.
     pub inline: Option<Option<usize>>,
+    /// The other arguments the partial derivative holds: symbols kept at
+    /// their values while the variable moves, though they depend on it
+    /// (`∂g/∂x` beside `∂g/∂r` in `∂g/∂x + ∂g/∂r ∂r/∂x`).
+    pub holding: Vec<SymbolId>,
 }
 
 impl Term {
@@ -126,6 +163,7 @@ impl Term {
             Term::Number(_)
             | Term::Symbol(_)
             | Term::Zero
+            | Term::BlockZero(..)
             | Term::Identity(_)
             | Term::Link(_)
             | Term::TruthLink(_) => Vec::new(),
@@ -143,6 +181,9 @@ impl Term {
             Term::Call(_, args) | Term::Stack(args) | Term::Template(_, args) => {
                 args.iter().collect()
             }
+            Term::At { body, bindings } => std::iter::once(body.as_ref())
+                .chain(bindings.iter().map(|(_, t)| t))
+                .collect(),
             Term::Blocks(rows) => rows.iter().flatten().collect(),
         }
     }
@@ -200,15 +241,30 @@ pub enum Variable {
         /// The input's length.
         dim: usize,
     },
+    /// Several variables together, the input their inputs one after another
+    /// (a first-order claim in several small quantities: `x̃_{k+1} ≃ Φ x̃_k
+    /// + G n`).
+    Joint(Vec<Variable>),
 }
 
 impl Variable {
+    /// Whether the variable is expanded about zero (all of it, for
+    /// several).
+    pub fn at_zero(&self) -> bool {
+        match self {
+            Variable::Stored { at_zero, .. } | Variable::Defined { at_zero, .. } => *at_zero,
+            Variable::Joint(parts) => parts.iter().all(Variable::at_zero),
+            Variable::Update { .. } => false,
+        }
+    }
+
     /// The input's length.
     pub fn dim(&self) -> usize {
         match self {
             Variable::Stored { coordinates, .. } => coordinates.len(),
             Variable::Defined { shape, .. } => shape.0 * shape.1,
             Variable::Update { dim, .. } => *dim,
+            Variable::Joint(parts) => parts.iter().map(Variable::dim).sum(),
         }
     }
 }
@@ -252,6 +308,9 @@ pub enum Meaning {
     Bound,
     /// Not resolved yet (while the table is built).
     Pending,
+    /// The symbols file's meaning cannot be read (why): the claims that use
+    /// it are unread, the others audited.
+    Broken(String),
 }
 
 /// One symbol.

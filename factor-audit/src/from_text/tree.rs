@@ -15,6 +15,7 @@ pub fn children(e: &Expr) -> Vec<&Expr> {
         | Expr::Symbol(_)
         | Expr::Text(_)
         | Expr::Placeholder
+        | Expr::Ellipsis
         | Expr::Derivative { .. } => Vec::new(),
         Expr::Neg(x)
         | Expr::Pos(x)
@@ -26,7 +27,8 @@ pub fn children(e: &Expr) -> Vec<&Expr> {
         | Expr::Postfix { base: x, .. }
         | Expr::Indexed { base: x, .. }
         | Expr::Shaped { base: x, .. }
-        | Expr::Primed { base: x, .. } => vec![x],
+        | Expr::Primed { base: x, .. }
+        | Expr::At { body: x, .. } => vec![x],
         Expr::Sum { first, rest } => std::iter::once(first.as_ref())
             .chain(rest.iter().map(|(_, t)| t))
             .collect(),
@@ -51,6 +53,7 @@ pub fn child_mut(e: &mut Expr, i: usize) -> Option<&mut Expr> {
         | Expr::Symbol(_)
         | Expr::Text(_)
         | Expr::Placeholder
+        | Expr::Ellipsis
         | Expr::Derivative { .. } => None,
         Expr::Neg(x)
         | Expr::Pos(x)
@@ -62,7 +65,8 @@ pub fn child_mut(e: &mut Expr, i: usize) -> Option<&mut Expr> {
         | Expr::Postfix { base: x, .. }
         | Expr::Indexed { base: x, .. }
         | Expr::Shaped { base: x, .. }
-        | Expr::Primed { base: x, .. } => (i == 0).then_some(x.as_mut()),
+        | Expr::Primed { base: x, .. }
+        | Expr::At { body: x, .. } => (i == 0).then_some(x.as_mut()),
         Expr::Sum { first, rest } => match i {
             0 => Some(first.as_mut()),
             _ => rest.get_mut(i - 1).map(|(_, t)| t),

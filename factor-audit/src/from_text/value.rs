@@ -48,6 +48,10 @@ pub enum Value<S: Scalar> {
     Identity(S),
     /// A zero block whose size is told by where it is used.
     Zero,
+    /// A zero block printed with a size in a block matrix: sized by its
+    /// block row and column, the printed rows and columns where they do not
+    /// tell ([`super::term::Term::BlockZero`]).
+    BlockZero(Option<usize>, Option<usize>),
     /// A block matrix some of whose blocks are not sized yet.
     Blocks(Blocks<S>),
     /// A line in orthonormal representation `(U, W)` (no matrix).
@@ -80,6 +84,7 @@ impl<S: Scalar> Value<S> {
             Value::Pose(_) | Value::Similarity(_) => Some((4, 4)),
             Value::Identity(_)
             | Value::Zero
+            | Value::BlockZero(..)
             | Value::Blocks(_)
             | Value::OrthonormalLine(_)
             | Value::FreeLine(_) => None,
@@ -97,6 +102,7 @@ impl<S: Scalar> Value<S> {
             Value::Similarity(_) => "a similarity".into(),
             Value::Identity(_) => "an identity of unprinted size".into(),
             Value::Zero => "a zero of unprinted size".into(),
+            Value::BlockZero(..) => "a zero block".into(),
             Value::Blocks(_) => "a block matrix of unprinted size".into(),
             Value::OrthonormalLine(_) => "an orthonormal line".into(),
             Value::FreeLine(_) => "a free line".into(),
@@ -121,6 +127,10 @@ impl<S: Scalar> Value<S> {
                 Ok(DMatrix::identity(checked(n)?, n) * c)
             }
             Value::Zero => match hint {
+                (Some(r), Some(c)) => Ok(DMatrix::zeros(checked(r)?, checked(c)?)),
+                _ => fail("the size of a zero block cannot be told"),
+            },
+            Value::BlockZero(rows, cols) => match (hint.0.or(rows), hint.1.or(cols).or(rows)) {
                 (Some(r), Some(c)) => Ok(DMatrix::zeros(checked(r)?, checked(c)?)),
                 _ => fail("the size of a zero block cannot be told"),
             },
@@ -198,6 +208,7 @@ impl<S: Scalar> Value<S> {
         Ok(match self {
             Value::Identity(k) => Value::Identity(k * c),
             Value::Zero => Value::Zero,
+            zero @ Value::BlockZero(..) => zero,
             Value::Blocks(b) => Value::Blocks(b.map(|v| v.scale(c))?),
             other => Value::Matrix(other.matrix()? * c),
         })
@@ -207,7 +218,9 @@ impl<S: Scalar> Value<S> {
     pub fn add(self, b: Self, minus: bool) -> Result<Self, ShapeError> {
         let b = if minus { b.negated()? } else { b };
         match (self, b) {
-            (Value::Zero, x) | (x, Value::Zero) => Ok(x),
+            (Value::Zero | Value::BlockZero(..), x) | (x, Value::Zero | Value::BlockZero(..)) => {
+                Ok(x)
+            }
             (Value::Identity(p), Value::Identity(q)) => Ok(Value::Identity(p + q)),
             (a, b) => {
                 let hint = a.shape().or(b.shape());
@@ -237,7 +250,9 @@ impl<S: Scalar> Value<S> {
         }
         match (self, b) {
             (Value::Identity(c), x) | (x, Value::Identity(c)) => x.scale(c),
-            (Value::Zero, _) | (_, Value::Zero) => Ok(Value::Zero),
+            (Value::Zero | Value::BlockZero(..), _) | (_, Value::Zero | Value::BlockZero(..)) => {
+                Ok(Value::Zero)
+            }
             (Value::Rotation(p), Value::Rotation(q)) => Ok(Value::Rotation(p.compose(&q))),
             (Value::Pose(p), Value::Pose(q)) => Ok(Value::Pose(p.compose(&q))),
             (Value::Similarity(p), Value::Similarity(q)) => Ok(Value::Similarity(p.compose(&q))),
@@ -249,6 +264,15 @@ impl<S: Scalar> Value<S> {
             (Value::Similarity(t), Value::Matrix(m)) if m.shape() == (3, 1) => Ok(Value::column(
                 t.act(&Vector3::from_column_slice(m.as_slice())).as_slice(),
             )),
+            // A homogeneous transformation's matrix times a 3-vector (the
+            // only product these shapes have): it moves the point.
+            (Value::Matrix(t), Value::Matrix(p))
+                if t.shape() == (4, 4) && p.shape() == (3, 1) && homogeneous(&t) =>
+            {
+                Ok(Value::Matrix(
+                    t.view((0, 0), (3, 3)) * p + t.view((0, 3), (3, 1)),
+                ))
+            }
             (a, b) => {
                 let a = match a {
                     Value::Blocks(blocks) => blocks.resolve((None, b.shape().map(|s| s.0)))?,
@@ -270,7 +294,19 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a × b` between 3-vectors; otherwise a product.
+    /// `a · b` between two columns of one length: their scalar product;
+    /// otherwise a product.
+    pub fn dot(self, b: Self) -> Result<Self, ShapeError> {
+        match (self.shape(), b.shape()) {
+            (Some((n, 1)), Some((m, 1))) if n == m && n > 1 => {
+                let (a, b) = (self.matrix()?, b.matrix()?);
+                Ok(Value::scalar(a.dot(&b)))
+            }
+            _ => self.times(b),
+        }
+    }
+
+    /// `a × b`: the cross product of two 3-vectors, else a product.
     pub fn cross(self, b: Self) -> Result<Self, ShapeError> {
         match (self.shape(), b.shape()) {
             (Some((3, 1)), Some((3, 1))) => {
@@ -281,17 +317,70 @@ impl<S: Scalar> Value<S> {
         }
     }
 
-    /// `a ⊕ b`: the Hamilton product of quaternions, or a group composition.
-    pub fn oplus(self, b: Self) -> Result<Self, ShapeError> {
+    /// `a ⊕ b`: a group composition, a pose or similarity acting on a
+    /// point (`T ⊕ p = T p`), the same with transformations as matrices
+    /// (square ones compose, a homogeneous 4 × 4 moves a point), or the
+    /// product of two quaternions (4-vectors: Hamilton's, or JPL's when
+    /// `jpl`).
+    pub fn oplus(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
+        match (self.shape(), b.shape()) {
+            _ if self.is_group() => self.times(b),
+            (Some((4, 1)), Some((4, 1))) => self.quaternion_product(b, jpl),
+            // A transformation's matrix: `A ⊕ B = A B`, `A ⊕ p` moves `p`
+            // by the homogeneous `A` (`R p + t`).
+            (Some((n, m)), Some((k, l))) if n == m && n == k && k == l => self.times(b),
+            (Some((4, 4)), Some((3, 1))) => {
+                let (a, p) = (self.matrix()?, b.matrix()?);
+                Ok(Value::Matrix(
+                    a.view((0, 0), (3, 3)) * p + a.view((0, 3), (3, 1)),
+                ))
+            }
+            _ => fail(format!(
+                "⊕ of {} and {}: it composes group elements, moves a point by a pose or \
+                 multiplies quaternions",
+                self.describe(),
+                b.describe()
+            )),
+        }
+    }
+
+    /// `a ⊗ b`: the product of two quaternions (Hamilton's, or JPL's when
+    /// `jpl`), a group composition, or the Kronecker product of other
+    /// matrices (`I_3 ⊗ vᵀ`).
+    pub fn otimes(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
         match (&self, &b) {
             (Value::Rotation(_), Value::Rotation(_))
             | (Value::Pose(_), Value::Pose(_))
             | (Value::Similarity(_), Value::Similarity(_)) => self.times(b),
-            _ => {
-                let (p, q) = (self.quaternion("⊕")?, b.quaternion("⊕")?);
-                Ok(Value::column(p.mul(&q).coords().as_slice()))
+            _ if self.shape() == Some((4, 1)) && b.shape() == Some((4, 1)) => {
+                self.quaternion_product(b, jpl)
             }
+            _ => self.kronecker(b),
         }
+    }
+
+    /// The product of two quaternions `[x, y, z, w]`: Hamilton's, or JPL's
+    /// (Hamilton's with the factors swapped, so that `C(q ⊗ p) = C(q) C(p)`
+    /// with `C(q) = R(q)ᵀ`).
+    fn quaternion_product(self, b: Self, jpl: bool) -> Result<Self, ShapeError> {
+        let (p, q) = (self.quaternion("⊗")?, b.quaternion("⊗")?);
+        let product = if jpl { q.mul(&p) } else { p.mul(&q) };
+        Ok(Value::column(product.coords().as_slice()))
+    }
+
+    /// `A ⊗ B`: the Kronecker product (block `(i, j)` is `A_ij B`); an
+    /// unsized identity takes the size of a square other factor.
+    fn kronecker(self, b: Self) -> Result<Self, ShapeError> {
+        let square = |v: &Value<S>| v.shape().filter(|(r, c)| r == c).map(|s| s.0);
+        let (ha, hb) = (square(&b), square(&self));
+        let a = self.sized((ha, ha))?;
+        let b = b.sized((hb, hb))?;
+        let (rows, cols) = (a.nrows() * b.nrows(), a.ncols() * b.ncols());
+        checked(rows)?;
+        checked(cols)?;
+        Ok(Value::Matrix(DMatrix::from_fn(rows, cols, |r, c| {
+            a[(r / b.nrows(), c / b.ncols())] * b[(r % b.nrows(), c % b.ncols())]
+        })))
     }
 
     /// `a / b` for a scalar `b`.
@@ -307,6 +396,7 @@ impl<S: Scalar> Value<S> {
         Ok(match self {
             Value::Rotation(r) => Value::Rotation(r.inverse()),
             Value::Identity(_) | Value::Zero => self,
+            Value::BlockZero(rows, cols) => Value::BlockZero(cols, rows),
             other => Value::Matrix(other.matrix()?.transpose()),
         })
     }
@@ -386,9 +476,49 @@ impl<S: Scalar> Value<S> {
         }
     }
 
+    /// Whether it is a matrix of so(3) (3 × 3 skew) or se(3) (a 4 × 4
+    /// twist: a skew block, a translation column, a zero last row), read
+    /// from its numbers; `None` for a value with no numbers (symbolic) or
+    /// of another size.
+    pub fn in_algebra(&self) -> Option<bool> {
+        let m = match self {
+            Value::Matrix(m) => m,
+            Value::Rotation(_) | Value::Pose(_) | Value::Similarity(_) => return Some(false),
+            _ => return None,
+        };
+        let n = m.nrows();
+        if !matches!(m.shape(), (3, 3) | (4, 4)) {
+            return None;
+        }
+        let at = |r: usize, c: usize| m[(r, c)].known_value();
+        let mut scale: f64 = 0.0;
+        let mut off: f64 = 0.0;
+        for r in 0..n {
+            for c in 0..n {
+                let v = at(r, c)?;
+                scale = scale.max(v.abs());
+                let broken = if r == 3 {
+                    v
+                } else if c < 3 {
+                    v + at(c, r)?
+                } else {
+                    0.0
+                };
+                off = off.max(broken.abs());
+            }
+        }
+        Some(off <= 1e-9 * scale.max(1.0))
+    }
+
     /// `S^∨`: the vector of a 3 × 3 skew matrix, or the 6-vector `[ω, ρ]`
-    /// of a 4 × 4 twist matrix.
+    /// of a 4 × 4 twist matrix (another matrix has none).
     pub fn vee(self) -> Result<Self, ShapeError> {
+        if self.in_algebra() == Some(false) {
+            return fail(format!(
+                "the vee of {} that is not in so(3) or se(3)",
+                self.describe()
+            ));
+        }
         let m = self.matrix()?;
         match m.shape() {
             (3, 3) => Ok(Value::column(&[m[(2, 1)], m[(0, 2)], m[(1, 0)]])),
@@ -452,6 +582,21 @@ fn checked(n: usize) -> Result<usize, ShapeError> {
     Ok(n)
 }
 
+/// The entries of a matrix value a derivative of it moves, column by
+/// column: all of them, but the fixed last row `[0 0 0 1]` of a
+/// homogeneous transformation (its top 3 × 4, as `vec` of a pose's matrix
+/// is taken); and their shape.
+pub fn moving_entries<S: Scalar>(m: &DMatrix<S>) -> (Vec<S>, (usize, usize)) {
+    let homogeneous = m.shape() == (4, 4)
+        && (0..4).all(|c| m[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }));
+    if homogeneous {
+        let top = m.rows(0, 3).into_owned();
+        (top.as_slice().to_vec(), (3, 4))
+    } else {
+        (m.as_slice().to_vec(), m.shape())
+    }
+}
+
 /// A fixed-size matrix as a dynamic one.
 pub fn dynamic<S: Scalar, const R: usize, const C: usize>(
     m: &nalgebra::SMatrix<S, R, C>,
@@ -478,8 +623,8 @@ pub fn scalar_power<S: Scalar>(x: S, p: f64) -> S {
     }
 }
 
-/// The inverse of a square matrix of size 1 to 3 by its adjugate (no
-/// pivoting: generic over the scalar, exact).
+/// The inverse of a square matrix: of size 1 to 3 by its adjugate (no
+/// pivoting: generic over the scalar, exact), larger by elimination.
 fn inverse<S: Scalar>(m: &DMatrix<S>) -> Result<DMatrix<S>, ShapeError> {
     match m.shape() {
         (1, 1) => Ok(DMatrix::from_element(1, 1, m[(0, 0)].recip())),
@@ -503,11 +648,41 @@ fn inverse<S: Scalar>(m: &DMatrix<S>) -> Result<DMatrix<S>, ShapeError> {
             // (A⁻¹)ᵢⱼ = Cⱼᵢ / det, the cyclic cofactors carry their signs.
             Ok(DMatrix::from_fn(3, 3, |i, j| c(j, i) * inv))
         }
-        shape => fail(format!(
-            "the inverse of a {} matrix (only sizes up to 3 × 3 are inverted)",
-            shape_text(shape)
-        )),
+        (n, k) if n == k => Ok(gauss_jordan_inverse(m)),
+        shape => fail(format!("the inverse of a {} matrix", shape_text(shape))),
     }
+}
+
+/// The inverse of a larger square matrix by Gauss–Jordan elimination, each
+/// pivot the entry of largest magnitude in its column (read from the
+/// numbers: a symbolic matrix takes the diagonal in order). A singular
+/// matrix gives non-finite entries, which the audit reports.
+fn gauss_jordan_inverse<S: Scalar>(m: &DMatrix<S>) -> DMatrix<S> {
+    let n = m.nrows();
+    let mut a = m.clone();
+    let mut inv = DMatrix::<S>::identity(n, n);
+    for col in 0..n {
+        let size = |r: usize| a[(r, col)].known_value().map_or(0.0, f64::abs);
+        let pivot = (col..n)
+            .max_by(|&x, &y| size(x).total_cmp(&size(y)))
+            .unwrap_or(col);
+        a.swap_rows(col, pivot);
+        inv.swap_rows(col, pivot);
+        let scale = a[(col, col)].recip();
+        for c in 0..n {
+            a[(col, c)] *= scale;
+            inv[(col, c)] *= scale;
+        }
+        for r in (0..n).filter(|r| *r != col) {
+            let factor = a[(r, col)];
+            for c in 0..n {
+                let (ac, ic) = (a[(col, c)], inv[(col, c)]);
+                a[(r, c)] -= factor * ac;
+                inv[(r, c)] -= factor * ic;
+            }
+        }
+    }
+    inv
 }
 
 /// The determinant of a square matrix of size 1 to 3.
@@ -609,7 +784,10 @@ fn stack<S: Scalar>(parts: &[DMatrix<S>]) -> Result<DMatrix<S>, ShapeError> {
 
 /// Whether a block has no size of its own.
 fn has_no_size<S: Scalar>(v: &Value<S>) -> bool {
-    matches!(v, Value::Identity(_) | Value::Zero | Value::Blocks(_))
+    matches!(
+        v,
+        Value::Identity(_) | Value::Zero | Value::BlockZero(..) | Value::Blocks(_)
+    )
 }
 
 /// A rectangular grid of blocks: heights per block row and widths per
@@ -682,6 +860,11 @@ fn grid<S: Scalar>(
                 widths[j] = Some(1);
             }
         }
+        if (heights.clone(), widths.clone()) == before
+            && printed_zero_sizes(&rows, &mut heights, &mut widths)
+        {
+            continue;
+        }
         if (heights.clone(), widths.clone()) == before {
             // Nothing else tells: a block row of zeros printed once is a
             // row of scalars (`[ω^∧ v; 0 0]`), and so is a column.
@@ -746,6 +929,42 @@ fn grid<S: Scalar>(
     Ok(out)
 }
 
+/// Fills unknown block heights and widths from the sizes zeros are printed
+/// with (`[\mathbf{0}_3; 1]`), once nothing else tells them: first the
+/// printed rows and columns, then the square block a single size stands for;
+/// whether anything was filled.
+fn printed_zero_sizes<S: Scalar>(
+    rows: &[Vec<Value<S>>],
+    heights: &mut [Option<usize>],
+    widths: &mut [Option<usize>],
+) -> bool {
+    let mut filled = false;
+    for square in [false, true] {
+        for (i, row) in rows.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                let Value::BlockZero(r, c) = v else { continue };
+                let (r, c) = if square {
+                    (r.or(*c), c.or(*r))
+                } else {
+                    (*r, *c)
+                };
+                if heights[i].is_none() && r.is_some() {
+                    heights[i] = r;
+                    filled = true;
+                }
+                if widths[j].is_none() && c.is_some() {
+                    widths[j] = c;
+                    filled = true;
+                }
+            }
+        }
+        if filled {
+            return true;
+        }
+    }
+    false
+}
+
 /// Fills the one unknown size of `sizes` from their total, if known.
 fn fill_from_total(sizes: &mut [Option<usize>], total: Option<usize>) {
     let Some(total) = total else { return };
@@ -800,7 +1019,28 @@ mod tests {
         let inv = a.clone().inverse().unwrap();
         let id = a.times(inv).unwrap().matrix().unwrap();
         assert!((id - DMatrix::<f64>::identity(3, 3)).norm() < 1e-12);
+        // Larger: by elimination with pivoting (a zero first pivot).
+        let b = m(
+            4,
+            4,
+            &[
+                0.0, 2.0, 1.0, 0.5, 1.0, 0.0, 3.0, 1.0, 2.0, 1.0, 0.0, 4.0, 1.0, 1.0, 1.0, 1.0,
+            ],
+        );
+        let id = b
+            .clone()
+            .times(b.inverse().unwrap())
+            .unwrap()
+            .matrix()
+            .unwrap();
+        assert!((id - DMatrix::<f64>::identity(4, 4)).norm() < 1e-12);
         assert!((scalar_power(4.0, 1.5) - 8.0).abs() < 1e-12);
         assert!((scalar_power(2.0, -2.0) - 0.25).abs() < 1e-12);
     }
+}
+
+/// Whether a 4 × 4 matrix's last row is `[0 0 0 1]` (a homogeneous
+/// transformation's), read from its numbers.
+fn homogeneous<S: Scalar>(t: &DMatrix<S>) -> bool {
+    (0..4).all(|c| t[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }))
 }
