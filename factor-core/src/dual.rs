@@ -292,6 +292,10 @@ impl<const N: usize> Scalar for Dual<N> {
         let inverse = 1.0 / self.re;
         self.chain(inverse, -inverse * inverse)
     }
+    #[inline(always)]
+    fn known_value(self) -> Option<f64> {
+        Some(self.re)
+    }
 }
 
 #[cfg(test)]
@@ -300,6 +304,11 @@ mod tests {
 
     fn d1(x: f64) -> Dual<1> {
         Dual::variable(x, 0)
+    }
+
+    #[test]
+    fn the_known_value_is_the_real_part() {
+        assert_eq!(Dual::<2>::variable(3.0, 1).known_value(), Some(3.0));
     }
 
     #[test]

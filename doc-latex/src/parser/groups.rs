@@ -2,8 +2,8 @@
 //! `\lfloor…\rfloor_\times`, argument lists and environments (matrices,
 //! `cases`).
 
-use super::spans;
 use super::atoms::Atom;
+use super::spans;
 use super::{Ctx, Parser, Seps};
 use crate::ast::{Case, Expr, Matrix};
 use crate::error::{ErrorKind, ParseError};

@@ -59,7 +59,11 @@ pub(super) fn resolve(grid: Grid) -> Result<Expr, usize> {
     let height = rows.len();
     let empty_at: Vec<Vec<Option<usize>>> = rows
         .iter()
-        .map(|row| row.iter().map(|cell| cell.as_ref().err().copied()).collect())
+        .map(|row| {
+            row.iter()
+                .map(|cell| cell.as_ref().err().copied())
+                .collect()
+        })
         .collect();
     let filled = |r: usize, c: usize| empty_at[r][c].is_none();
     // The owner of each cell: itself when filled.
@@ -160,7 +164,9 @@ fn nest(
 ) -> Option<Expr> {
     let inside: Vec<&Tile> = tiles
         .iter()
-        .filter(|t| t.rows.0 >= rows.0 && t.rows.1 <= rows.1 && t.cols.0 >= cols.0 && t.cols.1 <= cols.1)
+        .filter(|t| {
+            t.rows.0 >= rows.0 && t.rows.1 <= rows.1 && t.cols.0 >= cols.0 && t.cols.1 <= cols.1
+        })
         .collect();
     if let [one] = inside.as_slice() {
         return entries[one.at.0][one.at.1].take();

@@ -148,7 +148,11 @@ fn claim_error(spec: &ClaimSpec, message: impl Into<String>) -> TextError {
 /// it falls in, else the one after the gap it is in when a row break
 /// (`separates(from, to)`: the gap's text holds `\\`) comes before it
 /// there, else the one before.
-fn labelled_row(lines: &[doc_latex::Claim], at: usize, separates: impl Fn(usize, usize) -> bool) -> usize {
+fn labelled_row(
+    lines: &[doc_latex::Claim],
+    at: usize,
+    separates: impl Fn(usize, usize) -> bool,
+) -> usize {
     let after = lines.iter().position(|c| c.span.start > at);
     match after {
         None => lines.len() - 1,
@@ -844,7 +848,11 @@ impl<'a> TextDerivation<'a> {
     /// variable at zero when the claim is a derivative there (`at_zero`,
     /// `\left. … \right|_{x=0}`), so that what it prints, and the
     /// derivatives printed in it, are taken there too.
-    fn env_at_point<S: Scalar>(&self, p: Vec<S>, near_zero: bool) -> Result<Env<'_, S>, ShapeError> {
+    fn env_at_point<S: Scalar>(
+        &self,
+        p: Vec<S>,
+        near_zero: bool,
+    ) -> Result<Env<'_, S>, ShapeError> {
         let mut env = Env::new(self.space(), p).near_zero(near_zero);
         if let Some(v) = &self.claim.variable
             && v.at_zero()
@@ -1071,9 +1079,10 @@ impl<'a> TextDerivation<'a> {
                 match at(claim.near_zero) {
                     // A removable singularity of the printed formula at
                     // zero (`sin‖w‖/‖w‖`): next to it.
-                    Ok(m) if m.iter().any(|x| !x.is_finite())
-                        && !claim.near_zero
-                        && claim.variable.as_ref().is_some_and(Variable::at_zero) =>
+                    Ok(m)
+                        if m.iter().any(|x| !x.is_finite())
+                            && !claim.near_zero
+                            && claim.variable.as_ref().is_some_and(Variable::at_zero) =>
                     {
                         at(true)
                     }

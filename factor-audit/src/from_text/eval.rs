@@ -36,8 +36,11 @@ fn size_by_neighbours<S: Scalar>(values: &mut [Value<S>], factors: &[(Op, Term)]
         if !matches!(values[i], Value::Blocks(_)) {
             continue;
         }
-        let multiplies =
-            |k: usize| factors.get(k).is_some_and(|(op, _)| matches!(op, Op::Mul | Op::Dot));
+        let multiplies = |k: usize| {
+            factors
+                .get(k)
+                .is_some_and(|(op, _)| matches!(op, Op::Mul | Op::Dot))
+        };
         let left = (0..i)
             .rev()
             .take_while(|k| multiplies(k + 1))

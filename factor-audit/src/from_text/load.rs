@@ -425,7 +425,9 @@ fn fix_shapes(claim: &mut TextClaim, ctx: &Context, stored: &[f64]) -> Result<()
     let mut value = TextDerivation::new(claim, ctx, stored.to_vec())
         .map_value()
         .map_err(|e| error(format!("its map cannot be evaluated: {e}")))?;
-    if value.iter().any(|x| !x.is_finite()) && claim.variable.as_ref().is_some_and(Variable::at_zero) {
+    if value.iter().any(|x| !x.is_finite())
+        && claim.variable.as_ref().is_some_and(Variable::at_zero)
+    {
         // A removable singularity at zero (`k̂ sin(θ/2)`): next to it.
         claim.near_zero = true;
         value = TextDerivation::new(claim, ctx, stored.to_vec())

@@ -977,6 +977,12 @@ fn fill_from_total(sizes: &mut [Option<usize>], total: Option<usize>) {
     }
 }
 
+/// Whether a 4 × 4 matrix's last row is `[0 0 0 1]` (a homogeneous
+/// transformation's), read from its numbers.
+fn homogeneous<S: Scalar>(t: &DMatrix<S>) -> bool {
+    (0..4).all(|c| t[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1037,10 +1043,4 @@ mod tests {
         assert!((scalar_power(4.0, 1.5) - 8.0).abs() < 1e-12);
         assert!((scalar_power(2.0, -2.0) - 0.25).abs() < 1e-12);
     }
-}
-
-/// Whether a 4 × 4 matrix's last row is `[0 0 0 1]` (a homogeneous
-/// transformation's), read from its numbers.
-fn homogeneous<S: Scalar>(t: &DMatrix<S>) -> bool {
-    (0..4).all(|c| t[(3, c)].known_value() == Some(if c == 3 { 1.0 } else { 0.0 }))
 }
