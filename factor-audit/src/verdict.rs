@@ -123,11 +123,7 @@ fn suspected_erratum(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<Str
             })
             .collect();
         if !wrong_columns.is_empty() && wrong_columns.len() < truth.ncols() {
-            let list: Vec<String> = wrong_columns.iter().map(|c| (c + 1).to_string()).collect();
-            return Some(format!(
-                "columns {} are wrong, the others right",
-                list.join(", ")
-            ));
+            return Some(only_some_wrong("column", &wrong_columns));
         }
         let wrong_rows: Vec<usize> = (0..truth.nrows())
             .filter(|&r| {
@@ -136,11 +132,7 @@ fn suspected_erratum(printed: &DMatrix<f64>, truth: &DMatrix<f64>) -> Option<Str
             })
             .collect();
         if !wrong_rows.is_empty() && wrong_rows.len() < truth.nrows() {
-            let list: Vec<String> = wrong_rows.iter().map(|r| (r + 1).to_string()).collect();
-            return Some(format!(
-                "rows {} are wrong, the others right",
-                list.join(", ")
-            ));
+            return Some(only_some_wrong("row", &wrong_rows));
         }
     }
     if printed.transpose().shape() == truth.shape() && agree(&printed.transpose(), truth) {
@@ -246,5 +238,15 @@ pub fn audit<D: Derivation>(
         corrected_latex,
         samples,
         localisation: None,
+    }
+}
+
+/// "column 3 is wrong, the others right", "rows 4, 5, 6 are wrong, …"
+/// (`which` 0-based).
+fn only_some_wrong(what: &str, which: &[usize]) -> String {
+    let list: Vec<String> = which.iter().map(|k| (k + 1).to_string()).collect();
+    match list.as_slice() {
+        [one] => format!("{what} {one} is wrong, the others right"),
+        many => format!("{what}s {} are wrong, the others right", many.join(", ")),
     }
 }

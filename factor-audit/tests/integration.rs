@@ -8,4 +8,5 @@ mod from_text;
 mod from_text_fuzz;
 mod guide;
 mod reading_classes;
+mod reading_reports;
 mod textbook_notation;

@@ -13,7 +13,9 @@ use doc_latex::ast::{Expr, Head};
 use super::TextError;
 use super::factors::FactorKind;
 use super::functions::Builtin;
-use super::lower::{Found, Link, LowerError, Lowering, Resolver, short, symbol_key};
+use super::lower::{
+    Found, Link, LowerError, Lowering, PrintedDerivative, Resolver, short, symbol_key,
+};
 use super::stored::{FreeSample, Kind, part};
 use super::symbols::{
     ContextSpec, LinkSpec, MAX_SYMBOLS, Perturbed, Side, SymbolSpec, TemplateSpec, one_line,
@@ -215,6 +217,7 @@ impl Context {
                         size,
                         shape,
                         range,
+                        components,
                         perturbation,
                     } => {
                         let sample = FreeSample::from_spec(&name, size, shape, range)
@@ -230,6 +233,10 @@ impl Context {
                             },
                         );
                         ctx.defaults.insert(id, perturbation);
+                        for (index, c) in components.iter().enumerate() {
+                            let cid = ctx.declare(None, c, None)?;
+                            ctx.set(cid, Meaning::Component { of: id, index });
+                        }
                     }
                     SymbolSpec::Template(t) => {
                         let template = ctx.template(written, &t, None)?;
@@ -711,48 +718,70 @@ impl Context {
     }
 
     /// The variable of a derivative by several symbols (`(P_x, P_y, P_z)`,
-    /// `\{ω_x, ω_y, ω_z, θ\}`): entries of one vector are its tangent
-    /// coordinates (all of them in order: the vector); other symbols are
-    /// each perturbed, holding the others (`θ` beside `ω` though `θ =
-    /// ‖ω‖`: a partial by each argument).
+    /// `\{ω_x, ω_y, ω_z, θ\}`): each run of entries of one vector is its
+    /// tangent coordinates (all of them in order: the vector); other
+    /// symbols are each perturbed, holding the others (`θ` beside `ω`
+    /// though `θ = ‖ω‖`: a partial by each argument).
     fn variable_of_symbols(
         &mut self,
         ids: &[SymbolId],
         side: Option<Side>,
         at_zero: bool,
     ) -> Result<Variable, String> {
-        let parts: Option<Vec<(usize, usize)>> = ids
-            .iter()
-            .map(|id| match self.table.entries[*id].meaning {
-                Meaning::Component { of, index } => Some((of, index)),
-                _ => None,
-            })
-            .collect();
-        if let Some(parts) = parts
-            && let Some(&(of, _)) = parts.first()
-            && parts.iter().all(|(o, _)| *o == of)
-        {
+        let component = |c: &Self, id: SymbolId| match c.table.entries[id].meaning {
+            Meaning::Component { of, index } => Some((of, index)),
+            _ => None,
+        };
+        let mut parts = Vec::new();
+        let mut rest = ids;
+        while let Some((&first, _)) = rest.split_first() {
+            let Some((of, _)) = component(self, first) else {
+                parts.push(self.variable(first, side, None, at_zero)?);
+                rest = &rest[1..];
+                continue;
+            };
+            let run = rest
+                .iter()
+                .take_while(|id| component(self, **id).is_some_and(|(o, _)| o == of))
+                .count();
+            let indices: Vec<usize> = rest[..run]
+                .iter()
+                .filter_map(|id| component(self, *id).map(|(_, k)| k))
+                .collect();
             let entries = self
                 .table
                 .entries
                 .iter()
                 .filter(|e| matches!(e.meaning, Meaning::Component { of: o, .. } if o == of))
                 .count();
-            let whole =
-                parts.len() == entries && parts.iter().enumerate().all(|(i, (_, k))| *k == i);
-            let coordinates: Vec<usize> = parts.iter().map(|(_, k)| k + 1).collect();
-            return self.variable(
+            let whole = run == entries && indices.iter().enumerate().all(|(i, k)| *k == i);
+            let coordinates: Vec<usize> = indices.iter().map(|k| k + 1).collect();
+            parts.push(self.variable(
                 of,
                 side,
                 (!whole).then_some(coordinates.as_slice()),
                 at_zero,
-            );
+            )?);
+            rest = &rest[run..];
         }
-        Ok(Variable::Joint(
-            ids.iter()
-                .map(|id| self.variable(*id, side, None, at_zero))
-                .collect::<Result<_, _>>()?,
-        ))
+        Ok(if parts.len() == 1 {
+            parts.remove(0)
+        } else {
+            Variable::Joint(parts)
+        })
+    }
+
+    /// Whether perturbing `v` moves symbol `id` itself (not only what
+    /// depends on it).
+    fn moves(&self, v: &Variable, id: SymbolId) -> bool {
+        match v {
+            Variable::Stored { offset, .. } => matches!(
+                self.table.entries[id].meaning,
+                Meaning::Stored { offset: o, .. } if o == *offset
+            ),
+            Variable::Defined { symbol, .. } | Variable::Update { symbol, .. } => *symbol == id,
+            Variable::Joint(parts) => parts.iter().any(|p| self.moves(p, id)),
+        }
     }
 
     /// Follows definitions that are one other symbol (`{}_w p_C = {}_W p_C`),
@@ -999,30 +1028,24 @@ impl Context {
     /// the true derivative of what it prints, read in `scope`, registered
     /// as a link of its own (the same printed derivative in the same
     /// scope is one link).
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "as main wrote it; clippy-clean here until the audit's owner regroups them"
-    )]
-    fn inline_link(
-        &mut self,
-        scope: Scope,
-        key: &str,
-        of: &Expr,
-        wrt: &Expr,
-        holding: &[Expr],
-        bound: &[(SymbolId, Term)],
-        at_zero: bool,
-    ) -> Result<Link, LowerError> {
+    fn inline_link(&mut self, scope: Scope, d: PrintedDerivative<'_>) -> Result<Link, LowerError> {
+        let PrintedDerivative {
+            key,
+            of,
+            wrt,
+            holding,
+            bound,
+            at_zero,
+        } = d;
         // The same derivative under other bars is another link.
-        let key = if bound.is_empty() {
-            key.to_string()
-        } else {
-            format!("{key} at {bound:?}")
+        let bars_of = |t: &Term| match t {
+            Term::At { bindings, .. } => bindings.clone(),
+            _ => Vec::new(),
         };
         if let Some(k) = self
             .truth_links
             .iter()
-            .position(|l| l.inline == Some(scope) && l.key == key)
+            .position(|l| l.inline == Some(scope) && l.key == key && bars_of(&l.of) == bound)
         {
             return Ok(Link::Truth(k));
         }
@@ -1052,15 +1075,18 @@ impl Context {
                 "a derivative printed in a formula is taken by a symbol, not an update",
             ));
         }
+        // What the derivative moves is never held (`ω` in `∂e(ω, θ)/∂{ω_x,
+        // ω_y, ω_z, θ}`).
         let holding = holding
             .iter()
             .filter_map(|h| match h {
                 Expr::Symbol(s) => self.lookup(scope, &symbol_key(s)),
                 other => self.lookup(scope, &other.to_string()),
             })
+            .filter(|id| !self.moves(&variable, self.alias_of(*id)))
             .collect();
         self.truth_links.push(TruthLink {
-            key,
+            key: key.to_string(),
             of,
             variable,
             output: None,
@@ -1339,17 +1365,8 @@ impl Resolver for ScopeResolver<'_> {
         self.ctx.link_of(self.scope, key)
     }
 
-    fn inline_link(
-        &mut self,
-        key: &str,
-        of: &Expr,
-        wrt: &Expr,
-        holding: &[Expr],
-        bound: &[(SymbolId, Term)],
-        at_zero: bool,
-    ) -> Result<Link, LowerError> {
-        self.ctx
-            .inline_link(self.scope, key, of, wrt, holding, bound, at_zero)
+    fn inline_link(&mut self, d: PrintedDerivative<'_>) -> Result<Link, LowerError> {
+        self.ctx.inline_link(self.scope, d)
     }
 
     fn template(&mut self, key: &str) -> Result<Option<(usize, usize)>, LowerError> {

@@ -102,6 +102,22 @@ pub enum Link {
     Broken(String),
 }
 
+/// A derivative printed in a formula that no claim or stated link names.
+pub struct PrintedDerivative<'a> {
+    /// Its canonical LaTeX.
+    pub key: &'a str,
+    /// The map.
+    pub of: &'a Expr,
+    /// The variable.
+    pub wrt: &'a Expr,
+    /// The other variables it holds (a partial).
+    pub holding: &'a [Expr],
+    /// The symbols evaluation bars around it bind to values.
+    pub bound: &'a [(SymbolId, Term)],
+    /// Taken at `wrt = 0` (an evaluation bar says so).
+    pub at_zero: bool,
+}
+
 /// Where lowering looks symbols, chain-rule links and templates up.
 pub trait Resolver {
     /// The symbol whose canonical LaTeX is `key`, in scope (its definition
@@ -110,23 +126,11 @@ pub trait Resolver {
     /// What the derivative written `key` stands for.
     fn link(&self, key: &str) -> Option<Link>;
     /// A derivative printed in a formula that no claim or stated link
-    /// names: its true value, when `of` and `wrt` can be read, `holding`
-    /// the other variables the formula differentiates `of` by (a partial
-    /// holds them), taken at `wrt = 0` when `at_zero` (an evaluation bar),
-    /// with the symbols evaluation bars around it bind `bound` to values.
-    fn inline_link(
-        &mut self,
-        key: &str,
-        of: &Expr,
-        wrt: &Expr,
-        holding: &[Expr],
-        bound: &[(SymbolId, Term)],
-        at_zero: bool,
-    ) -> Result<Link, LowerError> {
-        let _ = (of, wrt, holding, bound, at_zero);
+    /// names: its true value, when its map and variable can be read.
+    fn inline_link(&mut self, d: PrintedDerivative<'_>) -> Result<Link, LowerError> {
         Err(LowerError {
             message: "no new derivative is read here".into(),
-            fragment: key.to_string(),
+            fragment: d.key.to_string(),
         })
     }
     /// The template (and its number of arguments) an operator, word or
@@ -336,7 +340,7 @@ impl<'r> Lowering<'r> {
             Expr::Fraction { num, den } => self.fraction(num, den)?,
             Expr::Derivative { of, wrt, .. } => {
                 let key = e.to_string();
-                let holding: Vec<Expr> = self
+                let mut holding: Vec<Expr> = self
                     .partials
                     .iter()
                     .find(|(k, _)| *k == of.to_string())
@@ -347,11 +351,19 @@ impl<'r> Lowering<'r> {
                             .collect()
                     })
                     .unwrap_or_default();
+                holding.extend(written_arguments_held(of, wrt));
                 let link = match self.resolver.link(&key) {
                     Some(link) => link,
                     None => self
                         .resolver
-                        .inline_link(&key, of, wrt, &holding, &self.bars, false)
+                        .inline_link(PrintedDerivative {
+                            key: &key,
+                            of,
+                            wrt,
+                            holding: &holding,
+                            bound: &self.bars,
+                            at_zero: false,
+                        })
                         .map_err(|err| {
                             LowerError::at(
                                 e,
@@ -542,6 +554,17 @@ impl<'r> Lowering<'r> {
     /// printed values (a name the file does not define is defined by the
     /// bar, as the claim's own reading).
     fn evaluated_at(&mut self, body: &Expr, at: &Expr, e: &Expr) -> Result<Term, LowerError> {
+        // `\left. -\frac{∂X}{∂x} \right|_{x = 0}`: the negated derivative
+        // at the point.
+        if let Expr::Neg(inner) = body
+            && matches!(inner.as_ref(), Expr::Derivative { .. })
+        {
+            let bar = Expr::At {
+                body: inner.clone(),
+                at: Box::new(at.clone()),
+            };
+            return Ok(Term::Neg(Box::new(self.evaluated_at(inner, at, &bar)?)));
+        }
         let bindings = evaluation_bindings(at)?;
         let wrt = match body {
             Expr::Derivative { wrt, .. } => Some(wrt.as_ref()),
@@ -623,10 +646,14 @@ impl<'r> Lowering<'r> {
                 return Ok(match self.resolver.link(&key) {
                     Some(Link::Claim(k)) => Term::Link(k),
                     Some(Link::Truth(k)) => Term::TruthLink(k),
-                    _ => match self
-                        .resolver
-                        .inline_link(&key, of, wrt, &[], &self.bars, true)?
-                    {
+                    _ => match self.resolver.inline_link(PrintedDerivative {
+                        key: &key,
+                        of,
+                        wrt,
+                        holding: &[],
+                        bound: &self.bars,
+                        at_zero: true,
+                    })? {
                         Link::Claim(k) => Term::Link(k),
                         Link::Truth(k) => Term::TruthLink(k),
                         Link::Broken(why) => return Err(LowerError::at(e, why)),
@@ -924,19 +951,25 @@ impl<'r> Lowering<'r> {
         // `h(x, \cdots)`: the symbol written with some of its variables.
         let ellipsis = args.contains(&Expr::Ellipsis);
         let group_head = matches!(found, Some((_, Found::Stored { group: true })));
-        let mut parameters = true;
+        // Each argument: a variable, a named value (`θ` in `e(ω, θ)`), or
+        // neither.
+        let mut variables = 0;
+        let mut named = 0;
         for a in args {
-            let is_parameter = match a {
-                Expr::Ellipsis => true,
+            match a {
+                Expr::Ellipsis => variables += 1,
                 Expr::Symbol(x) => match self.resolver.symbol(&symbol_key(x))? {
-                    Some((_, Found::Tangent(_))) => true,
-                    Some((_, Found::Stored { .. })) => !group_head,
-                    _ => false,
+                    Some((_, Found::Tangent(_))) => variables += 1,
+                    Some((_, Found::Stored { .. })) if !group_head => variables += 1,
+                    Some((_, Found::Value)) => named += 1,
+                    _ => {}
                 },
-                _ => false,
-            };
-            parameters &= is_parameter;
+                _ => {}
+            }
         }
+        // Written with its variables, some of them named values derived
+        // from others (`e_q^ω(ω, θ)` with `θ = ‖ω‖`).
+        let parameters = variables > 0 && variables + named == args.len();
         Ok(if parameters || ellipsis {
             Application::Written(head)
         } else {
@@ -1405,6 +1438,28 @@ pub fn degree(t: &Term, names: &HashSet<SymbolId>) -> Option<u32> {
             (bindings.iter().all(|(_, t)| free(t)) && free(body)).then_some(0)
         }
     }
+}
+
+/// The arguments a partial derivative of a map written with them holds
+/// (`∂e(ω, θ)/∂ω` holds `θ`): every symbol argument the derivative is not
+/// taken by.
+fn written_arguments_held(of: &Expr, wrt: &Expr) -> Vec<Expr> {
+    let Expr::Apply {
+        head: Head::Symbol(_),
+        args,
+        ..
+    } = of
+    else {
+        return Vec::new();
+    };
+    let by: Vec<&Expr> = match wrt {
+        Expr::Tuple(items) => items.iter().collect(),
+        one => vec![one],
+    };
+    args.iter()
+        .filter(|a| matches!(a, Expr::Symbol(_)) && !by.contains(a))
+        .cloned()
+        .collect()
 }
 
 #[cfg(test)]

@@ -300,6 +300,8 @@ pub enum SymbolSpec {
         shape: Option<[usize; 2]>,
         /// Where entries are drawn.
         range: Option<[f64; 2]>,
+        /// Symbols for its entries, in order.
+        components: Vec<String>,
         /// The default perturbation.
         perturbation: Perturbed,
     },
@@ -397,8 +399,10 @@ impl SymbolSpec {
                 "`side` and `update` go with `perturbs`, `field` or `sample`".into(),
             ));
         }
-        if t.latex.is_none() && t.field.is_none() && !t.components.is_empty() {
-            return Err(bad("`components` goes with `latex` or `field`".into()));
+        if t.latex.is_none() && !stored && !t.components.is_empty() {
+            return Err(bad(
+                "`components` goes with `latex`, `field` or `sample`".into()
+            ));
         }
         if t.sample.is_none() && (t.size.is_some() || t.shape.is_some() || t.range.is_some()) {
             return Err(bad("`size`, `shape` and `range` go with `sample`".into()));
@@ -436,6 +440,7 @@ impl SymbolSpec {
                 size: t.size,
                 shape: t.shape,
                 range: t.range,
+                components: t.components,
                 perturbation,
             }
         } else if let Some(f) = t.function {
