@@ -59,6 +59,7 @@ pub use factor_codegen::{HostSpec, KernelSpec, Provenance};
 /// apex-solver's chart, the host of `solve` ([`HostSpec::of`], [`Registry::solve_with_kernel`]).
 pub use factor_core::host::Apex;
 
+pub use crate::generate::Lang;
 pub use crate::registry::{KernelCrate, Registry};
 
 use crate::error::CliError;
@@ -86,9 +87,9 @@ pub enum FactorCommand {
         #[arg(long)]
         json: bool,
     },
-    /// Rewrite the kernel crate's sources (`src/*.rs`) from the current
-    /// factor definitions, printing each kernel's operation counts and the
-    /// generation time.
+    /// Rewrite the kernel crate's sources (`src/*.rs`, and its C++ in
+    /// `cpp/`) from the current factor definitions, printing each kernel's
+    /// operation counts and the generation time.
     Generate {
         /// The kernel crate's directory [default: the one this binary was
         /// built for]. DIR must be that crate (its Cargo.toml names the
@@ -96,6 +97,13 @@ pub enum FactorCommand {
         /// first. Any other directory is refused untouched.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        /// The languages to write: `rust` (the crate's `src/`) and `cpp`
+        /// (a header-only C++17 library in its `cpp/`, with Ceres cost
+        /// functions and manifolds for the factors generated for Ceres);
+        /// repeat or separate by commas [default: rust, and cpp when the
+        /// crate has a `cpp/` directory].
+        #[arg(long, value_enum, value_delimiter = ',', value_name = "LANG")]
+        lang: Vec<Lang>,
     },
     /// Exit 1, naming the files, when the kernel crate's sources differ from
     /// what `generate` would write (exit 2 when the crate is not found or a
@@ -105,6 +113,10 @@ pub enum FactorCommand {
         /// built for].
         #[arg(long, value_name = "DIR")]
         dir: Option<PathBuf>,
+        /// The languages to compare [default: rust, and cpp when the crate
+        /// has a `cpp/` directory].
+        #[arg(long, value_enum, value_delimiter = ',', value_name = "LANG")]
+        lang: Vec<Lang>,
     },
 }
 
@@ -221,8 +233,10 @@ impl Registry {
             FactorCommand::Eval { file, method } => eval::run(self, file, *method),
             FactorCommand::List { json: true } => Ok(pretty::to_string(&list::json(self))),
             FactorCommand::List { json: false } => Ok(list::table(self).trim_end().to_owned()),
-            FactorCommand::Generate { out } => generate::run_generate(self, out.as_deref()),
-            FactorCommand::Check { dir } => generate::run_check(self, dir.as_deref()),
+            FactorCommand::Generate { out, lang } => {
+                generate::run_generate(self, out.as_deref(), lang)
+            }
+            FactorCommand::Check { dir, lang } => generate::run_check(self, dir.as_deref(), lang),
         }
     }
 

@@ -83,17 +83,31 @@ fn field_scalars(object: &Object, field: &FieldInfo) -> Result<Vec<f64>, InputEr
     })
 }
 
-/// Factor `F` from its checked `variables` and `constants` objects (each
-/// with exactly `F`'s variable and constant fields).
-pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, InputError> {
-    let mut stored = Vec::with_capacity(F::SCALARS);
-    for field in F::fields() {
+/// The stored scalars of the factor whose fields are `fields` (in
+/// declaration order) from its checked `variables` and `constants` objects
+/// (each with exactly its variable and constant fields): what a tool that
+/// hands a factor to another solver (its generated C++, say) reads a
+/// problem file's entry into.
+pub fn stored_scalars(
+    fields: &[FieldInfo],
+    variables: &Object,
+    constants: &Object,
+) -> Result<Vec<f64>, InputError> {
+    let mut stored = Vec::new();
+    for field in fields {
         let object = if field.variable.is_some() {
             variables
         } else {
             constants
         };
-        stored.extend(field_scalars(object, &field)?);
+        stored.extend(field_scalars(object, field)?);
     }
+    Ok(stored)
+}
+
+/// Factor `F` from its checked `variables` and `constants` objects (each
+/// with exactly `F`'s variable and constant fields).
+pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, InputError> {
+    let stored = stored_scalars(&F::fields(), variables, constants)?;
     Ok(F::from_scalars(&stored))
 }

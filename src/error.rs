@@ -75,7 +75,7 @@ pub enum CliError {
         /// The files.
         files: Vec<PathBuf>,
         /// The command that rewrites them.
-        generate: &'static str,
+        generate: String,
     },
     /// `generate`/`check`: the generator refuses a kernel (exit 1).
     #[error("generate: {0}")]

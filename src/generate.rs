@@ -24,6 +24,12 @@
 //! - `generate` prints each kernel's operation counts and generation time,
 //!   and a warning when the generator was built unoptimised
 //!   ([`factor_codegen::build_profile`]).
+//!
+//! **Which languages.** `--lang rust` is the crate's `src/*.rs`, `--lang
+//! cpp` its header-only C++ library in `cpp/` ([`factor_codegen::cpp`]);
+//! without `--lang`, both commands take Rust, and C++ when the crate has a
+//! `cpp/` directory (so that a crate once generated with C++ keeps both
+//! current). C++ alone is written only beside an existing kernel crate.
 
 use std::io;
 use std::path::{Component, Path, PathBuf};
@@ -33,7 +39,8 @@ use factor_codegen::OpCounts;
 use factor_codegen::build_profile::unoptimized_warning;
 use factor_codegen::manifest::{Membership, manifest};
 use factor_codegen::{
-    self as codegen, CodegenError, GeneratedCrate, GeneratedModule, KernelSpec, Provenance,
+    self as codegen, CodegenError, CppLibrary, GeneratedCrate, GeneratedModule, KernelSpec,
+    Provenance, SymbolicKernel,
 };
 
 use crate::error::{CliError, InputError};
@@ -169,27 +176,34 @@ pub struct Timed {
     pub elapsed: Duration,
 }
 
-/// Generates the kernel of every spec for `provenance`'s crate, timing
-/// each.
+/// The kernel of every spec, traced once for both languages.
+fn trace_all(specs: &[KernelSpec]) -> Vec<SymbolicKernel> {
+    specs.iter().map(|spec| (spec.trace)()).collect()
+}
+
+/// Generates the kernel of every spec for `provenance`'s crate from its
+/// trace, timing each (its trace included).
 ///
 /// # Errors
 ///
-/// As [`codegen::generate_with`].
+/// As [`codegen::generate_module`].
 pub fn generate_timed(
     specs: &[KernelSpec],
     provenance: &Provenance,
-) -> Result<Vec<Timed>, CodegenError> {
-    specs
-        .iter()
-        .map(|spec| {
-            let start = Instant::now();
-            let module = codegen::generate_with(spec, provenance)?;
-            Ok(Timed {
-                module,
-                elapsed: start.elapsed(),
-            })
-        })
-        .collect()
+) -> Result<(Vec<Timed>, Vec<SymbolicKernel>), CodegenError> {
+    let mut timed = Vec::with_capacity(specs.len());
+    let mut kernels = Vec::with_capacity(specs.len());
+    for spec in specs {
+        let start = Instant::now();
+        let kernel = (spec.trace)();
+        let module = codegen::generate_module(&kernel, spec, provenance)?;
+        timed.push(Timed {
+            module,
+            elapsed: start.elapsed(),
+        });
+        kernels.push(kernel);
+    }
+    Ok((timed, kernels))
 }
 
 /// `add 12, mul 30, …` for a report.
@@ -204,15 +218,50 @@ fn milliseconds(d: Duration) -> String {
     format!("{:.1} ms", d.as_secs_f64() * 1e3)
 }
 
-/// `generate [--out DIR]`: writes the sources of the registry's kernel
-/// crate (see the module docs for which directories) and reports, per
-/// kernel, its operation counts and generation time, then the total.
-pub fn run_generate(registry: &Registry, out: Option<&Path>) -> Result<String, CliError> {
+/// `--lang`: a language `generate` writes and `check` compares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Lang {
+    /// The Rust crate's sources, `src/*.rs`.
+    Rust,
+    /// The header-only C++17 library, `cpp/<namespace>/*.h`.
+    Cpp,
+}
+
+/// Which of Rust and C++ to take: those `given`, or without any Rust, and
+/// C++ when `dir` has a `cpp/` directory.
+fn languages(given: &[Lang], dir: &Path) -> (bool, bool) {
+    if given.is_empty() {
+        (true, dir.join("cpp").is_dir())
+    } else {
+        (given.contains(&Lang::Rust), given.contains(&Lang::Cpp))
+    }
+}
+
+/// `generate [--out DIR] [--lang LANG]`: writes the sources of the
+/// registry's kernel crate (see the module docs for which directories and
+/// languages) and reports, per kernel, its operation counts and generation
+/// time, then the totals.
+pub fn run_generate(
+    registry: &Registry,
+    out: Option<&Path>,
+    lang: &[Lang],
+) -> Result<String, CliError> {
     let krate = kernel_crate(registry, "generate")?;
     let dir = locate(out, Path::new(krate.dir), "--out")?;
+    let (rust, cpp) = languages(lang, &dir);
     let new_crate = match inspect(&dir, krate.package)? {
         Found::Crate => false,
-        Found::Missing | Found::Empty => true,
+        Found::Missing | Found::Empty if rust => true,
+        Found::Missing | Found::Empty => {
+            return Err(error_at(
+                &dir,
+                format!(
+                    "not a generated crate yet: `--lang cpp` writes beside a kernel crate's Rust \
+                     sources; generate them first (`{}`)",
+                    krate.provenance.generate
+                ),
+            ));
+        }
         Found::Other(why) => {
             return Err(not_a_crate(
                 &dir,
@@ -223,12 +272,6 @@ pub fn run_generate(registry: &Registry, out: Option<&Path>) -> Result<String, C
             ));
         }
     };
-    let start = Instant::now();
-    let timed = generate_timed(registry.specs(), &krate.provenance)?;
-    let generation = start.elapsed();
-    let modules: Vec<GeneratedModule> = timed.iter().map(|t| t.module.clone()).collect();
-    let count = modules.len();
-    let generated = GeneratedCrate::from_modules(krate.provenance, modules)?;
     let cannot_write =
         |e: io::Error| error_at(&dir, format!("cannot write the generated crate: {e}"));
     let mut lines = Vec::new();
@@ -245,33 +288,67 @@ pub fn run_generate(registry: &Registry, out: Option<&Path>) -> Result<String, C
             .map_err(cannot_write)?;
         lines.push(format!("new crate: wrote {}", shown_path(&path)));
     }
-    generated.write(&dir).map_err(cannot_write)?;
-    let width = timed.iter().map(|t| t.module.name.len()).max().unwrap_or(0);
-    for t in &timed {
-        let m = &t.module;
+    let mut kernels = None;
+    if rust {
+        let start = Instant::now();
+        let (timed, traced) = generate_timed(registry.specs(), &krate.provenance)?;
+        kernels = Some(traced);
+        let generation = start.elapsed();
+        let modules: Vec<GeneratedModule> = timed.iter().map(|t| t.module.clone()).collect();
+        let count = modules.len();
+        let generated = GeneratedCrate::from_modules(krate.provenance, modules)?;
+        generated.write(&dir).map_err(cannot_write)?;
+        let width = timed.iter().map(|t| t.module.name.len()).max().unwrap_or(0);
+        for t in &timed {
+            let m = &t.module;
+            lines.push(format!(
+                "{:<width$}  {:>4} ops ({}); residual only {}  {}",
+                m.name,
+                m.counts.total(),
+                counts_text(&m.counts),
+                m.residual_counts.total(),
+                milliseconds(t.elapsed),
+            ));
+        }
         lines.push(format!(
-            "{:<width$}  {:>4} ops ({}); residual only {}  {}",
-            m.name,
-            m.counts.total(),
-            counts_text(&m.counts),
-            m.residual_counts.total(),
-            milliseconds(t.elapsed),
+            "generated {} kernels into {} in {} (trace, lower, emit and format, in process)",
+            count,
+            shown_path(&dir.join("src")),
+            milliseconds(generation),
         ));
     }
-    lines.push(format!(
-        "generated {} kernels into {} in {} (trace, lower, emit and format, in process)",
-        count,
-        shown_path(&dir.join("src")),
-        milliseconds(generation),
-    ));
+    if cpp {
+        let start = Instant::now();
+        let kernels = kernels.unwrap_or_else(|| trace_all(registry.specs()));
+        let library =
+            CppLibrary::from_kernels(krate.package, &krate.provenance, registry.specs(), &kernels)?;
+        let generation = start.elapsed();
+        library.write(&dir).map_err(cannot_write)?;
+        lines.push(format!(
+            "generated {} C++ headers ({} for Ceres) into {} in {}",
+            library.files.len(),
+            library
+                .files
+                .iter()
+                .filter(|(path, _)| path.contains("/ceres"))
+                .count(),
+            shown_path(&dir.join("cpp").join(&library.namespace)),
+            milliseconds(generation),
+        ));
+    }
     lines.extend(unoptimized_warning());
     Ok(lines.join("\n"))
 }
 
-/// `check [--dir DIR]`: `Ok` when the kernel crate's sources are what
-/// `generate` would write, else [`CliError::Stale`] naming the files, or a
-/// read error for the first file that cannot be read.
-pub fn run_check(registry: &Registry, dir: Option<&Path>) -> Result<String, CliError> {
+/// `check [--dir DIR] [--lang LANG]`: `Ok` when the kernel crate's sources
+/// (of the languages taken, see the module docs) are what `generate` would
+/// write, else [`CliError::Stale`] naming the files, or a read error for the
+/// first file that cannot be read.
+pub fn run_check(
+    registry: &Registry,
+    dir: Option<&Path>,
+    lang: &[Lang],
+) -> Result<String, CliError> {
     let krate = kernel_crate(registry, "check")?;
     let dir = locate(dir, Path::new(krate.dir), "--dir")?;
     match inspect(&dir, krate.package)? {
@@ -289,34 +366,73 @@ pub fn run_check(registry: &Registry, dir: Option<&Path>) -> Result<String, CliE
             return Err(not_a_crate(&dir, krate.package, why, "nothing to check"));
         }
     }
-    let src = dir.join("src");
-    if let Err(e) = std::fs::read_dir(&src)
-        && e.kind() != io::ErrorKind::NotFound
-    {
-        return Err(cannot_read(&src, &e));
-    }
-    let generated = GeneratedCrate::generate(krate.provenance, registry.specs())?;
-    match generated.check(&dir) {
-        Ok(()) => Ok(format!(
-            "{} is up to date ({} kernels)",
-            shown_path(&src),
-            generated.modules.len()
-        )),
-        Err(files) => {
-            // A missing file is stale; one that is there but unreadable is not.
-            for file in &files {
-                if let Err(e) = std::fs::read(file)
-                    && e.kind() != io::ErrorKind::NotFound
-                {
-                    return Err(cannot_read(file, &e));
-                }
+    let (rust, cpp) = languages(lang, &dir);
+    let mut current = Vec::new();
+    let (mut stale, mut stale_languages) = (Vec::new(), Vec::new());
+    let specs = registry.specs();
+    let kernels = trace_all(specs);
+    if rust {
+        let src = dir.join("src");
+        if let Err(e) = std::fs::read_dir(&src)
+            && e.kind() != io::ErrorKind::NotFound
+        {
+            return Err(cannot_read(&src, &e));
+        }
+        let modules = specs
+            .iter()
+            .zip(&kernels)
+            .map(|(spec, kernel)| codegen::generate_module(kernel, spec, &krate.provenance))
+            .collect::<Result<Vec<_>, _>>()?;
+        let generated = GeneratedCrate::from_modules(krate.provenance, modules)?;
+        match generated.check(&dir) {
+            Ok(()) => current.push(format!(
+                "{} is up to date ({} kernels)",
+                shown_path(&src),
+                generated.modules.len()
+            )),
+            Err(files) => {
+                stale.extend(files);
+                stale_languages.push("rust");
             }
-            Err(CliError::Stale {
-                files,
-                generate: krate.provenance.generate,
-            })
         }
     }
+    if cpp {
+        let library = CppLibrary::from_kernels(krate.package, &krate.provenance, specs, &kernels)?;
+        match library.check(&dir) {
+            Ok(()) => current.push(format!(
+                "{} is up to date ({} headers)",
+                shown_path(&dir.join("cpp").join(&library.namespace)),
+                library.files.len()
+            )),
+            Err(files) => {
+                stale.extend(files);
+                stale_languages.push("cpp");
+            }
+        }
+    }
+    if stale.is_empty() {
+        return Ok(current.join("\n"));
+    }
+    // A missing file is stale; one that is there but unreadable is not.
+    for file in &stale {
+        if let Err(e) = std::fs::read(file)
+            && e.kind() != io::ErrorKind::NotFound
+        {
+            return Err(cannot_read(file, &e));
+        }
+    }
+    let generate = match stale_languages.as_slice() {
+        ["rust"] => krate.provenance.generate.to_owned(),
+        languages => format!(
+            "{} --lang {}",
+            krate.provenance.generate,
+            languages.join(",")
+        ),
+    };
+    Err(CliError::Stale {
+        files: stale,
+        generate,
+    })
 }
 
 #[cfg(test)]
@@ -382,7 +498,7 @@ mod tests {
 
     #[test]
     fn a_registry_without_a_kernel_crate_cannot_generate() {
-        let error = run_check(&Registry::new(), None).unwrap_err();
+        let error = run_check(&Registry::new(), None, &[]).unwrap_err();
         assert_eq!(error.exit_code(), crate::error::EXIT_BAD_INPUT);
         assert!(
             error.to_string().contains("names no kernel crate"),

@@ -154,7 +154,7 @@ const CLI_MAIN: &str = r#"//! `@NAME@`: list the factors of `@NAME@-factors`, ev
 
 use std::process::ExitCode;
 
-use slamjac::cli::{KernelCrate, Provenance, Registry};
+use slamjac::cli::{KernelCrate, KernelSpec, Provenance, Registry};
 
 /// The crate `generate` writes and `check` compares.
 const KERNELS: KernelCrate = KernelCrate {
@@ -169,8 +169,10 @@ const KERNELS: KernelCrate = KernelCrate {
 
 fn main() -> ExitCode {
     Registry::new()
-        // `list`, `eval`, and its kernel in what `generate` writes.
+        // `list`, `eval`, and its kernel in what `generate` writes; with
+        // `generate --lang cpp`, its C++ with a Ceres cost function.
         .with_kernel::<@IDENT@_factors::PositionPrior>()
+        .with_spec(KernelSpec::of::<@IDENT@_factors::PositionPrior>().with_ceres())
         // `solve`: problem files, linearized by dual numbers in
         // apex-solver's chart. A factor with `hosts(apex)` and a kernel
         // generated for that host (`.with_spec(KernelSpec::of::<F>()
@@ -209,6 +211,7 @@ Factors with generated kernels and a command line, written by `slamjac init`.
 cargo run -p @NAME@-cli --no-default-features -- generate   # (re)write @NAME@-kernels/src
 cargo run -p @NAME@-cli -- list                             # the factors, their inputs and kernels
 cargo run -p @NAME@-cli -- eval inputs/position_prior.json  # residual and Jacobians
+cargo run -p @NAME@-cli --no-default-features -- generate --lang cpp   # and C++ in @NAME@-kernels/cpp
 cargo run -p @NAME@-cli --no-default-features -- check      # exit 1 when the kernels are stale (CI)
 cargo test -p @NAME@-factors                                 # the factors' Jacobians against central differences
 cargo run --release -p @NAME@-cli --features solve -- solve inputs/position_problem.json
@@ -217,8 +220,8 @@ cargo run --release -p @NAME@-cli --features solve -- solve inputs/position_prob
 Add a factor to `@NAME@-factors/src/lib.rs` (with its
 `#[cfg_attr(feature = "kernels", factor(kernel = ..., regenerate = ...))]`),
 register it in `@NAME@-cli/src/main.rs` with `.with_kernel::<YourFactor>()`
-(and `.solve_with_dual::<YourFactor>()` for `solve`), then generate. The slamjac guide's chapters "Writing a factor" and
-"Kernels of your own factors" say more.
+(and `.solve_with_dual::<YourFactor>()` for `solve`), then generate. The slamjac guide's chapters "Writing a factor",
+"Kernels of your own factors" and "Kernels in C++ solvers" say more.
 "#;
 
 /// `.gitignore`.

@@ -2,7 +2,7 @@
 //! kernels, what `slamjac generate` writes into `generated/`, through the
 //! public generator API of `factor-codegen`, as any user's generator does.
 
-use factor_codegen::{CodegenError, GeneratedCrate, HostSpec, KernelSpec, Provenance};
+use factor_codegen::{HostSpec, KernelSpec, Provenance};
 #[cfg(feature = "kernels")]
 use factor_core::host::HostKernel;
 use factor_core::host::{Apex, HostFactor};
@@ -38,7 +38,8 @@ pub const KERNEL_CRATE: KernelCrate = KernelCrate {
 /// line and plane edge errors linearize through dual numbers: their kernels
 /// take the generator 30 s and 19 s, which every `generate` and `check`
 /// would pay; see `slam_factors::g2o`.) Every one also has a kernel in
-/// apex-solver's chart ([`factor_core::host::Apex`]).
+/// apex-solver's chart ([`factor_core::host::Apex`]) and, in the C++ of
+/// `generated/cpp/`, a Ceres cost function and manifolds.
 pub fn shipped_kernels() -> Vec<KernelSpec> {
     vec![
         with_apex::<PointReprojection>()
@@ -74,18 +75,11 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
 }
 
 /// Factor `F`'s spec with its kernel in apex-solver's chart beside its own
-/// (`<name>_apex`).
+/// (`<name>_apex`), and in its C++ a Ceres cost function and manifolds.
 fn with_apex<F: HostFactor<Apex>>() -> KernelSpec {
-    KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())
-}
-
-/// Every shipped kernel, generated in [`shipped_kernels`] order.
-///
-/// # Errors
-///
-/// As [`GeneratedCrate::generate`] (none for the shipped factors).
-pub fn generate_all() -> Result<GeneratedCrate, CodegenError> {
-    GeneratedCrate::generate(PROVENANCE, &shipped_kernels())
+    KernelSpec::of::<F>()
+        .with_host(HostSpec::of::<F, Apex>())
+        .with_ceres()
 }
 
 /// `slamjac`'s own registry: the factors `slam-factors` ships, each with

@@ -6,6 +6,7 @@ mod architecture;
 mod cli;
 mod codegen;
 mod common;
+mod cpp_kernels;
 mod derive;
 mod files_and_messages;
 mod hostile_input;

@@ -4,14 +4,28 @@
 //
 //   ba FILE [--threads N] [--max-iterations N] [--robust huber:D|cauchy:D]
 //           [--gauge fixed|free] [--function-tolerance T] [--report]
+//           [--cost autodiff|autodiff-quaternion|generated|constant]
 //
-// - One parameter block of 9 per camera, [angle-axis (3), translation (3),
-//   f, k1, k2] (world to camera, P = R X + t), one of 3 per point.
+// - `--cost autodiff` (the default): one parameter block of 9 per camera,
+//   [angle-axis (3), translation (3), f, k1, k2] (world to camera,
+//   P = R X + t), one of 3 per point, differentiated by Ceres'
+//   AutoDiffCostFunction.
+// - `--cost generated`: this project's generated cost function
+//   (generated/cpp, `factor_generated::SnavelyReprojectionCost`): per camera
+//   a pose block of 7, [qx, qy, qz, qw, tx, ty, tz], with its generated
+//   manifold (`Se3RhoThetaRightManifold`: R <- R Exp(dθ), t <- t + R dρ), and
+//   an intrinsics block [f, k1, k2]; one block of 3 per point.
+// - `--cost autodiff-quaternion`: those blocks and manifold, the residual
+//   differentiated by AutoDiffCostFunction: the same problem as `generated`,
+//   differentiated otherwise.
+// - `--cost constant`: those blocks and manifold with a cost function that
+//   only writes the observation and constant Jacobians: what Ceres itself
+//   spends on a residual block around its cost function (the solve means
+//   nothing).
 // - The residual of an observation: predicted minus observed pixel with
-//   Snavely's model, p = -P_xy / P_z, pixel = f (1 + k1 |p|^2 + k2 |p|^4) p,
-//   differentiated by Ceres' AutoDiffCostFunction.
+//   Snavely's model, p = -P_xy / P_z, pixel = f (1 + k1 |p|^2 + k2 |p|^4) p.
 // - The gauge (`--gauge fixed`, the default): camera 0's pose (its first six
-//   parameters) held constant with a SubsetManifold, its intrinsics free, as
+//   parameters, or its pose block) held constant, its intrinsics free, as
 //   `slamjac solve` holds it. `--gauge free` leaves every camera free.
 // - Levenberg-Marquardt, SPARSE_SCHUR with the points eliminated (ordering:
 //   points first), SUITE_SPARSE (CHOLMOD), Ceres' default tolerances
@@ -21,11 +35,17 @@
 //
 // Prints one JSON line: the costs (1/2 sum |r|^2, as `slamjac solve`
 // reports them), iterations (steps tried, accepted or rejected), Ceres'
-// termination, and the time to read the file and to solve.
+// termination, and the time to read the file and to solve (wall and CPU),
+// with Ceres' own split of it (Jacobian evaluation, residual evaluation,
+// linear solver: wall times) and the number of Jacobian evaluations.
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include "factor_generated/ceres/snavely_reprojection.h"
+#include "snavely_functors.h"
+
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -152,30 +172,47 @@ Problem ReadBundler(const std::string& path) {
   return p;
 }
 
-// Predicted minus observed pixel of one observation (Snavely's model).
-struct Reprojection {
-  Reprojection(double x, double y) : x(x), y(y) {}
-
-  template <typename T>
-  bool operator()(const T* camera, const T* point, T* residual) const {
-    T p[3];
-    ceres::AngleAxisRotatePoint(camera, point, p);
-    for (int k = 0; k < 3; ++k) p[k] += camera[3 + k];
-    // The camera looks down -z.
-    const T u = -p[0] / p[2], v = -p[1] / p[2];
-    const T rho2 = u * u + v * v;
-    const T scale = camera[6] * (T(1.0) + rho2 * (camera[7] + camera[8] * rho2));
-    residual[0] = scale * u - x;
-    residual[1] = scale * v - y;
+// No arithmetic: the observation as the residual, constant Jacobians.
+class ConstantCost final : public ceres::SizedCostFunction<2, 7, 3, 3> {
+ public:
+  ConstantCost(double x, double y) : x_(x), y_(y) {}
+  bool Evaluate(double const* const*, double* residuals, double** jacobians) const override {
+    residuals[0] = x_;
+    residuals[1] = y_;
+    const int sizes[3] = {14, 6, 6};
+    for (int b = 0; jacobians != nullptr && b < 3; ++b)
+      if (jacobians[b] != nullptr)
+        for (int k = 0; k < sizes[b]; ++k) jacobians[b][k] = 1.0;
     return true;
   }
 
-  double x, y;
+ private:
+  double x_, y_;
 };
+
+// A camera's 9 BAL parameters as a pose [qx, qy, qz, qw, t] and intrinsics.
+void SplitCamera(const double* camera, double* pose, double* intrinsics) {
+  double q[4];  // [w, x, y, z]
+  ceres::AngleAxisToQuaternion(camera, q);
+  pose[0] = q[1];
+  pose[1] = q[2];
+  pose[2] = q[3];
+  pose[3] = q[0];
+  for (int k = 0; k < 3; ++k) pose[4 + k] = camera[3 + k];
+  for (int k = 0; k < 3; ++k) intrinsics[k] = camera[6 + k];
+}
 
 bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() &&
          s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// The process's CPU time (every thread's), in seconds: on a shared machine
+// steadier than the wall time of a single-threaded solve.
+double CpuSeconds() {
+  timespec now;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 double Seconds(std::chrono::steady_clock::time_point since) {
@@ -190,14 +227,15 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::cerr << "usage: ba FILE [--threads N] [--max-iterations N] "
                  "[--robust huber:D|cauchy:D] [--gauge fixed|free] "
-                 "[--function-tolerance T] [--report]\n";
+                 "[--function-tolerance T] [--report] "
+                 "[--cost autodiff|autodiff-quaternion|generated|constant]\n";
     return 2;
   }
   const std::string path = argv[1];
   int threads = 1, max_iterations = 100;
   double function_tolerance = ceres::Solver::Options().function_tolerance;
   bool report = false, fixed_gauge = true;
-  std::string robust;
+  std::string robust, cost = "autodiff";
   for (int i = 2; i < argc; ++i) {
     const std::string flag = argv[i];
     auto value = [&]() -> std::string {
@@ -211,6 +249,7 @@ int main(int argc, char** argv) {
     else if (flag == "--function-tolerance")
       function_tolerance = std::atof(value().c_str());
     else if (flag == "--report") report = true;
+    else if (flag == "--cost") cost = value();
     else Fail("unknown argument " + flag);
   }
 
@@ -226,20 +265,56 @@ int main(int argc, char** argv) {
     else if (robust.rfind("cauchy:", 0) == 0) loss.reset(new ceres::CauchyLoss(delta));
     else Fail("--robust: huber:D or cauchy:D");
   }
+  if (cost != "autodiff" && cost != "autodiff-quaternion" && cost != "generated" &&
+      cost != "constant")
+    Fail("--cost: autodiff, autodiff-quaternion, generated or constant");
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  for (const Observation& o : data.observations) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<Reprojection, 2, 9, 3>(
-            new Reprojection(o.x, o.y)),
-        loss.get(), &data.cameras[9 * o.camera], &data.points[3 * o.point]);
-  }
   const int cameras = static_cast<int>(data.cameras.size() / 9);
-  if (fixed_gauge && cameras > 0 &&
-      problem.HasParameterBlock(&data.cameras[0])) {
-    problem.SetManifold(&data.cameras[0],
-                        new ceres::SubsetManifold(9, {0, 1, 2, 3, 4, 5}));
+  // The quaternion parametrization: per camera a pose and intrinsics block.
+  std::vector<double> poses(7 * cameras), intrinsics(3 * cameras);
+  factor_generated::Se3RhoThetaRightManifold pose_manifold;
+  // The blocks each camera's parameters are in (one, or pose and intrinsics).
+  std::vector<double*> camera_blocks;
+  if (cost == "autodiff") {
+    for (const Observation& o : data.observations) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<Reprojection, 2, 9, 3>(
+              new Reprojection(o.x, o.y)),
+          loss.get(), &data.cameras[9 * o.camera], &data.points[3 * o.point]);
+    }
+    if (fixed_gauge && cameras > 0 &&
+        problem.HasParameterBlock(&data.cameras[0])) {
+      problem.SetManifold(&data.cameras[0],
+                          new ceres::SubsetManifold(9, {0, 1, 2, 3, 4, 5}));
+    }
+    for (int c = 0; c < cameras; ++c) camera_blocks.push_back(&data.cameras[9 * c]);
+  } else {
+    for (int c = 0; c < cameras; ++c) {
+      SplitCamera(&data.cameras[9 * c], &poses[7 * c], &intrinsics[3 * c]);
+      camera_blocks.push_back(&poses[7 * c]);
+      camera_blocks.push_back(&intrinsics[3 * c]);
+    }
+    for (const Observation& o : data.observations) {
+      const double observed[2] = {o.x, o.y};
+      ceres::CostFunction* function;
+      if (cost == "generated")
+        function = new factor_generated::SnavelyReprojectionCost(observed);
+      else if (cost == "constant")
+        function = new ConstantCost(o.x, o.y);
+      else
+        function = new ceres::AutoDiffCostFunction<QuaternionReprojection, 2, 7, 3, 3>(
+            new QuaternionReprojection(o.x, o.y));
+      problem.AddResidualBlock(function, loss.get(), &poses[7 * o.camera],
+                               &intrinsics[3 * o.camera], &data.points[3 * o.point]);
+    }
+    for (int c = 0; c < cameras; ++c)
+      if (problem.HasParameterBlock(&poses[7 * c]))
+        problem.SetManifold(&poses[7 * c], &pose_manifold);
+    if (fixed_gauge && cameras > 0 && problem.HasParameterBlock(&poses[0]))
+      problem.SetParameterBlockConstant(&poses[0]);
   }
 
   ceres::Solver::Options options;
@@ -253,29 +328,30 @@ int main(int argc, char** argv) {
   for (size_t j = 0; j < data.points.size() / 3; ++j)
     if (problem.HasParameterBlock(&data.points[3 * j]))
       ordering->AddElementToGroup(&data.points[3 * j], 0);
-  for (int c = 0; c < cameras; ++c)
-    if (problem.HasParameterBlock(&data.cameras[9 * c]))
-      ordering->AddElementToGroup(&data.cameras[9 * c], 1);
+  for (double* block : camera_blocks)
+    if (problem.HasParameterBlock(block)) ordering->AddElementToGroup(block, 1);
   options.linear_solver_ordering = ordering;
 
   ceres::Solver::Summary summary;
   const auto solve_start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
   ceres::Solve(options, &problem, &summary);
   const double solve_seconds = Seconds(solve_start);
+  const double cpu_seconds = CpuSeconds() - cpu_start;
   if (report) std::cerr << summary.FullReport() << "\n";
 
   std::printf(
-      "{\"file\": \"%s\", \"threads\": %d, \"cameras\": %d, \"points\": %zu, "
+      "{\"file\": \"%s\", \"cost\": \"%s\", \"threads\": %d, \"cameras\": %d, \"points\": %zu, "
       "\"observations\": %zu, \"initial_cost\": %.15e, \"final_cost\": %.15e, "
       "\"iterations\": %d, \"termination\": \"%s\", \"read_s\": %.6f, "
-      "\"solve_s\": %.6f, \"linear_solver_s\": %.6f, \"jacobian_s\": %.6f, "
-      "\"residual_s\": %.6f}\n",
-      path.c_str(), threads, cameras, data.points.size() / 3,
+      "\"solve_s\": %.6f, \"solve_cpu_s\": %.6f, \"linear_solver_s\": %.6f, \"jacobian_s\": %.6f, "
+      "\"jacobian_evaluations\": %d, \"residual_s\": %.6f}\n",
+      path.c_str(), cost.c_str(), threads, cameras, data.points.size() / 3,
       data.observations.size(), summary.initial_cost, summary.final_cost,
       summary.num_successful_steps + summary.num_unsuccessful_steps,
       ceres::TerminationTypeToString(summary.termination_type), read_seconds,
-      solve_seconds, summary.linear_solver_time_in_seconds,
-      summary.jacobian_evaluation_time_in_seconds,
+      solve_seconds, cpu_seconds, summary.linear_solver_time_in_seconds,
+      summary.jacobian_evaluation_time_in_seconds, summary.num_jacobian_evaluations,
       summary.residual_evaluation_time_in_seconds);
   return summary.IsSolutionUsable() ? 0 : 1;
 }

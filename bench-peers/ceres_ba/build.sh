@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the Ceres bundle-adjustment peer (ba.cc) into bench-peers/out/ceres_ba,
+# Builds the Ceres bundle-adjustment peer (ba.cc, with this project's generated
+# Ceres cost function from generated/cpp) into bench-peers/out/ceres_ba,
 # installing Debian's libceres-dev (Ceres 2.1, SuiteSparse/CHOLMOD) first if
 # its headers are missing. Prints the binary's path.
 set -euo pipefail
@@ -17,9 +18,13 @@ if [[ ! -f /usr/include/ceres/ceres.h ]]; then
         apt-get install -y libceres-dev >>"$out/apt-ceres.log" 2>&1
     }
 fi
-if [[ ! -x "$out/ceres_ba" || "$here/ba.cc" -nt "$out/ceres_ba" ]]; then
+generated="$here/../../generated/cpp/factor_generated"
+if [[ ! -x "$out/ceres_ba" || "$here/ba.cc" -nt "$out/ceres_ba" \
+      || "$here/snavely_functors.h" -nt "$out/ceres_ba" \
+      || -n "$(find "$generated" -newer "$out/ceres_ba" -name '*.h' -print -quit)" ]]; then
     echo "== compiling ba.cc" >&2
-    g++ -O3 -march=native -DNDEBUG -std=c++17 -I/usr/include/eigen3 "$here/ba.cc" \
+    g++ -O3 -march=native -DNDEBUG -std=c++17 -Wall -Wextra -Werror -I/usr/include/eigen3 \
+        -I"$here/../../generated/cpp" "$here/ba.cc" \
         -o "$out/ceres_ba" -lceres -lglog -lgflags -lpthread
 fi
 echo "$out/ceres_ba"

@@ -21,6 +21,11 @@ pub struct Kernels;
 #[doc = include_str!("generated-kernels.md")]
 pub struct GeneratedKernels;
 
+/// `cpp-and-ceres.md`.
+#[cfg(doctest)]
+#[doc = include_str!("cpp-and-ceres.md")]
+pub struct CppAndCeres;
+
 /// `point-line-plane.md`.
 #[cfg(doctest)]
 #[doc = include_str!("point-line-plane.md")]

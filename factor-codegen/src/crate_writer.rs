@@ -28,6 +28,7 @@ use std::path::{Path, PathBuf};
 use crate::error::CodegenError;
 use crate::module::{GeneratedModule, generate_with};
 use crate::spec::{KernelSpec, Provenance};
+use crate::tree;
 
 /// `src/real.rs` after its header: the float trait and its `f32` and `f64`
 /// implementations.
@@ -397,78 +398,13 @@ impl GeneratedCrate {
     ///
     /// Any I/O error.
     pub fn write(&self, dir: &Path) -> io::Result<()> {
-        write_crate(dir, &self.files())
+        tree::write(&dir.join("src"), &self.files(), "rs", false)
     }
 
     /// Compares `dir/src` with what [`GeneratedCrate::write`] would write:
     /// `Ok` when identical, else every differing, missing or extra `.rs`
     /// file, sorted.
     pub fn check(&self, dir: &Path) -> Result<(), Vec<PathBuf>> {
-        check_crate(dir, &self.files())
+        tree::check(&dir.join("src"), &self.files(), "rs", false)
     }
-}
-
-/// The `.rs` files directly in `dir`, sorted.
-fn rust_files(dir: &Path) -> io::Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    match std::fs::read_dir(dir) {
-        Ok(entries) => {
-            for entry in entries {
-                let path = entry?.path();
-                if path.is_file() && path.extension().is_some_and(|e| e == "rs") {
-                    files.push(path);
-                }
-            }
-        }
-        Err(e) if e.kind() == io::ErrorKind::NotFound => {}
-        Err(e) => return Err(e),
-    }
-    files.sort();
-    Ok(files)
-}
-
-/// [`GeneratedCrate::write`] of `files`.
-fn write_crate(dir: &Path, files: &[(String, String)]) -> io::Result<()> {
-    let src = dir.join("src");
-    std::fs::create_dir_all(&src)?;
-    for (name, contents) in files {
-        let path = src.join(name);
-        if std::fs::read(&path).ok().as_deref() != Some(contents.as_bytes()) {
-            // A temporary file renamed into place: an interrupted or failed
-            // write leaves the old source whole.
-            slamjac_io::atomic::write(&path, contents)?;
-        }
-    }
-    for path in rust_files(&src)? {
-        let generated = files
-            .iter()
-            .any(|(name, _)| path.file_name().is_some_and(|f| f == name.as_str()));
-        if !generated {
-            std::fs::remove_file(&path)?;
-        }
-    }
-    Ok(())
-}
-
-/// [`GeneratedCrate::check`] of `files`.
-fn check_crate(dir: &Path, files: &[(String, String)]) -> Result<(), Vec<PathBuf>> {
-    let src = dir.join("src");
-    let mut stale = Vec::new();
-    for (name, contents) in files {
-        let path = src.join(name);
-        if std::fs::read(&path).ok().as_deref() != Some(contents.as_bytes()) {
-            stale.push(path);
-        }
-    }
-    // An unreadable directory is reported as its expected files, above.
-    for path in rust_files(&src).unwrap_or_default() {
-        let generated = files
-            .iter()
-            .any(|(name, _)| path.file_name().is_some_and(|f| f == name.as_str()));
-        if !generated {
-            stale.push(path);
-        }
-    }
-    stale.sort();
-    if stale.is_empty() { Ok(()) } else { Err(stale) }
 }

@@ -17,6 +17,9 @@
 //!   when one of several Jacobian blocks is requested, or for one block
 //!   only);
 //! - [`emit`]: the module as tokens (`quote`), formatted by `prettyplease`;
+//!   [`cpp`]: the same programs and schedules as a header-only C++17
+//!   library ([`CppLibrary`]), with, for Ceres, each factor's ambient kernel
+//!   ([`ambient`]) and its variables' own charts ([`chart`]);
 //! - [`module`]: trace → lower → schedule → emit for one factor
 //!   ([`GeneratedModule`]), what to generate ([`spec`]: [`KernelSpec`],
 //!   [`Provenance`]);
@@ -92,8 +95,11 @@
 //! `user-factors`, `user-kernels` and the command line `user-cli`). Debug builds generate in seconds only with the symbolic
 //! engine and the generator optimised ([`build_profile`]).
 
+pub mod ambient;
 pub mod build_profile;
+pub mod chart;
 pub mod compile;
+pub mod cpp;
 pub mod crate_writer;
 pub mod emit;
 pub mod error;
@@ -106,7 +112,9 @@ pub mod module;
 pub mod normal;
 pub mod schedule;
 pub mod spec;
+mod tree;
 
+pub use cpp::CppLibrary;
 pub use crate_writer::GeneratedCrate;
 pub use error::CodegenError;
 pub use host::{HostSpec, HostTrace, trace_on_host};

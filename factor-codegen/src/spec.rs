@@ -3,6 +3,9 @@
 
 use factor_core::Factor;
 
+use crate::ambient::trace_ambient;
+use crate::chart::{ChartTrace, trace_charts};
+use crate::error::CodegenError;
 use crate::host::HostSpec;
 use crate::kernel::{SymbolicKernel, trace};
 
@@ -28,6 +31,15 @@ pub struct KernelSpec {
     /// The host charts the module also has kernels for
     /// ([`KernelSpec::with_host`]).
     pub hosts: Vec<HostSpec>,
+    /// Traces the factor's ambient kernel ([`crate::ambient`]), for its
+    /// Ceres cost function.
+    pub ambient: fn() -> SymbolicKernel,
+    /// Traces its variables' charts ([`crate::chart`]), for their Ceres
+    /// manifolds.
+    pub charts: fn() -> Result<Vec<ChartTrace>, CodegenError>,
+    /// Whether its C++ has a Ceres cost function and manifolds
+    /// ([`KernelSpec::with_ceres`]).
+    pub ceres: bool,
 }
 
 impl KernelSpec {
@@ -40,6 +52,9 @@ impl KernelSpec {
             trace: trace::<F>,
             normal_equations: false,
             hosts: Vec::new(),
+            ambient: trace_ambient::<F>,
+            charts: trace_charts::<F>,
+            ceres: false,
         }
     }
 
@@ -70,6 +85,19 @@ impl KernelSpec {
     pub fn with_host(mut self, host: HostSpec) -> KernelSpec {
         self.hosts.push(host);
         self
+    }
+
+    /// The same spec with, in its C++ (`generate --lang cpp`,
+    /// [`crate::cpp`]), a Ceres cost function whose parameter blocks are the
+    /// variables' stored scalars and a Ceres manifold per variable type in
+    /// the factor's own chart. Every variable's type must give
+    /// [`factor_core::Manifold::local`] (the C++ generation refuses it
+    /// otherwise, naming the type).
+    pub fn with_ceres(self) -> KernelSpec {
+        KernelSpec {
+            ceres: true,
+            ..self
+        }
     }
 }
 

@@ -158,6 +158,39 @@ pub struct VariableInfo {
     pub tangent: &'static str,
 }
 
+impl VariableInfo {
+    /// The name of the variable's chart: its type's name in snake case and
+    /// its side, `<type>_<side>` (`Se3<S>` on the left is `se3_left`,
+    /// `factor_core::lie::Se3RhoTheta<S>` on the right
+    /// `se3_rho_theta_right`): what generated solver manifolds are named
+    /// after.
+    pub fn chart_name(&self) -> String {
+        let base = self
+            .type_name
+            .split('<')
+            .next()
+            .unwrap_or(self.type_name)
+            .trim();
+        let last = base.rsplit("::").next().unwrap_or(base);
+        let mut name = String::new();
+        let mut previous: Option<char> = None;
+        for c in last.chars() {
+            if c.is_ascii_uppercase() {
+                if previous.is_some_and(|p| p.is_ascii_lowercase() || p.is_ascii_digit()) {
+                    name.push('_');
+                }
+                name.push(c.to_ascii_lowercase());
+            } else if c.is_ascii_alphanumeric() {
+                name.push(c);
+            } else {
+                name.push('_');
+            }
+            previous = Some(c);
+        }
+        format!("{name}_{}", self.perturbation.as_str())
+    }
+}
+
 /// A field of a factor (constant or variable): how it is stored, as kernels
 /// lay out their inputs, and how a user writes it.
 #[derive(Debug, Clone)]
@@ -353,6 +386,30 @@ pub trait Factor: Storage<f64> + Sized {
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;
+
+    /// Variable `variable`'s chart over any scalar `T`: `map` of its type's
+    /// [`crate::Manifold`] on its perturbation side, at the value stored as
+    /// `point` (see [`crate::manifold::ChartMap`]: `argument` a tangent or
+    /// another value's stored scalars, `out` the result's stored scalars or
+    /// tangent). What a code
+    /// generator traces into a solver's manifold (crate `factor-codegen`,
+    /// Ceres' `Manifold`), from the variable's type alone.
+    ///
+    /// # Errors
+    ///
+    /// [`crate::manifold::NoLocal`] for [`crate::manifold::ChartMap::Local`]
+    /// of a type without [`crate::Manifold::local`].
+    ///
+    /// # Panics
+    ///
+    /// If `variable` is out of range or a slice has the wrong length.
+    fn chart_over<T: Scalar>(
+        variable: usize,
+        map: crate::manifold::ChartMap,
+        point: &[T],
+        argument: &[T],
+        out: &mut [T],
+    ) -> Result<(), crate::manifold::NoLocal>;
 }
 
 /// `‖a − b‖_F / max(‖b‖_F, floor)`: the relative Frobenius error used by every

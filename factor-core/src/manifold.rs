@@ -16,6 +16,12 @@
 //!   off the manifold by `O(|δ|²)` (a quaternion of norm `1 + O(|δ|²)`), which
 //!   changes no first derivative of a smooth residual.
 //!
+//! A third map is optional: [`Manifold::local`], the inverse of `retract`
+//! (the local coordinates of a point in the chart at another, Ceres'
+//! `Minus`). Jacobians never need it; a C++ solver's manifold generated from
+//! the type does (`slamjac generate --lang cpp` with Ceres, which refuses a
+//! type without it).
+//!
 //! A type of your own becomes a variable by implementing [`Manifold`] (and
 //! [`crate::Storage`]); the rules its retractions must follow to be
 //! differentiated by dual numbers and traced by the symbolic engine are in
@@ -119,6 +125,11 @@ impl Perturbation {
 ///     override (a closed form, to save the retraction's dual arithmetic)
 ///     must agree with the default to rounding.
 ///
+/// [`Manifold::local`], when a type gives it, is traced too (a C++ solver's
+/// manifold is generated from it and from `retract`) and follows the same
+/// rules, its branches decided by `self` (rule 6) or holding strictly at
+/// `other = self` (rule 7: it is differentiated there).
+///
 /// A manifold that is not a group (S²) ignores the side and says so in its
 /// description. Where no basis is continuous everywhere (on S², by the
 /// hairy-ball theorem), a branch chooses one per region: the Jacobian is
@@ -182,6 +193,45 @@ pub trait Manifold<S: Scalar>: Sized {
     {
         seeded_through_retraction::<S, Self, D, N>(self, side, offset)
     }
+
+    /// The local coordinates of `other` in the chart at `self`: the tangent
+    /// `δ` with `self.retract(δ, side) == other`, written into `delta`
+    /// (`DIM` entries), on the largest domain the retraction is invertible
+    /// on (a rotation's up to the angle `2π` on the quaternion sphere, so
+    /// that retracting by it gives back `other`'s own stored scalars, not
+    /// `−q`). Optional: the default gives [`NoLocal`], and everything but a
+    /// generated solver manifold works without it (Ceres' `Minus` and
+    /// `MinusJacobian` are it and its derivative at `other = self`).
+    ///
+    /// It is traced like the retractions (the rules above) and
+    /// differentiated w.r.t. `other` at `other = self`, where `other`'s
+    /// scalars may leave the manifold: write it so that it stays smooth
+    /// there (a quaternion's inverse as its conjugate, a logarithm that is
+    /// homogeneous in the quaternion's scale).
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let _ = (other, side, delta);
+        Err(NoLocal)
+    }
+}
+
+/// What a type without [`Manifold::local`] gives: the inverse of its
+/// retraction is not known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NoLocal;
+
+/// One map of a variable's chart, as a code generator traces it
+/// (`Factor::chart_over`, which the derive dispatches to the variable's
+/// type).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChartMap {
+    /// [`Manifold::retract`]: `argument` is the tangent `δ`, the output the
+    /// retracted value's stored scalars.
+    Retract,
+    /// [`Manifold::retract_first_order`], read and written as `Retract`.
+    RetractFirstOrder,
+    /// [`Manifold::local`]: `argument` is the other value's stored scalars,
+    /// the output its local coordinates (a tangent).
+    Local,
 }
 
 /// The default of [`Manifold::seeded`]: `x` lifted to `Dual<D>`, retracted to
@@ -252,6 +302,10 @@ impl<S: Scalar> Manifold<S> for S {
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: x ← x + δ"
     }
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        delta[0] = *other - *self;
+        Ok(())
+    }
 }
 
 /// Fixed-size vectors and matrices are vector spaces: `x ← x + δ`, with `δ`
@@ -284,6 +338,12 @@ impl<S: Scalar + NalgebraScalar, const R: usize, const C: usize> Manifold<S> for
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: x ← x + δ, columns δ in the vector's order"
+    }
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        for ((d, x), y) in delta.iter_mut().zip(self.iter()).zip(other.iter()) {
+            *d = *y - *x;
+        }
+        Ok(())
     }
 }
 

@@ -7,6 +7,7 @@
 //!   agrees with dual numbers to rounding;
 //! - [`host`]: a factor's Jacobians in a host solver's chart against
 //!   central differences through the host's retraction;
+//! - [`local`]: a manifold's `local` against the retraction it inverts;
 //! - [`mod@reference`]: a factor's residual and Jacobians in double-double
 //!   arithmetic, to measure the accuracy of an `f64` evaluation;
 //! - [`seeding`]: the seeded one-pass dual linearization against the
@@ -16,13 +17,17 @@
 //! - [`samples`]: seeded, well-conditioned configurations of the shipped
 //!   factors (and the poses, rotations and vectors they are built from);
 //! - [`branch_points`]: configurations straddling the kernels' branch
-//!   points (the plane factor's two selects).
+//!   points (the plane factor's two selects);
+//! - [`cpp`]: a kernel crate's generated C++ compiled and run against the
+//!   Rust kernels, dual numbers and the variables' charts.
 
 pub mod branch_points;
+pub mod cpp;
 #[cfg(feature = "bench")]
 pub mod cpu_time;
 pub mod generated;
 pub mod host;
+pub mod local;
 pub mod near_degenerate;
 pub mod numeric;
 pub mod reference;

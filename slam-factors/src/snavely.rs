@@ -6,7 +6,7 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
 use factor_core::lie::Se3RhoTheta;
-use factor_core::manifold::{Manifold, Perturbation};
+use factor_core::manifold::{Manifold, NoLocal, Perturbation};
 use factor_core::storage::{Layout, Storage};
 use factor_core::validation::{exceeds, number_text};
 use factor_core::{Factor, FactorError, Scalar};
@@ -66,6 +66,14 @@ impl<S: Scalar> Manifold<S> for RadialIntrinsics<S> {
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]"
+    }
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        delta[..3].copy_from_slice(&[
+            other.focal - self.focal,
+            other.k1 - self.k1,
+            other.k2 - self.k2,
+        ]);
+        Ok(())
     }
 }
 

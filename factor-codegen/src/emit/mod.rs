@@ -20,7 +20,7 @@
 //! The module header (module `header`) documents all of it.
 
 mod body;
-mod header;
+pub(crate) mod header;
 mod host;
 mod jacobian;
 mod lanes;

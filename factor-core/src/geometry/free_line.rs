@@ -5,9 +5,9 @@
 use nalgebra::Vector3;
 
 use crate::lie::Quaternion;
-use crate::lie::so3::perturb_quaternion;
+use crate::lie::so3::{perturb_quaternion, quaternion_local, write3};
 use crate::linalg::scale;
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -93,5 +93,13 @@ impl<S: Scalar> Manifold<S> for FreeLine<S> {
                 "right: q_WL ← q_WL ⊗ exp(δθ), d_L ← d_L + δd, columns [δθ_x, δθ_y, δθ_z, δd]"
             }
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        write3(
+            &quaternion_local(&self.rotation, &other.rotation, side),
+            delta,
+        );
+        delta[3] = other.distance - self.distance;
+        Ok(())
     }
 }

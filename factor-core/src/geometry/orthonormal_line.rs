@@ -11,7 +11,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::geometry::PluckerLine;
 use crate::lie::{So2, So3};
 use crate::linalg::{cross, dot, norm, norm_ratio, scale, unit_of};
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 use crate::validation::{number_text, within};
@@ -205,5 +205,9 @@ impl<S: Scalar> Manifold<S> for OrthonormalLine<S> {
                 "right: U ← U Exp(δΘ), W ← W R(δρ), columns [δΘ_x, δΘ_y, δΘ_z, δρ]"
             }
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        self.u.local(&other.u, side, &mut delta[..3])?;
+        self.w.local(&other.w, side, &mut delta[3..])
     }
 }

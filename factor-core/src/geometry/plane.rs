@@ -15,9 +15,9 @@ use nalgebra::{Vector3, Vector4};
 
 use crate::lie::Quaternion;
 use crate::lie::Se3;
-use crate::lie::so3::perturb_quaternion;
+use crate::lie::so3::{perturb_quaternion, quaternion_local, write3};
 use crate::linalg::{dot, norm, scale, unit_of};
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -148,5 +148,12 @@ impl<S: Scalar> Manifold<S> for InfinitePlane<S> {
             Perturbation::Left => "left: q ← exp(δω) ⊗ q, columns [δω_x, δω_y, δω_z]",
             Perturbation::Right => "right: q ← q ⊗ exp(δω), columns [δω_x, δω_y, δω_z]",
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        write3(
+            &quaternion_local(&self.quaternion, &other.quaternion, side),
+            delta,
+        );
+        Ok(())
     }
 }

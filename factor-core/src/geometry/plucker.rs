@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 use crate::lie::Se3;
 use crate::lie::so3::hat;
 use crate::linalg::cross;
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -89,5 +89,11 @@ impl<S: Scalar> Manifold<S> for PluckerLine<S> {
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: [n, v] ← [n, v] + δ, columns [δn_x, δn_y, δn_z, δv_x, δv_y, δv_z]"
+    }
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let (n, v) = (other.normal - self.normal, other.direction - self.direction);
+        delta[..3].copy_from_slice(n.as_slice());
+        delta[3..6].copy_from_slice(v.as_slice());
+        Ok(())
     }
 }

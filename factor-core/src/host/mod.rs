@@ -12,8 +12,11 @@
 //!
 //! - [`Host`] describes a solver: its manifolds ([`HostManifold`]) with their
 //!   parameter layouts, tangent orders and retractions. [`Apex`] is
-//!   apex-solver's; a second host (another Rust solver, C++ for Ceres'
-//!   `Manifold`) is a new description, not a new generator.
+//!   apex-solver's; a second solver with a fixed set of manifolds is a new
+//!   description, not a new generator. (Ceres, whose manifolds are its
+//!   user's, takes the factor's own charts instead: crate `factor-codegen`'s
+//!   C++ emission generates them from each variable type's
+//!   [`crate::Manifold`], [`crate::Factor::chart_over`].)
 //! - [`HostMap<H>`] says, per variable type, which host variables it is
 //!   served as ([`HostPart`]s, in order) and how their parameters give the
 //!   type's stored scalars ([`crate::Storage`]). It is implemented here for

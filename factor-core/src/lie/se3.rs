@@ -21,11 +21,11 @@ use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector6};
 use crate::dual::Dual;
 use crate::lie::so3::{
     angle_coefficient, hat, left_jacobian, left_jacobian_inverse, perturb_quaternion,
-    seeded_quaternion, theta_minus_sin_over_theta3,
+    quaternion_local, seeded_quaternion, theta_minus_sin_over_theta3, write3,
 };
 use crate::lie::{LieGroup, Quaternion, So3};
 use crate::linalg::{cross, squared_norm};
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -316,6 +316,10 @@ pub(crate) fn seeded_se3<const N: usize>(
 ///   `R ← Exp(δω) R`, `t ← Exp(δω) t + Jl(δω) δρ`.
 /// - Right (document 001, (4.1)–(4.2)): `R ← R Exp(δω)`, `t ← t + R δρ`. This
 ///   agrees with `T Exp(δξ)` to first order, so the Jacobians are the same.
+///
+/// `local` inverts both with the rotation on the quaternion sphere
+/// (`|δω| < 2π`): left `δω = log(q' ⊗ q*)`, `δρ = Jl(δω)⁻¹ (t' − R(δω) t)`;
+/// right `δω = log(q* ⊗ q')`, `δρ = Rᵀ (t' − t)`.
 impl<S: Scalar> Manifold<S> for Se3<S> {
     const DIM: usize = 6;
     fn retract(&self, delta: &[S], side: Perturbation) -> Self {
@@ -371,6 +375,22 @@ impl<S: Scalar> Manifold<S> for Se3<S> {
                 "right: R ← R Exp(δω), t ← t + R δρ, columns [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]"
             }
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let (q, p) = (&self.rotation.quaternion, &other.rotation.quaternion);
+        let w = quaternion_local(q, p, side);
+        let rho = match side {
+            Perturbation::Left => {
+                let turned = p.mul(&q.conjugate()).rotate(&self.translation);
+                left_jacobian_inverse(&w) * (other.translation - turned)
+            }
+            Perturbation::Right => self
+                .rotation
+                .inverse_rotate(&(other.translation - self.translation)),
+        };
+        write3(&w, &mut delta[..3]);
+        write3(&rho, &mut delta[3..]);
+        Ok(())
     }
 }
 

@@ -23,7 +23,7 @@ use nalgebra::{SMatrix, Vector3};
 use crate::dual::Dual;
 use crate::lie::Se3;
 use crate::lie::se3::seeded_se3;
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -121,6 +121,8 @@ fn rotation_first<S: Scalar>(delta: &[S]) -> [S; 6] {
 /// - Right: `R ← R Exp(δθ)`, `t ← t + R δρ`, which agrees with apex-solver's
 ///   `T ⊕ τ = T Exp([δρ, δθ])` to first order (the same Jacobian).
 /// - Left: `T ← Exp([δθ, δρ] of Se3) T`, the exact exponential.
+///
+/// `local` is [`Se3`]'s with the halves swapped back.
 impl<S: Scalar> Manifold<S> for Se3RhoTheta<S> {
     const DIM: usize = 6;
     fn retract(&self, delta: &[S], side: Perturbation) -> Self {
@@ -153,6 +155,13 @@ impl<S: Scalar> Manifold<S> for Se3RhoTheta<S> {
                  apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]"
             }
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let mut theta_rho = [S::zero(); 6];
+        self.0.local(&other.0, side, &mut theta_rho)?;
+        // The swap of the halves is its own inverse: `[δθ, δρ]` → `[δρ, δθ]`.
+        delta[..6].copy_from_slice(&rotation_first(&theta_rho));
+        Ok(())
     }
 }
 

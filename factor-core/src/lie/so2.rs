@@ -4,7 +4,7 @@
 use nalgebra::{Matrix1, Matrix2, Vector1, Vector2};
 
 use crate::lie::LieGroup;
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage};
 
@@ -116,5 +116,10 @@ impl<S: Scalar> Manifold<S> for So2<S> {
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "W ← R(δ) W, one column δ"
+    }
+    /// `δ = atan2` of `other · self⁻¹`, in `(−π, π]`.
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        delta[0] = other.compose(&self.inverse()).log();
+        Ok(())
     }
 }

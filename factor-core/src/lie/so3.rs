@@ -13,7 +13,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::dual::Dual;
 use crate::lie::{LieGroup, Quaternion, SMALL_ANGLE_SQUARED};
 use crate::linalg::squared_norm;
-use crate::manifold::{Manifold, Perturbation};
+use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 
@@ -303,7 +303,30 @@ pub(crate) fn seeded_quaternion<const N: usize>(
     out
 }
 
-/// Left: `R ← Exp(δ) R`; right: `R ← R Exp(δ)`; tangent `δ = [δx, δy, δz]`.
+/// The inverse of [`perturb_quaternion`] with [`Quaternion::exp`]: `δ` with
+/// `exp(δ) ⊗ q = p` (left) or `q ⊗ exp(δ) = p` (right), `|δ| < 2π`, by
+/// [`Quaternion::log`] on the whole sphere, so that perturbing `q` by it
+/// gives `p` itself, not `−p`. `q`'s inverse is its conjugate (exact on the
+/// sphere, and smooth off it in `p`, which is differentiated there).
+pub(crate) fn quaternion_local<S: Scalar>(
+    q: &Quaternion<S>,
+    p: &Quaternion<S>,
+    side: Perturbation,
+) -> Vector3<S> {
+    let step = match side {
+        Perturbation::Left => p.mul(&q.conjugate()),
+        Perturbation::Right => q.conjugate().mul(p),
+    };
+    step.log()
+}
+
+/// Writes `v` into the first three entries of `out`.
+pub(crate) fn write3<S: Scalar>(v: &Vector3<S>, out: &mut [S]) {
+    out[..3].copy_from_slice(v.as_slice());
+}
+
+/// Left: `R ← Exp(δ) R`; right: `R ← R Exp(δ)`; tangent `δ = [δx, δy, δz]`;
+/// `local` inverts both on the quaternion sphere.
 impl<S: Scalar> Manifold<S> for So3<S> {
     const DIM: usize = 3;
     fn retract(&self, delta: &[S], side: Perturbation) -> Self {
@@ -340,5 +363,12 @@ impl<S: Scalar> Manifold<S> for So3<S> {
             Perturbation::Left => "left: R ← Exp(δ) R, columns δ = [δx, δy, δz]",
             Perturbation::Right => "right: R ← R Exp(δ), columns δ = [δx, δy, δz]",
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        write3(
+            &quaternion_local(&self.quaternion, &other.quaternion, side),
+            delta,
+        );
+        Ok(())
     }
 }

@@ -59,6 +59,34 @@ pub fn emit(cx: &Context) -> TokenStream {
             None => quote!(#name: #clone),
         }
     });
+    // The types are named as everywhere else in the derive
+    // (`<Ty as Manifold<S>>::…`), so that a type without the trait is one
+    // error, not one per use.
+    let charts = cx.variables.iter().map(|v| {
+        let (ty, side, k) = (v.ty, &v.side_tokens, v.index);
+        let manifold = quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>);
+        let storage = quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>);
+        let map = quote!(#krate::manifold::ChartMap);
+        quote! {
+            #k => {
+                let value = #storage::from_scalars(point);
+                match map {
+                    #map::Retract => {
+                        #storage::write_scalars(&#manifold::retract(&value, argument, #side), out)
+                    }
+                    #map::RetractFirstOrder => #storage::write_scalars(
+                        &#manifold::retract_first_order(&value, argument, #side),
+                        out,
+                    ),
+                    #map::Local => {
+                        let other = #storage::from_scalars(argument);
+                        #manifold::local(&value, &other, #side, out)?
+                    }
+                }
+                #result::Ok(())
+            }
+        }
+    });
     let validate = match &cx.model.validate {
         Some(path) => {
             let path = quote_spanned!(path.span()=> #path);
@@ -166,6 +194,25 @@ pub fn emit(cx: &Context) -> TokenStream {
             fn __factor_retract(&self, index: usize, delta: &[#scalar]) -> Self {
                 #ident { #(#fields,)* }
             }
+
+            /// Variable `variable`'s chart, as [`Factor::chart_over`](::factor_core::Factor::chart_over).
+            fn __factor_chart(
+                variable: usize,
+                map: #krate::manifold::ChartMap,
+                point: &[#scalar],
+                argument: &[#scalar],
+                out: &mut [#scalar],
+            ) -> #result<(), #krate::manifold::NoLocal> {
+                match variable {
+                    #(#charts)*
+                    _ => ::core::panic!(
+                        "{}: variable index {} out of range; the factor has {} variables",
+                        #name,
+                        variable,
+                        #count,
+                    ),
+                }
+            }
         }
 
         #[automatically_derived]
@@ -235,6 +282,16 @@ pub fn emit(cx: &Context) -> TokenStream {
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> #result<(), #error> {
                 #linearize_stored_into
+            }
+
+            fn chart_over<__T: #krate::Scalar>(
+                variable: usize,
+                map: #krate::manifold::ChartMap,
+                point: &[__T],
+                argument: &[__T],
+                out: &mut [__T],
+            ) -> #result<(), #krate::manifold::NoLocal> {
+                #ident::<__T>::__factor_chart(variable, map, point, argument, out)
             }
 
             fn with_retracted(&self, index: usize, delta: &[f64]) -> Self {

@@ -4,7 +4,7 @@
 //! feature `solve`, `solve` of problem files whose factors are these.
 //!
 //! ```sh
-//! cargo run -p user-cli --no-default-features -- generate   # rewrite ../user-kernels/src
+//! cargo run -p user-cli --no-default-features -- generate   # rewrite ../user-kernels/src and cpp/
 //! cargo run -p user-cli --no-default-features -- check      # exit 1, naming the files, when stale
 //! cargo run -p user-cli -- list
 //! cargo run -p user-cli -- eval INPUT.json
@@ -41,6 +41,9 @@ const KERNELS: KernelCrate = KernelCrate {
 };
 
 fn main() -> ExitCode {
+    // Every factor also gets, in `generate --lang cpp`'s C++ (`../user-kernels/cpp`),
+    // a Ceres cost function and a Ceres manifold per variable type
+    // (`with_ceres()`; the crate's Sim(3) and S² give `Manifold::local`).
     let registry = Registry::new()
         .solve_with_dual::<RelativePose>()
         .solve_with_dual::<PointToPlane>()
@@ -48,17 +51,24 @@ fn main() -> ExitCode {
         .solve_with_dual::<InverseDepthProjection>()
         // `RelativePose` and `Direction` also get the fused normal-equation
         // kernel (`JᵀwJ`, `Jᵀwr`) the batch evaluators of `factor-batch` use.
-        .with_spec(KernelSpec::of::<RelativePose>().with_normal_equations())
-        .with_kernel::<PointToPlane>()
-        .with_kernel::<ScaledRangeBearing>()
-        .with_kernel::<InverseDepthProjection>()
+        .with_spec(
+            KernelSpec::of::<RelativePose>()
+                .with_normal_equations()
+                .with_ceres(),
+        )
+        .with_spec(KernelSpec::of::<PointToPlane>().with_ceres())
+        .with_spec(KernelSpec::of::<ScaledRangeBearing>().with_ceres())
+        .with_spec(KernelSpec::of::<InverseDepthProjection>().with_ceres())
         .with_spec(
             KernelSpec::of::<Direction>()
                 .with_normal_equations()
-                .with_host(HostSpec::of::<Direction, Apex>()),
+                .with_host(HostSpec::of::<Direction, Apex>())
+                .with_ceres(),
         )
         .with_spec(
-            KernelSpec::of::<RelativeSim3>().with_host(HostSpec::of::<RelativeSim3, Apex>()),
+            KernelSpec::of::<RelativeSim3>()
+                .with_host(HostSpec::of::<RelativeSim3, Apex>())
+                .with_ceres(),
         );
     // The apex kernels exist in builds with the kernels only; `generate`'s
     // build solves (were it asked to) by dual numbers.

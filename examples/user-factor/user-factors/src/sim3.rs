@@ -25,6 +25,7 @@ pub mod w_matrix;
 use factor_core::lie::so3::hat;
 use factor_core::lie::{Quaternion, So3};
 use factor_core::linalg::cross;
+use factor_core::manifold::NoLocal;
 use factor_core::{Layout, Manifold, Perturbation, Scalar, Storage, StorageError};
 use nalgebra::{Matrix3, Matrix4, SMatrix, SVector, Vector3};
 
@@ -182,6 +183,11 @@ impl<S: Scalar> Storage<S> for Sim3<S> {
 ///   `q ← [δω/2, 1] ⊗ q`, `t ← t + δω × t + δσ t + δρ`, `σ ← σ + δσ`.
 /// - Right: `S ← S Exp(δ)`; to first order `q ← q ⊗ [δω/2, 1]`,
 ///   `t ← t + s R δρ`, `σ ← σ + δσ`.
+/// - `local`: the logarithm of `S' S⁻¹` (left) or `S⁻¹ S'` (right), its
+///   rotation by the quaternion logarithm on the whole sphere (`θ < 2π`, not
+///   [`Sim3::log`]'s `θ ≤ π`), so that retracting by it gives back `S'`'s
+///   own quaternion, not its negation (a solver's manifold, Ceres' `Minus`,
+///   is generated from it).
 impl<S: Scalar> Manifold<S> for Sim3<S> {
     const DIM: usize = 7;
     fn retract(&self, delta: &[S], side: Perturbation) -> Self {
@@ -219,5 +225,17 @@ impl<S: Scalar> Manifold<S> for Sim3<S> {
                 "right: S ← S Exp(δξ), columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z, δσ]"
             }
         }
+    }
+    fn local(&self, other: &Self, side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let step = match side {
+            Perturbation::Left => other.compose(&self.inverse()),
+            Perturbation::Right => self.inverse().compose(other),
+        };
+        let omega = step.rotation.quaternion.log();
+        let rho = w_matrix_inverse(&omega, step.log_scale) * step.translation;
+        delta[..3].copy_from_slice(omega.as_slice());
+        delta[3..6].copy_from_slice(rho.as_slice());
+        delta[6] = step.log_scale;
+        Ok(())
     }
 }

@@ -36,7 +36,9 @@
 //! it steps `v ← v ⊞ δ` with the basis of the `v` it linearised at. A
 //! covariance of a direction, however, is expressed in that basis too.
 
+use factor_core::lie::SMALL_ANGLE_SQUARED;
 use factor_core::lie::so3::{one_minus_cos_over_theta2, sin_over_theta};
+use factor_core::manifold::NoLocal;
 use factor_core::validation::number_text;
 use factor_core::{Layout, Manifold, Perturbation, Scalar, Storage, StorageError};
 use nalgebra::{Matrix3x2, Vector2, Vector3};
@@ -121,6 +123,15 @@ impl<S: Scalar> Storage<S> for UnitVector3<S> {
 ///
 /// The basis is `B` of the point `v`, never of `v ⊞ δ`: the branch is decided
 /// by the point alone.
+///
+/// `local` inverts the geodesic: with `b = B(v)ᵀ w` and `c = v · w` for the
+/// other point `w`, `θ = atan2(‖b‖, c)` and `δ = θ b/‖b‖`, every direction
+/// but `−v` (a solver's manifold, Ceres' `Minus`, is generated from it).
+/// Near `v` (`‖b‖²/c² <` the small-angle threshold, `c > 0`) `θ/‖b‖` is the
+/// series `(1 − r/3 + r²/5)/c` in `r = ‖b‖²/c²`, as the quaternion
+/// logarithm of `factor_core` writes it: `‖b‖` has an infinite derivative at
+/// `w = v`, where `local` is differentiated. Both forms are homogeneous of
+/// degree 0 in `w`, so `w` off the sphere gives the same `δ` as `w/‖w‖`.
 impl<S: Scalar> Manifold<S> for UnitVector3<S> {
     const DIM: usize = 2;
     fn retract(&self, delta: &[S], _side: Perturbation) -> Self {
@@ -137,6 +148,19 @@ impl<S: Scalar> Manifold<S> for UnitVector3<S> {
     fn tangent_description(_side: Perturbation) -> &'static str {
         "either side: v ← cos‖δ‖ v + sin‖δ‖/‖δ‖ B(v) δ, columns [δ₁, δ₂] along B(v) = [b₁, b₂] \
          (Duff et al. 2017, branch on the sign of v_z)"
+    }
+    fn local(&self, other: &Self, _side: Perturbation, delta: &mut [S]) -> Result<(), NoLocal> {
+        let b = self.basis().transpose() * other.vector;
+        let c = factor_core::linalg::dot(&self.vector, &other.vector);
+        let s2 = b.x * b.x + b.y * b.y;
+        let r = s2 / (c * c);
+        let series = (S::one() - r / S::from_f64(3.0) + r * r / S::from_f64(5.0)) / c;
+        let s = s2.sqrt();
+        let exact = s.atan2(c) / s;
+        let near = S::select_lt(r, S::from_f64(SMALL_ANGLE_SQUARED), series, exact);
+        let k = S::select_lt(S::zero(), c, near, exact);
+        delta[..2].copy_from_slice(&[k * b.x, k * b.y]);
+        Ok(())
     }
 }
 

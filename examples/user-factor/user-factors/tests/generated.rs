@@ -19,7 +19,7 @@ const CONFIGURATIONS: usize = 200;
 /// their true relative pose, perturbed by up to 0.3 rad and 0.2 m, or exact
 /// (zero residual, through the small-angle branches of `Log`) every tenth
 /// time.
-fn relative_pose(sampler: &mut Sampler, i: usize) -> RelativePose {
+pub(crate) fn relative_pose(sampler: &mut Sampler, i: usize) -> RelativePose {
     let pose_i = sampler.pose();
     let pose_j = sampler.pose();
     let truth = pose_i.inverse().compose(&pose_j);
@@ -39,7 +39,7 @@ fn relative_pose(sampler: &mut Sampler, i: usize) -> RelativePose {
 /// A point-to-plane factor: a random scan pose, a scan point within 5 m,
 /// and a map plane through its true position, offset along the normal by up
 /// to 0.1 m and slid along the plane by up to 1 m.
-fn point_to_plane(sampler: &mut Sampler, _: usize) -> PointToPlane {
+pub(crate) fn point_to_plane(sampler: &mut Sampler, _: usize) -> PointToPlane {
     let pose = sampler.pose();
     let point = sampler.vector3(5.0);
     let normal = loop {
@@ -63,7 +63,7 @@ fn point_to_plane(sampler: &mut Sampler, _: usize) -> PointToPlane {
 /// (`x ∈ [0.5, 10]`, `|y|, |z| ≤ 5` in the sensor frame), a log scale in
 /// `[−1, 1]`, and the true measurement perturbed by up to 0.05 (exact every
 /// tenth time).
-fn scaled_range_bearing(sampler: &mut Sampler, i: usize) -> ScaledRangeBearing {
+pub(crate) fn scaled_range_bearing(sampler: &mut Sampler, i: usize) -> ScaledRangeBearing {
     let pose = sampler.pose();
     let in_sensor = Vector3::new(
         sampler.uniform(0.5, 10.0),

@@ -42,7 +42,7 @@ fn direction_at_height(sampler: &mut Sampler, z: f64) -> Vector3<f64> {
 /// direction; a world direction on or next to the equator of its basis; or
 /// a measurement there. The measurement is the prediction rotated by up to
 /// 0.2 rad, exactly the prediction every tenth time.
-fn direction(sampler: &mut Sampler, i: usize) -> Direction {
+pub(crate) fn direction(sampler: &mut Sampler, i: usize) -> Direction {
     let orientation = sampler.rotation();
     let noise = if i.is_multiple_of(10) {
         So3::identity()
@@ -108,7 +108,7 @@ fn error(sampler: &mut Sampler, i: usize) -> Sim3<f64> {
     Sim3::new(So3::exp(&(axis * theta)), translation, sigma)
 }
 
-fn relative_sim3(sampler: &mut Sampler, i: usize) -> RelativeSim3 {
+pub(crate) fn relative_sim3(sampler: &mut Sampler, i: usize) -> RelativeSim3 {
     let sim_i = similarity(sampler);
     let sim_j = similarity(sampler);
     let truth = sim_i.inverse().compose(&sim_j);
