@@ -45,7 +45,8 @@ pub fn dot<S: Scalar, const R: usize>(a: &SMatrix<S, R, 1>, b: &SMatrix<S, R, 1>
 /// matrices over a scalar that is not a float goes through its general
 /// `gemv`, which forms `1 · m_rc · v_c + 1 · y` for every entry: three
 /// products where one is needed, each as wide as a dual number's
-/// derivative. Traced, both give the same expression.
+/// derivative. Traced, it gives an equal expression written differently
+/// from nalgebra's product's (the checked-in kernels were regenerated).
 #[inline]
 pub fn mul<S: Scalar, const R: usize, const K: usize, const C: usize>(
     m: &SMatrix<S, R, K>,
