@@ -1,8 +1,7 @@
 //! Per-factor linearization cost, in one run: the hand-written analytic
-//! Jacobians (`slam_factors::analytic`), the generated kernel, dual numbers in
-//! one pass over the whole tangent, dual numbers one pass per variable block,
-//! and numerical differentiation, for the point, line (orthonormal), Plücker-line,
-//! plane and free-line factors.
+//! Jacobians (`slam_factors::analytic`), the generated kernel, dual numbers
+//! (one pass over the whole tangent) and numerical differentiation, for the
+//! point, line (orthonormal), Plücker-line, plane and free-line factors.
 //!
 //! `cargo bench --bench linearize`. Each factor is evaluated at 64 sampled
 //! configurations in turn, so the figures are ns per call averaged over
@@ -27,8 +26,7 @@ fn samples<F>(seed: u64, make: impl Fn(&mut Sampler) -> F) -> Vec<F> {
 /// finiteness check as the typed methods, so it does the same work as
 /// `generated`), `generated` (`linearize_generated()`, with the default
 /// feature `kernels`),
-/// `dual_one_pass` (`linearize_dual()`) and `dual_per_block`
-/// (`linearize_dual_per_block()`), the derive-emitted typed methods, each
+/// `dual` (`linearize_dual()`), the derive-emitted typed methods, each
 /// including the factor's validation and finiteness check, and `numeric`
 /// (`Factor::linearize_numeric_dyn()`, Ridders' extrapolation of central
 /// differences on the manifold).
@@ -51,16 +49,10 @@ macro_rules! bench_factor {
                 black_box(black_box(&factors[i]).linearize_generated())
             })
         });
-        group.bench_function("dual_one_pass", |b| {
+        group.bench_function("dual", |b| {
             b.iter(|| {
                 i = (i + 1) % CONFIGURATIONS;
                 black_box(black_box(&factors[i]).linearize_dual())
-            })
-        });
-        group.bench_function("dual_per_block", |b| {
-            b.iter(|| {
-                i = (i + 1) % CONFIGURATIONS;
-                black_box(black_box(&factors[i]).linearize_dual_per_block())
             })
         });
         group.bench_function("numeric", |b| {

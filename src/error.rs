@@ -47,6 +47,7 @@ impl InputError {
 
 /// Anything `slamjac` reports instead of a result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// Rejected input (exit 2).
     #[error(transparent)]

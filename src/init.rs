@@ -6,7 +6,7 @@
 //!
 //! | crate | what |
 //! | --- | --- |
-//! | `NAME-factors` | the factors (one example, `PositionPrior`, and a test of its Jacobians); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
+//! | `NAME-factors` | the factors (one example, `PositionPrior`, and a test of its Jacobians and of its kernel against its current definition); depends on `factor-core` only, and on `NAME-kernels` through its default feature `kernels` |
 //! | `NAME-kernels` | the generated kernels: its `Cargo.toml` declares the feature `lanes` the sources use ([`factor_codegen::manifest`]); until the first generation its `src/lib.rs` is a compile error naming the command |
 //! | `NAME-cli` | the command line, binary `NAME`: `list`, `eval`, `generate`, `check`, and with its feature `solve`, `solve` of problem files ([`crate::cli`]); the code generator is its dependency, not the factors' |
 //!
@@ -63,13 +63,18 @@ kernels = ["dep:@NAME@-kernels"]
 
 [dev-dependencies]
 # `assert_correct_jacobians`: each factor's Jacobians against central
-# differences on its variables' manifolds (tests/jacobians.rs).
+# differences on its variables' manifolds; `assert_generated_matches_dual`:
+# its kernel against the current definition (tests/jacobians.rs).
 factor-testing = { path = "@CHECKOUT@/factor-testing" }
 "#;
 
-/// `NAME-factors/tests/jacobians.rs`: the example factor's Jacobians checked.
-const FACTORS_TEST: &str = r#"//! Each factor's Jacobians (through its kernel, with the feature `kernels`)
-//! against central differences on its variables' manifolds.
+/// `NAME-factors/tests/jacobians.rs`: the example factor's Jacobians
+/// checked, and its kernel against the current definition.
+const FACTORS_TEST: &str = r#"//! Each factor's Jacobians by dual numbers against central differences on
+//! its variables' manifolds, and (with the feature `kernels`, the default)
+//! its generated kernel against dual numbers through the current
+//! definition: a residual edited without regenerating the kernels fails
+//! here, naming the command that regenerates them.
 
 use factor_core::nalgebra::Vector3;
 use factor_testing::{DEFAULT_TOLERANCE, assert_correct_jacobians};
@@ -82,6 +87,8 @@ fn position_prior_jacobians_are_correct() {
         position: Vector3::new(1.0, 2.0, 3.0),
     };
     assert_correct_jacobians(&f, DEFAULT_TOLERANCE);
+    #[cfg(feature = "kernels")]
+    factor_testing::assert_generated_matches_dual(&f, factor_testing::GENERATED_TOLERANCE);
 }
 "#;
 

@@ -5,6 +5,7 @@ use thiserror::Error;
 
 /// What went wrong while reading a formula.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
 pub enum ErrorKind {
     /// A `\` at the end of the input.
     #[error("lone backslash")]
@@ -155,6 +156,7 @@ impl Lines {
 
 /// A document lookup that found nothing, or more than one thing.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
 pub enum LookupError {
     /// No formula carries the label.
     #[error("no formula is labelled ({0})")]

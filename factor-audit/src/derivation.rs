@@ -6,8 +6,8 @@
 //! engine. The printed formula is transcribed as printed, typos included, and
 //! evaluated in `f64` at the same point.
 
+use factor_core::dual::Dual;
 use nalgebra::DMatrix;
-use num_dual::DualSVec64;
 
 use factor_core::scalar::Scalar;
 use factor_testing::samples::Sampler;
@@ -114,34 +114,31 @@ pub fn truth<D: Derivation>(d: &D) -> DMatrix<f64> {
         let y = d.map(&d.point(), &parameters);
         return DMatrix::from_column_slice(y.len(), 1, &y);
     }
-    let parameters: Vec<DualSVec64<1>> = d
+    let parameters: Vec<Dual<1>> = d
         .parameters()
         .iter()
-        .map(|(_, v)| DualSVec64::from_re(*v))
+        .map(|(_, v)| Dual::constant(*v))
         .collect();
     dual_jacobian(&d.point(), |x| d.map(x, &parameters))
 }
 
 /// The Jacobian at `point` of `f`, written for dual numbers, one pass per
 /// input: the truth of a derivation, or of a convention it offers.
-pub fn dual_jacobian(
-    point: &[f64],
-    f: impl Fn(&[DualSVec64<1>]) -> Vec<DualSVec64<1>>,
-) -> DMatrix<f64> {
+pub fn dual_jacobian(point: &[f64], f: impl Fn(&[Dual<1>]) -> Vec<Dual<1>>) -> DMatrix<f64> {
     let columns: Vec<Vec<f64>> = (0..point.len())
         .map(|j| {
-            let x: Vec<DualSVec64<1>> = point
+            let x: Vec<Dual<1>> = point
                 .iter()
                 .enumerate()
                 .map(|(i, &v)| {
-                    let x = DualSVec64::<1>::from_re(v);
-                    if i == j { x.derivative(0) } else { x }
+                    if i == j {
+                        Dual::variable(v, 0)
+                    } else {
+                        Dual::constant(v)
+                    }
                 })
                 .collect();
-            f(&x)
-                .iter()
-                .map(|v| v.eps.0.map_or(0.0, |e| e[0]))
-                .collect()
+            f(&x).iter().map(|v| v.eps[0]).collect()
         })
         .collect();
     let rows = columns.first().map_or(0, Vec::len);

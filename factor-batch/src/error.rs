@@ -2,6 +2,7 @@
 
 /// Why a batch cannot be evaluated as given.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BatchError {
     /// A set of columns has the wrong number of columns.
     #[error("{factor}: {what} has {found} columns, expected {expected}")]

@@ -2,6 +2,7 @@
 
 /// A kernel or a crate of kernels that cannot be generated as asked.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CodegenError {
     /// A field's name is one the kernel uses for itself.
     #[error(

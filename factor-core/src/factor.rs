@@ -15,8 +15,13 @@ use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
 use crate::validation::number_text;
 
-/// Why a factor has no meaningful value at a configuration.
+/// Why a factor has no meaningful value at a configuration (or, for
+/// [`FactorError::StaleKernel`], why its kernel cannot be trusted).
+///
+/// `#[non_exhaustive]`: a `match` on it ends with a `_ =>` arm, so that a
+/// new kind of error does not break it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FactorError {
     /// The geometry is degenerate (point behind the camera, parallel bearing
     /// vectors, ...): the residual is undefined or its Jacobian infinite.
@@ -47,6 +52,19 @@ pub enum FactorError {
         factor: &'static str,
         /// Which output (`residual` or the Jacobian of a variable).
         what: String,
+    },
+    /// A debug build found the factor's generated kernel stale: it
+    /// disagrees with dual numbers through the current definition (a
+    /// residual, a function it calls or a retraction changed since the
+    /// kernel was generated; see [`crate::kernel`]). Regenerate it.
+    #[error("{factor}: the generated kernel `{kernel}` is stale: {detail}")]
+    StaleKernel {
+        /// The factor's name.
+        factor: &'static str,
+        /// The kernel's path.
+        kernel: &'static str,
+        /// The output that differs, both values, and how to regenerate.
+        detail: String,
     },
     /// Numerical differentiation
     /// ([`NumericLinearize::linearize_numeric`](crate::NumericLinearize::linearize_numeric))
@@ -94,8 +112,12 @@ impl FactorError {
 /// The first output that is not finite: `None` when all are, `Some(None)`
 /// for the residual, `Some(Some(k))` for block `k` (blocks passed as `None`
 /// are not looked at).
+#[inline]
 pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Option<Option<usize>> {
-    if all_finite(residual) && blocks.iter().all(|b| b.as_deref().is_none_or(all_finite)) {
+    let finite = blocks.iter().fold(all_finite(residual), |ok, b| {
+        ok & b.as_deref().is_none_or(all_finite)
+    });
+    if finite {
         return None;
     }
     if !all_finite(residual) {
@@ -107,10 +129,16 @@ pub fn first_non_finite(residual: &[f64], blocks: &[Option<&mut [f64]>]) -> Opti
         .map(Some)
 }
 
-/// Whether every value is finite, without a branch per value (a reduction
-/// the compiler vectorizes: this is on every solver call's path).
-fn all_finite(values: &[f64]) -> bool {
-    values.iter().fold(true, |finite, x| finite & x.is_finite())
+/// Whether every value is finite: `Σ (x − x)` is `0` when every `x` is finite
+/// and NaN otherwise (`∞ − ∞` and `NaN − NaN` are NaN). No branch per value,
+/// and scalar loads: this runs right after a kernel wrote the values, and a
+/// vector load of values just written one by one waits until they reach the
+/// cache (a failed store-to-load forwarding), which cost more than the
+/// kernel's own arithmetic. This is on every linearization's path.
+#[inline]
+#[expect(clippy::eq_op, reason = "`x - x` is the finiteness test")]
+pub fn all_finite(values: &[f64]) -> bool {
+    values.iter().fold(0.0, |sum, x| sum + (x - x)) == 0.0
 }
 
 /// A variable of a factor as reports describe it.
@@ -118,7 +146,9 @@ fn all_finite(values: &[f64]) -> bool {
 pub struct VariableInfo {
     /// The field name.
     pub name: &'static str,
-    /// The variable's type as written in the factor (`Se3<S>`).
+    /// The variable's type as written in the factor (`Se3<S>`); a variable
+    /// of the factor's scalar type itself is `f64` (its type at the `f64`
+    /// instance, as problem files name it).
     pub type_name: &'static str,
     /// Tangent dimension (Jacobian columns).
     pub tangent_dim: usize,
@@ -255,7 +285,20 @@ pub trait Factor: Storage<f64> + Sized {
     /// # Panics
     ///
     /// If `stored` has the wrong length.
-    fn residual_over<T: Scalar>(stored: &[T]) -> Vec<T>;
+    fn residual_over<T: Scalar>(stored: &[T]) -> Vec<T> {
+        let mut out = vec![T::zero(); Self::RESIDUAL_DIM];
+        Self::residual_over_into(stored, &mut out);
+        out
+    }
+
+    /// [`Factor::residual_over`] written into `out` ([`Factor::RESIDUAL_DIM`]
+    /// entries), with no allocation: the dual-number pass in a host's chart
+    /// ([`crate::host::linearize_host_dual`]).
+    ///
+    /// # Panics
+    ///
+    /// If `stored` or `out` has the wrong length.
+    fn residual_over_into<T: Scalar>(stored: &[T], out: &mut [T]);
 
     /// Checks that the configuration has a meaningful residual and Jacobian.
     fn validate(&self) -> Result<(), FactorError>;
@@ -285,7 +328,9 @@ pub trait Factor: Storage<f64> + Sized {
     /// entry per variable, `Some(block)` for a block to compute (row-major,
     /// residual rows × the variable's tangent columns) and `None` for a
     /// variable the caller holds fixed, whose block is not computed (nor the
-    /// work only it needs, in a kernel).
+    /// work only it needs, in a kernel). On an error the outputs hold
+    /// unspecified values (a kernel runs before the validation, which would
+    /// otherwise wait for its outputs to be stored).
     ///
     /// # Errors
     ///

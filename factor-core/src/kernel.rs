@@ -22,8 +22,11 @@
 //!    ([`host_kernel_mismatch`]; `#[cfg(debug_assertions)]`, in the crate
 //!    that defines the factor).
 //!    When an output differs by more than [`STALE_TOLERANCE`]
-//!    ([`kernel_mismatch`]) the linearization panics before returning,
-//!    naming the output, both values and the `regenerate` command. Rounding
+//!    ([`kernel_mismatch`]) the linearization returns
+//!    [`FactorError::StaleKernel`] naming the output, both values and the
+//!    `regenerate` command (an error like any other: a test fails with it,
+//!    the command line prints it on one line and exits 1), and so does
+//!    every later linearization of that factor type in the process. Rounding
 //!    separates the two by about 1e-13 relative; a changed definition by
 //!    the size of the change. Any run of the user's code in a debug build
 //!    (a test, `cargo run`, the command line's `eval` or `solve`) catches the edit,
@@ -46,7 +49,11 @@
 //! Dual numbers at the configurations the program actually linearizes need
 //! none of that.
 
-use crate::factor::{DynLinearization, Factor};
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use crate::factor::{DynLinearization, Factor, FactorError};
+use crate::host::{Host, HostFactor, HostLayout, linearize_host_dual};
 
 /// A factor whose linearization goes through a generated kernel
 /// (`#[factor(kernel = path)]`); `#[derive(Factor)]` implements it.
@@ -199,17 +206,149 @@ fn first_difference(kernel: &[f64], dual: &[f64]) -> Option<usize> {
         .position(|(k, d)| k.is_finite() && (k - d).abs() > STALE_TOLERANCE * scale)
 }
 
+/// One kernel's debug-build watch, a `static` the derive emits per kernel:
+/// the first [`DEBUG_CHECKS`] calls compare the kernel with dual numbers, and
+/// once a comparison finds it stale every later call reports it too, so a
+/// stale kernel is never used afterwards (a solver stops on it instead of
+/// running it once the first comparisons are past).
+#[doc(hidden)]
+#[derive(Debug)]
+pub struct KernelWatch {
+    calls: AtomicU32,
+    stale: OnceLock<FactorError>,
+}
+
+impl KernelWatch {
+    /// No call seen yet.
+    #[allow(clippy::new_without_default)]
+    pub const fn new() -> Self {
+        KernelWatch {
+            calls: AtomicU32::new(0),
+            stale: OnceLock::new(),
+        }
+    }
+
+    /// `Err` when the kernel was found stale, by this call's `compare` (run
+    /// on the first [`DEBUG_CHECKS`] calls; `Some` is the stale report) or
+    /// an earlier call's.
+    ///
+    /// # Errors
+    ///
+    /// [`FactorError::StaleKernel`].
+    pub fn check(&self, compare: impl FnOnce() -> Option<FactorError>) -> Result<(), FactorError> {
+        if let Some(stale) = self.stale.get() {
+            return Err(stale.clone());
+        }
+        let first = self
+            .calls
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| {
+                (n < DEBUG_CHECKS).then_some(n + 1)
+            })
+            .is_ok();
+        match first.then(compare).flatten() {
+            Some(stale) => Err(self.stale.get_or_init(|| stale).clone()),
+            None => Ok(()),
+        }
+    }
+}
+
+/// [`FactorError::StaleKernel`] for `F`'s kernel `kernel_path` when `kernel`
+/// and `dual`, two linearizations at one configuration, disagree
+/// ([`kernel_mismatch`]); `regenerate` says how to rewrite it.
+#[doc(hidden)]
+pub fn kernel_stale<F: Factor>(
+    kernel: &DynLinearization,
+    dual: &DynLinearization,
+    kernel_path: &'static str,
+    regenerate: &str,
+) -> Option<FactorError> {
+    kernel_mismatch::<F>(kernel, dual).map(|m| stale::<F>(kernel_path, &m, regenerate))
+}
+
+/// [`kernel_stale`] for `F`'s kernel in host `H`'s chart (`kernel_path`),
+/// which wrote `residual` and `jacobian` at the stored scalars `stored` and
+/// host parameters `parts`: compared with dual numbers in the same chart
+/// ([`linearize_host_dual`]), unless the factor is invalid there (the
+/// linearization reports that).
+#[doc(hidden)]
+pub fn host_kernel_stale<F: HostFactor<H>, H: Host>(
+    stored: &[f64],
+    parts: &[&[f64]],
+    residual: &[f64],
+    jacobian: Option<&[f64]>,
+    kernel_path: &'static str,
+    regenerate: &str,
+) -> Option<FactorError> {
+    let layout = HostLayout::<H::Manifold>::of::<F, H>();
+    let mut dual_residual = vec![0.0; residual.len()];
+    let mut dual_jacobian = vec![0.0; jacobian.map_or(0, <[f64]>::len)];
+    linearize_host_dual::<F, H>(
+        &layout,
+        stored,
+        parts,
+        &mut dual_residual,
+        jacobian.map(|_| dual_jacobian.as_mut_slice()),
+    )
+    .ok()?;
+    host_kernel_mismatch(residual, jacobian, &dual_residual, &dual_jacobian)
+        .map(|m| stale::<F>(kernel_path, &m, regenerate))
+}
+
+/// The report of a stale kernel.
+fn stale<F: Factor>(
+    kernel_path: &'static str,
+    mismatch: &KernelMismatch,
+    regenerate: &str,
+) -> FactorError {
+    FactorError::StaleKernel {
+        factor: F::NAME,
+        kernel: kernel_path,
+        detail: format!(
+            "{mismatch} (a residual, a function it calls or a variable's retraction changed \
+             since the kernel was generated); {regenerate}. Debug builds compare the first {} \
+             kernel linearizations of each factor type with dual numbers; release builds do \
+             not, and the generator's `check` catches every change",
+            DEBUG_CHECKS
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use crate::__private::FirstCalls;
+    use super::{DEBUG_CHECKS, KernelWatch};
+    use crate::FactorError;
 
-    use super::DEBUG_CHECKS;
+    fn stale() -> FactorError {
+        FactorError::StaleKernel {
+            factor: "f",
+            kernel: "k",
+            detail: "d".into(),
+        }
+    }
 
     #[test]
-    fn first_calls_says_yes_to_the_first_debug_checks_only() {
-        let calls = FirstCalls::new();
-        let answers: Vec<bool> = (0..DEBUG_CHECKS + 3).map(|_| calls.take()).collect();
-        let expected: Vec<bool> = (0..DEBUG_CHECKS + 3).map(|k| k < DEBUG_CHECKS).collect();
-        assert_eq!(answers, expected);
+    fn the_watch_compares_the_first_calls_only() {
+        let watch = KernelWatch::new();
+        let mut compared = 0;
+        for _ in 0..DEBUG_CHECKS + 3 {
+            assert_eq!(
+                watch.check(|| {
+                    compared += 1;
+                    None
+                }),
+                Ok(())
+            );
+        }
+        assert_eq!(compared, DEBUG_CHECKS);
+    }
+
+    #[test]
+    fn a_stale_kernel_stays_reported() {
+        let watch = KernelWatch::new();
+        assert_eq!(watch.check(|| None), Ok(()));
+        assert_eq!(watch.check(|| Some(stale())), Err(stale()));
+        for _ in 0..2 * DEBUG_CHECKS {
+            assert_eq!(watch.check(|| None), Err(stale()));
+        }
     }
 }

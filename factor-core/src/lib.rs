@@ -1,9 +1,11 @@
 //! The runtime of `slamjac` factors: what an estimator that embeds them
 //! needs, and nothing that only the code generator needs.
 //!
-//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual vectors, and
+//! - [`scalar`]: the [`Scalar`] abstraction (`f64`, `f32`, dual numbers, and
 //!   the symbolic scalar of crate `factor-symbolic`) that residuals and
 //!   geometry are written against.
+//! - [`dual`]: [`dual::Dual`], the dual numbers every exact linearization
+//!   runs on (derivatives on the stack, as wide as the factor's tangent).
 //! - [`lie`]: SO(2), SO(3), SE(3) and unit quaternions, generic over the scalar,
 //!   with one vocabulary, [`lie::LieGroup`].
 //! - [`geometry`]: Plücker lines and their orthonormal representation, infinite
@@ -33,6 +35,7 @@
 //! world to camera, `X_c = R X_w + t`; pose tangents are `[δω, δρ]`, rotation
 //! first; Jacobians are residual rows × tangent columns.
 
+pub mod dual;
 pub mod factor;
 pub mod geometry;
 pub mod host;
@@ -46,7 +49,7 @@ pub mod storage;
 pub mod validation;
 
 pub use factor::{
-    DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, first_non_finite,
+    DynLinearization, Factor, FactorError, FieldInfo, VariableInfo, all_finite, first_non_finite,
 };
 pub use kernel::WithKernel;
 pub use manifold::{Manifold, Perturbation};
@@ -84,90 +87,17 @@ pub mod __private {
         true
     }
 
-    /// Counts a factor type's kernel linearizations up to
-    /// [`DEBUG_CHECKS`](crate::kernel::DEBUG_CHECKS): the derive's debug-build
-    /// comparison with dual numbers runs while [`FirstCalls::take`] says so.
-    pub struct FirstCalls(core::sync::atomic::AtomicU32);
+    pub use crate::kernel::{KernelWatch, host_kernel_stale, kernel_stale};
 
-    impl FirstCalls {
-        /// No call counted yet.
-        #[allow(clippy::new_without_default)]
-        pub const fn new() -> Self {
-            FirstCalls(core::sync::atomic::AtomicU32::new(0))
+    /// [`all_finite`](crate::all_finite) of `values`, unrolled for their
+    /// length `N` when it is `N` (the derive's check of a kernel's outputs,
+    /// whose lengths it knows).
+    #[inline(always)]
+    pub fn all_finite_of<const N: usize>(values: &[f64]) -> bool {
+        match <&[f64; N]>::try_from(values) {
+            Ok(values) => crate::all_finite(values),
+            Err(_) => crate::all_finite(values),
         }
-
-        /// Whether this call is among the first
-        /// [`DEBUG_CHECKS`](crate::kernel::DEBUG_CHECKS).
-        pub fn take(&self) -> bool {
-            use core::sync::atomic::Ordering::Relaxed;
-            self.0
-                .fetch_update(Relaxed, Relaxed, |n| {
-                    (n < crate::kernel::DEBUG_CHECKS).then_some(n + 1)
-                })
-                .is_ok()
-        }
-    }
-
-    /// Panics when `kernel` and `dual`, two linearizations of `F` at one
-    /// configuration, disagree ([`kernel_mismatch`](crate::kernel::kernel_mismatch)):
-    /// the kernel `kernel_path` is stale; `regenerate` says how to rewrite it.
-    #[track_caller]
-    pub fn assert_kernel_current<F: crate::Factor>(
-        kernel: &crate::DynLinearization,
-        dual: &crate::DynLinearization,
-        kernel_path: &str,
-        regenerate: &str,
-    ) {
-        if let Some(mismatch) = crate::kernel::kernel_mismatch::<F>(kernel, dual) {
-            stale(kernel_path, &mismatch, regenerate);
-        }
-    }
-
-    /// [`assert_kernel_current`] for `F`'s kernel in host `H`'s chart
-    /// (`kernel_path`), which wrote `residual` and `jacobian` at the stored
-    /// scalars `stored` and host parameters `parts`: compared with dual
-    /// numbers in the same chart ([`crate::host::linearize_host_dual`]),
-    /// unless the factor is invalid there (the solver reports that).
-    #[track_caller]
-    pub fn assert_host_kernel_current<F: crate::host::HostFactor<H>, H: crate::host::Host>(
-        stored: &[f64],
-        parts: &[&[f64]],
-        residual: &[f64],
-        jacobian: Option<&[f64]>,
-        kernel_path: &str,
-        regenerate: &str,
-    ) {
-        let layout = crate::host::HostLayout::<H::Manifold>::of::<F, H>();
-        let mut dual_residual = vec![0.0; residual.len()];
-        let mut dual_jacobian = vec![0.0; jacobian.map_or(0, <[f64]>::len)];
-        let dual = crate::host::linearize_host_dual::<F, H>(
-            &layout,
-            stored,
-            parts,
-            &mut dual_residual,
-            jacobian.map(|_| dual_jacobian.as_mut_slice()),
-        );
-        if dual.is_err() {
-            return;
-        }
-        if let Some(mismatch) =
-            crate::kernel::host_kernel_mismatch(residual, jacobian, &dual_residual, &dual_jacobian)
-        {
-            stale(kernel_path, &mismatch, regenerate);
-        }
-    }
-
-    /// The panic of a stale kernel.
-    #[track_caller]
-    fn stale(kernel_path: &str, mismatch: &crate::kernel::KernelMismatch, regenerate: &str) -> ! {
-        panic!(
-            "the generated kernel `{kernel_path}` is stale: {mismatch} (a residual, a function \
-             it calls or a variable's retraction changed since the kernel was generated); \
-             {regenerate}. Debug builds compare the first {} kernel linearizations of each \
-             factor type with dual numbers; release builds do not, and the generator's `check` \
-             catches every change.",
-            crate::kernel::DEBUG_CHECKS
-        );
     }
 
     /// Whether two strings are equal, in a constant: the derive's check

@@ -41,6 +41,33 @@ pub fn dot<S: Scalar, const R: usize>(a: &SMatrix<S, R, 1>, b: &SMatrix<S, R, 1>
         .fold(S::zero(), |acc, (&x, &y)| acc + x * y)
 }
 
+/// `m v`, each entry a sum of products written out. nalgebra's product of
+/// matrices over a scalar that is not a float goes through its general
+/// `gemv`, which forms `1 · m_rc · v_c + 1 · y` for every entry: three
+/// products where one is needed, each as wide as a dual number's
+/// derivative. Traced, it gives an equal expression written differently
+/// from nalgebra's product's (the checked-in kernels were regenerated).
+#[inline]
+pub fn mul<S: Scalar, const R: usize, const K: usize, const C: usize>(
+    m: &SMatrix<S, R, K>,
+    v: &SMatrix<S, K, C>,
+) -> SMatrix<S, R, C> {
+    SMatrix::from_fn(|r, c| {
+        (1..K).fold(m[(r, 0)] * v[(0, c)], |acc, k| acc + m[(r, k)] * v[(k, c)])
+    })
+}
+
+/// `mᵀ v`, as [`mul`] (no transposed copy).
+#[inline]
+pub fn tr_mul<S: Scalar, const K: usize, const R: usize, const C: usize>(
+    m: &SMatrix<S, K, R>,
+    v: &SMatrix<S, K, C>,
+) -> SMatrix<S, R, C> {
+    SMatrix::from_fn(|r, c| {
+        (1..K).fold(m[(0, r)] * v[(0, c)], |acc, k| acc + m[(k, r)] * v[(k, c)])
+    })
+}
+
 /// `c · v`, the scalar on the left so generic scalars need no `Mul<Matrix>`.
 pub fn scale<S: Scalar, const R: usize, const C: usize>(
     c: S,

@@ -30,7 +30,9 @@
 
 use nalgebra::{SMatrix, Scalar as NalgebraScalar};
 
+use crate::dual::Dual;
 use crate::scalar::Scalar;
+use crate::storage::Storage;
 
 /// Which side a group perturbation acts on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -117,6 +119,11 @@ impl Perturbation {
 /// 10. **No allocation is needed.** Values are fixed-size (`nalgebra`'s
 ///     static matrices, arrays of scalars) and `delta` is read by index, so
 ///     a retraction costs no heap traffic in a solver's inner loop.
+/// 11. **[`Manifold::seeded`], if overridden, is the derivative of
+///     `retract_first_order`.** Dual numbers start from it; its default
+///     ([`seeded_through_retraction`]) is right by construction, an
+///     override (a closed form, to save the retraction's dual arithmetic)
+///     must agree with the default to rounding.
 ///
 /// [`Manifold::local`], when a type gives it, is traced too (a C++ solver's
 /// manifold is generated from it and from `retract`) and follows the same
@@ -152,6 +159,40 @@ pub trait Manifold<S: Scalar>: Sized {
 
     /// The perturbation and the tangent's column order in words, for reports.
     fn tangent_description(side: Perturbation) -> &'static str;
+
+    /// `self` over [`Dual<N>`] numbers seeded through its chart: each stored
+    /// scalar of `self ⊞ δ` ([`Manifold::retract_first_order`]) with its
+    /// derivative w.r.t. `δ` at `δ = 0` placed at coordinates
+    /// `offset..offset + D` of a stacked tangent of `N` (`D` is
+    /// [`Manifold::DIM`]). A residual evaluated on every variable so seeded
+    /// differentiates w.r.t. all their tangents in one pass, with no
+    /// retraction evaluated at the stacked tangent's width:
+    /// `#[derive(Factor)]`'s `linearize_dual` does this.
+    ///
+    /// The default is [`seeded_through_retraction`] (the retraction on dual
+    /// numbers as wide as this variable's tangent); the Lie groups of this
+    /// crate override it with the closed form of their retraction's
+    /// derivative, which costs a few products instead of the retraction's
+    /// dual arithmetic. An override must agree with the default to
+    /// rounding (rule 11 above).
+    ///
+    /// # Panics
+    ///
+    /// If `D` is not [`Manifold::DIM`] or `offset + D > N`.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+        Self: Storage<S>,
+        <Self as Storage<S>>::With<Dual<D>>: Manifold<Dual<D>>
+            + Storage<Dual<D>, With<Dual<N>> = <Self as Storage<S>>::With<Dual<N>>>,
+    {
+        seeded_through_retraction::<S, Self, D, N>(self, side, offset)
+    }
 
     /// The local coordinates of `other` in the chart at `self`: the tangent
     /// `δ` with `self.retract(δ, side) == other`, written into `delta`
@@ -193,11 +234,70 @@ pub enum ChartMap {
     Local,
 }
 
+/// The default of [`Manifold::seeded`]: `x` lifted to `Dual<D>`, retracted to
+/// first order by the `D` unit seeds `δ_k = e_k`, every stored scalar then
+/// widened to `Dual<N>` at `offset`. The retraction runs once, on dual
+/// numbers as wide as `x`'s own tangent.
+///
+/// ```
+/// use factor_core::dual::Dual;
+/// use factor_core::lie::{Quaternion, So3};
+/// use factor_core::manifold::seeded_through_retraction;
+/// use factor_core::Perturbation;
+///
+/// // The half-turn about z, `q = k`, perturbed on the right, `q ⊗ [δ/2, 1]`,
+/// // its tangent at coordinates 2..5 of 5: `∂q/∂δ_x = ½ k ⊗ i = ½ j`,
+/// // `∂q/∂δ_y = ½ k ⊗ j = −½ i`.
+/// let rotation = So3::from_quaternion(Quaternion::new(0.0, 0.0, 1.0, 0.0));
+/// let lifted: So3<Dual<5>> =
+///     seeded_through_retraction::<f64, _, 3, 5>(&rotation, Perturbation::Right, 2);
+/// assert_eq!(lifted.quaternion.z.re, 1.0);
+/// assert_eq!(lifted.quaternion.y.eps, [0.0, 0.0, 0.5, 0.0, 0.0]);
+/// assert_eq!(lifted.quaternion.x.eps, [0.0, 0.0, 0.0, -0.5, 0.0]);
+/// ```
+///
+/// # Panics
+///
+/// If `D` is not `x`'s tangent dimension or `offset + D > N`.
+#[inline(always)]
+pub fn seeded_through_retraction<S, V, const D: usize, const N: usize>(
+    x: &V,
+    side: Perturbation,
+    offset: usize,
+) -> V::With<Dual<N>>
+where
+    S: Scalar + Into<f64>,
+    V: Storage<S>,
+    V::With<Dual<D>>: Manifold<Dual<D>> + Storage<Dual<D>, With<Dual<N>> = V::With<Dual<N>>>,
+{
+    assert_eq!(
+        D,
+        <V::With<Dual<D>> as Manifold<Dual<D>>>::DIM,
+        "`D` is the variable's tangent dimension"
+    );
+    let delta: [Dual<D>; D] = std::array::from_fn(|k| Dual::variable(0.0, k));
+    x.map_scalars(&mut |s| Dual::<D>::constant(s.into()))
+        .retract_first_order(&delta, side)
+        .map_scalars(&mut |s| s.widen::<N>(offset))
+}
+
 /// Scalars are a 1-dimensional vector space.
 impl<S: Scalar> Manifold<S> for S {
     const DIM: usize = 1;
     fn retract(&self, delta: &[S], _side: Perturbation) -> Self {
         *self + delta[0]
+    }
+    /// `x + δ`: the derivative is `e_offset`.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        _side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        Dual::variable((*self).into(), offset)
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: x ← x + δ"
@@ -218,6 +318,23 @@ impl<S: Scalar + NalgebraScalar, const R: usize, const C: usize> Manifold<S> for
             *x += *d;
         }
         out
+    }
+    /// `x + δ`: entry `k` (column-major) has the derivative `e_{offset + k}`.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        _side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let mut k = offset;
+        self.map(|x| {
+            let seeded = Dual::variable(x.into(), k);
+            k += 1;
+            seeded
+        })
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "additive: x ← x + δ, columns δ in the vector's order"

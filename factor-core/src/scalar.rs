@@ -1,9 +1,11 @@
 //! The scalar abstraction every residual and all geometry are written against.
 //!
-//! [`Scalar`] is implemented by `f64`, `f32` and num-dual's statically sized
-//! dual vectors ([`DualSVec64`]); a symbolic scalar (a small `Copy` handle into
-//! an expression arena) implements it too, so one residual definition is
-//! evaluated, differentiated and traced without a second copy of anything.
+//! [`Scalar`] is implemented by `f64`, `f32`, this crate's dual numbers
+//! ([`crate::dual::Dual`], what every linearization runs on) and num-dual's
+//! statically sized dual vectors ([`DualSVec64`], for code written against
+//! them); a symbolic scalar (a small `Copy` handle into an expression arena)
+//! implements it too, so one residual definition is evaluated,
+//! differentiated and traced without a second copy of anything.
 //!
 //! Design decisions:
 //! - The bounds are only what `nalgebra` needs for storage and products

@@ -5,3 +5,4 @@ mod geometry_constructors;
 mod lie_group_trait;
 mod lie_properties;
 mod local_coordinates;
+mod seeding;

@@ -101,9 +101,11 @@ use syn::{DeriveInput, parse_macro_input};
 ///   user's input checked field by field;
 /// - `Foo::<S>::perturbed_residual(&self, delta: &[S]) -> SVector<S, dim>`:
 ///   the residual with every variable retracted to first order by its slice of
-///   `delta`, the function dual numbers (and a tracer) differentiate;
-/// - `Foo::<f64>::TANGENT_DIM`, `residual()`, `linearize_dual()`,
-///   `linearize_dual_per_block()` and `linearize()`;
+///   `delta`, the function a tracer differentiates;
+/// - `Foo::<f64>::TANGENT_DIM`, `residual()`, `linearize_dual()` (one pass of
+///   the residual on `factor_core::dual::Dual` numbers as wide as the
+///   stacked tangent, each variable seeded through `Manifold::seeded`) and
+///   `linearize()`;
 /// - `FooLinearization { residual, v₁, …, vₙ }` with one fixed-size Jacobian
 ///   block per variable, and `to_dyn()` / `ensure_finite()`;
 /// - `impl Factor for Foo<f64>` (including `perturbed_residual_over`, the
@@ -128,7 +130,8 @@ use syn::{DeriveInput, parse_macro_input};
 /// naming the `regenerate` command. A change that keeps the layout (a sign
 /// in the residual) is caught at run time in debug builds: the first
 /// linearizations of each factor type compare the kernel with dual numbers
-/// and panic, naming the command, when they disagree
+/// and, when they disagree, return `FactorError::StaleKernel` naming the
+/// command, then and at every later linearization of the type
 /// (`factor_core::kernel` documents the checks).
 #[proc_macro_derive(Factor, attributes(factor, variable))]
 pub fn derive_factor(input: TokenStream) -> TokenStream {

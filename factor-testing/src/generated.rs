@@ -61,7 +61,10 @@ pub fn check_generated<F: Factor>(factor: &F) -> Result<Option<JacobianCheck>, F
 /// Panics, naming the output, when the generated kernel's residual or a
 /// Jacobian block differs from dual numbers by more than `tolerance`
 /// (relative, see [`input_scale`]), when the factor has no kernel, or when it
-/// cannot be linearized.
+/// cannot be linearized. This is the test that a kernel is current: a
+/// residual edited since the kernel was generated fails it (in a debug
+/// build with the report of [`FactorError::StaleKernel`], naming the
+/// command that regenerates the kernel).
 #[track_caller]
 pub fn assert_generated_matches_dual<F: Factor>(factor: &F, tolerance: f64) {
     let check = match check_generated(factor) {
@@ -70,6 +73,9 @@ pub fn assert_generated_matches_dual<F: Factor>(factor: &F, tolerance: f64) {
             "{} has no generated kernel in this build (`#[factor(kernel = ...)]`)",
             F::NAME
         ),
+        // A debug build's own comparison found the kernel stale first: its
+        // report names the output and the command that regenerates it.
+        Err(e @ FactorError::StaleKernel { .. }) => panic!("{e}"),
         Err(e) => panic!("{} cannot be linearized: {e}", F::NAME),
     };
     assert!(

@@ -10,6 +10,8 @@
 //! - [`local`]: a manifold's `local` against the retraction it inverts;
 //! - [`mod@reference`]: a factor's residual and Jacobians in double-double
 //!   arithmetic, to measure the accuracy of an `f64` evaluation;
+//! - [`seeding`]: the seeded one-pass dual linearization against the
+//!   same derivative through each variable's retraction, column by column;
 //! - [`near_degenerate`]: configurations a given distance from a factor's
 //!   degeneracy;
 //! - [`samples`]: seeded, well-conditioned configurations of the shipped
@@ -32,6 +34,7 @@ pub mod reference;
 #[cfg(feature = "bench")]
 pub mod rounds;
 pub mod samples;
+pub mod seeding;
 
 pub use generated::{GENERATED_TOLERANCE, assert_generated_matches_dual, check_generated};
 pub use numeric::{DEFAULT_TOLERANCE, JacobianCheck, assert_correct_jacobians, check_jacobians};

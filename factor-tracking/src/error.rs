@@ -4,6 +4,7 @@ use factor_core::FactorError;
 
 /// Why [`crate::PoseProblem`] refuses an observation or cannot solve.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PoseError {
     /// The factor type has no `Se3` variable, or more than one.
     #[error(

@@ -22,14 +22,14 @@
 //! | kernel | factor | operations | residual only | normal equations |
 //! | --- | --- | --- | --- | --- |
 //! | [`point_reprojection`](point_reprojection::point_reprojection) | `slam_factors::point_reprojection::PointReprojection` | 96 | 54 | 254 |
-//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::line_reprojection::LineReprojection` | 393 | 128 | 614 |
-//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::plucker_line_reprojection::PluckerLineReprojection` | 271 | 102 | 572 |
-//! | [`plane`](plane::plane) | `slam_factors::plane::PlaneFactor` | 447 | 107 | 751 |
-//! | [`line_observation`](line_observation::line_observation) | `slam_factors::line_observation::LineObservation` | 958 | 215 | 1398 |
-//! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 322 | 192 | 455 |
-//! | [`snavely_reprojection`](snavely_reprojection::snavely_reprojection) | `slam_factors::snavely::SnavelyReprojection` | 238 | 64 | 502 |
-//! | [`stereo_reprojection`](stereo_reprojection::stereo_reprojection) | `slam_factors::stereo::StereoReprojection` | 206 | 64 | 510 |
-//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1658 | 292 | — |
+//! | [`line_reprojection`](line_reprojection::line_reprojection) | `slam_factors::line_reprojection::LineReprojection` | 391 | 127 | 612 |
+//! | [`plucker_line_reprojection`](plucker_line_reprojection::plucker_line_reprojection) | `slam_factors::plucker_line_reprojection::PluckerLineReprojection` | 280 | 104 | 578 |
+//! | [`plane`](plane::plane) | `slam_factors::plane::PlaneFactor` | 446 | 107 | 750 |
+//! | [`line_observation`](line_observation::line_observation) | `slam_factors::line_observation::LineObservation` | 956 | 213 | 1396 |
+//! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 324 | 190 | 461 |
+//! | [`snavely_reprojection`](snavely_reprojection::snavely_reprojection) | `slam_factors::snavely::SnavelyReprojection` | 236 | 64 | 508 |
+//! | [`stereo_reprojection`](stereo_reprojection::stereo_reprojection) | `slam_factors::stereo::StereoReprojection` | 207 | 66 | 508 |
+//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1663 | 291 | — |
 //! | [`g2o_se3`](g2o_se3::g2o_se3) | `slam_factors::g2o::se3_edge::G2oSe3Edge` | 1098 | 272 | — |
 
 #![forbid(unsafe_code)]

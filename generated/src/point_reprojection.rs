@@ -33,7 +33,7 @@
 //! | residual only | 26 | 27 | 1 | 0 | 0 | 0 | 0 | 54 |
 //! | normal equations | 70 | 162 | 1 | 21 | 0 | 0 | 0 | 254 |
 //! | normal equations, cost only | 27 | 31 | 1 | 0 | 0 | 0 | 0 | 59 |
-//! | apex chart | 47 | 87 | 1 | 5 | 0 | 0 | 0 | 140 |
+//! | apex chart | 47 | 85 | 1 | 4 | 0 | 0 | 0 | 137 |
 //!
 //! # Normal equations
 //!
@@ -109,14 +109,14 @@ pub fn point_reprojection<T: Real>(
     let v23 = v3 + v4;
     let v24 = v22 - v23;
     let v25 = point[2] * v24;
-    let v26 = pose[1] * pose[2];
-    let v27 = pose[0] * pose[3];
-    let v28 = v26 + v27;
-    let v29 = v11 * v28;
-    let v30 = v12 - v13;
-    let v31 = point[0] * T::constant(2.0);
-    let v32 = v30 * v31;
-    let v33 = v29 + v32;
+    let v26 = v12 - v13;
+    let v27 = point[0] * T::constant(2.0);
+    let v28 = v26 * v27;
+    let v29 = pose[1] * pose[2];
+    let v30 = pose[0] * pose[3];
+    let v31 = v29 + v30;
+    let v32 = v11 * v31;
+    let v33 = v28 + v32;
     let v34 = pose[6] - v25;
     let v35 = v33 + v34;
     let v36 = T::constant(1.0) / v35;
@@ -127,8 +127,8 @@ pub fn point_reprojection<T: Real>(
     let v41 = v2 + v5;
     let v42 = point[1] * v41;
     let v43 = v8 + v9;
-    let v44 = v31 * v43;
-    let v45 = v26 - v27;
+    let v44 = v27 * v43;
+    let v45 = v29 - v30;
     let v46 = v15 * v45;
     let v47 = v44 + v46;
     let v48 = pose[5] - v42;
@@ -176,12 +176,12 @@ pub fn point_reprojection<T: Real>(
     }
     if let Some(d_point) = d_point {
         let v70 = v6 * v37;
-        let v71 = T::constant(2.0) * v30;
+        let v71 = T::constant(2.0) * v26;
         let v72 = v55 * v71;
         let v73 = v72 - v70;
-        let v74 = T::constant(2.0) * v28;
+        let v74 = T::constant(2.0) * v31;
         let v75 = v10 * v37;
-        let v76 = v28 * v55;
+        let v76 = v31 * v55;
         let v77 = v76 - v75;
         let v78 = T::constant(2.0) * v77;
         let v79 = v24 * v55;
@@ -302,14 +302,14 @@ pub fn point_reprojection_normal<T: Real>(
     let v23 = v3 + v4;
     let v24 = v22 - v23;
     let v25 = point[2] * v24;
-    let v26 = pose[1] * pose[2];
-    let v27 = pose[0] * pose[3];
-    let v28 = v26 + v27;
-    let v29 = v11 * v28;
-    let v30 = v12 - v13;
-    let v31 = point[0] * T::constant(2.0);
-    let v32 = v30 * v31;
-    let v33 = v29 + v32;
+    let v26 = v12 - v13;
+    let v27 = point[0] * T::constant(2.0);
+    let v28 = v26 * v27;
+    let v29 = pose[1] * pose[2];
+    let v30 = pose[0] * pose[3];
+    let v31 = v29 + v30;
+    let v32 = v11 * v31;
+    let v33 = v28 + v32;
     let v34 = pose[6] - v25;
     let v35 = v33 + v34;
     let v36 = T::constant(1.0) / v35;
@@ -320,8 +320,8 @@ pub fn point_reprojection_normal<T: Real>(
     let v41 = v2 + v5;
     let v42 = point[1] * v41;
     let v43 = v8 + v9;
-    let v44 = v31 * v43;
-    let v45 = v26 - v27;
+    let v44 = v27 * v43;
+    let v45 = v29 - v30;
     let v46 = v15 * v45;
     let v47 = v44 + v46;
     let v48 = pose[5] - v42;
@@ -372,12 +372,12 @@ pub fn point_reprojection_normal<T: Real>(
         .is_some() || h_pose_point.is_some() || h_point_point.is_some()
     {
         let v70 = v6 * v37;
-        let v71 = T::constant(2.0) * v30;
+        let v71 = T::constant(2.0) * v26;
         let v72 = v60 * v71;
         let v73 = v72 - v70;
-        let v74 = T::constant(2.0) * v28;
+        let v74 = T::constant(2.0) * v31;
         let v75 = v10 * v37;
-        let v76 = v28 * v60;
+        let v76 = v31 * v60;
         let v77 = v76 - v75;
         let v78 = T::constant(2.0) * v77;
         let v79 = v24 * v60;
@@ -771,14 +771,14 @@ pub fn point_reprojection_apex<T: Real>(
     let v23 = v3 + v4;
     let v24 = v22 - v23;
     let v25 = point[2] * v24;
-    let v26 = pose[5] * pose[6];
-    let v27 = pose[4] * pose[3];
-    let v28 = v26 + v27;
-    let v29 = v11 * v28;
-    let v30 = v12 - v13;
-    let v31 = point[0] * T::constant(2.0);
-    let v32 = v30 * v31;
-    let v33 = v29 + v32;
+    let v26 = v12 - v13;
+    let v27 = point[0] * T::constant(2.0);
+    let v28 = v26 * v27;
+    let v29 = pose[5] * pose[6];
+    let v30 = pose[4] * pose[3];
+    let v31 = v29 + v30;
+    let v32 = v11 * v31;
+    let v33 = v28 + v32;
     let v34 = pose[2] - v25;
     let v35 = v33 + v34;
     let v36 = T::constant(1.0) / v35;
@@ -789,8 +789,8 @@ pub fn point_reprojection_apex<T: Real>(
     let v41 = v2 + v5;
     let v42 = point[1] * v41;
     let v43 = v8 + v9;
-    let v44 = v31 * v43;
-    let v45 = v26 - v27;
+    let v44 = v27 * v43;
+    let v45 = v29 - v30;
     let v46 = v15 * v45;
     let v47 = v44 + v46;
     let v48 = pose[1] - v42;
@@ -806,7 +806,7 @@ pub fn point_reprojection_apex<T: Real>(
     {
         let v54 = v6 * v37;
         let v55 = v36 * v38;
-        let v56 = T::constant(2.0) * v30;
+        let v56 = T::constant(2.0) * v26;
         let v57 = v55 * v56;
         let v58 = v57 - v54;
         let v59 = T::constant(2.0) * v43;
@@ -814,9 +814,9 @@ pub fn point_reprojection_apex<T: Real>(
         let v61 = v36 * v51;
         let v62 = v56 * v61;
         let v63 = v62 - v60;
-        let v64 = T::constant(2.0) * v28;
+        let v64 = T::constant(2.0) * v31;
         let v65 = v10 * v37;
-        let v66 = v28 * v55;
+        let v66 = v31 * v55;
         let v67 = v66 - v65;
         let v68 = T::constant(2.0) * v67;
         let v69 = v41 * v50;
@@ -847,7 +847,7 @@ pub fn point_reprojection_apex<T: Real>(
     };
     if let Some(d_pose) = d_pose {
         let v82 = point[1] * v24;
-        let v83 = v15 * v28;
+        let v83 = v15 * v31;
         let v84 = v82 + v83;
         let v85 = v55 * v84;
         let v86 = point[1] * v14;
@@ -867,7 +867,7 @@ pub fn point_reprojection_apex<T: Real>(
         let v100 = v93 + v99;
         let v101 = -v100;
         let v102 = point[0] * v24;
-        let v103 = v15 * v30;
+        let v103 = v15 * v26;
         let v104 = v102 + v103;
         let v105 = v55 * v104;
         let v106 = v6 * v94;
@@ -887,23 +887,20 @@ pub fn point_reprojection_apex<T: Real>(
         let v120 = v6 * v119;
         let v121 = point[0] * v10;
         let v122 = v121 - v120;
-        let v123 = point[1] * v30;
-        let v124 = point[0] * v28;
+        let v123 = point[0] * v31;
+        let v124 = point[1] * v26;
         let v125 = v123 - v124;
         let v126 = T::constant(2.0) * v125;
         let v127 = v37 * v122;
         let v128 = v55 * v125;
-        let v129 = v127 + v128;
+        let v129 = v128 - v127;
         let v130 = T::constant(2.0) * v129;
-        let v131 = -v130;
-        let v132 = point[0] * T::constant(0.5);
-        let v133 = v41 * v132;
-        let v134 = point[1] * v43;
-        let v135 = v133 + v134;
-        let v136 = T::constant(2.0) * v135;
-        let v137 = v50 * v136;
-        let v138 = v61 * v126;
-        let v139 = v137 - v138;
+        let v131 = point[0] * v41;
+        let v132 = v11 * v43;
+        let v133 = v131 + v132;
+        let v134 = v50 * v133;
+        let v135 = v61 * v126;
+        let v136 = v134 + v135;
         d_pose[0] = v58;
         d_pose[1] = v63;
         d_pose[2] = v68;
@@ -914,8 +911,8 @@ pub fn point_reprojection_apex<T: Real>(
         d_pose[7] = v101;
         d_pose[8] = v111;
         d_pose[9] = v118;
-        d_pose[10] = v131;
-        d_pose[11] = v139;
+        d_pose[10] = v130;
+        d_pose[11] = v136;
     }
     if let Some(d_point) = d_point {
         d_point[0] = v58;

@@ -8,6 +8,7 @@
 /// problem to be written is invalid). A command line prints it after its own
 /// `error: ` prefix.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A problem at a line of the input.
     #[error("{file}:{line}: {what}")]

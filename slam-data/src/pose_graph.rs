@@ -266,6 +266,7 @@ impl PoseGraph {
 
 /// Why odometry chaining cannot initialise a pose graph.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ChainError {
     /// The graph has no edges.
     #[error("the pose graph has no edges to chain")]

@@ -92,8 +92,11 @@ pub const MAGNITUDE_LIMIT: f64 = 1e100;
 /// had a residual off by 34 %). Accepted when
 /// `max(‖r‖, 1)`, the scale the envelope is stated in, exceeds
 /// `DEGENERACY_TOLERANCE · conditioning · terms`; with no cancellation
-/// (`‖r‖ ≈ terms`) this is the depth's own bound. Public for factors of
-/// one's own whose residual is an observation less a prediction.
+/// (`‖r‖ ≈ terms`) this is the depth's own bound. `residual` is evaluated
+/// only when that rounding reaches 1 (below it, `max(‖r‖, 1) = 1` exceeds it
+/// whatever `‖r‖`), so the check costs a product on the solver's path.
+/// Public for factors of one's own whose residual is an observation less a
+/// prediction.
 ///
 /// # Errors
 ///
@@ -101,11 +104,15 @@ pub const MAGNITUDE_LIMIT: f64 = 1e100;
 /// rounding.
 pub fn check_residual_digits(
     factor: &'static str,
-    residual: f64,
+    residual: impl FnOnce() -> f64,
     conditioning: f64,
     terms: f64,
 ) -> Result<(), FactorError> {
     let rounding = DEGENERACY_TOLERANCE * conditioning * terms;
+    if rounding < 1.0 {
+        return Ok(());
+    }
+    let residual = residual();
     // A residual that overflows is the evaluation's to report (non-finite).
     if !(residual.is_finite() && rounding.is_finite()) || exceeds(residual.max(1.0), rounding) {
         return Ok(());

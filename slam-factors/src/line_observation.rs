@@ -6,7 +6,7 @@ use nalgebra::Vector4;
 use crate::{DEGENERACY_TOLERANCE, degenerate};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::lie::{Quaternion, Se3, So2, So3};
-use factor_core::linalg::dot;
+use factor_core::linalg::{dot, mul};
 use factor_core::validation::{exceeds, number_text};
 use factor_core::{Factor, FactorError, Scalar};
 
@@ -66,7 +66,7 @@ pub struct LineObservation<S: Scalar = f64> {
 
 /// `(c, s)` and `|n_c|` of the camera-frame moment `n_c = c a − s R u₃`.
 fn camera_moment<S: Scalar>(f: &LineObservation<S>) -> (S, S, S) {
-    let r = f.pose.rotation.matrix() * f.line.u.matrix();
+    let r = mul(&f.pose.rotation.matrix(), &f.line.u.matrix());
     let (a, u3) = (r.column(0).into_owned(), r.column(2).into_owned());
     let t = f.pose.translation;
     let (w1, w2) = (f.line.w.cos, f.line.w.sin);

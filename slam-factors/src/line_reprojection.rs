@@ -161,6 +161,6 @@ pub(crate) fn validate_camera_line(
     };
     let n_norm = scaled_norm(&n);
     let pixels = n_norm * (through(endpoints[0]) + through(endpoints[1])) / l.xy().norm();
-    let residual = endpoint_distances(k, &n, endpoints[0], endpoints[1]).norm();
+    let residual = || endpoint_distances(k, &n, endpoints[0], endpoints[1]).norm();
     check_residual_digits(factor, residual, terms / n_norm, pixels)
 }

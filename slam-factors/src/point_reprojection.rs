@@ -80,6 +80,6 @@ pub fn validate_point_reprojection(f: &PointReprojection<f64>) -> Result<(), Fac
     let (x, y) = (p_c.x / p_c.z, p_c.y / p_c.z);
     let k = &f.intrinsics;
     let terms = k.fu.abs() * (1.0 + x.abs()) + k.fv.abs() * (1.0 + y.abs());
-    let residual = (f.observed - k.project(&p_c)).norm();
+    let residual = || (f.observed - k.project(&p_c)).norm();
     check_residual_digits(PointReprojection::NAME, residual, scale / p_c.z, terms)
 }

@@ -176,6 +176,6 @@ pub fn validate_stereo_reprojection(f: &StereoReprojection<f64>) -> Result<(), F
     let terms = (c.fx.abs() + c.skew.abs()) * (1.0 + x + y)
         + (c.fx * c.baseline / depth).abs()
         + c.fy.abs() * (1.0 + y);
-    let residual = stereo_reprojection_residual(f).norm();
+    let residual = || stereo_reprojection_residual(f).norm();
     check_residual_digits(StereoReprojection::NAME, residual, scale / depth, terms)
 }

@@ -35,6 +35,7 @@ impl<'a> Role<'a> {
 
 /// Why the outputs of a run are refused; one line, `PATH: what`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PathError {
     /// An output names the same file as an input or another output.
     #[error("{path}: {output} names the same file as {other}{shown}; refused before any work")]

@@ -5,8 +5,8 @@
 
 use doc_latex::ast::{Expr, Rel, Statement};
 use doc_latex::{Document, Found, Locator, Vocabulary};
+use factor_core::dual::Dual;
 use nalgebra::DMatrix;
-use num_dual::DualSVec64;
 
 use super::TextError;
 use super::context::{Context, Scope, canonical};
@@ -942,7 +942,7 @@ impl<'a> TextDerivation<'a> {
         if let Some(why) = &link.broken {
             return Err(ShapeError(format!("the link `{}`: {why}", link.key)));
         }
-        let p = lift::<DualSVec64<1>>(&self.stored);
+        let p = lift::<Dual<1>>(&self.stored);
         let failure = std::cell::RefCell::new(None);
         let shape = std::cell::Cell::new((0, 0));
         let m = dual_jacobian(&vec![0.0; link.variable.dim()], |x| {
@@ -1051,7 +1051,7 @@ impl<'a> TextDerivation<'a> {
         };
         let got = match claim.kind {
             ClaimKind::FirstOrder => {
-                let p = lift::<DualSVec64<1>>(&self.stored);
+                let p = lift::<Dual<1>>(&self.stored);
                 let failure = std::cell::RefCell::new(None);
                 let m = dual_jacobian(&vec![0.0; self.input_len()], |x| {
                     match self.value(term, claim.variable.as_ref(), x, &p) {
@@ -1164,7 +1164,7 @@ impl<'a> TextDerivation<'a> {
 
     /// The truths under the claim's conventions at this sample.
     fn convention_truths(&self) -> Vec<(String, DMatrix<f64>)> {
-        let p = lift::<DualSVec64<1>>(&self.stored);
+        let p = lift::<Dual<1>>(&self.stored);
         self.claim
             .conventions
             .iter()

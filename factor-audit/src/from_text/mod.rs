@@ -143,6 +143,7 @@ fn on_large_stack<T: Send>(f: impl FnOnce() -> T + Send) -> T {
 /// Why a document and its symbols file cannot be audited; one line each,
 /// naming the equation, the symbol or the fragment at fault.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TextError {
     /// An input over its size bound.
     #[error("the {what} is larger than {limit} bytes")]

@@ -65,8 +65,8 @@ use crate::storage::Layout;
 pub use apex::{Apex, ApexManifold};
 pub use layout::{HostInput, HostLayout, HostVariable};
 pub use residual::{
-    MAX_STORED, MAX_VARIABLE_PARAMETERS, host_parameters, host_residual, inputs_of, linearize_host,
-    linearize_host_dual, linearize_host_validated, variables_from_host,
+    MAX_STORED, MAX_VARIABLE_PARAMETERS, dual_pass, host_parameters, host_residual, inputs_of,
+    linearize_host, linearize_host_dual, linearize_host_validated, variables_from_host,
 };
 
 /// A host solver's description: what [`HostMap`], the code generator and
@@ -180,6 +180,21 @@ pub trait HostFactor<H: Host>: Factor {
 
     /// Variable `variable`'s [`HostMap::host_from_stored`].
     fn host_from_stored(variable: usize, stored: &[f64], host: &mut [f64]);
+
+    /// [`linearize_host_dual`]: [`dual_pass`] with the factor's tangent
+    /// dimension as the dual numbers' width (the derive knows it as a
+    /// constant; generic code cannot name it).
+    ///
+    /// # Errors
+    ///
+    /// As [`linearize_host`].
+    fn linearize_host_dual_pass(
+        layout: &HostLayout<H::Manifold>,
+        template: &[f64],
+        parts: &[&[f64]],
+        residual: &mut [f64],
+        jacobian: Option<&mut [f64]>,
+    ) -> Result<(), crate::FactorError>;
 }
 
 /// A factor with a kernel generated for host `H`
@@ -202,4 +217,23 @@ pub trait HostKernel<H: Host>: HostFactor<H> {
         residual: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) -> bool;
+
+    /// Whether the kernel's outputs `residual` and `jacobian`, just computed
+    /// from `stored` and `parts` by [`HostKernel::host_kernel`], come from
+    /// the factor's current definition. `Ok` by default; in a debug build of
+    /// the factor's crate the derive compares the first calls with dual
+    /// numbers in the same chart ([`crate::kernel`]).
+    ///
+    /// # Errors
+    ///
+    /// [`FactorError::StaleKernel`](crate::FactorError::StaleKernel).
+    fn check_host_kernel(
+        stored: &[f64],
+        parts: &[&[f64]],
+        residual: &[f64],
+        jacobian: Option<&[f64]>,
+    ) -> Result<(), crate::FactorError> {
+        let _ = (stored, parts, residual, jacobian);
+        Ok(())
+    }
 }

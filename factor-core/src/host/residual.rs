@@ -7,8 +7,7 @@
 //! residual and the column-major Jacobian (`rows × Σ dof`, the parts'
 //! columns in order), as the host's factors do.
 
-use num_dual::DualSVec64;
-
+use crate::dual::Dual;
 use crate::factor::FactorError;
 use crate::host::{Host, HostFactor, HostInput, HostKernel, HostLayout, HostManifold};
 use crate::scalar::Scalar;
@@ -186,15 +185,17 @@ fn validate<F: HostFactor<H>, H: Host>(
 }
 
 /// Residual and column-major Jacobian (`None` when not wanted) of factor `F`
-/// in `H`'s chart through its generated host kernel, after the factor's
+/// in `H`'s chart through its generated host kernel, with the factor's
 /// validation at the host's values: `template` is the factor's stored
 /// scalars (its constants; its variables' are not read), `parts` the host
-/// parts' parameters. No allocation.
+/// parts' parameters. No allocation. On an error the outputs hold
+/// unspecified values (the kernel runs before the validation).
 ///
 /// # Errors
 ///
-/// The validation's error, or [`FactorError::NonFinite`] naming the first
-/// non-finite output (a Jacobian column by its variable).
+/// The validation's error, [`FactorError::NonFinite`] naming the first
+/// non-finite output (a Jacobian column by its variable), or (a debug
+/// build) [`FactorError::StaleKernel`].
 ///
 /// # Panics
 ///
@@ -205,10 +206,14 @@ pub fn linearize_host<F: HostKernel<H>, H: Host>(
     template: &[f64],
     parts: &[&[f64]],
     residual: &mut [f64],
-    jacobian: Option<&mut [f64]>,
+    mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
+    run_host_kernel::<F, H>(template, parts, residual, jacobian.as_deref_mut());
+    // After the kernel: the validation between its stores and the check's
+    // loads of the same values keeps those loads from waiting for the stores.
     validate::<F, H>(layout, template, parts)?;
-    linearize_host_validated::<F, H>(layout, template, parts, residual, jacobian)
+    F::check_host_kernel(template, parts, residual, jacobian.as_deref())?;
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
 }
 
 /// [`linearize_host`] at host values the caller knows the factor accepts:
@@ -220,7 +225,8 @@ pub fn linearize_host<F: HostKernel<H>, H: Host>(
 ///
 /// # Errors
 ///
-/// [`FactorError::NonFinite`] naming the first non-finite output.
+/// [`FactorError::NonFinite`] naming the first non-finite output, or (a
+/// debug build) [`FactorError::StaleKernel`].
 ///
 /// # Panics
 ///
@@ -232,18 +238,35 @@ pub fn linearize_host_validated<F: HostKernel<H>, H: Host>(
     residual: &mut [f64],
     mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
+    run_host_kernel::<F, H>(template, parts, residual, jacobian.as_deref_mut());
+    F::check_host_kernel(template, parts, residual, jacobian.as_deref())?;
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
+}
+
+/// `F`'s host kernel on the host values `parts`.
+///
+/// # Panics
+///
+/// If a length differs from the kernel's.
+#[inline(always)]
+fn run_host_kernel<F: HostKernel<H>, H: Host>(
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    jacobian: Option<&mut [f64]>,
+) {
     assert!(
-        F::host_kernel(template, parts, residual, jacobian.as_deref_mut()),
+        F::host_kernel(template, parts, residual, jacobian),
         "{}: the stored scalars, a part, the residual or the Jacobian differ in length from \
          the host kernel's",
         F::NAME
     );
-    check_finite::<F, H>(layout, residual, jacobian.as_deref())
 }
 
-/// [`linearize_host`] by dual numbers, through [`host_residual`]: the same
-/// outputs to rounding, for any [`HostFactor`], with or without a generated
-/// host kernel. Allocates (a comparison path, not a solver's inner loop).
+/// [`linearize_host`] by dual numbers: the same outputs to rounding, for
+/// any [`HostFactor`], with or without a generated host kernel. One pass of
+/// the factor's residual on [`Dual`] numbers as wide as its tangent, each
+/// host part seeded through the host's retraction ([`dual_pass`]).
 ///
 /// # Errors
 ///
@@ -257,16 +280,136 @@ pub fn linearize_host_dual<F: HostFactor<H>, H: Host>(
     template: &[f64],
     parts: &[&[f64]],
     residual: &mut [f64],
+    jacobian: Option<&mut [f64]>,
+) -> Result<(), FactorError> {
+    F::linearize_host_dual_pass(layout, template, parts, residual, jacobian)
+}
+
+/// The most stored scalars, and residual entries, [`dual_pass`] keeps on the
+/// stack; a larger factor's go to the heap.
+const STACK_SCALARS: usize = 32;
+
+/// `f` on a scratch slice of `len` copies of `zero`: on the stack up to `M`,
+/// on the heap beyond.
+fn scratch<T: Copy, const M: usize, R>(len: usize, zero: T, f: impl FnOnce(&mut [T]) -> R) -> R {
+    if len <= M {
+        f(&mut [zero; M][..len])
+    } else {
+        f(&mut vec![zero; len])
+    }
+}
+
+/// The body of [`linearize_host_dual`] for a factor of `N` tangent columns
+/// (the host's columns, when as many; otherwise, for a variable served as
+/// more host coordinates than its dimension, one column at a time):
+/// validates the factor at the host's
+/// values, seeds each host part's parameters through the host's
+/// [`HostManifold::retract_first_order`] (its derivative at `δ = 0`, by
+/// one-component dual numbers per column: a few operations per part), maps
+/// them to the variables' stored scalars ([`HostMap::stored_from_host`](crate::host::HostMap::stored_from_host)),
+/// and evaluates the residual once on `Dual<N>`
+/// ([`Factor::residual_over_into`](crate::Factor::residual_over_into)).
+/// No allocation for factors of up to 32 stored scalars.
+///
+/// # Errors
+///
+/// As [`linearize_host`].
+///
+/// # Panics
+///
+/// As [`linearize_host`].
+pub fn dual_pass<F: HostFactor<H>, H: Host, const N: usize>(
+    layout: &HostLayout<H::Manifold>,
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
     mut jacobian: Option<&mut [f64]>,
 ) -> Result<(), FactorError> {
     validate::<F, H>(layout, template, parts)?;
-    type D = DualSVec64<1>;
+    if layout.columns() != N {
+        return dual_by_columns::<F, H>(layout, template, parts, residual, jacobian);
+    }
+    let zero = Dual::<N>::constant(0.0);
+    let rows = layout.residual;
+    scratch::<_, STACK_SCALARS, _>(layout.stored, zero, |stored| {
+        let mut params = [zero; MAX_VARIABLE_PARAMETERS];
+        let mut filled = 0;
+        for (k, input) in layout.inputs.iter().enumerate() {
+            match input {
+                HostInput::Constant { stored: range, .. } => {
+                    for (s, v) in stored[range.clone()]
+                        .iter_mut()
+                        .zip(&template[range.clone()])
+                    {
+                        *s = Dual::constant(*v);
+                    }
+                }
+                HostInput::Part {
+                    index,
+                    variable,
+                    stored: range,
+                    part,
+                    columns,
+                    ..
+                } => {
+                    let n = part.manifold.parameters();
+                    seed_part(
+                        part.manifold,
+                        parts[*index],
+                        columns.start,
+                        &mut params[filled..filled + n],
+                    );
+                    filled += n;
+                    let last_part = !matches!(
+                        layout.inputs.get(k + 1),
+                        Some(HostInput::Part { variable: next, .. }) if next == variable
+                    );
+                    if last_part {
+                        F::stored_from_host(
+                            *variable,
+                            &params[..filled],
+                            &mut stored[range.clone()],
+                        );
+                        filled = 0;
+                    }
+                }
+            }
+        }
+        scratch::<_, STACK_SCALARS, _>(rows, zero, |value| {
+            F::residual_over_into(stored, value);
+            for (out, r) in residual.iter_mut().zip(value.iter()) {
+                *out = r.re;
+            }
+            if let Some(jacobian) = jacobian.as_deref_mut() {
+                for (c, column) in jacobian.chunks_mut(rows).enumerate() {
+                    for (out, r) in column.iter_mut().zip(value.iter()) {
+                        *out = r.eps[c];
+                    }
+                }
+            }
+        });
+    });
+    check_finite::<F, H>(layout, residual, jacobian.as_deref())
+}
+
+/// [`dual_pass`] for a factor whose host columns are not its own tangent's
+/// (a variable served as more host coordinates than its dimension, as S²
+/// served as `Rn(3)` normalised): one pass of [`host_residual`] on
+/// one-component dual numbers per column, allocating.
+fn dual_by_columns<F: HostFactor<H>, H: Host>(
+    layout: &HostLayout<H::Manifold>,
+    template: &[f64],
+    parts: &[&[f64]],
+    residual: &mut [f64],
+    mut jacobian: Option<&mut [f64]>,
+) -> Result<(), FactorError> {
+    type D = Dual<1>;
     let lifted: Vec<Vec<D>> = inputs_of(layout, template, parts)
         .iter()
-        .map(|values| values.iter().map(|x| D::from_re(*x)).collect())
+        .map(|values| values.iter().map(|x| D::constant(*x)).collect())
         .collect();
     let lifted: Vec<&[D]> = lifted.iter().map(Vec::as_slice).collect();
-    let mut delta = vec![D::from_re(0.0); layout.columns()];
+    let mut delta = vec![D::constant(0.0); layout.columns()];
     let rows = layout.residual;
     let value = host_residual::<F, H, D>(layout, &lifted, &delta);
     for (out, r) in residual.iter_mut().zip(&value) {
@@ -274,15 +417,46 @@ pub fn linearize_host_dual<F: HostFactor<H>, H: Host>(
     }
     if let Some(jacobian) = jacobian.as_deref_mut() {
         for (c, column) in jacobian.chunks_mut(rows).enumerate() {
-            delta[c] = D::from_re(0.0).derivative(0);
+            delta[c] = D::variable(0.0, 0);
             let r = host_residual::<F, H, D>(layout, &lifted, &delta);
-            delta[c] = D::from_re(0.0);
+            delta[c] = D::constant(0.0);
             for (out, value) in column.iter_mut().zip(&r) {
-                *out = value.eps.unwrap_generic(nalgebra::Const::<1>, nalgebra::U1)[0];
+                *out = value.eps[0];
             }
         }
     }
     check_finite::<F, H>(layout, residual, jacobian.as_deref())
+}
+
+/// A host part's parameters `values` as `Dual<N>` numbers carrying the
+/// derivative of the host's first-order retraction at `δ = 0` in columns
+/// `first_column..first_column + dof`: one pass of the retraction on
+/// one-component dual numbers per column.
+fn seed_part<M: HostManifold, const N: usize>(
+    manifold: M,
+    values: &[f64],
+    first_column: usize,
+    out: &mut [Dual<N>],
+) {
+    let (n, dof) = (values.len(), manifold.dof());
+    let mut lifted = [Dual::<1>::constant(0.0); MAX_VARIABLE_PARAMETERS];
+    for (l, v) in lifted.iter_mut().zip(values) {
+        *l = Dual::constant(*v);
+    }
+    let mut delta = [Dual::<1>::constant(0.0); MAX_VARIABLE_PARAMETERS];
+    let mut moved = [Dual::<1>::constant(0.0); MAX_VARIABLE_PARAMETERS];
+    manifold.retract_first_order(&lifted[..n], &delta[..dof], &mut moved[..n]);
+    for (o, m) in out.iter_mut().zip(&moved[..n]) {
+        *o = Dual::constant(m.re);
+    }
+    for c in 0..dof {
+        delta[c] = Dual::variable(0.0, 0);
+        manifold.retract_first_order(&lifted[..n], &delta[..dof], &mut moved[..n]);
+        delta[c] = Dual::constant(0.0);
+        for (o, m) in out.iter_mut().zip(&moved[..n]) {
+            o.eps[first_column + c] = m.eps[0];
+        }
+    }
 }
 
 /// [`FactorError::NonFinite`] for the first non-finite output, a Jacobian

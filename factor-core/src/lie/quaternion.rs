@@ -150,7 +150,7 @@ impl<S: Scalar> Quaternion<S> {
 
     /// Rotates `v` by a unit quaternion, `q ⊗ [v, 0] ⊗ q⁻¹ = R(q) v`.
     pub fn rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        self.to_rotation_matrix() * v
+        crate::linalg::mul(&self.to_rotation_matrix(), v)
     }
 
     /// The rotation matrix `R(q)` of a unit quaternion, in the homogeneous

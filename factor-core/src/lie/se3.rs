@@ -18,9 +18,10 @@
 
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector6};
 
+use crate::dual::Dual;
 use crate::lie::so3::{
     angle_coefficient, hat, left_jacobian, left_jacobian_inverse, perturb_quaternion,
-    quaternion_local, theta_minus_sin_over_theta3, write3,
+    quaternion_local, seeded_quaternion, theta_minus_sin_over_theta3, write3,
 };
 use crate::lie::{LieGroup, Quaternion, So3};
 use crate::linalg::{cross, squared_norm};
@@ -270,6 +271,46 @@ impl<S: Scalar> Storage<S> for Se3<S> {
     }
 }
 
+/// `pose` over `Dual<N>` seeded as [`Se3`]'s `retract_first_order` perturbs
+/// it, the rotation's tangent at `rotation_offset` and the translation's at
+/// `translation_offset` ([`Manifold::seeded`] in closed form): the
+/// quaternion as [`seeded_quaternion`], and `t + δω × t + δρ` (left,
+/// `∂t/∂δω_k = e_k × t`, `∂t/∂δρ_k = e_k`) or `t + R δρ` (right,
+/// `∂t/∂δρ_k = R e_k`).
+#[inline(always)]
+pub(crate) fn seeded_se3<const N: usize>(
+    pose: &Se3<f64>,
+    side: Perturbation,
+    rotation_offset: usize,
+    translation_offset: usize,
+) -> Se3<Dual<N>> {
+    let rotation = seeded_quaternion(&pose.rotation.quaternion, side, rotation_offset);
+    let t = pose.translation;
+    let mut translation = t.map(Dual::constant);
+    match side {
+        Perturbation::Left => {
+            for k in 0..3 {
+                let mut axis = Vector3::zeros();
+                axis[k] = 1.0;
+                let turned = cross(&axis, &t);
+                for i in 0..3 {
+                    translation[i].eps[rotation_offset + k] = turned[i];
+                }
+                translation[k].eps[translation_offset + k] = 1.0;
+            }
+        }
+        Perturbation::Right => {
+            let r = pose.rotation.matrix();
+            for k in 0..3 {
+                for i in 0..3 {
+                    translation[i].eps[translation_offset + k] = r[(i, k)];
+                }
+            }
+        }
+    }
+    Se3::new(So3::from_quaternion(rotation), translation)
+}
+
 /// Tangent `[δω, δρ]`.
 /// - Left (document 000): `T ← Exp(δξ) T` with the exact SE(3) exponential:
 ///   `R ← Exp(δω) R`, `t ← Exp(δω) t + Jl(δω) δρ`.
@@ -307,6 +348,23 @@ impl<S: Scalar> Manifold<S> for Se3<S> {
             Perturbation::Right => self.translation + self.rotation.rotate(&rho),
         };
         Self::new(So3::from_quaternion(q), t)
+    }
+    /// In closed form ([`seeded_se3`]).
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        seeded_se3(
+            &self.map_scalars(&mut |s| s.into()),
+            side,
+            offset,
+            offset + 3,
+        )
     }
     fn tangent_description(side: Perturbation) -> &'static str {
         match side {

@@ -20,7 +20,9 @@
 
 use nalgebra::{SMatrix, Vector3};
 
+use crate::dual::Dual;
 use crate::lie::Se3;
+use crate::lie::se3::seeded_se3;
 use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, Storage, StorageError};
@@ -128,6 +130,19 @@ impl<S: Scalar> Manifold<S> for Se3RhoTheta<S> {
     }
     fn retract_first_order(&self, delta: &[S], side: Perturbation) -> Self {
         Se3RhoTheta(self.0.retract_first_order(&rotation_first(delta), side))
+    }
+    /// [`Se3`]'s closed form with the halves of the tangent swapped.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let pose = self.0.map_scalars(&mut |s| s.into());
+        Se3RhoTheta(seeded_se3(&pose, side, offset + 3, offset))
     }
     fn tangent_description(side: Perturbation) -> &'static str {
         match side {

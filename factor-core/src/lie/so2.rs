@@ -86,7 +86,7 @@ impl<S: Scalar> LieGroup<S> for So2<S> {
         So2::inverse(self)
     }
     fn act(&self, point: &Vector2<S>) -> Vector2<S> {
-        self.matrix() * point
+        crate::linalg::mul(&self.matrix(), point)
     }
     fn exp(tau: &Vector1<S>) -> Self {
         So2::exp(tau[0])

@@ -10,6 +10,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::dual::Dual;
 use crate::lie::{LieGroup, Quaternion, SMALL_ANGLE_SQUARED};
 use crate::linalg::squared_norm;
 use crate::manifold::{Manifold, NoLocal, Perturbation};
@@ -185,7 +186,7 @@ impl<S: Scalar> So3<S> {
 
     /// `Rᵀ v`.
     pub fn inverse_rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        self.matrix().transpose() * v
+        crate::linalg::tr_mul(&self.matrix(), v)
     }
 
     /// `R⁻¹`.
@@ -269,6 +270,39 @@ pub(crate) fn perturb_quaternion<S: Scalar>(
     }
 }
 
+/// `q` over `Dual<N>` seeded as [`perturb_quaternion`] with
+/// [`Quaternion::exp_first_order`] perturbs it: `∂q/∂δ_k = ½ e_k ⊗ q` (left)
+/// or `½ q ⊗ e_k` (right), `e_k` the pure quaternion of axis `k`, at
+/// coordinate `offset + k` ([`Manifold::seeded`] in closed form).
+#[inline(always)]
+pub(crate) fn seeded_quaternion<const N: usize>(
+    q: &Quaternion<f64>,
+    side: Perturbation,
+    offset: usize,
+) -> Quaternion<Dual<N>> {
+    let mut out = Quaternion::new(
+        Dual::constant(q.x),
+        Dual::constant(q.y),
+        Dual::constant(q.z),
+        Dual::constant(q.w),
+    );
+    for k in 0..3 {
+        let mut axis = Vector3::zeros();
+        axis[k] = 0.5;
+        let half = Quaternion::from_parts(axis, 0.0);
+        let d = match side {
+            Perturbation::Left => half.mul(q),
+            Perturbation::Right => q.mul(&half),
+        };
+        let column = offset + k;
+        out.x.eps[column] = d.x;
+        out.y.eps[column] = d.y;
+        out.z.eps[column] = d.z;
+        out.w.eps[column] = d.w;
+    }
+    out
+}
+
 /// The inverse of [`perturb_quaternion`] with [`Quaternion::exp`]: `δ` with
 /// `exp(δ) ⊗ q = p` (left) or `q ⊗ exp(δ) = p` (right), `|δ| < 2π`, by
 /// [`Quaternion::log`] on the whole sphere, so that perturbing `q` by it
@@ -310,6 +344,19 @@ impl<S: Scalar> Manifold<S> for So3<S> {
             side,
             Quaternion::exp_first_order,
         ))
+    }
+    /// In closed form ([`seeded_quaternion`]).
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let q = self.quaternion.map_scalars(&mut |s| s.into());
+        So3::from_quaternion(seeded_quaternion(&q, side, offset))
     }
     fn tangent_description(side: Perturbation) -> &'static str {
         match side {

@@ -1,16 +1,17 @@
 //! The typed `f64` API: `TANGENT_DIM`, `residual`, and the dual-number
-//! linearizations (one pass over all variables, or one pass per variable).
+//! linearization (one pass over the stacked tangent, each variable seeded
+//! through its chart).
 
 use proc_macro2::TokenStream;
-use quote::quote;
+use quote::{quote, quote_spanned};
+use syn::spanned::Spanned;
 
 use super::Context;
 
-/// `impl Foo<f64> { TANGENT_DIM, residual, linearize_dual, linearize_dual_per_block, linearize }`.
+/// `impl Foo<f64> { TANGENT_DIM, residual, linearize_dual, linearize }`.
 pub fn emit(cx: &Context) -> TokenStream {
     let krate = &cx.krate;
     let nalgebra = &cx.nalgebra;
-    let num_dual = &cx.num_dual;
     let ident = &cx.model.ident;
     let dim = &cx.dim;
     let linearization = cx.model.linearization_ident();
@@ -23,21 +24,28 @@ pub fn emit(cx: &Context) -> TokenStream {
     let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
     let block_dims: Vec<_> = cx.variables.iter().map(|v| cx.dim_f64(v)).collect();
     let offsets: Vec<_> = cx.variables.iter().map(|v| cx.offset_f64(v)).collect();
-    // The first pass's real part is the residual; the other passes repeat it.
-    let residual_block =
-        (0..blocks.len()).map(|k| if k == 0 { quote!(residual) } else { quote!(_) });
+    // The struct is lifted to constants through its `Storage` impl (so that a
+    // field type that is not stored is reported there, once), then each
+    // variable is seeded through its chart at its offset in the stacked
+    // tangent; the constant copies of the variables are dead stores.
+    let seeded = cx.variables.iter().map(|v| {
+        let (name, ty) = (v.ident, v.ty);
+        let (dim, offset, side) = (cx.dim_f64(v), cx.offset_f64(v), &v.side_tokens);
+        quote_spanned! {ty.span()=>
+            lifted.#name = #krate::Manifold::<f64>::seeded::<{ #dim }, __N>(&self.#name, #side, #offset);
+        }
+    });
     let dual_doc = format!(
-        "Residual and Jacobian blocks, exact to rounding, by one evaluation of \
-         [`{ident}::perturbed_residual`] on dual numbers carrying the derivative w.r.t. \
-         every tangent coordinate at once.\n\n\
-         [`linearize_dual_per_block`](Self::linearize_dual_per_block) gives the same result \
-         with one narrower pass per variable. Which strategy is faster depends on the \
-         factor and is measured by the benchmark; [`linearize`](Self::linearize) is the \
-         entry point that uses the chosen one.\n\n\
+        "Residual and Jacobian blocks, exact to rounding, by one evaluation of the residual \
+         on dual numbers ([`Dual`](::factor_core::dual::Dual)) carrying the derivative w.r.t. \
+         the whole stacked tangent ({}) at once, on the stack: each variable is seeded \
+         through its retraction ([`Manifold::seeded`](::factor_core::Manifold::seeded)), then \
+         the residual runs once.\n\n\
          # Errors\n\n\
          The validation's error, or \
          [`FactorError::NonFinite`](::factor_core::FactorError::NonFinite) naming the first \
-         non-finite output."
+         non-finite output.",
+        cx.variable_list()
     );
     let result = quote!(::core::result::Result);
     let error = quote!(#krate::FactorError);
@@ -89,11 +97,8 @@ pub fn emit(cx: &Context) -> TokenStream {
             #[doc = #dual_doc]
             pub fn linearize_dual(&self) -> #result<#linearization, #error> {
                 <Self as #krate::Factor>::validate(self)?;
-                const __N: usize = #tangent_dim;
-                let delta: [#num_dual::DualSVec64<__N>; __N] = ::core::array::from_fn(|i| {
-                    #num_dual::DualSVec64::<__N>::from_re(0.0).derivative(i)
-                });
-                let value = self.__factor_lift::<__N>().perturbed_residual(&delta);
+                type __Dual = #krate::dual::Dual<{ #tangent_dim }>;
+                let value = #ident::<__Dual>::__factor_residual(&self.__factor_seeded::<{ #tangent_dim }>());
                 let (residual, jacobian) = Self::__factor_dual_parts(&value);
                 #linearization {
                     residual,
@@ -106,46 +111,28 @@ pub fn emit(cx: &Context) -> TokenStream {
                 .ensure_finite()
             }
 
-            /// The same as [`linearize_dual`](Self::linearize_dual), with one evaluation per
-            /// variable on dual numbers as wide as that variable's tangent (the other
-            /// variables are not perturbed). Kept beside the single pass so the benchmark
-            /// can measure which is faster.
-            ///
-            /// # Errors
-            ///
-            /// As [`linearize_dual`](Self::linearize_dual).
-            pub fn linearize_dual_per_block(&self) -> #result<#linearization, #error> {
-                <Self as #krate::Factor>::validate(self)?;
-                const __N: usize = #tangent_dim;
-                #(
-                    let (#residual_block, #blocks) = {
-                        const __M: usize = #block_dims;
-                        let mut delta = [#num_dual::DualSVec64::<__M>::from_re(0.0); __N];
-                        for (i, d) in delta[#offsets..#offsets + __M].iter_mut().enumerate() {
-                            *d = d.derivative(i);
-                        }
-                        Self::__factor_dual_parts(&self.__factor_lift::<__M>().perturbed_residual(&delta))
-                    };
-                )*
-                #linearization { residual, #(#blocks,)* }.ensure_finite()
-            }
-
             #[doc = #linearize_doc]
             pub fn linearize(&self) -> #result<#linearization, #error> {
                 #linearize_body
             }
 
-            /// The factor over dual numbers with `M` derivative components, all zero.
-            fn __factor_lift<const M: usize>(&self) -> #ident<#num_dual::DualSVec64<M>> {
-                #krate::Storage::map_scalars(self, &mut #num_dual::DualSVec64::<M>::from_re)
+            /// The factor over dual numbers with `N` derivative components: its
+            /// constants with none, each variable seeded at its tangent's offset.
+            #[inline(always)]
+            fn __factor_seeded<const __N: usize>(&self) -> #ident<#krate::dual::Dual<__N>> {
+                let mut lifted: #ident<#krate::dual::Dual<__N>> =
+                    #krate::Storage::map_scalars(self, &mut #krate::dual::Dual::<__N>::constant);
+                #(#seeded)*
+                lifted
             }
 
             /// Real parts and derivative parts (rows: residual entries) of a dual residual.
-            fn __factor_dual_parts<const M: usize>(
-                value: &#nalgebra::SVector<#num_dual::DualSVec64<M>, #dim>,
-            ) -> (#nalgebra::SVector<f64, #dim>, #nalgebra::SMatrix<f64, #dim, M>) {
-                let jacobian = #nalgebra::SMatrix::<f64, #dim, M>::from_fn(|row, col| {
-                    value[row].eps.0.as_ref().map_or(0.0, |eps| eps[col])
+            #[inline(always)]
+            fn __factor_dual_parts<const __N: usize>(
+                value: &#nalgebra::SVector<#krate::dual::Dual<__N>, #dim>,
+            ) -> (#nalgebra::SVector<f64, #dim>, #nalgebra::SMatrix<f64, #dim, __N>) {
+                let jacobian = #nalgebra::SMatrix::<f64, #dim, __N>::from_fn(|row, col| {
+                    value[row].eps[col]
                 });
                 (value.map(|x| x.re), jacobian)
             }

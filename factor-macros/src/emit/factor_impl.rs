@@ -24,7 +24,15 @@ pub fn emit(cx: &Context) -> TokenStream {
     let infos = cx.variables.iter().map(|v| {
         let (ty, side) = (v.ty, &v.side_tokens);
         let field = v.ident.to_string();
-        let type_name = naming::type_text(ty);
+        // The scalar itself is named for what it is at the `f64` instance
+        // (a problem file's `"type": "f64"`), not for the parameter (`S`).
+        let is_scalar =
+            matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident(scalar));
+        let type_name = if is_scalar {
+            "f64".to_owned()
+        } else {
+            naming::type_text(ty)
+        };
         let tangent_dim = cx.dim_generic(v);
         let tangent =
             quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::tangent_description);
@@ -144,9 +152,9 @@ pub fn emit(cx: &Context) -> TokenStream {
     };
     let linearize_stored_into = match &cx.model.kernel {
         Some(_) => quote! {
-            let factor: Self = #krate::Storage::from_scalars(stored);
-            <Self as #krate::Factor>::validate(&factor)?;
-            Self::__factor_kernel(stored, residual, jacobians)
+            Self::__factor_kernel(stored, residual, jacobians, || {
+                <Self as #krate::Factor>::validate(&#krate::Storage::from_scalars(stored))
+            })
         },
         None => quote! {
             let factor: Self = #krate::Storage::from_scalars(stored);
@@ -228,9 +236,9 @@ pub fn emit(cx: &Context) -> TokenStream {
                 factor.perturbed_residual(delta).iter().copied().collect()
             }
 
-            fn residual_over<__T: #krate::Scalar>(stored: &[__T]) -> ::std::vec::Vec<__T> {
+            fn residual_over_into<__T: #krate::Scalar>(stored: &[__T], out: &mut [__T]) {
                 let factor: #ident<__T> = #krate::Storage::from_scalars(stored);
-                #ident::<__T>::__factor_residual(&factor).iter().copied().collect()
+                out.copy_from_slice(#ident::<__T>::__factor_residual(&factor).as_slice());
             }
 
             fn variables() -> ::std::vec::Vec<#krate::VariableInfo> {

@@ -64,6 +64,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         )
     };
     let kernels = cx.model.hosts.iter().map(|h| host_kernel(cx, h));
+    let tangent_dim = cx.tangent_dim_f64();
     quote! {
         #[automatically_derived]
         impl<__H: #host::Host> #host::HostFactor<__H> for #ident<f64>
@@ -100,6 +101,16 @@ pub fn emit(cx: &Context) -> TokenStream {
                     #(#indices => <#types as #host::HostMap<__H>>::host_from_stored(stored, host),)*
                     _ => #out_of_range,
                 }
+            }
+
+            fn linearize_host_dual_pass(
+                layout: &#host::HostLayout<__H::Manifold>,
+                template: &[f64],
+                parts: &[&[f64]],
+                residual: &mut [f64],
+                jacobian: ::core::option::Option<&mut [f64]>,
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                #host::dual_pass::<Self, __H, { #tangent_dim }>(layout, template, parts, residual, jacobian)
             }
         }
 
@@ -148,28 +159,32 @@ fn host_kernel(cx: &Context, h: &crate::attrs::HostAttr) -> TokenStream {
                 stored: &[f64],
                 parts: &[&[f64]],
                 residual: &mut [f64],
-                mut jacobian: ::core::option::Option<&mut [f64]>,
+                jacobian: ::core::option::Option<&mut [f64]>,
             ) -> bool {
-                let done = #entry(stored, parts, residual, jacobian.as_deref_mut());
-                // Debug builds: the kernel against dual numbers in the same
-                // chart on the first calls (`factor_core::kernel`, "A stale
-                // kernel never runs unnoticed").
-                #[cfg(debug_assertions)]
-                {
-                    static CHECKS: #krate::__private::FirstCalls =
-                        #krate::__private::FirstCalls::new();
-                    if done && CHECKS.take() {
-                        #krate::__private::assert_host_kernel_current::<Self, #host_type>(
-                            stored,
-                            parts,
-                            residual,
-                            jacobian.as_deref(),
-                            #text,
-                            #regenerate,
-                        );
-                    }
-                }
-                done
+                #entry(stored, parts, residual, jacobian)
+            }
+
+            // Debug builds: the kernel against dual numbers in the same chart
+            // on the first calls, and every later one once it was found stale
+            // (`factor_core::kernel`, "A stale kernel never runs unnoticed").
+            #[cfg(debug_assertions)]
+            fn check_host_kernel(
+                stored: &[f64],
+                parts: &[&[f64]],
+                residual: &[f64],
+                jacobian: ::core::option::Option<&[f64]>,
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                static WATCH: #krate::__private::KernelWatch = #krate::__private::KernelWatch::new();
+                WATCH.check(|| {
+                    #krate::__private::host_kernel_stale::<Self, #host_type>(
+                        stored,
+                        parts,
+                        residual,
+                        jacobian,
+                        #text,
+                        #regenerate,
+                    )
+                })
             }
         }
     }

@@ -10,7 +10,8 @@
 //! that says the kernel is stale and how to regenerate it. A change that
 //! keeps the layout (a sign in the residual) is caught in debug builds: the
 //! first linearizations of each factor type compare the kernel with dual
-//! numbers (`factor_core::kernel` documents why there). The module's
+//! numbers and report a stale one as `FactorError::StaleKernel`
+//! (`factor_core::kernel` documents why there). The module's
 //! marker type `Kernel` becomes the factor's `WithKernel::Kernel`, the entry
 //! of batch evaluators (crate `factor-batch`).
 
@@ -48,10 +49,11 @@ pub(super) fn regenerate_text(cx: &Context) -> String {
     }
 }
 
-/// The panic of a stale kernel, for the linearizations' documentation.
-const STALE_PANIC: &str = "on one of the first linearizations of this factor type, if the \
-    kernel disagrees with dual numbers through the current definition: it is stale (see \
-    `factor_core::kernel`).";
+/// The error of a stale kernel, for the linearizations' documentation.
+const STALE_ERROR: &str = "In a debug build, \
+    [`FactorError::StaleKernel`](::factor_core::FactorError::StaleKernel) when one of the first \
+    linearizations of this factor type found the kernel disagreeing with dual numbers through \
+    the current definition: it is stale (see `factor_core::kernel`).";
 
 /// `impl Foo<f64> { linearize_generated_into, linearize_generated }`,
 /// `impl WithKernel` naming the kernel module's marker type `Kernel`, and the
@@ -90,6 +92,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         .collect();
     let blocks: Vec<_> = cx.variables.iter().map(|v| v.ident).collect();
     let block_dims: Vec<_> = cx.variables.iter().map(|v| cx.dim_f64(v)).collect();
+    let block_indices: Vec<usize> = (0..blocks.len()).collect();
     let outputs: Vec<_> = (0..blocks.len())
         .map(|k| format_ident!("__d_{}", k))
         .collect();
@@ -123,9 +126,9 @@ pub fn emit(cx: &Context) -> TokenStream {
          # Errors\n\n\
          The validation's error, or \
          [`FactorError::NonFinite`](::factor_core::FactorError::NonFinite) naming the first \
-         non-finite output.\n\n\
+         non-finite output (the outputs then hold unspecified values). {STALE_ERROR}\n\n\
          # Panics\n\n\
-         If `residual`, `jacobians` or a block has the wrong length; in a debug build, {STALE_PANIC}"
+         If `residual`, `jacobians` or a block has the wrong length."
     );
     let doc = format!(
         "Residual and Jacobian blocks through the generated kernel \
@@ -133,9 +136,7 @@ pub fn emit(cx: &Context) -> TokenStream {
          common subexpressions shared, exact to rounding like \
          [`linearize_dual`](Self::linearize_dual).\n\n\
          # Errors\n\n\
-         As [`linearize_generated_into`](Self::linearize_generated_into).\n\n\
-         # Panics\n\n\
-         In a debug build, {STALE_PANIC}"
+         As [`linearize_generated_into`](Self::linearize_generated_into)."
     );
     quote! {
         #check
@@ -151,22 +152,39 @@ pub fn emit(cx: &Context) -> TokenStream {
                 residual: &mut [f64],
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) -> ::core::result::Result<(), #krate::FactorError> {
-                <Self as #krate::Factor>::validate(self)?;
                 let mut stored = [0.0_f64; <Self as #krate::Storage<f64>>::SCALARS];
                 #krate::Storage::write_scalars(self, &mut stored);
-                Self::__factor_kernel(&stored, residual, jacobians)
+                Self::__factor_kernel(&stored, residual, jacobians, || {
+                    <Self as #krate::Factor>::validate(self)
+                })
             }
 
-            /// The generated kernel on the factor stored as `stored` (no
-            /// validation), its outputs checked for non-finite values.
+            /// The generated kernel on the factor stored as `stored`, then
+            /// `validate`, then the check that every output is finite. The
+            /// kernel runs first (it never panics: on an invalid configuration
+            /// its outputs are discarded): the validation between its stores
+            /// and the check's loads of the same values keeps those loads from
+            /// waiting for the stores, which cost as much as the validation.
+            #[inline(always)]
             fn __factor_kernel(
                 stored: &[f64],
                 residual: &mut [f64],
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
+                validate: impl ::core::ops::FnOnce() -> ::core::result::Result<(), #krate::FactorError>,
             ) -> ::core::result::Result<(), #krate::FactorError> {
                 #[cfg(debug_assertions)]
-                Self::__factor_check_kernel(stored);
+                Self::__factor_check_kernel(stored)?;
                 Self::__factor_kernel_slices(stored, residual, jacobians);
+                validate()?;
+                // One branch-free test of every output at its known length;
+                // the search for the culprit runs only when one is not finite.
+                let finite = #krate::__private::all_finite_of::<#rows>(residual)
+                    #(& jacobians[#block_indices]
+                        .as_deref()
+                        .is_none_or(#krate::__private::all_finite_of::<{ #rows * #block_dims }>))*;
+                if finite {
+                    return ::core::result::Result::Ok(());
+                }
                 match #krate::first_non_finite(residual, jacobians) {
                     ::core::option::Option::None => ::core::result::Result::Ok(()),
                     ::core::option::Option::Some(at) => ::core::result::Result::Err(
@@ -216,35 +234,38 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
 
             /// Debug builds: the kernel against dual numbers through the current
-            /// definition, on the first linearizations of this factor type
-            /// (`factor_core::kernel`, "A stale kernel never runs unnoticed").
+            /// definition, on the first linearizations of this factor type, and
+            /// every later one once it was found stale (`factor_core::kernel`,
+            /// "A stale kernel never runs unnoticed").
             #[cfg(debug_assertions)]
-            fn __factor_check_kernel(stored: &[f64]) {
-                static CHECKS: #krate::__private::FirstCalls = #krate::__private::FirstCalls::new();
-                if !CHECKS.take() {
-                    return;
-                }
-                let factor: Self = #krate::Storage::from_scalars(stored);
-                if let ::core::result::Result::Ok(dual) = factor.linearize_dual() {
-                    #krate::__private::assert_kernel_current::<Self>(
+            fn __factor_check_kernel(
+                stored: &[f64],
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                static WATCH: #krate::__private::KernelWatch = #krate::__private::KernelWatch::new();
+                WATCH.check(|| {
+                    let factor: Self = #krate::Storage::from_scalars(stored);
+                    let dual = factor.linearize_dual().ok()?;
+                    #krate::__private::kernel_stale::<Self>(
                         &Self::__factor_kernel_all(stored).to_dyn(),
                         &dual.to_dyn(),
                         #kernel_text,
                         #regenerate,
-                    );
-                }
+                    )
+                })
             }
 
             #[doc = #doc]
             pub fn linearize_generated(
                 &self,
             ) -> ::core::result::Result<#linearization, #krate::FactorError> {
-                <Self as #krate::Factor>::validate(self)?;
                 let mut stored = [0.0_f64; <Self as #krate::Storage<f64>>::SCALARS];
                 #krate::Storage::write_scalars(self, &mut stored);
                 #[cfg(debug_assertions)]
-                Self::__factor_check_kernel(&stored);
-                Self::__factor_kernel_all(&stored).ensure_finite()
+                Self::__factor_check_kernel(&stored)?;
+                // The kernel first, as in `__factor_kernel`.
+                let linearization = Self::__factor_kernel_all(&stored);
+                <Self as #krate::Factor>::validate(self)?;
+                linearization.ensure_finite()
             }
         }
     }

@@ -68,7 +68,15 @@ pub fn emit(cx: &Context) -> TokenStream {
             /// Fails with [`FactorError::NonFinite`](::factor_core::FactorError::NonFinite)
             /// naming the first non-finite output (the residual, then the blocks in
             /// declaration order).
+            #[inline]
             pub fn ensure_finite(self) -> ::core::result::Result<Self, #krate::FactorError> {
+                // One branch-free test of everything first: the search for the
+                // culprit below runs only when something is not finite.
+                if #krate::all_finite(self.residual.as_slice())
+                    #(& #krate::all_finite(self.#blocks.as_slice()))*
+                {
+                    return ::core::result::Result::Ok(self);
+                }
                 let factor = <#ident<f64> as #krate::Factor>::NAME;
                 if !self.residual.iter().all(|x| x.is_finite()) {
                     return ::core::result::Result::Err(#krate::FactorError::NonFinite {

@@ -29,8 +29,6 @@ struct Context<'a> {
     krate: TokenStream,
     /// `::factor_core::__private::nalgebra`.
     nalgebra: TokenStream,
-    /// `::factor_core::__private::num_dual`.
-    num_dual: TokenStream,
     /// The struct's generics with `Scalar` added to the scalar's bounds.
     generics: Generics,
     /// The residual dimension as an unsuffixed literal at the `dim` span.
@@ -49,7 +47,6 @@ pub fn expand(model: &FactorModel) -> TokenStream {
     let cx = Context {
         model,
         nalgebra: quote!(#krate::__private::nalgebra),
-        num_dual: quote!(#krate::__private::num_dual),
         variables: layout::variables(model, &krate),
         krate,
         generics,

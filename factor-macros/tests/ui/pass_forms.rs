@@ -62,7 +62,7 @@ fn main() {
     let prior = Prior {
         x: Vector2::new(1.0, 2.0),
     };
-    let linearization: PriorLinearization = prior.linearize_dual_per_block().unwrap();
+    let linearization: PriorLinearization = prior.linearize_dual().unwrap();
     assert_eq!(linearization.x, nalgebra::Matrix2::identity());
     assert_eq!(<Prior as Factor>::NAME, "prior");
 }

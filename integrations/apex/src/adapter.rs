@@ -30,7 +30,8 @@ use apex_solver::core::variable::ManifoldVariable;
 use factor_core::FactorError;
 use factor_core::host::{
     Apex, ApexManifold, HostFactor, HostKernel, HostLayout, HostManifold, MAX_STORED,
-    MAX_VARIABLE_PARAMETERS, linearize_host, linearize_host_dual, linearize_host_validated,
+    MAX_VARIABLE_PARAMETERS, host_parameters, linearize_host, linearize_host_dual,
+    linearize_host_validated,
 };
 use faer::prelude::ReborrowMut;
 use smallvec::SmallVec;
@@ -190,6 +191,30 @@ impl<F: HostFactor<Apex> + 'static> ApexFactor<F> {
     pub fn dual(factor: &F) -> Result<Self, AdapterError> {
         let dual = linearize_host_dual::<F, Apex>;
         Self::with(factor, dual, dual, Kernels::Dual)
+    }
+
+    /// Linearizes the factor as the solver will, at its own values (`factor`,
+    /// the one it was built from): its validation there, and in a debug
+    /// build the check that its generated kernel is current
+    /// ([`factor_core::kernel`]), before a solve depends on either.
+    ///
+    /// # Errors
+    ///
+    /// The linearization's: the validation's error,
+    /// [`FactorError::NonFinite`], or [`FactorError::StaleKernel`].
+    pub fn linearize_at(&self, factor: &F) -> Result<(), FactorError> {
+        let layout = &self.plan.layout;
+        let parts = host_parameters::<F, Apex>(layout, factor);
+        let parts: Vec<&[f64]> = parts.iter().map(Vec::as_slice).collect();
+        let mut residual = vec![0.0; layout.residual];
+        let mut jacobian = vec![0.0; layout.residual * layout.columns()];
+        (self.evaluate)(
+            layout,
+            &self.stored,
+            &parts,
+            &mut residual,
+            Some(&mut jacobian),
+        )
     }
 
     /// Counts rejected evaluations in `rejections`.

@@ -340,7 +340,10 @@ impl ProblemBuilder {
     /// [`BuildError::Data`] when `variables` are not the factor's (count or
     /// types) or the noise model does not fit its residual;
     /// [`BuildError::Degenerate`] when the factor is degenerate at the
-    /// initial values; the adapter's and apex's refusals.
+    /// initial values (or its outputs are not finite there);
+    /// [`BuildError::StaleKernel`], in a debug build, when its generated
+    /// kernel no longer matches its definition; the adapter's and apex's
+    /// refusals.
     pub fn add_factor<F: HostKernel<Apex> + 'static>(
         &mut self,
         factor: &F,
@@ -401,9 +404,12 @@ impl ProblemBuilder {
                 )));
             }
         }
-        factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!("{} at the initial values", F::NAME),
-            error,
+        served.linearize_at(factor).map_err(|error| {
+            let which = format!("{} at the initial values", F::NAME);
+            match error {
+                FactorError::StaleKernel { .. } => BuildError::StaleKernel { which, error },
+                error => BuildError::Degenerate { which, error },
+            }
         })?;
         let noise = noise
             .model(F::RESIDUAL_DIM)

@@ -50,6 +50,7 @@ pub use adapter::{ApexFactor, Kernels, Rejections};
 /// mapping onto apex's manifolds is refused at compile time: the factor is
 /// then not a `HostFactor<Apex>`.)
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum AdapterError {
     /// The factor is larger than the adapter's stack buffers.
     #[error(

@@ -62,7 +62,9 @@ impl SolveOptions {
     }
 }
 
-/// One iteration (a step tried, accepted or rejected), as it ends.
+/// One iteration (a step tried, accepted or rejected), as it ends: what
+/// [`solve`]'s callback receives, and what [`Outcome::history`] holds, one
+/// per iteration, in order. `{:?}` prints every field.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Iteration {
     /// 0 for the first step.
@@ -89,9 +91,20 @@ pub struct Iteration {
     pub elapsed: Duration,
 }
 
-/// What a solve ended with.
+/// What a solve ended with: [`solve`]'s result.
+///
+/// Read a variable back with [`Outcome::value`], the verdict with
+/// [`Outcome::verdict`]; `{:?}` prints every field but the values (their
+/// count instead: apex's variables are trait objects).
+///
+/// ```text
+/// Outcome { status: CostToleranceReached, initial_cost: 2.5, final_cost: 1.2e-31,
+///           iterations: 2, elapsed: 151µs, values: 1 variable(s), history: [Iteration { … }, …],
+///           options: SolveOptions { … } }
+/// ```
 pub struct Outcome {
-    /// apex-solver's status.
+    /// apex-solver's status: why it stopped ([`Outcome::verdict`] says it
+    /// in words).
     pub status: OptimizationStatus,
     /// The cost at the initial values.
     pub initial_cost: f64,
@@ -107,6 +120,21 @@ pub struct Outcome {
     pub history: Vec<Iteration>,
     /// The options it ran with (the tolerances its verdict names).
     pub options: SolveOptions,
+}
+
+impl std::fmt::Debug for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Outcome")
+            .field("status", &self.status)
+            .field("initial_cost", &self.initial_cost)
+            .field("final_cost", &self.final_cost)
+            .field("iterations", &self.iterations)
+            .field("elapsed", &self.elapsed)
+            .field("values", &format_args!("{} variable(s)", self.values.len()))
+            .field("history", &self.history)
+            .field("options", &self.options)
+            .finish()
+    }
 }
 
 /// How a solve ended, for a command line.
@@ -249,6 +277,55 @@ pub enum Damping {
 
 /// Solves `built` with Levenberg–Marquardt, calling `on_iteration` as each
 /// iteration ends, damped as `built.damping` says.
+///
+/// `on_iteration` is handed to apex-solver's observer, which keeps it for
+/// the whole solve and may run it on another thread: it is `Send + 'static`,
+/// so it cannot borrow the caller's variables. Move what it needs into it
+/// (`move |iteration| …`): a counter, a channel's sender, or an
+/// `Arc<Mutex<Vec<Iteration>>>` to collect into, as below. Every iteration
+/// is also in [`Outcome::history`] when the solve returns; `|_| {}` reports
+/// nothing.
+///
+/// ```
+/// use std::sync::{Arc, Mutex};
+///
+/// use factor_apex::builder::{Noise, ProblemBuilder};
+/// use factor_apex::solve::{Iteration, SolveOptions, Verdict, solve};
+/// use factor_core::nalgebra::Vector2;
+/// use factor_core::{Factor, Scalar};
+///
+/// /// `x − target`: pulls a point onto a target.
+/// #[derive(Clone, Debug, Factor)]
+/// #[factor(residual = pull, dim = 2)]
+/// pub struct Pull<S: Scalar = f64> {
+///     pub target: Vector2<S>,
+///     #[variable]
+///     pub x: Vector2<S>,
+/// }
+///
+/// pub fn pull<S: Scalar>(f: &Pull<S>) -> Vector2<S> {
+///     f.x - f.target
+/// }
+///
+/// let factor = Pull { target: Vector2::new(1.0, 2.0), x: Vector2::zeros() };
+/// let mut problem = ProblemBuilder::new();
+/// let x = problem.add_variable(&factor.x);
+/// problem.add_factor_dual(&factor, &[x.erase()], &Noise::Sigma(0.1), None)?;
+/// let mut built = problem.build()?;
+///
+/// // The callback owns its handle on the list; this scope keeps the other.
+/// let seen: Arc<Mutex<Vec<Iteration>>> = Arc::default();
+/// let sink = Arc::clone(&seen);
+/// let outcome = solve(&mut built, &SolveOptions::default(), move |iteration| {
+///     sink.lock().unwrap().push(iteration.clone());
+/// })?;
+/// println!("{outcome:?}");
+/// assert_eq!(*seen.lock().unwrap(), outcome.history);
+/// assert!(matches!(outcome.verdict(), Verdict::Converged(_)));
+/// let solved: Vector2<f64> = outcome.value(&x);
+/// assert!((solved - factor.target).norm() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 ///
 /// # Errors
 ///

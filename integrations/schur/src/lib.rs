@@ -57,6 +57,7 @@ pub use problem::{Problem, VariableId};
 
 /// A problem this solver cannot take.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SchurError {
     /// A factor given the wrong number of variables.
     #[error("{factor}: {given} variables given, the factor has {expected}")]

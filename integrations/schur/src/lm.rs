@@ -92,6 +92,7 @@ pub struct Outcome {
 
 /// The solve could not start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SolveError {
     /// The problem is not in the shape this solver takes.
     #[error(transparent)]

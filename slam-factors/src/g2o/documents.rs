@@ -27,8 +27,8 @@
 //!   plane at the given values, `Jᵀ⁻¹ Ω J⁻¹` ([`plane_observation`]), a
 //!   noise model linearised once.
 
+use factor_core::dual::Dual;
 use nalgebra::{Matrix3, Matrix4, Unit, Vector3, Vector4, Vector6};
-use num_dual::DualSVec64;
 
 use crate::line_observation::LineObservation;
 use crate::plane::{PlaneFactor, plane_residual};
@@ -96,25 +96,17 @@ pub fn line_observation(
 /// [azimuth, elevation, distance]`: the normal of azimuth `v₀` and
 /// elevation `v₁` in the frame `R(n) = Rz(azimuth n) Ry(−elevation n)`,
 /// and g2o's distance `−d` moved by `v₂`.
-fn plane_oplus<const N: usize>(
-    plane: &Vector4<f64>,
-    v: &Vector3<DualSVec64<N>>,
-) -> Vector4<DualSVec64<N>> {
+fn plane_oplus<const N: usize>(plane: &Vector4<f64>, v: &Vector3<Dual<N>>) -> Vector4<Dual<N>> {
     let n = plane.xyz();
     let (azimuth, elevation) = (n.y.atan2(n.x), n.z.atan2(n.xy().norm()));
     let frame = So3::exp(&(Vector3::z() * azimuth))
         .compose(&So3::exp(&(Vector3::y() * -elevation)))
         .matrix()
-        .map(DualSVec64::from_re);
+        .map(Dual::constant);
     let (a, e) = (v.x, v.y);
     let local = Vector3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin());
     let normal = frame * local;
-    Vector4::new(
-        normal.x,
-        normal.y,
-        normal.z,
-        DualSVec64::from_re(plane.w) - v.z,
-    )
+    Vector4::new(normal.x, normal.y, normal.z, Dual::constant(plane.w) - v.z)
 }
 
 /// A g2o plane edge as a [`PlaneFactor`] at the robot pose `pose` (`X`,
@@ -142,18 +134,18 @@ pub fn plane_observation(
     };
     factor.validate()?;
     // The residual as a function of g2o's chart of the measurement.
-    type D3 = DualSVec64<3>;
-    let seeded = Vector3::from_fn(|i, _| D3::from_re(0.0).derivative(i));
+    type D3 = Dual<3>;
+    let seeded = Vector3::from_fn(|i, _| D3::variable(0.0, i));
     let moved = plane_oplus(&measured_s, &seeded);
-    let to_sensor = body_to_sensor.map_scalars(&mut |x| D3::from_re(x));
+    let to_sensor = body_to_sensor.map_scalars(&mut D3::constant);
     let pi_b = transpose_transform(&to_sensor, &moved);
     let dual = PlaneFactor {
         measured: Unit::new_unchecked(normalized(&pi_b)),
-        pose: factor.pose.map_scalars(&mut |x| D3::from_re(x)),
-        plane: factor.plane.map_scalars(&mut |x| D3::from_re(x)),
+        pose: factor.pose.map_scalars(&mut D3::constant),
+        plane: factor.plane.map_scalars(&mut D3::constant),
     };
     let r = plane_residual(&dual);
-    let j = Matrix3::from_fn(|i, k| r[i].eps.unwrap_generic(nalgebra::U3, nalgebra::U1)[k]);
+    let j = Matrix3::from_fn(|i, k| r[i].eps[k]);
     let inverse = j.try_inverse().ok_or_else(|| {
         crate::degenerate(
             PlaneFactor::NAME,

@@ -1,4 +1,4 @@
-//! `user-cli`: the command line of `user-factors`' five factors, from
+//! `user-cli`: the command line of `user-factors`' six factors, from
 //! slamjac's command-line library (`slamjac::cli`): `list`, `eval`,
 //! `generate` and `check` of their kernels in `user-kernels`, and with the
 //! feature `solve`, `solve` of problem files whose factors are these.
@@ -18,13 +18,15 @@
 //! The two factors over the crate's own manifolds, `direction` (S²) and
 //! `relative_sim3` (Sim(3)), also get kernels in apex-solver's chart
 //! (`hosts(apex)`, through `user_factors::apex_chart`) and are solved
-//! through them; the three over slamjac's types are solved through dual
+//! through them; the four over slamjac's types are solved through dual
 //! numbers in that chart.
 
 use std::process::ExitCode;
 
 use slamjac::cli::{Apex, HostSpec, KernelCrate, KernelSpec, Provenance, Registry};
-use user_factors::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
+use user_factors::{
+    Direction, InverseDepthProjection, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing,
+};
 
 /// The crate `generate` writes and `check` compares.
 const KERNELS: KernelCrate = KernelCrate {
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
         .solve_with_dual::<RelativePose>()
         .solve_with_dual::<PointToPlane>()
         .solve_with_dual::<ScaledRangeBearing>()
+        .solve_with_dual::<InverseDepthProjection>()
         // `RelativePose` and `Direction` also get the fused normal-equation
         // kernel (`JᵀwJ`, `Jᵀwr`) the batch evaluators of `factor-batch` use.
         .with_spec(
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
         )
         .with_spec(KernelSpec::of::<PointToPlane>().with_ceres())
         .with_spec(KernelSpec::of::<ScaledRangeBearing>().with_ceres())
+        .with_spec(KernelSpec::of::<InverseDepthProjection>().with_ceres())
         .with_spec(
             KernelSpec::of::<Direction>()
                 .with_normal_equations()

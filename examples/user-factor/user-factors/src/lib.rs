@@ -35,10 +35,12 @@
 //! ```
 
 pub mod apex_chart;
+pub mod inverse_depth;
 pub mod manifold_factors;
 pub mod sim3;
 pub mod unit_vector;
 
+pub use inverse_depth::InverseDepthProjection;
 pub use manifold_factors::{Direction, RelativeSim3};
 
 use factor_core::lie::Se3;

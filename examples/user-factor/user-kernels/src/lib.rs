@@ -21,17 +21,20 @@
 //!
 //! | kernel | factor | operations | residual only | normal equations |
 //! | --- | --- | --- | --- | --- |
-//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1135 | 248 | 1794 |
+//! | [`relative_pose`](relative_pose::relative_pose) | `user_factors::RelativePose` | 1130 | 243 | 1787 |
 //! | [`point_to_plane`](point_to_plane::point_to_plane) | `user_factors::PointToPlane` | 64 | 55 | — |
 //! | [`scaled_range_bearing`](scaled_range_bearing::scaled_range_bearing) | `user_factors::ScaledRangeBearing` | 92 | 62 | — |
-//! | [`direction`](direction::direction) | `user_factors::manifold_factors::Direction` | 155 | 67 | 229 |
-//! | [`relative_sim3`](relative_sim3::relative_sim3) | `user_factors::manifold_factors::RelativeSim3` | 2326 | 566 | — |
+//! | [`inverse_depth_projection`](inverse_depth_projection::inverse_depth_projection) | `user_factors::inverse_depth::InverseDepthProjection` | 898 | 173 | — |
+//! | [`direction`](direction::direction) | `user_factors::manifold_factors::Direction` | 157 | 67 | 231 |
+//! | [`relative_sim3`](relative_sim3::relative_sim3) | `user_factors::manifold_factors::RelativeSim3` | 2332 | 562 | — |
 
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 #[rustfmt::skip]
 pub mod direction;
+#[rustfmt::skip]
+pub mod inverse_depth_projection;
 #[rustfmt::skip]
 pub mod point_to_plane;
 #[rustfmt::skip]

@@ -17,7 +17,7 @@
 //!
 //! - `residual: [T; 3]`
 //! - `d_pose: [T; 18]`: `∂r/∂δ` w.r.t. `pose` (`Se3<S>`), 3 × 6 row-major (residual rows × tangent columns); tangent: left: T ← Exp(δξ) T, columns δξ = [δω_x, δω_y, δω_z, δρ_x, δρ_y, δρ_z]
-//! - `d_log_scale: [T; 3]`: `∂r/∂δ` w.r.t. `log_scale` (`S`), 3 × 1 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ
+//! - `d_log_scale: [T; 3]`: `∂r/∂δ` w.r.t. `log_scale` (`f64`), 3 × 1 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ
 //!
 //! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!
@@ -94,10 +94,10 @@ pub fn scaled_range_bearing<T: Real>(
     let v38 = v3 + v4;
     let v39 = v37 - v38;
     let v40 = landmark[2] * v39;
-    let v41 = v27 + v28;
-    let v42 = v11 * v41;
-    let v43 = v13 - v14;
-    let v44 = v25 * v43;
+    let v41 = v13 - v14;
+    let v42 = v25 * v41;
+    let v43 = v27 + v28;
+    let v44 = v11 * v43;
     let v45 = v42 + v44;
     let v46 = pose[6] - v40;
     let v47 = v45 + v46;

@@ -134,6 +134,7 @@ pub struct BuildOptions {
 
 /// Why a problem cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BuildError {
     /// A block is degenerate at the initial values.
     #[error("{which}: {error}")]
@@ -141,6 +142,15 @@ pub enum BuildError {
         /// The observation or edge, in words.
         which: String,
         /// The factor's error.
+        error: FactorError,
+    },
+    /// A block's generated kernel is stale: a debug build compared it with
+    /// dual numbers at the initial values ([`factor_core::kernel`]).
+    #[error("{which}: {error}")]
+    StaleKernel {
+        /// The factor, in words.
+        which: String,
+        /// [`FactorError::StaleKernel`].
         error: FactorError,
     },
     /// The data cannot make a problem (an information matrix that is not

@@ -19,6 +19,7 @@ use crate::problem::{Problem, VariableId};
 
 /// Why a problem cannot be built for this solver.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BuildError {
     /// A factor is degenerate at the initial values.
     #[error("{which}: {error}")]
