@@ -29,9 +29,8 @@ pub(super) fn run(
     };
     let mut built = built.map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
-        BuildError::Degenerate { .. } | BuildError::Solver(_) | BuildError::Adapter(_) => {
-            CliError::Solve(at(&args.file, e))
-        }
+        // Degenerate geometry, the solver's or the adapter's refusal.
+        _ => CliError::Solve(at(&args.file, e)),
     })?;
     let before = problems::reprojection_errors(data);
     let setup = report::Setup {

@@ -26,7 +26,8 @@ pub(super) fn run(
 ) -> Result<String, CliError> {
     let mut built = factor_schur::problems::build(data, args.robust).map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
-        BuildError::Degenerate { .. } | BuildError::Shape(_) => CliError::Solve(at(&args.file, e)),
+        // Degenerate geometry, the solver's or the adapter's refusal.
+        _ => CliError::Solve(at(&args.file, e)),
     })?;
     let before = problems::reprojection_errors(data);
     let blocks = built.blocks;
