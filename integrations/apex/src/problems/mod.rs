@@ -340,7 +340,7 @@ impl KeptBlock {
         let mut residual = vec![0.0; rows];
         let mut jacobian = vec![0.0; rows * columns];
         self.factor.linearize(
-            &params,
+            params,
             &mut residual,
             Some(faer::MatMut::from_column_major_slice_mut(
                 &mut jacobian,
