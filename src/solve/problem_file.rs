@@ -109,7 +109,7 @@ fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputEr
 /// # Errors
 ///
 /// [`CliError::Input`] naming the field at fault (exit 2; the checks of
-/// [`checks`], shared with `track`), nothing to solve (every variable
+/// `problem_checks`, shared with `track`), nothing to solve (every variable
 /// fixed, or no factor: [`CliError::Usage`], exit 2), a factor
 /// degenerate at the initial values (exit 1), apex's refusal.
 pub fn read(

@@ -52,7 +52,7 @@ pub struct Truth {
 }
 
 impl Truth {
-    /// The truth of `data`, read from `file`'s truth ([`file`]) when
+    /// The truth of `data`, read from `file`'s truth ([`file()`]) when
     /// `data` is a g2o line and plane graph and it has one.
     ///
     /// # Errors

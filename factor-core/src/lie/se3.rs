@@ -349,7 +349,7 @@ impl<S: Scalar> Manifold<S> for Se3<S> {
         };
         Self::new(So3::from_quaternion(q), t)
     }
-    /// In closed form ([`seeded_se3`]).
+    /// In closed form (`seeded_se3`).
     #[inline(always)]
     fn seeded<const D: usize, const N: usize>(
         &self,

@@ -345,7 +345,7 @@ impl<S: Scalar> Manifold<S> for So3<S> {
             Quaternion::exp_first_order,
         ))
     }
-    /// In closed form ([`seeded_quaternion`]).
+    /// In closed form (`seeded_quaternion`).
     #[inline(always)]
     fn seeded<const D: usize, const N: usize>(
         &self,

@@ -177,7 +177,7 @@ fn pose(value: &Value, path: &str) -> Result<Se3<f64>, InputError> {
 ///
 /// # Errors
 ///
-/// As `solve` for the same file ([`checks`]: exit 2 naming the field at
+/// As `solve` for the same file (`problem_checks`: exit 2 naming the field at
 /// fault, values checked by their types); and, for `track` (exit 2): a
 /// factor that is not one pose against one landmark, a robust loss, no
 /// truth for a pose (or, with [`MapSource::Truth`], for a landmark).
