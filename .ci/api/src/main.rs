@@ -130,8 +130,11 @@ impl<'a> Api<'a> {
         for implementation in children("/impls") {
             self.implementation(&implementation, path, depth);
         }
+        // The impls, listed by id (a trait's implementors too): each impl
+        // has its own line under the implementing type.
         if let Some(map) = signature.as_object_mut() {
             map.remove("impls");
+            map.remove("implementations");
         }
         // Attributes that are API (`#[non_exhaustive]`, `#[repr(…)]`,
         // `#[must_use]`); others (`#[error("…")]`, a message) are not.
