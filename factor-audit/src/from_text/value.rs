@@ -461,27 +461,19 @@ impl<S: Scalar> Value<S> {
                 let w = self.vector3("^∧")?;
                 Ok(Value::Matrix(dynamic(&factor_core::lie::so3::hat(&w))))
             }
-            Some((6, 1)) => {
-                let v = self.vector(6, "^∧")?;
+            // se(3), `[ω, ρ]`: `[ω^, ρ; 0, 0]`; sim(3), `[ω, ρ, σ]`:
+            // `[ω^ + σ I, ρ; 0, 0]`.
+            Some((n @ (6 | 7), 1)) => {
+                let v = self.vector(n, "^∧")?;
                 let mut m = DMatrix::zeros(4, 4);
                 let w = Vector3::new(v[0], v[1], v[2]);
                 m.view_mut((0, 0), (3, 3))
                     .copy_from(&factor_core::lie::so3::hat(&w));
                 for i in 0..3 {
                     m[(i, 3)] = v[3 + i];
-                }
-                Ok(Value::Matrix(m))
-            }
-            // sim(3), `[ω, ρ, σ]`: `[ω^ + σ I, ρ; 0, 0]`.
-            Some((7, 1)) => {
-                let v = self.vector(7, "^∧")?;
-                let mut m = DMatrix::zeros(4, 4);
-                let w = Vector3::new(v[0], v[1], v[2]);
-                m.view_mut((0, 0), (3, 3))
-                    .copy_from(&factor_core::lie::so3::hat(&w));
-                for i in 0..3 {
-                    m[(i, i)] = v[6];
-                    m[(i, 3)] = v[3 + i];
+                    if n == 7 {
+                        m[(i, i)] = v[6];
+                    }
                 }
                 Ok(Value::Matrix(m))
             }
