@@ -10,7 +10,10 @@ use std::collections::HashMap;
 use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_value_of};
 use factor_apex::problems::{BuildError, Robust};
 use factor_core::FieldInfo;
+use factor_core::dual::Dual;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
+use factor_core::manifold::ChartMap;
+use nalgebra::DMatrix;
 
 use crate::decode::decode;
 use crate::error::CliError;
@@ -20,6 +23,10 @@ use crate::observability::tangent_columns;
 /// Reads a variable's stored scalars back from a solution.
 pub(crate) type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
 
+/// A variable's own tangent in its host coordinates at given host
+/// parameters ([`own_tangent_in_host`]).
+pub(crate) type InHost = fn(usize, &[f64]) -> DMatrix<f64>;
+
 /// A problem variable once a factor has created it.
 pub(crate) struct Created {
     pub(crate) variable: AnyVariable,
@@ -28,9 +35,13 @@ pub(crate) struct Created {
     pub(crate) field: FieldInfo,
     pub(crate) index: usize,
     pub(crate) read_back: ReadBack,
-    /// Its tangent coordinates in apex-solver's chart, named (the
-    /// observability check's columns).
+    /// The observability check's columns, named: its tangent coordinates
+    /// in apex-solver's chart, or its own tangent's where apex holds it in
+    /// more coordinates than its dimension (a direction on S² as `Rn(3)`).
     pub(crate) columns: Vec<String>,
+    /// Its own tangent in apex's coordinates, where those are more than its
+    /// dimension ([`own_tangent_in_host`] for its factor type).
+    pub(crate) in_host: Option<InHost>,
 }
 
 /// What a factor entry needs while it is added.
@@ -83,20 +94,29 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
                 .cloned()
                 .expect("every variable is a field");
             let parts = F::host_parts(index);
-            let columns = parts
-                .iter()
-                .flat_map(|part| {
-                    let columns =
-                        tangent_columns(part.manifold.tangent_description(), part.manifold.dof());
-                    columns.into_iter().map(move |c| {
-                        if part.name.is_empty() {
-                            c
-                        } else {
-                            format!("{}.{c}", part.name)
-                        }
+            let own = &F::variables()[index];
+            let host_dof: usize = parts.iter().map(|p| p.manifold.dof()).sum();
+            let reduced = host_dof > own.tangent_dim;
+            let columns = if reduced {
+                tangent_columns(own.tangent, own.tangent_dim)
+            } else {
+                parts
+                    .iter()
+                    .flat_map(|part| {
+                        let columns = tangent_columns(
+                            part.manifold.tangent_description(),
+                            part.manifold.dof(),
+                        );
+                        columns.into_iter().map(move |c| {
+                            if part.name.is_empty() {
+                                c
+                            } else {
+                                format!("{}.{c}", part.name)
+                            }
+                        })
                     })
-                })
-                .collect();
+                    .collect()
+            };
             assembly.created.insert(
                 name.clone(),
                 Created {
@@ -105,11 +125,96 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
                     index,
                     read_back: stored_value_of::<F>,
                     columns,
+                    in_host: reduced.then_some(own_tangent_in_host::<F> as InHost),
                 },
             );
             variable
         })
         .collect()
+}
+
+/// Variable `variable` of `F`'s own tangent in apex's coordinates at the
+/// host parameters `host` (its parts' end to end): the matrix `B` (apex's
+/// tangent × its own) that moves the variable as its own retraction does,
+/// `C B = A`, with `C = ∂ stored / ∂ δ_apex` (apex's first-order retraction
+/// of each part, then [`HostMap::stored_from_host`](factor_core::host::HostMap::stored_from_host))
+/// and `A = ∂ stored / ∂ δ_own` (its own first-order retraction), both by
+/// dual numbers. A block's whitened Jacobian in apex's coordinates times
+/// `B` is the block over the variable's own tangent: the directions apex
+/// holds beyond it (the radius of a direction served as `Rn(3)` and
+/// normalised) move no residual by construction and are no deficiency.
+/// `B = C⁺ A`: where apex's coordinates could not make a move of its own
+/// (`C B ≠ A`, a host map that loses a direction), the nearest move they
+/// make.
+fn own_tangent_in_host<F: HostFactor<Apex>>(variable: usize, host: &[f64]) -> DMatrix<f64> {
+    type D = Dual<1>;
+    let parts = F::host_parts(variable);
+    let own = F::variables()[variable].tangent_dim;
+    let stored_len = F::fields()
+        .iter()
+        .find(|f| f.variable == Some(variable))
+        .map_or(0, |f| f.scalars);
+    let host_dof: usize = parts.iter().map(|p| p.manifold.dof()).sum();
+    let lifted: Vec<D> = host.iter().map(|x| D::constant(*x)).collect();
+    // Column `c` of C: every part retracted with the seed on column `c`.
+    let mut c_matrix = DMatrix::zeros(stored_len, host_dof);
+    let mut moved = vec![D::constant(0.0); host.len()];
+    let mut stored = vec![D::constant(0.0); stored_len];
+    for c in 0..host_dof {
+        let (mut first_parameter, mut first_column) = (0, 0);
+        for part in parts {
+            let (n, dof) = (part.manifold.parameters(), part.manifold.dof());
+            let delta: Vec<D> = (first_column..first_column + dof)
+                .map(|k| {
+                    if k == c {
+                        D::variable(0.0, 0)
+                    } else {
+                        D::constant(0.0)
+                    }
+                })
+                .collect();
+            let range = first_parameter..first_parameter + n;
+            part.manifold
+                .retract_first_order(&lifted[range.clone()], &delta, &mut moved[range]);
+            first_parameter += n;
+            first_column += dof;
+        }
+        F::stored_from_host(variable, &moved, &mut stored);
+        for (r, s) in stored.iter().enumerate() {
+            c_matrix[(r, c)] = s.eps[0];
+        }
+    }
+    let mut point = vec![0.0; stored_len];
+    F::stored_from_host(variable, host, &mut point);
+    let point: Vec<D> = point.iter().map(|x| D::constant(*x)).collect();
+    let mut a_matrix = DMatrix::zeros(stored_len, own);
+    for c in 0..own {
+        let delta: Vec<D> = (0..own)
+            .map(|k| {
+                if k == c {
+                    D::variable(0.0, 0)
+                } else {
+                    D::constant(0.0)
+                }
+            })
+            .collect();
+        F::chart_over(
+            variable,
+            ChartMap::RetractFirstOrder,
+            &point,
+            &delta,
+            &mut stored,
+        )
+        .expect("a first-order retraction is every variable's");
+        for (r, s) in stored.iter().enumerate() {
+            a_matrix[(r, c)] = s.eps[0];
+        }
+    }
+    let svd = c_matrix.svd(true, true);
+    let floor = 1e-10 * svd.singular_values.max();
+    svd.pseudo_inverse(floor)
+        .expect("a floor of no negative singular value")
+        * a_matrix
 }
 
 /// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.

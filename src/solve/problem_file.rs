@@ -201,22 +201,29 @@ fn deficiency<'a>(
         .filter(|n| !fixed.contains(n))
         .collect();
     names.sort();
-    // Each free apex key: its variable and its first column there.
+    // Each free apex key: its variable, its first column there and which
+    // of the variable's keys it is.
     let mut at = HashMap::new();
     let mut variables = Vec::with_capacity(names.len());
+    // Per free variable: its width in apex's coordinates, its keys' count,
+    // and how its own tangent sits in apex's coordinates where it is not
+    // apex's (with the variable's index in its factor).
+    let mut host = Vec::with_capacity(names.len());
     for (index, name) in names.into_iter().enumerate() {
         let created = created[name];
         let mut column = 0;
-        for (key, dof) in created.variable.keys().iter().zip(created.variable.dofs()) {
-            at.insert(*key, (index, column));
+        let keys = created.variable.keys();
+        for (part, (key, dof)) in keys.iter().zip(created.variable.dofs()).enumerate() {
+            at.insert(*key, (index, column, part));
             column += dof;
         }
         variables.push(Variable {
             name: name.clone(),
             columns: created.columns.clone(),
         });
+        let in_host = created.in_host.map(|f| (f, created.index));
+        host.push((column, keys.len(), in_host));
     }
-    let widths: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
     let dofs: HashMap<_, usize> = created
         .values()
         .flat_map(|c| {
@@ -227,43 +234,72 @@ fn deficiency<'a>(
                 .zip(c.variable.dofs().iter().copied())
         })
         .collect();
+    // Each such variable's own tangent in apex's coordinates, at the point
+    // linearized at (the same in every block).
+    let mut bases: HashMap<usize, DMatrix<f64>> = HashMap::new();
     let mut normal = Normal::new(variables);
     for block in built.kept.as_deref().unwrap_or_default() {
-        let (rows, jacobian) = match solved {
-            Some(values) => {
-                let params: Vec<&[f64]> = block
-                    .keys
-                    .iter()
-                    .map(|k| values[*k].as_param_slice())
-                    .collect();
-                block.whitened_jacobian_at(&params)
-            }
-            None => block.whitened_jacobian(),
+        let params: Vec<&[f64]> = match solved {
+            Some(values) => block
+                .keys
+                .iter()
+                .map(|k| values[*k].as_param_slice())
+                .collect(),
+            None => block.params.iter().map(Vec::as_slice).collect(),
         };
-        let mut blocks: Vec<(usize, DMatrix<f64>)> = Vec::new();
+        let (rows, jacobian) = block.whitened_jacobian_at(&params);
+        let mut blocks: Vec<HostBlock> = Vec::new();
         let mut first = 0;
-        for key in &block.keys {
+        for (key, values) in block.keys.iter().zip(&params) {
             let dof = dofs[key];
-            if let Some(&(index, column)) = at.get(key) {
-                let part = DMatrix::from_column_slice(
-                    rows,
-                    dof,
-                    &jacobian[first * rows..(first + dof) * rows],
-                );
-                match blocks.iter_mut().find(|(i, _)| *i == index) {
-                    Some((_, whole)) => whole.columns_mut(column, dof).copy_from(&part),
+            if let Some(&(index, column, part)) = at.get(key) {
+                let position = match blocks.iter().position(|b| b.index == index) {
+                    Some(position) => position,
                     None => {
-                        let mut whole = DMatrix::zeros(rows, widths[index]);
-                        whole.columns_mut(column, dof).copy_from(&part);
-                        blocks.push((index, whole));
+                        let (width, keys, _) = host[index];
+                        blocks.push(HostBlock {
+                            index,
+                            jacobian: DMatrix::zeros(rows, width),
+                            parameters: vec![&[][..]; keys],
+                        });
+                        blocks.len() - 1
                     }
-                }
+                };
+                let HostBlock {
+                    jacobian: whole,
+                    parameters,
+                    ..
+                } = &mut blocks[position];
+                whole
+                    .columns_mut(column, dof)
+                    .copy_from_slice(&jacobian[first * rows..(first + dof) * rows]);
+                parameters[part] = values;
             }
             first += dof;
         }
+        let blocks: Vec<(usize, DMatrix<f64>)> = blocks
+            .into_iter()
+            .map(|b| match host[b.index].2 {
+                None => (b.index, b.jacobian),
+                Some((in_host, variable)) => {
+                    let basis = bases
+                        .entry(b.index)
+                        .or_insert_with(|| in_host(variable, &b.parameters.concat()));
+                    (b.index, b.jacobian * &*basis)
+                }
+            })
+            .collect();
         normal.add(&blocks);
     }
     normal.deficiency()
+}
+
+/// A block's whitened Jacobian on one free variable in apex's coordinates,
+/// with the variable's parameters (one slice per apex key) it was taken at.
+struct HostBlock<'a> {
+    index: usize,
+    jacobian: DMatrix<f64>,
+    parameters: Vec<&'a [f64]>,
 }
 
 /// Adds the checked factor entry `entry`.

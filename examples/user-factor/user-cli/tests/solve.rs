@@ -172,12 +172,10 @@ fn a_sim3_loop_of_the_users_factor_reaches_its_truth() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Orientations (`So3`, one fixed) and two world directions (the user's S²
-/// type) from directions measured in each sensor frame, with noise: the
-/// generated kernel and dual numbers stop at the same optimum.
-#[test]
-fn directions_on_the_users_sphere_solve_alike_with_kernels_and_dual_numbers() {
-    let dir = scratch("direction");
+/// Orientations (`So3`, the first fixed if `fix_first`) and two world
+/// directions (the user's S² type, served to apex-solver as `Rn(3)` and
+/// normalised) from directions measured in each sensor frame, with noise.
+fn directions_problem(fix_first: bool) -> Value {
     let rotations = [
         So3::identity(),
         So3::exp(&Vector3::new(0.3, -0.2, 0.1)),
@@ -189,7 +187,7 @@ fn directions_on_the_users_sphere_solve_alike_with_kernels_and_dual_numbers() {
         let start = r.compose(&So3::exp(&(Vector3::new(0.05, 0.02, -0.03) * k as f64)));
         variables.insert(
             format!("r{k}"),
-            json!({"type": "So3", "value": start.to_scalars(), "fixed": k == 0}),
+            json!({"type": "So3", "value": start.to_scalars(), "fixed": fix_first && k == 0}),
         );
     }
     for (k, d) in directions.iter().enumerate() {
@@ -212,8 +210,17 @@ fn directions_on_the_users_sphere_solve_alike_with_kernels_and_dual_numbers() {
             }));
         }
     }
-    let problem = json!({"slamjac_problem": 1, "variables": variables, "factors": factors});
-    let file = write(&dir.join("directions.json"), &problem);
+    json!({"slamjac_problem": 1, "variables": variables, "factors": factors})
+}
+
+/// The directions problem with one orientation fixed: the generated kernel
+/// and dual numbers stop at the same optimum. The radius apex holds beyond
+/// each direction's 2-dimensional tangent moves no residual and is not
+/// taken for an undetermined direction.
+#[test]
+fn directions_on_the_users_sphere_solve_alike_with_kernels_and_dual_numbers() {
+    let dir = scratch("direction");
+    let file = write(&dir.join("directions.json"), &directions_problem(true));
     let generated = user_cli(&["solve", &file]);
     let dual = user_cli(&["solve", &file, "--kernels", "dual"]);
     assert_success(&generated);
@@ -221,6 +228,25 @@ fn directions_on_the_users_sphere_solve_alike_with_kernels_and_dual_numbers() {
     let (a, b) = (final_cost(&generated), final_cost(&dual));
     assert!(a > 0.0, "noisy measurements leave a cost: {a}");
     assert!((a - b).abs() <= 1e-9 * a, "{a} vs {b}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With no orientation fixed, a rotation of the whole scene is free: the
+/// observability check finds exactly its three directions (none along the
+/// directions' radii) and names the directions' own tangent coordinates.
+#[test]
+fn a_free_rotation_of_the_scene_is_three_directions_on_the_sphere_and_rotations() {
+    let dir = scratch("gauge");
+    let file = write(&dir.join("gauge.json"), &directions_problem(false));
+    let output = user_cli(&["solve", &file]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("not observable: 3 directions of the free variables")
+            && !stderr.contains("δ[2]")
+            && stderr.lines().count() == 1,
+        "{stderr}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
