@@ -313,13 +313,21 @@ fn unobservable_problems_are_named() {
     // Four cameras of the room: observable at the truth and at the written
     // values, but the solve rotates a wall seen only by the two free
     // cameras parallel to another and drifts along it (an ATE of 311 m,
-    // exit 0, before): refused at the solution, nothing written.
+    // exit 0, before): refused at the solution, nothing written, neither
+    // the solution nor the plot.
     let four = dir.join("four.json");
     let output = slamjac(&["synth-plp", "--cameras", "4", "--output", text(&four)]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    let out = dir.join("four-solved.json");
+    let (out, plot) = (dir.join("four-solved.json"), dir.join("four.svg"));
     assert_error(
-        &slamjac(&["solve", text(&four), "--output", text(&out)]),
+        &slamjac(&[
+            "solve",
+            text(&four),
+            "--output",
+            text(&out),
+            "--plot",
+            text(&plot),
+        ]),
         1,
         &[
             "not observable: ",
@@ -328,7 +336,7 @@ fn unobservable_problems_are_named() {
             "no output written",
         ],
     );
-    assert!(!out.exists(), "nothing written");
+    assert!(!out.exists() && !plot.exists(), "nothing written");
     // `track` with a map point at a camera's centre: no frame is reported
     // unconverged with exit 0.
     let mut room = room(&dir);
