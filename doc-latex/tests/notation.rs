@@ -20,6 +20,19 @@ fn error(latex: &str) -> ErrorKind {
     }
 }
 
+/// `k!` of a whole number is its value (a series' coefficients); of
+/// anything else it is an error at the `!`.
+#[test]
+fn factorials_of_whole_numbers_are_their_values() {
+    assert_eq!(canonical("\\frac{1}{3!}"), canonical("\\frac{1}{6}"));
+    assert_eq!(canonical("\\frac{x^2}{2!}"), canonical("\\frac{x^2}{2}"));
+    assert_eq!(canonical("0! + 1!"), canonical("1 + 1"));
+    assert_eq!(canonical("20!"), "2432902008176640000");
+    for bad in ["21!", "0.5!", "x!"] {
+        assert!(parse_statement(bad).is_err(), "{bad}");
+    }
+}
+
 #[test]
 fn spellings_of_one_thing_read_the_same() {
     let same = [

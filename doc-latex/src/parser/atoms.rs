@@ -13,6 +13,9 @@ use crate::names::{
     symbol_command,
 };
 
+/// The largest `k` whose `k!` is read (`20!` is the largest in a `u64`).
+const MAX_FACTORIAL: u64 = 20;
+
 /// What a factor starts with, before its scripts.
 pub(super) enum Atom {
     /// A symbol: scripts become part of it.
@@ -82,6 +85,22 @@ impl Parser<'_> {
         match tok {
             Tok::Number(n) => {
                 self.pos += 1;
+                // `k!` of a whole number (series coefficients, `\frac{1}{3!}`)
+                // is read as its value.
+                if self.peek() == Some(&Tok::Other('!')) {
+                    let value = n
+                        .parse::<u64>()
+                        .ok()
+                        .filter(|k| *k <= MAX_FACTORIAL)
+                        .map(|k| (1..=k).product::<u64>());
+                    return match value {
+                        Some(value) => {
+                            self.pos += 1;
+                            Ok(Atom::Expr(Expr::Number(value.to_string())))
+                        }
+                        None => Err(self.unexpected()),
+                    };
+                }
                 Ok(Atom::Expr(Expr::Number(n)))
             }
             Tok::Letter(c) => {
