@@ -164,15 +164,7 @@ fn own_tangent_in_host<F: HostFactor<Apex>>(variable: usize, host: &[f64]) -> DM
         let (mut first_parameter, mut first_column) = (0, 0);
         for part in parts {
             let (n, dof) = (part.manifold.parameters(), part.manifold.dof());
-            let delta: Vec<D> = (first_column..first_column + dof)
-                .map(|k| {
-                    if k == c {
-                        D::variable(0.0, 0)
-                    } else {
-                        D::constant(0.0)
-                    }
-                })
-                .collect();
+            let delta = seeded(first_column..first_column + dof, c);
             let range = first_parameter..first_parameter + n;
             part.manifold
                 .retract_first_order(&lifted[range.clone()], &delta, &mut moved[range]);
@@ -189,15 +181,7 @@ fn own_tangent_in_host<F: HostFactor<Apex>>(variable: usize, host: &[f64]) -> DM
     let point: Vec<D> = point.iter().map(|x| D::constant(*x)).collect();
     let mut a_matrix = DMatrix::zeros(stored_len, own);
     for c in 0..own {
-        let delta: Vec<D> = (0..own)
-            .map(|k| {
-                if k == c {
-                    D::variable(0.0, 0)
-                } else {
-                    D::constant(0.0)
-                }
-            })
-            .collect();
+        let delta = seeded(0..own, c);
         F::chart_over(
             variable,
             ChartMap::RetractFirstOrder,
@@ -215,6 +199,20 @@ fn own_tangent_in_host<F: HostFactor<Apex>>(variable: usize, host: &[f64]) -> DM
     svd.pseudo_inverse(floor)
         .expect("a floor of no negative singular value")
         * a_matrix
+}
+
+/// Zero tangent coordinates `columns`, coordinate `seed` (if among them)
+/// carrying the one derivative of a [`Dual<1>`].
+fn seeded(columns: std::ops::Range<usize>, seed: usize) -> Vec<Dual<1>> {
+    columns
+        .map(|k| {
+            if k == seed {
+                Dual::variable(0.0, 0)
+            } else {
+                Dual::constant(0.0)
+            }
+        })
+        .collect()
 }
 
 /// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.
