@@ -131,6 +131,15 @@ pub fn check_residual_digits(
     })
 }
 
+/// The largest `|·|` of the coordinates of `vectors` (the scale a
+/// validation compares a depth with), a maximum per vector first: a short
+/// dependency chain on every linearization's path.
+#[inline]
+pub(crate) fn max_abs<const N: usize>(vectors: &[nalgebra::Vector3<f64>; N]) -> f64 {
+    let each = vectors.map(|v| v.x.abs().max(v.y.abs()).max(v.z.abs()));
+    each.into_iter().fold(0.0, f64::max)
+}
+
 /// Rejects `magnitude` (of `what`, a max-abs norm) outside
 /// `[1/MAGNITUDE_LIMIT, MAGNITUDE_LIMIT]`; `why` says what makes it so.
 pub(crate) fn check_magnitude(

@@ -4,7 +4,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate, max_abs};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::manifold::{Manifold, NoLocal, Perturbation};
 use factor_core::storage::{Layout, Storage};
@@ -166,7 +166,50 @@ pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius2: f64) -> (f64, f6
 /// Rejects a focal length that is not positive, a point at or behind the
 /// camera, distortion that folds the image up to the point's radius, and a
 /// residual that has lost its digits to the depth's rounding.
+///
+/// Every linearization a solver makes runs this, so it first takes a
+/// conservative test ([`certainly_valid`]) that accepts only what the full
+/// checks accept, with no square root and one division; the full checks,
+/// which name what failed, run only when that test does not pass.
 pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(), FactorError> {
+    if certainly_valid(f) {
+        return Ok(());
+    }
+    diagnose(f)
+}
+
+/// Sufficient for every check of [`validate_snavely_reprojection`] to pass
+/// (false on a NaN), with `P = R X + t`, `s` the largest `|·|` of `P`, `X`,
+/// `t`, and `ρ² = ‖P_xy‖² / P_z²`:
+///
+/// - `f > 0` and `−P_z > 1e-9 s`: the same tests;
+/// - the radial map increasing up to `ρ`: `1 + 3 k1 ρ'² + 5 k2 ρ'⁴ ≥
+///   1 − ρ² (3|k1| + 5|k2| ρ²)` for every `ρ' ≤ ρ`, so the latter positive
+///   suffices;
+/// - the digits: the check passes when `1e-9 (s / −P_z) f σ (1 + ρ) < 1`,
+///   `σ = 1 + ρ² (3|k1| + 5|k2| ρ²)`; as `1 + ρ ≤ 2 + ρ²` (`ρ ≤ max(1, ρ²)`),
+///   `1e-9 s f σ (2 + ρ²) < −P_z` suffices.
+#[inline]
+fn certainly_valid(f: &SnavelyReprojection<f64>) -> bool {
+    let RadialIntrinsics { focal, k1, k2 } = f.intrinsics;
+    let p_c = f.pose.transform_point(&f.point);
+    let t = f.pose.translation();
+    let scale = max_abs(&[p_c, f.point, t]);
+    let depth = -p_c.z;
+    let radius2 = (p_c.x * p_c.x + p_c.y * p_c.y) / (depth * depth);
+    let spread = radius2 * (3.0 * k1.abs() + 5.0 * k2.abs() * radius2);
+    let rounding = DEGENERACY_TOLERANCE * scale;
+    exceeds(focal, 0.0)
+        & exceeds(depth, rounding)
+        & exceeds(1.0 - spread, 0.0)
+        & exceeds(depth, rounding * focal * (1.0 + spread) * (2.0 + radius2))
+}
+
+/// The checks of [`validate_snavely_reprojection`] one by one, naming the
+/// first that fails.
+#[cold]
+#[inline(never)]
+fn diagnose(f: &SnavelyReprojection<f64>) -> Result<(), FactorError> {
     let name = SnavelyReprojection::NAME;
     let RadialIntrinsics { focal, k1, k2 } = f.intrinsics;
     if !exceeds(focal, 0.0) {
@@ -177,10 +220,7 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
     }
     let p_c = f.pose.transform_point(&f.point);
     let t = f.pose.translation();
-    let scale = [p_c, f.point, t]
-        .iter()
-        .flat_map(|v| v.iter())
-        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&[p_c, f.point, t]);
     // The camera looks down −z: a point in front has −P_z > 0.
     if !exceeds(-p_c.z, DEGENERACY_TOLERANCE * scale) {
         return Err(degenerate(
@@ -214,4 +254,78 @@ pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(),
     let terms = focal * slope * (1.0 + radius);
     let residual = || (snavely_pixel(&f.intrinsics, &p_c) - f.observed).norm();
     check_residual_digits(name, residual, scale / -p_c.z, terms)
+}
+
+#[cfg(test)]
+mod tests {
+    use factor_core::lie::{Se3, So3};
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// A configuration anywhere near the checks' boundaries: points behind,
+    /// on and just in front of the image plane, far off-axis, far away
+    /// beside a far camera; focal lengths of either sign; distortion that
+    /// folds the image.
+    fn configuration() -> impl Strategy<Value = SnavelyReprojection> {
+        (
+            prop::array::uniform3(-3.0..3.0_f64),
+            prop::array::uniform3(-1.0..1.0_f64),
+            prop::sample::select(vec![1e-9, 1.0, 1e9]),
+            (-1e3..2e3_f64, -2.0..2.0_f64, -2.0..2.0_f64),
+            (-3.0..3.0_f64, -3.0..3.0_f64, -1e-6..10.0_f64),
+            (prop::array::uniform2(-3e3..3e3_f64), any::<bool>()),
+        )
+            .prop_map(|(w, t, scale, (focal, k1, k2), (x, y, depth), (o, near))| {
+                let pose = Se3::new(So3::exp(&Vector3::from(w)), Vector3::from(t) * scale);
+                let p_c = Vector3::new(x * depth, y * depth, -depth);
+                let intrinsics = RadialIntrinsics::new(focal, k1, k2);
+                // Near the prediction, where the residual's digits count.
+                let observed = match near {
+                    true => snavely_pixel(&intrinsics, &p_c) + Vector2::from(o) * 1e-6,
+                    false => Vector2::from(o),
+                };
+                SnavelyReprojection {
+                    observed,
+                    pose: Se3RhoTheta::new(pose),
+                    intrinsics,
+                    point: pose.inverse().transform_point(&p_c),
+                }
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+        /// The quick test accepts only what the full checks accept.
+        #[test]
+        fn the_quick_test_accepts_only_valid_configurations(f in configuration()) {
+            if certainly_valid(&f) {
+                prop_assert!(diagnose(&f).is_ok(), "{:?}", diagnose(&f));
+            }
+        }
+    }
+
+    proptest! {
+        /// Bundle adjustment's configurations (BAL's ranges: focal lengths
+        /// 400–1200 px, |k1| < 0.2, |k2| < 0.05, points 1–50 m ahead within
+        /// ±30° of the axis) take the quick path.
+        #[test]
+        fn ordinary_configurations_take_the_quick_test(
+            w in prop::array::uniform3(-3.0..3.0_f64),
+            t in prop::array::uniform3(-10.0..10.0_f64),
+            (focal, k1, k2) in (400.0..1200.0_f64, -0.2..0.2_f64, -0.05..0.05_f64),
+            (x, y, depth) in (-0.6..0.6_f64, -0.6..0.6_f64, 1.0..50.0_f64),
+        ) {
+            let pose = Se3::new(So3::exp(&Vector3::from(w)), Vector3::from(t));
+            let p_c = Vector3::new(x * depth, y * depth, -depth);
+            let f = SnavelyReprojection {
+                observed: Vector2::new(3.0, -2.0),
+                pose: Se3RhoTheta::new(pose),
+                intrinsics: RadialIntrinsics::new(focal, k1, k2),
+                point: pose.inverse().transform_point(&p_c),
+            };
+            prop_assert!(certainly_valid(&f));
+        }
+    }
 }

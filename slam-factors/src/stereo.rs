@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate};
+use crate::{DEGENERACY_TOLERANCE, check_residual_digits, degenerate, max_abs};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::storage::{Layout, Storage, StorageError};
 use factor_core::validation::{exceeds, number_text};
@@ -154,10 +154,7 @@ pub fn validate_stereo_reprojection(f: &StereoReprojection<f64>) -> Result<(), F
     let t = f.pose.translation();
     let offset = f.landmark - t;
     let depth = column.dot(&offset);
-    let scale = [offset, f.landmark, t]
-        .iter()
-        .flat_map(|v| v.iter())
-        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&[offset, f.landmark, t]);
     if !exceeds(depth, DEGENERACY_TOLERANCE * scale) {
         return Err(degenerate(
             StereoReprojection::NAME,
