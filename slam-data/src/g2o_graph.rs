@@ -1,5 +1,6 @@
-//! g2o graphs with 3D lines and planes (g2o's `types_slam3d_addons`) beside
-//! the poses of a pose graph: what [`crate::g2o::read_graph`] reads.
+//! g2o graphs with 3D lines and planes (g2o's `types_slam3d_addons`), 3D
+//! points and pose priors (its `types_slam3d`) beside the poses of a pose
+//! graph: what [`crate::g2o::read_graph`] reads.
 //!
 //! Values are kept exactly as written; what g2o does with them on loading
 //! (it normalises planes to a unit normal, and builds rotation matrices from
