@@ -307,6 +307,48 @@ fn g2o_plane_graph_reaches_g2os_chi2() {
     assert_error(&refused, 2, &["the sensor offset is free"]);
 }
 
+/// g2o's planar-motion plane graph (`simulator_3d_plane
+/// --planar_motion=true`: an `EDGE_SE3_PRIOR` on every pose) solves with the
+/// defaults, converged, at or below where g2o's optimizer stops
+/// (27.844158923698124, `bench-peers/g2o/README.md`), from g2o's χ² of the
+/// file (2 440 171.1682807514); `--output` writes the priors back; a prior
+/// naming an undefined offset parameter is an error at its line.
+#[test]
+fn g2o_planar_motion_graph_with_priors_solves() {
+    let dir = temp_dir("planar");
+    let out = dir.join("planar.g2o").to_string_lossy().into_owned();
+    let first = solve_ok(&[
+        "solve",
+        &data("g2o-addons/plane3d_planar.g2o"),
+        "--output",
+        &out,
+    ]);
+    let text = stdout(&first);
+    assert!(
+        text.contains("161 priors") && text.contains("converged"),
+        "{text}"
+    );
+    let (initial, last) = costs(&first);
+    assert_relative(2.0 * initial, 2_440_171.168_280_751_4, 1e-5, "initial χ²");
+    assert!(
+        2.0 * last <= 27.844_158_923_698_124 * (1.0 + 1e-5),
+        "{last}"
+    );
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(written.matches("EDGE_SE3_PRIOR ").count(), 161);
+    let again = solve_ok(&["solve", &out, "--max-iterations", "1"]);
+    assert_relative(costs(&again).0, last, 1e-9, "re-read cost");
+    let bad = dir.join("bad.g2o");
+    let original = std::fs::read_to_string(data("g2o-addons/plane3d_planar.g2o")).unwrap();
+    std::fs::write(
+        &bad,
+        original.replacen("EDGE_SE3_PRIOR 4 0 ", "EDGE_SE3_PRIOR 4 5 ", 1),
+    )
+    .unwrap();
+    let output = slamjac(&["solve", bad.to_str().unwrap()]);
+    assert_error(&output, 2, &["bad.g2o:", "parameter 5 is not defined"]);
+}
+
 fn assert_error(output: &Output, code: i32, needles: &[&str]) {
     let err = stderr(output);
     assert_eq!(output.status.code(), Some(code), "stderr: {err}");

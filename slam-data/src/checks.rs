@@ -1,7 +1,7 @@
 //! Checks of rotations and information matrices read from files, with their
 //! tolerances; shared by the readers and the writers.
 
-use nalgebra::{Cholesky, Matrix3, Rotation3, SMatrix, UnitQuaternion};
+use nalgebra::{Cholesky, Matrix3, Matrix6, Rotation3, SMatrix, SymmetricEigen, UnitQuaternion};
 
 use crate::input::all_in_range;
 
@@ -65,6 +65,35 @@ pub(crate) fn check_information<const N: usize>(m: &SMatrix<f64, N, N>) -> Resul
     }
     if Cholesky::new(*m).is_none() {
         return Err("information matrix is not positive definite".into());
+    }
+    Ok(())
+}
+
+/// Eigenvalues below this times the largest one are taken as zero by
+/// [`check_semidefinite_information`] (rounding of a matrix written as
+/// text).
+const SEMIDEFINITE_TOLERANCE: f64 = 1e-12;
+
+/// Fails unless `m` is in range, symmetric, positive semi-definite (no
+/// eigenvalue below `−1e-12` times the largest) and not zero: the
+/// information of a prior that constrains some directions only.
+pub(crate) fn check_semidefinite_information(m: &Matrix6<f64>) -> Result<(), String> {
+    if !all_in_range(m.iter()) {
+        return Err("non-finite or too large information entry".into());
+    }
+    if m != &m.transpose() {
+        return Err("information matrix is not symmetric".into());
+    }
+    let eigenvalues = SymmetricEigen::new(*m).eigenvalues;
+    let largest = eigenvalues.max();
+    if largest <= 0.0 {
+        return Err("information matrix has no positive eigenvalue".into());
+    }
+    if eigenvalues.min() < -SEMIDEFINITE_TOLERANCE * largest {
+        return Err(format!(
+            "information matrix is not positive semi-definite (eigenvalue {:.3e})",
+            eigenvalues.min()
+        ));
     }
     Ok(())
 }

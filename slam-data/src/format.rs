@@ -20,10 +20,12 @@ pub enum Format {
     Bundler,
     /// g2o `VERTEX_SE3:QUAT`/`EDGE_SE3:QUAT` ([`crate::g2o`]).
     G2o,
-    /// g2o's 3D lines and planes beside the poses (`types_slam3d_addons`:
-    /// `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`,
-    /// `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX`;
-    /// [`crate::g2o::read_graph`]).
+    /// g2o's 3D lines, planes and points beside the poses
+    /// (`types_slam3d_addons`: `VERTEX_LINE3D`, `VERTEX_PLANE`,
+    /// `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`; `types_slam3d`:
+    /// `VERTEX_TRACKXYZ`, `EDGE_SE3_TRACKXYZ`, `EDGE_SE3_PRIOR`,
+    /// `PARAMS_SE3OFFSET`; `FIX`; [`crate::g2o::read_graph`]). A pose graph
+    /// with a prior is one.
     G2oAddons,
     /// `VERTEX3`/`EDGE3` ([`crate::edge3`]).
     Edge3,
@@ -153,14 +155,17 @@ pub(crate) fn sniff<R: BufRead>(reader: R, name: &str) -> (Result<Format, Error>
     })
 }
 
-/// The record tags of g2o's line and plane graphs that its plain pose
-/// graphs do not have.
-const ADDON_TAGS: [&str; 6] = [
+/// The record tags of g2o's graphs that its plain pose graphs
+/// (`VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` only) do not have.
+const ADDON_TAGS: [&str; 9] = [
     "PARAMS_SE3OFFSET",
     "VERTEX_LINE3D",
     "VERTEX_PLANE",
+    "VERTEX_TRACKXYZ",
     "EDGE_SE3_LINE3D",
     "EDGE_SE3_PLANE_CALIB",
+    "EDGE_SE3_TRACKXYZ",
+    "EDGE_SE3_PRIOR",
     "FIX",
 ];
 

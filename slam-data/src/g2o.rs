@@ -21,20 +21,24 @@
 //!
 //! Any other tag is an error (GTSAM skips unknown tags silently).
 //!
-//! # Lines and planes
+//! # Lines, planes, points and priors
 //!
 //! [`read_graph`] reads the records of g2o's 3D line and plane types
 //! (`types_slam3d_addons`, what g2o's `simulator_3d_line` and
-//! `simulator_3d_plane` write) beside the poses, into a [`G2oGraph`]:
+//! `simulator_3d_plane` write) and its 3D points and pose priors
+//! (`types_slam3d`) beside the poses, into a [`G2oGraph`]:
 //!
 //! ```text
 //! PARAMS_SE3OFFSET id x y z qx qy qz qw
 //! VERTEX_SE3:QUAT id x y z qx qy qz qw
 //! VERTEX_LINE3D id wx wy wz dx dy dz
 //! VERTEX_PLANE id nx ny nz d
+//! VERTEX_TRACKXYZ id x y z
 //! EDGE_SE3:QUAT i j x y z qx qy qz qw I₁₁ … I₆₆
 //! EDGE_SE3_LINE3D pose line parameter wx wy wz dx dy dz I₁₁ … I₄₄
 //! EDGE_SE3_PLANE_CALIB 3 pose plane offset nx ny nz d I₁₁ … I₃₃
+//! EDGE_SE3_TRACKXYZ pose point parameter x y z I₁₁ … I₃₃
+//! EDGE_SE3_PRIOR pose parameter x y z qx qy qz qw I₁₁ … I₆₆
 //! FIX id…
 //! ```
 //!
@@ -43,15 +47,22 @@
 //! `EDGE_SE3_LINE3D` is the line in the frame of the robot pose (the
 //! parameter, a sensor offset, is named but g2o does not use it), that of
 //! `EDGE_SE3_PLANE_CALIB` the plane in the frame of the sensor mounted at
-//! the pose `offset` (sensor to robot) on the robot. The information
-//! matrices of line and plane edges are upper triangles in the order of
-//! g2o's errors (orthonormal line: quaternion vector part of `U`, angle of
-//! `W`; plane: azimuth, elevation, distance) and kept in it; those of
-//! `EDGE_SE3:QUAT` are reordered to `[δω, δρ]` as above. `FIX` lists
-//! vertices held fixed (g2o's gauge); there may be several `FIX` lines.
-//! Vertex ids are one space over all kinds; see [`G2oGraph::validate`] for
-//! what is checked. Values are kept as written, so read → write → read is
-//! exact.
+//! the pose `offset` (sensor to robot) on the robot. The parameter of
+//! `EDGE_SE3_TRACKXYZ` and `EDGE_SE3_PRIOR` is the sensor offset `P`
+//! (sensor to robot, a `PARAMS_SE3OFFSET`): the point edge measures the
+//! point in the sensor frame, `(X P)⁻¹ p`, the prior the world-from-sensor
+//! pose `X P`. (g2o registers only these `TRACKXYZ` names for its
+//! `VertexPointXYZ` and `EdgeSE3PointXYZ`; `VERTEX_POINTXYZ` is not a g2o
+//! tag.) The information matrices of line, plane and point edges are upper
+//! triangles in the order of g2o's errors (orthonormal line: quaternion
+//! vector part of `U`, angle of `W`; plane: azimuth, elevation, distance;
+//! point: x, y, z) and kept in it; those of `EDGE_SE3:QUAT` and
+//! `EDGE_SE3_PRIOR` are reordered to `[δω, δρ]` as above. A prior's may be
+//! positive semi-definite (g2o's planar-motion simulator constrains only
+//! the height). `FIX` lists vertices held fixed (g2o's gauge); there may be
+//! several `FIX` lines. Vertex ids are one space over all kinds; see
+//! [`G2oGraph::validate`] for what is checked. Values are kept as written,
+//! so read → write → read is exact.
 
 use std::io::{BufRead, Write};
 use std::path::Path;
@@ -111,7 +122,8 @@ pub fn read_graph_from(reader: impl BufRead, name: &str) -> Result<G2oGraph, Err
 }
 
 /// Writes `graph` as a g2o file at `path`: parameters, vertices (poses,
-/// lines, planes), edges (pose, line, plane), then one `FIX` line.
+/// lines, planes, points), edges (pose, line, plane, point, prior), then
+/// one `FIX` line.
 pub fn write_graph(graph: &G2oGraph, path: impl AsRef<Path>) -> Result<(), Error> {
     write_file(path.as_ref(), |out, name| write_graph_to(graph, out, name))
 }

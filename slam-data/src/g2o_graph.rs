@@ -1,5 +1,6 @@
-//! g2o graphs with 3D lines and planes (g2o's `types_slam3d_addons`) beside
-//! the poses of a pose graph: what [`crate::g2o::read_graph`] reads.
+//! g2o graphs with 3D lines and planes (g2o's `types_slam3d_addons`), 3D
+//! points and pose priors (its `types_slam3d`) beside the poses of a pose
+//! graph: what [`crate::g2o::read_graph`] reads.
 //!
 //! Values are kept exactly as written; what g2o does with them on loading
 //! (it normalises planes to a unit normal, and builds rotation matrices from
@@ -9,15 +10,15 @@
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 
-use nalgebra::{Matrix3, Matrix4, Vector3, Vector4, Vector6};
+use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector4, Vector6};
 
-use crate::checks::check_information;
+use crate::checks::{check_information, check_semidefinite_information};
 use crate::input::all_in_range;
 use crate::pose_graph::{Edge, Pose, PoseGraph, Vertex};
 
 /// `PARAMS_SE3OFFSET id x y z qx qy qz qw`: a sensor offset parameter, the
 /// pose of a sensor in the robot frame. g2o's line edge names one but does
-/// not use it.
+/// not use it; its prior and point edges do.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Se3Offset {
     /// The parameter id edges refer to.
@@ -86,9 +87,56 @@ pub struct PlaneEdge {
     pub information: Matrix3<f64>,
 }
 
-/// A g2o graph of poses, 3D lines and planes (the records of g2o's
-/// `types_slam3d` and `types_slam3d_addons` its line and plane simulators
-/// write), each list in file order.
+/// `VERTEX_TRACKXYZ id x y z`: a 3D point of the world (g2o's
+/// `VertexPointXYZ`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointVertex {
+    /// The vertex id.
+    pub id: usize,
+    /// The point, world frame.
+    pub point: Vector3<f64>,
+}
+
+/// `EDGE_SE3_TRACKXYZ pose point offset x y z I₁₁ … I₃₃`: the point `point`
+/// measured in the frame of the sensor mounted at the parameter `offset` on
+/// the robot at pose `pose` (g2o's `EdgeSE3PointXYZ`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointEdge {
+    /// Id of the robot pose (`VERTEX_SE3:QUAT`).
+    pub pose: usize,
+    /// Id of the point (`VERTEX_TRACKXYZ`).
+    pub point: usize,
+    /// Id of the sensor-offset parameter (`PARAMS_SE3OFFSET`).
+    pub offset: usize,
+    /// The measured point in the sensor frame.
+    pub measurement: Vector3<f64>,
+    /// Information matrix of the error `[x, y, z]`.
+    pub information: Matrix3<f64>,
+}
+
+/// `EDGE_SE3_PRIOR pose offset x y z qx qy qz qw I₁₁ … I₆₆`: a prior on the
+/// pose of the sensor mounted at the parameter `offset` on the robot at
+/// pose `pose`, `X · P ≈ measurement` (g2o's `EdgeSE3Prior`).
+///
+/// Its information may be positive **semi**-definite: g2o's
+/// `simulator_3d_plane --planar_motion=true` writes `diag(0, 0, 1e9, 0, 0,
+/// 0)` to hold the robot on the plane `z = 0` and nothing else.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PriorEdge {
+    /// Id of the robot pose (`VERTEX_SE3:QUAT`).
+    pub pose: usize,
+    /// Id of the sensor-offset parameter (`PARAMS_SE3OFFSET`).
+    pub offset: usize,
+    /// The measured world-from-sensor pose, quaternion as written.
+    pub measurement: Pose,
+    /// Information matrix in tangent order `[δω, δρ]`, as that of a pose
+    /// edge: g2o's `[δt, δq]` upper triangle with its 3×3 blocks swapped.
+    pub information: Matrix6<f64>,
+}
+
+/// A g2o graph of poses, 3D lines, planes and points (the records of g2o's
+/// `types_slam3d` and `types_slam3d_addons` its simulators write), each
+/// list in file order.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct G2oGraph {
     /// `PARAMS_SE3OFFSET` parameters.
@@ -100,6 +148,8 @@ pub struct G2oGraph {
     pub lines: Vec<LineVertex>,
     /// `VERTEX_PLANE`.
     pub planes: Vec<PlaneVertex>,
+    /// `VERTEX_TRACKXYZ`.
+    pub points: Vec<PointVertex>,
     /// `EDGE_SE3:QUAT`, information in `[δω, δρ]` order as in
     /// [`PoseGraph`].
     pub pose_edges: Vec<Edge>,
@@ -107,6 +157,10 @@ pub struct G2oGraph {
     pub line_edges: Vec<LineEdge>,
     /// `EDGE_SE3_PLANE_CALIB`.
     pub plane_edges: Vec<PlaneEdge>,
+    /// `EDGE_SE3_TRACKXYZ`.
+    pub point_edges: Vec<PointEdge>,
+    /// `EDGE_SE3_PRIOR`.
+    pub priors: Vec<PriorEdge>,
     /// Ids of the vertices of the `FIX` lines, in file order.
     pub fixed: Vec<usize>,
 }
@@ -120,6 +174,8 @@ pub enum VertexKind {
     Line,
     /// `VERTEX_PLANE`.
     Plane,
+    /// `VERTEX_TRACKXYZ`.
+    Point,
 }
 
 impl VertexKind {
@@ -129,6 +185,7 @@ impl VertexKind {
             VertexKind::Pose => "VERTEX_SE3:QUAT",
             VertexKind::Line => "VERTEX_LINE3D",
             VertexKind::Plane => "VERTEX_PLANE",
+            VertexKind::Point => "VERTEX_TRACKXYZ",
         }
     }
 }
@@ -140,9 +197,12 @@ pub(crate) enum Item {
     Pose(usize),
     Line(usize),
     Plane(usize),
+    Point(usize),
     PoseEdge(usize),
     LineEdge(usize),
     PlaneEdge(usize),
+    PointEdge(usize),
+    Prior(usize),
     Fixed(usize),
 }
 
@@ -168,18 +228,20 @@ impl G2oGraph {
         let poses = self.poses.iter().map(|v| (v.id, VertexKind::Pose));
         let lines = self.lines.iter().map(|v| (v.id, VertexKind::Line));
         let planes = self.planes.iter().map(|v| (v.id, VertexKind::Plane));
-        poses.chain(lines).chain(planes).collect()
+        let points = self.points.iter().map(|v| (v.id, VertexKind::Point));
+        poses.chain(lines).chain(planes).chain(points).collect()
     }
 
     /// Fails, saying what is wrong, unless the graph is one the reader
     /// accepts: numbers finite and at most [`crate::MAX_MAGNITUDE`],
     /// quaternions unit within [`crate::QUATERNION_TOLERANCE`], line
     /// directions and plane normals non-zero, information matrices
-    /// symmetric positive definite, vertex ids distinct over all kinds and
-    /// parameter ids distinct, every edge between vertices of the kinds it
-    /// joins (and a pose edge or a plane edge's robot pose and sensor
-    /// offset between two different poses), every line edge's parameter
-    /// defined, every fixed id a vertex, fixed once.
+    /// symmetric positive definite (a prior's positive semi-definite and
+    /// not zero), vertex ids distinct over all kinds and parameter ids
+    /// distinct, every edge between vertices of the kinds it joins (and a
+    /// pose edge or a plane edge's robot pose and sensor offset between two
+    /// different poses), every parameter an edge names defined, every fixed
+    /// id a vertex, fixed once.
     pub fn validate(&self) -> Result<(), String> {
         match self.find_defect() {
             None => Ok(()),
@@ -189,9 +251,12 @@ impl G2oGraph {
                     Item::Pose(k) => ("pose vertex", k),
                     Item::Line(k) => ("line vertex", k),
                     Item::Plane(k) => ("plane vertex", k),
+                    Item::Point(k) => ("point vertex", k),
                     Item::PoseEdge(k) => ("pose edge", k),
                     Item::LineEdge(k) => ("line edge", k),
                     Item::PlaneEdge(k) => ("plane edge", k),
+                    Item::PointEdge(k) => ("point edge", k),
+                    Item::Prior(k) => ("prior edge", k),
                     Item::Fixed(k) => ("fixed id", k),
                 };
                 Err(format!("{name} {k}: {what}"))
@@ -241,6 +306,16 @@ impl G2oGraph {
                 return Some((Item::Plane(k), what));
             }
         }
+        for (k, v) in self.points.iter().enumerate() {
+            let defect = if all_in_range(v.point.iter()) {
+                define(v.id, VertexKind::Point)
+            } else {
+                Err("non-finite or too large point coordinate".into())
+            };
+            if let Err(what) = defect {
+                return Some((Item::Point(k), what));
+            }
+        }
         let expect = |id: usize, kind: VertexKind| match kinds.get(&id) {
             None => Err(format!("vertex {id} is not defined")),
             Some(found) if *found != kind => Err(format!(
@@ -249,6 +324,13 @@ impl G2oGraph {
                 kind.tag()
             )),
             Some(_) => Ok(()),
+        };
+        let parameter = |id: usize| {
+            if offsets.contains(&id) {
+                Ok(())
+            } else {
+                Err(format!("parameter {id} is not defined"))
+            }
         };
         for (k, e) in self.pose_edges.iter().enumerate() {
             let defect = e
@@ -265,13 +347,7 @@ impl G2oGraph {
                 .and_then(|()| check_information(&e.information))
                 .and_then(|()| expect(e.pose, VertexKind::Pose))
                 .and_then(|()| expect(e.line, VertexKind::Line))
-                .and_then(|()| {
-                    if offsets.contains(&e.offset) {
-                        Ok(())
-                    } else {
-                        Err(format!("parameter {} is not defined", e.offset))
-                    }
-                });
+                .and_then(|()| parameter(e.offset));
             if let Err(what) = defect {
                 return Some((Item::LineEdge(k), what));
             }
@@ -295,6 +371,33 @@ impl G2oGraph {
                 });
             if let Err(what) = defect {
                 return Some((Item::PlaneEdge(k), what));
+            }
+        }
+        for (k, e) in self.point_edges.iter().enumerate() {
+            let defect = if all_in_range(e.measurement.iter()) {
+                Ok(())
+            } else {
+                Err("measurement: non-finite or too large point coordinate".into())
+            };
+            let defect = defect
+                .and_then(|()| check_information(&e.information))
+                .and_then(|()| expect(e.pose, VertexKind::Pose))
+                .and_then(|()| expect(e.point, VertexKind::Point))
+                .and_then(|()| parameter(e.offset));
+            if let Err(what) = defect {
+                return Some((Item::PointEdge(k), what));
+            }
+        }
+        for (k, e) in self.priors.iter().enumerate() {
+            let defect = e
+                .measurement
+                .check()
+                .map_err(|what| format!("measurement: {what}"))
+                .and_then(|()| check_semidefinite_information(&e.information))
+                .and_then(|()| expect(e.pose, VertexKind::Pose))
+                .and_then(|()| parameter(e.offset));
+            if let Err(what) = defect {
+                return Some((Item::Prior(k), what));
             }
         }
         let mut fixed = HashSet::with_capacity(self.fixed.len());

@@ -5,7 +5,10 @@ use std::io::{BufRead, Write};
 use nalgebra::SVector;
 
 use crate::error::{Error, quoted};
-use crate::g2o_graph::{G2oGraph, Item, LineEdge, LineVertex, PlaneEdge, PlaneVertex, Se3Offset};
+use crate::g2o_graph::{
+    G2oGraph, Item, LineEdge, LineVertex, PlaneEdge, PlaneVertex, PointEdge, PointVertex,
+    PriorEdge, Se3Offset,
+};
 use crate::graph_file::{
     G2O, read_pose, read_upper_triangle, swap_rotation_translation, write_pose,
     write_upper_triangle,
@@ -18,14 +21,17 @@ const PARAMS: &str = "PARAMS_SE3OFFSET";
 const POSE: &str = "VERTEX_SE3:QUAT";
 const LINE: &str = "VERTEX_LINE3D";
 const PLANE: &str = "VERTEX_PLANE";
+const POINT: &str = "VERTEX_TRACKXYZ";
 const POSE_EDGE: &str = "EDGE_SE3:QUAT";
 const LINE_EDGE: &str = "EDGE_SE3_LINE3D";
 const PLANE_EDGE: &str = "EDGE_SE3_PLANE_CALIB";
+const POINT_EDGE: &str = "EDGE_SE3_TRACKXYZ";
+const PRIOR: &str = "EDGE_SE3_PRIOR";
 const FIX: &str = "FIX";
 
 /// Every tag read, in the order they are written.
-const TAGS: [&str; 8] = [
-    PARAMS, POSE, LINE, PLANE, POSE_EDGE, LINE_EDGE, PLANE_EDGE, FIX,
+const TAGS: [&str; 11] = [
+    PARAMS, POSE, LINE, PLANE, POINT, POSE_EDGE, LINE_EDGE, PLANE_EDGE, POINT_EDGE, PRIOR, FIX,
 ];
 
 /// The line numbers of the items read, list by list, to report a defect
@@ -36,9 +42,12 @@ struct ItemLines {
     poses: Vec<usize>,
     lines: Vec<usize>,
     planes: Vec<usize>,
+    points: Vec<usize>,
     pose_edges: Vec<usize>,
     line_edges: Vec<usize>,
     plane_edges: Vec<usize>,
+    point_edges: Vec<usize>,
+    priors: Vec<usize>,
     fixed: Vec<usize>,
 }
 
@@ -49,9 +58,12 @@ impl ItemLines {
             Item::Pose(k) => self.poses[k],
             Item::Line(k) => self.lines[k],
             Item::Plane(k) => self.planes[k],
+            Item::Point(k) => self.points[k],
             Item::PoseEdge(k) => self.pose_edges[k],
             Item::LineEdge(k) => self.line_edges[k],
             Item::PlaneEdge(k) => self.plane_edges[k],
+            Item::PointEdge(k) => self.point_edges[k],
+            Item::Prior(k) => self.priors[k],
             Item::Fixed(k) => self.fixed[k],
         }
     }
@@ -89,6 +101,12 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
                 let plane = read_vector(&mut fields, PLANE_COEFFICIENT)?;
                 graph.planes.push(PlaneVertex { id, plane });
                 at.planes.push(number);
+            }
+            POINT => {
+                let id = fields.integer("the vertex id")?;
+                let point = read_vector(&mut fields, POINT_COORDINATE)?;
+                graph.points.push(PointVertex { id, point });
+                at.points.push(number);
             }
             POSE_EDGE => {
                 let from = fields.integer("the first pose id")?;
@@ -140,6 +158,34 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
                 });
                 at.plane_edges.push(number);
             }
+            POINT_EDGE => {
+                let pose = fields.integer("the pose id")?;
+                let point = fields.integer("the point id")?;
+                let offset = fields.integer("the parameter id")?;
+                let measurement = read_vector(&mut fields, POINT_COORDINATE)?;
+                let information = read_upper_triangle(&mut fields)?;
+                graph.point_edges.push(PointEdge {
+                    pose,
+                    point,
+                    offset,
+                    measurement,
+                    information,
+                });
+                at.point_edges.push(number);
+            }
+            PRIOR => {
+                let pose = fields.integer("the pose id")?;
+                let offset = fields.integer("the parameter id")?;
+                let measurement = read_pose(&mut fields, &G2O)?;
+                let information = read_upper_triangle(&mut fields)?;
+                graph.priors.push(PriorEdge {
+                    pose,
+                    offset,
+                    measurement,
+                    information: swap_rotation_translation(&information),
+                });
+                at.priors.push(number);
+            }
             FIX => {
                 let before = graph.fixed.len();
                 while let Some(token) = fields.next_token() {
@@ -159,7 +205,7 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
             }
             _ => {
                 return Err(line.error(format!(
-                    "unsupported tag {} (a g2o line and plane graph has {} lines)",
+                    "unsupported tag {} (a g2o graph of lines, planes and points has {} lines)",
                     quoted(tag),
                     TAGS.join(", ")
                 )));
@@ -175,6 +221,7 @@ pub(crate) fn read(reader: impl BufRead, name: &str) -> Result<G2oGraph, Error> 
 
 const LINE_COORDINATE: &str = "a line coordinate (wx wy wz dx dy dz)";
 const PLANE_COEFFICIENT: &str = "a plane coefficient (nx ny nz d)";
+const POINT_COORDINATE: &str = "a point coordinate (x y z)";
 
 /// `N` numbers.
 fn read_vector<const N: usize>(
@@ -221,6 +268,11 @@ fn write_unchecked(graph: &G2oGraph, out: &mut impl Write) -> std::io::Result<()
         write_numbers(out, v.plane.as_slice())?;
         writeln!(out)?;
     }
+    for v in &graph.points {
+        write!(out, "{POINT} {}", v.id)?;
+        write_numbers(out, v.point.as_slice())?;
+        writeln!(out)?;
+    }
     for e in &graph.pose_edges {
         write!(out, "{POSE_EDGE} {} {}", e.from, e.to)?;
         write_pose(out, &e.measurement, &G2O)?;
@@ -237,6 +289,18 @@ fn write_unchecked(graph: &G2oGraph, out: &mut impl Write) -> std::io::Result<()
         write!(out, "{PLANE_EDGE} 3 {} {} {}", e.pose, e.plane, e.offset)?;
         write_numbers(out, e.measurement.as_slice())?;
         write_upper_triangle(out, &e.information)?;
+        writeln!(out)?;
+    }
+    for e in &graph.point_edges {
+        write!(out, "{POINT_EDGE} {} {} {}", e.pose, e.point, e.offset)?;
+        write_numbers(out, e.measurement.as_slice())?;
+        write_upper_triangle(out, &e.information)?;
+        writeln!(out)?;
+    }
+    for e in &graph.priors {
+        write!(out, "{PRIOR} {} {}", e.pose, e.offset)?;
+        write_pose(out, &e.measurement, &G2O)?;
+        write_upper_triangle(out, &swap_rotation_translation(&e.information))?;
         writeln!(out)?;
     }
     if !graph.fixed.is_empty() {

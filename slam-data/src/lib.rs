@@ -9,7 +9,7 @@
 //! | `bal` | [`bal`] | Bundle Adjustment in the Large: cameras `[ω, t, f, k1, k2]`, points, observations | [`BalProblem`] |
 //! | `bundler` | [`bundler`] | Bundler v0.3 `bundle.out`: cameras `f k1 k2, R, t`, points with colours and views | [`BundlerProblem`] |
 //! | `g2o` | [`g2o`] | `VERTEX_SE3:QUAT`, `EDGE_SE3:QUAT` pose graphs | [`PoseGraph`] |
-//! | `g2o-addons` ([`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines and planes beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
+//! | `g2o-addons` ([`g2o::read_graph`]) | [`g2o`] | g2o's 3D lines, planes and points beside the poses: `VERTEX_LINE3D`, `VERTEX_PLANE`, `VERTEX_TRACKXYZ`, `EDGE_SE3_LINE3D`, `EDGE_SE3_PLANE_CALIB`, `EDGE_SE3_TRACKXYZ`, `EDGE_SE3_PRIOR`, `PARAMS_SE3OFFSET`, `FIX` | [`G2oGraph`] |
 //! | `edge3` | [`edge3`] | `VERTEX3`, `EDGE3` pose graphs (`sphere2500`) | [`PoseGraph`] |
 //! | `kitti-vo` | [`kitti_vo`] | GTSAM's KITTI stereo VO: calibration, camera poses, stereo observations | [`StereoVo`] |
 //!
@@ -72,7 +72,9 @@
 //!   [`QUATERNION_TOLERANCE`] (1e-5) of one, and renormalised when used
 //!   ([`Rotation::unit_quaternion`]).
 //! - Information matrices must be positive definite (a Cholesky
-//!   factorisation exists); vertex and pose ids must be distinct; edges may
+//!   factorisation exists; that of g2o's `EDGE_SE3_PRIOR` positive
+//!   semi-definite and not zero, as g2o's planar-motion simulator writes
+//!   it); vertex and pose ids must be distinct; edges may
 //!   not join a pose to itself and, when the file has vertices, must join
 //!   two of them.
 //! - Unknown record tags are errors, not skipped.
@@ -119,7 +121,8 @@ pub use checks::{QUATERNION_TOLERANCE, ROTATION_TOLERANCE};
 pub use error::{Error, ordinal};
 pub use format::{Format, SNIFF_BYTES, UnknownFormat};
 pub use g2o_graph::{
-    G2oGraph, LineEdge, LineVertex, PlaneEdge, PlaneVertex, Se3Offset, VertexKind,
+    G2oGraph, LineEdge, LineVertex, PlaneEdge, PlaneVertex, PointEdge, PointVertex, PriorEdge,
+    Se3Offset, VertexKind,
 };
 pub use input::{MAX_FILE_BYTES, MAX_LINE_BYTES, MAX_MAGNITUDE};
 pub use kitti_vo::{CameraPose, StereoCalibration, StereoObservation, StereoVo, VoFiles};

@@ -24,7 +24,7 @@ pub enum Problem {
     Bundler(BundlerProblem),
     /// A g2o pose graph.
     G2o(PoseGraph),
-    /// A g2o graph with 3D lines and planes.
+    /// A g2o graph with 3D lines, planes, points or priors.
     G2oAddons(G2oGraph),
     /// An EDGE3 pose graph.
     Edge3(PoseGraph),
@@ -112,7 +112,13 @@ impl Problem {
             Problem::Bal(p) => p.observations.len(),
             Problem::Bundler(p) => p.observations.len(),
             Problem::G2o(g) | Problem::Edge3(g) => g.edges.len(),
-            Problem::G2oAddons(g) => g.pose_edges.len() + g.line_edges.len() + g.plane_edges.len(),
+            Problem::G2oAddons(g) => {
+                g.pose_edges.len()
+                    + g.line_edges.len()
+                    + g.plane_edges.len()
+                    + g.point_edges.len()
+                    + g.priors.len()
+            }
             Problem::KittiVo(vo) => vo.observations.len(),
         }
     }

@@ -617,10 +617,11 @@ fn g2o_line_graph_defects() {
     let cases = [
         (
             167,
-            "EDGE_SE3_PRIOR 5 0 0 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1",
-            "unsupported tag `EDGE_SE3_PRIOR` (a g2o line and plane graph has PARAMS_SE3OFFSET, \
-             VERTEX_SE3:QUAT, VERTEX_LINE3D, VERTEX_PLANE, EDGE_SE3:QUAT, EDGE_SE3_LINE3D, \
-             EDGE_SE3_PLANE_CALIB, FIX lines)",
+            "EDGE_SE3_XYZ_PRIOR 5 0 0 0 0 1 0 0 1 0 1",
+            "unsupported tag `EDGE_SE3_XYZ_PRIOR` (a g2o graph of lines, planes and points has \
+             PARAMS_SE3OFFSET, VERTEX_SE3:QUAT, VERTEX_LINE3D, VERTEX_PLANE, VERTEX_TRACKXYZ, \
+             EDGE_SE3:QUAT, EDGE_SE3_LINE3D, EDGE_SE3_PLANE_CALIB, EDGE_SE3_TRACKXYZ, \
+             EDGE_SE3_PRIOR, FIX lines)",
         ),
         (
             167,
@@ -779,4 +780,167 @@ fn g2o_graph_writer_refuses_what_its_reader_rejects() {
         "g.g2o: plane edge 3: the robot pose and the sensor offset are the same vertex 6"
     );
     assert!(out.is_empty(), "nothing is written");
+}
+
+/// A graph of g2o's slam3d records: two sensor offsets, two poses, a point,
+/// an odometry edge, a point edge through offset 1 and a planar prior
+/// (g2o's `simulator_3d_plane --planar_motion=true` writes it so) through
+/// offset 0.
+const SLAM3D: &str = "\
+PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1
+PARAMS_SE3OFFSET 1 0 0 0.3 0.5 -0.5 0.5 -0.5
+VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1
+VERTEX_SE3:QUAT 1 1 0 0 0 0 0 1
+VERTEX_TRACKXYZ 2 1 2 3
+EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1
+EDGE_SE3_TRACKXYZ 0 2 1 2 -1 2.7 100 0 0 100 0 100
+EDGE_SE3_PRIOR 1 0 0 0 0 0 0 0 1 0 0 0 0 0 0 0 0 0 0 0 1e+09 0 0 0 0 0 0 0 0 0
+FIX 0
+";
+
+#[test]
+fn g2o_slam3d_records_are_read_and_their_defects_named_at_their_line() {
+    let read = |text: &str| g2o::graph_from_text(text, "s.g2o");
+    let graph = read(SLAM3D).unwrap();
+    assert_eq!(graph.points.len(), 1);
+    assert_eq!(graph.point_edges.len(), 1);
+    assert_eq!(graph.priors.len(), 1);
+    // The prior's information is g2o's [δt, δq] order swapped to [δω, δρ]:
+    // the height z is its last coordinate.
+    assert_eq!(graph.priors[0].information[(5, 5)], 1e9);
+    let point_edge = |fields: &str| format!("EDGE_SE3_TRACKXYZ 0 2 {fields}");
+    let prior = |fields: &str| format!("EDGE_SE3_PRIOR 1 {fields}");
+    let planar = "0 0 0 0 0 0 0 0 0 0 0 1e+09 0 0 0 0 0 0 0 0 0";
+    let cases = [
+        (
+            7,
+            point_edge("1 2 -1 2.7 100 0 0 100 0"),
+            "line ends before an information entry (6 expected)",
+        ),
+        (
+            7,
+            point_edge("1 2 -1 2.7 100 0 0 100 0 100 7"),
+            "unexpected extra field `7`",
+        ),
+        (
+            7,
+            point_edge("1 2 nan 2.7 100 0 0 100 0 100"),
+            "a point coordinate (x y z)",
+        ),
+        (
+            7,
+            point_edge("1 2 -1 2.7 100 0 0 100 0 inf"),
+            "an information entry",
+        ),
+        (
+            7,
+            point_edge("5 2 -1 2.7 100 0 0 100 0 100"),
+            "parameter 5 is not defined",
+        ),
+        (
+            7,
+            point_edge("1 2 -1 2.7 100 200 0 100 0 100"),
+            "information matrix is not positive definite",
+        ),
+        (
+            7,
+            "EDGE_SE3_TRACKXYZ 0 1 1 2 -1 2.7 100 0 0 100 0 100".into(),
+            "vertex 1 is a VERTEX_SE3:QUAT, not a VERTEX_TRACKXYZ",
+        ),
+        (
+            7,
+            "EDGE_SE3_TRACKXYZ 2 2 1 2 -1 2.7 100 0 0 100 0 100".into(),
+            "vertex 2 is a VERTEX_TRACKXYZ, not a VERTEX_SE3:QUAT",
+        ),
+        (
+            8,
+            prior(&format!("0 0 0 0 0 0 0 1 {}", &planar[..planar.len() - 2])),
+            "line ends before an information entry (21 expected)",
+        ),
+        (
+            8,
+            prior(&format!("0 0 0 0 0 0 0 1 {planar} 1")),
+            "unexpected extra field `1`",
+        ),
+        (
+            8,
+            prior(&format!("0 0 0 nan 0 0 0 1 {planar}")),
+            "a translation component",
+        ),
+        (
+            8,
+            prior(&format!("0 0 0 0 0 0 0 2 {planar}")),
+            "measurement: not a unit quaternion",
+        ),
+        (
+            8,
+            prior(&format!("4 0 0 0 0 0 0 1 {planar}")),
+            "parameter 4 is not defined",
+        ),
+        (
+            8,
+            prior("0 0 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 -1 0 0 0 1 0 0 1 0 1"),
+            "information matrix is not positive semi-definite",
+        ),
+        (
+            8,
+            prior(&format!("0 0 0 0 0 0 0 1 {}", planar.replace("1e+09", "0"))),
+            "information matrix has no positive eigenvalue",
+        ),
+        (
+            8,
+            "EDGE_SE3_PRIOR 2 0 0 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1".into(),
+            "vertex 2 is a VERTEX_TRACKXYZ, not a VERTEX_SE3:QUAT",
+        ),
+        (
+            5,
+            "VERTEX_TRACKXYZ 2 1 2".into(),
+            "line ends before a point coordinate (x y z)",
+        ),
+        (
+            5,
+            "VERTEX_TRACKXYZ 2 1 2 1e999".into(),
+            "a point coordinate (x y z)",
+        ),
+        (
+            5,
+            "VERTEX_TRACKXYZ 1 1 2 3".into(),
+            "vertex id 1 defined again (first as a VERTEX_SE3:QUAT)",
+        ),
+        (
+            5,
+            "VERTEX_POINTXYZ 2 1 2 3".into(),
+            "unsupported tag `VERTEX_POINTXYZ`",
+        ),
+    ];
+    for (line, replacement, what) in cases {
+        assert_error(
+            read(&with_line(SLAM3D, line, &replacement)),
+            "s.g2o",
+            line,
+            what,
+        );
+    }
+}
+
+#[test]
+fn g2o_slam3d_records_round_trip_and_a_pose_graph_with_a_prior_is_told_from_its_tags() {
+    let graph = g2o::graph_from_text(SLAM3D, "s.g2o").unwrap();
+    let mut out = Vec::new();
+    g2o::write_graph_to(&graph, &mut out, "out").unwrap();
+    let again = g2o::graph_from_text(std::str::from_utf8(&out).unwrap(), "out").unwrap();
+    assert_eq!(again, graph);
+    // Poses, odometry and a prior only: a g2o graph of its own, not a plain
+    // pose graph, whatever the record the prior follows.
+    let pose_graph_with_prior: String = SLAM3D
+        .lines()
+        .filter(|l| !l.contains("TRACKXYZ"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let read = Problem::read_from(pose_graph_with_prior.as_bytes(), "p.g2o", None).unwrap();
+    let Problem::G2oAddons(read) = read else {
+        panic!("read as {:?}", read.format());
+    };
+    assert_eq!(read.priors.len(), 1);
+    assert!(read.points.is_empty());
 }

@@ -4,7 +4,7 @@
 //! compared on, the three factors of the estimation problems `slamjac
 //! solve` runs (bundle adjustment, stereo visual odometry, pose graphs), a
 //! 3D line observation over the documents' orthonormal line, and g2o's own
-//! errors for its pose, line and plane edges ([`g2o`]).
+//! errors for its pose, line, plane, point and prior edges ([`g2o`]).
 //!
 //! | factor | source | variables (perturbation) |
 //! | --- | --- | --- |
@@ -17,7 +17,7 @@
 //! | [`StereoReprojection`] | rectified stereo (KITTI VO) | camera-to-world pose (right, `[δρ, δθ]`), landmark (additive) |
 //! | [`BetweenFactor`] | pose graphs (g2o, EDGE3) | two body-to-world poses (right, `[δρ, δθ]`) |
 //! | [`LineObservation`] | a 3D line in the camera frame, over document 000 §III's orthonormal line | pose (left), orthonormal line (left) |
-//! | [`G2oSe3Edge`], [`G2oLineEdge`], [`G2oPlaneEdge`] | g2o's own pose, line and plane edge errors ([`g2o`]) | body-to-world poses (right, `[δρ, δθ]`), orthonormal line, plane (right) |
+//! | [`G2oSe3Edge`], [`G2oLineEdge`], [`G2oPlaneEdge`], [`G2oPointEdge`], [`G2oPriorEdge`] | g2o's own pose, line, plane, point and prior edge errors ([`g2o`]) | body-to-world poses (right, `[δρ, δθ]`), orthonormal line, plane (right), point (Euclidean) |
 //!
 //! The Snavely, stereo and between factors and g2o's declare their poses
 //! [`factor_core::lie::Se3RhoTheta`] perturbed on the right: the chart of
@@ -56,7 +56,7 @@ pub mod stereo;
 
 pub use between::{BetweenFactor, SqrtInformation6};
 pub use free_line::FreeLineFactor;
-pub use g2o::{G2oLineEdge, G2oPlaneEdge, G2oSe3Edge};
+pub use g2o::{G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge};
 pub use line_observation::LineObservation;
 pub use line_reprojection::LineReprojection;
 pub use plane::PlaneFactor;

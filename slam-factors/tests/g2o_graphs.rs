@@ -18,7 +18,7 @@ use factor_testing::{GENERATED_TOLERANCE, check_generated};
 use nalgebra::{SMatrix, SVector};
 use slam_data::{G2oGraph, Pose, Rotation, g2o};
 use slam_factors::g2o::{line_landmark, line_observation};
-use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oSe3Edge};
+use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge};
 
 /// g2o's χ² per edge tag at the files' values (`initial_chi2_by_tag`), as
 /// the driver printed them (17 significant digits).
@@ -31,6 +31,28 @@ const REFERENCES: [(&str, f64, f64); 3] = [
         "plane3d_calib.g2o",
         0.038929255237025319,
         39632.410094349289,
+    ),
+];
+
+/// g2o's χ² per edge tag at the files' values of its slam3d graphs (poses
+/// with priors, planes or points), as the driver printed them.
+#[allow(clippy::excessive_precision)]
+const SLAM3D_REFERENCES: [(&str, [(&str, f64); 3]); 2] = [
+    (
+        "plane3d_planar.g2o",
+        [
+            ("EDGE_SE3:QUAT", 6.1743412389468475e-05),
+            ("EDGE_SE3_PLANE_CALIB", 3572.7024015739771),
+            ("EDGE_SE3_PRIOR", 2436598.4658174342),
+        ],
+    ),
+    (
+        "points3d_gps.g2o",
+        [
+            ("EDGE_SE3:QUAT", 8.8573928396316808e-06),
+            ("EDGE_SE3_TRACKXYZ", 86804.278711209394),
+            ("EDGE_SE3_PRIOR", 332799.37969138921),
+        ],
     ),
 ];
 
@@ -68,6 +90,8 @@ struct Factors {
     poses: Vec<(G2oSe3Edge, SMatrix<f64, 6, 6>)>,
     lines: Vec<(G2oLineEdge, SMatrix<f64, 4, 4>)>,
     planes: Vec<(G2oPlaneEdge, SMatrix<f64, 3, 3>)>,
+    points: Vec<(G2oPointEdge, SMatrix<f64, 3, 3>)>,
+    priors: Vec<(G2oPriorEdge, SMatrix<f64, 6, 6>)>,
 }
 
 fn factors(graph: &G2oGraph) -> Factors {
@@ -82,6 +106,13 @@ fn factors(graph: &G2oGraph) -> Factors {
         .planes
         .iter()
         .map(|v| (v.id, InfinitePlane::from_coefficients(&v.plane)))
+        .collect();
+    let points: HashMap<usize, nalgebra::Vector3<f64>> =
+        graph.points.iter().map(|v| (v.id, v.point)).collect();
+    let offsets: HashMap<usize, Se3<f64>> = graph
+        .offsets
+        .iter()
+        .map(|p| (p.id, pose(&p.offset)))
         .collect();
     let pose_at = |id: &usize| Se3RhoTheta::new(poses[id]);
     Factors {
@@ -122,6 +153,31 @@ fn factors(graph: &G2oGraph) -> Factors {
                 (factor, e.information)
             })
             .collect(),
+        points: graph
+            .point_edges
+            .iter()
+            .map(|e| {
+                let factor = G2oPointEdge {
+                    measured: e.measurement,
+                    offset: offsets[&e.offset],
+                    pose: pose_at(&e.pose),
+                    point: points[&e.point],
+                };
+                (factor, e.information)
+            })
+            .collect(),
+        priors: graph
+            .priors
+            .iter()
+            .map(|e| {
+                let factor = G2oPriorEdge {
+                    measured: pose(&e.measurement),
+                    offset: offsets[&e.offset],
+                    pose: pose_at(&e.pose),
+                };
+                (factor, e.information)
+            })
+            .collect(),
     }
 }
 
@@ -156,6 +212,36 @@ fn costs_at_the_files_values_equal_g2os_chi2() {
             relative(landmark_cost, landmark_reference) <= TOLERANCE,
             "{name}: landmark edges {landmark_cost} vs g2o's {landmark_reference}"
         );
+    }
+}
+
+/// The same on the graphs of g2o's slam3d types its simulators wrote:
+/// `plane3d_planar.g2o` (`simulator_3d_plane --planar_motion=true`: a prior
+/// on every pose, information `diag(0, 0, 1e9, 0, 0, 0)`, through the
+/// identity offset) and `points3d_gps.g2o` (g2o's 3D simulator: points
+/// seen through one sensor offset, priors through another, both rotated
+/// and translated).
+#[test]
+fn costs_of_points_and_priors_equal_g2os_chi2() {
+    for (name, references) in SLAM3D_REFERENCES {
+        let factors = factors(&graph(name));
+        for (tag, reference) in references {
+            let ours = match tag {
+                "EDGE_SE3:QUAT" => cost(&factors.poses),
+                "EDGE_SE3_PLANE_CALIB" => cost(&factors.planes),
+                "EDGE_SE3_TRACKXYZ" => cost(&factors.points),
+                "EDGE_SE3_PRIOR" => cost(&factors.priors),
+                _ => unreachable!("{tag}"),
+            };
+            println!(
+                "{name}: {tag} {ours} (g2o {reference}, {:.1e})",
+                relative(ours, reference)
+            );
+            assert!(
+                relative(ours, reference) <= TOLERANCE,
+                "{name}: {tag} {ours} vs g2o's {reference}"
+            );
+        }
     }
 }
 

@@ -7,6 +7,7 @@ mod degenerate;
 mod estimation;
 mod g2o_documents;
 mod g2o_graphs;
+mod g2o_slam3d;
 mod generated;
 mod host_charts;
 mod jacobians;

@@ -158,6 +158,18 @@ fn g2o_plane_dual_matches_numeric() {
     println!("g2o_se3_plane_calib: worst relative error {worst:e}");
 }
 
+#[test]
+fn g2o_prior_dual_matches_numeric() {
+    let worst = worst_error(13, Sampler::g2o_prior);
+    println!("g2o_se3_prior: worst relative error {worst:e}");
+}
+
+#[test]
+fn g2o_point_dual_matches_numeric() {
+    let worst = worst_error(14, Sampler::g2o_point);
+    println!("g2o_se3_trackxyz: worst relative error {worst:e}");
+}
+
 /// g2o's errors near zero (a converged graph) and at zero.
 #[test]
 fn g2o_jacobians_are_exact_near_and_at_zero_error() {
@@ -168,6 +180,8 @@ fn g2o_jacobians_are_exact_near_and_at_zero_error() {
             check_jacobians(&sampler.g2o_se3_with_error(max_error)),
             check_jacobians(&sampler.g2o_line_with_error(max_error)),
             check_jacobians(&sampler.g2o_plane_with_error(max_error)),
+            check_jacobians(&sampler.g2o_prior_with_error(max_error)),
+            check_jacobians(&sampler.g2o_point_with_error(max_error)),
         ] {
             let check = check.expect("well-conditioned");
             assert!(

@@ -57,6 +57,33 @@ fn bundle_adjustment(
     )
 }
 
+/// The vertices and edges of a g2o graph, by kind; points and priors only
+/// when it has them.
+fn g2o_graph_sizes(g: &slam_data::G2oGraph) -> String {
+    let mut sizes = format!(
+        "{} poses, {} lines, {} planes",
+        g.poses.len(),
+        g.lines.len(),
+        g.planes.len()
+    );
+    if !g.points.is_empty() {
+        sizes += &format!(", {} points", g.points.len());
+    }
+    sizes += &format!(
+        "; {} pose edges, {} line edges, {} plane edges",
+        g.pose_edges.len(),
+        g.line_edges.len(),
+        g.plane_edges.len()
+    );
+    if !g.point_edges.is_empty() {
+        sizes += &format!(", {} point edges", g.point_edges.len());
+    }
+    if !g.priors.is_empty() {
+        sizes += &format!(", {} priors", g.priors.len());
+    }
+    sizes
+}
+
 /// What the problem is, in words: sizes, factors, kernels, gauge, solver.
 pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &SolveArgs) -> String {
     let (sizes, factor, gauge) = match data {
@@ -79,21 +106,15 @@ pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &Solv
             "the first pose fixed",
         ),
         slam_data::Problem::G2oAddons(g) => (
-            format!(
-                "{} poses, {} lines, {} planes; {} pose edges, {} line edges, {} plane edges",
-                g.poses.len(),
-                g.lines.len(),
-                g.planes.len(),
-                g.pose_edges.len(),
-                g.line_edges.len(),
-                g.plane_edges.len()
-            ),
+            g2o_graph_sizes(g),
             match args.landmarks {
                 factor_apex::problems::g2o_addons::LandmarkFactors::G2o => {
-                    "g2o_se3, g2o_se3_line3d, g2o_se3_plane_calib (g2o's errors; cost = χ²/2)"
+                    "g2o_se3, g2o_se3_line3d, g2o_se3_plane_calib, g2o_se3_trackxyz, \
+                     g2o_se3_prior (g2o's errors; cost = χ²/2)"
                 }
                 factor_apex::problems::g2o_addons::LandmarkFactors::Documents => {
-                    "g2o_se3, line_observation, plane (the documents' line and plane factors)"
+                    "g2o_se3, line_observation, plane (the documents' line and plane factors; g2o's \
+                     point and prior errors)"
                 }
             },
             "the file's FIX vertices",

@@ -7,7 +7,9 @@ use factor_core::geometry::plane::transpose_transform;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine, PluckerLine};
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use factor_core::{Factor, Manifold, Perturbation};
-use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oSe3Edge, LineObservation};
+use slam_factors::{
+    G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation,
+};
 
 use super::Sampler;
 
@@ -113,6 +115,51 @@ impl Sampler {
     /// A g2o plane edge with an error of up to 0.1.
     pub fn g2o_plane(&mut self) -> G2oPlaneEdge {
         self.g2o_plane_with_error(0.1)
+    }
+}
+
+impl Sampler {
+    /// A g2o pose prior: a robot pose, a sensor offset within 1 m, and as
+    /// the measurement the world-from-sensor pose moved by `Exp` of a step
+    /// of up to `max_error` per coordinate, quaternions as written.
+    pub fn g2o_prior_with_error(&mut self, max_error: f64) -> G2oPriorEdge {
+        let pose = self.pose();
+        let offset = Se3::new(self.rotation(), self.vector3(1.0));
+        let step = Vector6::from_fn(|_, _| self.uniform(-max_error, max_error));
+        let measured = pose.compose(&offset).compose(&Se3::exp(&step));
+        G2oPriorEdge {
+            measured: self.as_written(measured),
+            offset: self.as_written(offset),
+            pose: Se3RhoTheta::new(self.as_written(pose)),
+        }
+    }
+
+    /// A g2o pose prior with an error of up to 0.3 per coordinate.
+    pub fn g2o_prior(&mut self) -> G2oPriorEdge {
+        self.g2o_prior_with_error(0.3)
+    }
+
+    /// A g2o point edge: a robot pose, a sensor offset within 1 m, a point
+    /// within 5 m of the sensor, and as the measurement the point in the
+    /// sensor frame moved by up to `max_error` per coordinate, quaternions
+    /// as written.
+    pub fn g2o_point_with_error(&mut self, max_error: f64) -> G2oPointEdge {
+        let pose = self.pose();
+        let offset = Se3::new(self.rotation(), self.vector3(1.0));
+        let in_sensor = self.vector3(5.0);
+        let point = pose.compose(&offset).transform_point(&in_sensor);
+        let noise = Vector3::from_fn(|_, _| self.uniform(-max_error, max_error));
+        G2oPointEdge {
+            measured: in_sensor + noise,
+            offset: self.as_written(offset),
+            pose: Se3RhoTheta::new(self.as_written(pose)),
+            point,
+        }
+    }
+
+    /// A g2o point edge with an error of up to 0.3 per coordinate.
+    pub fn g2o_point(&mut self) -> G2oPointEdge {
+        self.g2o_point_with_error(0.3)
     }
 }
 

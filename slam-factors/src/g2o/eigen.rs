@@ -123,6 +123,11 @@ impl<S: Scalar> Isometry<S> {
         }
     }
 
+    /// `L p + t`.
+    pub fn apply(&self, p: &Vector3<S>) -> Vector3<S> {
+        self.linear * p + self.translation
+    }
+
     /// Eigen's isometry inverse `[Lᵀ, −Lᵀ t]`.
     pub fn inverse(&self) -> Self {
         let linear = self.linear.transpose();

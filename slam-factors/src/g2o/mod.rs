@@ -1,4 +1,5 @@
-//! g2o's own errors for its 3D pose, line and plane edges, written with the
+//! g2o's own errors for its 3D pose, line, plane, point and prior edges,
+//! written with the
 //! derive so that costs compare exactly with g2o's χ² (`Σ eᵀ Ω e`) on the
 //! graphs g2o writes (crate `slam-data` reads them: `g2o::read_graph`).
 //!
@@ -7,15 +8,20 @@
 //! | [`G2oSe3Edge`] | `EDGE_SE3:QUAT` (`EdgeSE3`) | two poses (right, `[δρ, δθ]`) | `[q_v, t]` of `Z⁻¹ X_i⁻¹ X_j`, `w ≥ 0` |
 //! | [`G2oLineEdge`] | `EDGE_SE3_LINE3D` (`EdgeSE3Line3D`) | pose (right), orthonormal line (right) | `Line3D::ominus`: `[q_v(U_Lᵀ U_m), angle(W_Lᵀ W_m)]` |
 //! | [`G2oPlaneEdge`] | `EDGE_SE3_PLANE_CALIB` (`EdgeSE3PlaneSensorCalib`) | pose (right), plane (right), sensor offset (right) | `Plane3D::ominus`: azimuth, elevation, distance |
+//! | [`G2oPointEdge`] | `EDGE_SE3_TRACKXYZ` (`EdgeSE3PointXYZ`) | pose (right), point (Euclidean); offset `P` a constant | `(X P)⁻¹ p − m` |
+//! | [`G2oPriorEdge`] | `EDGE_SE3_PRIOR` (`EdgeSE3Prior`) | pose (right); offset `P` a constant | `[q_v, t]` of `Z⁻¹ X P`, `w ≥ 0` |
 //!
 //! The factors are unwhitened: the information matrix of an edge weights
 //! its residual outside (`eᵀ Ω e`), in the residual order above, which is
-//! g2o's order for the line and plane edges and that of `slam-data`'s
-//! `[δω, δρ]` pose-graph information for [`G2oSe3Edge`].
+//! g2o's order for the line, plane and point edges and that of
+//! `slam-data`'s `[δω, δρ]` pose-graph information for [`G2oSe3Edge`] and
+//! [`G2oPriorEdge`].
 //!
 //! # Linearization
 //!
 //! [`G2oSe3Edge`] has a generated kernel (`generated/src/g2o_se3.rs`);
+//! [`G2oPointEdge`] and [`G2oPriorEdge`] linearize through dual numbers
+//! (one of each per pose or observation: not where the time goes);
 //! [`G2oLineEdge`] and [`G2oPlaneEdge`] linearize through dual numbers:
 //! their kernels take the code generator 30 s and 19 s on this project's
 //! 2-core machine (its whole shipped set of eleven kernels took 13 s), and
@@ -53,12 +59,17 @@
 //!   digits); the plane measurement and landmark are scaled to a unit
 //!   normal, as g2o's `Plane3D` does on loading.
 //! - The sensor-offset parameter of `EDGE_SE3_LINE3D` is resolved by g2o
-//!   but not used: [`G2oLineEdge`] has no offset.
+//!   but not used: [`G2oLineEdge`] has no offset. Those of
+//!   `EDGE_SE3_TRACKXYZ` and `EDGE_SE3_PRIOR` are used (g2o's
+//!   `CacheSE3Offset`: `X P` and its isometry inverse) and are constants
+//!   of [`G2oPointEdge`] and [`G2oPriorEdge`].
 
 mod documents;
 pub mod eigen;
 mod line_edge;
 mod plane_edge;
+mod point_edge;
+mod prior_edge;
 mod se3_edge;
 
 pub use documents::{
@@ -66,6 +77,8 @@ pub use documents::{
 };
 pub use line_edge::{G2oLineEdge, g2o_line_residual, validate_g2o_line};
 pub use plane_edge::{G2oPlaneEdge, g2o_plane_residual, validate_g2o_plane};
+pub use point_edge::{G2oPointEdge, g2o_point_residual, validate_g2o_point};
+pub use prior_edge::{G2oPriorEdge, g2o_prior_residual, validate_g2o_prior};
 pub use se3_edge::{G2oSe3Edge, g2o_se3_residual, validate_g2o_se3};
 
 use factor_core::FactorError;

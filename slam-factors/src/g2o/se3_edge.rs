@@ -45,23 +45,52 @@ pub struct G2oSe3Edge<S: Scalar = f64> {
     pub pose_j: Se3RhoTheta<S>,
 }
 
-/// `Z⁻¹ · X_i⁻¹ · X_j` and the quaternion of its linear part (normalised,
-/// sign as Eigen's conversion gives it).
-fn error_isometry<S: Scalar>(f: &G2oSe3Edge<S>) -> (Isometry<S>, Quaternion<S>) {
-    let delta = Isometry::from_pose(&f.measured)
+/// `Z⁻¹ · X_i⁻¹ · X_j`.
+fn error_isometry<S: Scalar>(f: &G2oSe3Edge<S>) -> Isometry<S> {
+    Isometry::from_pose(&f.measured)
         .inverse()
         .compose(&Isometry::from_pose(&f.pose_i.se3()).inverse())
-        .compose(&Isometry::from_pose(&f.pose_j.se3()));
-    let q = normalized(&quaternion_of(&delta.linear));
-    (delta, q)
+        .compose(&Isometry::from_pose(&f.pose_j.se3()))
+}
+
+/// The quaternion of `delta`'s linear part (normalised, sign as Eigen's
+/// conversion gives it).
+fn error_quaternion<S: Scalar>(delta: &Isometry<S>) -> Quaternion<S> {
+    normalized(&quaternion_of(&delta.linear))
+}
+
+/// g2o's `toVectorMQT` of `delta` with its halves swapped: `[q_v, t]`, `q`
+/// the unit quaternion of the linear part taken with `w ≥ 0`.
+pub(crate) fn vector_mqt<S: Scalar>(delta: &Isometry<S>) -> Vector6<S> {
+    let q = error_quaternion(delta);
+    let q = Quaternion::select(q.w, S::zero(), &q.negated(), &q);
+    let t = delta.translation;
+    Vector6::new(q.x, q.y, q.z, t.x, t.y, t.z)
+}
+
+/// Rejects a rotation error of π in `delta` (`w = 0`), where the sign
+/// choice of [`vector_mqt`] flips `q_v`; `what` names the error.
+pub(crate) fn check_not_half_turn(
+    factor: &'static str,
+    what: &str,
+    delta: &Isometry<f64>,
+) -> Result<(), FactorError> {
+    let q = error_quaternion(delta);
+    if !exceeds(q.w.abs(), crate::DEGENERACY_TOLERANCE) {
+        return Err(degenerate(
+            factor,
+            format!(
+                "{what} is π (error quaternion w = {}), where g2o's error changes sign",
+                number_text(q.w)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `[q_v, t]` of `Z⁻¹ · X_i⁻¹ · X_j`, `q` with `w ≥ 0`.
 pub fn g2o_se3_residual<S: Scalar>(f: &G2oSe3Edge<S>) -> Vector6<S> {
-    let (delta, q) = error_isometry(f);
-    let q = Quaternion::select(q.w, S::zero(), &q.negated(), &q);
-    let t = delta.translation;
-    Vector6::new(q.x, q.y, q.z, t.x, t.y, t.z)
+    vector_mqt(&error_isometry(f))
 }
 
 /// Rejects pose quaternions off unit norm and a relative rotation of π.
@@ -74,16 +103,9 @@ pub fn validate_g2o_se3(f: &G2oSe3Edge<f64>) -> Result<(), FactorError> {
             ("pose_j", &f.pose_j.se3()),
         ],
     )?;
-    let (_, q) = error_isometry(f);
-    if !exceeds(q.w.abs(), crate::DEGENERACY_TOLERANCE) {
-        return Err(degenerate(
-            G2oSe3Edge::NAME,
-            format!(
-                "the relative rotation error is π (error quaternion w = {}), where g2o's error \
-                 changes sign",
-                number_text(q.w)
-            ),
-        ));
-    }
-    Ok(())
+    check_not_half_turn(
+        G2oSe3Edge::NAME,
+        "the relative rotation error",
+        &error_isometry(f),
+    )
 }

@@ -1,19 +1,26 @@
-//! g2o's line and plane graphs (`types_slam3d_addons`, what g2o's
-//! simulators write): robot poses, 3D lines, planes and sensor offsets,
-//! solved with g2o's own error definitions (so the cost is g2o's `χ² / 2`)
-//! or with the documents' line and plane factors.
+//! g2o's graphs of lines, planes and points (`types_slam3d_addons` and
+//! `types_slam3d`, what g2o's simulators write): robot poses, 3D lines,
+//! planes, points, sensor offsets and pose priors, solved with g2o's own
+//! error definitions (so the cost is g2o's `χ² / 2`) or with the documents'
+//! line and plane factors.
 //!
 //! | record | variable / factor ([`LandmarkFactors::G2o`]) | [`LandmarkFactors::Documents`] |
 //! | --- | --- | --- |
 //! | `VERTEX_SE3:QUAT` | `Se3RhoTheta` (body to world; a sensor offset too) | the same |
 //! | `VERTEX_LINE3D` | `OrthonormalLine` | the same |
 //! | `VERTEX_PLANE` | `InfinitePlane` | the same |
+//! | `VERTEX_TRACKXYZ` | `Vector3` (Euclidean) | the same |
 //! | `EDGE_SE3:QUAT` | [`G2oSe3Edge`], generated kernel | the same |
 //! | `EDGE_SE3_LINE3D` | [`G2oLineEdge`], dual numbers | [`LineObservation`](slam_factors::LineObservation) (generated kernel) on `X⁻¹` ([`InversePose`]), information moved into its residual space ([`slam_factors::g2o::line_observation`]) |
 //! | `EDGE_SE3_PLANE_CALIB` | [`G2oPlaneEdge`], dual numbers | [`PlaneFactor`](slam_factors::PlaneFactor) (generated kernel) on `X⁻¹`, the measurement moved into the body frame through the offset, which must be fixed ([`slam_factors::g2o::plane_observation`]) |
+//! | `EDGE_SE3_TRACKXYZ` | [`G2oPointEdge`], dual numbers, its `PARAMS_SE3OFFSET` a constant | the same |
+//! | `EDGE_SE3_PRIOR` | [`G2oPriorEdge`], dual numbers, its `PARAMS_SE3OFFSET` a constant | the same |
 //!
 //! Each edge is whitened by the square root `Lᵀ` of its information `Ω =
 //! L Lᵀ`, so its cost is `½ eᵀ Ω e`: the problem's cost is half g2o's χ².
+//! A prior's information may be positive semi-definite (g2o's planar-motion
+//! prior weighs the height only): it is whitened by `S = √Λ Vᵀ` of `Ω = V Λ
+//! Vᵀ`, whose rows of zero eigenvalues weigh nothing.
 //! The vertices of the file's `FIX` lines are held fixed (g2o's gauge).
 //! Pose quaternions become apex's unit quaternions (g2o's files write six
 //! digits, so they are unit only to about 1e-6: the initial cost differs
@@ -27,10 +34,10 @@ use apex_solver::core::variable::ManifoldVariable;
 use apex_solver::linalg::LinearSolverType;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
-use nalgebra::{DMatrix, SMatrix};
-use slam_data::{G2oGraph, LineVertex, PlaneVertex, Pose, Rotation, Vertex};
+use nalgebra::{DMatrix, Matrix6, SMatrix, Vector3};
+use slam_data::{G2oGraph, LineVertex, PlaneVertex, PointVertex, Pose, Rotation, Vertex};
 use slam_factors::g2o::{line_landmark, line_observation, plane_observation};
-use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oSe3Edge};
+use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge};
 use slotmap::SlotMap;
 
 use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
@@ -70,6 +77,8 @@ pub struct G2oGraphKeys {
     pub lines: Vec<(usize, Variable<OrthonormalLine<f64>>)>,
     /// Planes.
     pub planes: Vec<(usize, Variable<InfinitePlane<f64>>)>,
+    /// Points.
+    pub points: Vec<(usize, Variable<Vector3<f64>>)>,
 }
 
 /// A file's pose with its quaternion as written (g2o's factors use it so).
@@ -100,6 +109,17 @@ fn sqrt_information<const N: usize>(
         N,
         s.as_slice(),
     )))
+}
+
+/// The noise model of a positive semi-definite information matrix `Ω = V Λ
+/// Vᵀ` (a prior's): `S = √Λ Vᵀ`, so `Sᵀ S = Ω`; eigenvalues that rounding
+/// left below zero count as zero (the reader rejects any below `−1e-12`
+/// times the largest).
+fn sqrt_semidefinite_information(information: &Matrix6<f64>) -> Noise {
+    let eigen = information.symmetric_eigen();
+    let roots = eigen.eigenvalues.map(|l| l.max(0.0).sqrt());
+    let s = Matrix6::from_diagonal(&roots) * eigen.eigenvectors.transpose();
+    Noise::SqrtInformation(DMatrix::from_column_slice(6, 6, s.as_slice()))
 }
 
 /// A vertex's variable by id, or the edge's error.
@@ -143,6 +163,7 @@ pub fn build_with(
         poses: Vec::new(),
         lines: Vec::new(),
         planes: Vec::new(),
+        points: Vec::new(),
     };
     let mut poses = HashMap::new();
     for Vertex { id, pose } in &graph.poses {
@@ -166,6 +187,12 @@ pub fn build_with(
         keys.planes.push((*id, variable.clone()));
         planes.insert(*id, (variable, value));
     }
+    let mut points = HashMap::new();
+    for PointVertex { id, point } in &graph.points {
+        let variable = builder.add_variable(point);
+        keys.points.push((*id, variable.clone()));
+        points.insert(*id, (variable, *point));
+    }
     for id in &graph.fixed {
         if let Some((v, _)) = poses.get(id) {
             builder.fix_variable(v)?;
@@ -173,8 +200,22 @@ pub fn build_with(
             builder.fix_variable(v)?;
         } else if let Some((v, _)) = planes.get(id) {
             builder.fix_variable(v)?;
+        } else if let Some((v, _)) = points.get(id) {
+            builder.fix_variable(v)?;
         }
     }
+    // Sensor offsets by parameter id, quaternions as written (g2o's).
+    let offsets: HashMap<usize, Se3<f64>> = graph
+        .offsets
+        .iter()
+        .map(|p| (p.id, as_written(&p.offset)))
+        .collect();
+    let offset = |id: usize, which: &dyn Fn() -> String| {
+        offsets
+            .get(&id)
+            .copied()
+            .ok_or_else(|| BuildError::Data(format!("{}: parameter {id} is not defined", which())))
+    };
     let loss = options.robust;
     for (k, e) in graph.pose_edges.iter().enumerate() {
         let which = || format!("pose edge {k} ({} → {})", e.from, e.to);
@@ -259,6 +300,34 @@ pub fn build_with(
             }
         }
     }
+    for (k, e) in graph.point_edges.iter().enumerate() {
+        let which = || format!("point edge {k} (pose {} → point {})", e.pose, e.point);
+        let (vx, x) = find(&poses, e.pose, &which)?;
+        let (vp, p) = find(&points, e.point, &which)?;
+        let factor = G2oPointEdge {
+            measured: e.measurement,
+            offset: offset(e.offset, &which)?,
+            pose: *x,
+            point: *p,
+        };
+        let noise = sqrt_information(&e.information, &which)?;
+        builder
+            .add_factor_dual(&factor, &[vx.erase(), vp.erase()], &noise, loss)
+            .map_err(|err| within(err, &which))?;
+    }
+    for (k, e) in graph.priors.iter().enumerate() {
+        let which = || format!("prior edge {k} (pose {})", e.pose);
+        let (vx, x) = find(&poses, e.pose, &which)?;
+        let factor = G2oPriorEdge {
+            measured: as_written(&e.measurement),
+            offset: offset(e.offset, &which)?,
+            pose: *x,
+        };
+        let noise = sqrt_semidefinite_information(&e.information);
+        builder
+            .add_factor_dual(&factor, &[vx.erase()], &noise, loss)
+            .map_err(|err| within(err, &which))?;
+    }
     // Metres and radians, whitened by the edges' information, as pose
     // graphs: uniform damping.
     builder.damping(Damping::Uniform);
@@ -306,7 +375,8 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
 
 impl G2oGraphKeys {
     /// `graph` with the solution's vertices: poses as unit quaternions,
-    /// lines as `[w, d]` (unit direction), planes as `[n, d]` (unit normal).
+    /// lines as `[w, d]` (unit direction), planes as `[n, d]` (unit normal),
+    /// points as they are.
     pub fn write(
         &self,
         graph: &G2oGraph,
@@ -347,6 +417,16 @@ impl G2oGraphKeys {
             if let Some(plane) = planes.get(&vertex.id) {
                 let (n, d) = plane.normal_offset();
                 vertex.plane = nalgebra::Vector4::new(n.x, n.y, n.z, d);
+            }
+        }
+        let points: HashMap<usize, Vector3<f64>> = self
+            .points
+            .iter()
+            .map(|(id, v)| (*id, value_of(values, v)))
+            .collect();
+        for vertex in &mut solved.points {
+            if let Some(point) = points.get(&vertex.id) {
+                vertex.point = *point;
             }
         }
         solved

@@ -248,7 +248,8 @@ pub fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
         let vertices = graph.poses.iter().map(|v| v.id);
         let vertices = vertices
             .chain(graph.lines.iter().map(|v| v.id))
-            .chain(graph.planes.iter().map(|v| v.id));
+            .chain(graph.planes.iter().map(|v| v.id))
+            .chain(graph.points.iter().map(|v| v.id));
         if vertices.clone().all(|id| fixed.contains(&id)) {
             return Some(format!(
                 "nothing to solve: the FIX lines hold every one of the {} vertices",
