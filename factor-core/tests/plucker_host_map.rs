@@ -24,7 +24,11 @@ fn line_of(host: &[f64]) -> PluckerLine<f64> {
 fn assert_on_quadric(line: &PluckerLine<f64>) {
     let (n, v) = (line.normal, line.direction);
     assert!((v.norm() - 1.0).abs() < 1e-14, "|v| = {}", v.norm());
-    assert!(n.dot(&v).abs() < 1e-14 * n.norm().max(1.0), "n · v = {:e}", n.dot(&v));
+    assert!(
+        n.dot(&v).abs() < 1e-14 * n.norm().max(1.0),
+        "n · v = {:e}",
+        n.dot(&v)
+    );
     OrthonormalLine::try_from_plucker(line).unwrap();
 }
 
@@ -66,7 +70,10 @@ fn values_off_the_quadric_are_projected_onto_it() {
     assert_on_quadric(&back);
     assert!((back.direction - Vector3::z()).norm() < 1e-15);
     // The normal `(1, 2, 0)` orthogonal to `v`, scaled with `v` to `|v| = 1`.
-    assert!((back.normal - Vector3::new(0.5, 1.0, 0.0)).norm() < 1e-14, "{back:?}");
+    assert!(
+        (back.normal - Vector3::new(0.5, 1.0, 0.0)).norm() < 1e-14,
+        "{back:?}"
+    );
     // A line through the origin: zero moment, the direction kept.
     let through = PluckerLine::new(Vector3::zeros(), Vector3::new(1.0, 1.0, 0.0));
     let back = line_of(&host_of(&through));
@@ -78,9 +85,14 @@ fn values_off_the_quadric_are_projected_onto_it() {
 /// lands on the quadric: what a solve returns is a Plücker line.
 #[test]
 fn every_step_in_the_chart_stays_on_the_quadric() {
-    let line = PluckerLine::from_points(&Vector3::new(1.0, 0.2, 3.0), &Vector3::new(-0.5, 1.0, 2.0));
+    let line =
+        PluckerLine::from_points(&Vector3::new(1.0, 0.2, 3.0), &Vector3::new(-0.5, 1.0, 2.0));
     let host = host_of(&line);
-    let steps = [[0.3, -0.2, 0.9, 0.4], [-2.0, 1.5, 0.1, -1.2], [0.0, 0.0, 0.0, 1.0]];
+    let steps = [
+        [0.3, -0.2, 0.9, 0.4],
+        [-2.0, 1.5, 0.1, -1.2],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
     for step in steps {
         let mut moved = [0.0; 5];
         ApexManifold::So3.retract(&host[..4], &step[..3], &mut moved[..4]);
