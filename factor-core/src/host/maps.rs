@@ -107,7 +107,8 @@ impl<S: Scalar> HostMap<Apex> for FreeLine<S> {
 /// and the moment `p × v` of any point `p` of the line, `|n|` its distance
 /// from the origin ([`OrthonormalLine::moment`], [`OrthonormalLine::direction`]).
 /// A Plücker line is homogeneous, so this scale loses nothing; a value read
-/// in is put on the quadric first ([`OrthonormalLine::projected_from_plucker`]).
+/// in is put on the quadric first (its direction kept, its normal without
+/// the component along the direction).
 impl<S: Scalar> HostMap<Apex> for PluckerLine<S> {
     const PARTS: &'static [HostPart<ApexManifold>] = <OrthonormalLine<S> as HostMap<Apex>>::PARTS;
     fn stored_from_host<T: Scalar>(host: &[T], stored: &mut [T]) {
