@@ -1045,3 +1045,78 @@ fn synthetic_point_line_plane_rooms_are_solved_against_their_truth() {
     );
     assert!(!empty.exists(), "nothing written");
 }
+
+/// A `synth-plp` room whose lines are Plücker lines `[n, v]`
+/// (`plucker_line_reprojection`): solved in their orthonormal chart, every
+/// line returned is on the Klein quadric (`n · v = 0` to rounding) with a
+/// unit direction, and passes `OrthonormalLine::try_from_plucker`. (Served
+/// as a free `Rn(6)`, the lines left the quadric, cosines up to 0.61, and
+/// now that unobservable directions are refused, the scale of each `[n, v]`,
+/// seen by no residual, made the solve refuse the file.)
+#[test]
+fn plucker_lines_stay_on_the_klein_quadric() {
+    use factor_core::geometry::{OrthonormalLine, PluckerLine};
+    use nalgebra::Vector3;
+    let dir = temp_dir("plucker");
+    let orthonormal = dir.join("room.json");
+    let file = dir.join("room-plucker.json");
+    let solved_file = dir.join("room-solved.json");
+    solve_ok(&[
+        "synth-plp",
+        "--seed",
+        "2",
+        "--kinds",
+        "points,lines",
+        "--output",
+        orthonormal.to_str().unwrap(),
+    ]);
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&orthonormal).unwrap()).unwrap();
+    let mut lines = Vec::new();
+    for (name, variable) in room["variables"].as_object_mut().unwrap() {
+        if variable["type"] == "OrthonormalLine" {
+            variable["type"] = "PluckerLine".into();
+            lines.push(name.clone());
+        }
+    }
+    // A truth is read for orthonormal lines, not Plücker lines.
+    let truth = room["truth"].as_object_mut().unwrap();
+    lines.iter().for_each(|name| drop(truth.remove(name)));
+    for factor in room["factors"].as_array_mut().unwrap() {
+        if factor["factor"] == "line_reprojection" {
+            factor["factor"] = "plucker_line_reprojection".into();
+        }
+    }
+    assert!(lines.len() > 10, "{lines:?}");
+    std::fs::write(&file, room.to_string()).unwrap();
+    let plucker = solve_ok(&[
+        "solve",
+        file.to_str().unwrap(),
+        "--output",
+        solved_file.to_str().unwrap(),
+    ]);
+    // The same lines in the same 4-dof chart: the optimum of the room with
+    // orthonormal lines (both stop when a step gains less than 1e-8 of the
+    // cost).
+    let same = solve_ok(&["solve", orthonormal.to_str().unwrap()]);
+    assert_relative(costs(&plucker).1, costs(&same).1, 1e-7, "final cost");
+    let solved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&solved_file).unwrap()).unwrap();
+    let vector = |value: &serde_json::Value| -> Vector3<f64> {
+        Vector3::from_vec(serde_json::from_value(value.clone()).unwrap())
+    };
+    for name in &lines {
+        let value = &solved["variables"][name]["value"];
+        let line = PluckerLine::new(vector(&value["normal"]), vector(&value["direction"]));
+        let (n, v) = (line.normal, line.direction);
+        assert!((v.norm() - 1.0).abs() < 1e-12, "{name}: |v| = {}", v.norm());
+        assert!(
+            n.dot(&v).abs() <= 1e-12 * n.norm().max(1.0),
+            "{name}: n · v = {:e}",
+            n.dot(&v)
+        );
+        if let Err(e) = OrthonormalLine::try_from_plucker(&line) {
+            panic!("{name}: {e}");
+        }
+    }
+}

@@ -5,4 +5,5 @@ mod geometry_constructors;
 mod lie_group_trait;
 mod lie_properties;
 mod local_coordinates;
+mod plucker_host_map;
 mod seeding;

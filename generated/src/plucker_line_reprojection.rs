@@ -34,7 +34,7 @@
 //! | residual only | 40 | 61 | 1 | 1 | 1 | 0 | 0 | 104 |
 //! | normal equations | 180 | 390 | 2 | 5 | 1 | 0 | 0 | 578 |
 //! | normal equations, cost only | 41 | 65 | 1 | 0 | 1 | 0 | 0 | 108 |
-//! | apex chart | 146 | 281 | 2 | 6 | 1 | 0 | 0 | 436 |
+//! | apex chart | 160 | 349 | 3 | 7 | 1 | 2 | 0 | 522 |
 //!
 //! # Normal equations
 //!
@@ -59,10 +59,12 @@
 //! - `start: [T; 2]` (constant): `[x, y]`
 //! - `end: [T; 2]` (constant): `[x, y]`
 //! - `pose: [T; 7]` (variable): SE3 `[tx, ty, tz, qw, qx, qy, qz]`
-//! - `line: [T; 6]` (variable): Rn(6) `[x0, x1, x2, x3, x4, x5]`
+//! - `line_u: [T; 4]` (variable): SO3 `[qw, qx, qy, qz]`
+//! - `line_w: [T; 1]` (variable): SO2 `[angle]`
 //! - `residual: [T; 2]`
 //! - `d_pose: [T; 12]`: 2 × 6 column-major, SE3; tangent: right: T ← T Exp([ρ, θ]), columns [ρ_x, ρ_y, ρ_z, θ_x, θ_y, θ_z] (apex-solver's SE3)
-//! - `d_line: [T; 12]`: 2 × 6 column-major, Rn(6); tangent: additive: x ← x + δ (apex-solver's Rn)
+//! - `d_line_u: [T; 6]`: 2 × 3 column-major, SO3; tangent: right: q ← q ⊗ exp(θ), columns [θ_x, θ_y, θ_z] (apex-solver's SO3)
+//! - `d_line_w: [T; 2]`: 2 × 1 column-major, SO2; tangent: angle ← angle + δ (apex-solver's SO2)
 //!
 //! # Lanes
 //!
@@ -1379,10 +1381,12 @@ pub fn plucker_line_reprojection_apex<T: Real>(
     start: &[T; 2],
     end: &[T; 2],
     pose: &[T; 7],
-    line: &[T; 6],
+    line_u: &[T; 4],
+    line_w: &[T; 1],
     residual: &mut [T; 2],
     d_pose: Option<&mut [T; 12]>,
-    d_line: Option<&mut [T; 12]>,
+    d_line_u: Option<&mut [T; 6]>,
+    d_line_w: Option<&mut [T; 2]>,
 ) {
     let v0 = pose[4] * pose[4];
     let v1 = pose[5] * pose[5];
@@ -1390,137 +1394,164 @@ pub fn plucker_line_reprojection_apex<T: Real>(
     let v3 = pose[6] * pose[6];
     let v4 = pose[3] * pose[3];
     let v5 = v3 - v4;
-    let v6 = v2 - v5;
-    let v7 = line[0] * v6;
-    let v8 = pose[4] * pose[5];
-    let v9 = pose[6] * pose[3];
-    let v10 = v8 - v9;
-    let v11 = line[1] * T::constant(2.0);
-    let v12 = v10 * v11;
-    let v13 = pose[4] * pose[6];
-    let v14 = pose[5] * pose[3];
-    let v15 = v13 + v14;
-    let v16 = T::constant(2.0) * line[2];
-    let v17 = v15 * v16;
-    let v18 = v0 + v1;
-    let v19 = v3 + v4;
+    let v6 = v2 + v5;
+    let v7 = line_u[1] * line_u[1];
+    let v8 = line_u[2] * line_u[2];
+    let v9 = v7 - v8;
+    let v10 = line_u[3] * line_u[3];
+    let v11 = line_u[0] * line_u[0];
+    let v12 = v10 - v11;
+    let v13 = v9 + v12;
+    let v14 = v6 * v13;
+    let v15 = pose[4] * pose[5];
+    let v16 = pose[6] * pose[3];
+    let v17 = v15 + v16;
+    let v18 = line_u[1] * line_u[2];
+    let v19 = line_u[3] * line_u[0];
     let v20 = v18 - v19;
-    let v21 = line[5] * T::constant(0.5);
+    let v21 = v17 * T::constant(4.0);
     let v22 = v20 * v21;
-    let v23 = v13 - v14;
-    let v24 = line[3] * v23;
+    let v23 = v14 + v22;
+    let v24 = v23 * T::constant(0.25);
     let v25 = pose[5] * pose[6];
     let v26 = pose[4] * pose[3];
-    let v27 = v25 + v26;
-    let v28 = line[4] * v27;
-    let v29 = v24 + v28;
-    let v30 = v29 - v22;
-    let v31 = T::constant(2.0) * pose[1];
-    let v32 = v30 * v31;
-    let v33 = v2 + v5;
-    let v34 = T::constant(0.5) * line[4];
-    let v35 = v33 * v34;
-    let v36 = v8 + v9;
-    let v37 = line[3] * v36;
-    let v38 = v25 - v26;
-    let v39 = line[5] * v38;
-    let v40 = v37 + v39;
-    let v41 = v40 - v35;
-    let v42 = T::constant(2.0) * pose[2];
-    let v43 = v41 * v42;
-    let v44 = v12 + v17;
-    let v45 = v32 + v44;
-    let v46 = v45 - v43;
-    let v47 = v7 + v46;
-    let v48 = intrinsics[1] * v47;
-    let v49 = v48 * v48;
-    let v50 = line[1] * T::constant(0.5);
-    let v51 = v33 * v50;
-    let v52 = v6 * line[3];
-    let v53 = T::constant(2.0) * line[4];
-    let v54 = v10 * v53;
-    let v55 = T::constant(2.0) * line[5];
-    let v56 = v15 * v55;
-    let v57 = v54 + v56;
-    let v58 = v52 + v57;
-    let v59 = T::constant(0.5) * pose[2];
-    let v60 = v58 * v59;
-    let v61 = v60 - v51;
-    let v62 = line[0] * v36;
-    let v63 = line[2] * v38;
-    let v64 = v30 * pose[0];
-    let v65 = v62 + v63;
-    let v66 = v65 - v64;
-    let v67 = v61 + v66;
-    let v68 = intrinsics[0] * v67;
-    let v69 = v68 * T::constant(4.0);
-    let v70 = v68 * v69;
-    let v71 = v49 + v70;
-    let v72 = T::sqrt(v71);
-    let v73 = T::constant(1.0) / v72;
-    let v74 = intrinsics[2] - start[0];
-    let v75 = v48 * v74;
-    let v76 = intrinsics[3] - start[1];
-    let v77 = line[2] * v20;
-    let v78 = pose[1] * v58;
-    let v79 = v77 + v78;
-    let v80 = T::constant(0.5) * v79;
-    let v81 = line[0] * v23;
-    let v82 = line[1] * v27;
-    let v83 = v41 * pose[0];
-    let v84 = v81 + v82;
-    let v85 = v83 + v84;
-    let v86 = v85 - v80;
-    let v87 = intrinsics[1] * intrinsics[0];
-    let v88 = v86 * v87;
-    let v89 = v68 * v76;
-    let v90 = v89 - v88;
-    let v91 = T::constant(2.0) * v90;
-    let v92 = v75 + v91;
-    let v93 = v73 * v92;
-    let v94 = -v93;
-    let v95 = intrinsics[2] - end[0];
-    let v96 = T::constant(0.5) * v95;
-    let v97 = v48 * v96;
-    let v98 = intrinsics[3] - end[1];
-    let v99 = v68 * v98;
-    let v100 = v88 - v99;
-    let v101 = v100 - v97;
-    let v102 = T::constant(2.0) * v101;
-    let v103 = v73 * v102;
-    residual[0] = v94;
-    residual[1] = v103;
-    let (v105, v111, v117, v121, v125, v126, v127, v128, v129, v130) = if d_pose
-        .is_some() || d_line.is_some()
+    let v27 = v25 - v26;
+    let v28 = line_u[2] * line_u[3];
+    let v29 = line_u[1] * line_u[0];
+    let v30 = v28 + v29;
+    let v31 = v27 * v30;
+    let v32 = v24 + v31;
+    let v33 = T::constant(4.0) * v32;
+    let v34 = pose[2] * v33;
+    let v35 = T::cos(line_w[0]);
+    let v36 = T::sin(line_w[0]);
+    let v37 = T::constant(1.0) / v36;
+    let v38 = v2 - v5;
+    let v39 = v9 - v12;
+    let v40 = v38 * v39;
+    let v41 = v15 - v16;
+    let v42 = v18 + v19;
+    let v43 = T::constant(4.0) * v41;
+    let v44 = v42 * v43;
+    let v45 = v40 + v44;
+    let v46 = T::constant(0.25) * v45;
+    let v47 = pose[4] * pose[6];
+    let v48 = pose[5] * pose[3];
+    let v49 = v47 + v48;
+    let v50 = line_u[1] * line_u[3];
+    let v51 = line_u[2] * line_u[0];
+    let v52 = v50 - v51;
+    let v53 = v49 * v52;
+    let v54 = v46 + v53;
+    let v55 = T::constant(4.0) * v54;
+    let v56 = v37 * v55;
+    let v57 = v35 * v56;
+    let v58 = v25 + v26;
+    let v59 = v58 * T::constant(0.5);
+    let v60 = v13 * v59;
+    let v61 = v0 + v1;
+    let v62 = v3 + v4;
+    let v63 = v61 - v62;
+    let v64 = v30 * T::constant(0.5);
+    let v65 = v63 * v64;
+    let v66 = v60 + v65;
+    let v67 = v47 - v48;
+    let v68 = v20 * v67;
+    let v69 = v68 - v66;
+    let v70 = T::constant(4.0) * pose[1];
+    let v71 = v69 * v70;
+    let v72 = v71 - v34;
+    let v73 = v57 + v72;
+    let v74 = intrinsics[1] * v73;
+    let v75 = v74 * v74;
+    let v76 = v20 * v38;
+    let v77 = v13 * v41;
+    let v78 = v49 * T::constant(2.0);
+    let v79 = v30 * v78;
+    let v80 = v76 - v77;
+    let v81 = v79 + v80;
+    let v82 = pose[2] * v81;
+    let v83 = v6 * v42;
+    let v84 = v17 * v39;
+    let v85 = v83 - v84;
+    let v86 = T::constant(0.5) * v85;
+    let v87 = v27 * v52;
+    let v88 = v87 - v86;
+    let v89 = T::constant(2.0) * v88;
+    let v90 = v37 * v89;
+    let v91 = v35 * v90;
+    let v92 = T::constant(2.0) * pose[0];
+    let v93 = v69 * v92;
+    let v94 = v82 - v93;
+    let v95 = v91 + v94;
+    let v96 = intrinsics[0] * v95;
+    let v97 = T::constant(4.0) * v96;
+    let v98 = v96 * v97;
+    let v99 = v75 + v98;
+    let v100 = T::sqrt(v99);
+    let v101 = T::constant(1.0) / v100;
+    let v102 = intrinsics[2] - start[0];
+    let v103 = v74 * v102;
+    let v104 = intrinsics[3] - start[1];
+    let v105 = T::constant(0.5) * pose[0];
+    let v106 = v33 * v105;
+    let v107 = pose[1] * v81;
+    let v108 = v52 * v63;
+    let v109 = v39 * v67;
+    let v110 = v42 * T::constant(2.0);
+    let v111 = v58 * v110;
+    let v112 = v109 + v111;
+    let v113 = v108 - v112;
+    let v114 = -v113;
+    let v115 = v37 * v114;
+    let v116 = v35 * v115;
+    let v117 = v106 - v107;
+    let v118 = v116 + v117;
+    let v119 = intrinsics[1] * intrinsics[0];
+    let v120 = v118 * v119;
+    let v121 = v96 * v104;
+    let v122 = v121 - v120;
+    let v123 = T::constant(2.0) * v122;
+    let v124 = v103 + v123;
+    let v125 = v101 * v124;
+    let v126 = -v125;
+    let v127 = intrinsics[2] - end[0];
+    let v128 = T::constant(0.5) * v127;
+    let v129 = v74 * v128;
+    let v130 = intrinsics[3] - end[1];
+    let v131 = v96 * v130;
+    let v132 = v120 - v129;
+    let v133 = v132 - v131;
+    let v134 = T::constant(2.0) * v133;
+    let v135 = v101 * v134;
+    residual[0] = v126;
+    residual[1] = v135;
+    let (v136, v142, v147, v152, v157) = if d_pose.is_some() || d_line_u.is_some()
+        || d_line_w.is_some()
     {
-        let v104 = intrinsics[1] * v73;
-        let v105 = intrinsics[0] * v104;
-        let v106 = T::constant(1.0) / v71;
-        let v107 = v92 * v106;
-        let v108 = v48 * v104;
-        let v109 = v107 * v108;
-        let v110 = v74 * v104;
-        let v111 = v109 - v110;
-        let v112 = intrinsics[0] * v73;
-        let v113 = T::constant(0.5) * v76;
-        let v114 = v112 * v113;
-        let v115 = v68 * v112;
-        let v116 = v107 * v115;
-        let v117 = v116 - v114;
-        let v118 = v96 * v104;
-        let v119 = v101 * v106;
-        let v120 = v108 * v119;
-        let v121 = v118 + v120;
-        let v122 = v98 * T::constant(0.25);
-        let v123 = v112 * v122;
-        let v124 = v115 * v119;
-        let v125 = v123 + v124;
-        let v126 = v10 * T::constant(4.0);
-        let v127 = v15 * T::constant(4.0);
-        let v128 = T::constant(2.0) * v15;
-        let v129 = T::constant(2.0) * pose[0];
-        let v130 = T::constant(0.5) * pose[0];
-        (v105, v111, v117, v121, v125, v126, v127, v128, v129, v130)
+        let v136 = v101 * v119;
+        let v137 = T::constant(1.0) / v99;
+        let v138 = v124 * v137;
+        let v139 = v74 * v138;
+        let v140 = v139 - v102;
+        let v141 = v101 * v140;
+        let v142 = intrinsics[1] * v141;
+        let v143 = T::constant(0.5) * v104;
+        let v144 = v96 * v138;
+        let v145 = v144 - v143;
+        let v146 = v101 * v145;
+        let v147 = intrinsics[0] * v146;
+        let v148 = v133 * v137;
+        let v149 = v74 * v148;
+        let v150 = v128 + v149;
+        let v151 = v101 * v150;
+        let v152 = intrinsics[1] * v151;
+        let v153 = T::constant(0.25) * v130;
+        let v154 = v96 * v148;
+        let v155 = v153 + v154;
+        let v156 = v101 * v155;
+        let v157 = intrinsics[0] * v156;
+        (v136, v142, v147, v152, v157)
     } else {
         (
             T::constant(0.0),
@@ -1528,353 +1559,415 @@ pub fn plucker_line_reprojection_apex<T: Real>(
             T::constant(0.0),
             T::constant(0.0),
             T::constant(0.0),
-            T::constant(0.0),
-            T::constant(0.0),
-            T::constant(0.0),
-            T::constant(0.0),
-            T::constant(0.0),
         )
     };
+    let (v158, v159, v160) = if d_pose.is_some() || d_line_u.is_some() {
+        let v158 = v41 * T::constant(2.0);
+        let v159 = T::constant(0.25) * pose[1];
+        let v160 = pose[1] * T::constant(2.0);
+        (v158, v159, v160)
+    } else {
+        (T::constant(0.0), T::constant(0.0), T::constant(0.0))
+    };
+    let v161 = if d_line_u.is_some() || d_line_w.is_some() {
+        let v161 = -v89;
+        v161
+    } else {
+        T::constant(0.0)
+    };
     if let Some(d_pose) = d_pose {
-        let v131 = line[2] * T::constant(0.5);
-        let v132 = pose[1] * T::constant(0.5);
-        let v133 = v36 * v58;
-        let v134 = v6 * v41;
-        let v135 = v133 - v134;
-        let v136 = v135 * v105;
-        let v137 = T::constant(2.0) * v136;
-        let v138 = v30 * v36;
-        let v139 = v23 * v41;
-        let v140 = v138 - v139;
-        let v141 = v23 * v58;
-        let v142 = v6 * v30;
-        let v143 = v141 - v142;
-        let v144 = v140 * v111;
-        let v145 = v143 * v117;
-        let v146 = v144 + v145;
-        let v147 = T::constant(4.0) * v146;
-        let v148 = v147 - v137;
-        let v149 = v140 * v121;
-        let v150 = v143 * v125;
-        let v151 = v149 + v150;
-        let v152 = T::constant(8.0) * v151;
-        let v153 = v137 + v152;
-        let v154 = -v153;
-        let v155 = v33 * v58;
-        let v156 = v41 * v126;
-        let v157 = v155 + v156;
-        let v158 = v105 * v157;
-        let v159 = v30 * v33;
-        let v160 = T::constant(2.0) * v27;
-        let v161 = v41 * v160;
-        let v162 = v159 + v161;
-        let v163 = T::constant(2.0) * v162;
-        let v164 = v111 * v163;
-        let v165 = v27 * v58;
-        let v166 = v10 * T::constant(2.0);
-        let v167 = v30 * v166;
-        let v168 = v165 - v167;
-        let v169 = T::constant(4.0) * v168;
-        let v170 = v117 * v169;
-        let v171 = v158 - v164;
-        let v172 = v170 + v171;
-        let v173 = T::constant(4.0) * v162;
-        let v174 = v121 * v173;
-        let v175 = T::constant(8.0) * v168;
-        let v176 = v125 * v175;
-        let v177 = v158 + v174;
-        let v178 = v177 - v176;
-        let v179 = v20 * v58;
-        let v180 = v30 * v127;
-        let v181 = v179 + v180;
-        let v182 = v38 * v58;
-        let v183 = v41 * v128;
-        let v184 = v182 - v183;
-        let v185 = v105 * v184;
-        let v186 = T::constant(2.0) * v185;
-        let v187 = v117 * v181;
-        let v188 = v185 + v187;
-        let v189 = T::constant(2.0) * v188;
-        let v190 = v20 * T::constant(0.5);
-        let v191 = v41 * v190;
-        let v192 = v30 * v38;
-        let v193 = v191 + v192;
-        let v194 = T::constant(4.0) * v193;
-        let v195 = v111 * v194;
-        let v196 = v195 - v189;
-        let v197 = T::constant(4.0) * v181;
-        let v198 = v125 * v197;
-        let v199 = T::constant(8.0) * v193;
-        let v200 = v121 * v199;
-        let v201 = v198 - v186;
-        let v202 = v201 - v200;
-        let v203 = line[1] * v20;
-        let v204 = v16 * v27;
-        let v205 = v15 * line[4];
-        let v206 = v10 * line[5];
-        let v207 = v205 - v206;
-        let v208 = v31 * v207;
-        let v209 = v21 * v33;
-        let v210 = line[4] * v38;
-        let v211 = v209 + v210;
-        let v212 = v211 * v129;
-        let v213 = v204 + v208;
-        let v214 = v213 - v212;
-        let v215 = v203 + v214;
-        let v216 = v105 * v215;
-        let v217 = v20 * line[4];
-        let v218 = v27 * v55;
-        let v219 = v217 + v218;
-        let v220 = v132 * v219;
-        let v221 = line[1] * v15;
-        let v222 = v10 * line[2];
-        let v223 = pose[2] * v211;
-        let v224 = v221 - v222;
-        let v225 = v224 - v220;
-        let v226 = v225 - v223;
-        let v227 = T::constant(2.0) * v226;
-        let v228 = v111 * v227;
-        let v229 = v33 * v131;
-        let v230 = v219 * v130;
-        let v231 = v229 + v230;
-        let v232 = line[1] * v38;
-        let v233 = pose[2] * v207;
-        let v234 = v232 + v233;
-        let v235 = v231 + v234;
-        let v236 = T::constant(4.0) * v235;
-        let v237 = v117 * v236;
-        let v238 = v228 - v216;
+        let v162 = v33 * v38;
+        let v163 = v21 * v81;
+        let v164 = v162 - v163;
+        let v165 = v164 * v136;
+        let v166 = v33 * v67;
+        let v167 = v21 * v69;
+        let v168 = v166 - v167;
+        let v169 = T::constant(2.0) * v168;
+        let v170 = v142 * v169;
+        let v171 = v67 * v81;
+        let v172 = v38 * v69;
+        let v173 = v171 - v172;
+        let v174 = v173 * T::constant(8.0);
+        let v175 = v147 * v174;
+        let v176 = v165 - v170;
+        let v177 = v175 + v176;
+        let v178 = T::constant(4.0) * v168;
+        let v179 = v152 * v178;
+        let v180 = v173 * T::constant(16.0);
+        let v181 = v157 * v180;
+        let v182 = v165 + v179;
+        let v183 = v182 - v181;
+        let v184 = v33 * v58;
+        let v185 = v6 * T::constant(2.0);
+        let v186 = v69 * v185;
+        let v187 = v184 + v186;
+        let v188 = v33 * v41;
+        let v189 = v6 * v81;
+        let v190 = v188 + v189;
+        let v191 = v136 * v190;
+        let v192 = T::constant(2.0) * v191;
+        let v193 = v142 * v187;
+        let v194 = v191 - v193;
+        let v195 = T::constant(2.0) * v194;
+        let v196 = v58 * v81;
+        let v197 = v69 * v158;
+        let v198 = v196 - v197;
+        let v199 = T::constant(8.0) * v198;
+        let v200 = v147 * v199;
+        let v201 = v195 + v200;
+        let v202 = T::constant(4.0) * v187;
+        let v203 = v152 * v202;
+        let v204 = T::constant(16.0) * v198;
+        let v205 = v157 * v204;
+        let v206 = v192 + v203;
+        let v207 = v206 - v205;
+        let v208 = v33 * v63;
+        let v209 = v27 * T::constant(8.0);
+        let v210 = v69 * v209;
+        let v211 = v208 + v210;
+        let v212 = v142 * v211;
+        let v213 = v33 * v49;
+        let v214 = v27 * T::constant(2.0);
+        let v215 = v81 * v214;
+        let v216 = v213 - v215;
+        let v217 = v136 * v216;
+        let v218 = T::constant(2.0) * v217;
+        let v219 = v63 * v81;
+        let v220 = T::constant(4.0) * v49;
+        let v221 = v69 * v220;
+        let v222 = v219 + v221;
+        let v223 = T::constant(4.0) * v222;
+        let v224 = v147 * v223;
+        let v225 = v212 + v218;
+        let v226 = v225 - v224;
+        let v227 = T::constant(2.0) * v211;
+        let v228 = v152 * v227;
+        let v229 = v218 - v228;
+        let v230 = T::constant(8.0) * v222;
+        let v231 = v157 * v230;
+        let v232 = v229 + v231;
+        let v233 = v13 * v27;
+        let v234 = v6 * v30;
+        let v235 = v233 - v234;
+        let v236 = pose[0] * v235;
+        let v237 = v13 * v49;
+        let v238 = v30 * v158;
         let v239 = v237 + v238;
-        let v240 = T::constant(4.0) * v226;
-        let v241 = v121 * v240;
-        let v242 = T::constant(8.0) * v235;
-        let v243 = v125 * v242;
-        let v244 = v216 + v241;
-        let v245 = v243 + v244;
-        let v246 = -v245;
-        let v247 = line[0] * v20;
-        let v248 = v16 * v23;
-        let v249 = v6 * v21;
-        let v250 = v15 * line[3];
-        let v251 = v250 - v249;
-        let v252 = v31 * v251;
-        let v253 = line[3] * v38;
-        let v254 = line[5] * v36;
-        let v255 = v253 - v254;
-        let v256 = v129 * v255;
-        let v257 = v248 - v256;
-        let v258 = v252 + v257;
-        let v259 = v247 + v258;
-        let v260 = v105 * v259;
-        let v261 = v6 * v131;
-        let v262 = v20 * line[3];
-        let v263 = v23 * v55;
+        let v240 = pose[1] * v239;
+        let v241 = v42 * v63;
+        let v242 = v52 * T::constant(2.0);
+        let v243 = v58 * v242;
+        let v244 = v241 + v243;
+        let v245 = v37 * v244;
+        let v246 = v35 * v245;
+        let v247 = v236 - v240;
+        let v248 = v246 + v247;
+        let v249 = v136 * v248;
+        let v250 = T::constant(2.0) * v249;
+        let v251 = v13 * v63;
+        let v252 = T::constant(4.0) * v30;
+        let v253 = v58 * v252;
+        let v254 = v251 - v253;
+        let v255 = v254 * v159;
+        let v256 = pose[2] * T::constant(0.5);
+        let v257 = v235 * v256;
+        let v258 = v42 * v49;
+        let v259 = v41 * v52;
+        let v260 = v258 - v259;
+        let v261 = v37 * v260;
+        let v262 = v35 * v261;
+        let v263 = v255 + v257;
         let v264 = v262 + v263;
-        let v265 = v132 * v264;
-        let v266 = v261 + v265;
-        let v267 = line[0] * v15;
-        let v268 = pose[2] * v255;
-        let v269 = v267 - v268;
-        let v270 = v269 - v266;
-        let v271 = T::constant(2.0) * v270;
-        let v272 = v111 * v271;
-        let v273 = v130 * v264;
-        let v274 = line[0] * v38;
-        let v275 = line[2] * v36;
-        let v276 = pose[2] * v251;
-        let v277 = v274 - v275;
-        let v278 = v273 + v277;
-        let v279 = v276 + v278;
-        let v280 = T::constant(4.0) * v279;
-        let v281 = v117 * v280;
-        let v282 = v260 - v272;
-        let v283 = v282 - v281;
-        let v284 = T::constant(4.0) * v270;
-        let v285 = v121 * v284;
-        let v286 = T::constant(8.0) * v279;
-        let v287 = v125 * v286;
-        let v288 = v260 + v285;
-        let v289 = v287 + v288;
-        let v290 = v6 * v50;
-        let v291 = line[3] * v33;
-        let v292 = v36 * v53;
-        let v293 = v291 + v292;
-        let v294 = v59 * v293;
-        let v295 = v294 - v290;
-        let v296 = line[0] * v10;
-        let v297 = line[3] * v27;
-        let v298 = v23 * line[4];
-        let v299 = v297 - v298;
-        let v300 = pose[1] * v299;
-        let v301 = v296 + v300;
-        let v302 = v295 + v301;
-        let v303 = line[0] * v33;
-        let v304 = v11 * v36;
-        let v305 = v6 * v34;
-        let v306 = v10 * line[3];
-        let v307 = v306 - v305;
-        let v308 = v42 * v307;
-        let v309 = v129 * v299;
-        let v310 = v304 + v309;
-        let v311 = v310 - v308;
-        let v312 = v303 + v311;
-        let v313 = v130 * v293;
-        let v314 = line[0] * v27;
-        let v315 = line[1] * v23;
-        let v316 = pose[1] * v307;
-        let v317 = v314 - v315;
-        let v318 = v317 - v313;
-        let v319 = v318 - v316;
-        let v320 = v105 * v319;
+        let v265 = T::constant(4.0) * v264;
+        let v266 = v142 * v265;
+        let v267 = T::constant(0.25) * pose[0];
+        let v268 = v254 * v267;
+        let v269 = v239 * v256;
+        let v270 = v52 * T::constant(0.5);
+        let v271 = v6 * v270;
+        let v272 = v27 * v42;
+        let v273 = v271 + v272;
+        let v274 = v37 * v273;
+        let v275 = v35 * v274;
+        let v276 = v268 + v269;
+        let v277 = v275 - v276;
+        let v278 = T::constant(8.0) * v277;
+        let v279 = v147 * v278;
+        let v280 = v266 - v250;
+        let v281 = v279 + v280;
+        let v282 = T::constant(8.0) * v264;
+        let v283 = v152 * v282;
+        let v284 = T::constant(16.0) * v277;
+        let v285 = v157 * v284;
+        let v286 = v250 + v283;
+        let v287 = v285 + v286;
+        let v288 = -v287;
+        let v289 = v39 * v63;
+        let v290 = T::constant(4.0) * v52;
+        let v291 = v67 * v290;
+        let v292 = v289 + v291;
+        let v293 = v37 * v292;
+        let v294 = v35 * v293;
+        let v295 = v20 * v27;
+        let v296 = v17 * v30;
+        let v297 = v295 - v296;
+        let v298 = T::constant(4.0) * pose[0];
+        let v299 = v297 * v298;
+        let v300 = v38 * v64;
+        let v301 = v20 * v49;
+        let v302 = v301 - v300;
+        let v303 = v70 * v302;
+        let v304 = v303 - v299;
+        let v305 = v294 + v304;
+        let v306 = v136 * v305;
+        let v307 = v20 * v63;
+        let v308 = v30 * T::constant(2.0);
+        let v309 = v67 * v308;
+        let v310 = v307 + v309;
+        let v311 = pose[1] * v310;
+        let v312 = v39 * v49;
+        let v313 = v38 * v52;
+        let v314 = v312 - v313;
+        let v315 = v37 * v314;
+        let v316 = v35 * v315;
+        let v317 = pose[2] * T::constant(2.0);
+        let v318 = v297 * v317;
+        let v319 = v311 + v318;
+        let v320 = v316 - v319;
         let v321 = T::constant(2.0) * v320;
-        let v322 = v111 * v302;
-        let v323 = v117 * v312;
-        let v324 = v320 + v322;
-        let v325 = v324 - v323;
-        let v326 = T::constant(2.0) * v325;
-        let v327 = v121 * v302;
-        let v328 = v125 * v312;
-        let v329 = v328 - v327;
-        let v330 = T::constant(4.0) * v329;
-        let v331 = v321 + v330;
-        d_pose[0] = v148;
-        d_pose[1] = v154;
-        d_pose[2] = v172;
-        d_pose[3] = v178;
-        d_pose[4] = v196;
-        d_pose[5] = v202;
-        d_pose[6] = v239;
-        d_pose[7] = v246;
-        d_pose[8] = v283;
-        d_pose[9] = v289;
-        d_pose[10] = v326;
-        d_pose[11] = v331;
-    }
-    if let Some(d_line) = d_line {
-        let v332 = v6 * v111;
-        let v333 = v23 * v105;
-        let v334 = T::constant(2.0) * v333;
-        let v335 = v36 * T::constant(4.0);
-        let v336 = v117 * v335;
-        let v337 = v332 + v334;
-        let v338 = v336 + v337;
-        let v339 = v6 * T::constant(2.0);
-        let v340 = v121 * v339;
-        let v341 = v334 - v340;
-        let v342 = v36 * T::constant(8.0);
-        let v343 = v125 * v342;
-        let v344 = v341 - v343;
-        let v345 = v27 * v105;
-        let v346 = T::constant(2.0) * v345;
-        let v347 = v10 * v111;
-        let v348 = v33 * v117;
-        let v349 = v345 + v347;
-        let v350 = v349 - v348;
-        let v351 = T::constant(2.0) * v350;
-        let v352 = v121 * v126;
-        let v353 = v33 * T::constant(4.0);
-        let v354 = v125 * v353;
-        let v355 = v354 - v352;
-        let v356 = v346 + v355;
-        let v357 = v20 * v105;
-        let v358 = v111 * v128;
-        let v359 = v38 * T::constant(4.0);
-        let v360 = v117 * v359;
-        let v361 = v358 - v357;
-        let v362 = v360 + v361;
-        let v363 = v121 * v127;
-        let v364 = v38 * T::constant(8.0);
-        let v365 = v125 * v364;
-        let v366 = v357 + v363;
+        let v322 = v142 * v321;
+        let v323 = pose[0] * v310;
+        let v324 = v27 * v39;
+        let v325 = v17 * v242;
+        let v326 = v324 - v325;
+        let v327 = v37 * v326;
+        let v328 = v35 * v327;
+        let v329 = v302 * v317;
+        let v330 = v323 + v329;
+        let v331 = v328 + v330;
+        let v332 = T::constant(4.0) * v331;
+        let v333 = v147 * v332;
+        let v334 = v306 - v322;
+        let v335 = v334 - v333;
+        let v336 = T::constant(4.0) * v320;
+        let v337 = v152 * v336;
+        let v338 = T::constant(8.0) * v331;
+        let v339 = v157 * v338;
+        let v340 = v306 + v337;
+        let v341 = v339 + v340;
+        let v342 = v13 * v17;
+        let v343 = v6 * v20;
+        let v344 = v342 - v343;
+        let v345 = pose[2] * v344;
+        let v346 = v39 * v41;
+        let v347 = v38 * v42;
+        let v348 = v346 - v347;
+        let v349 = v37 * v348;
+        let v350 = v35 * v349;
+        let v351 = T::constant(0.5) * v67;
+        let v352 = v13 * v351;
+        let v353 = v20 * v58;
+        let v354 = v352 + v353;
+        let v355 = v354 * v160;
+        let v356 = v355 - v345;
+        let v357 = v350 + v356;
+        let v358 = v6 * v39;
+        let v359 = T::constant(4.0) * v42;
+        let v360 = v17 * v359;
+        let v361 = v358 + v360;
+        let v362 = v37 * v361;
+        let v363 = v35 * v362;
+        let v364 = T::constant(0.25) * v38;
+        let v365 = v13 * v364;
+        let v366 = v20 * v41;
         let v367 = v365 + v366;
-        let v368 = -v367;
-        let v369 = v6 * pose[1];
-        let v370 = v36 * v129;
-        let v371 = v369 - v370;
-        let v372 = v105 * v371;
-        let v373 = pose[1] * v23;
-        let v374 = pose[2] * v36;
-        let v375 = v373 - v374;
-        let v376 = v6 * pose[2];
-        let v377 = v23 * v129;
-        let v378 = v376 - v377;
-        let v379 = v111 * v375;
-        let v380 = v117 * v378;
-        let v381 = v379 + v380;
-        let v382 = T::constant(2.0) * v381;
-        let v383 = v382 - v372;
-        let v384 = v121 * v375;
-        let v385 = v125 * v378;
-        let v386 = v384 + v385;
-        let v387 = T::constant(4.0) * v386;
-        let v388 = v372 + v387;
-        let v389 = -v388;
-        let v390 = v33 * v59;
-        let v391 = pose[1] * v27;
-        let v392 = v390 + v391;
-        let v393 = v33 * v130;
-        let v394 = v10 * pose[1];
-        let v395 = v393 + v394;
-        let v396 = v105 * v395;
-        let v397 = T::constant(2.0) * v396;
-        let v398 = v111 * v392;
-        let v399 = v398 - v396;
-        let v400 = T::constant(2.0) * v399;
-        let v401 = v10 * pose[2];
-        let v402 = v27 * pose[0];
-        let v403 = v401 - v402;
-        let v404 = T::constant(4.0) * v403;
-        let v405 = v117 * v404;
-        let v406 = v400 + v405;
-        let v407 = T::constant(4.0) * v392;
-        let v408 = v121 * v407;
-        let v409 = T::constant(8.0) * v403;
-        let v410 = v125 * v409;
-        let v411 = v397 + v408;
-        let v412 = v410 + v411;
-        let v413 = -v412;
-        let v414 = pose[1] * v20;
-        let v415 = v38 * v42;
-        let v416 = v414 + v415;
-        let v417 = v111 * v416;
-        let v418 = v15 * pose[1];
-        let v419 = v38 * pose[0];
-        let v420 = v418 - v419;
-        let v421 = v105 * v420;
-        let v422 = T::constant(2.0) * v421;
-        let v423 = v20 * v130;
-        let v424 = v15 * pose[2];
-        let v425 = v423 + v424;
-        let v426 = T::constant(4.0) * v425;
-        let v427 = v117 * v426;
-        let v428 = v417 + v422;
+        let v368 = pose[2] * T::constant(4.0);
+        let v369 = v367 * v368;
+        let v370 = v298 * v354;
+        let v371 = v370 - v369;
+        let v372 = v363 + v371;
+        let v373 = pose[0] * v344;
+        let v374 = v39 * v58;
+        let v375 = v67 * v110;
+        let v376 = v374 - v375;
+        let v377 = v37 * v376;
+        let v378 = v35 * v377;
+        let v379 = v160 * v367;
+        let v380 = v373 - v379;
+        let v381 = v378 + v380;
+        let v382 = v136 * v381;
+        let v383 = T::constant(2.0) * v382;
+        let v384 = v142 * v357;
+        let v385 = v147 * v372;
+        let v386 = v382 + v384;
+        let v387 = v386 - v385;
+        let v388 = T::constant(2.0) * v387;
+        let v389 = v152 * v357;
+        let v390 = v157 * v372;
+        let v391 = v390 - v389;
+        let v392 = T::constant(4.0) * v391;
+        let v393 = v383 + v392;
+        d_pose[0] = v177;
+        d_pose[1] = v183;
+        d_pose[2] = v201;
+        d_pose[3] = v207;
+        d_pose[4] = v226;
+        d_pose[5] = v232;
+        d_pose[6] = v281;
+        d_pose[7] = v288;
+        d_pose[8] = v335;
+        d_pose[9] = v341;
+        d_pose[10] = v388;
+        d_pose[11] = v393;
+    }
+    if let Some(d_line_u) = d_line_u {
+        let v394 = v7 + v8;
+        let v395 = v10 + v11;
+        let v396 = v394 - v395;
+        let v397 = v27 * v396;
+        let v398 = v28 - v29;
+        let v399 = v6 * v398;
+        let v400 = v50 + v51;
+        let v401 = v17 * T::constant(2.0);
+        let v402 = v400 * v401;
+        let v403 = v399 - v402;
+        let v404 = v397 + v403;
+        let v405 = pose[2] * v404;
+        let v406 = T::constant(0.25) * v63;
+        let v407 = v396 * v406;
+        let v408 = v67 * v400;
+        let v409 = v58 * v398;
+        let v410 = v408 + v409;
+        let v411 = v407 + v410;
+        let v412 = v160 * v411;
+        let v413 = v405 + v412;
+        let v414 = pose[0] * v404;
+        let v415 = v38 * v400;
+        let v416 = v49 * v396;
+        let v417 = v158 * v398;
+        let v418 = v415 - v416;
+        let v419 = v417 + v418;
+        let v420 = pose[1] * v419;
+        let v421 = v414 + v420;
+        let v422 = v136 * v421;
+        let v423 = T::constant(2.0) * v422;
+        let v424 = v142 * v413;
+        let v425 = v424 - v422;
+        let v426 = T::constant(2.0) * v425;
+        let v427 = pose[2] * v419;
+        let v428 = v92 * v411;
         let v429 = v427 - v428;
-        let v430 = T::constant(2.0) * v416;
-        let v431 = v121 * v430;
-        let v432 = v431 - v422;
-        let v433 = T::constant(8.0) * v425;
-        let v434 = v125 * v433;
-        let v435 = v432 - v434;
-        d_line[0] = v338;
-        d_line[1] = v344;
-        d_line[2] = v351;
-        d_line[3] = v356;
-        d_line[4] = v362;
-        d_line[5] = v368;
-        d_line[6] = v383;
-        d_line[7] = v389;
-        d_line[8] = v406;
-        d_line[9] = v413;
-        d_line[10] = v429;
-        d_line[11] = v435;
+        let v430 = T::constant(4.0) * v429;
+        let v431 = v147 * v430;
+        let v432 = v426 + v431;
+        let v433 = T::constant(4.0) * v413;
+        let v434 = v152 * v433;
+        let v435 = T::constant(8.0) * v429;
+        let v436 = v157 * v435;
+        let v437 = v423 + v434;
+        let v438 = v436 + v437;
+        let v439 = -v438;
+        let v440 = v37 * v419;
+        let v441 = v35 * v440;
+        let v442 = T::constant(2.0) * v441;
+        let v443 = v142 * v442;
+        let v444 = v37 * v411;
+        let v445 = v35 * v444;
+        let v446 = v136 * v445;
+        let v447 = T::constant(4.0) * v446;
+        let v448 = T::constant(0.5) * v404;
+        let v449 = v37 * v448;
+        let v450 = -v449;
+        let v451 = v35 * v450;
+        let v452 = T::constant(8.0) * v451;
+        let v453 = v147 * v452;
+        let v454 = v443 + v447;
+        let v455 = v453 + v454;
+        let v456 = -v455;
+        let v457 = T::constant(4.0) * v441;
+        let v458 = v152 * v457;
+        let v459 = v458 - v447;
+        let v460 = T::constant(16.0) * v451;
+        let v461 = v157 * v460;
+        let v462 = v459 + v461;
+        let v463 = pose[2] * v161;
+        let v464 = pose[1] * v114;
+        let v465 = v37 * v81;
+        let v466 = v35 * v465;
+        let v467 = v463 + v464;
+        let v468 = v466 - v467;
+        let v469 = T::constant(2.0) * v468;
+        let v470 = v142 * v469;
+        let v471 = v55 * v159;
+        let v472 = v105 * v161;
+        let v473 = v37 * v69;
+        let v474 = v35 * v473;
+        let v475 = v471 + v472;
+        let v476 = v474 + v475;
+        let v477 = v136 * v476;
+        let v478 = T::constant(4.0) * v477;
+        let v479 = pose[2] * T::constant(0.25);
+        let v480 = v55 * v479;
+        let v481 = v105 * v114;
+        let v482 = v32 * v37;
+        let v483 = v35 * v482;
+        let v484 = v481 - v480;
+        let v485 = v483 + v484;
+        let v486 = T::constant(8.0) * v485;
+        let v487 = v147 * v486;
+        let v488 = v470 + v478;
+        let v489 = v487 + v488;
+        let v490 = T::constant(4.0) * v468;
+        let v491 = v152 * v490;
+        let v492 = v478 - v491;
+        let v493 = T::constant(16.0) * v485;
+        let v494 = v157 * v493;
+        let v495 = v492 - v494;
+        d_line_u[0] = v432;
+        d_line_u[1] = v439;
+        d_line_u[2] = v456;
+        d_line_u[3] = v462;
+        d_line_u[4] = v489;
+        d_line_u[5] = v495;
+    }
+    if let Some(d_line_w) = d_line_w {
+        let v496 = v37 * v56;
+        let v497 = v35 * v496;
+        let v498 = v35 * v497;
+        let v499 = v55 + v498;
+        let v500 = v142 * v499;
+        let v501 = v37 * v115;
+        let v502 = v35 * v501;
+        let v503 = v35 * v502;
+        let v504 = v503 - v113;
+        let v505 = v136 * v504;
+        let v506 = T::constant(2.0) * v505;
+        let v507 = v37 * v161;
+        let v508 = v37 * v507;
+        let v509 = v35 * v508;
+        let v510 = v35 * v509;
+        let v511 = v510 - v89;
+        let v512 = T::constant(4.0) * v511;
+        let v513 = v147 * v512;
+        let v514 = v500 + v506;
+        let v515 = v513 - v514;
+        let v516 = T::constant(2.0) * v499;
+        let v517 = v152 * v516;
+        let v518 = v517 - v506;
+        let v519 = T::constant(8.0) * v511;
+        let v520 = v157 * v519;
+        let v521 = v518 - v520;
+        d_line_w[0] = v515;
+        d_line_w[1] = v521;
     }
 }
 
 /// The lengths of [`plucker_line_reprojection_apex`]'s arrays: each input, the residual, each block (column-major).
 pub const SHAPE_APEX: Shape = Shape {
-    inputs: &[4, 2, 2, 7, 6],
+    inputs: &[4, 2, 2, 7, 4, 1],
     residual: 2,
-    blocks: &[12, 12],
+    blocks: &[12, 6, 2],
 };
 
 /// [`plucker_line_reprojection_apex`] over what a solver holds: `stored`, the factor's 21 stored scalars (its constants are read, its variables' are not), `parts`, one parameter slice per host part, and `jacobian`, the whole column-major Jacobian (2 rows, the parts' columns in order) or `None`. Returns `false`, computing nothing, when a length differs from [`SHAPE_APEX`].
@@ -1885,7 +1978,7 @@ pub fn plucker_line_reprojection_apex_host<T: Real>(
     residual: &mut [T],
     jacobian: Option<&mut [T]>,
 ) -> bool {
-    let ([part_0, part_1], 21) = (parts, stored.len()) else {
+    let ([part_0, part_1, part_2], 21) = (parts, stored.len()) else {
         return false;
     };
     let (
@@ -1894,18 +1987,20 @@ pub fn plucker_line_reprojection_apex_host<T: Real>(
         Ok(input_2),
         Ok(input_3),
         Ok(input_4),
+        Ok(input_5),
         Ok(residual),
     ) = (
         <&[T; 4]>::try_from(&stored[0..4]),
         <&[T; 2]>::try_from(&stored[4..6]),
         <&[T; 2]>::try_from(&stored[6..8]),
         <&[T; 7]>::try_from(*part_0),
-        <&[T; 6]>::try_from(*part_1),
+        <&[T; 4]>::try_from(*part_1),
+        <&[T; 1]>::try_from(*part_2),
         <&mut [T; 2]>::try_from(residual),
     ) else {
         return false;
     };
-    match jacobian.map(<&mut [T; 24]>::try_from) {
+    match jacobian.map(<&mut [T; 20]>::try_from) {
         None => {
             self::plucker_line_reprojection_apex(
                 input_0,
@@ -1913,7 +2008,9 @@ pub fn plucker_line_reprojection_apex_host<T: Real>(
                 input_2,
                 input_3,
                 input_4,
+                input_5,
                 residual,
+                None,
                 None,
                 None,
             )
@@ -1923,7 +2020,10 @@ pub fn plucker_line_reprojection_apex_host<T: Real>(
             let Some((d_pose, rest)) = rest.split_first_chunk_mut::<12>() else {
                 return false;
             };
-            let Some((d_line, rest)) = rest.split_first_chunk_mut::<12>() else {
+            let Some((d_line_u, rest)) = rest.split_first_chunk_mut::<6>() else {
+                return false;
+            };
+            let Some((d_line_w, rest)) = rest.split_first_chunk_mut::<2>() else {
                 return false;
             };
             let _ = rest;
@@ -1933,9 +2033,11 @@ pub fn plucker_line_reprojection_apex_host<T: Real>(
                 input_2,
                 input_3,
                 input_4,
+                input_5,
                 residual,
                 Some(d_pose),
-                Some(d_line),
+                Some(d_line_u),
+                Some(d_line_w),
             )
         }
         Some(Err(_)) => return false,

@@ -18,7 +18,9 @@ use factor_core::{Factor, FactorError, Scalar};
 ///   tangent `[δω, δρ]`.
 /// - `line` `[n, v]`: **additive**, tangent `[δn, δv]` (6). The residual is
 ///   invariant to the scale of `[n, v]`, so this block has rank ≤ 4 (5 with
-///   the Plücker constraint ignored).
+///   the Plücker constraint ignored). A solver gets the line in its
+///   orthonormal chart instead (4 dof, on the Klein quadric; for apex-solver
+///   `SO3 × SO2`, `factor_core::host::apex`).
 ///
 /// Degenerate: `v = 0`, or the line through the optical centre or in the
 /// focal plane, or an image line outside [`crate::MAGNITUDE_LIMIT`] (which

@@ -103,6 +103,26 @@ impl OrthonormalLine<f64> {
         Self::try_from_plucker(&PluckerLine::from_points(p, q))
     }
 
+    /// The line of `line`'s direction nearest it on the Klein quadric: `v`
+    /// kept, `n` without its component along `v` (`n − (n · u₂) u₂`, exact
+    /// for a Plücker line). A line through the origin (that `n` is zero) gets
+    /// `u₁` orthogonal to `v` along the axis `v` leans on least.
+    ///
+    /// # Panics
+    ///
+    /// If `v` is zero or not finite (a stored Plücker line's is neither:
+    /// its [`Storage::from_input`] refuses it).
+    pub(crate) fn projected_from_plucker(line: &PluckerLine<f64>) -> Self {
+        let v = line.direction;
+        let u2 = unit_of(&v).expect("a Plücker line's direction is non-zero and finite");
+        let moment = line.normal - scale(dot(&line.normal, &u2), &u2);
+        let u1 = unit_of(&moment).unwrap_or_else(|| {
+            let axis = Vector3::ith(u2.iamin(), 1.0);
+            cross(&u2, &axis).normalize()
+        });
+        Self::from_parts(u1, u2, norm_ratio(&moment, &v), 1.0)
+    }
+
     /// Checked conversion: `n` and `v` non-zero and orthogonal to `1e-9`
     /// relative (`|n · v| ≤ 1e-9 |n| |v|`); any common scale is accepted,
     /// over the whole `f64` range (each vector is normalised by its largest

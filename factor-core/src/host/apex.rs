@@ -28,7 +28,7 @@
 //! | [`InfinitePlane`](crate::geometry::InfinitePlane) (the unit-quaternion plane) | left, `δω` | `SO3`, `θ` | `[a, b, c, d]` ← `[qw, qx, qy, qz]` (`a, b, c` the vector part) |
 //! | [`OrthonormalLine`](crate::geometry::OrthonormalLine) `(U, W)` | left, `[δΘ, δρ]` | `SO3` (`u`) × `SO2` (`w`), `[θ, δ]` | `U`'s quaternion, `W = (cos, sin)` ← `[qw, qx, qy, qz]`, `[angle]` |
 //! | [`FreeLine`](crate::geometry::FreeLine) `[q_WL, d_L]` | left, `[δθ, δd]` | `SO3` (`rotation`) × `Rn(1)` (`distance`) | `q_WL`, `d_L` |
-//! | [`PluckerLine`](crate::geometry::PluckerLine) `[n, v]` | additive | `Rn(6)` | the same |
+//! | [`PluckerLine`](crate::geometry::PluckerLine) `[n, v]` | additive | `SO3` (`u`) × `SO2` (`w`), `[θ, δ]`: the orthonormal chart | `[n, v] = [(w₁/w₂) u₁, u₂]` (unit direction, `n` the moment) ← `U`, `W` of the line put on the Klein quadric |
 //! | [`So2`](crate::lie::So2) | `δ` | `SO2` | `(cos, sin)` ← `[angle]` |
 //! | `nalgebra` vectors and matrices, `f64` | additive | `Rn(n)` | the same |
 //!

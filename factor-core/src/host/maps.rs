@@ -8,6 +8,7 @@ use crate::geometry::{FreeLine, InfinitePlane, OrthonormalLine, PluckerLine};
 use crate::host::{Apex, ApexManifold, HostMap, HostPart};
 use crate::lie::{Se3, Se3RhoTheta, So2, So3};
 use crate::scalar::Scalar;
+use crate::storage::Storage;
 
 /// `[qx, qy, qz, qw]` ← `[qw, qx, qy, qz]`.
 fn xyzw_from_wxyz<T: Scalar>(host: &[T], stored: &mut [T]) {
@@ -99,8 +100,31 @@ impl<S: Scalar> HostMap<Apex> for FreeLine<S> {
     }
 }
 
+/// The orthonormal chart, as [`OrthonormalLine`]: `U` as `SO3` (`u`), `W`
+/// as `SO2` (`w`), never a free `Rn(6)` (which leaves the Klein quadric
+/// `n · v = 0` and carries the scale of `[n, v]`, on which no residual
+/// depends). The stored `[n, v]` is `[(w₁/w₂) u₁, u₂]`: the unit direction
+/// and the moment `p × v` of any point `p` of the line, `|n|` its distance
+/// from the origin ([`OrthonormalLine::moment`], [`OrthonormalLine::direction`]).
+/// A Plücker line is homogeneous, so this scale loses nothing; a value read
+/// in is put on the quadric first (its direction kept, its normal without
+/// the component along the direction).
+impl<S: Scalar> HostMap<Apex> for PluckerLine<S> {
+    const PARTS: &'static [HostPart<ApexManifold>] = <OrthonormalLine<S> as HostMap<Apex>>::PARTS;
+    fn stored_from_host<T: Scalar>(host: &[T], stored: &mut [T]) {
+        let mut chart = [host[0]; 6];
+        OrthonormalLine::<S>::stored_from_host(host, &mut chart);
+        let line = OrthonormalLine::<T>::from_scalars(&chart);
+        stored[..3].copy_from_slice(line.moment().as_slice());
+        stored[3..6].copy_from_slice(line.direction().as_slice());
+    }
+    fn host_from_stored(stored: &[f64], host: &mut [f64]) {
+        let line = OrthonormalLine::projected_from_plucker(&PluckerLine::from_scalars(stored));
+        OrthonormalLine::<S>::host_from_stored(&line.to_scalars(), host);
+    }
+}
+
 additive_maps!(
-    PluckerLine<S> => 6; [S: Scalar],
     f64 => 1; [],
     SMatrix<S, R, C> => R * C; [S: Scalar + NalgebraScalar, const R: usize, const C: usize]
 );

@@ -21,8 +21,9 @@
 //!   served as ([`HostPart`]s, in order) and how their parameters give the
 //!   type's stored scalars ([`crate::Storage`]). It is implemented here for
 //!   every type this crate ships; a user implements it for a manifold of
-//!   their own. The orthonormal line `(U, W)` is `SO3 × SO2`, the free line
-//!   `[q_WL, d_L]` is `SO3 × Rn(1)`.
+//!   their own. The orthonormal line `(U, W)` is `SO3 × SO2`, and so is the
+//!   Plücker line `[n, v]` (its orthonormal chart: a solve keeps it on the
+//!   Klein quadric), the free line `[q_WL, d_L]` is `SO3 × Rn(1)`.
 //! - `#[derive(Factor)]` implements [`HostFactor<H>`] for every host whose
 //!   mappings all the factor's variable types have; a variable type without
 //!   one makes the factor not a `HostFactor<H>`, a compile-time error at the

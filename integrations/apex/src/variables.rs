@@ -4,7 +4,8 @@
 //! Which apex manifolds a type is served as is stated once, by its mapping
 //! (for the shipped types, in `factor_core::host`'s documentation): a pose of
 //! either side and tangent order is one `SE3`, `So3` and the unit-quaternion
-//! plane an `SO3`, the orthonormal line `(U, W)` an `SO3` and an `SO2`, the
+//! plane an `SO3`, the orthonormal line `(U, W)` and the Plücker line
+//! `[n, v]` (through its orthonormal chart) an `SO3` and an `SO2`, the
 //! free line `[q_WL, d_L]` an `SO3` and an `Rn(1)`, vectors `Rn`. A type
 //! without a mapping is refused at compile time.
 
