@@ -168,7 +168,7 @@ pub fn radial_map_derivative_minimum(k1: f64, k2: f64, radius2: f64) -> (f64, f6
 /// residual that has lost its digits to the depth's rounding.
 ///
 /// Every linearization a solver makes runs this, so it first takes a
-/// conservative test ([`certainly_valid`]) that accepts only what the full
+/// conservative test (`certainly_valid`) that accepts only what the full
 /// checks accept, with no square root and one division; the full checks,
 /// which name what failed, run only when that test does not pass.
 pub fn validate_snavely_reprojection(f: &SnavelyReprojection<f64>) -> Result<(), FactorError> {
