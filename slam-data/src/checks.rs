@@ -54,15 +54,22 @@ pub(crate) fn unit_quaternion(q: &[f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2]))
 }
 
-/// Fails unless `m` is in range ([`crate::MAX_MAGNITUDE`]), symmetric and
-/// positive definite (its Cholesky factorisation exists).
-pub(crate) fn check_information<const N: usize>(m: &SMatrix<f64, N, N>) -> Result<(), String> {
+/// Fails unless every entry of `m` is in range ([`crate::MAX_MAGNITUDE`])
+/// and `m` is symmetric: what every information matrix must be.
+fn check_symmetric_in_range<const N: usize>(m: &SMatrix<f64, N, N>) -> Result<(), String> {
     if !all_in_range(m.iter()) {
         return Err("non-finite or too large information entry".into());
     }
     if m != &m.transpose() {
         return Err("information matrix is not symmetric".into());
     }
+    Ok(())
+}
+
+/// Fails unless `m` is in range ([`crate::MAX_MAGNITUDE`]), symmetric and
+/// positive definite (its Cholesky factorisation exists).
+pub(crate) fn check_information<const N: usize>(m: &SMatrix<f64, N, N>) -> Result<(), String> {
+    check_symmetric_in_range(m)?;
     if Cholesky::new(*m).is_none() {
         return Err("information matrix is not positive definite".into());
     }
@@ -78,12 +85,7 @@ const SEMIDEFINITE_TOLERANCE: f64 = 1e-12;
 /// eigenvalue below `−1e-12` times the largest) and not zero: the
 /// information of a prior that constrains some directions only.
 pub(crate) fn check_semidefinite_information(m: &Matrix6<f64>) -> Result<(), String> {
-    if !all_in_range(m.iter()) {
-        return Err("non-finite or too large information entry".into());
-    }
-    if m != &m.transpose() {
-        return Err("information matrix is not symmetric".into());
-    }
+    check_symmetric_in_range(m)?;
     let eigenvalues = SymmetricEigen::new(*m).eigenvalues;
     let largest = eigenvalues.max();
     if largest <= 0.0 {
