@@ -3,7 +3,8 @@
 //! plane graphs and problem files ([`super::problem_file`]) take it always.
 
 use factor_apex::problems::g2o_addons;
-use factor_apex::problems::{self, BuildError, BuildOptions, Built, FactorChoice};
+use factor_apex::built::Built;
+use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, Verdict, solve};
 
 use super::truth::Truth;
@@ -24,6 +25,7 @@ pub(super) fn run(
     let built = match data {
         slam_data::Problem::G2oAddons(graph) => {
             g2o_addons::build_with(graph, &options, args.landmarks)
+                .map(|b| b.map_keys(problems::Keys::G2oAddons))
         }
         _ => problems::build(data, &options),
     };
@@ -104,7 +106,7 @@ fn build_options(args: &SolveArgs) -> BuildOptions {
 }
 
 /// Solves `built` with the iteration limit of `args`, with progress.
-fn solve_built(args: &SolveArgs, built: &mut Built) -> Result<Outcome, CliError> {
+fn solve_built<K>(args: &SolveArgs, built: &mut Built<K>) -> Result<Outcome, CliError> {
     let options = SolveOptions {
         max_iterations: args.max_iterations,
         ..SolveOptions::default()
@@ -117,7 +119,7 @@ fn solve_built(args: &SolveArgs, built: &mut Built) -> Result<Outcome, CliError>
 }
 
 /// What the summary says of `outcome`, a solve of `built`.
-fn finished<'a>(built: &'a Built, outcome: &'a Outcome) -> report::Finished<'a> {
+fn finished<'a, K>(built: &'a Built<K>, outcome: &'a Outcome) -> report::Finished<'a> {
     report::Finished {
         verdict: outcome.verdict(),
         iterations: outcome.iterations,

@@ -46,7 +46,8 @@ use std::path::Path;
 
 use factor_apex::Kernels;
 use factor_apex::builder::{ProblemBuilder, Values};
-use factor_apex::problems::{BuildOptions, Built, FactorChoice, Robust};
+use factor_apex::built::Built;
+use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::{FieldInfo, Layout, Storage};
 
@@ -67,7 +68,7 @@ pub struct FileProblem {
     /// The file's JSON, written back with the solution's values.
     json: Value,
     /// The apex problem.
-    pub built: Built,
+    pub built: Built<()>,
     variables: Vec<(String, Created)>,
     /// The names of the variables held fixed.
     fixed: Vec<String>,
@@ -189,7 +190,7 @@ fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
 /// determine at the initial values, or at `solved` ([`crate::observability`]),
 /// in apex-solver's chart, through each block's whitened Jacobian.
 fn deficiency<'a>(
-    built: &Built,
+    built: &Built<()>,
     created: impl IntoIterator<Item = (&'a String, &'a Created)>,
     fixed: &[String],
     solved: Option<&Values>,

@@ -36,7 +36,7 @@ use factor_core::host::{
 use faer::prelude::ReborrowMut;
 use smallvec::SmallVec;
 
-use crate::AdapterError;
+use crate::error::AdapterError;
 
 /// How an [`ApexFactor`] linearizes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

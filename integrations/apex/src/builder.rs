@@ -54,8 +54,8 @@ use factor_core::{FactorError, Storage};
 use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};
-use crate::problems::{BuildError, BuildOptions, Built, FactorChoice, KeptBlock, Keys, Robust};
-use crate::solve::Damping;
+use crate::built::{Built, Damping, KeptBlock};
+use crate::options::{BuildError, BuildOptions, FactorChoice, Robust};
 use crate::timing::{Marks, PhaseClock, Timed};
 use crate::variables::{manifold_type, split_parts, to_apex};
 
@@ -444,13 +444,13 @@ impl ProblemBuilder {
     /// # Errors
     ///
     /// apex's refusal of a block.
-    pub fn build(self) -> Result<Built, BuildError> {
+    pub fn build(self) -> Result<Built<()>, BuildError> {
         let linear_solver = if self.eliminated {
             LinearSolverType::ExplicitSparseSchur
         } else {
             LinearSolverType::SparseCholesky
         };
-        self.finish(Keys::Custom, linear_solver)
+        self.finish((), linear_solver)
     }
 
     /// A variable with initial value `value` (apex's parameters).
@@ -526,11 +526,11 @@ impl ProblemBuilder {
 
     /// The problem, for `linear_solver`: every pending block handed to apex
     /// in the order added, the first and the last marking the passes.
-    pub(crate) fn finish(
+    pub(crate) fn finish<K>(
         mut self,
-        keys: Keys,
+        keys: K,
         linear_solver: LinearSolverType,
-    ) -> Result<Built, BuildError> {
+    ) -> Result<Built<K>, BuildError> {
         let clock = PhaseClock::new();
         let count = self.pending.len();
         let mut kept = self.options.keep_blocks.then(Vec::new);

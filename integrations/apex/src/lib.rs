@@ -3,8 +3,12 @@
 //! - [`adapter`]: [`ApexFactor`], one generic adapter that serves any factor
 //!   derived with `#[derive(Factor)]` to apex-solver through its generated
 //!   kernel ([`Kernels::Generated`]) or dual numbers ([`Kernels::Dual`]);
+//! - [`options`]: how a problem is built (which factors, a robust loss)
+//!   and why a build fails;
 //! - [`builder`]: a problem of any derived factors (the user's own
 //!   included) built with typed variables, noise models and robust losses;
+//! - [`built`]: a built problem, with what the solve needs beside apex's
+//!   problem (the linear solver, the damping, the clock of the passes);
 //! - [`variables`]: values of this project's types as apex variables
 //!   (through their `HostMap<Apex>`) and back;
 //! - [`losses`]: robust losses that keep their digits (Cauchy's, whose
@@ -37,32 +41,18 @@
 
 pub mod adapter;
 pub mod builder;
+pub mod built;
+mod error;
 pub mod inverse_pose;
 pub mod losses;
+pub mod options;
 pub mod problems;
 pub mod solve;
 pub mod timing;
 pub mod variables;
 
 pub use adapter::{ApexFactor, Kernels, Rejections};
-
-/// A factor that [`ApexFactor`] cannot serve. (A variable type with no
-/// mapping onto apex's manifolds is refused at compile time: the factor is
-/// then not a `HostFactor<Apex>`.)
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum AdapterError {
-    /// The factor is larger than the adapter's stack buffers.
-    #[error(
-        "{factor}: more than {} stored scalars, or a variable of more than {} apex parameters",
-        factor_core::host::MAX_STORED,
-        factor_core::host::MAX_VARIABLE_PARAMETERS
-    )]
-    TooLarge {
-        /// The factor's name.
-        factor: &'static str,
-    },
-}
+pub use error::AdapterError;
 
 /// The guide's chapter on solver charts, whose Rust blocks run as this
 /// crate's documentation tests (it needs apex-solver, which the main

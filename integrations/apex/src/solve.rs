@@ -10,7 +10,8 @@ use apex_solver::optimizer::levenberg_marquardt::{LevenbergMarquardt, LevenbergM
 use apex_solver::optimizer::{OptObserver, OptimizationStatus};
 use slotmap::SlotMap;
 
-use crate::problems::Built;
+use crate::built::Built;
+pub use crate::built::Damping;
 use crate::timing::PhaseClock;
 
 /// When to stop (apex-solver's Ceres-like criteria).
@@ -258,23 +259,6 @@ impl OptObserver for Reporter {
     }
 }
 
-/// How Levenberg–Marquardt damps the normal equations; λ is updated by
-/// Nielsen's rule (apex's default) either way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Damping {
-    /// `(JᵀJ + λ D) δ = −Jᵀr` with `D` the diagonal of `JᵀJ` clamped to
-    /// `[1e-6, 1e32]`, from λ = 1e-4 (apex's and Ceres' default): invariant
-    /// to each variable's units, for problems that mix them (bundle
-    /// adjustment: focal lengths, distortion, rotations, points).
-    #[default]
-    Diagonal,
-    /// `(JᵀJ + λ I) δ = −Jᵀr` from λ = 1e-5 (GTSAM's default, its
-    /// `diagonalDamping` off), for problems in one unit system (pose
-    /// graphs): on `sphere2500` it reaches the optimum in 47 iterations
-    /// where the diagonal damping needs 104 (apex 1.5, cost tolerance 1e-8).
-    Uniform,
-}
-
 /// Solves `built` with Levenberg–Marquardt, calling `on_iteration` as each
 /// iteration ends, damped as `built.damping` says.
 ///
@@ -330,8 +314,8 @@ pub enum Damping {
 /// # Errors
 ///
 /// apex-solver's error (a linear solve that failed, a problem it refuses).
-pub fn solve(
-    built: &mut Built,
+pub fn solve<K>(
+    built: &mut Built<K>,
     options: &SolveOptions,
     on_iteration: impl FnMut(&Iteration) + Send + 'static,
 ) -> Result<Outcome, SolveError> {

@@ -88,3 +88,10 @@ pub fn apex_pose<V: HostMap<Apex> + Storage<f64>>(pose: &V) -> Vec<f64> {
     assert_eq!(parts.len(), 1, "a pose is one SE3");
     parts.remove(0)
 }
+
+/// The pose of apex's `SE3` parameters `[tx, ty, tz, qw, qx, qy, qz]`
+/// ([`apex_pose`]'s inverse): the pose reader the data-set keys'
+/// write-backs are given here.
+pub fn apex_se3(parameters: &[f64]) -> factor_core::lie::Se3<f64> {
+    from_apex(&[parameters])
+}

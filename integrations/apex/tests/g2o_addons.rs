@@ -11,7 +11,7 @@
 
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::{LandmarkFactors, build_with};
-use factor_apex::problems::{BuildOptions, Built, FactorChoice};
+use factor_apex::problems::{BuildOptions, Built, FactorChoice, Keys};
 use factor_apex::solve::{SolveOptions, Verdict, solve};
 use slam_data::G2oGraph;
 
@@ -31,7 +31,9 @@ fn built(graph: &G2oGraph, landmarks: LandmarkFactors) -> Built {
         robust: None,
         keep_blocks: false,
     };
-    build_with(graph, &options, landmarks).expect("builds")
+    build_with(graph, &options, landmarks)
+        .expect("builds")
+        .map_keys(Keys::G2oAddons)
 }
 
 fn relative(a: f64, b: f64) -> f64 {

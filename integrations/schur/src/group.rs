@@ -18,8 +18,8 @@ use factor_batch::{Columns, NormalColumns, Options, pairs};
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
 
-use crate::problem::{Lane, SlotInfo};
-use crate::structure::{MAX_SCALARS, MAX_SLOTS, Role, Structure};
+use crate::layout::{Lane, MAX_SCALARS, MAX_SLOTS, SlotInfo, Topology};
+use crate::structure::{Role, Structure};
 
 /// Factors per call of the batch kernel: the inputs and the 91 output
 /// columns of a Snavely chunk (about 200 KB) stay in the L2 cache, and the
@@ -238,23 +238,8 @@ impl Sink<'_> {
 }
 
 /// The factors of one type, behind an object-safe interface.
-pub(crate) trait Group: Send + Sync {
+pub(crate) trait Group: Topology + Send + Sync {
     fn as_any_mut(&mut self) -> &mut dyn Any;
-    /// The factor's name.
-    fn name(&self) -> &'static str;
-    /// The number of factors.
-    fn len(&self) -> usize;
-    /// Variables per factor.
-    fn slots(&self) -> usize;
-    /// Each variable slot, as the factor declares it.
-    fn slot_info(&self) -> &[SlotInfo];
-    /// Every factor's variable ids, `slots()` per factor.
-    fn variable_ids(&self) -> &[u32];
-    /// Puts factor `order[i]` at `i`, each variable `id` renamed
-    /// `rename[id]`.
-    fn reorder(&mut self, order: &[usize], rename: &[u32]);
-    /// Each factor's block targets ([`Structure`]), one per pair of slots.
-    fn set_targets(&mut self, targets: Vec<u32>);
     /// `‖rᵢ‖²` of factors `range` into `squared` (NaN for a factor whose
     /// configuration is degenerate, counted in `rejected`).
     fn evaluate(
@@ -410,15 +395,7 @@ impl<F: Factor> FactorGroup<F> {
     }
 }
 
-impl<F> Group for FactorGroup<F>
-where
-    F: WithKernel + Send + Sync + 'static,
-    F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
-{
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
-    }
-
+impl<F: Factor> Topology for FactorGroup<F> {
     fn name(&self) -> &'static str {
         F::NAME
     }
@@ -455,6 +432,16 @@ where
 
     fn set_targets(&mut self, targets: Vec<u32>) {
         self.targets = targets;
+    }
+}
+
+impl<F> Group for FactorGroup<F>
+where
+    F: WithKernel + Send + Sync + 'static,
+    F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+{
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
     }
 
     fn evaluate(

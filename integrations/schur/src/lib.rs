@@ -28,7 +28,8 @@
 //!    copy), the landmarks' blocks `V` and the cross blocks `W`.
 //! 2. **Elimination** ([`schur`]): `S = U + λD − Σ W V*⁻¹ Wᵀ`, per landmark,
 //!    into `S` laid out as the lower triangle of a compressed-column matrix
-//!    in a fill-reducing order fixed once ([`structure`]).
+//!    in a fill-reducing order fixed once ([`structure`], from the
+//!    factors' [`layout`]).
 //! 3. **Reduced solve** ([`reduced`]): faer's sparse Cholesky (supernodal,
 //!    its dense kernels), the symbolic analysis done once.
 //! 4. **Back-substitution**, the model's decrease, the retraction of every
@@ -40,7 +41,9 @@
 //! was no faster.
 
 mod csc;
+mod error;
 mod group;
+mod layout;
 pub mod lm;
 mod ordering;
 mod partition;
@@ -52,56 +55,6 @@ mod robust;
 mod schur;
 mod structure;
 
+pub use error::SchurError;
 pub use lm::{Outcome, Profile, SolveError, Solver, solve};
 pub use problem::{Problem, VariableId};
-
-/// A problem this solver cannot take.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum SchurError {
-    /// A factor given the wrong number of variables.
-    #[error("{factor}: {given} variables given, the factor has {expected}")]
-    Arity {
-        factor: &'static str,
-        given: usize,
-        expected: usize,
-    },
-    /// A factor given one variable twice.
-    #[error("{factor}: variable {variable} given twice")]
-    Repeated {
-        factor: &'static str,
-        variable: usize,
-    },
-    /// A variable whose stored scalars do not fit the factor's field.
-    #[error("{factor}: `{name}` stores {expected} scalars, variable {variable} has {found}")]
-    Scalars {
-        factor: &'static str,
-        variable: usize,
-        name: &'static str,
-        expected: usize,
-        found: usize,
-    },
-    /// Two factors that perturb one variable differently.
-    #[error(
-        "variable {variable}: {first}, {second}: every factor on a variable must declare the same \
-         type, side and tangent"
-    )]
-    Chart {
-        variable: usize,
-        first: String,
-        second: String,
-    },
-    /// A variable id that is not the problem's.
-    #[error("variable {0} does not exist")]
-    UnknownVariable(usize),
-    /// A factor on two eliminated variables: they cannot be eliminated one
-    /// by one.
-    #[error(
-        "{factor} {index} joins two eliminated variables: a Schur complement eliminates variables \
-         no factor joins"
-    )]
-    NotSchur { factor: &'static str, index: usize },
-    /// Beyond the solver's limits (sizes, indices).
-    #[error("{0}")]
-    TooLarge(String),
-}

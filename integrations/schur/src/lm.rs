@@ -96,7 +96,7 @@ pub struct Outcome {
 pub enum SolveError {
     /// The problem is not in the shape this solver takes.
     #[error(transparent)]
-    Shape(#[from] crate::SchurError),
+    Shape(#[from] crate::error::SchurError),
     /// The initial cost is not finite, or a factor rejects its initial
     /// configuration.
     #[error("{0}")]
@@ -127,12 +127,12 @@ impl<'p> Solver<'p> {
     ///
     /// # Errors
     ///
-    /// A problem not in Schur shape ([`crate::SchurError`]), or initial
+    /// A problem not in Schur shape ([`crate::error::SchurError`]), or initial
     /// values with a non-finite cost or a degenerate factor.
     pub fn new(problem: &'p mut Problem) -> Result<Self, SolveError> {
         let start = Instant::now();
         let threads = rayon::current_num_threads().max(1);
-        let structure = Structure::build(problem)?;
+        let structure = problem.structure()?;
         let partition = Partition::new(&structure, threads);
         let reduced = ReducedSolver::new(&structure.csc, partition.parts())?;
         let normal = Normal::zeros(&structure);

@@ -5,7 +5,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
 
-use crate::SchurError;
+use crate::error::SchurError;
 
 /// Lists of indices, end to end: list `l` is `items[start[l]..start[l + 1]]`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

@@ -82,3 +82,15 @@ impl Partition {
         self.eliminated.len() - 1
     }
 }
+
+/// Splits `data` into the pieces `bounds` (increasing indices from 0)
+/// delimit.
+pub(crate) fn split_at_bounds<'a, T>(mut data: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
+    let mut parts = Vec::with_capacity(bounds.len().saturating_sub(1));
+    for w in bounds.windows(2) {
+        let (head, tail) = data.split_at_mut(w[1] - w[0]);
+        parts.push(head);
+        data = tail;
+    }
+    parts
+}

@@ -8,7 +8,7 @@ use factor_apex::problems::Robust;
 use rayon::prelude::*;
 
 use crate::group::{Rejected, Sink, Values};
-use crate::partition::Partition;
+use crate::partition::{Partition, split_at_bounds};
 use crate::problem::Problem;
 use crate::robust;
 use crate::schur::{Normal, StepBuffers};
@@ -44,18 +44,6 @@ pub(crate) fn evaluate(
         }
     }
     (cost, rejected)
-}
-
-/// Splits `data` into the pieces `bounds` (increasing indices from 0)
-/// delimit.
-pub(crate) fn split_at_bounds<'a, T>(mut data: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
-    let mut parts = Vec::with_capacity(bounds.len().saturating_sub(1));
-    for w in bounds.windows(2) {
-        let (head, tail) = data.split_at_mut(w[1] - w[0]);
-        parts.push(head);
-        data = tail;
-    }
-    parts
 }
 
 /// The IRLS weights `ρ'(‖rᵢ‖²)` of a group's factors, or `None` (all 1)

@@ -5,16 +5,14 @@
 use std::any::{Any, TypeId};
 
 use factor_apex::problems::Robust;
-use factor_core::manifold::Perturbation;
-use factor_core::{Factor, WithKernel};
+use factor_core::WithKernel;
 use factor_lanes::NormalKernel;
 
-use crate::SchurError;
+use crate::error::SchurError;
 use crate::group::{FactorGroup, Group};
-use crate::structure::{MAX_SCALARS, MAX_SLOTS};
-
-/// The lane type of the batches (4 × `f64`: see the crate documentation).
-pub type Lane = factor_lanes::F64x4;
+pub use crate::layout::Lane;
+use crate::layout::{Chart, MAX_SCALARS, MAX_SLOTS, Variable};
+use crate::structure::Structure;
 
 /// A variable of a [`Problem`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -25,90 +23,6 @@ impl VariableId {
     pub fn index(self) -> usize {
         self.0 as usize
     }
-}
-
-/// A variable slot of a factor type, as the factor declares it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct SlotInfo {
-    pub(crate) factor: &'static str,
-    pub(crate) name: &'static str,
-    /// Stored scalars and tangent dimension.
-    pub(crate) scalars: usize,
-    pub(crate) tangent: usize,
-    type_name: &'static str,
-    perturbation: Perturbation,
-    description: &'static str,
-}
-
-impl SlotInfo {
-    /// Each variable slot of `F`.
-    pub(crate) fn of<F: Factor>() -> Vec<SlotInfo> {
-        let scalars = F::fields()
-            .into_iter()
-            .filter(|f| f.variable.is_some())
-            .map(|f| f.scalars);
-        F::variables()
-            .into_iter()
-            .zip(scalars)
-            .map(|(info, scalars)| SlotInfo {
-                factor: F::NAME,
-                name: info.name,
-                scalars,
-                tangent: info.tangent_dim,
-                type_name: info.type_name,
-                perturbation: info.perturbation,
-                description: info.tangent,
-            })
-            .collect()
-    }
-
-    /// Whether a variable in both slots is perturbed the same way.
-    fn same_chart(&self, other: &SlotInfo) -> bool {
-        (
-            self.tangent,
-            self.type_name,
-            self.perturbation,
-            self.description,
-        ) == (
-            other.tangent,
-            other.type_name,
-            other.perturbation,
-            other.description,
-        )
-    }
-
-    /// `factor declares it `type` (side: tangent)`.
-    fn describe(&self) -> String {
-        format!(
-            "{} declares it `{}` ({}: {})",
-            self.factor,
-            self.type_name,
-            self.perturbation.as_str(),
-            self.description
-        )
-    }
-}
-
-/// How the factors on a variable perturb it: as the slot `slot` of group
-/// `group` (the first factor that named it) declares it, which every other
-/// factor on it must match; that factor type's [`Factor::with_retracted`]
-/// retracts it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Chart {
-    pub(crate) group: usize,
-    pub(crate) slot: usize,
-    /// Tangent dimension.
-    pub(crate) tangent: usize,
-}
-
-/// A variable: where its stored scalars are, and its role.
-#[derive(Debug, Clone)]
-pub(crate) struct Variable {
-    pub(crate) offset: usize,
-    pub(crate) scalars: usize,
-    pub(crate) fixed: bool,
-    pub(crate) eliminated: bool,
-    pub(crate) chart: Option<Chart>,
 }
 
 /// A nonlinear least-squares problem, `Σ ½ ρ(‖rᵢ‖²)` over factors of
@@ -134,6 +48,12 @@ impl Problem {
     /// An empty problem (plain least squares).
     pub fn new() -> Self {
         Problem::default()
+    }
+
+    /// The structure of the reduced system ([`Structure::build`]): reorders
+    /// the factors and the stored values as it lays them out.
+    pub(crate) fn structure(&mut self) -> Result<Structure, SchurError> {
+        Structure::build(&mut self.variables, &mut self.values, &mut self.groups)
     }
 
     /// A robust loss on every factor, or plain least squares.

@@ -14,8 +14,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
-use crate::SchurError;
 use crate::csc::BlockCsc;
+use crate::error::SchurError;
 
 /// The transpose of the `n × n` compressed-column pattern `(col_ptr,
 /// row_idx)`, its rows sorted.

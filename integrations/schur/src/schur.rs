@@ -28,8 +28,7 @@
 use rayon::prelude::*;
 
 use crate::csc::BlockCsc;
-use crate::partition::Partition;
-use crate::passes::split_at_bounds;
+use crate::partition::{Partition, split_at_bounds};
 use crate::structure::{Eliminated, MAX_ELIMINATED, Structure};
 
 /// Ceres' (and apex-solver's) bounds on the diagonal `D`.
@@ -718,7 +717,7 @@ mod dense {
     #[test]
     fn fused_normal_equations_and_the_schur_step_match_a_dense_solve() {
         let (bal, mut built) = problem();
-        let structure = Structure::build(&mut built.problem).unwrap();
+        let structure = built.problem.structure().unwrap();
         let (h, g) = dense_system(&bal, &built, &structure);
         let scale = h.abs().max();
         let n = structure.csc.dim();

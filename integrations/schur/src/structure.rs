@@ -19,10 +19,10 @@
 
 use std::collections::HashMap;
 
-use crate::SchurError;
 use crate::csc::BlockCsc;
+use crate::error::SchurError;
+use crate::layout::{Topology, Variable};
 use crate::ordering::{Lists, adjacency, amd_positions};
-use crate::problem::Problem;
 
 /// A variable's part in the solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -81,11 +81,6 @@ impl Eliminated {
 /// The largest tangent of an eliminated variable (a point or landmark has
 /// 3, a line 4, a plane 3).
 pub(crate) const MAX_ELIMINATED: usize = 6;
-/// The most variables a factor may have.
-pub(crate) const MAX_SLOTS: usize = 8;
-/// The most stored scalars a factor may have.
-pub(crate) const MAX_SCALARS: usize = 128;
-
 /// Everything about the problem's shape the solve needs.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Structure {
@@ -139,7 +134,8 @@ fn order_by(keys: &[u32], buckets: usize) -> Vec<usize> {
 }
 
 impl Structure {
-    /// The structure of `problem`; reorders each group's factors by their
+    /// The structure of the problem of `variables` (their stored scalars
+    /// `values`) and factor `groups`; reorders each group's factors by their
     /// eliminated variable (naming their variables by internal index) and
     /// the variables' stored values, and stores each factor's block targets
     /// in its group.
@@ -149,10 +145,13 @@ impl Structure {
     /// [`SchurError::NotSchur`] for a factor on two eliminated variables,
     /// [`SchurError::TooLarge`] for an eliminated tangent above
     /// [`MAX_ELIMINATED`] or indices beyond `u32`.
-    pub(crate) fn build(problem: &mut Problem) -> Result<Structure, SchurError> {
-        let nv = problem.variables.len();
-        let tangent: Vec<usize> = problem
-            .variables
+    pub(crate) fn build<G: Topology + ?Sized>(
+        variables: &mut [Variable],
+        values: &mut Vec<f64>,
+        groups: &mut [Box<G>],
+    ) -> Result<Structure, SchurError> {
+        let nv = variables.len();
+        let tangent: Vec<usize> = variables
             .iter()
             .map(|v| v.chart.map_or(0, |c| c.tangent))
             .collect();
@@ -161,7 +160,7 @@ impl Structure {
         let mut eliminated_of = vec![u32::MAX; nv];
         let mut kept = vec![false; nv];
         let mut eliminated_ids = Vec::new();
-        for (id, v) in problem.variables.iter().enumerate() {
+        for (id, v) in variables.iter().enumerate() {
             if v.chart.is_none() || v.fixed {
                 continue;
             }
@@ -182,10 +181,10 @@ impl Structure {
         let ne = eliminated_ids.len();
         // Each factor's eliminated variable, and each kept variable's
         // factors as a count and a hash of their indices.
-        let mut factor_eliminated = Vec::with_capacity(problem.groups.len());
+        let mut factor_eliminated = Vec::with_capacity(groups.len());
         let mut signature = vec![(0u32, 0u64); nv];
         let mut global = 0u64;
-        for group in &problem.groups {
+        for group in groups.iter() {
             let k = group.slots();
             let mut of = Vec::with_capacity(group.len());
             for (i, ids) in group.variable_ids().chunks_exact(k).enumerate() {
@@ -228,8 +227,7 @@ impl Structure {
         // The cliques of the block graph: each eliminated variable's blocks,
         // and those of each factor with no eliminated variable.
         let each_factor = || {
-            problem
-                .groups
+            groups
                 .iter()
                 .zip(&factor_eliminated)
                 .flat_map(|(group, of)| {
@@ -325,10 +323,10 @@ impl Structure {
             eliminated_variable: order.iter().map(|&old| eliminated_ids[old]).collect(),
             csc,
             eliminated: Eliminated::default(),
-            factor_eliminated: Vec::with_capacity(problem.groups.len()),
+            factor_eliminated: Vec::with_capacity(groups.len()),
         };
         // Factors sorted by their (renumbered) eliminated variable.
-        for (group, of) in problem.groups.iter_mut().zip(factor_eliminated) {
+        for (group, of) in groups.iter_mut().zip(factor_eliminated) {
             let of: Vec<u32> = of
                 .into_iter()
                 .map(|e| {
@@ -380,7 +378,7 @@ impl Structure {
         el.cross.push(c);
         index(c, "entries of the cross blocks")?;
         // Each factor's targets, pair by pair.
-        for (group, of) in problem.groups.iter_mut().zip(&s.factor_eliminated) {
+        for (group, of) in groups.iter_mut().zip(&s.factor_eliminated) {
             let k = group.slots();
             let mut targets = Vec::with_capacity(group.len() * k * (k - 1) / 2);
             for (ids, &e) in group.variable_ids().chunks_exact(k).zip(of) {
@@ -393,13 +391,13 @@ impl Structure {
             group.set_targets(targets);
         }
         // The values in storage order.
-        let mut values = Vec::with_capacity(problem.values.len());
+        let mut stored = Vec::with_capacity(values.len());
         for &id in &s.storage_order {
-            let v = &mut problem.variables[id as usize];
-            values.extend_from_slice(&problem.values[v.offset..v.offset + v.scalars]);
-            v.offset = values.len() - v.scalars;
+            let v = &mut variables[id as usize];
+            stored.extend_from_slice(&values[v.offset..v.offset + v.scalars]);
+            v.offset = stored.len() - v.scalars;
         }
-        problem.values = values;
+        *values = stored;
         Ok(s)
     }
 

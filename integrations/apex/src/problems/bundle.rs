@@ -13,20 +13,23 @@ use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics, ordina
 use slam_factors::{RadialIntrinsics, SnavelyReprojection};
 use std::sync::Arc;
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
 use crate::builder::ProblemBuilder;
-use crate::variables::{apex_pose, from_apex};
+use crate::built::Built;
+use crate::options::{BuildError, BuildOptions, FactorChoice};
+use crate::variables::apex_pose;
 
-/// The variables of a bundle-adjustment problem.
+/// The variables of a bundle-adjustment problem, by key type `K`: apex's
+/// `VarKey` here, the Schur-complement solver's variable ids in crate
+/// `factor-schur`, which builds the same problem.
 #[derive(Debug, Clone)]
-pub struct BundleKeys {
-    /// Each camera's world-to-camera pose (`SE3`).
-    pub poses: Vec<VarKey>,
+pub struct BundleKeys<K = VarKey> {
+    /// Each camera's world-to-camera pose (here `SE3`).
+    pub poses: Vec<K>,
     /// Each camera's `[f, k1, k2]` (`Rn(3)`).
-    pub intrinsics: Vec<VarKey>,
+    pub intrinsics: Vec<K>,
     /// Each point (`Rn(3)`).
-    pub points: Vec<VarKey>,
+    pub points: Vec<K>,
 }
 
 /// A BAL camera's world-to-camera pose.
@@ -85,7 +88,10 @@ fn apex_factor(
 }
 
 /// Builds the bundle adjustment of `bal`.
-pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, BuildError> {
+pub(super) fn build(
+    bal: &BalProblem,
+    options: &BuildOptions,
+) -> Result<Built<BundleKeys>, BuildError> {
     let mut builder = ProblemBuilder::with_options(options);
     let mut keys = BundleKeys {
         poses: Vec::with_capacity(bal.cameras.len()),
@@ -133,38 +139,47 @@ pub(super) fn build(bal: &BalProblem, options: &BuildOptions) -> Result<Built, B
     if let Some(&pose) = keys.poses.first() {
         builder.fix(pose, 6)?;
     }
-    builder.finish(Keys::Bundle(keys), LinearSolverType::ExplicitSparseSchur)
+    builder.finish(keys, LinearSolverType::ExplicitSparseSchur)
 }
 
-impl BundleKeys {
-    /// The camera `k` of the solution, as BAL writes it.
-    fn camera<'a>(&self, k: usize, value: &impl Fn(VarKey) -> &'a [f64]) -> BalCamera {
-        let pose = from_apex::<Se3<f64>>(&[value(self.poses[k])]);
-        bal_camera(&pose, value(self.intrinsics[k]))
+impl<K: Copy> BundleKeys<K> {
+    /// Camera `k` of the values `value(key)`, its pose read by `pose`.
+    fn camera<'a>(
+        &self,
+        k: usize,
+        pose: &impl Fn(&[f64]) -> Se3<f64>,
+        value: &impl Fn(K) -> &'a [f64],
+    ) -> BalCamera {
+        bal_camera(&pose(value(self.poses[k])), value(self.intrinsics[k]))
     }
 
-    /// `bal` with the solution's cameras and points.
+    /// `bal` with the cameras and points of the values `value(key)` (a
+    /// solution's), each camera's world-to-camera pose read from its
+    /// values by `pose` (here [`apex_se3`](crate::variables::apex_se3)).
     pub fn write_bal<'a>(
         &self,
         bal: &BalProblem,
-        value: impl Fn(VarKey) -> &'a [f64],
+        pose: impl Fn(&[f64]) -> Se3<f64>,
+        value: impl Fn(K) -> &'a [f64],
     ) -> BalProblem {
         solved_bal(
             bal,
-            |k| self.camera(k, &value),
+            |k| self.camera(k, &pose, &value),
             |j| Vector3::from_column_slice(value(self.points[j])),
         )
     }
 
-    /// `bundler` with the solution's cameras and points.
+    /// `bundler` with the cameras and points of the values, as
+    /// [`Self::write_bal`].
     pub fn write_bundler<'a>(
         &self,
         bundler: &BundlerProblem,
-        value: impl Fn(VarKey) -> &'a [f64],
+        pose: impl Fn(&[f64]) -> Se3<f64>,
+        value: impl Fn(K) -> &'a [f64],
     ) -> BundlerProblem {
         solved_bundler(
             bundler,
-            |k| self.camera(k, &value),
+            |k| self.camera(k, &pose, &value),
             |j| Vector3::from_column_slice(value(self.points[j])),
         )
     }

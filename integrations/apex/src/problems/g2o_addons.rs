@@ -40,11 +40,11 @@ use slam_factors::g2o::{line_landmark, line_observation, plane_observation};
 use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge};
 use slotmap::SlotMap;
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::{ApexFactor, Kernels};
 use crate::builder::{Noise, ProblemBuilder, Variable, value_of};
+use crate::built::{Built, Damping};
 use crate::inverse_pose::InversePose;
-use crate::solve::Damping;
+use crate::options::{BuildError, BuildOptions, FactorChoice};
 
 /// Which factors measure the lines and planes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -88,7 +88,7 @@ fn as_written(pose: &Pose) -> Se3<f64> {
             So3::from_quaternion(Quaternion::new(x, y, z, w)),
             pose.translation,
         ),
-        Rotation::RollPitchYaw(_) => super::pose_graph::se3(pose),
+        Rotation::RollPitchYaw(_) => crate::problems::pose_graph::se3(pose),
     }
 }
 
@@ -148,7 +148,7 @@ pub fn build_with(
     graph: &G2oGraph,
     options: &BuildOptions,
     landmarks: LandmarkFactors,
-) -> Result<Built, BuildError> {
+) -> Result<Built<G2oGraphKeys>, BuildError> {
     graph.validate().map_err(BuildError::Data)?;
     let kernels = match options.factors {
         FactorChoice::Ours(kernels) => kernels,
@@ -331,7 +331,7 @@ pub fn build_with(
     // Metres and radians, whitened by the edges' information, as pose
     // graphs: uniform damping.
     builder.damping(Damping::Uniform);
-    builder.finish(Keys::G2oAddons(keys), LinearSolverType::SparseCholesky)
+    builder.finish(keys, LinearSolverType::SparseCholesky)
 }
 
 /// `which: ` before an error's message.
@@ -354,7 +354,7 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
     kernels: Kernels,
     keys: &[VarKey],
     noise: &Noise,
-    loss: Option<super::Robust>,
+    loss: Option<crate::options::Robust>,
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
     factor.validate().map_err(|error| BuildError::Degenerate {

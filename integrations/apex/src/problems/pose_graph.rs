@@ -13,10 +13,11 @@ use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use slam_data::{Edge, Pose, PoseGraph, Rotation, Vertex, ordinal};
 use slam_factors::{BetweenFactor, SqrtInformation6};
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
 use crate::builder::ProblemBuilder;
-use crate::solve::Damping;
+use crate::built::{Built, Damping};
+use crate::options::{BuildError, BuildOptions, FactorChoice};
+
 use crate::variables::{apex_pose, from_apex};
 
 /// The variables of a pose graph: each vertex id and its pose's key, in the
@@ -62,7 +63,10 @@ fn factor_of(e: &Edge, i: &Se3<f64>, j: &Se3<f64>) -> Result<BetweenFactor, Buil
 }
 
 /// Builds the pose graph of `graph`.
-pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, BuildError> {
+pub(super) fn build(
+    graph: &PoseGraph,
+    options: &BuildOptions,
+) -> Result<Built<PoseGraphKeys>, BuildError> {
     let vertices = if graph.vertices.is_empty() {
         graph
             .odometry_initial_values()
@@ -130,7 +134,7 @@ pub(super) fn build(graph: &PoseGraph, options: &BuildOptions) -> Result<Built, 
     // edges' information): uniform damping, which reaches sphere2500's
     // optimum in a third of the iterations the diagonal one needs.
     builder.damping(Damping::Uniform);
-    builder.finish(Keys::PoseGraph(keys), LinearSolverType::SparseCholesky)
+    builder.finish(keys, LinearSolverType::SparseCholesky)
 }
 
 impl PoseGraphKeys {

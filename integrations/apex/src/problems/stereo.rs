@@ -13,18 +13,19 @@ use nalgebra::Vector3;
 use slam_data::{CameraPose, StereoCalibration, StereoObservation, StereoVo, ordinal};
 use slam_factors::{StereoIntrinsics, StereoReprojection};
 
-use super::{BuildError, BuildOptions, Built, FactorChoice, Keys};
 use crate::adapter::ApexFactor;
 use crate::builder::ProblemBuilder;
-use crate::variables::{apex_pose, from_apex};
+use crate::built::Built;
+use crate::options::{BuildError, BuildOptions, FactorChoice};
+use crate::variables::apex_pose;
 
 /// The variables of a stereo VO problem.
 #[derive(Debug, Clone)]
-pub struct StereoKeys {
+pub struct StereoKeys<K = VarKey> {
     /// Each pose's key, in file order.
-    pub poses: Vec<VarKey>,
+    pub poses: Vec<K>,
     /// Each landmark id's key.
-    pub landmarks: HashMap<usize, VarKey>,
+    pub landmarks: HashMap<usize, K>,
     /// Whether the poses are world-to-camera (apex's own stereo factor)
     /// rather than camera-to-world (this project's).
     pub world_to_camera: bool,
@@ -94,7 +95,10 @@ fn by_landmark(vo: &StereoVo, rank: &HashMap<usize, usize>) -> Vec<usize> {
 }
 
 /// Builds the VO problem of `vo`.
-pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, BuildError> {
+pub(super) fn build(
+    vo: &StereoVo,
+    options: &BuildOptions,
+) -> Result<Built<StereoKeys>, BuildError> {
     // apex's own `StereoFactor` takes world-to-camera poses.
     let world_to_camera = options.factors == FactorChoice::Apex;
     let calibration = match options.factors {
@@ -159,18 +163,25 @@ pub(super) fn build(vo: &StereoVo, options: &BuildOptions) -> Result<Built, Buil
     if let Some(&key) = keys.poses.first() {
         builder.fix(key, 6)?;
     }
-    builder.finish(Keys::Stereo(keys), LinearSolverType::ExplicitSparseSchur)
+    builder.finish(keys, LinearSolverType::ExplicitSparseSchur)
 }
 
-impl StereoKeys {
-    /// `vo` with the solution's poses, and each observation's landmark in
-    /// its camera's frame recomputed from the solution (so that reading the
-    /// file back initialises every landmark at its optimized position).
-    pub fn write<'a>(&self, vo: &StereoVo, value: impl Fn(VarKey) -> &'a [f64]) -> StereoVo {
+impl<K: Copy> StereoKeys<K> {
+    /// `vo` with the poses of the values `value(key)` (a solution's, each
+    /// pose read from its values by `pose`, here
+    /// [`apex_se3`](crate::variables::apex_se3)), and each observation's
+    /// landmark in its camera's frame recomputed from them (so that reading
+    /// the file back initialises every landmark at its optimized position).
+    pub fn write<'a>(
+        &self,
+        vo: &StereoVo,
+        pose: impl Fn(&[f64]) -> Se3<f64>,
+        value: impl Fn(K) -> &'a [f64],
+    ) -> StereoVo {
         let mut out = vo.clone();
         let mut solved = HashMap::with_capacity(vo.poses.len());
         for (p, &key) in out.poses.iter_mut().zip(&self.poses) {
-            let pose = from_apex::<Se3<f64>>(&[value(key)]);
+            let pose = pose(value(key));
             let pose = if self.world_to_camera {
                 pose.inverse()
             } else {
@@ -185,7 +196,7 @@ impl StereoKeys {
             {
                 o.landmark_in_camera = pose
                     .inverse()
-                    .transform_point(&from_apex::<Vector3<f64>>(&[value(key)]));
+                    .transform_point(&Vector3::from_column_slice(value(key)));
             }
         }
         out

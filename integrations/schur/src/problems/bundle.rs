@@ -1,32 +1,22 @@
 //! Bundle adjustment of BAL and Bundler problems (Snavely's camera model),
 //! the points eliminated.
 
-use factor_apex::problems::bundle::{
-    bal_camera, camera_pose, factor_of, observation_name, solved_bal, solved_bundler,
-};
+use factor_apex::problems::bundle::{camera_pose, factor_of, observation_name};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
-use nalgebra::Vector3;
-use slam_data::{BalCamera, BalProblem, BundlerProblem, SnavelyIntrinsics};
+use slam_data::{BalProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
 
-use super::{BuildError, Built, Keys};
+use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
-/// The variables of a bundle-adjustment problem.
-#[derive(Debug, Clone)]
-pub struct BundleKeys {
-    /// Each camera's world-to-camera pose (`Se3RhoTheta`).
-    pub poses: Vec<VariableId>,
-    /// Each camera's `[f, k1, k2]`.
-    pub intrinsics: Vec<VariableId>,
-    /// Each point.
-    pub points: Vec<VariableId>,
-}
+/// The variables of a bundle-adjustment problem: each camera's
+/// world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]`, each point.
+pub type BundleKeys = factor_apex::problems::bundle::BundleKeys<VariableId>;
 
 /// Builds the bundle adjustment of `bal`: camera 0's pose fixed, the
 /// points eliminated.
-pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
+pub(super) fn build(bal: &BalProblem) -> Result<(Problem, BundleKeys), BuildError> {
     let mut problem = Problem::new();
     let mut keys = BundleKeys {
         poses: Vec::with_capacity(bal.cameras.len()),
@@ -72,43 +62,5 @@ pub(super) fn build(bal: &BalProblem) -> Result<Built, BuildError> {
     if let Some(&pose) = keys.poses.first() {
         problem.fix(pose);
     }
-    Ok(Built {
-        problem,
-        keys: Keys::Bundle(keys),
-        blocks: bal.observations.len(),
-    })
-}
-
-impl BundleKeys {
-    /// Camera `k` of the values, as BAL writes it.
-    fn camera<'a>(&self, k: usize, value: &impl Fn(VariableId) -> &'a [f64]) -> BalCamera {
-        let pose = Se3RhoTheta::<f64>::from_scalars(value(self.poses[k])).se3();
-        bal_camera(&pose, value(self.intrinsics[k]))
-    }
-
-    /// `bal` with the values' cameras and points.
-    pub fn write_bal<'a>(
-        &self,
-        bal: &BalProblem,
-        value: impl Fn(VariableId) -> &'a [f64],
-    ) -> BalProblem {
-        solved_bal(
-            bal,
-            |k| self.camera(k, &value),
-            |j| Vector3::from_column_slice(value(self.points[j])),
-        )
-    }
-
-    /// `bundler` with the values' cameras and points.
-    pub fn write_bundler<'a>(
-        &self,
-        bundler: &BundlerProblem,
-        value: impl Fn(VariableId) -> &'a [f64],
-    ) -> BundlerProblem {
-        solved_bundler(
-            bundler,
-            |k| self.camera(k, &value),
-            |j| Vector3::from_column_slice(value(self.points[j])),
-        )
-    }
+    Ok((problem, keys))
 }

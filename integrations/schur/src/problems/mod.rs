@@ -10,35 +10,14 @@
 //! | KITTI VO ([`stereo`]) | per pose its camera-to-world pose | the landmarks | `StereoReprojection` | the first pose fixed |
 
 pub mod bundle;
+mod error;
 pub mod stereo;
 
-use factor_core::FactorError;
+pub use error::BuildError;
+use factor_core::Storage;
+use factor_core::lie::{Se3, Se3RhoTheta};
 
-use crate::SchurError;
 use crate::problem::{Problem, VariableId};
-
-/// Why a problem cannot be built for this solver.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum BuildError {
-    /// A factor is degenerate at the initial values.
-    #[error("{which}: {error}")]
-    Degenerate {
-        /// The observation, in words.
-        which: String,
-        /// The factor's error.
-        error: FactorError,
-    },
-    /// The data refer to something they do not hold.
-    #[error("{0}")]
-    Data(String),
-    /// Not a problem this solver takes (a pose graph).
-    #[error("{0}")]
-    Unavailable(String),
-    /// The problem is not in the solver's shape.
-    #[error(transparent)]
-    Shape(#[from] SchurError),
-}
 
 /// The variables of a problem, by data-set entity, to read the solution.
 #[derive(Debug, Clone)]
@@ -81,9 +60,11 @@ pub fn build(
     robust: Option<factor_apex::problems::Robust>,
 ) -> Result<Built, BuildError> {
     let mut built = match data {
-        slam_data::Problem::Bal(bal) => bundle::build(bal)?,
-        slam_data::Problem::Bundler(bundler) => bundle::build(&bundler.to_bal())?,
-        slam_data::Problem::KittiVo(vo) => stereo::build(vo)?,
+        slam_data::Problem::Bal(bal) => Built::of(bundle::build(bal)?, Keys::Bundle),
+        slam_data::Problem::Bundler(bundler) => {
+            Built::of(bundle::build(&bundler.to_bal())?, Keys::Bundle)
+        }
+        slam_data::Problem::KittiVo(vo) => Built::of(stereo::build(vo)?, Keys::Stereo),
         slam_data::Problem::G2o(_) | slam_data::Problem::Edge3(_) => {
             return Err(BuildError::Unavailable(
                 "a pose graph has no landmarks to eliminate: solve it with apex-solver".into(),
@@ -100,22 +81,38 @@ pub fn build(
 }
 
 impl Built {
+    /// A data set's problem, its keys by entity made `Keys` by `keys`, one
+    /// block per factor.
+    fn of<K>((problem, entity): (Problem, K), keys: impl FnOnce(K) -> Keys) -> Built {
+        Built {
+            blocks: problem.factor_count(),
+            keys: keys(entity),
+            problem,
+        }
+    }
+
     /// `data` with its variables replaced by the problem's values (after a
     /// solve, the solution), in the input's format.
     pub fn write_back(&self, data: &slam_data::Problem) -> slam_data::Problem {
         let value = |id: VariableId| self.problem.value(id);
         match (&self.keys, data) {
             (Keys::Bundle(keys), slam_data::Problem::Bal(bal)) => {
-                slam_data::Problem::Bal(keys.write_bal(bal, value))
+                slam_data::Problem::Bal(keys.write_bal(bal, se3, value))
             }
             (Keys::Bundle(keys), slam_data::Problem::Bundler(bundler)) => {
-                slam_data::Problem::Bundler(keys.write_bundler(bundler, value))
+                slam_data::Problem::Bundler(keys.write_bundler(bundler, se3, value))
             }
             (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
-                slam_data::Problem::KittiVo(keys.write(vo, value))
+                slam_data::Problem::KittiVo(keys.write(vo, se3, value))
             }
             // Keys are built from the same data they write back.
             _ => data.clone(),
         }
     }
+}
+
+/// The pose of a `Se3RhoTheta` variable's stored scalars (every pose of
+/// these problems).
+fn se3(stored: &[f64]) -> Se3<f64> {
+    Se3RhoTheta::<f64>::from_scalars(stored).se3()
 }

@@ -4,31 +4,26 @@
 use std::collections::HashMap;
 
 use factor_apex::problems::stereo::{camera_to_world, factor_of, observation_name};
-use factor_core::lie::{Se3, Se3RhoTheta};
+use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
-use nalgebra::Vector3;
 use slam_data::StereoVo;
 
-use super::{BuildError, Built, Keys};
+use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
-/// The variables of a stereo VO problem.
-#[derive(Debug, Clone)]
-pub struct StereoKeys {
-    /// Each pose's camera-to-world pose, in file order.
-    pub poses: Vec<VariableId>,
-    /// Each landmark id's position.
-    pub landmarks: HashMap<usize, VariableId>,
-}
+/// The variables of a stereo VO problem: each pose's camera-to-world pose
+/// (`Se3RhoTheta`), in file order, and each landmark id's position.
+pub type StereoKeys = factor_apex::problems::stereo::StereoKeys<VariableId>;
 
 /// Builds the VO problem of `vo`: the first pose fixed, each landmark
 /// initialised as the file initialises it and eliminated.
-pub(super) fn build(vo: &StereoVo) -> Result<Built, BuildError> {
+pub(super) fn build(vo: &StereoVo) -> Result<(Problem, StereoKeys), BuildError> {
     let mut problem = Problem::new();
     let mut poses = HashMap::with_capacity(vo.poses.len());
     let mut keys = StereoKeys {
         poses: Vec::with_capacity(vo.poses.len()),
         landmarks: HashMap::new(),
+        world_to_camera: false,
     };
     for p in &vo.poses {
         let pose = camera_to_world(p);
@@ -64,34 +59,5 @@ pub(super) fn build(vo: &StereoVo) -> Result<Built, BuildError> {
     if let Some(&id) = keys.poses.first() {
         problem.fix(id);
     }
-    Ok(Built {
-        problem,
-        keys: Keys::Stereo(keys),
-        blocks: vo.observations.len(),
-    })
-}
-
-impl StereoKeys {
-    /// `vo` with the values' poses, and each observation's landmark in its
-    /// camera's frame recomputed from them (so that reading the file back
-    /// initialises every landmark at its value).
-    pub fn write<'a>(&self, vo: &StereoVo, value: impl Fn(VariableId) -> &'a [f64]) -> StereoVo {
-        let mut out = vo.clone();
-        let mut solved: HashMap<usize, Se3<f64>> = HashMap::with_capacity(vo.poses.len());
-        for (p, &id) in out.poses.iter_mut().zip(&self.poses) {
-            let pose = Se3RhoTheta::<f64>::from_scalars(value(id)).se3();
-            p.rotation = pose.rotation.matrix();
-            p.translation = pose.translation;
-            solved.insert(p.id, pose);
-        }
-        for o in &mut out.observations {
-            if let (Some(pose), Some(&id)) = (solved.get(&o.pose), self.landmarks.get(&o.landmark))
-            {
-                o.landmark_in_camera = pose
-                    .inverse()
-                    .transform_point(&Vector3::from_column_slice(value(id)));
-            }
-        }
-        out
-    }
+    Ok((problem, keys))
 }

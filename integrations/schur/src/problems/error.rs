@@ -1,0 +1,28 @@
+//! [`BuildError`]: why a data set cannot make a problem for this solver.
+
+use factor_core::FactorError;
+
+use crate::error::SchurError;
+
+/// Why a problem cannot be built for this solver.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BuildError {
+    /// A factor is degenerate at the initial values.
+    #[error("{which}: {error}")]
+    Degenerate {
+        /// The observation, in words.
+        which: String,
+        /// The factor's error.
+        error: FactorError,
+    },
+    /// The data refer to something they do not hold.
+    #[error("{0}")]
+    Data(String),
+    /// Not a problem this solver takes (a pose graph).
+    #[error("{0}")]
+    Unavailable(String),
+    /// The problem is not in the solver's shape.
+    #[error(transparent)]
+    Shape(#[from] SchurError),
+}
