@@ -69,7 +69,8 @@ pub fn shipped_kernels() -> Vec<KernelSpec> {
             .with_source("rectified stereo (GTSAM's `GenericStereoFactor3D`, `Cal3_S2Stereo`)")
             .with_normal_equations(),
         with_apex::<BetweenFactor>()
-            .with_source("pose-graph relative pose (GTSAM's `BetweenFactor<Pose3>`), whitened"),
+            .with_source("pose-graph relative pose (GTSAM's `BetweenFactor<Pose3>`), whitened")
+            .with_normal_equations(),
         with_apex::<G2oSe3Edge>().with_source("g2o's `EdgeSE3` error (`EDGE_SE3:QUAT`)"),
     ]
 }

@@ -159,13 +159,18 @@ fn dual_kernels_reach_the_same_cost() {
     assert_relative(dual.1, generated.1, 1e-10, "final cost");
 }
 
-/// Bundle adjustment and stereo VO go to the Schur-complement solver by
-/// default and reach apex-solver's final cost (within the stopping
-/// tolerance: the two retract poses differently, so their iterates differ);
-/// `--solver schur` refuses what it cannot solve.
+/// Bundle adjustment, stereo VO and pose graphs go to the Schur-complement
+/// solver by default and reach apex-solver's final cost (within the
+/// stopping tolerance: the two retract poses differently, so their iterates
+/// differ); `--solver schur` refuses what it cannot solve.
 #[test]
 fn the_schur_solver_is_chosen_where_it_applies() {
-    for file in ["Balbianello.out", "VO_stereo_factors_large.txt"] {
+    for file in [
+        "Balbianello.out",
+        "VO_stereo_factors_large.txt",
+        "pose3example.txt",
+        "sphere2500.txt",
+    ] {
         let schur = solve_ok(&["solve", &data(file)]);
         let apex = solve_ok(&["solve", &data(file), "--solver", "apex"]);
         assert!(
@@ -178,13 +183,13 @@ fn the_schur_solver_is_chosen_where_it_applies() {
         assert_relative(a.0, b.0, 1e-12, "initial cost");
         assert_relative(a.1, b.1, STOPPING, "final cost");
     }
-    let graph = solve_ok(&["solve", &data("pose3example.txt")]);
+    let graph = solve_ok(&["solve", &data("g2o-addons/line3d.g2o")]);
     assert!(stdout(&graph).contains("(apex-solver)"));
-    let output = slamjac(&["solve", &data("pose3example.txt"), "--solver", "schur"]);
+    let output = slamjac(&["solve", &data("g2o-addons/line3d.g2o"), "--solver", "schur"]);
     assert_error(
         &output,
         2,
-        &["--solver schur takes bundle adjustment and stereo VO"],
+        &["--solver schur takes bundle adjustment, stereo VO and pose graphs"],
     );
     let output = slamjac(&[
         "solve",

@@ -31,7 +31,22 @@
 //! | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 //! | all | 616 | 981 | 7 | 28 | 2 | 3 | 26 | 1663 |
 //! | residual only | 109 | 159 | 5 | 6 | 2 | 3 | 7 | 291 |
+//! | normal equations | 1071 | 1601 | 7 | 14 | 2 | 3 | 26 | 2724 |
+//! | normal equations, cost only | 114 | 167 | 5 | 6 | 2 | 3 | 7 | 304 |
 //! | apex chart | 616 | 981 | 7 | 28 | 2 | 3 | 26 | 1663 |
+//!
+//! # Normal equations
+//!
+//! `between_normal` computes, from the same inputs and a per-factor weight `w` (`weight`: a whitening scale or a robust IRLS weight; a full information matrix belongs in the factor, as a square-root-information constant that whitens its residual), the cost `½ w rᵀr` and, for each `Some` argument, a block of the Gauss–Newton normal equations, compiled together with the residual and the Jacobian so that they share every value and no Jacobian is stored:
+//!
+//! - `cost: T`: `½ w rᵀr`
+//! - `g_pose_i: [T; 6]`: `J_pose_iᵀ w r`
+//! - `g_pose_j: [T; 6]`: `J_pose_jᵀ w r`
+//! - `h_pose_i_pose_i: [T; 21]`: `J_pose_iᵀ w J_pose_i`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//! - `h_pose_i_pose_j: [T; 36]`: `J_pose_iᵀ w J_pose_j`, 6 × 6 row-major
+//! - `h_pose_j_pose_j: [T; 21]`: `J_pose_jᵀ w J_pose_j`, its upper triangle row by row (6 × 6, entries `(a, b)` with `a ≤ b`)
+//!
+//! Leave a fixed variable's blocks `None`: the work only they need is skipped.
 //!
 //! # Host charts
 //!
@@ -49,11 +64,11 @@
 //!
 //! # Lanes
 //!
-//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
+//! With the crate's `lanes` feature, [`Kernel`] implements `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real` (the lane types of `factor-lanes` included): the entry of batch evaluators, which `#[derive(Factor)]` names as the factor's `factor_core::WithKernel::Kernel`.
 
 #![allow(clippy::too_many_arguments, clippy::approx_constant, clippy::let_and_return)]
 
-use crate::{Real, Shape};
+use crate::{Real, Shape, NormalShape};
 
 /// The residual of `slam_factors::between::BetweenFactor` and, for each `Some` Jacobian argument, its block.
 ///
@@ -2044,6 +2059,3573 @@ pub fn between_slices<T: Real>(
         residual,
         d_pose_i,
         d_pose_j,
+    );
+    true
+}
+
+/// The cost `½ w rᵀr` of `slam_factors::between::BetweenFactor` with weight `w = weight` and, for each `Some` argument, its block of the normal equations: the gradient blocks `g_v = J_vᵀ w r` and the blocks `h_a_b = J_aᵀ w J_b` of the Gauss–Newton matrix's upper triangle (a diagonal block as its upper triangle, row by row). The same inputs as [`between`]; see the module documentation for the layouts.
+#[inline(always)]
+pub fn between_normal<T: Real>(
+    sqrt_information: &[T; 21],
+    measured: &[T; 7],
+    pose_i: &[T; 7],
+    pose_j: &[T; 7],
+    weight: T,
+    cost: &mut T,
+    g_pose_i: Option<&mut [T; 6]>,
+    g_pose_j: Option<&mut [T; 6]>,
+    h_pose_i_pose_i: Option<&mut [T; 21]>,
+    h_pose_i_pose_j: Option<&mut [T; 36]>,
+    h_pose_j_pose_j: Option<&mut [T; 21]>,
+) {
+    let v0 = pose_i[3] * pose_j[3];
+    let v1 = pose_i[0] * pose_j[0];
+    let v2 = pose_i[1] * pose_j[1];
+    let v3 = pose_i[2] * pose_j[2];
+    let v4 = v0 + v1;
+    let v5 = v2 + v3;
+    let v6 = v4 + v5;
+    let v7 = measured[3] * v6;
+    let v8 = pose_i[3] * pose_j[0];
+    let v9 = pose_j[3] * pose_i[0];
+    let v10 = pose_i[1] * pose_j[2];
+    let v11 = pose_j[1] * pose_i[2];
+    let v12 = v8 - v9;
+    let v13 = v11 - v10;
+    let v14 = v12 + v13;
+    let v15 = measured[0] * v14;
+    let v16 = pose_i[3] * pose_j[1];
+    let v17 = pose_j[3] * pose_i[1];
+    let v18 = pose_j[0] * pose_i[2];
+    let v19 = pose_i[0] * pose_j[2];
+    let v20 = v16 - v17;
+    let v21 = v19 - v18;
+    let v22 = v20 + v21;
+    let v23 = measured[1] * v22;
+    let v24 = pose_i[3] * pose_j[2];
+    let v25 = pose_j[3] * pose_i[2];
+    let v26 = pose_i[0] * pose_j[1];
+    let v27 = pose_j[0] * pose_i[1];
+    let v28 = v24 - v25;
+    let v29 = v27 - v26;
+    let v30 = v28 + v29;
+    let v31 = measured[2] * v30;
+    let v32 = v7 + v15;
+    let v33 = v23 + v31;
+    let v34 = v32 + v33;
+    let v35 = measured[3] * v14;
+    let v36 = v6 * measured[0];
+    let v37 = measured[1] * v30;
+    let v38 = v22 * measured[2];
+    let v39 = v35 - v36;
+    let v40 = v38 - v37;
+    let v41 = v39 + v40;
+    let v42 = -v41;
+    let v43 = T::select_lt(v34, T::constant(0.0), v42, v41);
+    let v44 = -v34;
+    let v45 = T::select_lt(v34, T::constant(0.0), v44, v34);
+    let v46 = measured[3] * v30;
+    let v47 = v6 * measured[2];
+    let v48 = measured[0] * v22;
+    let v49 = v14 * measured[1];
+    let v50 = v46 - v47;
+    let v51 = v49 - v48;
+    let v52 = v50 + v51;
+    let v53 = -v52;
+    let v54 = T::select_lt(v34, T::constant(0.0), v53, v52);
+    let v55 = v54 * v54;
+    let v56 = v43 * v43;
+    let v57 = measured[3] * v22;
+    let v58 = v6 * measured[1];
+    let v59 = v14 * measured[2];
+    let v60 = measured[0] * v30;
+    let v61 = v57 - v58;
+    let v62 = v60 - v59;
+    let v63 = v61 + v62;
+    let v64 = -v63;
+    let v65 = T::select_lt(v34, T::constant(0.0), v64, v63);
+    let v66 = v65 * v65;
+    let v67 = v56 + v66;
+    let v68 = v55 + v67;
+    let v69 = T::constant(1.0) / v45;
+    let v70 = v69 * v69;
+    let v71 = v68 * v70;
+    let v72 = v69 * v71;
+    let v73 = v69 * v72;
+    let v74 = v68 * v73;
+    let v75 = v74 * T::constant(0.6000000000000001);
+    let v76 = v71 - T::constant(3.0);
+    let v77 = v76 - v75;
+    let v78 = v69 * T::constant(-0.6666666666666666);
+    let v79 = v77 * v78;
+    let v80 = T::sqrt(v68);
+    let v81 = T::constant(1.0) / v80;
+    let v82 = T::atan2(v80, v45);
+    let v83 = v81 * v82;
+    let v84 = v83 * T::constant(2.0);
+    let v85 = T::select_lt(v71, T::constant(1e-6), v79, v84);
+    let v86 = T::select_lt(T::constant(0.0), v45, v85, v84);
+    let v87 = v43 * v86;
+    let v88 = sqrt_information[0] * v87;
+    let v89 = v65 * v86;
+    let v90 = sqrt_information[1] * v89;
+    let v91 = v54 * v86;
+    let v92 = sqrt_information[2] * v91;
+    let v93 = measured[0] * measured[0];
+    let v94 = measured[1] * measured[1];
+    let v95 = v93 - v94;
+    let v96 = measured[2] * measured[2];
+    let v97 = measured[3] * measured[3];
+    let v98 = v96 - v97;
+    let v99 = v95 - v98;
+    let v100 = pose_i[0] * pose_i[0];
+    let v101 = pose_i[1] * pose_i[1];
+    let v102 = v100 - v101;
+    let v103 = pose_i[2] * pose_i[2];
+    let v104 = pose_i[3] * pose_i[3];
+    let v105 = v103 - v104;
+    let v106 = v102 - v105;
+    let v107 = pose_i[4] - pose_j[4];
+    let v108 = v106 * v107;
+    let v109 = pose_i[0] * pose_i[1];
+    let v110 = pose_i[3] * pose_i[2];
+    let v111 = v109 + v110;
+    let v112 = pose_i[5] - pose_j[5];
+    let v113 = T::constant(2.0) * v112;
+    let v114 = v111 * v113;
+    let v115 = pose_i[0] * pose_i[2];
+    let v116 = pose_i[3] * pose_i[1];
+    let v117 = v115 - v116;
+    let v118 = pose_i[6] - pose_j[6];
+    let v119 = T::constant(2.0) * v118;
+    let v120 = v117 * v119;
+    let v121 = v114 + v120;
+    let v122 = v108 + v121;
+    let v123 = measured[4] + v122;
+    let v124 = v99 * v123;
+    let v125 = measured[0] * measured[1];
+    let v126 = measured[3] * measured[2];
+    let v127 = v125 + v126;
+    let v128 = v109 - v110;
+    let v129 = v107 * v128;
+    let v130 = v102 + v105;
+    let v131 = v112 * T::constant(0.5);
+    let v132 = v130 * v131;
+    let v133 = -v132;
+    let v134 = pose_i[1] * pose_i[2];
+    let v135 = pose_i[3] * pose_i[0];
+    let v136 = v134 + v135;
+    let v137 = v118 * v136;
+    let v138 = v129 + v137;
+    let v139 = v133 + v138;
+    let v140 = T::constant(2.0) * v139;
+    let v141 = measured[5] + v140;
+    let v142 = T::constant(2.0) * v141;
+    let v143 = v127 * v142;
+    let v144 = measured[0] * measured[2];
+    let v145 = measured[3] * measured[1];
+    let v146 = v144 - v145;
+    let v147 = v115 + v116;
+    let v148 = v107 * v147;
+    let v149 = v134 - v135;
+    let v150 = v112 * v149;
+    let v151 = v100 + v101;
+    let v152 = v103 + v104;
+    let v153 = v151 - v152;
+    let v154 = v118 * T::constant(0.5);
+    let v155 = v153 * v154;
+    let v156 = -v155;
+    let v157 = v148 + v150;
+    let v158 = v156 + v157;
+    let v159 = T::constant(2.0) * v158;
+    let v160 = measured[6] + v159;
+    let v161 = T::constant(2.0) * v160;
+    let v162 = v146 * v161;
+    let v163 = v124 + v143;
+    let v164 = v162 + v163;
+    let v165 = v86 * v86;
+    let v166 = v54 * v165;
+    let v167 = v54 * v166;
+    let v168 = v43 * v165;
+    let v169 = v43 * v168;
+    let v170 = v65 * v165;
+    let v171 = v65 * v170;
+    let v172 = v169 + v171;
+    let v173 = v167 + v172;
+    let v174 = v173 * T::constant(3.306878306878307e-5);
+    let v175 = v173 * v174;
+    let v176 = v173 * T::constant(0.001388888888888889);
+    let v177 = v176 + T::constant(0.08333333333333333);
+    let v178 = v175 + v177;
+    let v179 = T::sqrt(v173);
+    let v180 = T::constant(1.0) / v179;
+    let v181 = T::constant(0.5) * v179;
+    let v182 = T::cos(v181);
+    let v183 = T::sin(v181);
+    let v184 = v182 / v183;
+    let v185 = T::constant(0.5) * v180;
+    let v186 = v184 * v185;
+    let v187 = T::constant(1.0) / v173;
+    let v188 = v187 - v186;
+    let v189 = T::select_lt(v173, T::constant(1e-6), v178, v188);
+    let v190 = v167 + v171;
+    let v191 = v189 * v190;
+    let v192 = v191 - T::constant(1.0);
+    let v193 = v164 * v192;
+    let v194 = v125 - v126;
+    let v195 = v123 * v194;
+    let v196 = v95 + v98;
+    let v197 = T::constant(0.5) * v141;
+    let v198 = v196 * v197;
+    let v199 = measured[1] * measured[2];
+    let v200 = measured[3] * measured[0];
+    let v201 = v199 + v200;
+    let v202 = v160 * v201;
+    let v203 = v195 + v202;
+    let v204 = v203 - v198;
+    let v205 = v65 * v189;
+    let v206 = v168 * v205;
+    let v207 = T::constant(2.0) * v206;
+    let v208 = v91 + v207;
+    let v209 = v204 * v208;
+    let v210 = v144 + v145;
+    let v211 = v123 * v210;
+    let v212 = v199 - v200;
+    let v213 = v141 * v212;
+    let v214 = v93 + v94;
+    let v215 = v96 + v97;
+    let v216 = v214 - v215;
+    let v217 = T::constant(0.5) * v160;
+    let v218 = v216 * v217;
+    let v219 = v211 + v213;
+    let v220 = v219 - v218;
+    let v221 = v168 * v189;
+    let v222 = v54 * v221;
+    let v223 = T::constant(2.0) * v222;
+    let v224 = v89 - v223;
+    let v225 = v220 * v224;
+    let v226 = v193 - v209;
+    let v227 = v225 + v226;
+    let v228 = sqrt_information[3] * v227;
+    let v229 = v89 + v223;
+    let v230 = T::constant(0.5) * v164;
+    let v231 = v229 * v230;
+    let v232 = v166 * v205;
+    let v233 = T::constant(2.0) * v232;
+    let v234 = v87 - v233;
+    let v235 = v204 * v234;
+    let v236 = v172 * v189;
+    let v237 = v236 - T::constant(1.0);
+    let v238 = T::constant(2.0) * v220;
+    let v239 = v237 * v238;
+    let v240 = v239 - v231;
+    let v241 = v235 + v240;
+    let v242 = sqrt_information[5] * v241;
+    let v243 = v91 - v207;
+    let v244 = v164 * T::constant(0.25);
+    let v245 = v243 * v244;
+    let v246 = v87 + v233;
+    let v247 = T::constant(0.5) * v220;
+    let v248 = v246 * v247;
+    let v249 = v167 + v169;
+    let v250 = v189 * v249;
+    let v251 = v250 - T::constant(1.0);
+    let v252 = v204 * v251;
+    let v253 = v245 + v252;
+    let v254 = v253 - v248;
+    let v255 = T::constant(2.0) * sqrt_information[4];
+    let v256 = v254 * v255;
+    let v257 = v88 + v90;
+    let v258 = v92 + v257;
+    let v259 = v228 + v258;
+    let v260 = v242 + v256;
+    let v261 = v259 + v260;
+    let v262 = v89 * sqrt_information[6];
+    let v263 = v91 * sqrt_information[7];
+    let v264 = v227 * sqrt_information[8];
+    let v265 = v241 * sqrt_information[10];
+    let v266 = T::constant(2.0) * sqrt_information[9];
+    let v267 = v254 * v266;
+    let v268 = v262 + v263;
+    let v269 = v264 + v268;
+    let v270 = v265 + v267;
+    let v271 = v269 + v270;
+    let v272 = v91 * sqrt_information[11];
+    let v273 = v227 * sqrt_information[12];
+    let v274 = v241 * sqrt_information[14];
+    let v275 = T::constant(2.0) * sqrt_information[13];
+    let v276 = v254 * v275;
+    let v277 = v272 + v273;
+    let v278 = v274 + v276;
+    let v279 = v277 + v278;
+    let v280 = v227 * sqrt_information[15];
+    let v281 = v241 * sqrt_information[17];
+    let v282 = T::constant(2.0) * sqrt_information[16];
+    let v283 = v254 * v282;
+    let v284 = v280 + v281;
+    let v285 = v283 + v284;
+    let v286 = v241 * sqrt_information[19];
+    let v287 = T::constant(2.0) * sqrt_information[18];
+    let v288 = v254 * v287;
+    let v289 = v286 + v288;
+    let v290 = v241 * sqrt_information[20];
+    let v291 = v261 * v261;
+    let v292 = v271 * v271;
+    let v293 = v279 * v279;
+    let v294 = v285 * v285;
+    let v295 = v289 * v289;
+    let v296 = v290 * v290;
+    let v297 = v291 + v292;
+    let v298 = v293 + v297;
+    let v299 = v294 + v298;
+    let v300 = v295 + v299;
+    let v301 = v296 + v300;
+    let v302 = weight * v301;
+    let v303 = T::constant(0.5) * v302;
+    *cost = v303;
+    let (
+        v327,
+        v328,
+        v354,
+        v355,
+        v379,
+        v380,
+        v381,
+        v676,
+        v916,
+        v919,
+        v922,
+        v925,
+        v928,
+        v933,
+        v940,
+        v946,
+        v972,
+        v998,
+        v1001,
+        v1004,
+        v1007,
+        v1010,
+        v1015,
+        v1022,
+        v1028,
+        v1045,
+        v1063,
+        v1066,
+        v1069,
+        v1072,
+        v1075,
+        v1080,
+        v1087,
+        v1093,
+        v1106,
+        v1120,
+        v1123,
+        v1126,
+        v1129,
+        v1132,
+        v1136,
+        v1139,
+        v1142,
+        v1151,
+        v1160,
+        v1163,
+        v1166,
+        v1169,
+        v1172,
+        v1173,
+        v1174,
+        v1175,
+        v1181,
+        v1186,
+        v1191,
+        v1195,
+        v1198,
+        v1202,
+    ) = if g_pose_i.is_some() || g_pose_j.is_some() || h_pose_i_pose_i.is_some()
+        || h_pose_i_pose_j.is_some() || h_pose_j_pose_j.is_some()
+    {
+        let v304 = v99 * v192;
+        let v305 = v194 * v208;
+        let v306 = v210 * v224;
+        let v307 = v304 - v305;
+        let v308 = v306 + v307;
+        let v309 = sqrt_information[3] * v308;
+        let v310 = v99 * T::constant(0.5);
+        let v311 = v229 * v310;
+        let v312 = v194 * v234;
+        let v313 = T::constant(2.0) * v210;
+        let v314 = v237 * v313;
+        let v315 = v314 - v311;
+        let v316 = v312 + v315;
+        let v317 = sqrt_information[5] * v316;
+        let v318 = v99 * T::constant(0.25);
+        let v319 = v243 * v318;
+        let v320 = T::constant(0.5) * v210;
+        let v321 = v246 * v320;
+        let v322 = v194 * v251;
+        let v323 = v319 + v322;
+        let v324 = v323 - v321;
+        let v325 = v255 * v324;
+        let v326 = v309 + v317;
+        let v327 = v325 + v326;
+        let v328 = T::constant(2.0) * v117;
+        let v329 = v196 * v234;
+        let v330 = T::constant(2.0) * v127;
+        let v331 = v229 * v330;
+        let v332 = v212 * T::constant(4.0);
+        let v333 = v237 * v332;
+        let v334 = v329 - v333;
+        let v335 = v331 + v334;
+        let v336 = sqrt_information[5] * T::constant(0.25);
+        let v337 = v335 * v336;
+        let v338 = v196 * v251;
+        let v339 = v127 * v243;
+        let v340 = v212 * v246;
+        let v341 = v338 - v339;
+        let v342 = v340 + v341;
+        let v343 = T::constant(0.5) * sqrt_information[4];
+        let v344 = v342 * v343;
+        let v345 = v196 * T::constant(0.25);
+        let v346 = v208 * v345;
+        let v347 = T::constant(0.5) * v212;
+        let v348 = v224 * v347;
+        let v349 = v127 * v192;
+        let v350 = v346 + v349;
+        let v351 = v348 + v350;
+        let v352 = sqrt_information[3] * v351;
+        let v353 = v337 + v344;
+        let v354 = v352 - v353;
+        let v355 = T::constant(2.0) * v111;
+        let v356 = v201 * v234;
+        let v357 = v146 * v229;
+        let v358 = v216 * v237;
+        let v359 = v356 - v358;
+        let v360 = v359 - v357;
+        let v361 = T::constant(0.5) * sqrt_information[5];
+        let v362 = v360 * v361;
+        let v363 = v216 * T::constant(0.25);
+        let v364 = v224 * v363;
+        let v365 = T::constant(0.5) * v201;
+        let v366 = v208 * v365;
+        let v367 = v146 * v192;
+        let v368 = v367 - v364;
+        let v369 = v368 - v366;
+        let v370 = sqrt_information[3] * v369;
+        let v371 = v246 * v363;
+        let v372 = T::constant(0.5) * v146;
+        let v373 = v243 * v372;
+        let v374 = v201 * v251;
+        let v375 = v371 + v374;
+        let v376 = v373 + v375;
+        let v377 = sqrt_information[4] * v376;
+        let v378 = v362 + v370;
+        let v379 = v377 + v378;
+        let v380 = v130 * T::constant(0.25);
+        let v381 = v153 * T::constant(0.25);
+        let v382 = -measured[3];
+        let v383 = T::select_lt(v34, T::constant(0.0), v382, measured[3]);
+        let v384 = v86 * v383;
+        let v385 = sqrt_information[0] * v384;
+        let v386 = -measured[2];
+        let v387 = T::select_lt(v34, T::constant(0.0), measured[2], v386);
+        let v388 = v86 * v387;
+        let v389 = sqrt_information[1] * v388;
+        let v390 = -measured[1];
+        let v391 = T::select_lt(v34, T::constant(0.0), v390, measured[1]);
+        let v392 = v166 * v391;
+        let v393 = -measured[0];
+        let v394 = T::select_lt(v34, T::constant(0.0), v393, measured[0]);
+        let v395 = v70 * v77;
+        let v396 = v394 * T::constant(0.6666666666666666);
+        let v397 = v395 * v396;
+        let v398 = v69 * T::constant(1.2000000000000002);
+        let v399 = v74 * v398;
+        let v400 = v72 - v399;
+        let v401 = v394 * v400;
+        let v402 = v43 * v383;
+        let v403 = v65 * v387;
+        let v404 = v54 * v391;
+        let v405 = v402 + v403;
+        let v406 = v404 + v405;
+        let v407 = v73 * T::constant(1.2000000000000002);
+        let v408 = v407 - v70;
+        let v409 = v406 * v408;
+        let v410 = v401 + v409;
+        let v411 = v69 * T::constant(1.3333333333333333);
+        let v412 = v410 * v411;
+        let v413 = v397 + v412;
+        let v414 = v83 / v68;
+        let v415 = v45 * v81;
+        let v416 = v406 * v415;
+        let v417 = v80 * v394;
+        let v418 = v416 - v417;
+        let v419 = v45 * v45;
+        let v420 = v68 + v419;
+        let v421 = v81 / v420;
+        let v422 = v406 * v414;
+        let v423 = v418 * v421;
+        let v424 = v423 - v422;
+        let v425 = T::constant(2.0) * v424;
+        let v426 = T::select_lt(v71, T::constant(1e-6), v413, v425);
+        let v427 = T::select_lt(T::constant(0.0), v45, v426, v425);
+        let v428 = v54 * v427;
+        let v429 = v91 * v428;
+        let v430 = v392 + v429;
+        let v431 = v168 * v383;
+        let v432 = v43 * v87;
+        let v433 = v427 * v432;
+        let v434 = v431 + v433;
+        let v435 = v170 * v387;
+        let v436 = v65 * v89;
+        let v437 = v427 * v436;
+        let v438 = v435 + v437;
+        let v439 = v434 + v438;
+        let v440 = v430 + v439;
+        let v441 = v173 * T::constant(0.00013227513227513228);
+        let v442 = v440 * v441;
+        let v443 = v440 * T::constant(0.002777777777777778);
+        let v444 = v442 + v443;
+        let v445 = v187 - T::constant(0.125);
+        let v446 = v187 * v445;
+        let v447 = v184 * v187;
+        let v448 = v184 * T::constant(0.125);
+        let v449 = v180 * T::constant(0.25);
+        let v450 = v448 + v449;
+        let v451 = v447 * v450;
+        let v452 = v446 - v451;
+        let v453 = T::constant(2.0) * v440;
+        let v454 = v452 * v453;
+        let v455 = -v454;
+        let v456 = T::select_lt(v173, T::constant(1e-6), v444, v455);
+        let v457 = v190 * v456;
+        let v458 = v430 + v438;
+        let v459 = T::constant(2.0) * v458;
+        let v460 = v189 * v459;
+        let v461 = v457 + v460;
+        let v462 = v164 * v461;
+        let v463 = v86 * v391;
+        let v464 = v428 + v463;
+        let v465 = v165 * v205;
+        let v466 = v383 * v465;
+        let v467 = v221 * v387;
+        let v468 = v466 + v467;
+        let v469 = v65 * v168;
+        let v470 = T::constant(0.5) * v469;
+        let v471 = v456 * v470;
+        let v472 = v87 * v205;
+        let v473 = v427 * v472;
+        let v474 = v471 + v473;
+        let v475 = T::constant(2.0) * v474;
+        let v476 = v468 + v475;
+        let v477 = T::constant(2.0) * v476;
+        let v478 = v464 + v477;
+        let v479 = v204 * v478;
+        let v480 = v65 * v427;
+        let v481 = v388 + v480;
+        let v482 = v166 * v189;
+        let v483 = v383 * v482;
+        let v484 = v221 * v391;
+        let v485 = v483 + v484;
+        let v486 = v54 * v168;
+        let v487 = T::constant(0.5) * v486;
+        let v488 = v456 * v487;
+        let v489 = v43 * v189;
+        let v490 = v91 * v489;
+        let v491 = v427 * v490;
+        let v492 = v488 + v491;
+        let v493 = T::constant(2.0) * v492;
+        let v494 = v485 + v493;
+        let v495 = T::constant(2.0) * v494;
+        let v496 = v481 - v495;
+        let v497 = v220 * v496;
+        let v498 = v462 - v479;
+        let v499 = v497 + v498;
+        let v500 = sqrt_information[3] * v499;
+        let v501 = v481 + v495;
+        let v502 = v230 * v501;
+        let v503 = v43 * v427;
+        let v504 = v384 + v503;
+        let v505 = v387 * v482;
+        let v506 = v391 * v465;
+        let v507 = v505 + v506;
+        let v508 = v65 * v166;
+        let v509 = T::constant(0.5) * v508;
+        let v510 = v456 * v509;
+        let v511 = v91 * v205;
+        let v512 = v427 * v511;
+        let v513 = v510 + v512;
+        let v514 = T::constant(2.0) * v513;
+        let v515 = v507 + v514;
+        let v516 = T::constant(2.0) * v515;
+        let v517 = v504 - v516;
+        let v518 = v204 * v517;
+        let v519 = T::constant(0.5) * v172;
+        let v520 = v456 * v519;
+        let v521 = v189 * v439;
+        let v522 = v520 + v521;
+        let v523 = v220 * T::constant(4.0);
+        let v524 = v522 * v523;
+        let v525 = v524 - v502;
+        let v526 = v518 + v525;
+        let v527 = sqrt_information[5] * v526;
+        let v528 = sqrt_information[2] * v464;
+        let v529 = sqrt_information[0] * v43;
+        let v530 = v65 * sqrt_information[1];
+        let v531 = v529 + v530;
+        let v532 = v427 * v531;
+        let v533 = v464 - v477;
+        let v534 = v244 * v533;
+        let v535 = v504 + v516;
+        let v536 = v247 * v535;
+        let v537 = v249 * v456;
+        let v538 = v430 + v434;
+        let v539 = T::constant(2.0) * v538;
+        let v540 = v189 * v539;
+        let v541 = v537 + v540;
+        let v542 = v204 * v541;
+        let v543 = v534 + v542;
+        let v544 = v543 - v536;
+        let v545 = v255 * v544;
+        let v546 = v385 + v389;
+        let v547 = v532 + v546;
+        let v548 = v528 + v547;
+        let v549 = v500 + v548;
+        let v550 = v527 + v545;
+        let v551 = v549 + v550;
+        let v552 = v6 * v551;
+        let v553 = T::select_lt(v34, T::constant(0.0), measured[0], v393);
+        let v554 = v86 * v553;
+        let v555 = sqrt_information[0] * v554;
+        let v556 = T::select_lt(v34, T::constant(0.0), measured[1], v390);
+        let v557 = v86 * v556;
+        let v558 = sqrt_information[1] * v557;
+        let v559 = v166 * v387;
+        let v560 = v383 * T::constant(0.6666666666666666);
+        let v561 = v395 * v560;
+        let v562 = v383 * v400;
+        let v563 = v43 * v553;
+        let v564 = v65 * v556;
+        let v565 = v54 * v387;
+        let v566 = v563 + v564;
+        let v567 = v565 + v566;
+        let v568 = v408 * v567;
+        let v569 = v562 + v568;
+        let v570 = v411 * v569;
+        let v571 = v561 + v570;
+        let v572 = v415 * v567;
+        let v573 = v80 * v383;
+        let v574 = v572 - v573;
+        let v575 = v414 * v567;
+        let v576 = v421 * v574;
+        let v577 = v576 - v575;
+        let v578 = T::constant(2.0) * v577;
+        let v579 = T::select_lt(v71, T::constant(1e-6), v571, v578);
+        let v580 = T::select_lt(T::constant(0.0), v45, v579, v578);
+        let v581 = v54 * v580;
+        let v582 = v91 * v581;
+        let v583 = v559 + v582;
+        let v584 = v168 * v553;
+        let v585 = v432 * v580;
+        let v586 = v584 + v585;
+        let v587 = v170 * v556;
+        let v588 = v436 * v580;
+        let v589 = v587 + v588;
+        let v590 = v586 + v589;
+        let v591 = v583 + v590;
+        let v592 = v441 * v591;
+        let v593 = T::constant(0.002777777777777778) * v591;
+        let v594 = v592 + v593;
+        let v595 = T::constant(2.0) * v591;
+        let v596 = v452 * v595;
+        let v597 = -v596;
+        let v598 = T::select_lt(v173, T::constant(1e-6), v594, v597);
+        let v599 = v190 * v598;
+        let v600 = v583 + v589;
+        let v601 = T::constant(2.0) * v600;
+        let v602 = v189 * v601;
+        let v603 = v599 + v602;
+        let v604 = v164 * v603;
+        let v605 = v388 + v581;
+        let v606 = v465 * v553;
+        let v607 = v221 * v556;
+        let v608 = v606 + v607;
+        let v609 = v470 * v598;
+        let v610 = v472 * v580;
+        let v611 = v609 + v610;
+        let v612 = T::constant(2.0) * v611;
+        let v613 = v608 + v612;
+        let v614 = T::constant(2.0) * v613;
+        let v615 = v605 + v614;
+        let v616 = v204 * v615;
+        let v617 = v65 * v580;
+        let v618 = v557 + v617;
+        let v619 = T::constant(0.5) * v618;
+        let v620 = v482 * v553;
+        let v621 = v467 + v620;
+        let v622 = v487 * v598;
+        let v623 = v490 * v580;
+        let v624 = v622 + v623;
+        let v625 = T::constant(2.0) * v624;
+        let v626 = v621 + v625;
+        let v627 = v626 - v619;
+        let v628 = v238 * v627;
+        let v629 = v604 - v628;
+        let v630 = v629 - v616;
+        let v631 = sqrt_information[3] * v630;
+        let v632 = v43 * v580;
+        let v633 = v554 + v632;
+        let v634 = v482 * v556;
+        let v635 = v387 * v465;
+        let v636 = v634 + v635;
+        let v637 = v509 * v598;
+        let v638 = v511 * v580;
+        let v639 = v637 + v638;
+        let v640 = T::constant(2.0) * v639;
+        let v641 = v636 + v640;
+        let v642 = T::constant(2.0) * v641;
+        let v643 = v633 - v642;
+        let v644 = v204 * v643;
+        let v645 = v619 + v626;
+        let v646 = v164 * v645;
+        let v647 = v519 * v598;
+        let v648 = v189 * v590;
+        let v649 = v647 + v648;
+        let v650 = v523 * v649;
+        let v651 = v650 - v646;
+        let v652 = v644 + v651;
+        let v653 = sqrt_information[5] * v652;
+        let v654 = sqrt_information[2] * v605;
+        let v655 = v531 * v580;
+        let v656 = v605 - v614;
+        let v657 = v244 * v656;
+        let v658 = v633 + v642;
+        let v659 = v247 * v658;
+        let v660 = v249 * v598;
+        let v661 = v583 + v586;
+        let v662 = T::constant(2.0) * v661;
+        let v663 = v189 * v662;
+        let v664 = v660 + v663;
+        let v665 = v204 * v664;
+        let v666 = v657 + v665;
+        let v667 = v666 - v659;
+        let v668 = v255 * v667;
+        let v669 = v555 + v558;
+        let v670 = v655 + v669;
+        let v671 = v654 + v670;
+        let v672 = v631 + v671;
+        let v673 = v653 + v668;
+        let v674 = v672 + v673;
+        let v675 = v14 * v674;
+        let v676 = v552 - v675;
+        let v677 = T::select_lt(v34, T::constant(0.0), v386, measured[2]);
+        let v678 = v86 * v677;
+        let v679 = sqrt_information[0] * v678;
+        let v680 = sqrt_information[1] * v384;
+        let v681 = v166 * v553;
+        let v682 = v391 * T::constant(0.6666666666666666);
+        let v683 = v395 * v682;
+        let v684 = v391 * v400;
+        let v685 = v43 * v677;
+        let v686 = v65 * v383;
+        let v687 = v54 * v553;
+        let v688 = v685 + v686;
+        let v689 = v687 + v688;
+        let v690 = v408 * v689;
+        let v691 = v684 + v690;
+        let v692 = v411 * v691;
+        let v693 = v683 + v692;
+        let v694 = v415 * v689;
+        let v695 = v80 * v391;
+        let v696 = v694 - v695;
+        let v697 = v414 * v689;
+        let v698 = v421 * v696;
+        let v699 = v698 - v697;
+        let v700 = T::constant(2.0) * v699;
+        let v701 = T::select_lt(v71, T::constant(1e-6), v693, v700);
+        let v702 = T::select_lt(T::constant(0.0), v45, v701, v700);
+        let v703 = v54 * v702;
+        let v704 = v91 * v703;
+        let v705 = v681 + v704;
+        let v706 = v168 * v677;
+        let v707 = v432 * v702;
+        let v708 = v706 + v707;
+        let v709 = v170 * v383;
+        let v710 = v436 * v702;
+        let v711 = v709 + v710;
+        let v712 = v708 + v711;
+        let v713 = v705 + v712;
+        let v714 = v441 * v713;
+        let v715 = T::constant(0.002777777777777778) * v713;
+        let v716 = v714 + v715;
+        let v717 = T::constant(2.0) * v713;
+        let v718 = v452 * v717;
+        let v719 = -v718;
+        let v720 = T::select_lt(v173, T::constant(1e-6), v716, v719);
+        let v721 = v190 * v720;
+        let v722 = v705 + v711;
+        let v723 = T::constant(2.0) * v722;
+        let v724 = v189 * v723;
+        let v725 = v721 + v724;
+        let v726 = v164 * v725;
+        let v727 = v554 + v703;
+        let v728 = v465 * v677;
+        let v729 = v221 * v383;
+        let v730 = v728 + v729;
+        let v731 = v470 * v720;
+        let v732 = v472 * v702;
+        let v733 = v731 + v732;
+        let v734 = T::constant(2.0) * v733;
+        let v735 = v730 + v734;
+        let v736 = T::constant(2.0) * v735;
+        let v737 = v727 + v736;
+        let v738 = v204 * v737;
+        let v739 = v65 * v702;
+        let v740 = v384 + v739;
+        let v741 = v482 * v677;
+        let v742 = v221 * v553;
+        let v743 = v741 + v742;
+        let v744 = v487 * v720;
+        let v745 = v490 * v702;
+        let v746 = v744 + v745;
+        let v747 = T::constant(2.0) * v746;
+        let v748 = v743 + v747;
+        let v749 = T::constant(2.0) * v748;
+        let v750 = v740 - v749;
+        let v751 = v220 * v750;
+        let v752 = v726 - v738;
+        let v753 = v751 + v752;
+        let v754 = sqrt_information[3] * v753;
+        let v755 = sqrt_information[2] * v727;
+        let v756 = v531 * v702;
+        let v757 = v727 - v736;
+        let v758 = v244 * v757;
+        let v759 = v249 * v720;
+        let v760 = v705 + v708;
+        let v761 = T::constant(2.0) * v760;
+        let v762 = v189 * v761;
+        let v763 = v759 + v762;
+        let v764 = v204 * v763;
+        let v765 = v43 * v702;
+        let v766 = v678 + v765;
+        let v767 = T::constant(0.5) * v766;
+        let v768 = v483 + v606;
+        let v769 = v509 * v720;
+        let v770 = v511 * v702;
+        let v771 = v769 + v770;
+        let v772 = T::constant(2.0) * v771;
+        let v773 = v768 + v772;
+        let v774 = v767 + v773;
+        let v775 = v220 * v774;
+        let v776 = v764 - v775;
+        let v777 = v758 + v776;
+        let v778 = v255 * v777;
+        let v779 = v740 + v749;
+        let v780 = v244 * v779;
+        let v781 = v773 - v767;
+        let v782 = v204 * v781;
+        let v783 = v519 * v720;
+        let v784 = v189 * v712;
+        let v785 = v783 + v784;
+        let v786 = v238 * v785;
+        let v787 = v782 - v786;
+        let v788 = v780 + v787;
+        let v789 = T::constant(2.0) * sqrt_information[5];
+        let v790 = v788 * v789;
+        let v791 = v778 - v790;
+        let v792 = v679 + v680;
+        let v793 = v756 + v792;
+        let v794 = v755 + v793;
+        let v795 = v754 + v794;
+        let v796 = v791 + v795;
+        let v797 = v30 * v796;
+        let v798 = sqrt_information[0] * v557;
+        let v799 = v86 * v394;
+        let v800 = sqrt_information[1] * v799;
+        let v801 = v166 * v383;
+        let v802 = T::constant(0.6666666666666666) * v677;
+        let v803 = v395 * v802;
+        let v804 = v400 * v677;
+        let v805 = v43 * v556;
+        let v806 = v65 * v394;
+        let v807 = v54 * v383;
+        let v808 = v805 + v806;
+        let v809 = v807 + v808;
+        let v810 = v408 * v809;
+        let v811 = v804 + v810;
+        let v812 = v411 * v811;
+        let v813 = v803 + v812;
+        let v814 = v415 * v809;
+        let v815 = v80 * v677;
+        let v816 = v814 - v815;
+        let v817 = v414 * v809;
+        let v818 = v421 * v816;
+        let v819 = v818 - v817;
+        let v820 = T::constant(2.0) * v819;
+        let v821 = T::select_lt(v71, T::constant(1e-6), v813, v820);
+        let v822 = T::select_lt(T::constant(0.0), v45, v821, v820);
+        let v823 = v54 * v822;
+        let v824 = v91 * v823;
+        let v825 = v801 + v824;
+        let v826 = v168 * v556;
+        let v827 = v432 * v822;
+        let v828 = v826 + v827;
+        let v829 = v170 * v394;
+        let v830 = v436 * v822;
+        let v831 = v829 + v830;
+        let v832 = v828 + v831;
+        let v833 = v825 + v832;
+        let v834 = v441 * v833;
+        let v835 = T::constant(0.002777777777777778) * v833;
+        let v836 = v834 + v835;
+        let v837 = T::constant(2.0) * v833;
+        let v838 = v452 * v837;
+        let v839 = -v838;
+        let v840 = T::select_lt(v173, T::constant(1e-6), v836, v839);
+        let v841 = v190 * v840;
+        let v842 = v825 + v831;
+        let v843 = T::constant(2.0) * v842;
+        let v844 = v189 * v843;
+        let v845 = v841 + v844;
+        let v846 = v164 * v845;
+        let v847 = v384 + v823;
+        let v848 = v465 * v556;
+        let v849 = v221 * v394;
+        let v850 = v848 + v849;
+        let v851 = v470 * v840;
+        let v852 = v472 * v822;
+        let v853 = v851 + v852;
+        let v854 = T::constant(2.0) * v853;
+        let v855 = v850 + v854;
+        let v856 = T::constant(2.0) * v855;
+        let v857 = v847 + v856;
+        let v858 = v204 * v857;
+        let v859 = v65 * v822;
+        let v860 = v799 + v859;
+        let v861 = T::constant(0.5) * v860;
+        let v862 = v634 + v729;
+        let v863 = v487 * v840;
+        let v864 = v490 * v822;
+        let v865 = v863 + v864;
+        let v866 = T::constant(2.0) * v865;
+        let v867 = v862 + v866;
+        let v868 = v867 - v861;
+        let v869 = v238 * v868;
+        let v870 = v846 - v869;
+        let v871 = v870 - v858;
+        let v872 = sqrt_information[3] * v871;
+        let v873 = sqrt_information[2] * v847;
+        let v874 = v531 * v822;
+        let v875 = v847 - v856;
+        let v876 = v244 * v875;
+        let v877 = v249 * v840;
+        let v878 = v825 + v828;
+        let v879 = T::constant(2.0) * v878;
+        let v880 = v189 * v879;
+        let v881 = v877 + v880;
+        let v882 = v204 * v881;
+        let v883 = v43 * v822;
+        let v884 = v557 + v883;
+        let v885 = T::constant(0.5) * v884;
+        let v886 = v394 * v482;
+        let v887 = v466 + v886;
+        let v888 = v509 * v840;
+        let v889 = v511 * v822;
+        let v890 = v888 + v889;
+        let v891 = T::constant(2.0) * v890;
+        let v892 = v887 + v891;
+        let v893 = v885 + v892;
+        let v894 = v220 * v893;
+        let v895 = v882 - v894;
+        let v896 = v876 + v895;
+        let v897 = v255 * v896;
+        let v898 = v861 + v867;
+        let v899 = v230 * v898;
+        let v900 = v892 - v885;
+        let v901 = v204 * v900;
+        let v902 = v519 * v840;
+        let v903 = v189 * v832;
+        let v904 = v902 + v903;
+        let v905 = v238 * v904;
+        let v906 = v899 - v905;
+        let v907 = v901 + v906;
+        let v908 = v789 * v907;
+        let v909 = v897 - v908;
+        let v910 = v798 + v800;
+        let v911 = v874 + v910;
+        let v912 = v873 + v911;
+        let v913 = v872 + v912;
+        let v914 = v909 + v913;
+        let v915 = v22 * v914;
+        let v916 = v797 - v915;
+        let v917 = v30 * v551;
+        let v918 = v14 * v914;
+        let v919 = v917 - v918;
+        let v920 = v6 * v796;
+        let v921 = v22 * v674;
+        let v922 = v920 - v921;
+        let v923 = v22 * v551;
+        let v924 = v14 * v796;
+        let v925 = v923 - v924;
+        let v926 = v6 * v914;
+        let v927 = v30 * v674;
+        let v928 = v926 - v927;
+        let v929 = sqrt_information[8] * v308;
+        let v930 = sqrt_information[10] * v316;
+        let v931 = v266 * v324;
+        let v932 = v929 + v930;
+        let v933 = v931 + v932;
+        let v934 = T::constant(0.25) * sqrt_information[10];
+        let v935 = v335 * v934;
+        let v936 = T::constant(0.5) * sqrt_information[9];
+        let v937 = v342 * v936;
+        let v938 = sqrt_information[8] * v351;
+        let v939 = v935 + v937;
+        let v940 = v938 - v939;
+        let v941 = T::constant(0.5) * sqrt_information[10];
+        let v942 = v360 * v941;
+        let v943 = sqrt_information[8] * v369;
+        let v944 = sqrt_information[9] * v376;
+        let v945 = v942 + v943;
+        let v946 = v944 + v945;
+        let v947 = sqrt_information[6] * v388;
+        let v948 = v65 * sqrt_information[6];
+        let v949 = v427 * v948;
+        let v950 = sqrt_information[8] * v499;
+        let v951 = sqrt_information[10] * v526;
+        let v952 = sqrt_information[7] * v464;
+        let v953 = v266 * v544;
+        let v954 = v947 + v949;
+        let v955 = v952 + v954;
+        let v956 = v950 + v955;
+        let v957 = v951 + v953;
+        let v958 = v956 + v957;
+        let v959 = v6 * v958;
+        let v960 = sqrt_information[6] * v557;
+        let v961 = v580 * v948;
+        let v962 = sqrt_information[8] * v630;
+        let v963 = sqrt_information[10] * v652;
+        let v964 = sqrt_information[7] * v605;
+        let v965 = v266 * v667;
+        let v966 = v960 + v961;
+        let v967 = v964 + v966;
+        let v968 = v962 + v967;
+        let v969 = v963 + v965;
+        let v970 = v968 + v969;
+        let v971 = v14 * v970;
+        let v972 = v959 - v971;
+        let v973 = sqrt_information[6] * v384;
+        let v974 = v702 * v948;
+        let v975 = sqrt_information[8] * v753;
+        let v976 = sqrt_information[7] * v727;
+        let v977 = v266 * v777;
+        let v978 = T::constant(2.0) * sqrt_information[10];
+        let v979 = v788 * v978;
+        let v980 = v977 - v979;
+        let v981 = v973 + v974;
+        let v982 = v976 + v981;
+        let v983 = v975 + v982;
+        let v984 = v980 + v983;
+        let v985 = v30 * v984;
+        let v986 = sqrt_information[6] * v799;
+        let v987 = v822 * v948;
+        let v988 = sqrt_information[8] * v871;
+        let v989 = sqrt_information[7] * v847;
+        let v990 = v266 * v896;
+        let v991 = v907 * v978;
+        let v992 = v990 - v991;
+        let v993 = v986 + v987;
+        let v994 = v989 + v993;
+        let v995 = v988 + v994;
+        let v996 = v992 + v995;
+        let v997 = v22 * v996;
+        let v998 = v985 - v997;
+        let v999 = v30 * v958;
+        let v1000 = v14 * v996;
+        let v1001 = v999 - v1000;
+        let v1002 = v6 * v984;
+        let v1003 = v22 * v970;
+        let v1004 = v1002 - v1003;
+        let v1005 = v22 * v958;
+        let v1006 = v14 * v984;
+        let v1007 = v1005 - v1006;
+        let v1008 = v6 * v996;
+        let v1009 = v30 * v970;
+        let v1010 = v1008 - v1009;
+        let v1011 = sqrt_information[12] * v308;
+        let v1012 = sqrt_information[14] * v316;
+        let v1013 = v275 * v324;
+        let v1014 = v1011 + v1012;
+        let v1015 = v1013 + v1014;
+        let v1016 = T::constant(0.25) * sqrt_information[14];
+        let v1017 = v335 * v1016;
+        let v1018 = T::constant(0.5) * sqrt_information[13];
+        let v1019 = v342 * v1018;
+        let v1020 = sqrt_information[12] * v351;
+        let v1021 = v1017 + v1019;
+        let v1022 = v1020 - v1021;
+        let v1023 = T::constant(0.5) * sqrt_information[14];
+        let v1024 = v360 * v1023;
+        let v1025 = sqrt_information[12] * v369;
+        let v1026 = sqrt_information[13] * v376;
+        let v1027 = v1024 + v1025;
+        let v1028 = v1026 + v1027;
+        let v1029 = sqrt_information[12] * v499;
+        let v1030 = sqrt_information[14] * v526;
+        let v1031 = sqrt_information[11] * v464;
+        let v1032 = v275 * v544;
+        let v1033 = v1029 + v1031;
+        let v1034 = v1030 + v1032;
+        let v1035 = v1033 + v1034;
+        let v1036 = v6 * v1035;
+        let v1037 = sqrt_information[12] * v630;
+        let v1038 = sqrt_information[14] * v652;
+        let v1039 = sqrt_information[11] * v605;
+        let v1040 = v275 * v667;
+        let v1041 = v1037 + v1039;
+        let v1042 = v1038 + v1040;
+        let v1043 = v1041 + v1042;
+        let v1044 = v14 * v1043;
+        let v1045 = v1036 - v1044;
+        let v1046 = sqrt_information[12] * v753;
+        let v1047 = sqrt_information[11] * v727;
+        let v1048 = v275 * v777;
+        let v1049 = T::constant(2.0) * sqrt_information[14];
+        let v1050 = v788 * v1049;
+        let v1051 = v1048 - v1050;
+        let v1052 = v1046 + v1047;
+        let v1053 = v1051 + v1052;
+        let v1054 = v30 * v1053;
+        let v1055 = sqrt_information[12] * v871;
+        let v1056 = sqrt_information[11] * v847;
+        let v1057 = v275 * v896;
+        let v1058 = v907 * v1049;
+        let v1059 = v1057 - v1058;
+        let v1060 = v1055 + v1056;
+        let v1061 = v1059 + v1060;
+        let v1062 = v22 * v1061;
+        let v1063 = v1054 - v1062;
+        let v1064 = v30 * v1035;
+        let v1065 = v14 * v1061;
+        let v1066 = v1064 - v1065;
+        let v1067 = v6 * v1053;
+        let v1068 = v22 * v1043;
+        let v1069 = v1067 - v1068;
+        let v1070 = v22 * v1035;
+        let v1071 = v14 * v1053;
+        let v1072 = v1070 - v1071;
+        let v1073 = v6 * v1061;
+        let v1074 = v30 * v1043;
+        let v1075 = v1073 - v1074;
+        let v1076 = sqrt_information[15] * v308;
+        let v1077 = sqrt_information[17] * v316;
+        let v1078 = v282 * v324;
+        let v1079 = v1076 + v1077;
+        let v1080 = v1078 + v1079;
+        let v1081 = T::constant(0.25) * sqrt_information[17];
+        let v1082 = v335 * v1081;
+        let v1083 = T::constant(0.5) * sqrt_information[16];
+        let v1084 = v342 * v1083;
+        let v1085 = sqrt_information[15] * v351;
+        let v1086 = v1082 + v1084;
+        let v1087 = v1085 - v1086;
+        let v1088 = T::constant(0.5) * sqrt_information[17];
+        let v1089 = v360 * v1088;
+        let v1090 = sqrt_information[15] * v369;
+        let v1091 = sqrt_information[16] * v376;
+        let v1092 = v1089 + v1090;
+        let v1093 = v1091 + v1092;
+        let v1094 = sqrt_information[15] * v499;
+        let v1095 = sqrt_information[17] * v526;
+        let v1096 = v282 * v544;
+        let v1097 = v1094 + v1095;
+        let v1098 = v1096 + v1097;
+        let v1099 = v6 * v1098;
+        let v1100 = sqrt_information[15] * v630;
+        let v1101 = sqrt_information[17] * v652;
+        let v1102 = v282 * v667;
+        let v1103 = v1100 + v1101;
+        let v1104 = v1102 + v1103;
+        let v1105 = v14 * v1104;
+        let v1106 = v1099 - v1105;
+        let v1107 = sqrt_information[15] * v753;
+        let v1108 = v282 * v777;
+        let v1109 = T::constant(2.0) * sqrt_information[17];
+        let v1110 = v788 * v1109;
+        let v1111 = v1108 - v1110;
+        let v1112 = v1107 + v1111;
+        let v1113 = v30 * v1112;
+        let v1114 = sqrt_information[15] * v871;
+        let v1115 = v282 * v896;
+        let v1116 = v907 * v1109;
+        let v1117 = v1115 - v1116;
+        let v1118 = v1114 + v1117;
+        let v1119 = v22 * v1118;
+        let v1120 = v1113 - v1119;
+        let v1121 = v30 * v1098;
+        let v1122 = v14 * v1118;
+        let v1123 = v1121 - v1122;
+        let v1124 = v6 * v1112;
+        let v1125 = v22 * v1104;
+        let v1126 = v1124 - v1125;
+        let v1127 = v22 * v1098;
+        let v1128 = v14 * v1112;
+        let v1129 = v1127 - v1128;
+        let v1130 = v6 * v1118;
+        let v1131 = v30 * v1104;
+        let v1132 = v1130 - v1131;
+        let v1133 = T::constant(0.5) * sqrt_information[19];
+        let v1134 = v316 * v1133;
+        let v1135 = sqrt_information[18] * v324;
+        let v1136 = v1134 + v1135;
+        let v1137 = v335 * v1133;
+        let v1138 = sqrt_information[18] * v342;
+        let v1139 = v1137 + v1138;
+        let v1140 = v360 * v1133;
+        let v1141 = sqrt_information[18] * v376;
+        let v1142 = v1140 + v1141;
+        let v1143 = v526 * v1133;
+        let v1144 = sqrt_information[18] * v544;
+        let v1145 = v1143 + v1144;
+        let v1146 = v6 * v1145;
+        let v1147 = v652 * v1133;
+        let v1148 = sqrt_information[18] * v667;
+        let v1149 = v1147 + v1148;
+        let v1150 = v14 * v1149;
+        let v1151 = v1146 - v1150;
+        let v1152 = sqrt_information[18] * v777;
+        let v1153 = sqrt_information[19] * v788;
+        let v1154 = v1152 - v1153;
+        let v1155 = v30 * v1154;
+        let v1156 = sqrt_information[18] * v896;
+        let v1157 = sqrt_information[19] * v907;
+        let v1158 = v1156 - v1157;
+        let v1159 = v22 * v1158;
+        let v1160 = v1155 - v1159;
+        let v1161 = v30 * v1145;
+        let v1162 = v14 * v1158;
+        let v1163 = v1161 - v1162;
+        let v1164 = v6 * v1154;
+        let v1165 = v22 * v1149;
+        let v1166 = v1164 - v1165;
+        let v1167 = v22 * v1145;
+        let v1168 = v14 * v1154;
+        let v1169 = v1167 - v1168;
+        let v1170 = v6 * v1158;
+        let v1171 = v30 * v1149;
+        let v1172 = v1170 - v1171;
+        let v1173 = sqrt_information[20] * v316;
+        let v1174 = sqrt_information[20] * v335;
+        let v1175 = sqrt_information[20] * v360;
+        let v1176 = v6 * sqrt_information[20];
+        let v1177 = v526 * v1176;
+        let v1178 = v14 * sqrt_information[20];
+        let v1179 = v652 * v1178;
+        let v1180 = v1177 - v1179;
+        let v1181 = T::constant(0.5) * v1180;
+        let v1182 = v30 * sqrt_information[20];
+        let v1183 = v788 * v1182;
+        let v1184 = v22 * sqrt_information[20];
+        let v1185 = v907 * v1184;
+        let v1186 = v1183 - v1185;
+        let v1187 = v526 * v1182;
+        let v1188 = T::constant(2.0) * v1178;
+        let v1189 = v907 * v1188;
+        let v1190 = v1187 + v1189;
+        let v1191 = T::constant(0.5) * v1190;
+        let v1192 = T::constant(0.5) * v1184;
+        let v1193 = v652 * v1192;
+        let v1194 = v788 * v1176;
+        let v1195 = v1193 + v1194;
+        let v1196 = v526 * v1184;
+        let v1197 = v788 * v1188;
+        let v1198 = v1196 + v1197;
+        let v1199 = T::constant(0.5) * v1182;
+        let v1200 = v652 * v1199;
+        let v1201 = v907 * v1176;
+        let v1202 = v1200 + v1201;
+        (
+            v327,
+            v328,
+            v354,
+            v355,
+            v379,
+            v380,
+            v381,
+            v676,
+            v916,
+            v919,
+            v922,
+            v925,
+            v928,
+            v933,
+            v940,
+            v946,
+            v972,
+            v998,
+            v1001,
+            v1004,
+            v1007,
+            v1010,
+            v1015,
+            v1022,
+            v1028,
+            v1045,
+            v1063,
+            v1066,
+            v1069,
+            v1072,
+            v1075,
+            v1080,
+            v1087,
+            v1093,
+            v1106,
+            v1120,
+            v1123,
+            v1126,
+            v1129,
+            v1132,
+            v1136,
+            v1139,
+            v1142,
+            v1151,
+            v1160,
+            v1163,
+            v1166,
+            v1169,
+            v1172,
+            v1173,
+            v1174,
+            v1175,
+            v1181,
+            v1186,
+            v1191,
+            v1195,
+            v1198,
+            v1202,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v1226,
+        v1246,
+        v1258,
+        v1267,
+        v1274,
+        v1280,
+        v1285,
+        v1290,
+        v1295,
+        v1301,
+        v1307,
+        v1313,
+        v1318,
+        v1323,
+        v1328,
+        v1334,
+        v1340,
+        v1346,
+        v1351,
+        v1356,
+        v1361,
+        v1367,
+        v1373,
+        v1379,
+        v1385,
+        v1391,
+        v1397,
+        v1402,
+        v1407,
+        v1412,
+        v1417,
+        v1423,
+        v1430,
+        v1435,
+        v1440,
+        v1446,
+    ) = if g_pose_i.is_some() || h_pose_i_pose_i.is_some() || h_pose_i_pose_j.is_some() {
+        let v1203 = v106 * v106;
+        let v1204 = v111 * v111;
+        let v1205 = v117 * v117;
+        let v1206 = v1204 + v1205;
+        let v1207 = T::constant(4.0) * v1206;
+        let v1208 = v1203 + v1207;
+        let v1209 = v1208 * v327;
+        let v1210 = v106 * v128;
+        let v1211 = v111 * v130;
+        let v1212 = v136 * v328;
+        let v1213 = v1210 - v1211;
+        let v1214 = v1212 + v1213;
+        let v1215 = T::constant(4.0) * v1214;
+        let v1216 = v106 * v147;
+        let v1217 = v117 * v153;
+        let v1218 = v149 * v355;
+        let v1219 = v1216 - v1217;
+        let v1220 = v1218 + v1219;
+        let v1221 = T::constant(4.0) * v1220;
+        let v1222 = v1214 * v354;
+        let v1223 = v1220 * v379;
+        let v1224 = v1222 + v1223;
+        let v1225 = T::constant(4.0) * v1224;
+        let v1226 = v1209 + v1225;
+        let v1227 = T::constant(2.0) * v1214;
+        let v1228 = v327 * v1227;
+        let v1229 = v130 * v380;
+        let v1230 = v128 * v128;
+        let v1231 = v136 * v136;
+        let v1232 = v1230 + v1231;
+        let v1233 = v1229 + v1232;
+        let v1234 = v1233 * T::constant(8.0);
+        let v1235 = v130 * v149;
+        let v1236 = v136 * v153;
+        let v1237 = v1235 + v1236;
+        let v1238 = T::constant(0.5) * v1237;
+        let v1239 = v128 * v147;
+        let v1240 = v1239 - v1238;
+        let v1241 = T::constant(8.0) * v1240;
+        let v1242 = v354 * v1233;
+        let v1243 = v379 * v1240;
+        let v1244 = v1242 + v1243;
+        let v1245 = T::constant(8.0) * v1244;
+        let v1246 = v1228 + v1245;
+        let v1247 = T::constant(2.0) * v1220;
+        let v1248 = v327 * v1247;
+        let v1249 = v354 * v1241;
+        let v1250 = v153 * v381;
+        let v1251 = v147 * v147;
+        let v1252 = v149 * v149;
+        let v1253 = v1251 + v1252;
+        let v1254 = v1250 + v1253;
+        let v1255 = T::constant(8.0) * v1254;
+        let v1256 = v379 * v1255;
+        let v1257 = v1249 + v1256;
+        let v1258 = v1248 + v1257;
+        let v1259 = v916 - v676;
+        let v1260 = T::constant(0.5) * v1259;
+        let v1261 = v158 * T::constant(4.0);
+        let v1262 = v139 * T::constant(4.0);
+        let v1263 = v158 * v354;
+        let v1264 = v139 * v379;
+        let v1265 = v1263 - v1264;
+        let v1266 = T::constant(4.0) * v1265;
+        let v1267 = v1260 + v1266;
+        let v1268 = v919 + v922;
+        let v1269 = T::constant(0.5) * v1268;
+        let v1270 = v159 * v327;
+        let v1271 = T::constant(2.0) * v122;
+        let v1272 = v379 * v1271;
+        let v1273 = v1272 - v1270;
+        let v1274 = v1273 - v1269;
+        let v1275 = v925 - v928;
+        let v1276 = T::constant(0.5) * v1275;
+        let v1277 = v140 * v327;
+        let v1278 = v354 * v1271;
+        let v1279 = v1277 - v1278;
+        let v1280 = v1276 + v1279;
+        let v1281 = v1208 * v933;
+        let v1282 = v1215 * v940;
+        let v1283 = v1221 * v946;
+        let v1284 = v1282 + v1283;
+        let v1285 = v1281 + v1284;
+        let v1286 = v1227 * v933;
+        let v1287 = v1234 * v940;
+        let v1288 = v1241 * v946;
+        let v1289 = v1287 + v1288;
+        let v1290 = v1286 + v1289;
+        let v1291 = v1247 * v933;
+        let v1292 = v1241 * v940;
+        let v1293 = v1255 * v946;
+        let v1294 = v1292 + v1293;
+        let v1295 = v1291 + v1294;
+        let v1296 = v998 - v972;
+        let v1297 = T::constant(0.5) * v1296;
+        let v1298 = v1261 * v940;
+        let v1299 = v1262 * v946;
+        let v1300 = v1298 - v1299;
+        let v1301 = v1297 + v1300;
+        let v1302 = v1001 + v1004;
+        let v1303 = T::constant(0.5) * v1302;
+        let v1304 = v159 * v933;
+        let v1305 = v1271 * v946;
+        let v1306 = v1305 - v1304;
+        let v1307 = v1306 - v1303;
+        let v1308 = v1007 - v1010;
+        let v1309 = T::constant(0.5) * v1308;
+        let v1310 = v140 * v933;
+        let v1311 = v1271 * v940;
+        let v1312 = v1310 - v1311;
+        let v1313 = v1309 + v1312;
+        let v1314 = v1208 * v1015;
+        let v1315 = v1215 * v1022;
+        let v1316 = v1221 * v1028;
+        let v1317 = v1315 + v1316;
+        let v1318 = v1314 + v1317;
+        let v1319 = v1227 * v1015;
+        let v1320 = v1234 * v1022;
+        let v1321 = v1241 * v1028;
+        let v1322 = v1320 + v1321;
+        let v1323 = v1319 + v1322;
+        let v1324 = v1247 * v1015;
+        let v1325 = v1241 * v1022;
+        let v1326 = v1255 * v1028;
+        let v1327 = v1325 + v1326;
+        let v1328 = v1324 + v1327;
+        let v1329 = v1063 - v1045;
+        let v1330 = T::constant(0.5) * v1329;
+        let v1331 = v1261 * v1022;
+        let v1332 = v1262 * v1028;
+        let v1333 = v1331 - v1332;
+        let v1334 = v1330 + v1333;
+        let v1335 = v1066 + v1069;
+        let v1336 = T::constant(0.5) * v1335;
+        let v1337 = v159 * v1015;
+        let v1338 = v1271 * v1028;
+        let v1339 = v1338 - v1337;
+        let v1340 = v1339 - v1336;
+        let v1341 = v1072 - v1075;
+        let v1342 = T::constant(0.5) * v1341;
+        let v1343 = v140 * v1015;
+        let v1344 = v1271 * v1022;
+        let v1345 = v1343 - v1344;
+        let v1346 = v1342 + v1345;
+        let v1347 = v1208 * v1080;
+        let v1348 = v1215 * v1087;
+        let v1349 = v1221 * v1093;
+        let v1350 = v1348 + v1349;
+        let v1351 = v1347 + v1350;
+        let v1352 = v1227 * v1080;
+        let v1353 = v1234 * v1087;
+        let v1354 = v1241 * v1093;
+        let v1355 = v1353 + v1354;
+        let v1356 = v1352 + v1355;
+        let v1357 = v1247 * v1080;
+        let v1358 = v1241 * v1087;
+        let v1359 = v1255 * v1093;
+        let v1360 = v1358 + v1359;
+        let v1361 = v1357 + v1360;
+        let v1362 = v1120 - v1106;
+        let v1363 = T::constant(0.5) * v1362;
+        let v1364 = v1261 * v1087;
+        let v1365 = v1262 * v1093;
+        let v1366 = v1364 - v1365;
+        let v1367 = v1363 + v1366;
+        let v1368 = v1123 + v1126;
+        let v1369 = T::constant(0.5) * v1368;
+        let v1370 = v159 * v1080;
+        let v1371 = v1271 * v1093;
+        let v1372 = v1371 - v1370;
+        let v1373 = v1372 - v1369;
+        let v1374 = v1129 - v1132;
+        let v1375 = T::constant(0.5) * v1374;
+        let v1376 = v140 * v1080;
+        let v1377 = v1271 * v1087;
+        let v1378 = v1376 - v1377;
+        let v1379 = v1375 + v1378;
+        let v1380 = T::constant(2.0) * v1208;
+        let v1381 = v1136 * v1380;
+        let v1382 = v1227 * v1139;
+        let v1383 = v1381 - v1382;
+        let v1384 = v1221 * v1142;
+        let v1385 = v1383 + v1384;
+        let v1386 = v1215 * v1136;
+        let v1387 = T::constant(4.0) * v1233;
+        let v1388 = v1139 * v1387;
+        let v1389 = v1386 - v1388;
+        let v1390 = v1241 * v1142;
+        let v1391 = v1389 + v1390;
+        let v1392 = v1221 * v1136;
+        let v1393 = T::constant(4.0) * v1240;
+        let v1394 = v1139 * v1393;
+        let v1395 = v1392 - v1394;
+        let v1396 = v1255 * v1142;
+        let v1397 = v1395 + v1396;
+        let v1398 = v159 * v1139;
+        let v1399 = v1262 * v1142;
+        let v1400 = v1398 + v1399;
+        let v1401 = v1160 - v1400;
+        let v1402 = v1401 - v1151;
+        let v1403 = v1271 * v1142;
+        let v1404 = v1261 * v1136;
+        let v1405 = v1403 - v1404;
+        let v1406 = v1405 - v1163;
+        let v1407 = v1406 - v1166;
+        let v1408 = v122 * v1139;
+        let v1409 = v1262 * v1136;
+        let v1410 = v1408 + v1409;
+        let v1411 = v1169 + v1410;
+        let v1412 = v1411 - v1172;
+        let v1413 = v1208 * v1173;
+        let v1414 = v1214 * v1174;
+        let v1415 = v1247 * v1175;
+        let v1416 = v1413 - v1414;
+        let v1417 = v1415 + v1416;
+        let v1418 = v1227 * v1173;
+        let v1419 = T::constant(2.0) * v1233;
+        let v1420 = v1174 * v1419;
+        let v1421 = v1418 - v1420;
+        let v1422 = v1393 * v1175;
+        let v1423 = v1421 + v1422;
+        let v1424 = v1247 * v1173;
+        let v1425 = T::constant(2.0) * v1240;
+        let v1426 = v1174 * v1425;
+        let v1427 = v1424 - v1426;
+        let v1428 = T::constant(4.0) * v1254;
+        let v1429 = v1175 * v1428;
+        let v1430 = v1427 + v1429;
+        let v1431 = v158 * v1174;
+        let v1432 = v140 * v1175;
+        let v1433 = v1431 + v1432;
+        let v1434 = v1186 + v1433;
+        let v1435 = v1181 + v1434;
+        let v1436 = v122 * v1175;
+        let v1437 = v159 * v1173;
+        let v1438 = v1436 - v1437;
+        let v1439 = v1195 + v1438;
+        let v1440 = v1439 - v1191;
+        let v1441 = v122 * v1174;
+        let v1442 = v1198 + v1441;
+        let v1443 = T::constant(0.5) * v1442;
+        let v1444 = v140 * v1173;
+        let v1445 = v1202 + v1444;
+        let v1446 = v1443 + v1445;
+        (
+            v1226,
+            v1246,
+            v1258,
+            v1267,
+            v1274,
+            v1280,
+            v1285,
+            v1290,
+            v1295,
+            v1301,
+            v1307,
+            v1313,
+            v1318,
+            v1323,
+            v1328,
+            v1334,
+            v1340,
+            v1346,
+            v1351,
+            v1356,
+            v1361,
+            v1367,
+            v1373,
+            v1379,
+            v1385,
+            v1391,
+            v1397,
+            v1402,
+            v1407,
+            v1412,
+            v1417,
+            v1423,
+            v1430,
+            v1435,
+            v1440,
+            v1446,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v1488,
+        v1518,
+        v1548,
+        v1550,
+        v1552,
+        v1554,
+        v1559,
+        v1564,
+        v1569,
+        v1571,
+        v1573,
+        v1575,
+        v1580,
+        v1585,
+        v1590,
+        v1592,
+        v1594,
+        v1596,
+        v1601,
+        v1606,
+        v1611,
+        v1613,
+        v1615,
+        v1617,
+        v1623,
+        v1629,
+        v1635,
+        v1636,
+        v1637,
+        v1638,
+        v1644,
+        v1651,
+        v1658,
+        v1659,
+        v1660,
+        v1661,
+        v1662,
+        v1663,
+        v1664,
+        v1665,
+        v1666,
+        v1667,
+        v1668,
+        v1669,
+        v1670,
+        v1671,
+        v1672,
+        v1673,
+        v1674,
+        v1675,
+        v1676,
+        v1677,
+        v1678,
+        v1679,
+        v1680,
+        v1681,
+        v1682,
+        v1683,
+        v1684,
+        v1685,
+        v1686,
+        v1687,
+        v1688,
+        v1689,
+        v1690,
+        v1691,
+        v1692,
+        v1693,
+        v1694,
+        v1695,
+        v1696,
+        v1697,
+    ) = if g_pose_j.is_some() || h_pose_i_pose_j.is_some() || h_pose_j_pose_j.is_some() {
+        let v1447 = T::constant(0.5) * v149;
+        let v1448 = T::constant(0.5) * v136;
+        let v1449 = T::constant(0.5) * v1198;
+        let v1450 = pose_j[0] * pose_j[0];
+        let v1451 = pose_j[1] * pose_j[1];
+        let v1452 = v1450 - v1451;
+        let v1453 = pose_j[2] * pose_j[2];
+        let v1454 = pose_j[3] * pose_j[3];
+        let v1455 = v1453 - v1454;
+        let v1456 = v1452 - v1455;
+        let v1457 = v106 * v1456;
+        let v1458 = pose_j[0] * pose_j[1];
+        let v1459 = pose_j[3] * pose_j[2];
+        let v1460 = v1458 + v1459;
+        let v1461 = pose_j[0] * pose_j[2];
+        let v1462 = pose_j[3] * pose_j[1];
+        let v1463 = v1461 - v1462;
+        let v1464 = v111 * v1460;
+        let v1465 = v117 * v1463;
+        let v1466 = v1464 + v1465;
+        let v1467 = T::constant(4.0) * v1466;
+        let v1468 = v1457 + v1467;
+        let v1469 = v327 * v1468;
+        let v1470 = v128 * v1456;
+        let v1471 = v130 * v1460;
+        let v1472 = T::constant(2.0) * v136;
+        let v1473 = v1463 * v1472;
+        let v1474 = v1470 - v1471;
+        let v1475 = v1473 + v1474;
+        let v1476 = T::constant(4.0) * v1475;
+        let v1477 = v147 * v1456;
+        let v1478 = v153 * v1463;
+        let v1479 = T::constant(2.0) * v149;
+        let v1480 = v1460 * v1479;
+        let v1481 = v1477 - v1478;
+        let v1482 = v1480 + v1481;
+        let v1483 = T::constant(4.0) * v1482;
+        let v1484 = v354 * v1475;
+        let v1485 = v379 * v1482;
+        let v1486 = v1484 + v1485;
+        let v1487 = T::constant(4.0) * v1486;
+        let v1488 = v1469 + v1487;
+        let v1489 = v1458 - v1459;
+        let v1490 = v106 * v1489;
+        let v1491 = v1452 + v1455;
+        let v1492 = v111 * v1491;
+        let v1493 = pose_j[1] * pose_j[2];
+        let v1494 = pose_j[3] * pose_j[0];
+        let v1495 = v1493 + v1494;
+        let v1496 = v328 * v1495;
+        let v1497 = v1490 - v1492;
+        let v1498 = v1496 + v1497;
+        let v1499 = T::constant(2.0) * v1498;
+        let v1500 = v327 * v1499;
+        let v1501 = v380 * v1491;
+        let v1502 = v128 * v1489;
+        let v1503 = v136 * v1495;
+        let v1504 = v1502 + v1503;
+        let v1505 = v1501 + v1504;
+        let v1506 = T::constant(8.0) * v1505;
+        let v1507 = v1447 * v1491;
+        let v1508 = T::constant(0.5) * v1495;
+        let v1509 = v153 * v1508;
+        let v1510 = v1507 + v1509;
+        let v1511 = v147 * v1489;
+        let v1512 = v1511 - v1510;
+        let v1513 = T::constant(8.0) * v1512;
+        let v1514 = v354 * v1505;
+        let v1515 = v379 * v1512;
+        let v1516 = v1514 + v1515;
+        let v1517 = T::constant(8.0) * v1516;
+        let v1518 = v1500 + v1517;
+        let v1519 = v1461 + v1462;
+        let v1520 = v106 * v1519;
+        let v1521 = v1450 + v1451;
+        let v1522 = v1453 + v1454;
+        let v1523 = v1521 - v1522;
+        let v1524 = v117 * v1523;
+        let v1525 = v1493 - v1494;
+        let v1526 = v355 * v1525;
+        let v1527 = v1520 - v1524;
+        let v1528 = v1526 + v1527;
+        let v1529 = T::constant(2.0) * v1528;
+        let v1530 = v327 * v1529;
+        let v1531 = T::constant(0.5) * v1525;
+        let v1532 = v130 * v1531;
+        let v1533 = v1448 * v1523;
+        let v1534 = v1532 + v1533;
+        let v1535 = v128 * v1519;
+        let v1536 = v1535 - v1534;
+        let v1537 = T::constant(8.0) * v1536;
+        let v1538 = v381 * v1523;
+        let v1539 = v147 * v1519;
+        let v1540 = v149 * v1525;
+        let v1541 = v1539 + v1540;
+        let v1542 = v1538 + v1541;
+        let v1543 = T::constant(8.0) * v1542;
+        let v1544 = v354 * v1536;
+        let v1545 = v379 * v1542;
+        let v1546 = v1544 + v1545;
+        let v1547 = T::constant(8.0) * v1546;
+        let v1548 = v1530 + v1547;
+        let v1549 = v676 + v916;
+        let v1550 = T::constant(0.5) * v1549;
+        let v1551 = v922 - v919;
+        let v1552 = T::constant(0.5) * v1551;
+        let v1553 = v925 + v928;
+        let v1554 = T::constant(0.5) * v1553;
+        let v1555 = v933 * v1468;
+        let v1556 = v940 * v1476;
+        let v1557 = v946 * v1483;
+        let v1558 = v1556 + v1557;
+        let v1559 = v1555 + v1558;
+        let v1560 = v933 * v1499;
+        let v1561 = v940 * v1506;
+        let v1562 = v946 * v1513;
+        let v1563 = v1561 + v1562;
+        let v1564 = v1560 + v1563;
+        let v1565 = v933 * v1529;
+        let v1566 = v940 * v1537;
+        let v1567 = v946 * v1543;
+        let v1568 = v1566 + v1567;
+        let v1569 = v1565 + v1568;
+        let v1570 = v972 + v998;
+        let v1571 = T::constant(0.5) * v1570;
+        let v1572 = v1004 - v1001;
+        let v1573 = T::constant(0.5) * v1572;
+        let v1574 = v1007 + v1010;
+        let v1575 = T::constant(0.5) * v1574;
+        let v1576 = v1015 * v1468;
+        let v1577 = v1022 * v1476;
+        let v1578 = v1028 * v1483;
+        let v1579 = v1577 + v1578;
+        let v1580 = v1576 + v1579;
+        let v1581 = v1015 * v1499;
+        let v1582 = v1022 * v1506;
+        let v1583 = v1028 * v1513;
+        let v1584 = v1582 + v1583;
+        let v1585 = v1581 + v1584;
+        let v1586 = v1015 * v1529;
+        let v1587 = v1022 * v1537;
+        let v1588 = v1028 * v1543;
+        let v1589 = v1587 + v1588;
+        let v1590 = v1586 + v1589;
+        let v1591 = v1045 + v1063;
+        let v1592 = T::constant(0.5) * v1591;
+        let v1593 = v1069 - v1066;
+        let v1594 = T::constant(0.5) * v1593;
+        let v1595 = v1072 + v1075;
+        let v1596 = T::constant(0.5) * v1595;
+        let v1597 = v1080 * v1468;
+        let v1598 = v1087 * v1476;
+        let v1599 = v1093 * v1483;
+        let v1600 = v1598 + v1599;
+        let v1601 = v1597 + v1600;
+        let v1602 = v1080 * v1499;
+        let v1603 = v1087 * v1506;
+        let v1604 = v1093 * v1513;
+        let v1605 = v1603 + v1604;
+        let v1606 = v1602 + v1605;
+        let v1607 = v1080 * v1529;
+        let v1608 = v1087 * v1537;
+        let v1609 = v1093 * v1543;
+        let v1610 = v1608 + v1609;
+        let v1611 = v1607 + v1610;
+        let v1612 = v1106 + v1120;
+        let v1613 = T::constant(0.5) * v1612;
+        let v1614 = v1126 - v1123;
+        let v1615 = T::constant(0.5) * v1614;
+        let v1616 = v1129 + v1132;
+        let v1617 = T::constant(0.5) * v1616;
+        let v1618 = v1136 * v1468;
+        let v1619 = v1139 * v1475;
+        let v1620 = v1619 - v1618;
+        let v1621 = T::constant(2.0) * v1620;
+        let v1622 = v1142 * v1483;
+        let v1623 = v1621 - v1622;
+        let v1624 = v1136 * v1498;
+        let v1625 = v1139 * v1505;
+        let v1626 = v1625 - v1624;
+        let v1627 = T::constant(4.0) * v1626;
+        let v1628 = v1142 * v1513;
+        let v1629 = v1627 - v1628;
+        let v1630 = v1136 * v1528;
+        let v1631 = v1139 * v1536;
+        let v1632 = v1631 - v1630;
+        let v1633 = T::constant(4.0) * v1632;
+        let v1634 = v1142 * v1543;
+        let v1635 = v1633 - v1634;
+        let v1636 = v1151 + v1160;
+        let v1637 = v1166 - v1163;
+        let v1638 = v1169 + v1172;
+        let v1639 = v1173 * v1468;
+        let v1640 = v1174 * v1475;
+        let v1641 = T::constant(2.0) * v1482;
+        let v1642 = v1175 * v1641;
+        let v1643 = v1640 - v1639;
+        let v1644 = v1643 - v1642;
+        let v1645 = v1173 * v1499;
+        let v1646 = T::constant(2.0) * v1505;
+        let v1647 = v1174 * v1646;
+        let v1648 = v1647 - v1645;
+        let v1649 = T::constant(4.0) * v1512;
+        let v1650 = v1175 * v1649;
+        let v1651 = v1648 - v1650;
+        let v1652 = v1173 * v1529;
+        let v1653 = T::constant(2.0) * v1536;
+        let v1654 = v1174 * v1653;
+        let v1655 = v1654 - v1652;
+        let v1656 = T::constant(4.0) * v1542;
+        let v1657 = v1175 * v1656;
+        let v1658 = v1655 - v1657;
+        let v1659 = v1181 - v1186;
+        let v1660 = v1191 + v1195;
+        let v1661 = v1449 - v1202;
+        let v1662 = v1488 * weight;
+        let v1663 = v1518 * weight;
+        let v1664 = v1548 * weight;
+        let v1665 = v1550 * weight;
+        let v1666 = v1552 * weight;
+        let v1667 = v1554 * weight;
+        let v1668 = v1559 * weight;
+        let v1669 = v1564 * weight;
+        let v1670 = v1569 * weight;
+        let v1671 = v1571 * weight;
+        let v1672 = v1573 * weight;
+        let v1673 = v1575 * weight;
+        let v1674 = v1580 * weight;
+        let v1675 = v1585 * weight;
+        let v1676 = v1590 * weight;
+        let v1677 = v1592 * weight;
+        let v1678 = v1594 * weight;
+        let v1679 = v1596 * weight;
+        let v1680 = v1601 * weight;
+        let v1681 = v1606 * weight;
+        let v1682 = v1611 * weight;
+        let v1683 = v1613 * weight;
+        let v1684 = v1615 * weight;
+        let v1685 = v1617 * weight;
+        let v1686 = v1623 * weight;
+        let v1687 = v1629 * weight;
+        let v1688 = v1635 * weight;
+        let v1689 = v1636 * weight;
+        let v1690 = v1637 * weight;
+        let v1691 = v1638 * weight;
+        let v1692 = v1644 * weight;
+        let v1693 = v1651 * weight;
+        let v1694 = v1658 * weight;
+        let v1695 = v1659 * weight;
+        let v1696 = v1660 * weight;
+        let v1697 = v1661 * weight;
+        (
+            v1488,
+            v1518,
+            v1548,
+            v1550,
+            v1552,
+            v1554,
+            v1559,
+            v1564,
+            v1569,
+            v1571,
+            v1573,
+            v1575,
+            v1580,
+            v1585,
+            v1590,
+            v1592,
+            v1594,
+            v1596,
+            v1601,
+            v1606,
+            v1611,
+            v1613,
+            v1615,
+            v1617,
+            v1623,
+            v1629,
+            v1635,
+            v1636,
+            v1637,
+            v1638,
+            v1644,
+            v1651,
+            v1658,
+            v1659,
+            v1660,
+            v1661,
+            v1662,
+            v1663,
+            v1664,
+            v1665,
+            v1666,
+            v1667,
+            v1668,
+            v1669,
+            v1670,
+            v1671,
+            v1672,
+            v1673,
+            v1674,
+            v1675,
+            v1676,
+            v1677,
+            v1678,
+            v1679,
+            v1680,
+            v1681,
+            v1682,
+            v1683,
+            v1684,
+            v1685,
+            v1686,
+            v1687,
+            v1688,
+            v1689,
+            v1690,
+            v1691,
+            v1692,
+            v1693,
+            v1694,
+            v1695,
+            v1696,
+            v1697,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    let (
+        v1698,
+        v1699,
+        v1700,
+        v1701,
+        v1702,
+        v1703,
+        v1704,
+        v1705,
+        v1706,
+        v1707,
+        v1708,
+        v1709,
+        v1710,
+        v1711,
+        v1712,
+        v1713,
+        v1714,
+        v1715,
+        v1716,
+        v1717,
+        v1718,
+        v1719,
+        v1720,
+        v1721,
+        v1722,
+        v1723,
+        v1724,
+        v1725,
+        v1726,
+        v1727,
+        v1728,
+        v1729,
+        v1730,
+        v1731,
+        v1732,
+        v1733,
+    ) = if g_pose_i.is_some() || h_pose_i_pose_i.is_some() {
+        let v1698 = v1226 * weight;
+        let v1699 = v1246 * weight;
+        let v1700 = v1258 * weight;
+        let v1701 = v1267 * weight;
+        let v1702 = v1274 * weight;
+        let v1703 = v1280 * weight;
+        let v1704 = v1285 * weight;
+        let v1705 = v1290 * weight;
+        let v1706 = v1295 * weight;
+        let v1707 = v1301 * weight;
+        let v1708 = v1307 * weight;
+        let v1709 = v1313 * weight;
+        let v1710 = v1318 * weight;
+        let v1711 = v1323 * weight;
+        let v1712 = v1328 * weight;
+        let v1713 = v1334 * weight;
+        let v1714 = v1340 * weight;
+        let v1715 = v1346 * weight;
+        let v1716 = v1351 * weight;
+        let v1717 = v1356 * weight;
+        let v1718 = v1361 * weight;
+        let v1719 = v1367 * weight;
+        let v1720 = v1373 * weight;
+        let v1721 = v1379 * weight;
+        let v1722 = v1385 * weight;
+        let v1723 = v1391 * weight;
+        let v1724 = v1397 * weight;
+        let v1725 = v1402 * weight;
+        let v1726 = v1407 * weight;
+        let v1727 = v1412 * weight;
+        let v1728 = v1417 * weight;
+        let v1729 = v1423 * weight;
+        let v1730 = v1430 * weight;
+        let v1731 = v1435 * weight;
+        let v1732 = v1440 * weight;
+        let v1733 = v1446 * weight;
+        (
+            v1698,
+            v1699,
+            v1700,
+            v1701,
+            v1702,
+            v1703,
+            v1704,
+            v1705,
+            v1706,
+            v1707,
+            v1708,
+            v1709,
+            v1710,
+            v1711,
+            v1712,
+            v1713,
+            v1714,
+            v1715,
+            v1716,
+            v1717,
+            v1718,
+            v1719,
+            v1720,
+            v1721,
+            v1722,
+            v1723,
+            v1724,
+            v1725,
+            v1726,
+            v1727,
+            v1728,
+            v1729,
+            v1730,
+            v1731,
+            v1732,
+            v1733,
+        )
+    } else {
+        (
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+            T::constant(0.0),
+        )
+    };
+    if let Some(g_pose_i) = g_pose_i {
+        let v1734 = v261 * v1698;
+        let v1735 = v271 * v1704;
+        let v1736 = v279 * v1710;
+        let v1737 = v285 * v1716;
+        let v1738 = v289 * v1722;
+        let v1739 = v290 * v1728;
+        let v1740 = v1734 + v1735;
+        let v1741 = v1736 + v1740;
+        let v1742 = v1737 + v1741;
+        let v1743 = v1738 + v1742;
+        let v1744 = v1739 + v1743;
+        let v1745 = v261 * v1699;
+        let v1746 = v271 * v1705;
+        let v1747 = v279 * v1711;
+        let v1748 = v285 * v1717;
+        let v1749 = v289 * v1723;
+        let v1750 = v290 * v1729;
+        let v1751 = v1745 + v1746;
+        let v1752 = v1747 + v1751;
+        let v1753 = v1748 + v1752;
+        let v1754 = v1749 + v1753;
+        let v1755 = v1750 + v1754;
+        let v1756 = v261 * v1700;
+        let v1757 = v271 * v1706;
+        let v1758 = v279 * v1712;
+        let v1759 = v285 * v1718;
+        let v1760 = v289 * v1724;
+        let v1761 = v290 * v1730;
+        let v1762 = v1756 + v1757;
+        let v1763 = v1758 + v1762;
+        let v1764 = v1759 + v1763;
+        let v1765 = v1760 + v1764;
+        let v1766 = v1761 + v1765;
+        let v1767 = v261 * v1701;
+        let v1768 = v271 * v1707;
+        let v1769 = v279 * v1713;
+        let v1770 = v285 * v1719;
+        let v1771 = v289 * v1725;
+        let v1772 = v290 * v1731;
+        let v1773 = v1767 + v1768;
+        let v1774 = v1769 + v1773;
+        let v1775 = v1770 + v1774;
+        let v1776 = v1771 + v1775;
+        let v1777 = v1776 - v1772;
+        let v1778 = v261 * v1702;
+        let v1779 = v271 * v1708;
+        let v1780 = v279 * v1714;
+        let v1781 = v285 * v1720;
+        let v1782 = v289 * v1726;
+        let v1783 = v290 * v1732;
+        let v1784 = v1778 + v1779;
+        let v1785 = v1780 + v1784;
+        let v1786 = v1781 + v1785;
+        let v1787 = v1782 + v1786;
+        let v1788 = v1783 + v1787;
+        let v1789 = v261 * v1703;
+        let v1790 = v271 * v1709;
+        let v1791 = v279 * v1715;
+        let v1792 = v285 * v1721;
+        let v1793 = v289 * v1727;
+        let v1794 = v290 * v1733;
+        let v1795 = v1789 + v1790;
+        let v1796 = v1791 + v1795;
+        let v1797 = v1792 + v1796;
+        let v1798 = v1793 + v1797;
+        let v1799 = v1794 + v1798;
+        g_pose_i[0] = v1744;
+        g_pose_i[1] = v1755;
+        g_pose_i[2] = v1766;
+        g_pose_i[3] = v1777;
+        g_pose_i[4] = v1788;
+        g_pose_i[5] = v1799;
+    }
+    if let Some(g_pose_j) = g_pose_j {
+        let v1800 = v261 * v1662;
+        let v1801 = v271 * v1668;
+        let v1802 = v279 * v1674;
+        let v1803 = v285 * v1680;
+        let v1804 = v289 * v1686;
+        let v1805 = v290 * v1692;
+        let v1806 = v1804 - v1800;
+        let v1807 = v1806 - v1801;
+        let v1808 = v1807 - v1802;
+        let v1809 = v1808 - v1803;
+        let v1810 = v1805 + v1809;
+        let v1811 = v261 * v1663;
+        let v1812 = v271 * v1669;
+        let v1813 = v279 * v1675;
+        let v1814 = v285 * v1681;
+        let v1815 = v289 * v1687;
+        let v1816 = v290 * v1693;
+        let v1817 = v1815 - v1811;
+        let v1818 = v1817 - v1812;
+        let v1819 = v1818 - v1813;
+        let v1820 = v1819 - v1814;
+        let v1821 = v1816 + v1820;
+        let v1822 = v261 * v1664;
+        let v1823 = v271 * v1670;
+        let v1824 = v279 * v1676;
+        let v1825 = v285 * v1682;
+        let v1826 = v289 * v1688;
+        let v1827 = v290 * v1694;
+        let v1828 = v1826 - v1822;
+        let v1829 = v1828 - v1823;
+        let v1830 = v1829 - v1824;
+        let v1831 = v1830 - v1825;
+        let v1832 = v1827 + v1831;
+        let v1833 = v261 * v1665;
+        let v1834 = v271 * v1671;
+        let v1835 = v279 * v1677;
+        let v1836 = v285 * v1683;
+        let v1837 = v289 * v1689;
+        let v1838 = v290 * v1695;
+        let v1839 = v1833 + v1834;
+        let v1840 = v1835 + v1839;
+        let v1841 = v1836 + v1840;
+        let v1842 = v1837 + v1841;
+        let v1843 = v1838 + v1842;
+        let v1844 = v261 * v1666;
+        let v1845 = v271 * v1672;
+        let v1846 = v279 * v1678;
+        let v1847 = v285 * v1684;
+        let v1848 = v289 * v1690;
+        let v1849 = v290 * v1696;
+        let v1850 = v1844 + v1845;
+        let v1851 = v1846 + v1850;
+        let v1852 = v1847 + v1851;
+        let v1853 = v1848 + v1852;
+        let v1854 = v1853 - v1849;
+        let v1855 = v261 * v1667;
+        let v1856 = v271 * v1673;
+        let v1857 = v279 * v1679;
+        let v1858 = v285 * v1685;
+        let v1859 = v289 * v1691;
+        let v1860 = v290 * v1697;
+        let v1861 = v1855 + v1856;
+        let v1862 = v1857 + v1861;
+        let v1863 = v1858 + v1862;
+        let v1864 = v1859 + v1863;
+        let v1865 = v1860 + v1864;
+        g_pose_j[0] = v1810;
+        g_pose_j[1] = v1821;
+        g_pose_j[2] = v1832;
+        g_pose_j[3] = v1843;
+        g_pose_j[4] = v1854;
+        g_pose_j[5] = v1865;
+    }
+    if let Some(h_pose_i_pose_i) = h_pose_i_pose_i {
+        let v1866 = v1226 * v1698;
+        let v1867 = v1285 * v1704;
+        let v1868 = v1318 * v1710;
+        let v1869 = v1351 * v1716;
+        let v1870 = v1385 * v1722;
+        let v1871 = v1417 * v1728;
+        let v1872 = v1866 + v1867;
+        let v1873 = v1868 + v1872;
+        let v1874 = v1869 + v1873;
+        let v1875 = v1870 + v1874;
+        let v1876 = v1871 + v1875;
+        let v1877 = v1226 * v1699;
+        let v1878 = v1285 * v1705;
+        let v1879 = v1318 * v1711;
+        let v1880 = v1351 * v1717;
+        let v1881 = v1385 * v1723;
+        let v1882 = v1417 * v1729;
+        let v1883 = v1877 + v1878;
+        let v1884 = v1879 + v1883;
+        let v1885 = v1880 + v1884;
+        let v1886 = v1881 + v1885;
+        let v1887 = v1882 + v1886;
+        let v1888 = v1226 * v1700;
+        let v1889 = v1285 * v1706;
+        let v1890 = v1318 * v1712;
+        let v1891 = v1351 * v1718;
+        let v1892 = v1385 * v1724;
+        let v1893 = v1417 * v1730;
+        let v1894 = v1888 + v1889;
+        let v1895 = v1890 + v1894;
+        let v1896 = v1891 + v1895;
+        let v1897 = v1892 + v1896;
+        let v1898 = v1893 + v1897;
+        let v1899 = v1226 * v1701;
+        let v1900 = v1285 * v1707;
+        let v1901 = v1318 * v1713;
+        let v1902 = v1351 * v1719;
+        let v1903 = v1385 * v1725;
+        let v1904 = v1417 * v1731;
+        let v1905 = v1899 + v1900;
+        let v1906 = v1901 + v1905;
+        let v1907 = v1902 + v1906;
+        let v1908 = v1903 + v1907;
+        let v1909 = v1908 - v1904;
+        let v1910 = v1226 * v1702;
+        let v1911 = v1285 * v1708;
+        let v1912 = v1318 * v1714;
+        let v1913 = v1351 * v1720;
+        let v1914 = v1385 * v1726;
+        let v1915 = v1417 * v1732;
+        let v1916 = v1910 + v1911;
+        let v1917 = v1912 + v1916;
+        let v1918 = v1913 + v1917;
+        let v1919 = v1914 + v1918;
+        let v1920 = v1915 + v1919;
+        let v1921 = v1226 * v1703;
+        let v1922 = v1285 * v1709;
+        let v1923 = v1318 * v1715;
+        let v1924 = v1351 * v1721;
+        let v1925 = v1385 * v1727;
+        let v1926 = v1417 * v1733;
+        let v1927 = v1921 + v1922;
+        let v1928 = v1923 + v1927;
+        let v1929 = v1924 + v1928;
+        let v1930 = v1925 + v1929;
+        let v1931 = v1926 + v1930;
+        let v1932 = v1246 * v1699;
+        let v1933 = v1290 * v1705;
+        let v1934 = v1323 * v1711;
+        let v1935 = v1356 * v1717;
+        let v1936 = v1391 * v1723;
+        let v1937 = v1423 * v1729;
+        let v1938 = v1932 + v1933;
+        let v1939 = v1934 + v1938;
+        let v1940 = v1935 + v1939;
+        let v1941 = v1936 + v1940;
+        let v1942 = v1937 + v1941;
+        let v1943 = v1246 * v1700;
+        let v1944 = v1290 * v1706;
+        let v1945 = v1323 * v1712;
+        let v1946 = v1356 * v1718;
+        let v1947 = v1391 * v1724;
+        let v1948 = v1423 * v1730;
+        let v1949 = v1943 + v1944;
+        let v1950 = v1945 + v1949;
+        let v1951 = v1946 + v1950;
+        let v1952 = v1947 + v1951;
+        let v1953 = v1948 + v1952;
+        let v1954 = v1246 * v1701;
+        let v1955 = v1290 * v1707;
+        let v1956 = v1323 * v1713;
+        let v1957 = v1356 * v1719;
+        let v1958 = v1391 * v1725;
+        let v1959 = v1423 * v1731;
+        let v1960 = v1954 + v1955;
+        let v1961 = v1956 + v1960;
+        let v1962 = v1957 + v1961;
+        let v1963 = v1958 + v1962;
+        let v1964 = v1963 - v1959;
+        let v1965 = v1246 * v1702;
+        let v1966 = v1290 * v1708;
+        let v1967 = v1323 * v1714;
+        let v1968 = v1356 * v1720;
+        let v1969 = v1391 * v1726;
+        let v1970 = v1423 * v1732;
+        let v1971 = v1965 + v1966;
+        let v1972 = v1967 + v1971;
+        let v1973 = v1968 + v1972;
+        let v1974 = v1969 + v1973;
+        let v1975 = v1970 + v1974;
+        let v1976 = v1246 * v1703;
+        let v1977 = v1290 * v1709;
+        let v1978 = v1323 * v1715;
+        let v1979 = v1356 * v1721;
+        let v1980 = v1391 * v1727;
+        let v1981 = v1423 * v1733;
+        let v1982 = v1976 + v1977;
+        let v1983 = v1978 + v1982;
+        let v1984 = v1979 + v1983;
+        let v1985 = v1980 + v1984;
+        let v1986 = v1981 + v1985;
+        let v1987 = v1258 * v1700;
+        let v1988 = v1295 * v1706;
+        let v1989 = v1328 * v1712;
+        let v1990 = v1361 * v1718;
+        let v1991 = v1397 * v1724;
+        let v1992 = v1430 * v1730;
+        let v1993 = v1987 + v1988;
+        let v1994 = v1989 + v1993;
+        let v1995 = v1990 + v1994;
+        let v1996 = v1991 + v1995;
+        let v1997 = v1992 + v1996;
+        let v1998 = v1258 * v1701;
+        let v1999 = v1295 * v1707;
+        let v2000 = v1328 * v1713;
+        let v2001 = v1361 * v1719;
+        let v2002 = v1397 * v1725;
+        let v2003 = v1430 * v1731;
+        let v2004 = v1998 + v1999;
+        let v2005 = v2000 + v2004;
+        let v2006 = v2001 + v2005;
+        let v2007 = v2002 + v2006;
+        let v2008 = v2007 - v2003;
+        let v2009 = v1258 * v1702;
+        let v2010 = v1295 * v1708;
+        let v2011 = v1328 * v1714;
+        let v2012 = v1361 * v1720;
+        let v2013 = v1397 * v1726;
+        let v2014 = v1430 * v1732;
+        let v2015 = v2009 + v2010;
+        let v2016 = v2011 + v2015;
+        let v2017 = v2012 + v2016;
+        let v2018 = v2013 + v2017;
+        let v2019 = v2014 + v2018;
+        let v2020 = v1258 * v1703;
+        let v2021 = v1295 * v1709;
+        let v2022 = v1328 * v1715;
+        let v2023 = v1361 * v1721;
+        let v2024 = v1397 * v1727;
+        let v2025 = v1430 * v1733;
+        let v2026 = v2020 + v2021;
+        let v2027 = v2022 + v2026;
+        let v2028 = v2023 + v2027;
+        let v2029 = v2024 + v2028;
+        let v2030 = v2025 + v2029;
+        let v2031 = v1267 * v1701;
+        let v2032 = v1301 * v1707;
+        let v2033 = v1334 * v1713;
+        let v2034 = v1367 * v1719;
+        let v2035 = v1402 * v1725;
+        let v2036 = v1435 * v1731;
+        let v2037 = v2031 + v2032;
+        let v2038 = v2033 + v2037;
+        let v2039 = v2034 + v2038;
+        let v2040 = v2035 + v2039;
+        let v2041 = v2036 + v2040;
+        let v2042 = v1267 * v1702;
+        let v2043 = v1301 * v1708;
+        let v2044 = v1334 * v1714;
+        let v2045 = v1367 * v1720;
+        let v2046 = v1402 * v1726;
+        let v2047 = v1435 * v1732;
+        let v2048 = v2042 + v2043;
+        let v2049 = v2044 + v2048;
+        let v2050 = v2045 + v2049;
+        let v2051 = v2046 + v2050;
+        let v2052 = v2051 - v2047;
+        let v2053 = v1267 * v1703;
+        let v2054 = v1301 * v1709;
+        let v2055 = v1334 * v1715;
+        let v2056 = v1367 * v1721;
+        let v2057 = v1402 * v1727;
+        let v2058 = v1435 * v1733;
+        let v2059 = v2053 + v2054;
+        let v2060 = v2055 + v2059;
+        let v2061 = v2056 + v2060;
+        let v2062 = v2057 + v2061;
+        let v2063 = v2062 - v2058;
+        let v2064 = v1274 * v1702;
+        let v2065 = v1307 * v1708;
+        let v2066 = v1340 * v1714;
+        let v2067 = v1373 * v1720;
+        let v2068 = v1407 * v1726;
+        let v2069 = v1440 * v1732;
+        let v2070 = v2064 + v2065;
+        let v2071 = v2066 + v2070;
+        let v2072 = v2067 + v2071;
+        let v2073 = v2068 + v2072;
+        let v2074 = v2069 + v2073;
+        let v2075 = v1274 * v1703;
+        let v2076 = v1307 * v1709;
+        let v2077 = v1340 * v1715;
+        let v2078 = v1373 * v1721;
+        let v2079 = v1407 * v1727;
+        let v2080 = v1440 * v1733;
+        let v2081 = v2075 + v2076;
+        let v2082 = v2077 + v2081;
+        let v2083 = v2078 + v2082;
+        let v2084 = v2079 + v2083;
+        let v2085 = v2080 + v2084;
+        let v2086 = v1280 * v1703;
+        let v2087 = v1313 * v1709;
+        let v2088 = v1346 * v1715;
+        let v2089 = v1379 * v1721;
+        let v2090 = v1412 * v1727;
+        let v2091 = v1446 * v1733;
+        let v2092 = v2086 + v2087;
+        let v2093 = v2088 + v2092;
+        let v2094 = v2089 + v2093;
+        let v2095 = v2090 + v2094;
+        let v2096 = v2091 + v2095;
+        h_pose_i_pose_i[0] = v1876;
+        h_pose_i_pose_i[1] = v1887;
+        h_pose_i_pose_i[2] = v1898;
+        h_pose_i_pose_i[3] = v1909;
+        h_pose_i_pose_i[4] = v1920;
+        h_pose_i_pose_i[5] = v1931;
+        h_pose_i_pose_i[6] = v1942;
+        h_pose_i_pose_i[7] = v1953;
+        h_pose_i_pose_i[8] = v1964;
+        h_pose_i_pose_i[9] = v1975;
+        h_pose_i_pose_i[10] = v1986;
+        h_pose_i_pose_i[11] = v1997;
+        h_pose_i_pose_i[12] = v2008;
+        h_pose_i_pose_i[13] = v2019;
+        h_pose_i_pose_i[14] = v2030;
+        h_pose_i_pose_i[15] = v2041;
+        h_pose_i_pose_i[16] = v2052;
+        h_pose_i_pose_i[17] = v2063;
+        h_pose_i_pose_i[18] = v2074;
+        h_pose_i_pose_i[19] = v2085;
+        h_pose_i_pose_i[20] = v2096;
+    }
+    if let Some(h_pose_i_pose_j) = h_pose_i_pose_j {
+        let v2097 = v1226 * v1662;
+        let v2098 = v1285 * v1668;
+        let v2099 = v1318 * v1674;
+        let v2100 = v1351 * v1680;
+        let v2101 = v1385 * v1686;
+        let v2102 = v1417 * v1692;
+        let v2103 = v2101 - v2097;
+        let v2104 = v2103 - v2098;
+        let v2105 = v2104 - v2099;
+        let v2106 = v2105 - v2100;
+        let v2107 = v2102 + v2106;
+        let v2108 = v1226 * v1663;
+        let v2109 = v1285 * v1669;
+        let v2110 = v1318 * v1675;
+        let v2111 = v1351 * v1681;
+        let v2112 = v1385 * v1687;
+        let v2113 = v1417 * v1693;
+        let v2114 = v2112 - v2108;
+        let v2115 = v2114 - v2109;
+        let v2116 = v2115 - v2110;
+        let v2117 = v2116 - v2111;
+        let v2118 = v2113 + v2117;
+        let v2119 = v1226 * v1664;
+        let v2120 = v1285 * v1670;
+        let v2121 = v1318 * v1676;
+        let v2122 = v1351 * v1682;
+        let v2123 = v1385 * v1688;
+        let v2124 = v1417 * v1694;
+        let v2125 = v2123 - v2119;
+        let v2126 = v2125 - v2120;
+        let v2127 = v2126 - v2121;
+        let v2128 = v2127 - v2122;
+        let v2129 = v2124 + v2128;
+        let v2130 = v1226 * v1665;
+        let v2131 = v1285 * v1671;
+        let v2132 = v1318 * v1677;
+        let v2133 = v1351 * v1683;
+        let v2134 = v1385 * v1689;
+        let v2135 = v1417 * v1695;
+        let v2136 = v2130 + v2131;
+        let v2137 = v2132 + v2136;
+        let v2138 = v2133 + v2137;
+        let v2139 = v2134 + v2138;
+        let v2140 = v2135 + v2139;
+        let v2141 = v1226 * v1666;
+        let v2142 = v1285 * v1672;
+        let v2143 = v1318 * v1678;
+        let v2144 = v1351 * v1684;
+        let v2145 = v1385 * v1690;
+        let v2146 = v1417 * v1696;
+        let v2147 = v2141 + v2142;
+        let v2148 = v2143 + v2147;
+        let v2149 = v2144 + v2148;
+        let v2150 = v2145 + v2149;
+        let v2151 = v2150 - v2146;
+        let v2152 = v1226 * v1667;
+        let v2153 = v1285 * v1673;
+        let v2154 = v1318 * v1679;
+        let v2155 = v1351 * v1685;
+        let v2156 = v1385 * v1691;
+        let v2157 = v1417 * v1697;
+        let v2158 = v2152 + v2153;
+        let v2159 = v2154 + v2158;
+        let v2160 = v2155 + v2159;
+        let v2161 = v2156 + v2160;
+        let v2162 = v2157 + v2161;
+        let v2163 = v1246 * v1662;
+        let v2164 = v1290 * v1668;
+        let v2165 = v1323 * v1674;
+        let v2166 = v1356 * v1680;
+        let v2167 = v1391 * v1686;
+        let v2168 = v1423 * v1692;
+        let v2169 = v2167 - v2163;
+        let v2170 = v2169 - v2164;
+        let v2171 = v2170 - v2165;
+        let v2172 = v2171 - v2166;
+        let v2173 = v2168 + v2172;
+        let v2174 = v1246 * v1663;
+        let v2175 = v1290 * v1669;
+        let v2176 = v1323 * v1675;
+        let v2177 = v1356 * v1681;
+        let v2178 = v1391 * v1687;
+        let v2179 = v1423 * v1693;
+        let v2180 = v2178 - v2174;
+        let v2181 = v2180 - v2175;
+        let v2182 = v2181 - v2176;
+        let v2183 = v2182 - v2177;
+        let v2184 = v2179 + v2183;
+        let v2185 = v1246 * v1664;
+        let v2186 = v1290 * v1670;
+        let v2187 = v1323 * v1676;
+        let v2188 = v1356 * v1682;
+        let v2189 = v1391 * v1688;
+        let v2190 = v1423 * v1694;
+        let v2191 = v2189 - v2185;
+        let v2192 = v2191 - v2186;
+        let v2193 = v2192 - v2187;
+        let v2194 = v2193 - v2188;
+        let v2195 = v2190 + v2194;
+        let v2196 = v1246 * v1665;
+        let v2197 = v1290 * v1671;
+        let v2198 = v1323 * v1677;
+        let v2199 = v1356 * v1683;
+        let v2200 = v1391 * v1689;
+        let v2201 = v1423 * v1695;
+        let v2202 = v2196 + v2197;
+        let v2203 = v2198 + v2202;
+        let v2204 = v2199 + v2203;
+        let v2205 = v2200 + v2204;
+        let v2206 = v2201 + v2205;
+        let v2207 = v1246 * v1666;
+        let v2208 = v1290 * v1672;
+        let v2209 = v1323 * v1678;
+        let v2210 = v1356 * v1684;
+        let v2211 = v1391 * v1690;
+        let v2212 = v1423 * v1696;
+        let v2213 = v2207 + v2208;
+        let v2214 = v2209 + v2213;
+        let v2215 = v2210 + v2214;
+        let v2216 = v2211 + v2215;
+        let v2217 = v2216 - v2212;
+        let v2218 = v1246 * v1667;
+        let v2219 = v1290 * v1673;
+        let v2220 = v1323 * v1679;
+        let v2221 = v1356 * v1685;
+        let v2222 = v1391 * v1691;
+        let v2223 = v1423 * v1697;
+        let v2224 = v2218 + v2219;
+        let v2225 = v2220 + v2224;
+        let v2226 = v2221 + v2225;
+        let v2227 = v2222 + v2226;
+        let v2228 = v2223 + v2227;
+        let v2229 = v1258 * v1662;
+        let v2230 = v1295 * v1668;
+        let v2231 = v1328 * v1674;
+        let v2232 = v1361 * v1680;
+        let v2233 = v1397 * v1686;
+        let v2234 = v1430 * v1692;
+        let v2235 = v2233 - v2229;
+        let v2236 = v2235 - v2230;
+        let v2237 = v2236 - v2231;
+        let v2238 = v2237 - v2232;
+        let v2239 = v2234 + v2238;
+        let v2240 = v1258 * v1663;
+        let v2241 = v1295 * v1669;
+        let v2242 = v1328 * v1675;
+        let v2243 = v1361 * v1681;
+        let v2244 = v1397 * v1687;
+        let v2245 = v1430 * v1693;
+        let v2246 = v2244 - v2240;
+        let v2247 = v2246 - v2241;
+        let v2248 = v2247 - v2242;
+        let v2249 = v2248 - v2243;
+        let v2250 = v2245 + v2249;
+        let v2251 = v1258 * v1664;
+        let v2252 = v1295 * v1670;
+        let v2253 = v1328 * v1676;
+        let v2254 = v1361 * v1682;
+        let v2255 = v1397 * v1688;
+        let v2256 = v1430 * v1694;
+        let v2257 = v2255 - v2251;
+        let v2258 = v2257 - v2252;
+        let v2259 = v2258 - v2253;
+        let v2260 = v2259 - v2254;
+        let v2261 = v2256 + v2260;
+        let v2262 = v1258 * v1665;
+        let v2263 = v1295 * v1671;
+        let v2264 = v1328 * v1677;
+        let v2265 = v1361 * v1683;
+        let v2266 = v1397 * v1689;
+        let v2267 = v1430 * v1695;
+        let v2268 = v2262 + v2263;
+        let v2269 = v2264 + v2268;
+        let v2270 = v2265 + v2269;
+        let v2271 = v2266 + v2270;
+        let v2272 = v2267 + v2271;
+        let v2273 = v1258 * v1666;
+        let v2274 = v1295 * v1672;
+        let v2275 = v1328 * v1678;
+        let v2276 = v1361 * v1684;
+        let v2277 = v1397 * v1690;
+        let v2278 = v1430 * v1696;
+        let v2279 = v2273 + v2274;
+        let v2280 = v2275 + v2279;
+        let v2281 = v2276 + v2280;
+        let v2282 = v2277 + v2281;
+        let v2283 = v2282 - v2278;
+        let v2284 = v1258 * v1667;
+        let v2285 = v1295 * v1673;
+        let v2286 = v1328 * v1679;
+        let v2287 = v1361 * v1685;
+        let v2288 = v1397 * v1691;
+        let v2289 = v1430 * v1697;
+        let v2290 = v2284 + v2285;
+        let v2291 = v2286 + v2290;
+        let v2292 = v2287 + v2291;
+        let v2293 = v2288 + v2292;
+        let v2294 = v2289 + v2293;
+        let v2295 = v1267 * v1662;
+        let v2296 = v1301 * v1668;
+        let v2297 = v1334 * v1674;
+        let v2298 = v1367 * v1680;
+        let v2299 = v1402 * v1686;
+        let v2300 = v1435 * v1692;
+        let v2301 = v2299 - v2295;
+        let v2302 = v2301 - v2296;
+        let v2303 = v2302 - v2297;
+        let v2304 = v2303 - v2298;
+        let v2305 = v2304 - v2300;
+        let v2306 = v1267 * v1663;
+        let v2307 = v1301 * v1669;
+        let v2308 = v1334 * v1675;
+        let v2309 = v1367 * v1681;
+        let v2310 = v1402 * v1687;
+        let v2311 = v1435 * v1693;
+        let v2312 = v2310 - v2306;
+        let v2313 = v2312 - v2307;
+        let v2314 = v2313 - v2308;
+        let v2315 = v2314 - v2309;
+        let v2316 = v2315 - v2311;
+        let v2317 = v1267 * v1664;
+        let v2318 = v1301 * v1670;
+        let v2319 = v1334 * v1676;
+        let v2320 = v1367 * v1682;
+        let v2321 = v1402 * v1688;
+        let v2322 = v1435 * v1694;
+        let v2323 = v2321 - v2317;
+        let v2324 = v2323 - v2318;
+        let v2325 = v2324 - v2319;
+        let v2326 = v2325 - v2320;
+        let v2327 = v2326 - v2322;
+        let v2328 = v1267 * v1665;
+        let v2329 = v1301 * v1671;
+        let v2330 = v1334 * v1677;
+        let v2331 = v1367 * v1683;
+        let v2332 = v1402 * v1689;
+        let v2333 = v1435 * v1695;
+        let v2334 = v2328 + v2329;
+        let v2335 = v2330 + v2334;
+        let v2336 = v2331 + v2335;
+        let v2337 = v2332 + v2336;
+        let v2338 = v2337 - v2333;
+        let v2339 = v1267 * v1666;
+        let v2340 = v1301 * v1672;
+        let v2341 = v1334 * v1678;
+        let v2342 = v1367 * v1684;
+        let v2343 = v1402 * v1690;
+        let v2344 = v1435 * v1696;
+        let v2345 = v2339 + v2340;
+        let v2346 = v2341 + v2345;
+        let v2347 = v2342 + v2346;
+        let v2348 = v2343 + v2347;
+        let v2349 = v2344 + v2348;
+        let v2350 = v1267 * v1667;
+        let v2351 = v1301 * v1673;
+        let v2352 = v1334 * v1679;
+        let v2353 = v1367 * v1685;
+        let v2354 = v1402 * v1691;
+        let v2355 = v1435 * v1697;
+        let v2356 = v2350 + v2351;
+        let v2357 = v2352 + v2356;
+        let v2358 = v2353 + v2357;
+        let v2359 = v2354 + v2358;
+        let v2360 = v2359 - v2355;
+        let v2361 = v1274 * v1662;
+        let v2362 = v1307 * v1668;
+        let v2363 = v1340 * v1674;
+        let v2364 = v1373 * v1680;
+        let v2365 = v1407 * v1686;
+        let v2366 = v1440 * v1692;
+        let v2367 = v2365 - v2361;
+        let v2368 = v2367 - v2362;
+        let v2369 = v2368 - v2363;
+        let v2370 = v2369 - v2364;
+        let v2371 = v2366 + v2370;
+        let v2372 = v1274 * v1663;
+        let v2373 = v1307 * v1669;
+        let v2374 = v1340 * v1675;
+        let v2375 = v1373 * v1681;
+        let v2376 = v1407 * v1687;
+        let v2377 = v1440 * v1693;
+        let v2378 = v2376 - v2372;
+        let v2379 = v2378 - v2373;
+        let v2380 = v2379 - v2374;
+        let v2381 = v2380 - v2375;
+        let v2382 = v2377 + v2381;
+        let v2383 = v1274 * v1664;
+        let v2384 = v1307 * v1670;
+        let v2385 = v1340 * v1676;
+        let v2386 = v1373 * v1682;
+        let v2387 = v1407 * v1688;
+        let v2388 = v1440 * v1694;
+        let v2389 = v2387 - v2383;
+        let v2390 = v2389 - v2384;
+        let v2391 = v2390 - v2385;
+        let v2392 = v2391 - v2386;
+        let v2393 = v2388 + v2392;
+        let v2394 = v1274 * v1665;
+        let v2395 = v1307 * v1671;
+        let v2396 = v1340 * v1677;
+        let v2397 = v1373 * v1683;
+        let v2398 = v1407 * v1689;
+        let v2399 = v1440 * v1695;
+        let v2400 = v2394 + v2395;
+        let v2401 = v2396 + v2400;
+        let v2402 = v2397 + v2401;
+        let v2403 = v2398 + v2402;
+        let v2404 = v2399 + v2403;
+        let v2405 = v1274 * v1666;
+        let v2406 = v1307 * v1672;
+        let v2407 = v1340 * v1678;
+        let v2408 = v1373 * v1684;
+        let v2409 = v1407 * v1690;
+        let v2410 = v1440 * v1696;
+        let v2411 = v2405 + v2406;
+        let v2412 = v2407 + v2411;
+        let v2413 = v2408 + v2412;
+        let v2414 = v2409 + v2413;
+        let v2415 = v2414 - v2410;
+        let v2416 = v1274 * v1667;
+        let v2417 = v1307 * v1673;
+        let v2418 = v1340 * v1679;
+        let v2419 = v1373 * v1685;
+        let v2420 = v1407 * v1691;
+        let v2421 = v1440 * v1697;
+        let v2422 = v2416 + v2417;
+        let v2423 = v2418 + v2422;
+        let v2424 = v2419 + v2423;
+        let v2425 = v2420 + v2424;
+        let v2426 = v2421 + v2425;
+        let v2427 = v1280 * v1662;
+        let v2428 = v1313 * v1668;
+        let v2429 = v1346 * v1674;
+        let v2430 = v1379 * v1680;
+        let v2431 = v1412 * v1686;
+        let v2432 = v1446 * v1692;
+        let v2433 = v2431 - v2427;
+        let v2434 = v2433 - v2428;
+        let v2435 = v2434 - v2429;
+        let v2436 = v2435 - v2430;
+        let v2437 = v2432 + v2436;
+        let v2438 = v1280 * v1663;
+        let v2439 = v1313 * v1669;
+        let v2440 = v1346 * v1675;
+        let v2441 = v1379 * v1681;
+        let v2442 = v1412 * v1687;
+        let v2443 = v1446 * v1693;
+        let v2444 = v2442 - v2438;
+        let v2445 = v2444 - v2439;
+        let v2446 = v2445 - v2440;
+        let v2447 = v2446 - v2441;
+        let v2448 = v2443 + v2447;
+        let v2449 = v1280 * v1664;
+        let v2450 = v1313 * v1670;
+        let v2451 = v1346 * v1676;
+        let v2452 = v1379 * v1682;
+        let v2453 = v1412 * v1688;
+        let v2454 = v1446 * v1694;
+        let v2455 = v2453 - v2449;
+        let v2456 = v2455 - v2450;
+        let v2457 = v2456 - v2451;
+        let v2458 = v2457 - v2452;
+        let v2459 = v2454 + v2458;
+        let v2460 = v1280 * v1665;
+        let v2461 = v1313 * v1671;
+        let v2462 = v1346 * v1677;
+        let v2463 = v1379 * v1683;
+        let v2464 = v1412 * v1689;
+        let v2465 = v1446 * v1695;
+        let v2466 = v2460 + v2461;
+        let v2467 = v2462 + v2466;
+        let v2468 = v2463 + v2467;
+        let v2469 = v2464 + v2468;
+        let v2470 = v2465 + v2469;
+        let v2471 = v1280 * v1666;
+        let v2472 = v1313 * v1672;
+        let v2473 = v1346 * v1678;
+        let v2474 = v1379 * v1684;
+        let v2475 = v1412 * v1690;
+        let v2476 = v1446 * v1696;
+        let v2477 = v2471 + v2472;
+        let v2478 = v2473 + v2477;
+        let v2479 = v2474 + v2478;
+        let v2480 = v2475 + v2479;
+        let v2481 = v2480 - v2476;
+        let v2482 = v1280 * v1667;
+        let v2483 = v1313 * v1673;
+        let v2484 = v1346 * v1679;
+        let v2485 = v1379 * v1685;
+        let v2486 = v1412 * v1691;
+        let v2487 = v1446 * v1697;
+        let v2488 = v2482 + v2483;
+        let v2489 = v2484 + v2488;
+        let v2490 = v2485 + v2489;
+        let v2491 = v2486 + v2490;
+        let v2492 = v2487 + v2491;
+        h_pose_i_pose_j[0] = v2107;
+        h_pose_i_pose_j[1] = v2118;
+        h_pose_i_pose_j[2] = v2129;
+        h_pose_i_pose_j[3] = v2140;
+        h_pose_i_pose_j[4] = v2151;
+        h_pose_i_pose_j[5] = v2162;
+        h_pose_i_pose_j[6] = v2173;
+        h_pose_i_pose_j[7] = v2184;
+        h_pose_i_pose_j[8] = v2195;
+        h_pose_i_pose_j[9] = v2206;
+        h_pose_i_pose_j[10] = v2217;
+        h_pose_i_pose_j[11] = v2228;
+        h_pose_i_pose_j[12] = v2239;
+        h_pose_i_pose_j[13] = v2250;
+        h_pose_i_pose_j[14] = v2261;
+        h_pose_i_pose_j[15] = v2272;
+        h_pose_i_pose_j[16] = v2283;
+        h_pose_i_pose_j[17] = v2294;
+        h_pose_i_pose_j[18] = v2305;
+        h_pose_i_pose_j[19] = v2316;
+        h_pose_i_pose_j[20] = v2327;
+        h_pose_i_pose_j[21] = v2338;
+        h_pose_i_pose_j[22] = v2349;
+        h_pose_i_pose_j[23] = v2360;
+        h_pose_i_pose_j[24] = v2371;
+        h_pose_i_pose_j[25] = v2382;
+        h_pose_i_pose_j[26] = v2393;
+        h_pose_i_pose_j[27] = v2404;
+        h_pose_i_pose_j[28] = v2415;
+        h_pose_i_pose_j[29] = v2426;
+        h_pose_i_pose_j[30] = v2437;
+        h_pose_i_pose_j[31] = v2448;
+        h_pose_i_pose_j[32] = v2459;
+        h_pose_i_pose_j[33] = v2470;
+        h_pose_i_pose_j[34] = v2481;
+        h_pose_i_pose_j[35] = v2492;
+    }
+    if let Some(h_pose_j_pose_j) = h_pose_j_pose_j {
+        let v2493 = v1488 * v1662;
+        let v2494 = v1559 * v1668;
+        let v2495 = v1580 * v1674;
+        let v2496 = v1601 * v1680;
+        let v2497 = v1623 * v1686;
+        let v2498 = v1644 * v1692;
+        let v2499 = v2493 + v2494;
+        let v2500 = v2495 + v2499;
+        let v2501 = v2496 + v2500;
+        let v2502 = v2497 + v2501;
+        let v2503 = v2498 + v2502;
+        let v2504 = v1488 * v1663;
+        let v2505 = v1559 * v1669;
+        let v2506 = v1580 * v1675;
+        let v2507 = v1601 * v1681;
+        let v2508 = v1623 * v1687;
+        let v2509 = v1644 * v1693;
+        let v2510 = v2504 + v2505;
+        let v2511 = v2506 + v2510;
+        let v2512 = v2507 + v2511;
+        let v2513 = v2508 + v2512;
+        let v2514 = v2509 + v2513;
+        let v2515 = v1488 * v1664;
+        let v2516 = v1559 * v1670;
+        let v2517 = v1580 * v1676;
+        let v2518 = v1601 * v1682;
+        let v2519 = v1623 * v1688;
+        let v2520 = v1644 * v1694;
+        let v2521 = v2515 + v2516;
+        let v2522 = v2517 + v2521;
+        let v2523 = v2518 + v2522;
+        let v2524 = v2519 + v2523;
+        let v2525 = v2520 + v2524;
+        let v2526 = v1488 * v1665;
+        let v2527 = v1559 * v1671;
+        let v2528 = v1580 * v1677;
+        let v2529 = v1601 * v1683;
+        let v2530 = v1623 * v1689;
+        let v2531 = v1644 * v1695;
+        let v2532 = v2530 - v2526;
+        let v2533 = v2532 - v2527;
+        let v2534 = v2533 - v2528;
+        let v2535 = v2534 - v2529;
+        let v2536 = v2531 + v2535;
+        let v2537 = v1488 * v1666;
+        let v2538 = v1559 * v1672;
+        let v2539 = v1580 * v1678;
+        let v2540 = v1601 * v1684;
+        let v2541 = v1623 * v1690;
+        let v2542 = v1644 * v1696;
+        let v2543 = v2541 - v2537;
+        let v2544 = v2543 - v2538;
+        let v2545 = v2544 - v2539;
+        let v2546 = v2545 - v2540;
+        let v2547 = v2546 - v2542;
+        let v2548 = v1488 * v1667;
+        let v2549 = v1559 * v1673;
+        let v2550 = v1580 * v1679;
+        let v2551 = v1601 * v1685;
+        let v2552 = v1623 * v1691;
+        let v2553 = v1644 * v1697;
+        let v2554 = v2552 - v2548;
+        let v2555 = v2554 - v2549;
+        let v2556 = v2555 - v2550;
+        let v2557 = v2556 - v2551;
+        let v2558 = v2553 + v2557;
+        let v2559 = v1518 * v1663;
+        let v2560 = v1564 * v1669;
+        let v2561 = v1585 * v1675;
+        let v2562 = v1606 * v1681;
+        let v2563 = v1629 * v1687;
+        let v2564 = v1651 * v1693;
+        let v2565 = v2559 + v2560;
+        let v2566 = v2561 + v2565;
+        let v2567 = v2562 + v2566;
+        let v2568 = v2563 + v2567;
+        let v2569 = v2564 + v2568;
+        let v2570 = v1518 * v1664;
+        let v2571 = v1564 * v1670;
+        let v2572 = v1585 * v1676;
+        let v2573 = v1606 * v1682;
+        let v2574 = v1629 * v1688;
+        let v2575 = v1651 * v1694;
+        let v2576 = v2570 + v2571;
+        let v2577 = v2572 + v2576;
+        let v2578 = v2573 + v2577;
+        let v2579 = v2574 + v2578;
+        let v2580 = v2575 + v2579;
+        let v2581 = v1518 * v1665;
+        let v2582 = v1564 * v1671;
+        let v2583 = v1585 * v1677;
+        let v2584 = v1606 * v1683;
+        let v2585 = v1629 * v1689;
+        let v2586 = v1651 * v1695;
+        let v2587 = v2585 - v2581;
+        let v2588 = v2587 - v2582;
+        let v2589 = v2588 - v2583;
+        let v2590 = v2589 - v2584;
+        let v2591 = v2586 + v2590;
+        let v2592 = v1518 * v1666;
+        let v2593 = v1564 * v1672;
+        let v2594 = v1585 * v1678;
+        let v2595 = v1606 * v1684;
+        let v2596 = v1629 * v1690;
+        let v2597 = v1651 * v1696;
+        let v2598 = v2596 - v2592;
+        let v2599 = v2598 - v2593;
+        let v2600 = v2599 - v2594;
+        let v2601 = v2600 - v2595;
+        let v2602 = v2601 - v2597;
+        let v2603 = v1518 * v1667;
+        let v2604 = v1564 * v1673;
+        let v2605 = v1585 * v1679;
+        let v2606 = v1606 * v1685;
+        let v2607 = v1629 * v1691;
+        let v2608 = v1651 * v1697;
+        let v2609 = v2607 - v2603;
+        let v2610 = v2609 - v2604;
+        let v2611 = v2610 - v2605;
+        let v2612 = v2611 - v2606;
+        let v2613 = v2608 + v2612;
+        let v2614 = v1548 * v1664;
+        let v2615 = v1569 * v1670;
+        let v2616 = v1590 * v1676;
+        let v2617 = v1611 * v1682;
+        let v2618 = v1635 * v1688;
+        let v2619 = v1658 * v1694;
+        let v2620 = v2614 + v2615;
+        let v2621 = v2616 + v2620;
+        let v2622 = v2617 + v2621;
+        let v2623 = v2618 + v2622;
+        let v2624 = v2619 + v2623;
+        let v2625 = v1548 * v1665;
+        let v2626 = v1569 * v1671;
+        let v2627 = v1590 * v1677;
+        let v2628 = v1611 * v1683;
+        let v2629 = v1635 * v1689;
+        let v2630 = v1658 * v1695;
+        let v2631 = v2629 - v2625;
+        let v2632 = v2631 - v2626;
+        let v2633 = v2632 - v2627;
+        let v2634 = v2633 - v2628;
+        let v2635 = v2630 + v2634;
+        let v2636 = v1548 * v1666;
+        let v2637 = v1569 * v1672;
+        let v2638 = v1590 * v1678;
+        let v2639 = v1611 * v1684;
+        let v2640 = v1635 * v1690;
+        let v2641 = v1658 * v1696;
+        let v2642 = v2640 - v2636;
+        let v2643 = v2642 - v2637;
+        let v2644 = v2643 - v2638;
+        let v2645 = v2644 - v2639;
+        let v2646 = v2645 - v2641;
+        let v2647 = v1548 * v1667;
+        let v2648 = v1569 * v1673;
+        let v2649 = v1590 * v1679;
+        let v2650 = v1611 * v1685;
+        let v2651 = v1635 * v1691;
+        let v2652 = v1658 * v1697;
+        let v2653 = v2651 - v2647;
+        let v2654 = v2653 - v2648;
+        let v2655 = v2654 - v2649;
+        let v2656 = v2655 - v2650;
+        let v2657 = v2652 + v2656;
+        let v2658 = v1550 * v1665;
+        let v2659 = v1571 * v1671;
+        let v2660 = v1592 * v1677;
+        let v2661 = v1613 * v1683;
+        let v2662 = v1636 * v1689;
+        let v2663 = v1659 * v1695;
+        let v2664 = v2658 + v2659;
+        let v2665 = v2660 + v2664;
+        let v2666 = v2661 + v2665;
+        let v2667 = v2662 + v2666;
+        let v2668 = v2663 + v2667;
+        let v2669 = v1550 * v1666;
+        let v2670 = v1571 * v1672;
+        let v2671 = v1592 * v1678;
+        let v2672 = v1613 * v1684;
+        let v2673 = v1636 * v1690;
+        let v2674 = v1659 * v1696;
+        let v2675 = v2669 + v2670;
+        let v2676 = v2671 + v2675;
+        let v2677 = v2672 + v2676;
+        let v2678 = v2673 + v2677;
+        let v2679 = v2678 - v2674;
+        let v2680 = v1550 * v1667;
+        let v2681 = v1571 * v1673;
+        let v2682 = v1592 * v1679;
+        let v2683 = v1613 * v1685;
+        let v2684 = v1636 * v1691;
+        let v2685 = v1659 * v1697;
+        let v2686 = v2680 + v2681;
+        let v2687 = v2682 + v2686;
+        let v2688 = v2683 + v2687;
+        let v2689 = v2684 + v2688;
+        let v2690 = v2685 + v2689;
+        let v2691 = v1552 * v1666;
+        let v2692 = v1573 * v1672;
+        let v2693 = v1594 * v1678;
+        let v2694 = v1615 * v1684;
+        let v2695 = v1637 * v1690;
+        let v2696 = v1660 * v1696;
+        let v2697 = v2691 + v2692;
+        let v2698 = v2693 + v2697;
+        let v2699 = v2694 + v2698;
+        let v2700 = v2695 + v2699;
+        let v2701 = v2696 + v2700;
+        let v2702 = v1552 * v1667;
+        let v2703 = v1573 * v1673;
+        let v2704 = v1594 * v1679;
+        let v2705 = v1615 * v1685;
+        let v2706 = v1637 * v1691;
+        let v2707 = v1660 * v1697;
+        let v2708 = v2702 + v2703;
+        let v2709 = v2704 + v2708;
+        let v2710 = v2705 + v2709;
+        let v2711 = v2706 + v2710;
+        let v2712 = v2711 - v2707;
+        let v2713 = v1554 * v1667;
+        let v2714 = v1575 * v1673;
+        let v2715 = v1596 * v1679;
+        let v2716 = v1617 * v1685;
+        let v2717 = v1638 * v1691;
+        let v2718 = v1661 * v1697;
+        let v2719 = v2713 + v2714;
+        let v2720 = v2715 + v2719;
+        let v2721 = v2716 + v2720;
+        let v2722 = v2717 + v2721;
+        let v2723 = v2718 + v2722;
+        h_pose_j_pose_j[0] = v2503;
+        h_pose_j_pose_j[1] = v2514;
+        h_pose_j_pose_j[2] = v2525;
+        h_pose_j_pose_j[3] = v2536;
+        h_pose_j_pose_j[4] = v2547;
+        h_pose_j_pose_j[5] = v2558;
+        h_pose_j_pose_j[6] = v2569;
+        h_pose_j_pose_j[7] = v2580;
+        h_pose_j_pose_j[8] = v2591;
+        h_pose_j_pose_j[9] = v2602;
+        h_pose_j_pose_j[10] = v2613;
+        h_pose_j_pose_j[11] = v2624;
+        h_pose_j_pose_j[12] = v2635;
+        h_pose_j_pose_j[13] = v2646;
+        h_pose_j_pose_j[14] = v2657;
+        h_pose_j_pose_j[15] = v2668;
+        h_pose_j_pose_j[16] = v2679;
+        h_pose_j_pose_j[17] = v2690;
+        h_pose_j_pose_j[18] = v2701;
+        h_pose_j_pose_j[19] = v2712;
+        h_pose_j_pose_j[20] = v2723;
+    }
+}
+
+/// The lengths of the normal-equation kernel's arrays: each field's
+/// stored scalars, each variable's gradient block, each Hessian block.
+pub const NORMAL_SHAPE: NormalShape = NormalShape {
+    inputs: &[21, 7, 7, 7],
+    tangents: &[6, 6],
+    gradient: &[6, 6],
+    hessian: &[21, 36, 21],
+};
+
+/// [`between_normal`] over slices: `inputs` holds one slice per field, `gradient` one entry per variable and `hessian` one per pair of variables `a ≤ b` in the order of [`NORMAL_SHAPE`] (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`NORMAL_SHAPE`].
+#[inline]
+pub fn between_normal_slices<T: Real>(
+    inputs: &[&[T]],
+    weight: T,
+    cost: &mut T,
+    gradient: &mut [Option<&mut [T]>],
+    hessian: &mut [Option<&mut [T]>],
+) -> bool {
+    let [sqrt_information, measured, pose_i, pose_j] = inputs else {
+        return false;
+    };
+    let (Ok(sqrt_information), Ok(measured), Ok(pose_i), Ok(pose_j)) = (
+        <&[T; 21]>::try_from(*sqrt_information),
+        <&[T; 7]>::try_from(*measured),
+        <&[T; 7]>::try_from(*pose_i),
+        <&[T; 7]>::try_from(*pose_j),
+    ) else {
+        return false;
+    };
+    let [g_pose_i, g_pose_j] = gradient else {
+        return false;
+    };
+    let [h_pose_i_pose_i, h_pose_i_pose_j, h_pose_j_pose_j] = hessian else {
+        return false;
+    };
+    let g_pose_i = match g_pose_i.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let g_pose_j = match g_pose_j.as_deref_mut().map(<&mut [T; 6]>::try_from) {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_i_pose_i = match h_pose_i_pose_i
+        .as_deref_mut()
+        .map(<&mut [T; 21]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_i_pose_j = match h_pose_i_pose_j
+        .as_deref_mut()
+        .map(<&mut [T; 36]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    let h_pose_j_pose_j = match h_pose_j_pose_j
+        .as_deref_mut()
+        .map(<&mut [T; 21]>::try_from)
+    {
+        None => None,
+        Some(Ok(block)) => Some(block),
+        Some(Err(_)) => return false,
+    };
+    self::between_normal(
+        sqrt_information,
+        measured,
+        pose_i,
+        pose_j,
+        weight,
+        cost,
+        g_pose_i,
+        g_pose_j,
+        h_pose_i_pose_i,
+        h_pose_i_pose_j,
+        h_pose_j_pose_j,
     );
     true
 }
@@ -4045,7 +7627,7 @@ pub fn between_apex_host<T: Real>(
     true
 }
 
-/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` over every `T: Real`, which calls [`between`] inlined.
+/// The kernels of this module as one type, for batch evaluators: with the crate's `lanes` feature a `factor_lanes::Kernel` and `factor_lanes::NormalKernel` over every `T: Real`, which calls [`between`] and [`between_normal`] inlined.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Kernel;
 
@@ -4121,6 +7703,93 @@ impl<T: Real> factor_lanes::Kernel<T> for Kernel {
             residual,
             matches!(blocks.first(), Some(true)).then_some(d_pose_i),
             matches!(blocks.get(1), Some(true)).then_some(d_pose_j),
+        );
+    }
+}
+
+#[cfg(feature = "lanes")]
+impl<T: Real> factor_lanes::NormalKernel<T> for Kernel {
+    type NormalOutputs = [T; 91];
+    #[inline(always)]
+    fn normal(inputs: &[T; 42], weight: T, outputs: &mut [T; 91], free: &[bool]) {
+        let free_0 = matches!(free.first(), Some(true));
+        let free_1 = matches!(free.get(1), Some(true));
+        let Some((cost, rest)) = outputs.split_first_mut() else {
+            return;
+        };
+        let Some((g_pose_i, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((g_pose_j, rest)) = rest.split_first_chunk_mut::<6>() else {
+            return;
+        };
+        let Some((h_pose_i_pose_i, rest)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        let Some((h_pose_i_pose_j, rest)) = rest.split_first_chunk_mut::<36>() else {
+            return;
+        };
+        let Some((h_pose_j_pose_j, _)) = rest.split_first_chunk_mut::<21>() else {
+            return;
+        };
+        between_normal(
+            &[
+                inputs[0],
+                inputs[1],
+                inputs[2],
+                inputs[3],
+                inputs[4],
+                inputs[5],
+                inputs[6],
+                inputs[7],
+                inputs[8],
+                inputs[9],
+                inputs[10],
+                inputs[11],
+                inputs[12],
+                inputs[13],
+                inputs[14],
+                inputs[15],
+                inputs[16],
+                inputs[17],
+                inputs[18],
+                inputs[19],
+                inputs[20],
+            ],
+            &[
+                inputs[21],
+                inputs[22],
+                inputs[23],
+                inputs[24],
+                inputs[25],
+                inputs[26],
+                inputs[27],
+            ],
+            &[
+                inputs[28],
+                inputs[29],
+                inputs[30],
+                inputs[31],
+                inputs[32],
+                inputs[33],
+                inputs[34],
+            ],
+            &[
+                inputs[35],
+                inputs[36],
+                inputs[37],
+                inputs[38],
+                inputs[39],
+                inputs[40],
+                inputs[41],
+            ],
+            weight,
+            cost,
+            free_0.then_some(g_pose_i),
+            free_1.then_some(g_pose_j),
+            free_0.then_some(h_pose_i_pose_i),
+            (free_0 && free_1).then_some(h_pose_i_pose_j),
+            free_1.then_some(h_pose_j_pose_j),
         );
     }
 }

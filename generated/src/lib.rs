@@ -29,7 +29,7 @@
 //! | [`free_line`](free_line::free_line) | `slam_factors::free_line::FreeLineFactor` | 324 | 190 | 461 |
 //! | [`snavely_reprojection`](snavely_reprojection::snavely_reprojection) | `slam_factors::snavely::SnavelyReprojection` | 236 | 64 | 508 |
 //! | [`stereo_reprojection`](stereo_reprojection::stereo_reprojection) | `slam_factors::stereo::StereoReprojection` | 207 | 66 | 508 |
-//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1663 | 291 | — |
+//! | [`between`](between::between) | `slam_factors::between::BetweenFactor` | 1663 | 291 | 2724 |
 //! | [`g2o_se3`](g2o_se3::g2o_se3) | `slam_factors::g2o::se3_edge::G2oSe3Edge` | 1098 | 272 | — |
 
 #![forbid(unsafe_code)]

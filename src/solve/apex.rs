@@ -2,8 +2,8 @@
 //! of crate `factor-apex`, solved by its Levenberg–Marquardt; g2o's line and
 //! plane graphs and problem files ([`super::problem_file`]) take it always.
 
-use factor_apex::problems::g2o_addons;
 use factor_apex::built::Built;
+use factor_apex::problems::g2o_addons;
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, Verdict, solve};
 

@@ -5,11 +5,11 @@
 //!
 //! Two solvers, chosen by [`SolverChoice`]:
 //!
-//! - bundle adjustment and stereo VO (landmarks to eliminate) go by default
-//!   to crate `factor-schur` (module `schur`): the landmarks eliminated by a
-//!   Schur complement formed straight from the fused normal-equation
-//!   kernels in lane batches, the reduced system solved by faer's sparse
-//!   Cholesky;
+//! - bundle adjustment, stereo VO (landmarks to eliminate) and pose graphs
+//!   (g2o, EDGE3: nothing to eliminate) go by default to crate
+//!   `factor-schur` (module `schur`): the landmarks eliminated by a Schur
+//!   complement formed straight from the fused normal-equation kernels in
+//!   lane batches, the reduced system solved by faer's sparse Cholesky;
 //! - everything else, and any problem with `--solver apex` or
 //!   `--kernels dual`, goes to apex-solver through the generic adapter of
 //!   crate `factor-apex` (module `apex`).
@@ -57,7 +57,8 @@ use crate::registry::Registry;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SolverChoice {
     /// The Schur-complement solver where it applies (BAL, Bundler, KITTI
-    /// VO with the generated kernels), apex-solver elsewhere.
+    /// VO, g2o and EDGE3 pose graphs, with the generated kernels),
+    /// apex-solver elsewhere.
     #[default]
     Auto,
     /// The Schur-complement solver (crate `factor-schur`).
@@ -170,8 +171,8 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         SolverChoice::Schur if !takes => {
             return Err(CliError::Usage(at(
                 &args.file,
-                "--solver schur takes bundle adjustment and stereo VO, whose landmarks it \
-                 eliminates (use --solver apex)",
+                "--solver schur takes bundle adjustment, stereo VO and pose graphs (use \
+                 --solver apex)",
             )));
         }
         SolverChoice::Schur if args.kernels != Kernels::Generated => {
@@ -195,7 +196,8 @@ fn refuse_data_options(args: &SolveArgs) -> Result<(), CliError> {
     let refused = if args.solver == SolverChoice::Schur {
         Some(
             "--solver schur: a problem file is solved by apex-solver (--solver apex or auto); \
-             the Schur-complement solver takes bundle adjustment and stereo VO files",
+             the Schur-complement solver takes bundle adjustment, stereo VO and pose-graph \
+             files",
         )
     } else if args.landmarks == LandmarkFactors::Documents {
         Some(

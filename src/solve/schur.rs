@@ -1,7 +1,8 @@
-//! The fast path of bundle adjustment and stereo VO: crate `factor-schur`
-//! (Levenberg–Marquardt with the landmarks eliminated by a Schur
-//! complement formed straight from the fused normal-equation kernels in
-//! lane batches, the reduced system by faer's sparse Cholesky).
+//! The fast path of bundle adjustment, stereo VO and pose graphs: crate
+//! `factor-schur` (Levenberg–Marquardt with the landmarks, where there are
+//! any, eliminated by a Schur complement formed straight from the fused
+//! normal-equation kernels in lane batches, the reduced system by faer's
+//! sparse Cholesky).
 
 use factor_apex::problems;
 use factor_apex::solve::SolveOptions;
@@ -13,9 +14,17 @@ use super::truth::Truth;
 use super::{SolveArgs, at, finish, progress, report};
 use crate::error::CliError;
 
-/// The solver in words, for the header.
-const SOLVER: &str = "(Schur complement: landmarks eliminated, fused normal-equation kernels \
-                      on 4×f64 lanes, faer sparse Cholesky)";
+/// The solver in words, for the header: with landmarks to eliminate or
+/// without (a pose graph).
+fn solver_words(eliminated: usize) -> &'static str {
+    if eliminated > 0 {
+        "(Schur complement: landmarks eliminated, fused normal-equation kernels on 4×f64 lanes, \
+         faer sparse Cholesky)"
+    } else {
+        "(factor-schur: nothing to eliminate, fused normal-equation kernels on 4×f64 lanes, faer \
+         sparse Cholesky of the whole system)"
+    }
+}
 
 /// Builds, solves and reports `data` with the Schur-complement solver
 /// (its ground truth, where it has one, is `truth`).
@@ -31,11 +40,12 @@ pub(super) fn run(
     })?;
     let before = problems::reprojection_errors(data);
     let blocks = built.blocks;
+    let words = solver_words(built.problem.eliminated_count());
     let solver = Solver::new(&mut built.problem)
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
     let setup = report::Setup {
         blocks,
-        solver: SOLVER.to_owned(),
+        solver: words.to_owned(),
         initial_cost: solver.initial_cost(),
     };
     progress::print(&report::header(&args.file, data, &setup, args));

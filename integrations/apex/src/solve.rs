@@ -152,6 +152,42 @@ pub enum Verdict {
     Failed(String),
 }
 
+/// A stopping criterion a solve met, in the same words whichever solver
+/// met it (apex-solver here, crate `factor-schur`'s Levenberg–Marquardt).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Criterion {
+    /// An accepted step decreased the cost by less than
+    /// [`SolveOptions::cost_tolerance`] of it.
+    CostTolerance,
+    /// An accepted step was shorter than
+    /// [`SolveOptions::parameter_tolerance`] of the parameters.
+    ParameterTolerance,
+    /// The gradient's norm fell below [`SolveOptions::gradient_tolerance`].
+    GradientTolerance,
+}
+
+impl Criterion {
+    /// [`Verdict::Converged`], naming the criterion and its tolerance in
+    /// `options`.
+    pub fn verdict(self, options: &SolveOptions) -> Verdict {
+        Verdict::Converged(match self {
+            Criterion::CostTolerance => format!(
+                "the last step decreased the cost by less than {:e} of it",
+                options.cost_tolerance
+            ),
+            Criterion::ParameterTolerance => format!(
+                "the last step was shorter than {:e} of the parameters",
+                options.parameter_tolerance
+            ),
+            Criterion::GradientTolerance => format!(
+                "the gradient's norm fell below {:e}",
+                options.gradient_tolerance
+            ),
+        })
+    }
+}
+
 impl Outcome {
     /// The solution's value of `variable` (a variable of the solved
     /// problem, [`crate::builder::ProblemBuilder::add_variable`]).
@@ -174,18 +210,15 @@ impl Outcome {
             return Verdict::Failed(format!("the final cost is {}", self.final_cost));
         }
         match &self.status {
-            OptimizationStatus::CostToleranceReached => Verdict::Converged(format!(
-                "the last step decreased the cost by less than {:e} of it",
-                self.options.cost_tolerance
-            )),
-            OptimizationStatus::ParameterToleranceReached => Verdict::Converged(format!(
-                "the last step was shorter than {:e} of the parameters",
-                self.options.parameter_tolerance
-            )),
-            OptimizationStatus::GradientToleranceReached => Verdict::Converged(format!(
-                "the gradient's norm fell below {:e}",
-                self.options.gradient_tolerance
-            )),
+            OptimizationStatus::CostToleranceReached => {
+                Criterion::CostTolerance.verdict(&self.options)
+            }
+            OptimizationStatus::ParameterToleranceReached => {
+                Criterion::ParameterTolerance.verdict(&self.options)
+            }
+            OptimizationStatus::GradientToleranceReached => {
+                Criterion::GradientTolerance.verdict(&self.options)
+            }
             OptimizationStatus::Converged | OptimizationStatus::MinCostThresholdReached => {
                 Verdict::Converged(self.status.to_string().to_lowercase())
             }

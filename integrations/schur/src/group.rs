@@ -452,13 +452,17 @@ where
         rejected: &mut Rejected,
     ) {
         let none = vec![false; self.tangents.len()];
-        let mut inputs = Columns::zeros(F::SCALARS, CHUNK);
-        let mut outputs = NormalColumns::new::<F>(CHUNK, &none);
+        // Columns of a whole chunk, or of the whole range when it is
+        // shorter (a small problem allocates no more than it uses).
+        let mut size = CHUNK.min(range.len());
+        let mut inputs = Columns::zeros(F::SCALARS, size);
+        let mut outputs = NormalColumns::new::<F>(size, &none);
         let mut bad = [false; CHUNK];
         let mut at = range.start;
         while at < range.end {
             let n = CHUNK.min(range.end - at);
-            if n < CHUNK {
+            if n != size {
+                size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
                 outputs = NormalColumns::new::<F>(n, &none);
             }
@@ -491,12 +495,14 @@ where
         let k = self.tangents.len();
         let n_pairs = k * (k - 1) / 2;
         let pairs = pairs(k);
-        let mut inputs = Columns::zeros(F::SCALARS, CHUNK);
-        let mut outputs = NormalColumns::new::<F>(CHUNK, &[]);
+        let mut size = CHUNK.min(range.len());
+        let mut inputs = Columns::zeros(F::SCALARS, size);
+        let mut outputs = NormalColumns::new::<F>(size, &[]);
         let mut at = range.start;
         while at < range.end {
             let n = CHUNK.min(range.end - at);
-            if n < CHUNK {
+            if n != size {
+                size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
                 outputs = NormalColumns::new::<F>(n, &[]);
             }

@@ -4,7 +4,9 @@
 //! Levenberg–Marquardt, itself Ceres'):
 //!
 //! - the damped system `(H + λD) δ = −g`, `D = clamp(diag H, 1e-6, 1e32)`,
-//!   λ starting at 1e-4;
+//!   λ starting at 1e-4 (the problem's [`Damping::Diagonal`], the
+//!   default), or `D = I`, λ starting at 1e-5 ([`Damping::Uniform`]:
+//!   apex-solver's settings for it, GTSAM's default);
 //! - a step is accepted when its gain ratio `ρ` (actual over predicted
 //!   decrease, the prediction `−gᵀδ − ½ δᵀHδ`) exceeds 1e-3; then `λ ←
 //!   λ max(1/3, 1 − (2ρ − 1)³)` and `ν ← 2` (Nielsen), else `λ ← λν`, `ν ←
@@ -22,21 +24,29 @@
 
 use std::time::{Duration, Instant};
 
-use factor_apex::solve::{Iteration, SolveOptions, Verdict};
+use factor_apex::solve::{Criterion, Damping, Iteration, SolveOptions, Verdict};
 
 use crate::group::{Rejected, Values};
 use crate::partition::Partition;
 use crate::passes;
 use crate::problem::Problem;
 use crate::reduced::ReducedSolver;
-use crate::schur::{self, Normal, StepBuffers, StepTimes};
+use crate::schur::{self, Damped, Normal, StepBuffers, StepTimes};
 use crate::structure::Structure;
 
-const INITIAL_DAMPING: f64 = 1e-4;
 const MIN_DAMPING: f64 = 1e-12;
 const MAX_DAMPING: f64 = 1e12;
 const MIN_RELATIVE_DECREASE: f64 = 1e-3;
 const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
+
+/// The bounds of `D` and the initial λ of `damping`, as the general path
+/// sets apex-solver's (`factor_apex::solve::solve`).
+fn damping_of(damping: Damping) -> ((f64, f64), f64) {
+    match damping {
+        Damping::Diagonal => ((1e-6, 1e32), 1e-4),
+        Damping::Uniform => ((1.0, 1.0), 1e-5),
+    }
+}
 
 /// Where a solve's time went (wall time unless said).
 #[derive(Debug, Clone, Copy, Default)]
@@ -255,7 +265,8 @@ impl<'p> Solver<'p> {
         let s = &mut self;
         let initial_cost = s.initial_cost;
         let mut cost = initial_cost;
-        let mut lambda = INITIAL_DAMPING;
+        let (bounds, initial_lambda) = damping_of(s.problem.damping);
+        let mut lambda = initial_lambda;
         let mut nu = 2.0;
         let mut consecutive_rejections = 0;
         let mut history = Vec::new();
@@ -272,7 +283,7 @@ impl<'p> Solver<'p> {
             }
             let mut times = StepTimes::default();
             let step = schur::step(
-                lambda,
+                Damped { lambda, bounds },
                 &s.normal,
                 &s.structure,
                 &s.partition,
@@ -347,17 +358,17 @@ impl<'p> Solver<'p> {
             let converged = if !accepted {
                 None
             } else if gradient_norm < options.gradient_tolerance {
-                Some("gradient tolerance reached")
+                Some(Criterion::GradientTolerance)
             } else if index > 0
                 && step_norm
                     <= options.parameter_tolerance
                         * (s.parameter_norm() + options.parameter_tolerance)
             {
-                Some("parameter tolerance reached")
+                Some(Criterion::ParameterTolerance)
             } else if index > 0
                 && (previous - cost).abs() / previous.max(1e-10) < options.cost_tolerance
             {
-                Some("cost tolerance reached")
+                Some(Criterion::CostTolerance)
             } else {
                 None
             };
@@ -365,7 +376,7 @@ impl<'p> Solver<'p> {
                 break;
             }
             if let Some(why) = converged {
-                verdict = Verdict::Converged(why.to_owned());
+                verdict = why.verdict(options);
                 break;
             }
             if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {

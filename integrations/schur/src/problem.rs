@@ -5,6 +5,7 @@
 use std::any::{Any, TypeId};
 
 use factor_apex::problems::Robust;
+use factor_apex::solve::Damping;
 use factor_core::WithKernel;
 use factor_lanes::NormalKernel;
 
@@ -42,6 +43,7 @@ pub struct Problem {
     pub(crate) groups: Vec<Box<dyn Group>>,
     group_types: Vec<TypeId>,
     pub(crate) robust: Option<Robust>,
+    pub(crate) damping: Damping,
 }
 
 impl Problem {
@@ -59,6 +61,13 @@ impl Problem {
     /// A robust loss on every factor, or plain least squares.
     pub fn set_robust(&mut self, robust: Option<Robust>) {
         self.robust = robust;
+    }
+
+    /// How Levenberg–Marquardt damps the steps ([`Damping::Diagonal`] by
+    /// default, as the general path; [`Damping::Uniform`] for a problem in
+    /// one unit system, a pose graph).
+    pub fn set_damping(&mut self, damping: Damping) {
+        self.damping = damping;
     }
 
     /// A variable whose value is `stored` (the stored scalars of the type
@@ -89,6 +98,11 @@ impl Problem {
     /// The variables.
     pub fn variable_count(&self) -> usize {
         self.variables.len()
+    }
+
+    /// The variables marked for elimination.
+    pub fn eliminated_count(&self) -> usize {
+        self.variables.iter().filter(|v| v.eliminated).count()
     }
 
     /// The factors.

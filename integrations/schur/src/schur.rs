@@ -9,8 +9,10 @@
 //! ```
 //!
 //! with `V` block diagonal (no factor joins two eliminated variables) and
-//! `D = clamp(diag H, 1e-6, 1e32)` (Ceres' and apex-solver's
-//! Levenberg–Marquardt scaling). Eliminating each `δ_e`:
+//! `D = clamp(diag H, low, high)` ([`Damped`]: Ceres' and apex-solver's
+//! Levenberg–Marquardt scaling with their bounds `[1e-6, 1e32]`, or
+//! Levenberg's uniform `D = I` with `low = high = 1`). Eliminating each
+//! `δ_e`:
 //!
 //! ```text
 //! S = U + λD_r − Σ_e W_e V*_e⁻¹ W_eᵀ,    S δ_r = −g_r + Σ_e W_e V*_e⁻¹ g_e,
@@ -31,9 +33,21 @@ use crate::csc::BlockCsc;
 use crate::partition::{Partition, split_at_bounds};
 use crate::structure::{Eliminated, MAX_ELIMINATED, Structure};
 
-/// Ceres' (and apex-solver's) bounds on the diagonal `D`.
-const MIN_DIAGONAL: f64 = 1e-6;
-const MAX_DIAGONAL: f64 = 1e32;
+/// The damping of one step, `λ D` with `D = clamp(diag H, low, high)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Damped {
+    /// λ.
+    pub(crate) lambda: f64,
+    /// `(low, high)`: the bounds of `D`'s entries.
+    pub(crate) bounds: (f64, f64),
+}
+
+impl Damped {
+    /// `λ clamp(h, low, high)`: what damping adds to a diagonal entry `h`.
+    fn of(self, h: f64) -> f64 {
+        self.lambda * h.clamp(self.bounds.0, self.bounds.1)
+    }
+}
 
 /// The normal equations `Jᵀ w J`, `Jᵀ w r` at the current values, in the
 /// layout of [`Structure`].
@@ -97,11 +111,6 @@ impl StepBuffers {
     }
 }
 
-/// `clamp(h, MIN_DIAGONAL, MAX_DIAGONAL)`.
-fn scaling(h: f64) -> f64 {
-    h.clamp(MIN_DIAGONAL, MAX_DIAGONAL)
-}
-
 /// The index of entry `(a, b)`, `a ≤ b`, of a packed upper triangle of
 /// dimension `d` (row by row).
 #[inline]
@@ -109,19 +118,19 @@ fn packed(d: usize, a: usize, b: usize) -> usize {
     a * d - a * a.saturating_sub(1) / 2 - a + b
 }
 
-/// The Cholesky factor `L` (full `d × d`, lower) of `V + λ clamp(diag V)`,
+/// The Cholesky factor `L` (full `d × d`, lower) of `V + λ D` (`damped`),
 /// `V` packed; `None` if it is not positive definite.
 fn damped_cholesky(
     v: &[f64],
     d: usize,
-    lambda: f64,
+    damped: Damped,
 ) -> Option<[f64; MAX_ELIMINATED * MAX_ELIMINATED]> {
     let mut l = [0.0; MAX_ELIMINATED * MAX_ELIMINATED];
     for i in 0..d {
         for j in 0..=i {
             let mut x = v[packed(d, j, i)];
             if i == j {
-                x += lambda * scaling(x);
+                x += damped.of(x);
             }
             for k in 0..j {
                 x -= l[i * d + k] * l[j * d + k];
@@ -185,7 +194,7 @@ struct Scratch {
 #[inline(always)]
 fn eliminate_body(
     range: std::ops::Range<usize>,
-    lambda: f64,
+    damped: Damped,
     normal: &Normal,
     csc: &BlockCsc,
     el: &Eliminated,
@@ -198,7 +207,7 @@ fn eliminate_body(
     for e in range {
         let d = el.dim(e);
         let v = &normal.v[el.packed[e]..el.packed[e + 1]];
-        let Some(l) = damped_cholesky(v, d, lambda) else {
+        let Some(l) = damped_cholesky(v, d, damped) else {
             return false;
         };
         let stored = &mut factors[el.packed[e] - factor_base..el.packed[e + 1] - factor_base];
@@ -326,7 +335,7 @@ fn eliminate_body(
 #[allow(clippy::too_many_arguments)]
 unsafe fn eliminate_avx2(
     range: std::ops::Range<usize>,
-    lambda: f64,
+    damped: Damped,
     normal: &Normal,
     csc: &BlockCsc,
     el: &Eliminated,
@@ -334,7 +343,7 @@ unsafe fn eliminate_avx2(
     rhs: &mut [f64],
     factors: &mut [f64],
 ) -> bool {
-    eliminate_body(range, lambda, normal, csc, el, s, rhs, factors)
+    eliminate_body(range, damped, normal, csc, el, s, rhs, factors)
 }
 
 /// [`eliminate_body`] compiled for AVX-512.
@@ -347,7 +356,7 @@ unsafe fn eliminate_avx2(
 #[allow(clippy::too_many_arguments)]
 unsafe fn eliminate_avx512(
     range: std::ops::Range<usize>,
-    lambda: f64,
+    damped: Damped,
     normal: &Normal,
     csc: &BlockCsc,
     el: &Eliminated,
@@ -355,7 +364,7 @@ unsafe fn eliminate_avx512(
     rhs: &mut [f64],
     factors: &mut [f64],
 ) -> bool {
-    eliminate_body(range, lambda, normal, csc, el, s, rhs, factors)
+    eliminate_body(range, damped, normal, csc, el, s, rhs, factors)
 }
 
 /// [`eliminate_body`] compiled for the best instruction set of the CPU
@@ -363,7 +372,7 @@ unsafe fn eliminate_avx512(
 #[allow(clippy::too_many_arguments)]
 fn eliminate(
     range: std::ops::Range<usize>,
-    lambda: f64,
+    damped: Damped,
     normal: &Normal,
     csc: &BlockCsc,
     el: &Eliminated,
@@ -375,14 +384,14 @@ fn eliminate(
         #[cfg(target_arch = "x86_64")]
         // SAFETY: the CPU has AVX-512 F, DQ, VL, AVX2 and FMA (detected).
         factor_batch::Isa::Avx512 => unsafe {
-            eliminate_avx512(range, lambda, normal, csc, el, s, rhs, factors)
+            eliminate_avx512(range, damped, normal, csc, el, s, rhs, factors)
         },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: the CPU has AVX2 and FMA (detected).
         factor_batch::Isa::Avx2 => unsafe {
-            eliminate_avx2(range, lambda, normal, csc, el, s, rhs, factors)
+            eliminate_avx2(range, damped, normal, csc, el, s, rhs, factors)
         },
-        _ => eliminate_body(range, lambda, normal, csc, el, s, rhs, factors),
+        _ => eliminate_body(range, damped, normal, csc, el, s, rhs, factors),
     }
 }
 
@@ -462,7 +471,7 @@ pub(crate) struct StepTimes {
 /// Solves `(H + λD) δ = −g` into `buffers.reduced` and
 /// `buffers.eliminated`; `None` if it is not positive definite.
 pub(crate) fn step(
-    lambda: f64,
+    damped: Damped,
     normal: &Normal,
     structure: &Structure,
     partition: &Partition,
@@ -477,7 +486,7 @@ pub(crate) fn step(
     for (v, &d) in csc.dims.iter().enumerate() {
         for a in 0..d {
             let k = csc.diagonal(v, a, a);
-            buffers.s[k] += lambda * scaling(normal.u[k]);
+            buffers.s[k] += damped.of(normal.u[k]);
         }
     }
     for (r, g) in buffers.reduced.iter_mut().zip(&normal.g_reduced) {
@@ -489,7 +498,7 @@ pub(crate) fn step(
     let ok = if parts == 1 {
         eliminate(
             0..el.len(),
-            lambda,
+            damped,
             normal,
             csc,
             el,
@@ -512,7 +521,7 @@ pub(crate) fn step(
             .map(|(t, ((s, rhs), factors))| {
                 eliminate(
                     bounds[t]..bounds[t + 1],
-                    lambda,
+                    damped,
                     normal,
                     csc,
                     el,
@@ -597,7 +606,11 @@ mod tests {
         // V = [[4, 1, 0], [1, 3, 1], [0, 1, 2]], packed upper.
         let v = [4.0, 1.0, 0.0, 3.0, 1.0, 2.0];
         let lambda = 0.5;
-        let l = damped_cholesky(&v, 3, lambda).unwrap();
+        let damped = Damped {
+            lambda,
+            bounds: (1e-6, 1e32),
+        };
+        let l = damped_cholesky(&v, 3, damped).unwrap();
         let full = |a: usize, b: usize| {
             let x = v[packed(3, a.min(b), a.max(b))];
             if a == b { x * (1.0 + lambda) } else { x }
@@ -615,7 +628,11 @@ mod tests {
             let back: f64 = (0..3).map(|b| full(a, b) * x[b]).sum();
             assert!((back - [1.0, -2.0, 0.5][a]).abs() < 1e-14);
         }
-        assert!(damped_cholesky(&[-1.0], 1, 0.0).is_none());
+        let undamped = Damped {
+            lambda: 0.0,
+            bounds: (1.0, 1.0),
+        };
+        assert!(damped_cholesky(&[-1.0], 1, undamped).is_none());
     }
 }
 
@@ -794,41 +811,46 @@ mod dense {
                     }
                 }
             }
-            // The damped step against a dense Cholesky solve.
-            let lambda = 1e-3;
-            let mut damped = h.clone();
-            for k in 0..damped.nrows() {
-                damped[(k, k)] += lambda * h[(k, k)].clamp(MIN_DIAGONAL, MAX_DIAGONAL);
+            // The damped step against a dense Cholesky solve, with the
+            // diagonal's scaling (Ceres' bounds) and uniformly (`λ I`).
+            for (lambda, low, high) in [(1e-3, 1e-6, 1e32), (1e-2, 1.0, 1.0)] {
+                let mut damped = h.clone();
+                for k in 0..damped.nrows() {
+                    damped[(k, k)] += lambda * h[(k, k)].clamp(low, high);
+                }
+                let expected = damped.cholesky().unwrap().solve(&(-&g));
+                let mut solver = ReducedSolver::new(csc, partition.parts()).unwrap();
+                let mut buffers = StepBuffers::new(&normal);
+                let mut times = StepTimes::default();
+                let step = step(
+                    Damped {
+                        lambda,
+                        bounds: (low, high),
+                    },
+                    &normal,
+                    &structure,
+                    &partition,
+                    &mut solver,
+                    &mut buffers,
+                    &mut times,
+                )
+                .expect("positive definite");
+                let got = DVector::from_iterator(
+                    expected.len(),
+                    buffers.reduced.iter().chain(&buffers.eliminated).copied(),
+                );
+                assert!(
+                    (&got - &expected).amax() <= 1e-9 * expected.amax(),
+                    "{got} vs {expected}"
+                );
+                assert!(close(
+                    step.g_delta,
+                    g.dot(&expected),
+                    g.dot(&expected).abs()
+                ));
+                let hd = (&h * &expected).dot(&expected);
+                assert!(close(step.h_delta, hd, hd));
             }
-            let expected = damped.cholesky().unwrap().solve(&(-&g));
-            let mut solver = ReducedSolver::new(csc, partition.parts()).unwrap();
-            let mut buffers = StepBuffers::new(&normal);
-            let mut times = StepTimes::default();
-            let step = step(
-                lambda,
-                &normal,
-                &structure,
-                &partition,
-                &mut solver,
-                &mut buffers,
-                &mut times,
-            )
-            .expect("positive definite");
-            let got = DVector::from_iterator(
-                expected.len(),
-                buffers.reduced.iter().chain(&buffers.eliminated).copied(),
-            );
-            assert!(
-                (&got - &expected).amax() <= 1e-9 * expected.amax(),
-                "{got} vs {expected}"
-            );
-            assert!(close(
-                step.g_delta,
-                g.dot(&expected),
-                g.dot(&expected).abs()
-            ));
-            let hd = (&h * &expected).dot(&expected);
-            assert!(close(step.h_delta, hd, hd));
         }
     }
 }

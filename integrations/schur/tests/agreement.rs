@@ -114,6 +114,14 @@ fn stereo_vo_reaches_apex_solvers_optimum() {
 /// Variables held fixed keep their values exactly, and the free ones end
 /// at a stationary point: the gradient over them, from each factor's
 /// dual-number Jacobian, is 1e-6 of its initial size or less.
+/// Pose graphs: nothing eliminated, the whole system by the sparse
+/// Cholesky factorization, damped uniformly as the general path damps them.
+#[test]
+fn pose_graphs_reach_apex_solvers_optimum() {
+    assert_agree(&data("pose3example.txt"), None, "pose3example (g2o)");
+    assert_agree(&data("sphere2500.txt"), None, "sphere2500 (EDGE3)");
+}
+
 #[test]
 fn fixed_variables_stay_and_the_free_ones_are_optimal() {
     let slam_data::Problem::Bal(bal) = synthetic(8, 100, 0.0, 2) else {

@@ -125,10 +125,10 @@ impl Built {
                 slam_data::Problem::Bundler(keys.write_bundler(bundler, apex_se3, value))
             }
             (Keys::PoseGraph(keys), slam_data::Problem::G2o(graph)) => {
-                slam_data::Problem::G2o(keys.write(graph, value))
+                slam_data::Problem::G2o(keys.write(graph, apex_se3, value))
             }
             (Keys::PoseGraph(keys), slam_data::Problem::Edge3(graph)) => {
-                slam_data::Problem::Edge3(keys.write(graph, value))
+                slam_data::Problem::Edge3(keys.write(graph, apex_se3, value))
             }
             (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
                 slam_data::Problem::KittiVo(keys.write(vo, apex_se3, value))

@@ -18,15 +18,18 @@ use crate::builder::ProblemBuilder;
 use crate::built::{Built, Damping};
 use crate::options::{BuildError, BuildOptions, FactorChoice};
 
-use crate::variables::{apex_pose, from_apex};
+use crate::variables::apex_pose;
 
 /// The variables of a pose graph: each vertex id and its pose's key, in the
 /// file's vertex order (or the odometry chain's, for a file without
 /// vertices).
+///
+/// By key type `K`: apex's `VarKey` here, the Schur-complement solver's
+/// variable ids in crate `factor-schur`, which builds the same problem.
 #[derive(Debug, Clone)]
-pub struct PoseGraphKeys {
+pub struct PoseGraphKeys<K = VarKey> {
     /// `(id, key)` per pose.
-    pub poses: Vec<(usize, VarKey)>,
+    pub poses: Vec<(usize, K)>,
 }
 
 /// A pose of a pose-graph file as this project's `Se3`.
@@ -46,8 +49,58 @@ fn apex_sqrt_information(u: &SqrtInformation6<f64>) -> nalgebra_apex::DMatrix<f6
     nalgebra_apex::DMatrix::from_fn(6, 6, |a, b| m[(p(a), p(b))])
 }
 
+/// The vertices a solve starts from: the file's, or for a file without
+/// vertices (EDGE3) the odometry chain's.
+///
+/// # Errors
+///
+/// [`BuildError::Data`] for a file without vertices whose odometry does
+/// not chain.
+pub fn initial_vertices(graph: &PoseGraph) -> Result<Vec<Vertex>, BuildError> {
+    if graph.vertices.is_empty() {
+        graph
+            .odometry_initial_values()
+            .map_err(|e| BuildError::Data(format!("no vertices to start from: {e}")))
+    } else {
+        Ok(graph.vertices.clone())
+    }
+}
+
+/// The variables, keys `T`, of the two poses edge `index` joins.
+///
+/// # Errors
+///
+/// [`BuildError::Data`] for an edge on a pose `by_id` does not hold.
+pub fn endpoints<T: Copy>(
+    graph: &PoseGraph,
+    index: usize,
+    by_id: &HashMap<usize, T>,
+) -> Result<(T, T), BuildError> {
+    let e = &graph.edges[index];
+    match (by_id.get(&e.from), by_id.get(&e.to)) {
+        (Some(i), Some(j)) => Ok((*i, *j)),
+        _ => Err(BuildError::Data(format!(
+            "{} joins poses {} and {}, not both initialised",
+            ordinal("edge", index, graph.edges.len()),
+            e.from,
+            e.to
+        ))),
+    }
+}
+
+/// Edge `index` as errors name it: `edge 3 (pose 2 → pose 5)`.
+pub fn edge_name(graph: &PoseGraph, index: usize) -> String {
+    let e = &graph.edges[index];
+    format!(
+        "{} (pose {} → pose {})",
+        ordinal("edge", index, graph.edges.len()),
+        e.from,
+        e.to
+    )
+}
+
 /// The factor of edge `e` between poses `i` and `j`.
-fn factor_of(e: &Edge, i: &Se3<f64>, j: &Se3<f64>) -> Result<BetweenFactor, BuildError> {
+pub fn factor_of(e: &Edge, i: &Se3<f64>, j: &Se3<f64>) -> Result<BetweenFactor, BuildError> {
     let sqrt_information = SqrtInformation6::from_information(&e.information).ok_or_else(|| {
         BuildError::Data(format!(
             "edge {} → {}: the information matrix is not positive definite",
@@ -67,13 +120,7 @@ pub(super) fn build(
     graph: &PoseGraph,
     options: &BuildOptions,
 ) -> Result<Built<PoseGraphKeys>, BuildError> {
-    let vertices = if graph.vertices.is_empty() {
-        graph
-            .odometry_initial_values()
-            .map_err(|e| BuildError::Data(format!("no vertices to start from: {e}")))?
-    } else {
-        graph.vertices.clone()
-    };
+    let vertices = initial_vertices(graph)?;
     let mut builder = ProblemBuilder::with_options(options);
     let mut keys = PoseGraphKeys {
         poses: Vec::with_capacity(vertices.len()),
@@ -86,27 +133,12 @@ pub(super) fn build(
         by_id.insert(v.id, (key, pose));
     }
     for (index, e) in graph.edges.iter().enumerate() {
-        let ((key_i, pose_i), (key_j, pose_j)) = match (by_id.get(&e.from), by_id.get(&e.to)) {
-            (Some(i), Some(j)) => (*i, *j),
-            _ => {
-                return Err(BuildError::Data(format!(
-                    "{} joins poses {} and {}, not both initialised",
-                    ordinal("edge", index, graph.edges.len()),
-                    e.from,
-                    e.to
-                )));
-            }
-        };
+        let ((key_i, pose_i), (key_j, pose_j)) = endpoints(graph, index, &by_id)?;
         let factor = factor_of(e, &pose_i, &pose_j)?;
         match options.factors {
             FactorChoice::Ours(kernels) => {
                 factor.validate().map_err(|error| BuildError::Degenerate {
-                    which: format!(
-                        "{} (pose {} → pose {}) at the initial values",
-                        ordinal("edge", index, graph.edges.len()),
-                        e.from,
-                        e.to
-                    ),
+                    which: format!("{} at the initial values", edge_name(graph, index)),
                     error,
                 })?;
                 let served =
@@ -137,15 +169,21 @@ pub(super) fn build(
     builder.finish(keys, LinearSolverType::SparseCholesky)
 }
 
-impl PoseGraphKeys {
-    /// `graph` with the solution's vertices (all of them, also when the
-    /// file had none).
-    pub fn write<'a>(&self, graph: &PoseGraph, value: impl Fn(VarKey) -> &'a [f64]) -> PoseGraph {
+impl<K: Copy> PoseGraphKeys<K> {
+    /// `graph` with the vertices of the values `value(key)` (a solution's;
+    /// all of them, also when the file had none), each pose read from its
+    /// values by `pose` (here [`apex_se3`](crate::variables::apex_se3)).
+    pub fn write<'a>(
+        &self,
+        graph: &PoseGraph,
+        pose: impl Fn(&[f64]) -> Se3<f64>,
+        value: impl Fn(K) -> &'a [f64],
+    ) -> PoseGraph {
         let vertices = self
             .poses
             .iter()
             .map(|&(id, key)| {
-                let pose = from_apex::<Se3<f64>>(&[value(key)]);
+                let pose = pose(value(key));
                 let q = pose.rotation.quaternion;
                 Vertex {
                     id,

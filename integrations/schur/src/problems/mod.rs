@@ -1,16 +1,19 @@
-//! Real problems for this solver: bundle adjustment (BAL, Bundler) and
-//! stereo visual odometry (KITTI VO), built from `slam-data` with the same
-//! factors, variables, gauge and initial values as the general path
-//! (`factor_apex::problems`), the points and landmarks eliminated; and the
-//! solution written back in the input's format.
+//! Real problems for this solver: bundle adjustment (BAL, Bundler), stereo
+//! visual odometry (KITTI VO) and pose graphs (g2o, EDGE3), built from
+//! `slam-data` with the same factors, variables, gauge, damping and initial
+//! values as the general path (`factor_apex::problems`), the points and
+//! landmarks eliminated; and the solution written back in the input's
+//! format.
 //!
 //! | data set | reduced variables | eliminated | factor | gauge |
 //! | --- | --- | --- | --- | --- |
 //! | BAL, Bundler ([`bundle`]) | per camera its world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]` | the points | `SnavelyReprojection` | camera 0's pose fixed |
 //! | KITTI VO ([`stereo`]) | per pose its camera-to-world pose | the landmarks | `StereoReprojection` | the first pose fixed |
+//! | g2o, EDGE3 ([`pose_graph`]) | per vertex its body-to-world pose (EDGE3 without vertices: the odometry chain) | nothing | `BetweenFactor` (uniform damping) | the first pose fixed |
 
 pub mod bundle;
 mod error;
+pub mod pose_graph;
 pub mod stereo;
 
 pub use error::BuildError;
@@ -26,6 +29,8 @@ pub enum Keys {
     Bundle(bundle::BundleKeys),
     /// Stereo visual odometry.
     Stereo(stereo::StereoKeys),
+    /// A pose graph.
+    PoseGraph(pose_graph::PoseGraphKeys),
 }
 
 /// A problem built from a data set.
@@ -46,6 +51,8 @@ pub fn applies(data: &slam_data::Problem) -> bool {
         slam_data::Problem::Bal(_)
             | slam_data::Problem::Bundler(_)
             | slam_data::Problem::KittiVo(_)
+            | slam_data::Problem::G2o(_)
+            | slam_data::Problem::Edge3(_)
     )
 }
 
@@ -65,10 +72,8 @@ pub fn build(
             Built::of(bundle::build(&bundler.to_bal())?, Keys::Bundle)
         }
         slam_data::Problem::KittiVo(vo) => Built::of(stereo::build(vo)?, Keys::Stereo),
-        slam_data::Problem::G2o(_) | slam_data::Problem::Edge3(_) => {
-            return Err(BuildError::Unavailable(
-                "a pose graph has no landmarks to eliminate: solve it with apex-solver".into(),
-            ));
+        slam_data::Problem::G2o(graph) | slam_data::Problem::Edge3(graph) => {
+            Built::of(pose_graph::build(graph)?, Keys::PoseGraph)
         }
         slam_data::Problem::G2oAddons(_) => {
             return Err(BuildError::Unavailable(
@@ -101,6 +106,12 @@ impl Built {
             }
             (Keys::Bundle(keys), slam_data::Problem::Bundler(bundler)) => {
                 slam_data::Problem::Bundler(keys.write_bundler(bundler, se3, value))
+            }
+            (Keys::PoseGraph(keys), slam_data::Problem::G2o(graph)) => {
+                slam_data::Problem::G2o(keys.write(graph, se3, value))
+            }
+            (Keys::PoseGraph(keys), slam_data::Problem::Edge3(graph)) => {
+                slam_data::Problem::Edge3(keys.write(graph, se3, value))
             }
             (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
                 slam_data::Problem::KittiVo(keys.write(vo, se3, value))

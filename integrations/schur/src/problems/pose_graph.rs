@@ -1,0 +1,51 @@
+//! Pose graphs (g2o, EDGE3): no variable eliminated, the poses' system
+//! solved by the sparse Cholesky factorization whole.
+
+use std::collections::HashMap;
+
+use factor_apex::problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
+use factor_apex::solve::Damping;
+use factor_core::lie::Se3RhoTheta;
+use factor_core::{Factor, Storage};
+use slam_data::PoseGraph;
+
+use super::error::BuildError;
+use crate::problem::{Problem, VariableId};
+
+/// The variables of a pose graph: each vertex id and its body-to-world pose
+/// (`Se3RhoTheta`), in the file's vertex order (or the odometry chain's, for
+/// a file without vertices).
+pub type PoseGraphKeys = factor_apex::problems::pose_graph::PoseGraphKeys<VariableId>;
+
+/// Builds the pose graph of `graph` as the general path does: a
+/// `BetweenFactor` per edge, whitened by its information, the first pose
+/// fixed, damped uniformly (one unit system).
+pub(super) fn build(graph: &PoseGraph) -> Result<(Problem, PoseGraphKeys), BuildError> {
+    let data = |e: factor_apex::problems::BuildError| BuildError::Data(e.to_string());
+    let vertices = initial_vertices(graph).map_err(data)?;
+    let mut problem = Problem::new();
+    let mut keys = PoseGraphKeys {
+        poses: Vec::with_capacity(vertices.len()),
+    };
+    let mut by_id = HashMap::with_capacity(vertices.len());
+    for v in &vertices {
+        let pose = se3(&v.pose);
+        let id = problem.add_variable(&Se3RhoTheta::new(pose).to_scalars());
+        keys.poses.push((v.id, id));
+        by_id.insert(v.id, (id, pose));
+    }
+    for (index, e) in graph.edges.iter().enumerate() {
+        let ((i, pose_i), (j, pose_j)) = endpoints(graph, index, &by_id).map_err(data)?;
+        let factor = factor_of(e, &pose_i, &pose_j).map_err(data)?;
+        factor.validate().map_err(|error| BuildError::Degenerate {
+            which: format!("{} at the initial values", edge_name(graph, index)),
+            error,
+        })?;
+        problem.add(&factor, &[i, j])?;
+    }
+    if let Some(&(_, id)) = keys.poses.first() {
+        problem.fix(id);
+    }
+    problem.set_damping(Damping::Uniform);
+    Ok((problem, keys))
+}
