@@ -59,8 +59,9 @@ impl<K> Built<K> {
     }
 }
 
-/// How Levenberg–Marquardt damps the normal equations; λ is updated by
-/// Nielsen's rule (apex's default) either way.
+/// How Levenberg–Marquardt damps the normal equations, apex-solver's here
+/// and crate `factor-schur`'s alike; λ is updated by Nielsen's rule
+/// (apex's default) either way.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Damping {
     /// `(JᵀJ + λ D) δ = −Jᵀr` with `D` the diagonal of `JᵀJ` clamped to

@@ -31,7 +31,9 @@
 //!    in a fill-reducing order fixed once ([`structure`], from the
 //!    factors' [`layout`]).
 //! 3. **Reduced solve** ([`reduced`]): faer's sparse Cholesky (supernodal,
-//!    its dense kernels), the symbolic analysis done once.
+//!    its dense kernels), the symbolic analysis done once; a system of at
+//!    most 40 unknowns by faer's dense Cholesky, where the sparse one's
+//!    fixed costs dominate.
 //! 4. **Back-substitution**, the model's decrease, the retraction of every
 //!    variable by its own manifold, and the cost at the trial values (each
 //!    factor validated: a degenerate configuration rejects the step).

@@ -813,13 +813,24 @@ mod dense {
             }
             // The damped step against a dense Cholesky solve, with the
             // diagonal's scaling (Ceres' bounds) and uniformly (`λ I`).
-            for (lambda, low, high) in [(1e-3, 1e-6, 1e32), (1e-2, 1.0, 1.0)] {
+            // The reduced system factorized sparse and dense alike.
+            for ((lambda, low, high), dense) in [(1e-3, 1e-6, 1e32), (1e-2, 1.0, 1.0)]
+                .into_iter()
+                .flat_map(|d| [(d, false), (d, true)])
+            {
                 let mut damped = h.clone();
                 for k in 0..damped.nrows() {
                     damped[(k, k)] += lambda * h[(k, k)].clamp(low, high);
                 }
                 let expected = damped.cholesky().unwrap().solve(&(-&g));
-                let mut solver = ReducedSolver::new(csc, partition.parts()).unwrap();
+                let mut solver = if dense {
+                    ReducedSolver::Dense {
+                        matrix: faer::Mat::zeros(n, n),
+                        llt: None,
+                    }
+                } else {
+                    ReducedSolver::new(csc, partition.parts()).unwrap()
+                };
                 let mut buffers = StepBuffers::new(&normal);
                 let mut times = StepTimes::default();
                 let step = step(
