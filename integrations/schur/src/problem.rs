@@ -1,4 +1,4 @@
-//! [`Problem`]: variables (their stored scalars, held fixed or eliminated)
+//! A [`Problem`]: variables (their stored scalars, held fixed or eliminated)
 //! and factors of any derived type with a normal-equation kernel, grouped by
 //! type.
 
