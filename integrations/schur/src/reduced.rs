@@ -50,18 +50,21 @@ pub(crate) const DENSE_MAX: usize = 40;
 
 /// The Cholesky factorization of `S`, for one structure.
 pub(crate) enum ReducedSolver {
-    /// faer's supernodal factorization, its symbolic analysis done once.
-    Sparse {
-        symbolic: SymbolicCholesky<usize>,
-        factor: Vec<f64>,
-        memory: MemBuffer,
-        par: Par,
-    },
+    /// faer's supernodal factorization (boxed: it is the larger by far).
+    Sparse(Box<SparseLlt>),
     /// faer's dense factorization of `S` copied whole, and the last one.
     Dense {
         matrix: Mat<f64>,
         llt: Option<Llt<f64>>,
     },
+}
+
+/// faer's supernodal factorization, its symbolic analysis done once.
+pub(crate) struct SparseLlt {
+    symbolic: SymbolicCholesky<usize>,
+    factor: Vec<f64>,
+    memory: MemBuffer,
+    par: Par,
 }
 
 impl ReducedSolver {
@@ -97,19 +100,19 @@ impl ReducedSolver {
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default()),
             symbolic.solve_in_place_scratch::<f64>(1, par),
         ]);
-        Ok(ReducedSolver::Sparse {
+        Ok(ReducedSolver::Sparse(Box::new(SparseLlt {
             factor: vec![0.0; symbolic.len_val()],
             symbolic,
             memory: MemBuffer::new(scratch),
             par,
-        })
+        })))
     }
 
     /// The number of entries of the Cholesky factor (the lower triangle,
     /// for a dense one).
     pub(crate) fn factor_entries(&self) -> usize {
         match self {
-            ReducedSolver::Sparse { factor, .. } => factor.len(),
+            ReducedSolver::Sparse(sparse) => sparse.factor.len(),
             ReducedSolver::Dense { matrix, .. } => matrix.nrows() * (matrix.nrows() + 1) / 2,
         }
     }
@@ -119,12 +122,13 @@ impl ReducedSolver {
     pub(crate) fn factorize(&mut self, csc: &BlockCsc, values: &[f64]) -> bool {
         let n = csc.dim();
         match self {
-            ReducedSolver::Sparse {
-                symbolic,
-                factor,
-                memory,
-                par,
-            } => {
+            ReducedSolver::Sparse(sparse) => {
+                let SparseLlt {
+                    symbolic,
+                    factor,
+                    memory,
+                    par,
+                } = &mut **sparse;
                 let pattern =
                     SymbolicSparseColMatRef::new_checked(n, n, &csc.col_ptr, None, &csc.row_idx);
                 let matrix = SparseColMatRef::new(pattern, values);
@@ -159,17 +163,20 @@ impl ReducedSolver {
         let n = rhs.len();
         let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match self {
-            ReducedSolver::Sparse {
-                symbolic,
-                factor,
-                memory,
-                par,
-            } => LltRef::new(symbolic, factor).solve_in_place_with_conj(
-                Conj::No,
-                rhs,
-                *par,
-                MemStack::new(memory),
-            ),
+            ReducedSolver::Sparse(sparse) => {
+                let SparseLlt {
+                    symbolic,
+                    factor,
+                    memory,
+                    par,
+                } = &mut **sparse;
+                LltRef::new(symbolic, factor).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    *par,
+                    MemStack::new(memory),
+                );
+            }
             ReducedSolver::Dense { llt, .. } => {
                 if let Some(llt) = llt {
                     llt.solve_in_place_with_conj(Conj::No, rhs);
