@@ -77,6 +77,25 @@ pub enum Damping {
     Uniform,
 }
 
+impl Damping {
+    /// The bounds `(low, high)` of `D`'s entries, `D = clamp(diag JᵀJ, low,
+    /// high)`: `D = I` for [`Damping::Uniform`].
+    pub fn diagonal_bounds(self) -> (f64, f64) {
+        match self {
+            Damping::Diagonal => (1e-6, 1e32),
+            Damping::Uniform => (1.0, 1.0),
+        }
+    }
+
+    /// λ at the first iteration.
+    pub fn initial_lambda(self) -> f64 {
+        match self {
+            Damping::Diagonal => 1e-4,
+            Damping::Uniform => 1e-5,
+        }
+    }
+}
+
 /// A residual block kept for direct calls (benchmarks, the observability
 /// check of a problem file): its factor, its variables' keys and initial
 /// apex parameters and its noise model.

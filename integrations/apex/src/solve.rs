@@ -352,13 +352,10 @@ pub fn solve<K>(
     options: &SolveOptions,
     on_iteration: impl FnMut(&Iteration) + Send + 'static,
 ) -> Result<Outcome, SolveError> {
-    let config = match built.damping {
-        Damping::Diagonal => LevenbergMarquardtConfig::default(),
-        Damping::Uniform => LevenbergMarquardtConfig::default()
-            .with_diagonal_bounds(1.0, 1.0)
-            .with_damping(1e-5),
-    };
-    let config = config
+    let (low, high) = built.damping.diagonal_bounds();
+    let config = LevenbergMarquardtConfig::default()
+        .with_diagonal_bounds(low, high)
+        .with_damping(built.damping.initial_lambda())
         .with_linear_solver_type(built.linear_solver)
         // apex stops after the iteration whose 0-based index reaches its
         // limit, so it runs `limit + 1` iterations.

@@ -4,9 +4,10 @@
 //! Levenberg–Marquardt, itself Ceres'):
 //!
 //! - the damped system `(H + λD) δ = −g`, `D = clamp(diag H, 1e-6, 1e32)`,
-//!   λ starting at 1e-4 (the problem's [`Damping::Diagonal`], the
-//!   default), or `D = I`, λ starting at 1e-5 ([`Damping::Uniform`]:
-//!   apex-solver's settings for it, GTSAM's default);
+//!   λ starting at 1e-4 (the problem's `Damping::Diagonal`, the default),
+//!   or `D = I`, λ starting at 1e-5 (`Damping::Uniform`: apex-solver's
+//!   settings for it, GTSAM's default), both as
+//!   [`factor_apex::solve::Damping`] gives them;
 //! - a step is accepted when its gain ratio `ρ` (actual over predicted
 //!   decrease, the prediction `−gᵀδ − ½ δᵀHδ`) exceeds 1e-3; then `λ ←
 //!   λ max(1/3, 1 − (2ρ − 1)³)` and `ν ← 2` (Nielsen), else `λ ← λν`, `ν ←
@@ -24,7 +25,7 @@
 
 use std::time::{Duration, Instant};
 
-use factor_apex::solve::{Criterion, Damping, Iteration, SolveOptions, Verdict};
+use factor_apex::solve::{Criterion, Iteration, SolveOptions, Verdict};
 
 use crate::group::{Rejected, Values};
 use crate::partition::Partition;
@@ -38,15 +39,6 @@ const MIN_DAMPING: f64 = 1e-12;
 const MAX_DAMPING: f64 = 1e12;
 const MIN_RELATIVE_DECREASE: f64 = 1e-3;
 const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
-
-/// The bounds of `D` and the initial λ of `damping`, as the general path
-/// sets apex-solver's (`factor_apex::solve::solve`).
-fn damping_of(damping: Damping) -> ((f64, f64), f64) {
-    match damping {
-        Damping::Diagonal => ((1e-6, 1e32), 1e-4),
-        Damping::Uniform => ((1.0, 1.0), 1e-5),
-    }
-}
 
 /// Where a solve's time went (wall time unless said).
 #[derive(Debug, Clone, Copy, Default)]
@@ -265,8 +257,8 @@ impl<'p> Solver<'p> {
         let s = &mut self;
         let initial_cost = s.initial_cost;
         let mut cost = initial_cost;
-        let (bounds, initial_lambda) = damping_of(s.problem.damping);
-        let mut lambda = initial_lambda;
+        let bounds = s.problem.damping.diagonal_bounds();
+        let mut lambda = s.problem.damping.initial_lambda();
         let mut nu = 2.0;
         let mut consecutive_rejections = 0;
         let mut history = Vec::new();

@@ -17,7 +17,6 @@ use crate::adapter::ApexFactor;
 use crate::builder::ProblemBuilder;
 use crate::built::{Built, Damping};
 use crate::options::{BuildError, BuildOptions, FactorChoice};
-
 use crate::variables::apex_pose;
 
 /// The variables of a pose graph: each vertex id and its pose's key, in the
