@@ -49,7 +49,7 @@ use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, So3};
 use nalgebra::{DMatrix, Isometry3, Matrix3, Vector3, Vector4};
 use serde_json::{Map, Value, json};
-use slam_data::plp_scene::{self, PlpConfig, PlpScene, PlpState};
+use slam_data::plp_scene::{self, PlpConfig, PlpScene, PlpState, Segment};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 use slamjac_io::Role;
 
@@ -252,32 +252,25 @@ fn views(measurements: &[Measurement]) -> HashMap<&str, usize> {
     views
 }
 
-/// Per line measured in `lines` (`l{segment}`), the largest angle between
-/// two of its interpretation planes at the truth: the planes through each
-/// measuring camera's centre and the true segment.
-fn line_parallax<'a>(lines: &'a [Measurement], truth: &PlpState) -> HashMap<&'a str, f64> {
-    let mut normals: HashMap<&str, Vec<Vector3<f64>>> = HashMap::new();
-    for m in lines {
-        let segment: usize = m.landmark[1..]
-            .parse()
-            .expect("a line's name is l{segment}");
-        let s = &truth.segments[segment];
-        let centre = truth.cameras[m.camera].inverse().translation.vector;
-        let normal = (s.start - centre).cross(&(s.end - centre)).normalize();
-        normals.entry(m.landmark.as_str()).or_default().push(normal);
+/// The normal of the interpretation plane of `segment` seen from a camera
+/// whose world-to-camera pose is `camera`: the plane through the camera
+/// centre and the segment.
+fn interpretation_plane(segment: &Segment, camera: &Isometry3<f64>) -> Vector3<f64> {
+    let centre = camera.inverse().translation.vector;
+    (segment.start - centre)
+        .cross(&(segment.end - centre))
+        .normalize()
+}
+
+/// The largest angle between two of the planes of unit `normals`.
+fn widest_angle(normals: &[Vector3<f64>]) -> f64 {
+    let mut widest: f64 = 0.0;
+    for (i, a) in normals.iter().enumerate() {
+        for b in &normals[i + 1..] {
+            widest = widest.max(a.dot(b).abs().min(1.0).acos());
+        }
     }
-    normals
-        .into_iter()
-        .map(|(name, normals)| {
-            let mut widest: f64 = 0.0;
-            for (i, a) in normals.iter().enumerate() {
-                for b in &normals[i + 1..] {
-                    widest = widest.max(a.dot(b).abs().min(1.0).acos());
-                }
-            }
-            (name, widest)
-        })
-        .collect()
+    widest
 }
 
 impl Problem {
@@ -350,6 +343,9 @@ impl Problem {
         if args.kinds.lines {
             let kept = args.lines.min(truth.segments.len());
             let mut lines = Vec::new();
+            // Per line, the interpretation planes of its kept views, at the
+            // truth.
+            let mut planes: HashMap<usize, Vec<Vector3<f64>>> = HashMap::new();
             for o in scene
                 .segment_observations
                 .iter()
@@ -371,6 +367,13 @@ impl Problem {
                     at(start(o.camera), initial),
                     at(&truth.cameras[o.camera], truth),
                 ) {
+                    planes
+                        .entry(o.segment)
+                        .or_default()
+                        .push(interpretation_plane(
+                            &truth.segments[o.segment],
+                            &truth.cameras[o.camera],
+                        ));
                     lines.push(Measurement {
                         camera: o.camera,
                         landmark: format!("l{}", o.segment),
@@ -385,7 +388,10 @@ impl Problem {
                 }
             }
             let views = views(&lines);
-            let parallax = line_parallax(&lines, truth);
+            let parallax: HashMap<String, f64> = planes
+                .iter()
+                .map(|(segment, normals)| (format!("l{segment}"), widest_angle(normals)))
+                .collect();
             let seen: Vec<bool> = lines
                 .iter()
                 .map(|m| {
