@@ -106,9 +106,26 @@ pub fn shipped() -> Registry {
         .solve_with_dual::<G2oLineEdge>()
         .solve_with_dual::<G2oPlaneEdge>()
         .with_kernel_crate(KERNEL_CRATE);
+    #[cfg(feature = "solve")]
+    let registry = with_schur(registry);
     shipped_kernels()
         .into_iter()
         .fold(registry, Registry::with_spec)
+}
+
+/// The shipped factors whose kernels have fused normal equations
+/// ([`shipped_kernels`]) also in the Schur-complement solver's problems.
+#[cfg(feature = "solve")]
+fn with_schur(registry: Registry) -> Registry {
+    registry
+        .solve_with_schur::<PointReprojection>()
+        .solve_with_schur::<LineReprojection>()
+        .solve_with_schur::<PlaneFactor>()
+        .solve_with_schur::<FreeLineFactor>()
+        .solve_with_schur::<PluckerLineReprojection>()
+        .solve_with_schur::<LineObservation>()
+        .solve_with_schur::<SnavelyReprojection>()
+        .solve_with_schur::<StereoReprojection>()
 }
 
 /// A shipped factor with a kernel, solved through it; in a build without

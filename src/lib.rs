@@ -58,6 +58,8 @@ pub mod pretty;
 mod problem_assembly;
 pub mod registry;
 #[cfg(feature = "solve")]
+mod schur_assembly;
+#[cfg(feature = "solve")]
 pub mod solve;
 pub mod source;
 pub mod strict_json;

@@ -42,6 +42,10 @@ pub struct FactorEntry {
     /// How a problem file's entry of it is added to the problem.
     #[cfg(feature = "solve")]
     pub(crate) solve: Option<crate::problem_assembly::AddFn>,
+    /// How it is added to the Schur-complement solver's problem, when its
+    /// kernel has fused normal equations ([`Registry::solve_with_schur`]).
+    #[cfg(feature = "solve")]
+    pub(crate) schur: Option<crate::schur_assembly::SchurAddFn>,
 }
 
 /// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
@@ -75,6 +79,8 @@ impl FactorEntry {
             solved_by: None,
             #[cfg(feature = "solve")]
             solve: None,
+            #[cfg(feature = "solve")]
+            schur: None,
         }
     }
 
@@ -137,6 +143,28 @@ impl Registry {
             entry.solve = Some(crate::problem_assembly::add_kernel::<F>);
         }
         self
+    }
+
+    /// Adds factor `F` as [`Registry::solve_with_kernel`] does, and lets
+    /// `solve` put it in the Schur-complement solver's problem (crate
+    /// `factor-schur`, the default for a problem file whose factors all
+    /// have it): its kernel crate generates its fused normal equations
+    /// (`KernelSpec::with_normal_equations()`) and is built with its
+    /// `lanes` feature. Its variables are then held in their types' stored
+    /// scalars and retracted by their own manifolds, not apex-solver's; a
+    /// file whose factors are not all registered so goes to apex-solver
+    /// (`--solver auto`, saying why) or is refused (`--solver schur`).
+    /// Only in a build with `slamjac`'s feature `solve`.
+    #[cfg(feature = "solve")]
+    pub fn solve_with_schur<F>(self) -> Self
+    where
+        F: HostKernel<Apex> + factor_core::WithKernel + Send + Sync + 'static,
+        F::Kernel: factor_lanes::NormalKernel<factor_schur::problem::Lane>
+            + factor_lanes::NormalKernel<f64>,
+    {
+        let mut registry = self.solve_with_kernel::<F>();
+        registry.entry::<F>().schur = Some(crate::schur_assembly::add_schur::<F>);
+        registry
     }
 
     /// Adds factor `F` (as [`Registry::with`]) and lets `solve` read it

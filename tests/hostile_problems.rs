@@ -139,13 +139,18 @@ fn a_factor_on_one_variable_twice_is_refused() {
 fn options_a_problem_file_cannot_honour_are_refused() {
     let dir = temp_dir("options");
     let path = written(&dir, "tri.json", &triangulation());
+    let poses = written(&dir, "poses.json", &two_poses(true, false));
+    assert_error(
+        &slamjac(&["solve", text(&poses), "--solver", "schur"]),
+        2,
+        &[
+            "--solver schur cannot take this problem file: the factor \"g2o_se3\" has no fused \
+           normal-equation kernel",
+        ],
+    );
     for (options, needle) in [
         (
-            &["--solver", "schur"][..],
-            "--solver schur: a problem file is solved by apex-solver",
-        ),
-        (
-            &["--factors", "documents"],
+            &["--factors", "documents"][..],
             "--factors documents: only for g2o line and plane graphs",
         ),
         (

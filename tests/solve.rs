@@ -202,6 +202,45 @@ fn the_schur_solver_is_chosen_where_it_applies() {
     assert_error(&output, 2, &["generated kernels"]);
 }
 
+/// A problem file of the documents' factors (`synth-plp`'s default room,
+/// seed 2: points, orthonormal lines, planes with a full noise model) goes
+/// to the Schur-complement solver by default, printing it in the header,
+/// and reaches apex-solver's optimum (or lower) with the same trajectory
+/// errors; `--solver schur` on a file it cannot take is a one-line error.
+#[test]
+fn problem_files_take_the_schur_solver_and_agree_with_apex() {
+    let dir = temp_dir("plp_schur");
+    let file = dir.join("room.json");
+    let file = file.to_str().unwrap();
+    solve_ok(&["synth-plp", "--seed", "2", "--output", file]);
+    let schur = solve_ok(&["solve", file]);
+    let apex = solve_ok(&["solve", file, "--solver", "apex", "--max-iterations", "500"]);
+    assert!(
+        stdout(&schur).contains("(problem file)") && stdout(&schur).contains("Schur complement"),
+        "{}",
+        stdout(&schur)
+    );
+    assert!(stdout(&apex).contains("(apex-solver)"), "{}", stdout(&apex));
+    let (a, b) = (costs(&schur), costs(&apex));
+    assert_relative(a.0, b.0, 1e-12, "initial cost");
+    assert!(
+        a.1 <= b.1 * (1.0 + 1e-6),
+        "final cost {} against apex's {}",
+        a.1,
+        b.1
+    );
+    let ate = |output: &Output| -> String {
+        let text = stdout(output);
+        let line = text
+            .lines()
+            .find(|l| l.contains("ATE RMSE"))
+            .expect("an ATE line");
+        line.to_owned()
+    };
+    assert_eq!(ate(&schur), ate(&apex));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--output` writes the optimized problem in the input's format: solving
 /// it again starts at the first solve's final cost. For every format.
 #[test]

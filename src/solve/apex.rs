@@ -5,13 +5,12 @@
 use factor_apex::built::Built;
 use factor_apex::problems::g2o_addons;
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
-use factor_apex::solve::{Outcome, SolveOptions, Verdict, solve};
+use factor_apex::solve::{Outcome, SolveOptions, solve};
 
 use super::truth::Truth;
-use super::{SolveArgs, at, finish, plot, problem_file, progress, report};
+use super::{SolveArgs, at, finish, finish_file, problem_file, progress, report};
 use crate::error::CliError;
 use crate::field_path::shown_path;
-use crate::outputs;
 use crate::registry::Registry;
 
 /// Builds, solves and reports `data` with apex-solver, against `truth`
@@ -63,38 +62,10 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
     ));
     let outcome = solve_built(args, built)?;
     let finished = finished(&problem.built, &outcome);
-    if let Verdict::Failed(why) = &finished.verdict {
-        return Err(CliError::Solve(at(
-            &args.file,
-            format!("the solve stopped on a failure: {why}; no output written"),
-        )));
-    }
-    problem
-        .check_solution(&outcome.values)
-        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
-    let truth = problem
-        .truth_errors(&outcome.values)
-        .transpose()
-        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
-    if let Some(path) = &args.plot {
-        let svg = plot::svg(path, finished.initial_cost, finished.history, None)?;
-        outputs::write(path, svg)?;
-    }
-    if let Some(path) = &args.output {
-        let text = crate::pretty::to_string(&problem.written(&outcome.values));
-        outputs::write(path, text + "\n")?;
-    }
-    let mut summary = report::summary(
-        &finished,
-        None,
-        args.output.as_deref(),
-        args.plot.as_deref(),
-    );
-    if let Some(errors) = truth {
-        summary.push('\n');
-        summary.push_str(&errors);
-    }
-    Ok(summary)
+    let written = problem.written(&outcome.values);
+    let check = || problem.check_solution(&outcome.values);
+    let truth = problem.truth_errors(&outcome.values);
+    finish_file(args, &finished, check, truth, &written)
 }
 
 fn build_options(args: &SolveArgs) -> BuildOptions {

@@ -10,6 +10,11 @@
 //!   `factor-schur` (module `schur`): the landmarks eliminated by a Schur
 //!   complement formed straight from the fused normal-equation kernels in
 //!   lane batches, the reduced system solved by faer's sparse Cholesky;
+//! - a problem file whose factors all have fused normal-equation kernels
+//!   (`Registry::solve_with_schur`) goes there too (module `schur_file`,
+//!   which chooses the variables to eliminate); one it cannot take goes to
+//!   apex-solver with the reason printed, or is refused with
+//!   `--solver schur`;
 //! - everything else, and any problem with `--solver apex` or
 //!   `--kernels dual`, goes to apex-solver through the generic adapter of
 //!   crate `factor-apex` (module `apex`).
@@ -37,6 +42,7 @@ pub mod problem_file;
 pub mod progress;
 pub mod report;
 mod schur;
+mod schur_file;
 pub mod track;
 pub mod truth;
 
@@ -57,8 +63,9 @@ use crate::registry::Registry;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SolverChoice {
     /// The Schur-complement solver where it applies (BAL, Bundler, KITTI
-    /// VO, g2o and EDGE3 pose graphs, with the generated kernels),
-    /// apex-solver elsewhere.
+    /// VO, g2o and EDGE3 pose graphs, problem files of factors with fused
+    /// normal-equation kernels, with the generated kernels), apex-solver
+    /// elsewhere.
     #[default]
     Auto,
     /// The Schur-complement solver (crate `factor-schur`).
@@ -190,16 +197,9 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
 }
 
 /// Refuses the options of `solve` that only data files have, given with a
-/// problem file: it is solved by apex-solver, names its own factors and
-/// carries its own truth.
+/// problem file: it names its own factors and carries its own truth.
 fn refuse_data_options(args: &SolveArgs) -> Result<(), CliError> {
-    let refused = if args.solver == SolverChoice::Schur {
-        Some(
-            "--solver schur: a problem file is solved by apex-solver (--solver apex or auto); \
-             the Schur-complement solver takes bundle adjustment, stereo VO and pose-graph \
-             files",
-        )
-    } else if args.landmarks == LandmarkFactors::Documents {
+    let refused = if args.landmarks == LandmarkFactors::Documents {
         Some(
             "--factors documents: only for g2o line and plane graphs; a problem file names \
              its factors",
@@ -213,16 +213,71 @@ fn refuse_data_options(args: &SolveArgs) -> Result<(), CliError> {
 }
 
 /// Solves the problem file `args.file` ([`problem_file`]) of the factors
-/// `registry` registered for `solve`, through apex-solver; errors and
-/// output as [`run`].
+/// `registry` registered for `solve`: through the Schur-complement solver
+/// when it can take the file (`schur_file`) unless `--solver apex`, else
+/// through apex-solver, saying why; errors and output as [`run`].
 ///
 /// # Errors
 ///
 /// As [`run`]; an entry naming a factor the registry does not solve is
-/// [`CliError::Input`] at its field path.
+/// [`CliError::Input`] at its field path; `--solver schur` on a file the
+/// Schur-complement solver cannot take is [`CliError::Usage`].
 pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String, CliError> {
     check_files(args, std::slice::from_ref(&args.file))?;
+    if args.solver != SolverChoice::Apex {
+        match schur_file::run(args, registry)? {
+            Ok(summary) => return Ok(summary),
+            Err(why) if args.solver == SolverChoice::Schur => {
+                return Err(CliError::Usage(at(
+                    &args.file,
+                    format!(
+                        "--solver schur cannot take this problem file: {why} (use --solver apex)"
+                    ),
+                )));
+            }
+            Err(why) => progress::print(&format!(
+                "{}: solved by apex-solver: the Schur-complement solver cannot take it ({why})",
+                crate::field_path::shown_path(&args.file)
+            )),
+        }
+    }
     apex::run_problem_file(args, registry)
+}
+
+/// The end of a problem file's solve, either path's: a failed solve
+/// refused, then the `check` of the solution, the `truth` errors, the
+/// plot, the file `written` back with the solution (`--output`) and the
+/// summary. Nothing is written after a failure.
+fn finish_file(
+    args: &SolveArgs,
+    finished: &report::Finished<'_>,
+    check: impl FnOnce() -> Result<(), String>,
+    truth: Option<Result<String, String>>,
+    written: &serde_json::Value,
+) -> Result<String, CliError> {
+    if let Verdict::Failed(why) = &finished.verdict {
+        return Err(CliError::Solve(at(
+            &args.file,
+            format!("the solve stopped on a failure: {why}; no output written"),
+        )));
+    }
+    let refused =
+        |why: String| CliError::Solve(at(&args.file, format!("{why}; no output written")));
+    check().map_err(refused)?;
+    let truth = truth.transpose().map_err(refused)?;
+    if let Some(path) = &args.plot {
+        let svg = plot::svg(path, finished.initial_cost, finished.history, None)?;
+        outputs::write(path, svg)?;
+    }
+    if let Some(path) = &args.output {
+        outputs::write(path, crate::pretty::to_string(written) + "\n")?;
+    }
+    let mut summary = report::summary(finished, None, args.output.as_deref(), args.plot.as_deref());
+    if let Some(errors) = truth {
+        summary.push('\n');
+        summary.push_str(&errors);
+    }
+    Ok(summary)
 }
 
 /// The end of either path: the verdict, the errors against the ground

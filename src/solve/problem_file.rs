@@ -81,7 +81,7 @@ pub struct FileProblem {
 
 /// What `solve` knows of the factor `factor` of `registry`: those
 /// registered for `solve` (an error at `path` for any other).
-fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputError> {
+pub(super) fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputError> {
     let entry = registry.find(factor, path)?;
     if entry.solve.is_none() {
         return Err(InputError::new(
@@ -172,7 +172,7 @@ pub fn read(
 /// Why the checked file has nothing to solve, if it has not: no factor, or
 /// every variable held fixed (every variable is used by a factor, so a
 /// factor on fixed variables only is among these).
-fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
+pub(super) fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
     if checked.entries.is_empty() {
         Some("the problem has no factors".into())
     } else if checked.fixed.len() == checked.declared.len() {
@@ -336,7 +336,7 @@ fn add_entry(
 
 /// The JSON of stored scalars `stored` of a value of field `field`, in the
 /// form the file reads (its input layout).
-fn value_json(field: &FieldInfo, stored: &[f64]) -> Value {
+pub(super) fn value_json(field: &FieldInfo, stored: &[f64]) -> Value {
     let input = if field.input_layout == field.layout {
         stored.to_vec()
     } else {

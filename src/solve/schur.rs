@@ -73,7 +73,7 @@ pub(super) fn run(
 }
 
 /// Where the solve's time went: the fused kernels' share, and each part.
-fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
+pub(super) fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / elapsed.as_secs_f64().max(1e-12);
     vec![
         format!(

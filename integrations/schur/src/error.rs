@@ -36,6 +36,12 @@ pub enum SchurError {
         first: String,
         second: String,
     },
+    /// A noise model that does not fit the factor's residual.
+    #[error("{factor}: {message}")]
+    Noise {
+        factor: &'static str,
+        message: String,
+    },
     /// A variable id that is not the problem's.
     #[error("variable {0} does not exist")]
     UnknownVariable(usize),

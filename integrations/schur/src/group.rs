@@ -14,12 +14,16 @@ use std::marker::PhantomData;
 use std::ops::Range;
 use std::time::{Duration, Instant};
 
-use factor_batch::{Columns, NormalColumns, Options, pairs};
+use factor_apex::builder::Noise;
+use factor_apex::problems::Robust;
+use factor_batch::{Columns, JacobianColumns, NormalColumns, Options, pairs};
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
 
 use crate::layout::{Lane, MAX_SCALARS, MAX_SLOTS, SlotInfo, Topology};
+use crate::noise::Whitening;
 use crate::structure::{Role, Structure};
+use crate::whitened;
 
 /// Factors per call of the batch kernel: the inputs and the 91 output
 /// columns of a Snavely chunk (about 200 KB) stay in the L2 cache, and the
@@ -240,7 +244,9 @@ impl Sink<'_> {
 /// The factors of one type, behind an object-safe interface.
 pub(crate) trait Group: Topology + Send + Sync {
     fn as_any_mut(&mut self) -> &mut dyn Any;
-    /// `‖rᵢ‖²` of factors `range` into `squared` (NaN for a factor whose
+    /// Every factor's own loss (`None`: the problem's), in order.
+    fn losses(&self) -> &[Option<Robust>];
+    /// `‖Sᵢ rᵢ‖²` of factors `range` into `squared` (NaN for a factor whose
     /// configuration is degenerate, counted in `rejected`).
     fn evaluate(
         &self,
@@ -249,8 +255,8 @@ pub(crate) trait Group: Topology + Send + Sync {
         squared: &mut [f64],
         rejected: &mut Rejected,
     );
-    /// The normal equations of factors `range` (weights `ρ'(‖rᵢ‖²)`, or 1),
-    /// added into `sink`.
+    /// The whitened normal equations of factors `range` (weights
+    /// `ρ'(‖Sᵢ rᵢ‖²)`, or 1), added into `sink`.
     fn linearize(
         &self,
         range: Range<usize>,
@@ -294,6 +300,8 @@ pub(crate) struct FactorGroup<F> {
     targets: Vec<u32>,
     /// The first factor's stored scalars: a factor to retract variables with.
     template: Vec<f64>,
+    whitening: Whitening,
+    losses: Vec<Option<Robust>>,
     _factor: PhantomData<fn() -> F>,
 }
 
@@ -329,12 +337,34 @@ impl<F: Factor> FactorGroup<F> {
             ids: Vec::new(),
             targets: Vec::new(),
             template: Vec::new(),
+            whitening: Whitening::new(),
+            losses: Vec::new(),
             _factor: PhantomData,
         }
     }
 
-    /// Appends `factor` (its constants) on the variables `ids`.
-    pub(crate) fn push(&mut self, factor: &F, ids: &[u32]) {
+    /// Whether `noise` fits `F`'s residual (what [`FactorGroup::push`]
+    /// would refuse).
+    pub(crate) fn check_noise(&self, noise: &Noise) -> Result<(), String> {
+        Whitening::new().push(noise, F::RESIDUAL_DIM, 0)
+    }
+
+    /// Appends `factor` (its constants) on the variables `ids`, with its
+    /// noise model and its own loss (`None`: the problem's).
+    ///
+    /// # Errors
+    ///
+    /// A noise model that does not fit the residual (nothing is added).
+    pub(crate) fn push(
+        &mut self,
+        factor: &F,
+        ids: &[u32],
+        noise: &Noise,
+        robust: Option<Robust>,
+    ) -> Result<(), String> {
+        let count = self.losses.len();
+        self.whitening.push(noise, F::RESIDUAL_DIM, count)?;
+        self.losses.push(robust);
         let mut stored = [0.0; MAX_SCALARS];
         let stored = &mut stored[..F::SCALARS];
         factor.write_scalars(stored);
@@ -348,6 +378,7 @@ impl<F: Factor> FactorGroup<F> {
         if self.template.is_empty() {
             self.template = stored.to_vec();
         }
+        Ok(())
     }
 
     /// Factors `range` gathered into `inputs` (one column per stored
@@ -393,6 +424,54 @@ impl<F: Factor> FactorGroup<F> {
             }
         }
     }
+
+    /// Adds the normal blocks of factors `at..at + n` (`gradient[slot]`
+    /// and `hessian[pair]`, one column per entry, a row per factor as the
+    /// batch kernels lay them out) into `sink`, by their variables' roles.
+    fn scatter(
+        &self,
+        at: usize,
+        n: usize,
+        gradient: &[Vec<&[f64]>],
+        hessian: &[Vec<&[f64]>],
+        structure: &Structure,
+        sink: &mut Sink<'_>,
+    ) {
+        let k = self.tangents.len();
+        let n_pairs = k * (k - 1) / 2;
+        let pairs = pairs(k);
+        for row in 0..n {
+            let i = at + row;
+            let mut roles = [Role::Fixed; MAX_SLOTS];
+            for (role, &id) in roles.iter_mut().zip(&self.ids[i * k..(i + 1) * k]) {
+                *role = structure.roles[id as usize];
+                if let Role::Eliminated { index } = *role {
+                    sink.clear_through(index as usize, structure);
+                }
+            }
+            for slot in 0..k {
+                sink.add_gradient(roles[slot], &gradient[slot], row, structure);
+            }
+            let targets = &self.targets[i * n_pairs..(i + 1) * n_pairs];
+            let mut off = 0;
+            for (&(si, sj), h) in pairs.iter().zip(hessian) {
+                if si == sj {
+                    sink.add_diagonal(roles[si], self.tangents[si], h, row, structure);
+                } else {
+                    let (di, dj) = (self.tangents[si], self.tangents[sj]);
+                    sink.add_pair(
+                        (roles[si], di),
+                        (roles[sj], dj),
+                        targets[off],
+                        h,
+                        row,
+                        structure,
+                    );
+                    off += 1;
+                }
+            }
+        }
+    }
 }
 
 impl<F: Factor> Topology for FactorGroup<F> {
@@ -428,6 +507,8 @@ impl<F: Factor> Topology for FactorGroup<F> {
             .iter()
             .flat_map(|&i| self.constants[i * c..(i + 1) * c].iter().copied());
         self.constants = constants.collect();
+        self.losses = order.iter().map(|&i| self.losses[i]).collect();
+        self.whitening.reorder(order);
     }
 
     fn set_targets(&mut self, targets: Vec<u32>) {
@@ -444,6 +525,10 @@ where
         self
     }
 
+    fn losses(&self) -> &[Option<Robust>] {
+        &self.losses
+    }
+
     fn evaluate(
         &self,
         range: Range<usize>,
@@ -456,7 +541,6 @@ where
         // shorter (a small problem allocates no more than it uses).
         let mut size = CHUNK.min(range.len());
         let mut inputs = Columns::zeros(F::SCALARS, size);
-        let mut outputs = NormalColumns::new::<F>(size, &none);
         let mut bad = [false; CHUNK];
         let mut at = range.start;
         while at < range.end {
@@ -464,7 +548,6 @@ where
             if n != size {
                 size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
-                outputs = NormalColumns::new::<F>(n, &none);
             }
             bad[..n].fill(false);
             self.gather_chunk(
@@ -473,12 +556,39 @@ where
                 &mut inputs,
                 Some((rejected, &mut bad[..n])),
             );
-            factor_batch::normal::<F, Lane>(&inputs, None, &mut outputs, Options::default())
-                .expect("the columns fit the factor");
-            let cost = outputs.cost.column(0);
-            for r in 0..n {
-                // The kernel's cost is ½ rᵀr (weight 1).
-                squared[at - range.start + r] = if bad[r] { f64::NAN } else { 2.0 * cost[r] };
+            let out = &mut squared[at - range.start..at - range.start + n];
+            match &self.whitening {
+                Whitening::Scales(scales) => {
+                    let mut outputs = NormalColumns::new::<F>(n, &none);
+                    let w = (!scales.is_empty()).then(|| &scales[at..at + n]);
+                    factor_batch::normal::<F, Lane>(&inputs, w, &mut outputs, Options::default())
+                        .expect("the columns fit the factor");
+                    // The kernel's cost is ½ w rᵀr = ½ ‖S r‖².
+                    for (s, c) in out.iter_mut().zip(outputs.cost.column(0)) {
+                        *s = 2.0 * c;
+                    }
+                }
+                Whitening::Full { dim, s } => {
+                    let mut outputs = JacobianColumns::new::<F>(n, &none);
+                    factor_batch::linearize::<F, Lane>(&inputs, &mut outputs, Options::default())
+                        .expect("the columns fit the factor");
+                    let residual: Vec<&[f64]> = outputs.residual.columns().collect();
+                    for (row, squared) in out.iter_mut().enumerate() {
+                        let s = &s[(at + row) * dim * dim..(at + row + 1) * dim * dim];
+                        *squared = (0..*dim)
+                            .map(|a| {
+                                let sr: f64 =
+                                    (0..*dim).map(|b| s[a * dim + b] * residual[b][row]).sum();
+                                sr * sr
+                            })
+                            .sum();
+                    }
+                }
+            }
+            for (s, bad) in out.iter_mut().zip(&bad[..n]) {
+                if *bad {
+                    *s = f64::NAN;
+                }
             }
             at += n;
         }
@@ -492,76 +602,59 @@ where
         structure: &Structure,
         sink: &mut Sink<'_>,
     ) {
-        let k = self.tangents.len();
-        let n_pairs = k * (k - 1) / 2;
-        let pairs = pairs(k);
+        // Columns of a whole chunk, or of the whole range when it is
+        // shorter (a small problem allocates no more than it uses).
         let mut size = CHUNK.min(range.len());
         let mut inputs = Columns::zeros(F::SCALARS, size);
-        let mut outputs = NormalColumns::new::<F>(size, &[]);
         let mut at = range.start;
         while at < range.end {
             let n = CHUNK.min(range.end - at);
             if n != size {
                 size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
-                outputs = NormalColumns::new::<F>(n, &[]);
             }
             self.gather_chunk(at..at + n, values, &mut inputs, None);
             let w = weights.map(|w| &w[at - range.start..at - range.start + n]);
             let start = Instant::now();
-            factor_batch::normal::<F, Lane>(&inputs, w, &mut outputs, Options::default())
-                .expect("the columns fit the factor");
-            sink.kernels += start.elapsed();
-            // Every output column: the gradient blocks, then the Hessian's.
-            let gradient: Vec<Vec<&[f64]>> = outputs
-                .gradient
-                .iter()
-                .map(|g| {
-                    g.as_ref()
-                        .expect("every block computed")
-                        .columns()
-                        .collect()
-                })
-                .collect();
-            let hessian: Vec<Vec<&[f64]>> = outputs
-                .hessian
-                .iter()
-                .map(|h| {
-                    h.as_ref()
-                        .expect("every block computed")
-                        .columns()
-                        .collect()
-                })
-                .collect();
-            for row in 0..n {
-                let i = at + row;
-                let mut roles = [Role::Fixed; MAX_SLOTS];
-                for (role, &id) in roles.iter_mut().zip(&self.ids[i * k..(i + 1) * k]) {
-                    *role = structure.roles[id as usize];
-                    if let Role::Eliminated { index } = *role {
-                        sink.clear_through(index as usize, structure);
-                    }
+            match &self.whitening {
+                Whitening::Scales(scales) => {
+                    // The weight is the loss's times the isotropic 1/σ².
+                    let combined: Option<Vec<f64>> = match (w, scales.is_empty()) {
+                        (None, true) => None,
+                        (Some(w), true) => Some(w.to_vec()),
+                        (w, false) => Some(
+                            (0..n)
+                                .map(|r| w.map_or(1.0, |w| w[r]) * scales[at + r])
+                                .collect(),
+                        ),
+                    };
+                    let mut outputs = NormalColumns::new::<F>(n, &[]);
+                    factor_batch::normal::<F, Lane>(
+                        &inputs,
+                        combined.as_deref(),
+                        &mut outputs,
+                        Options::default(),
+                    )
+                    .expect("the columns fit the factor");
+                    sink.kernels += start.elapsed();
+                    let (g, h) = (columns(&outputs.gradient), columns(&outputs.hessian));
+                    self.scatter(at, n, &g, &h, structure, sink);
                 }
-                for slot in 0..k {
-                    sink.add_gradient(roles[slot], &gradient[slot], row, structure);
-                }
-                let targets = &self.targets[i * n_pairs..(i + 1) * n_pairs];
-                let mut off = 0;
-                for (&(si, sj), h) in pairs.iter().zip(&hessian) {
-                    if si == sj {
-                        sink.add_diagonal(roles[si], self.tangents[si], h, row, structure);
-                    } else {
-                        let (di, dj) = (self.tangents[si], self.tangents[sj]);
-                        sink.add_pair(
-                            (roles[si], di),
-                            (roles[sj], dj),
-                            targets[off],
-                            h,
-                            row,
-                            structure,
-                        );
-                        off += 1;
-                    }
+                Whitening::Full { dim, s } => {
+                    let mut outputs = JacobianColumns::new::<F>(n, &[]);
+                    factor_batch::linearize::<F, Lane>(&inputs, &mut outputs, Options::default())
+                        .expect("the columns fit the factor");
+                    sink.kernels += start.elapsed();
+                    let (g, h) = whitened::normal_columns(
+                        &outputs,
+                        &self.tangents,
+                        *dim,
+                        &s[at * dim * dim..(at + n) * dim * dim],
+                        w,
+                    );
+                    let g: Vec<Vec<&[f64]>> = g.iter().map(|b| b.chunks(n).collect()).collect();
+                    let h: Vec<Vec<&[f64]>> = h.iter().map(|b| b.chunks(n).collect()).collect();
+                    self.scatter(at, n, &g, &h, structure, sink);
                 }
             }
             at += n;
@@ -585,4 +678,17 @@ where
             .write_scalars(row);
         out.copy_from_slice(&row[start..start + scalars]);
     }
+}
+
+/// Every column of each computed block.
+fn columns(blocks: &[Option<Columns<f64>>]) -> Vec<Vec<&[f64]>> {
+    blocks
+        .iter()
+        .map(|c| {
+            c.as_ref()
+                .expect("every block computed")
+                .columns()
+                .collect()
+        })
+        .collect()
 }

@@ -7,7 +7,8 @@
 //! - [`problem`]: a [`Problem`] of variables (held fixed or eliminated) and
 //!   factors of any type derived with `#[derive(Factor)]` whose kernel has
 //!   normal equations (`factor_core::WithKernel`, the kernel crate's `lanes`
-//!   feature);
+//!   feature), each with its noise model (`Σ ½ ρ(‖S r‖²)`: [`noise`]) and
+//!   optionally its own robust loss;
 //! - [`solve`]: the iteration ([`lm`]), reporting each iteration as
 //!   `factor_apex::solve::Iteration`, so that `slamjac solve` prints the
 //!   same lines whichever path solves;
@@ -47,6 +48,7 @@ mod error;
 mod group;
 mod layout;
 pub mod lm;
+mod noise;
 mod ordering;
 mod partition;
 mod passes;
@@ -56,6 +58,7 @@ mod reduced;
 mod robust;
 mod schur;
 mod structure;
+mod whitened;
 
 pub use error::SchurError;
 pub use lm::{Outcome, Profile, SolveError, Solver, solve};

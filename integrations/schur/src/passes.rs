@@ -23,7 +23,6 @@ pub(crate) fn evaluate(
     partition: &Partition,
     squared: &mut [Vec<f64>],
 ) -> (f64, Rejected) {
-    let robust = problem.robust;
     let mut cost = 0.0;
     let mut rejected = Rejected::default();
     for ((group, cuts), squared) in problem.groups.iter().zip(&partition.factors).zip(squared) {
@@ -33,8 +32,14 @@ pub(crate) fn evaluate(
             .enumerate()
             .map(|(t, part)| {
                 let mut rejected = Rejected::default();
-                group.evaluate(cuts[t]..cuts[t + 1], values, part, &mut rejected);
-                let cost: f64 = part.iter().map(|&s| 0.5 * robust::loss(robust, s)).sum();
+                let range = cuts[t]..cuts[t + 1];
+                let losses = &group.losses()[range.clone()];
+                group.evaluate(range, values, part, &mut rejected);
+                let cost: f64 = part
+                    .iter()
+                    .zip(losses)
+                    .map(|(&s, own)| 0.5 * robust::loss(own.or(problem.robust), s))
+                    .sum();
                 (cost, rejected)
             })
             .collect();
@@ -46,15 +51,20 @@ pub(crate) fn evaluate(
     (cost, rejected)
 }
 
-/// The IRLS weights `ρ'(‖rᵢ‖²)` of a group's factors, or `None` (all 1)
-/// for least squares.
-fn weights(robust: Option<Robust>, squared: &[f64]) -> Option<Vec<f64>> {
-    robust.map(|r| {
+/// The IRLS weights `ρ'(‖Sᵢ rᵢ‖²)` of a group's factors (each its own
+/// loss, or the problem's `robust`), or `None` (all 1) when every factor
+/// is plain least squares.
+fn weights(robust: Option<Robust>, losses: &[Option<Robust>], squared: &[f64]) -> Option<Vec<f64>> {
+    if robust.is_none() && losses.iter().all(Option::is_none) {
+        return None;
+    }
+    Some(
         squared
             .par_iter()
-            .map(|&s| robust::weight(Some(r), s))
-            .collect()
-    })
+            .zip(losses)
+            .map(|(&s, own)| robust::weight(own.or(robust), s))
+            .collect(),
+    )
 }
 
 /// The normal equations at `values` into `normal`, each factor weighted by
@@ -72,8 +82,11 @@ pub(crate) fn linearize(
     let bounds = &partition.eliminated;
     let parts = partition.parts();
     let at = |offsets: &[usize]| -> Vec<usize> { bounds.iter().map(|&b| offsets[b]).collect() };
-    let weights: Vec<Option<Vec<f64>>> =
-        squared.iter().map(|s| weights(problem.robust, s)).collect();
+    let weights: Vec<Option<Vec<f64>>> = squared
+        .iter()
+        .zip(&problem.groups)
+        .map(|(s, group)| weights(problem.robust, group.losses(), s))
+        .collect();
     // The eliminated variables' data are zeroed as they are reached.
     normal.u.fill(0.0);
     normal.diagonal.fill(0.0);

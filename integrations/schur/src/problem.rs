@@ -4,6 +4,7 @@
 
 use std::any::{Any, TypeId};
 
+use factor_apex::builder::Noise;
 use factor_apex::problems::Robust;
 use factor_apex::solve::Damping;
 use factor_core::WithKernel;
@@ -58,7 +59,8 @@ impl Problem {
         Structure::build(&mut self.variables, &mut self.values, &mut self.groups)
     }
 
-    /// A robust loss on every factor, or plain least squares.
+    /// A robust loss on every factor without its own, or plain least
+    /// squares.
     pub fn set_robust(&mut self, robust: Option<Robust>) {
         self.robust = robust;
     }
@@ -117,14 +119,41 @@ impl Problem {
     }
 
     /// Adds `factor` on `variables` (one per variable of `F`, in declaration
-    /// order). Its constants are kept; its variables' values are the
-    /// problem's ([`Problem::add_variable`]).
+    /// order), unwhitened, under the problem's loss. Its constants are
+    /// kept; its variables' values are the problem's
+    /// ([`Problem::add_variable`]).
     ///
     /// # Errors
     ///
     /// A count or size that does not fit `F`, a variable named twice, or a
     /// variable whose chart differs from another factor's.
     pub fn add<F>(&mut self, factor: &F, variables: &[VariableId]) -> Result<(), SchurError>
+    where
+        F: WithKernel + Send + Sync + 'static,
+        F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+    {
+        self.add_weighted(factor, variables, &Noise::Unit, None)
+    }
+
+    /// Adds `factor` as [`Problem::add`] does, its cost `½ ρ(‖S r‖²)` with
+    /// `S` the square-root information of `noise` and `ρ` its own loss
+    /// `robust` (the problem's when `None`). Isotropic noise keeps the
+    /// fused kernels; per-component or full noise on a factor type makes
+    /// that type's factors go through the Jacobian kernel, whitened
+    /// ([`crate::noise`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`Problem::add`], and a noise model that does not fit the
+    /// residual (a count of deviations, a shape, a deviation not finite
+    /// and above 0, an entry not finite).
+    pub fn add_weighted<F>(
+        &mut self,
+        factor: &F,
+        variables: &[VariableId],
+        noise: &Noise,
+        robust: Option<Robust>,
+    ) -> Result<(), SchurError>
     where
         F: WithKernel + Send + Sync + 'static,
         F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
@@ -146,11 +175,24 @@ impl Problem {
                 });
             }
         }
+        for id in variables {
+            if id.index() >= self.variables.len() {
+                return Err(SchurError::UnknownVariable(id.index()));
+            }
+        }
+        // Nothing is recorded before the noise model is known to fit.
+        let ids: Vec<u32> = variables.iter().map(|v| v.0).collect();
+        let any: &mut dyn Any = self.groups[group].as_any_mut();
+        any.downcast_mut::<FactorGroup<F>>()
+            .expect("the group of F's type holds F")
+            .check_noise(noise)
+            .map_err(|message| SchurError::Noise {
+                factor: F::NAME,
+                message,
+            })?;
+        let slots = self.groups[group].slot_info();
         for (slot, (id, info)) in variables.iter().zip(slots).enumerate() {
-            let variable = self
-                .variables
-                .get_mut(id.index())
-                .ok_or(SchurError::UnknownVariable(id.index()))?;
+            let variable = &mut self.variables[id.index()];
             if variable.scalars != info.scalars {
                 return Err(SchurError::Scalars {
                     factor: F::NAME,
@@ -182,12 +224,14 @@ impl Problem {
                 }
             }
         }
-        let ids: Vec<u32> = variables.iter().map(|v| v.0).collect();
         let any: &mut dyn Any = self.groups[group].as_any_mut();
         any.downcast_mut::<FactorGroup<F>>()
             .expect("the group of F's type holds F")
-            .push(factor, &ids);
-        Ok(())
+            .push(factor, &ids, noise, robust)
+            .map_err(|message| SchurError::Noise {
+                factor: F::NAME,
+                message,
+            })
     }
 
     /// The index of the group of `F`, created if new.

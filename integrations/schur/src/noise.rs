@@ -1,0 +1,172 @@
+//! The noise models of a group's factors: the cost of factor `i` is
+//! `½ ρ(‖Sᵢ rᵢ‖²)` with `Sᵢ` its square-root information
+//! (`factor_apex::builder::Noise`, the vocabulary of the general path).
+//!
+//! A fused kernel yields `Jᵀ w J`, `Jᵀ w r` and `½ w rᵀr` for a scalar
+//! weight `w`, never `Jᵀ SᵀS J`; so
+//!
+//! - while every factor of the group is unit or isotropic (`S = I / σ`),
+//!   the noise is the scalar `1/σ²` folded into the kernel's weight
+//!   ([`Whitening::Scales`]): the fused kernels run unchanged;
+//! - once one factor has per-component deviations or a full `S`, every
+//!   factor of the group keeps its `S` ([`Whitening::Full`]) and the group
+//!   linearizes through the per-lane Jacobian kernel, whitening `r` and `J`
+//!   before it forms the normal blocks (`group::whitened`). Such factors
+//!   are few in the problems here (one per plane seen by a camera).
+
+use factor_apex::builder::Noise;
+
+/// The group's noise models, one per factor, in its factors' order.
+#[derive(Debug, Clone)]
+pub(crate) enum Whitening {
+    /// `Sᵢ = √scaleᵢ · I`; empty while every factor is unit.
+    Scales(Vec<f64>),
+    /// Each factor's `S`, `dim × dim` row-major, end to end.
+    Full { dim: usize, s: Vec<f64> },
+}
+
+impl Whitening {
+    pub(crate) fn new() -> Self {
+        Whitening::Scales(Vec::new())
+    }
+
+    /// Appends the noise of the `count`-th factor (those before it are
+    /// already pushed), whose residual has `dim` entries.
+    ///
+    /// # Errors
+    ///
+    /// A model that does not fit the residual, or a deviation or entry
+    /// that is not finite (a deviation must be above 0).
+    pub(crate) fn push(&mut self, noise: &Noise, dim: usize, count: usize) -> Result<(), String> {
+        let deviation = |sigma: f64| {
+            if sigma.is_finite() && sigma > 0.0 {
+                Ok(sigma)
+            } else {
+                Err(format!(
+                    "standard deviation {sigma} is not a finite number above 0"
+                ))
+            }
+        };
+        let s: Vec<f64> = match noise {
+            Noise::Unit | Noise::Sigma(_) => {
+                let scale = match noise {
+                    Noise::Sigma(sigma) => deviation(*sigma)?.powi(-2),
+                    _ => 1.0,
+                };
+                match self {
+                    Whitening::Scales(scales) => {
+                        if scale != 1.0 && scales.is_empty() {
+                            scales.resize(count, 1.0);
+                        }
+                        if !scales.is_empty() {
+                            scales.push(scale);
+                        }
+                    }
+                    Whitening::Full { s, .. } => s.extend(diagonal(&vec![scale.sqrt(); dim])),
+                }
+                return Ok(());
+            }
+            Noise::Sigmas(sigmas) => {
+                if sigmas.len() != dim {
+                    return Err(format!(
+                        "{} standard deviations for a residual of {dim}",
+                        sigmas.len()
+                    ));
+                }
+                let inverse: Result<Vec<f64>, String> = sigmas
+                    .iter()
+                    .map(|&x| deviation(x).map(|x| 1.0 / x))
+                    .collect();
+                diagonal(&inverse?)
+            }
+            Noise::SqrtInformation(m) => {
+                if m.shape() != (dim, dim) {
+                    return Err(format!(
+                        "square-root information is {}×{}, the residual has {dim} components",
+                        m.nrows(),
+                        m.ncols()
+                    ));
+                }
+                if m.iter().any(|x| !x.is_finite()) {
+                    return Err("a square-root information entry is not finite".into());
+                }
+                (0..dim)
+                    .flat_map(|r| (0..dim).map(move |c| m[(r, c)]))
+                    .collect()
+            }
+        };
+        if let Whitening::Scales(scales) = self {
+            // Every factor so far as its S = √scale · I.
+            let before: Vec<f64> = if scales.is_empty() {
+                vec![1.0; count]
+            } else {
+                std::mem::take(scales)
+            };
+            let full = before
+                .iter()
+                .flat_map(|w| diagonal(&vec![w.sqrt(); dim]))
+                .collect();
+            *self = Whitening::Full { dim, s: full };
+        }
+        if let Whitening::Full { s: all, .. } = self {
+            all.extend(s);
+        }
+        Ok(())
+    }
+
+    /// Puts factor `order[i]`'s model at `i`.
+    pub(crate) fn reorder(&mut self, order: &[usize]) {
+        match self {
+            Whitening::Scales(scales) if !scales.is_empty() => {
+                *scales = order.iter().map(|&i| scales[i]).collect();
+            }
+            Whitening::Scales(_) => {}
+            Whitening::Full { dim, s } => {
+                let n = *dim * *dim;
+                *s = order
+                    .iter()
+                    .flat_map(|&i| s[i * n..(i + 1) * n].iter().copied())
+                    .collect();
+            }
+        }
+    }
+}
+
+/// The `d × d` diagonal matrix of `entries`, row-major.
+fn diagonal(entries: &[f64]) -> Vec<f64> {
+    let d = entries.len();
+    let mut m = vec![0.0; d * d];
+    for (k, x) in entries.iter().enumerate() {
+        m[k * d + k] = *x;
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn isotropic_models_stay_scales_until_a_full_one_comes() {
+        let mut w = Whitening::new();
+        w.push(&Noise::Unit, 2, 0).unwrap();
+        assert!(matches!(&w, Whitening::Scales(s) if s.is_empty()));
+        w.push(&Noise::Sigma(0.5), 2, 1).unwrap();
+        assert!(matches!(&w, Whitening::Scales(s) if s == &[1.0, 4.0]));
+        w.push(&Noise::Sigmas(vec![1.0, 0.25]), 2, 2).unwrap();
+        let Whitening::Full { dim: 2, s } = &w else {
+            panic!("{w:?}")
+        };
+        assert_eq!(
+            s,
+            &[1.0, 0.0, 0.0, 1.0, 2.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 4.0]
+        );
+        w.reorder(&[2, 0, 1]);
+        let Whitening::Full { s, .. } = &w else {
+            panic!("{w:?}")
+        };
+        assert_eq!(&s[..4], &[1.0, 0.0, 0.0, 4.0]);
+        assert!(w.push(&Noise::Sigma(0.0), 2, 3).is_err());
+        assert!(w.push(&Noise::Sigmas(vec![1.0]), 2, 3).is_err());
+    }
+}

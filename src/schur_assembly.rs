@@ -1,0 +1,157 @@
+//! How a problem file's factor entries become factors of a `factor-schur`
+//! problem (feature `solve`): the adder a registry keeps per factor whose
+//! generated kernel has fused normal equations ([`SchurAddFn`], filled by
+//! [`crate::registry::Registry::solve_with_schur`]), the problem variables
+//! they create (each held in its type's stored scalars and retracted by its
+//! own manifold), and what the observability check needs of each factor
+//! ([`Kept`]). `crate::solve::schur_file` drives it.
+
+use std::collections::HashMap;
+
+use factor_apex::builder::Noise;
+use factor_core::{FactorError, FieldInfo, WithKernel};
+use factor_lanes::NormalKernel;
+use factor_schur::problem::Lane;
+use factor_schur::{Problem, VariableId};
+use nalgebra::DMatrix;
+
+use crate::decode::decode;
+use crate::error::CliError;
+use crate::method::{Method, linearize};
+use crate::observability::tangent_columns;
+use crate::problem_assembly::Entry;
+
+/// A factor's whitened Jacobian over each of its variables' own tangents
+/// (`S J`, its blocks side by side) at its stored scalars.
+type JacobianAt = fn(&[f64], &DMatrix<f64>) -> Result<DMatrix<f64>, CliError>;
+
+/// A problem variable once a factor has created it.
+pub(crate) struct Created {
+    pub(crate) id: VariableId,
+    /// The factor variable it was created as (its layouts).
+    pub(crate) field: FieldInfo,
+    /// Its tangent coordinates' names (the observability check's columns).
+    pub(crate) columns: Vec<String>,
+}
+
+/// What the observability check keeps of a factor: its stored scalars at
+/// the initial values, where each variable's lie among them, its `S`.
+pub(crate) struct Kept {
+    pub(crate) stored: Vec<f64>,
+    pub(crate) variables: Vec<(VariableId, std::ops::Range<usize>)>,
+    pub(crate) sqrt_information: DMatrix<f64>,
+    pub(crate) jacobian: JacobianAt,
+}
+
+/// The Schur problem being assembled.
+#[derive(Default)]
+pub(crate) struct SchurAssembly {
+    pub(crate) problem: Problem,
+    pub(crate) created: HashMap<String, Created>,
+    pub(crate) kept: Vec<Kept>,
+    /// Factors with per-component or full noise (whitened through the
+    /// Jacobian kernel rather than the fused one).
+    pub(crate) whitened: usize,
+}
+
+/// How a registered factor is added from a problem file to a Schur
+/// problem ([`crate::registry::Registry::solve_with_schur`]).
+pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
+
+/// The square-root information of `noise` for a residual of `dim`
+/// entries (checked by the file's reader).
+pub(crate) fn sqrt_information(noise: &Noise, dim: usize) -> DMatrix<f64> {
+    match noise {
+        Noise::Unit => DMatrix::identity(dim, dim),
+        Noise::Sigma(sigma) => DMatrix::identity(dim, dim) / *sigma,
+        Noise::Sigmas(sigmas) => DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+            dim,
+            sigmas.iter().map(|s| 1.0 / s),
+        )),
+        Noise::SqrtInformation(s) => s.clone(),
+    }
+}
+
+/// [`JacobianAt`] of `F`, by its generated kernel.
+fn jacobian_at<F: WithKernel>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatrix<f64>, CliError> {
+    let factor = F::from_scalars(stored);
+    let (linearization, _) = linearize(&factor, Method::Generated)?;
+    let blocks: Vec<DMatrix<f64>> = linearization.jacobians.iter().map(|j| s * j).collect();
+    let columns: usize = blocks.iter().map(|b| b.ncols()).sum();
+    let mut whole = DMatrix::zeros(s.nrows(), columns);
+    let mut at = 0;
+    for b in blocks {
+        whole.columns_mut(at, b.ncols()).copy_from(&b);
+        at += b.ncols();
+    }
+    Ok(whole)
+}
+
+/// [`SchurAddFn`] of `F`: decodes it, creates its variables at the first
+/// factor that names them, and adds it with its noise and loss. A variable
+/// whose chart differs between factors is refused by
+/// [`Problem::add_weighted`] (`SchurError::Chart`).
+pub(crate) fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
+where
+    F: WithKernel + Send + Sync + 'static,
+    F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+{
+    let factor: F = decode(entry.variables, entry.constants)?;
+    // Validated, finite at the initial values, and a finite whitened cost
+    // (what the apex path's builder checks).
+    let (linearization, _) = linearize(&factor, Method::Generated)?;
+    let s = sqrt_information(entry.noise, F::RESIDUAL_DIM);
+    if !(&s * &linearization.residual).norm_squared().is_finite() {
+        return Err(CliError::Factor(FactorError::NonFinite {
+            factor: F::NAME,
+            what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
+        }));
+    }
+    let mut stored = vec![0.0; F::SCALARS];
+    factor.write_scalars(&mut stored);
+    // Each variable's range among the stored scalars.
+    let mut ranges = vec![0..0; entry.names.len()];
+    let mut start = 0;
+    for field in F::fields() {
+        if let Some(k) = field.variable {
+            ranges[k] = start..start + field.scalars;
+        }
+        start += field.scalars;
+    }
+    let infos = F::variables();
+    let fields = F::fields();
+    let mut ids = Vec::with_capacity(ranges.len());
+    for (k, (_, name)) in entry.names.iter().enumerate() {
+        let id = match assembly.created.get(name) {
+            Some(created) => created.id,
+            None => {
+                let id = assembly.problem.add_variable(&stored[ranges[k].clone()]);
+                let field = fields
+                    .iter()
+                    .find(|f| f.variable == Some(k))
+                    .cloned()
+                    .expect("every variable is a field");
+                let columns = tangent_columns(infos[k].tangent, infos[k].tangent_dim);
+                assembly
+                    .created
+                    .insert(name.clone(), Created { id, field, columns });
+                id
+            }
+        };
+        ids.push(id);
+    }
+    assembly
+        .problem
+        .add_weighted(&factor, &ids, entry.noise, entry.loss)
+        .map_err(|e| CliError::Solve(e.to_string()))?;
+    if matches!(entry.noise, Noise::Sigmas(_) | Noise::SqrtInformation(_)) {
+        assembly.whitened += 1;
+    }
+    assembly.kept.push(Kept {
+        stored,
+        variables: ids.into_iter().zip(ranges).collect(),
+        sqrt_information: s,
+        jacobian: jacobian_at::<F>,
+    });
+    Ok(())
+}

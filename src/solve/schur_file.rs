@@ -1,0 +1,268 @@
+//! A problem file through the Schur-complement solver (crate
+//! `factor-schur`), the default for a file it can take (`--solver auto`):
+//! every factor registered with [`Registry::solve_with_schur`] (a fused
+//! normal-equation kernel), the generated kernels asked for (not
+//! `--kernels dual`), and some free variable to eliminate.
+//!
+//! The variables eliminated are chosen greedily, the least connected first
+//! (fewest factors, then the name): a free
+//! variable is eliminated when none of its factors has an eliminated
+//! variable yet, so no factor joins two, and the landmarks of a
+//! reconstruction (seen by a few cameras) go before the cameras (which see
+//! many landmarks).
+//!
+//! The checks are those of the apex path in a form that does not depend
+//! on apex-solver: the observability check (at the initial values and at
+//! the solution) over each factor's whitened Jacobian in its variables' own
+//! tangents, by its generated kernel; the errors against the file's truth;
+//! the file written back with the solution.
+
+use std::collections::{HashMap, HashSet};
+use std::path::Path;
+
+use factor_apex::solve::SolveOptions;
+use factor_schur::Solver;
+use serde_json::Value;
+
+use super::problem_checks::{self as checks, read_json};
+use super::problem_file::{nothing_to_solve, shape, value_json};
+use super::{SolveArgs, at, finish_file, progress, report};
+use crate::error::CliError;
+use crate::field_path::shown_path;
+use crate::observability::{Deficiency, Normal, Variable};
+use crate::problem_assembly::Entry;
+use crate::registry::Registry;
+use crate::schur_assembly::SchurAssembly;
+
+/// The solver in words, for the header.
+const SOLVER: &str = "Schur complement: landmarks eliminated, fused normal-equation kernels on \
+                      4×f64 lanes, faer sparse Cholesky";
+
+/// Solves the problem file of `args` with the Schur-complement solver and
+/// returns the summary, or, when that solver cannot take it, why (nothing
+/// solved, nothing printed).
+///
+/// # Errors
+///
+/// As [`super::run_problem_file`].
+pub(super) fn run(
+    args: &SolveArgs,
+    registry: &Registry,
+) -> Result<Result<String, String>, CliError> {
+    let json = read_json(&args.file)?;
+    let checked = checks::check(&json, |factor, path| shape(registry, factor, path))?;
+    if let Some(why) = nothing_to_solve(&checked) {
+        return Err(CliError::Usage(at(
+            &args.file,
+            format!("nothing to solve: {why}"),
+        )));
+    }
+    if args.kernels != factor_apex::Kernels::Generated {
+        return Ok(Err("--kernels dual linearizes by dual numbers".into()));
+    }
+    let mut adders = Vec::with_capacity(checked.entries.len());
+    for entry in &checked.entries {
+        let factor = registry
+            .find(entry.factor, &entry.path)
+            .expect("checked: a registered factor");
+        match factor.schur {
+            Some(add) => adders.push(add),
+            None => {
+                return Ok(Err(format!(
+                    "the factor \"{}\" has no fused normal-equation kernel registered \
+                     (Registry::solve_with_schur)",
+                    factor.name
+                )));
+            }
+        }
+    }
+    let eliminated = landmarks(&checked);
+    if eliminated.is_empty() {
+        return Ok(Err("no free variable to eliminate".into()));
+    }
+    let mut assembly = SchurAssembly::default();
+    for (entry, add) in checked.entries.iter().zip(adders) {
+        let variables = entry.variables()?;
+        let added = Entry {
+            variables: &variables,
+            constants: &entry.constants,
+            names: &entry.names,
+            noise: &entry.noise,
+            loss: entry.robust.or(args.robust),
+        };
+        add(&mut assembly, &added).map_err(|e| at_entry(e, entry))?;
+    }
+    for name in &checked.fixed {
+        assembly.problem.fix(assembly.created[name].id);
+    }
+    for name in &eliminated {
+        assembly.problem.eliminate(assembly.created[name].id);
+    }
+    let fixed: HashSet<String> = checked.fixed.iter().cloned().collect();
+    if let Some(deficiency) = deficiency(&assembly, &fixed, false) {
+        return Err(CliError::Solve(format!(
+            "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or \
+             add measurements",
+            args.file.display()
+        )));
+    }
+    let blocks = assembly.problem.factor_count();
+    let truth = checked.truth.clone();
+    let counts = [assembly.whitened, eliminated.len(), assembly.created.len()];
+    let solver = Solver::new(&mut assembly.problem)
+        .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
+    progress::print(&header(&args.file, blocks, counts, solver.initial_cost()));
+    let options = SolveOptions {
+        max_iterations: args.max_iterations,
+        ..SolveOptions::default()
+    };
+    let mut progress = progress::Progress::new(args.max_iterations, blocks);
+    let outcome = solver.run(&options, progress.callback());
+    progress.finish();
+    let finished = report::Finished {
+        verdict: outcome.verdict.clone(),
+        iterations: outcome.iterations,
+        elapsed: outcome.elapsed,
+        initial_cost: outcome.initial_cost,
+        final_cost: outcome.final_cost,
+        history: &outcome.history,
+        blocks,
+        rejected: outcome.rejected,
+        first_rejection: outcome.first_rejection.as_deref(),
+        extra: super::schur::breakdown(&outcome.profile, outcome.elapsed),
+    };
+    let written = written(&json, &assembly);
+    let check = || match deficiency(&assembly, &fixed, true) {
+        Some(d) => Err(d.at("the solution").to_string()),
+        None => Ok(()),
+    };
+    let errors = truth.map(|t| t.describe(&json["variables"], &written["variables"]));
+    finish_file(args, &finished, check, errors, &written).map(Ok)
+}
+
+/// The header: the file, its blocks, how they are linearized, the solver.
+/// `[whitened, eliminated, variables]`: the factors with a full noise
+/// model, the variables eliminated, all variables.
+fn header(file: &Path, blocks: usize, counts: [usize; 3], initial_cost: f64) -> String {
+    let [whitened, eliminated, variables] = counts;
+    format!(
+        "{} (problem file): {blocks} blocks through generated kernels, {whitened} of them whitened by a \
+         full noise model through the Jacobian kernel; Levenberg–Marquardt ({SOLVER}; {eliminated} \
+         of {variables} variables eliminated); initial cost {initial_cost:.10e}",
+        shown_path(file),
+    )
+}
+
+/// A factor entry's error, at its path (as the apex path reports it).
+fn at_entry(error: CliError, entry: &checks::Entry<'_>) -> CliError {
+    let path = &entry.path;
+    match error {
+        CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
+        CliError::Factor(_) | CliError::Hinted { .. } => {
+            CliError::Solve(format!("{path}: {error}"))
+        }
+        CliError::Input(e) => CliError::Input(checks::at_value(e, entry)),
+        other => other,
+    }
+}
+
+/// The free variables to eliminate (see the module documentation).
+fn landmarks(checked: &checks::Checked<'_>) -> HashSet<String> {
+    let fixed: HashSet<&str> = checked.fixed.iter().map(String::as_str).collect();
+    let mut factors_of: HashMap<&str, Vec<usize>> = HashMap::new();
+    for (k, entry) in checked.entries.iter().enumerate() {
+        for (_, name) in &entry.names {
+            factors_of.entry(name.as_str()).or_default().push(k);
+        }
+    }
+    let mut order: Vec<&str> = factors_of
+        .keys()
+        .copied()
+        .filter(|n| !fixed.contains(n))
+        .collect();
+    order.sort_by_key(|n| (factors_of[n].len(), *n));
+    let mut touched = vec![false; checked.entries.len()];
+    let mut eliminated = HashSet::new();
+    for name in order {
+        let factors = &factors_of[name];
+        if factors.iter().all(|&k| !touched[k]) {
+            for &k in factors {
+                touched[k] = true;
+            }
+            eliminated.insert(name.to_owned());
+        }
+    }
+    eliminated
+}
+
+/// The file's JSON with the solved variables' values.
+fn written(json: &Value, assembly: &SchurAssembly) -> Value {
+    let mut json = json.clone();
+    for (name, created) in &assembly.created {
+        json["variables"][name]["value"] =
+            value_json(&created.field, assembly.problem.value(created.id));
+    }
+    json
+}
+
+/// The directions of the free variables the factors do not determine, at
+/// the initial values or (`solved`) the problem's current ones
+/// ([`crate::observability`]), over each factor's whitened Jacobian in its
+/// variables' own tangents.
+fn deficiency(
+    assembly: &SchurAssembly,
+    fixed: &HashSet<String>,
+    solved: bool,
+) -> Option<Deficiency> {
+    let mut names: Vec<&String> = assembly
+        .created
+        .keys()
+        .filter(|n| !fixed.contains(*n))
+        .collect();
+    let dim_of: HashMap<_, usize> = assembly
+        .created
+        .values()
+        .map(|c| (c.id, c.columns.len()))
+        .collect();
+    names.sort();
+    let mut index = HashMap::new();
+    let mut variables = Vec::with_capacity(names.len());
+    for (k, name) in names.into_iter().enumerate() {
+        let created = &assembly.created[name];
+        index.insert(created.id, k);
+        variables.push(Variable {
+            name: name.clone(),
+            columns: created.columns.clone(),
+        });
+    }
+    let dims: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
+    let mut normal = Normal::new(variables);
+    let mut stored = Vec::new();
+    for kept in &assembly.kept {
+        stored.clone_from(&kept.stored);
+        if solved {
+            for (id, range) in &kept.variables {
+                stored[range.clone()].copy_from_slice(assembly.problem.value(*id));
+            }
+        }
+        // A factor degenerate here was refused by the solve already; its
+        // measurements count for nothing.
+        let Ok(jacobian) = (kept.jacobian)(&stored, &kept.sqrt_information) else {
+            continue;
+        };
+        let mut first = 0;
+        let mut blocks = Vec::with_capacity(kept.variables.len());
+        for (id, _) in &kept.variables {
+            let d = match index.get(id) {
+                Some(&k) => {
+                    blocks.push((k, jacobian.columns(first, dims[k]).into_owned()));
+                    dims[k]
+                }
+                None => dim_of[id],
+            };
+            first += d;
+        }
+        normal.add(&blocks);
+    }
+    normal.deficiency()
+}
