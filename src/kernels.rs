@@ -115,6 +115,11 @@ pub fn shipped() -> Registry {
 
 /// The shipped factors whose kernels have fused normal equations
 /// ([`shipped_kernels`]) also in the Schur-complement solver's problems.
+/// Not `PluckerLineReprojection`: the Schur path retracts each variable by
+/// its own manifold, and a `PluckerLine`'s is a free 6-vector that leaves
+/// the Klein quadric and carries a scale no residual sees; its files go to
+/// apex-solver, which solves the line in the orthonormal chart
+/// (`HostMap<Apex>`).
 #[cfg(feature = "solve")]
 fn with_schur(registry: Registry) -> Registry {
     registry
@@ -122,7 +127,6 @@ fn with_schur(registry: Registry) -> Registry {
         .solve_with_schur::<LineReprojection>()
         .solve_with_schur::<PlaneFactor>()
         .solve_with_schur::<FreeLineFactor>()
-        .solve_with_schur::<PluckerLineReprojection>()
         .solve_with_schur::<LineObservation>()
         .solve_with_schur::<SnavelyReprojection>()
         .solve_with_schur::<StereoReprojection>()

@@ -154,6 +154,10 @@ impl Registry {
     /// scalars and retracted by their own manifolds, not apex-solver's; a
     /// file whose factors are not all registered so goes to apex-solver
     /// (`--solver auto`, saying why) or is refused (`--solver schur`).
+    /// A factor on a variable whose own manifold is not the one to solve
+    /// on (the shipped `PluckerLine`, a free 6-vector there, solved in the
+    /// orthonormal chart by its `HostMap<Apex>`) stays with
+    /// [`Registry::solve_with_kernel`].
     /// Only in a build with `slamjac`'s feature `solve`.
     #[cfg(feature = "solve")]
     pub fn solve_with_schur<F>(self) -> Self

@@ -144,8 +144,8 @@ fn options_a_problem_file_cannot_honour_are_refused() {
         &slamjac(&["solve", text(&poses), "--solver", "schur"]),
         2,
         &[
-            "--solver schur cannot take this problem file: the factor \"g2o_se3\" has no fused \
-           normal-equation kernel",
+            "--solver schur cannot take this problem file: the factor \"g2o_se3\" is not registered \
+           for the Schur-complement solver",
         ],
     );
     for (options, needle) in [

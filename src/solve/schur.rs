@@ -15,14 +15,19 @@ use super::{SolveArgs, at, finish, progress, report};
 use crate::error::CliError;
 
 /// The solver in words, for the header: with landmarks to eliminate or
-/// without (a pose graph).
-fn solver_words(eliminated: usize) -> &'static str {
+/// without (a pose graph), and the reduced system's factorization
+/// (`Solver::linear_solver`).
+pub(super) fn solver_words(eliminated: usize, factorization: &str) -> String {
     if eliminated > 0 {
-        "(Schur complement: landmarks eliminated, fused normal-equation kernels on 4×f64 lanes, \
-         faer sparse Cholesky)"
+        format!(
+            "(Schur complement: landmarks eliminated, fused normal-equation kernels on 4×f64 \
+             lanes, {factorization})"
+        )
     } else {
-        "(factor-schur: nothing to eliminate, fused normal-equation kernels on 4×f64 lanes, faer \
-         sparse Cholesky of the whole system)"
+        format!(
+            "(factor-schur: nothing to eliminate, fused normal-equation kernels on 4×f64 lanes, \
+             {factorization})"
+        )
     }
 }
 
@@ -40,12 +45,12 @@ pub(super) fn run(
     })?;
     let before = problems::reprojection_errors(data);
     let blocks = built.blocks;
-    let words = solver_words(built.problem.eliminated_count());
+    let eliminated = built.problem.eliminated_count();
     let solver = Solver::new(&mut built.problem)
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
     let setup = report::Setup {
         blocks,
-        solver: words.to_owned(),
+        solver: solver_words(eliminated, &solver.linear_solver()),
         initial_cost: solver.initial_cost(),
     };
     progress::print(&report::header(&args.file, data, &setup, args));

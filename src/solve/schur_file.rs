@@ -34,10 +34,6 @@ use crate::problem_assembly::Entry;
 use crate::registry::Registry;
 use crate::schur_assembly::SchurAssembly;
 
-/// The solver in words, for the header.
-const SOLVER: &str = "Schur complement: landmarks eliminated, fused normal-equation kernels on \
-                      4×f64 lanes, faer sparse Cholesky";
-
 /// Solves the problem file of `args` with the Schur-complement solver and
 /// returns the summary, or, when that solver cannot take it, why (nothing
 /// solved, nothing printed).
@@ -69,7 +65,7 @@ pub(super) fn run(
             Some(add) => adders.push(add),
             None => {
                 return Ok(Err(format!(
-                    "the factor \"{}\" has no fused normal-equation kernel registered \
+                    "the factor \"{}\" is not registered for the Schur-complement solver \
                      (Registry::solve_with_schur)",
                     factor.name
                 )));
@@ -111,7 +107,14 @@ pub(super) fn run(
     let counts = [assembly.whitened, eliminated.len(), assembly.created.len()];
     let solver = Solver::new(&mut assembly.problem)
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
-    progress::print(&header(&args.file, blocks, counts, solver.initial_cost()));
+    let words = super::schur::solver_words(eliminated.len(), &solver.linear_solver());
+    progress::print(&header(
+        &args.file,
+        blocks,
+        counts,
+        &words,
+        solver.initial_cost(),
+    ));
     let options = SolveOptions {
         max_iterations: args.max_iterations,
         ..SolveOptions::default()
@@ -140,15 +143,22 @@ pub(super) fn run(
     finish_file(args, &finished, check, errors, &written).map(Ok)
 }
 
-/// The header: the file, its blocks, how they are linearized, the solver.
-/// `[whitened, eliminated, variables]`: the factors with a full noise
-/// model, the variables eliminated, all variables.
-fn header(file: &Path, blocks: usize, counts: [usize; 3], initial_cost: f64) -> String {
+/// The header: the file, its blocks, how they are linearized, the solver
+/// (`words`, [`super::schur::solver_words`]). `[whitened, eliminated,
+/// variables]`: the factors with a full noise model, the variables
+/// eliminated, all variables.
+fn header(
+    file: &Path,
+    blocks: usize,
+    counts: [usize; 3],
+    words: &str,
+    initial_cost: f64,
+) -> String {
     let [whitened, eliminated, variables] = counts;
     format!(
         "{} (problem file): {blocks} blocks through generated kernels, {whitened} of them whitened by a \
-         full noise model through the Jacobian kernel; Levenberg–Marquardt ({SOLVER}; {eliminated} \
-         of {variables} variables eliminated); initial cost {initial_cost:.10e}",
+         full noise model through the Jacobian kernel; Levenberg–Marquardt {words}, {eliminated} \
+         of {variables} variables eliminated; initial cost {initial_cost:.10e}",
         shown_path(file),
     )
 }

@@ -188,6 +188,17 @@ impl<'p> Solver<'p> {
         self.initial_cost
     }
 
+    /// The factorization chosen for the reduced system (dense up to 40
+    /// unknowns, supernodal sparse beyond) and its size, in words: for a
+    /// report's header.
+    pub fn linear_solver(&self) -> String {
+        format!(
+            "{} of the {}-unknown reduced system",
+            self.reduced.name(),
+            self.profile.reduced_dim
+        )
+    }
+
     /// Linearizes at the current values; the pass's wall time.
     fn linearize(&mut self) -> Duration {
         let start = Instant::now();

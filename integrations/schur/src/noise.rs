@@ -54,14 +54,13 @@ impl Whitening {
                     _ => 1.0,
                 };
                 match self {
-                    Whitening::Scales(scales) => {
-                        if scale != 1.0 && scales.is_empty() {
-                            scales.resize(count, 1.0);
-                        }
-                        if !scales.is_empty() {
-                            scales.push(scale);
-                        }
+                    // The first scale other than 1 writes out the 1s
+                    // before it.
+                    Whitening::Scales(scales) if scale != 1.0 || !scales.is_empty() => {
+                        scales.resize(count, 1.0);
+                        scales.push(scale);
                     }
+                    Whitening::Scales(_) => {}
                     Whitening::Full { s, .. } => s.extend(diagonal(&vec![scale.sqrt(); dim])),
                 }
                 return Ok(());
@@ -153,6 +152,9 @@ mod tests {
         assert!(matches!(&w, Whitening::Scales(s) if s.is_empty()));
         w.push(&Noise::Sigma(0.5), 2, 1).unwrap();
         assert!(matches!(&w, Whitening::Scales(s) if s == &[1.0, 4.0]));
+        let mut first = Whitening::new();
+        first.push(&Noise::Sigma(2.0), 2, 0).unwrap();
+        assert!(matches!(&first, Whitening::Scales(s) if s == &[0.25]));
         w.push(&Noise::Sigmas(vec![1.0, 0.25]), 2, 2).unwrap();
         let Whitening::Full { dim: 2, s } = &w else {
             panic!("{w:?}")

@@ -108,6 +108,14 @@ impl ReducedSolver {
         })))
     }
 
+    /// Which factorization, in words.
+    pub(crate) fn name(&self) -> &'static str {
+        match self {
+            ReducedSolver::Sparse(_) => "faer supernodal sparse Cholesky",
+            ReducedSolver::Dense { .. } => "faer dense Cholesky",
+        }
+    }
+
     /// The number of entries of the Cholesky factor (the lower triangle,
     /// for a dense one).
     pub(crate) fn factor_entries(&self) -> usize {
