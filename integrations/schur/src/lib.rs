@@ -7,7 +7,7 @@
 //! - [`problem`]: a [`Problem`] of variables (held fixed or eliminated) and
 //!   factors of any type derived with `#[derive(Factor)]` whose kernel has
 //!   normal equations (`factor_core::WithKernel`, the kernel crate's `lanes`
-//!   feature), each with its noise model (`Σ ½ ρ(‖S r‖²)`: [`noise`]) and
+//!   feature), each with its noise model (`Σ ½ ρ(‖S r‖²)`: `noise`) and
 //!   optionally its own robust loss;
 //! - [`solve`]: the iteration ([`lm`]), reporting each iteration as
 //!   `factor_apex::solve::Iteration`, so that `slamjac solve` prints the
@@ -18,7 +18,7 @@
 //!
 //! # How an iteration runs
 //!
-//! 1. **Linearization** ([`passes`], [`group`]): the factors of each type,
+//! 1. **Linearization** (`passes`, `group`): the factors of each type,
 //!    sorted by their eliminated variable and split among the threads at
 //!    eliminated-variable boundaries, go through `factor_batch::normal` in
 //!    chunks of 256 (inputs gathered from the current values into
@@ -27,11 +27,11 @@
 //!    gradient blocks and `JᵀwJ` blocks (`w` the robust IRLS weight) are
 //!    added straight into the reduced blocks `U` (each thread its own
 //!    copy), the landmarks' blocks `V` and the cross blocks `W`.
-//! 2. **Elimination** ([`schur`]): `S = U + λD − Σ W V*⁻¹ Wᵀ`, per landmark,
+//! 2. **Elimination** (`schur`): `S = U + λD − Σ W V*⁻¹ Wᵀ`, per landmark,
 //!    into `S` laid out as the lower triangle of a compressed-column matrix
-//!    in a fill-reducing order fixed once ([`structure`], from the
-//!    factors' [`layout`]).
-//! 3. **Reduced solve** ([`reduced`]): faer's sparse Cholesky (supernodal,
+//!    in a fill-reducing order fixed once (`structure`, from the
+//!    factors' `layout`).
+//! 3. **Reduced solve** (`reduced`): faer's sparse Cholesky (supernodal,
 //!    its dense kernels), the symbolic analysis done once; a system of at
 //!    most 40 unknowns by faer's dense Cholesky, where the sparse one's
 //!    fixed costs dominate.

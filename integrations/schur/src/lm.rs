@@ -1,5 +1,5 @@
 //! Levenberg–Marquardt with the eliminated variables solved by the Schur
-//! complement ([`crate::schur`]): the same algorithm, criteria and reports
+//! complement (module `schur`): the same algorithm, criteria and reports
 //! as the general path (`factor_apex::solve`, apex-solver's
 //! Levenberg–Marquardt, itself Ceres'):
 //!

@@ -140,7 +140,7 @@ impl Problem {
     /// `robust` (the problem's when `None`). Isotropic noise keeps the
     /// fused kernels; per-component or full noise on a factor type makes
     /// that type's factors go through the Jacobian kernel, whitened
-    /// ([`crate::noise`]).
+    /// (the module `noise`).
     ///
     /// # Errors
     ///

@@ -218,7 +218,7 @@ fn per_component_and_mixed_noise_weigh_each_component() {
     // Every third factor isotropic, the others per component: one group,
     // turned from scales into full matrices part-way through.
     let noise = |k: usize| {
-        if k % 3 == 0 {
+        if k.is_multiple_of(3) {
             Noise::Sigma(0.5)
         } else {
             Noise::Sigmas(vec![1.0, 4.0])
@@ -268,7 +268,7 @@ fn a_loss_per_factor_is_the_problems_loss_for_it() {
     assert!(relative(a.0, expected) <= 1e-12, "{} vs {expected}", a.0);
     assert!(relative(a.1, b.1) <= 1e-12, "{} vs {}", a.1, b.1);
     // A loss on the outliers alone: least squares elsewhere.
-    let outlier = |k: usize| (k % 36 == 0).then_some(Robust::Cauchy(2.0));
+    let outlier = |k: usize| k.is_multiple_of(36).then_some(Robust::Cauchy(2.0));
     let mut mixed = problem(&bal, |_| Noise::Unit, outlier);
     let c = solve(&mut mixed.0);
     let expected = cost(&bal, identity, outlier);
