@@ -129,16 +129,11 @@ impl Normal {
     /// rows × tangent)`, all with the same rows.
     pub fn add(&mut self, blocks: &[(usize, DMatrix<f64>)]) {
         for (i, (a, ja)) in blocks.iter().enumerate() {
-            self.diagonal[*a] += ja.transpose() * ja;
+            self.diagonal[*a].gemm_tr(1.0, ja, ja, 1.0);
             for (b, jb) in &blocks[i + 1..] {
-                let h = ja.transpose() * jb;
-                let entry =
-                    |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
-                        *off.entry(at)
-                            .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) += m;
-                    };
-                entry(&mut self.off[*b], *a, h.transpose());
-                entry(&mut self.off[*a], *b, h);
+                // H_ab += J_aᵀ J_b and H_ba += J_bᵀ J_a, in place.
+                accumulate(&mut self.off[*a], *b, 1.0, ja, jb);
+                accumulate(&mut self.off[*b], *a, 1.0, jb, ja);
             }
         }
     }
@@ -176,17 +171,14 @@ impl Normal {
                 std::mem::take(&mut self.off[v]).into_iter().collect();
             for (i, (a, h_va)) in neighbours.iter().enumerate() {
                 self.off[*a].remove(&v);
-                let h_av_p = h_va.transpose() * &pseudo_inverse;
-                self.diagonal[*a] -= &h_av_p * h_va;
+                // `P H_va` (P symmetric): H_aa −= H_vaᵀ P H_va, and for
+                // each later neighbour H_ab −= (P H_va)ᵀ H_vb, H_ba its
+                // transpose, in place.
+                let p_h_va = &pseudo_inverse * h_va;
+                self.diagonal[*a].gemm_tr(-1.0, h_va, &p_h_va, 1.0);
                 for (b, h_vb) in &neighbours[i + 1..] {
-                    let update = &h_av_p * h_vb;
-                    let entry =
-                        |off: &mut BTreeMap<usize, DMatrix<f64>>, at: usize, m: DMatrix<f64>| {
-                            *off.entry(at)
-                                .or_insert_with(|| DMatrix::zeros(m.nrows(), m.ncols())) -= m;
-                        };
-                    entry(&mut self.off[*b], *a, update.transpose());
-                    entry(&mut self.off[*a], *b, update);
+                    accumulate(&mut self.off[*a], *b, -1.0, &p_h_va, h_vb);
+                    accumulate(&mut self.off[*b], *a, -1.0, h_vb, &p_h_va);
                 }
             }
             for (a, _) in &neighbours {
@@ -268,6 +260,19 @@ impl Normal {
         moves.sort_by(|a, b| b.1.norm().total_cmp(&a.1.norm()));
         moves
     }
+}
+
+/// `off[at] += alpha · xᵀ y`, the block created (zero) if new.
+fn accumulate(
+    off: &mut BTreeMap<usize, DMatrix<f64>>,
+    at: usize,
+    alpha: f64,
+    x: &DMatrix<f64>,
+    y: &DMatrix<f64>,
+) {
+    off.entry(at)
+        .or_insert_with(|| DMatrix::zeros(x.ncols(), y.ncols()))
+        .gemm_tr(alpha, x, y, 1.0);
 }
 
 /// The blocks of a normal matrix (scaled), kept to check candidates.
