@@ -58,20 +58,6 @@ pub(crate) struct SchurAssembly {
 /// problem ([`crate::registry::Registry::solve_with_schur`]).
 pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
 
-/// The square-root information of `noise` for a residual of `dim`
-/// entries (checked by the file's reader).
-pub(crate) fn sqrt_information(noise: &Noise, dim: usize) -> DMatrix<f64> {
-    match noise {
-        Noise::Unit => DMatrix::identity(dim, dim),
-        Noise::Sigma(sigma) => DMatrix::identity(dim, dim) / *sigma,
-        Noise::Sigmas(sigmas) => DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
-            dim,
-            sigmas.iter().map(|s| 1.0 / s),
-        )),
-        Noise::SqrtInformation(s) => s.clone(),
-    }
-}
-
 /// [`JacobianAt`] of `F`, by its generated kernel.
 fn jacobian_at<F: WithKernel>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatrix<f64>, CliError> {
     let factor = F::from_scalars(stored);
@@ -100,7 +86,8 @@ where
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks).
     let (linearization, _) = linearize(&factor, Method::Generated)?;
-    let s = sqrt_information(entry.noise, F::RESIDUAL_DIM);
+    // Checked by the file's reader.
+    let s = entry.noise.sqrt_information(F::RESIDUAL_DIM);
     if !(&s * &linearization.residual).norm_squared().is_finite() {
         return Err(CliError::Factor(FactorError::NonFinite {
             factor: F::NAME,

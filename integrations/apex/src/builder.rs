@@ -123,37 +123,64 @@ pub enum Noise {
 }
 
 impl Noise {
+    /// Checks that the model fits a residual of `dim` components: as many
+    /// standard deviations as components, each finite and above 0; a
+    /// `dim × dim` square-root information with finite entries.
+    ///
+    /// # Errors
+    ///
+    /// What does not fit, in words.
+    pub fn check(&self, dim: usize) -> Result<(), String> {
+        let deviations =
+            |sigmas: &[f64]| match sigmas.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+                Some(bad) => Err(format!(
+                    "standard deviation {bad} is not a finite number above 0"
+                )),
+                None => Ok(()),
+            };
+        match self {
+            Noise::Unit => Ok(()),
+            Noise::Sigma(sigma) => deviations(&[*sigma]),
+            Noise::Sigmas(sigmas) if sigmas.len() != dim => Err(format!(
+                "{} standard deviations for a residual of {dim}",
+                sigmas.len()
+            )),
+            Noise::Sigmas(sigmas) => deviations(sigmas),
+            Noise::SqrtInformation(s) if s.shape() != (dim, dim) => Err(format!(
+                "square-root information is {}×{}, the residual has {dim} components",
+                s.nrows(),
+                s.ncols()
+            )),
+            Noise::SqrtInformation(s) if s.iter().any(|x| !x.is_finite()) => {
+                Err("a square-root information entry is not finite".into())
+            }
+            Noise::SqrtInformation(_) => Ok(()),
+        }
+    }
+
+    /// `S` for a residual of `dim` components, of a model that passed
+    /// [`Noise::check`].
+    pub fn sqrt_information(&self, dim: usize) -> nalgebra::DMatrix<f64> {
+        use nalgebra::{DMatrix, DVector};
+        match self {
+            Noise::Unit => DMatrix::identity(dim, dim),
+            Noise::Sigma(sigma) => DMatrix::identity(dim, dim) / *sigma,
+            Noise::Sigmas(sigmas) => {
+                DMatrix::from_diagonal(&DVector::from_iterator(dim, sigmas.iter().map(|s| 1.0 / s)))
+            }
+            Noise::SqrtInformation(s) => s.clone(),
+        }
+    }
+
     /// apex's noise model for a residual of `dim` components.
     pub(crate) fn model(&self, dim: usize) -> Result<Option<NoiseModel>, String> {
-        let sigmas = |sigmas: &[f64]| {
-            if sigmas.len() != dim {
-                return Err(format!(
-                    "{} standard deviations for a residual of {dim}",
-                    sigmas.len()
-                ));
-            }
-            if let Some(bad) = sigmas.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
-                return Err(format!(
-                    "standard deviation {bad} is not a finite number above 0"
-                ));
-            }
-            NoiseModel::from_sigmas(sigmas).map_err(|e| e.to_string())
-        };
+        self.check(dim)?;
+        let sigmas = |sigmas: &[f64]| NoiseModel::from_sigmas(sigmas).map_err(|e| e.to_string());
         match self {
             Noise::Unit => Ok(None),
             Noise::Sigma(sigma) => sigmas(&vec![*sigma; dim]).map(Some),
             Noise::Sigmas(values) => sigmas(values).map(Some),
             Noise::SqrtInformation(s) => {
-                if s.shape() != (dim, dim) {
-                    return Err(format!(
-                        "square-root information is {}×{}, the residual has {dim} components",
-                        s.nrows(),
-                        s.ncols()
-                    ));
-                }
-                if s.iter().any(|x| !x.is_finite()) {
-                    return Err("square-root information has a non-finite entry".into());
-                }
                 let s = nalgebra_apex::DMatrix::from_column_slice(dim, dim, s.as_slice());
                 NoiseModel::from_sqrt_info(s)
                     .map(Some)

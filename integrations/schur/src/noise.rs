@@ -38,19 +38,11 @@ impl Whitening {
     /// A model that does not fit the residual, or a deviation or entry
     /// that is not finite (a deviation must be above 0).
     pub(crate) fn push(&mut self, noise: &Noise, dim: usize, count: usize) -> Result<(), String> {
-        let deviation = |sigma: f64| {
-            if sigma.is_finite() && sigma > 0.0 {
-                Ok(sigma)
-            } else {
-                Err(format!(
-                    "standard deviation {sigma} is not a finite number above 0"
-                ))
-            }
-        };
+        noise.check(dim)?;
         let s: Vec<f64> = match noise {
             Noise::Unit | Noise::Sigma(_) => {
                 let scale = match noise {
-                    Noise::Sigma(sigma) => deviation(*sigma)?.powi(-2),
+                    Noise::Sigma(sigma) => sigma.powi(-2),
                     _ => 1.0,
                 };
                 match self {
@@ -65,33 +57,9 @@ impl Whitening {
                 }
                 return Ok(());
             }
-            Noise::Sigmas(sigmas) => {
-                if sigmas.len() != dim {
-                    return Err(format!(
-                        "{} standard deviations for a residual of {dim}",
-                        sigmas.len()
-                    ));
-                }
-                let inverse: Result<Vec<f64>, String> = sigmas
-                    .iter()
-                    .map(|&x| deviation(x).map(|x| 1.0 / x))
-                    .collect();
-                diagonal(&inverse?)
-            }
-            Noise::SqrtInformation(m) => {
-                if m.shape() != (dim, dim) {
-                    return Err(format!(
-                        "square-root information is {}×{}, the residual has {dim} components",
-                        m.nrows(),
-                        m.ncols()
-                    ));
-                }
-                if m.iter().any(|x| !x.is_finite()) {
-                    return Err("a square-root information entry is not finite".into());
-                }
-                (0..dim)
-                    .flat_map(|r| (0..dim).map(move |c| m[(r, c)]))
-                    .collect()
+            _ => {
+                // Row-major.
+                noise.sqrt_information(dim).transpose().as_slice().to_vec()
             }
         };
         if let Whitening::Scales(scales) = self {
