@@ -7,7 +7,7 @@
 use factor_apex::problems;
 use factor_apex::solve::SolveOptions;
 use factor_schur::problems::BuildError;
-use factor_schur::{Profile, Solver};
+use factor_schur::{Outcome, Profile, Solver};
 
 use super::progress::duration;
 use super::truth::Truth;
@@ -54,6 +54,15 @@ pub(super) fn run(
         initial_cost: solver.initial_cost(),
     };
     progress::print(&report::header(&args.file, data, &setup, args));
+    let outcome = iterate(args, solver, blocks);
+    let solved = built.write_back(data);
+    let finished = finished(&outcome, blocks);
+    finish(args, &solved, truth, before, &finished)
+}
+
+/// Runs `solver` with the command line's options (`args`), its progress
+/// over `blocks` blocks shown.
+pub(super) fn iterate(args: &SolveArgs, solver: Solver<'_>, blocks: usize) -> Outcome {
     let options = SolveOptions {
         max_iterations: args.max_iterations,
         ..SolveOptions::default()
@@ -61,8 +70,12 @@ pub(super) fn run(
     let mut progress = progress::Progress::new(args.max_iterations, blocks);
     let outcome = solver.run(&options, progress.callback());
     progress.finish();
-    let solved = built.write_back(data);
-    let finished = report::Finished {
+    outcome
+}
+
+/// What the report needs of `outcome`, a solve of `blocks` blocks.
+pub(super) fn finished(outcome: &Outcome, blocks: usize) -> report::Finished<'_> {
+    report::Finished {
         verdict: outcome.verdict.clone(),
         iterations: outcome.iterations,
         elapsed: outcome.elapsed,
@@ -73,12 +86,11 @@ pub(super) fn run(
         rejected: outcome.rejected,
         first_rejection: outcome.first_rejection.as_deref(),
         extra: breakdown(&outcome.profile, outcome.elapsed),
-    };
-    finish(args, &solved, truth, before, &finished)
+    }
 }
 
 /// Where the solve's time went: the fused kernels' share, and each part.
-pub(super) fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
+fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / elapsed.as_secs_f64().max(1e-12);
     vec![
         format!(

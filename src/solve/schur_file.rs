@@ -20,13 +20,12 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use factor_apex::solve::SolveOptions;
 use factor_schur::Solver;
 use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{nothing_to_solve, shape, value_json};
-use super::{SolveArgs, at, finish_file, progress, report};
+use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::observability::{Deficiency, Normal, Variable};
@@ -115,25 +114,8 @@ pub(super) fn run(
         &words,
         solver.initial_cost(),
     ));
-    let options = SolveOptions {
-        max_iterations: args.max_iterations,
-        ..SolveOptions::default()
-    };
-    let mut progress = progress::Progress::new(args.max_iterations, blocks);
-    let outcome = solver.run(&options, progress.callback());
-    progress.finish();
-    let finished = report::Finished {
-        verdict: outcome.verdict.clone(),
-        iterations: outcome.iterations,
-        elapsed: outcome.elapsed,
-        initial_cost: outcome.initial_cost,
-        final_cost: outcome.final_cost,
-        history: &outcome.history,
-        blocks,
-        rejected: outcome.rejected,
-        first_rejection: outcome.first_rejection.as_deref(),
-        extra: super::schur::breakdown(&outcome.profile, outcome.elapsed),
-    };
+    let outcome = super::schur::iterate(args, solver, blocks);
+    let finished = super::schur::finished(&outcome, blocks);
     let written = written(&json, &assembly);
     let check = || match deficiency(&assembly, &fixed, true) {
         Some(d) => Err(d.at("the solution").to_string()),
