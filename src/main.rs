@@ -100,9 +100,11 @@ enum Command {
     /// Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3: the first
     /// pose fixed), stereo visual odometry (KITTI VO files: the first pose
     /// fixed), g2o's line and plane graphs (the FIX vertices fixed), and
-    /// problem files of any registered factors (`*.json`); the landmarks of
-    /// bundle adjustment and VO eliminated by a Schur complement, other
-    /// problems by apex-solver. Prints a line per iteration and a summary.
+    /// problem files of any registered factors (`*.json`); bundle
+    /// adjustment, VO, pose graphs and problem files of factors with fused
+    /// normal-equation kernels by slamjac's Schur-complement solver (the
+    /// landmarks eliminated), other problems by apex-solver. Prints a line
+    /// per iteration and a summary.
     /// Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
@@ -113,7 +115,9 @@ enum Command {
         #[arg(long, value_parser = parse_format)]
         format: Option<slam_data::Format>,
         /// Which solver: `schur` (landmarks eliminated by a Schur complement
-        /// fed by the fused normal-equation kernels; BAL, Bundler, KITTI VO),
+        /// fed by the fused normal-equation kernels; BAL, Bundler, KITTI VO,
+        /// g2o and EDGE3 pose graphs, problem files of factors with such
+        /// kernels),
         /// `apex` (apex-solver, any problem), or `auto` (`schur` where it
         /// applies with the generated kernels, else `apex`).
         #[arg(long, value_enum, default_value_t)]
@@ -226,7 +230,8 @@ enum SolverFlag {
     /// The Schur-complement solver where it applies, else apex-solver.
     #[default]
     Auto,
-    /// The Schur-complement solver (bundle adjustment, stereo VO).
+    /// The Schur-complement solver (bundle adjustment, stereo VO, pose
+    /// graphs, problem files of factors with fused kernels).
     Schur,
     /// apex-solver.
     Apex,

@@ -12,7 +12,7 @@ use factor_apex::builder::Noise;
 use factor_core::{FactorError, FieldInfo, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;
-use factor_schur::{Problem, VariableId};
+use factor_schur::{Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 
 use crate::decode::decode;
@@ -52,6 +52,10 @@ pub(crate) struct SchurAssembly {
     /// Factors with per-component or full noise (whitened through the
     /// Jacobian kernel rather than the fused one).
     pub(crate) whitened: usize,
+    /// Why the Schur-complement solver cannot take the file, once a factor
+    /// showed it (two factors perturbing one variable differently: that
+    /// solver retracts each variable by one chart, apex-solver by its own).
+    pub(crate) unsupported: Option<String>,
 }
 
 /// How a registered factor is added from a problem file to a Schur
@@ -75,8 +79,9 @@ fn jacobian_at<F: WithKernel>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatri
 
 /// [`SchurAddFn`] of `F`: decodes it, creates its variables at the first
 /// factor that names them, and adds it with its noise and loss. A variable
-/// whose chart differs between factors is refused by
-/// [`Problem::add_weighted`] (`SchurError::Chart`).
+/// whose chart differs between factors (`SchurError::Chart` from
+/// [`Problem::add_weighted`]) is not an error: the file goes to apex-solver,
+/// the reason kept in [`SchurAssembly::unsupported`].
 pub(crate) fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
 where
     F: WithKernel + Send + Sync + 'static,
@@ -127,10 +132,30 @@ where
         };
         ids.push(id);
     }
-    assembly
+    match assembly
         .problem
         .add_weighted(&factor, &ids, entry.noise, entry.loss)
-        .map_err(|e| CliError::Solve(e.to_string()))?;
+    {
+        Ok(()) => {}
+        Err(SchurError::Chart {
+            variable,
+            first,
+            second,
+        }) => {
+            let name = entry
+                .names
+                .iter()
+                .zip(&ids)
+                .find(|(_, id)| id.index() == variable)
+                .map_or("?", |((_, name), _)| name.as_str());
+            assembly.unsupported = Some(format!(
+                "variable \"{name}\": {first}, {second}: this solver needs every factor on a \
+                 variable to declare the same type, side and tangent"
+            ));
+            return Ok(());
+        }
+        Err(e) => return Err(CliError::Solve(e.to_string())),
+    }
     if matches!(entry.noise, Noise::Sigmas(_) | Noise::SqrtInformation(_)) {
         assembly.whitened += 1;
     }

@@ -189,7 +189,7 @@ fn the_schur_solver_is_chosen_where_it_applies() {
     assert_error(
         &output,
         2,
-        &["--solver schur takes bundle adjustment, stereo VO and pose graphs"],
+        &["--solver schur takes bundle adjustment, stereo VO, pose graphs and problem files"],
     );
     let output = slamjac(&[
         "solve",
@@ -238,6 +238,47 @@ fn problem_files_take_the_schur_solver_and_agree_with_apex() {
         line.to_owned()
     };
     assert_eq!(ate(&schur), ate(&apex));
+    // A free line seen from poses that the point factors perturb on the
+    // left and the free-line factors on the right: the Schur solver (one
+    // chart per variable) cannot take it, apex-solver (its own chart)
+    // can, and the default path says why it goes there.
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+    room["variables"]["fl"] = serde_json::json!({"type": "FreeLine", "value": {"rotation": [0, 0, 0, 1], "distance": 2.0}});
+    for (k, pose) in ["c3", "c4", "c5", "c6"].iter().enumerate() {
+        let k = k as f64;
+        room["factors"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!({
+                "factor": "free_line",
+                "variables": {"body_pose": pose, "line": "fl"},
+                "constants": {
+                    "extrinsics": {"rotation": [0, 0, 0, 1], "translation": [0, 0, 0]},
+                    "bearing_start": [0.1 * k, 0.2, 1.0],
+                    "bearing_end": [0.3, -0.2 + 0.05 * k, 1.0]
+                }
+            }));
+    }
+    let mixed = dir.join("mixed.json");
+    let mixed = mixed.to_str().unwrap();
+    std::fs::write(mixed, room.to_string()).unwrap();
+    let auto = solve_ok(&["solve", mixed]);
+    let apex = solve_ok(&["solve", mixed, "--solver", "apex"]);
+    let text = stdout(&auto);
+    assert!(
+        text.contains("solved by apex-solver: the Schur-complement solver cannot take it")
+            && text.contains("variable \"c3\"")
+            && !text.contains("left: left"),
+        "{text}"
+    );
+    assert_relative(costs(&auto).1, costs(&apex).1, 1e-12, "the same solve");
+    let refused = slamjac(&["solve", mixed, "--solver", "schur"]);
+    assert_error(
+        &refused,
+        2,
+        &["--solver schur cannot take this problem file: variable \"c3\""],
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

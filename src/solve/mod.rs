@@ -178,8 +178,8 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         SolverChoice::Schur if !takes => {
             return Err(CliError::Usage(at(
                 &args.file,
-                "--solver schur takes bundle adjustment, stereo VO and pose graphs (use \
-                 --solver apex)",
+                "--solver schur takes bundle adjustment, stereo VO, pose graphs and problem \
+                 files of factors with fused normal-equation kernels (use --solver apex)",
             )));
         }
         SolverChoice::Schur if args.kernels != Kernels::Generated => {

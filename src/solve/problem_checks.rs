@@ -283,6 +283,9 @@ fn open<'a>(
                 .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
                 .collect()
         }
+        // Not an object: what it should hold (every field it may hold
+        // when none is required).
+        None if required.is_empty() => optional.to_vec(),
         None => required.to_vec(),
     };
     Object::new(value, path, &present)

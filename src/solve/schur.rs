@@ -17,7 +17,7 @@ use crate::error::CliError;
 /// The solver in words, for the header: with landmarks to eliminate or
 /// without (a pose graph), and the reduced system's factorization
 /// (`Solver::linear_solver`).
-pub(super) fn solver_words(eliminated: usize, factorization: &str) -> String {
+fn solver_words(eliminated: usize, factorization: &str) -> String {
     if eliminated > 0 {
         format!(
             "(Schur complement: landmarks eliminated, fused normal-equation kernels on 4×f64 \

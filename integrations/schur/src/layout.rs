@@ -63,13 +63,14 @@ impl SlotInfo {
 
     /// `factor declares it `type` (side: tangent)`.
     pub(crate) fn describe(&self) -> String {
-        format!(
-            "{} declares it `{}` ({}: {})",
-            self.factor,
-            self.type_name,
-            self.perturbation.as_str(),
-            self.description
-        )
+        // Most tangents' descriptions begin with their side already.
+        let side = self.perturbation.as_str();
+        let how = if self.description.starts_with(side) {
+            self.description.to_owned()
+        } else {
+            format!("{side}: {}", self.description)
+        };
+        format!("{} declares it `{}` ({how})", self.factor, self.type_name)
     }
 }
 
