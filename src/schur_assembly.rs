@@ -102,16 +102,16 @@ where
     let mut stored = vec![0.0; F::SCALARS];
     factor.write_scalars(&mut stored);
     // Each variable's range among the stored scalars.
+    let fields = F::fields();
     let mut ranges = vec![0..0; entry.names.len()];
     let mut start = 0;
-    for field in F::fields() {
+    for field in &fields {
         if let Some(k) = field.variable {
             ranges[k] = start..start + field.scalars;
         }
         start += field.scalars;
     }
     let infos = F::variables();
-    let fields = F::fields();
     let mut ids = Vec::with_capacity(ranges.len());
     for (k, (_, name)) in entry.names.iter().enumerate() {
         let id = match assembly.created.get(name) {

@@ -150,11 +150,7 @@ pub fn read(
     let linearized_by = assembly.linearized_by;
     let built = assembly.builder.build().map_err(build_error)?;
     if let Some(deficiency) = deficiency(&built, &assembly.created, &checked.fixed, None) {
-        return Err(CliError::Solve(format!(
-            "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or \
-             add measurements",
-            file.display()
-        )));
+        return Err(unobservable(file, &deficiency));
     }
     let mut variables: Vec<(String, Created)> = assembly.created.into_iter().collect();
     variables.sort_by(|a, b| a.0.cmp(&b.0));
@@ -167,6 +163,16 @@ pub fn read(
         truth,
         linearized_by,
     })
+}
+
+/// The refusal of a file whose free variables the factors do not
+/// determine at the initial values (either solver path's check).
+pub(super) fn unobservable(file: &Path, deficiency: &Deficiency) -> CliError {
+    CliError::Solve(format!(
+        "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or add \
+         measurements",
+        file.display()
+    ))
 }
 
 /// Why the checked file has nothing to solve, if it has not: no factor, or
@@ -314,6 +320,19 @@ fn add_entry(
         .find(entry.factor, &entry.path)
         .expect("checked: a registered factor");
     let add = factor.solve.expect("checked: registered for solve");
+    let by_kernel = assembly.kernels && factor.solved_by == Some(SolvedBy::Kernel);
+    assembly.linearized_by[usize::from(!by_kernel)] += 1;
+    add_at(entry, default_loss, |checked| add(assembly, checked))
+}
+
+/// Runs `add` on the checked factor entry `entry` (its variables decoded,
+/// its loss or else `default_loss`), its errors placed at the entry's
+/// path: either solver path's adder.
+pub(super) fn add_at(
+    entry: &checks::Entry<'_>,
+    default_loss: Option<Robust>,
+    add: impl FnOnce(&Entry) -> Result<(), CliError>,
+) -> Result<(), CliError> {
     let variables = entry.variables()?;
     let checked = Entry {
         variables: &variables,
@@ -322,10 +341,8 @@ fn add_entry(
         noise: &entry.noise,
         loss: entry.robust.or(default_loss),
     };
-    let by_kernel = assembly.kernels && factor.solved_by == Some(SolvedBy::Kernel);
-    assembly.linearized_by[usize::from(!by_kernel)] += 1;
     let path = &entry.path;
-    add(assembly, &checked).map_err(|e| match e {
+    add(&checked).map_err(|e| match e {
         CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         // Degenerate at the initial values: which entry (exit 1).
         CliError::Factor(_) | CliError::Hinted { .. } => CliError::Solve(format!("{path}: {e}")),

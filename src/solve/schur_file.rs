@@ -24,12 +24,11 @@ use factor_schur::Solver;
 use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
-use super::problem_file::{nothing_to_solve, shape, value_json};
+use super::problem_file::{add_at, nothing_to_solve, shape, unobservable, value_json};
 use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::observability::{Deficiency, Normal, Variable};
-use crate::problem_assembly::Entry;
 use crate::registry::Registry;
 use crate::schur_assembly::SchurAssembly;
 
@@ -77,15 +76,7 @@ pub(super) fn run(
     }
     let mut assembly = SchurAssembly::default();
     for (entry, add) in checked.entries.iter().zip(adders) {
-        let variables = entry.variables()?;
-        let added = Entry {
-            variables: &variables,
-            constants: &entry.constants,
-            names: &entry.names,
-            noise: &entry.noise,
-            loss: entry.robust.or(args.robust),
-        };
-        add(&mut assembly, &added).map_err(|e| at_entry(e, entry))?;
+        add_at(entry, args.robust, |added| add(&mut assembly, added))?;
         if let Some(why) = assembly.unsupported.take() {
             return Ok(Err(why));
         }
@@ -98,11 +89,7 @@ pub(super) fn run(
     }
     let fixed: HashSet<String> = checked.fixed.iter().cloned().collect();
     if let Some(deficiency) = deficiency(&assembly, &fixed, false) {
-        return Err(CliError::Solve(format!(
-            "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or \
-             add measurements",
-            args.file.display()
-        )));
+        return Err(unobservable(&args.file, &deficiency));
     }
     let blocks = assembly.problem.factor_count();
     let truth = checked.truth.clone();
@@ -151,19 +138,6 @@ fn header(
          of {variables} variables eliminated; initial cost {initial_cost:.10e}",
         shown_path(file),
     )
-}
-
-/// A factor entry's error, at its path (as the apex path reports it).
-fn at_entry(error: CliError, entry: &checks::Entry<'_>) -> CliError {
-    let path = &entry.path;
-    match error {
-        CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
-        CliError::Factor(_) | CliError::Hinted { .. } => {
-            CliError::Solve(format!("{path}: {error}"))
-        }
-        CliError::Input(e) => CliError::Input(checks::at_value(e, entry)),
-        other => other,
-    }
 }
 
 /// The free variables to eliminate (see the module documentation).
