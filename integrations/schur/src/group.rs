@@ -10,6 +10,7 @@
 //!   ([`Sink`]): no Jacobian is stored.
 
 use std::any::Any;
+use std::borrow::Cow;
 use std::marker::PhantomData;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -541,6 +542,7 @@ where
         // shorter (a small problem allocates no more than it uses).
         let mut size = CHUNK.min(range.len());
         let mut inputs = Columns::zeros(F::SCALARS, size);
+        let mut outputs = ChunkOutputs::new::<F>(&self.whitening, size, &none);
         let mut bad = [false; CHUNK];
         let mut at = range.start;
         while at < range.end {
@@ -548,6 +550,7 @@ where
             if n != size {
                 size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
+                outputs = ChunkOutputs::new::<F>(&self.whitening, n, &none);
             }
             bad[..n].fill(false);
             self.gather_chunk(
@@ -557,20 +560,18 @@ where
                 Some((rejected, &mut bad[..n])),
             );
             let out = &mut squared[at - range.start..at - range.start + n];
-            match &self.whitening {
-                Whitening::Scales(scales) => {
-                    let mut outputs = NormalColumns::new::<F>(n, &none);
+            match (&self.whitening, &mut outputs) {
+                (Whitening::Scales(scales), ChunkOutputs::Normal(outputs)) => {
                     let w = (!scales.is_empty()).then(|| &scales[at..at + n]);
-                    factor_batch::normal::<F, Lane>(&inputs, w, &mut outputs, Options::default())
+                    factor_batch::normal::<F, Lane>(&inputs, w, outputs, Options::default())
                         .expect("the columns fit the factor");
                     // The kernel's cost is ½ w rᵀr = ½ ‖S r‖².
                     for (s, c) in out.iter_mut().zip(outputs.cost.column(0)) {
                         *s = 2.0 * c;
                     }
                 }
-                Whitening::Full { dim, s } => {
-                    let mut outputs = JacobianColumns::new::<F>(n, &none);
-                    factor_batch::linearize::<F, Lane>(&inputs, &mut outputs, Options::default())
+                (Whitening::Full { dim, s }, ChunkOutputs::Jacobian(outputs)) => {
+                    factor_batch::linearize::<F, Lane>(&inputs, outputs, Options::default())
                         .expect("the columns fit the factor");
                     let residual: Vec<&[f64]> = outputs.residual.columns().collect();
                     for (row, squared) in out.iter_mut().enumerate() {
@@ -584,6 +585,7 @@ where
                             .sum();
                     }
                 }
+                _ => unreachable!("the outputs are made for the group's whitening"),
             }
             for (s, bad) in out.iter_mut().zip(&bad[..n]) {
                 if *bad {
@@ -606,33 +608,34 @@ where
         // shorter (a small problem allocates no more than it uses).
         let mut size = CHUNK.min(range.len());
         let mut inputs = Columns::zeros(F::SCALARS, size);
+        let mut outputs = ChunkOutputs::new::<F>(&self.whitening, size, &[]);
         let mut at = range.start;
         while at < range.end {
             let n = CHUNK.min(range.end - at);
             if n != size {
                 size = n;
                 inputs = Columns::zeros(F::SCALARS, n);
+                outputs = ChunkOutputs::new::<F>(&self.whitening, n, &[]);
             }
             self.gather_chunk(at..at + n, values, &mut inputs, None);
             let w = weights.map(|w| &w[at - range.start..at - range.start + n]);
             let start = Instant::now();
-            match &self.whitening {
-                Whitening::Scales(scales) => {
+            match (&self.whitening, &mut outputs) {
+                (Whitening::Scales(scales), ChunkOutputs::Normal(outputs)) => {
                     // The weight is the loss's times the isotropic 1/σ².
-                    let combined: Option<Vec<f64>> = match (w, scales.is_empty()) {
-                        (None, true) => None,
-                        (Some(w), true) => Some(w.to_vec()),
-                        (w, false) => Some(
+                    let combined: Option<Cow<'_, [f64]>> = if scales.is_empty() {
+                        w.map(Cow::Borrowed)
+                    } else {
+                        Some(Cow::Owned(
                             (0..n)
                                 .map(|r| w.map_or(1.0, |w| w[r]) * scales[at + r])
                                 .collect(),
-                        ),
+                        ))
                     };
-                    let mut outputs = NormalColumns::new::<F>(n, &[]);
                     factor_batch::normal::<F, Lane>(
                         &inputs,
                         combined.as_deref(),
-                        &mut outputs,
+                        outputs,
                         Options::default(),
                     )
                     .expect("the columns fit the factor");
@@ -640,13 +643,12 @@ where
                     let (g, h) = (columns(&outputs.gradient), columns(&outputs.hessian));
                     self.scatter(at, n, &g, &h, structure, sink);
                 }
-                Whitening::Full { dim, s } => {
-                    let mut outputs = JacobianColumns::new::<F>(n, &[]);
-                    factor_batch::linearize::<F, Lane>(&inputs, &mut outputs, Options::default())
+                (Whitening::Full { dim, s }, ChunkOutputs::Jacobian(outputs)) => {
+                    factor_batch::linearize::<F, Lane>(&inputs, outputs, Options::default())
                         .expect("the columns fit the factor");
                     sink.kernels += start.elapsed();
                     let (g, h) = whitened::normal_columns(
-                        &outputs,
+                        outputs,
                         &self.tangents,
                         *dim,
                         &s[at * dim * dim..(at + n) * dim * dim],
@@ -656,6 +658,7 @@ where
                     let h: Vec<Vec<&[f64]>> = h.iter().map(|b| b.chunks(n).collect()).collect();
                     self.scatter(at, n, &g, &h, structure, sink);
                 }
+                _ => unreachable!("the outputs are made for the group's whitening"),
             }
             at += n;
         }
@@ -677,6 +680,26 @@ where
             .with_retracted(slot, delta)
             .write_scalars(row);
         out.copy_from_slice(&row[start..start + scalars]);
+    }
+}
+
+/// The batch kernel's outputs for one chunk: the fused normal equations'
+/// while the group's noise is isotropic, the Jacobian kernel's once it is
+/// whitened by full matrices (`crate::noise`). Made once per range and
+/// reused chunk after chunk.
+enum ChunkOutputs {
+    Normal(NormalColumns<f64>),
+    Jacobian(JacobianColumns<f64>),
+}
+
+impl ChunkOutputs {
+    /// Outputs for `n` factors of type `F` under `whitening`, the blocks of
+    /// the variables `free` says (all when empty) computed.
+    fn new<F: Factor>(whitening: &Whitening, n: usize, free: &[bool]) -> Self {
+        match whitening {
+            Whitening::Scales(_) => ChunkOutputs::Normal(NormalColumns::new::<F>(n, free)),
+            Whitening::Full { .. } => ChunkOutputs::Jacobian(JacobianColumns::new::<F>(n, free)),
+        }
     }
 }
 
