@@ -31,6 +31,15 @@ use nalgebra::{DMatrix, DVector};
 /// that determines a direction contributes.
 pub const TOLERANCE: f64 = 1e-9;
 
+/// The tolerance at the solution of a solve that did not converge: a
+/// direction determined this weakly (a residual change of about 3e-4 of
+/// the rows' own sensitivities) is where the solve drifts, and names why
+/// it did not converge. Measured: `synth-plp --cameras 4` (two walls
+/// rotated parallel, a camera translating along them) 8.9e-9 at the 100th
+/// iteration; the default rooms of seeds 1–40, which converge, 4.2e-6 to
+/// 8.2e-4 (the smallest eigenvalue of any block as it is eliminated).
+pub const DRIFT_TOLERANCE: f64 = 1e-7;
+
 /// A free variable, as messages name it.
 #[derive(Debug, Clone)]
 pub struct Variable {
@@ -91,6 +100,9 @@ pub struct Deficiency {
     variables: Vec<Variable>,
     /// The values linearized at, as messages name them.
     values: &'static str,
+    /// The tolerance it was found with ([`TOLERANCE`] or
+    /// [`DRIFT_TOLERANCE`]).
+    tolerance: f64,
 }
 
 /// How many directions a [`Deficiency`] spells out.
@@ -127,7 +139,14 @@ impl Normal {
 
     /// Adds a factor's whitened Jacobian blocks on free variables, `(index,
     /// rows × tangent)`, all with the same rows.
+    ///
+    /// Each row is scaled to unit norm first (`unit_rows`): the null space
+    /// of `J` does not depend on the rows' weights, and a measurement
+    /// weighted 1e8 times its neighbours' (σ = 1e-4 among σ = 1) would
+    /// otherwise make the directions only they determine look undetermined
+    /// beside its own on the unit diagonal.
     pub fn add(&mut self, blocks: &[(usize, DMatrix<f64>)]) {
+        let blocks = unit_rows(blocks);
         for (i, (a, ja)) in blocks.iter().enumerate() {
             self.diagonal[*a].gemm_tr(1.0, ja, ja, 1.0);
             for (b, jb) in &blocks[i + 1..] {
@@ -140,7 +159,13 @@ impl Normal {
 
     /// The undetermined directions, if there are any (see the module
     /// documentation).
-    pub fn deficiency(mut self) -> Option<Deficiency> {
+    pub fn deficiency(self) -> Option<Deficiency> {
+        self.deficiency_within(TOLERANCE)
+    }
+
+    /// The directions determined no more than `tolerance` ([`TOLERANCE`],
+    /// or [`DRIFT_TOLERANCE`] after a solve that did not converge).
+    pub fn deficiency_within(mut self, tolerance: f64) -> Option<Deficiency> {
         let scales = self.scale();
         let original = Blocks {
             diagonal: self.diagonal.clone(),
@@ -163,7 +188,7 @@ impl Normal {
                 continue;
             }
             done[v] = true;
-            let (pseudo_inverse, directions) = split(&self.diagonal[v]);
+            let (pseudo_inverse, directions) = split(&self.diagonal[v], tolerance);
             for u in directions {
                 null.push((v, u, eliminated.len()));
             }
@@ -196,7 +221,7 @@ impl Normal {
         let null: Vec<BTreeMap<usize, DVector<f64>>> = null
             .into_iter()
             .map(|(v, u, step)| lift(&eliminated[..step], v, u))
-            .filter(|x| original.curvature(x) <= TOLERANCE)
+            .filter(|x| original.curvature(x) <= tolerance)
             .collect();
         if null.is_empty() {
             return None;
@@ -212,6 +237,7 @@ impl Normal {
             directions,
             variables: self.variables,
             values: "the initial values",
+            tolerance,
         })
     }
 
@@ -261,6 +287,41 @@ impl Normal {
         moves
     }
 }
+
+/// A factor's blocks (all with the same rows) with each row scaled to unit
+/// norm over the blocks; a row shorter than [`ROW_FLOOR`] times the
+/// factor's longest is scaled as if it were that long, so that a row of
+/// rounding (a component the free variables do not move) stays negligible.
+fn unit_rows(blocks: &[(usize, DMatrix<f64>)]) -> Vec<(usize, DMatrix<f64>)> {
+    let rows = blocks.first().map_or(0, |(_, j)| j.nrows());
+    let norms: Vec<f64> = (0..rows)
+        .map(|r| {
+            blocks
+                .iter()
+                .map(|(_, j)| factor_core::linalg::scaled_norm(&j.row(r)))
+                .fold(0.0, f64::hypot)
+        })
+        .collect();
+    let longest = norms.iter().copied().fold(0.0, f64::max);
+    blocks
+        .iter()
+        .map(|(v, j)| {
+            let mut j = j.clone();
+            for (r, norm) in norms.iter().enumerate() {
+                let norm = norm.max(ROW_FLOOR * longest);
+                if norm > 0.0 && norm.is_finite() {
+                    j.row_mut(r).unscale_mut(norm);
+                }
+            }
+            (*v, j)
+        })
+        .collect()
+}
+
+/// The shortest row, relative to its factor's longest, that [`unit_rows`]
+/// scales to unit norm: far above rounding, below any ratio of two noise
+/// levels in one factor that a file would give.
+const ROW_FLOOR: f64 = 1.0;
 
 /// `off[at] += alpha · xᵀ y`, the block created (zero) if new.
 fn accumulate(
@@ -317,15 +378,15 @@ fn lift(earlier: &[Elimination], v: usize, u: DVector<f64>) -> BTreeMap<usize, D
 
 /// The pseudo-inverse of the symmetric block `d` on its determined
 /// directions, and its undetermined ones (eigenvalue at most
-/// [`TOLERANCE`]).
-fn split(d: &DMatrix<f64>) -> (DMatrix<f64>, Vec<DVector<f64>>) {
+/// `tolerance`).
+fn split(d: &DMatrix<f64>, tolerance: f64) -> (DMatrix<f64>, Vec<DVector<f64>>) {
     let n = d.nrows();
     let eigen = nalgebra::SymmetricEigen::new(d.clone());
     let mut pseudo_inverse = DMatrix::zeros(n, n);
     let mut null = Vec::new();
     for (k, lambda) in eigen.eigenvalues.iter().enumerate() {
         let u = eigen.eigenvectors.column(k).into_owned();
-        if *lambda > TOLERANCE {
+        if *lambda > tolerance {
             pseudo_inverse += &u * u.transpose() / *lambda;
         } else {
             null.push(u);
@@ -337,15 +398,28 @@ fn split(d: &DMatrix<f64>) -> (DMatrix<f64>, Vec<DVector<f64>>) {
 impl fmt::Display for Deficiency {
     /// One line: how many directions, and what the first ones move.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "not observable: {} direction{} of the free variables leave{} every residual \
-             unchanged to first order at {} (a gauge left free, or too few measurements)",
-            self.count,
-            if self.count == 1 { "" } else { "s" },
-            if self.count == 1 { "s" } else { "" },
-            self.values,
-        )?;
+        let (plural, verb) = if self.count == 1 {
+            ("", "s")
+        } else {
+            ("s", "")
+        };
+        if self.tolerance > TOLERANCE {
+            write!(
+                f,
+                "not observable: {} direction{plural} of the free variables change{verb} every \
+                 residual by less than 3e-4 of its sensitivity at {}, where the solve stopped \
+                 unconverged: it drifts along them (a gauge left free, or too few measurements)",
+                self.count, self.values,
+            )?;
+        } else {
+            write!(
+                f,
+                "not observable: {} direction{plural} of the free variables leave{verb} every \
+                 residual unchanged to first order at {} (a gauge left free, or too few \
+                 measurements)",
+                self.count, self.values,
+            )?;
+        }
         for (k, direction) in self.directions.iter().enumerate() {
             let moves: Vec<String> = direction
                 .iter()
@@ -469,5 +543,32 @@ mod tests {
             deficiency.to_string().contains("q along x2 "),
             "{deficiency}"
         );
+    }
+
+    /// A point measured tightly (weight 1e4, σ = 1e-4) across a ray and
+    /// loosely (weight 1) along it is determined, whatever the weights: the
+    /// loose row moves `[−0.1, −0.1, 1]` by 0.05 of its length, which on a
+    /// unit diagonal dominated by the tight rows was a curvature of about
+    /// 1e-11, below the tolerance. A row of rounding (1e-17 of its factor's
+    /// other row) is not scaled up to determine a direction.
+    #[test]
+    fn weights_do_not_decide_what_is_determined() {
+        let tight = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.1, 0.0, 1.0, 0.1]) * 1e4;
+        let loose = DMatrix::from_row_slice(1, 3, &[1.0, 0.0, 0.05]);
+        for scale in [1.0, 1e-80, 1e80] {
+            let mut normal = Normal::new(vec![variable("q", 3)]);
+            normal.add(&[(0, &tight * scale)]);
+            normal.add(&[(0, &loose * scale)]);
+            assert!(normal.deficiency().is_none(), "scale {scale}");
+        }
+
+        // y − z measured, y + z only by the rounding row: still free.
+        let mut normal = Normal::new(vec![variable("q", 3)]);
+        normal.add(&[(
+            0,
+            DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.0, 0.0, 1e-17, 1e-17]),
+        )]);
+        normal.add(&[(0, DMatrix::from_row_slice(1, 3, &[0.0, 1.0, -1.0]))]);
+        assert_eq!(normal.deficiency().map(|d| d.count), Some(1));
     }
 }

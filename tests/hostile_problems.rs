@@ -251,6 +251,47 @@ fn truths_are_checked_and_guarded() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A line and a plane written at a scale of 1e300 (their coordinates are
+/// homogeneous: any non-zero multiple is the same line or plane) solve as
+/// at unit scale, and their errors against the truth are measured, not
+/// refused for the solution's magnitude (they were: exit 1 after a correct
+/// solve, "the estimate of variables.l0: 2.7e299 is out of range").
+#[test]
+fn homogeneous_values_of_any_scale_are_solved_and_measured() {
+    let dir = temp_dir("homogeneous");
+    let room = room(&dir);
+    let unit = slamjac(&["solve", text(&written(&dir, "unit.json", &room))]);
+    let mut scaled = room.clone();
+    let scale = |value: &mut Value| {
+        let scaled = value.as_f64().unwrap() * 1e300;
+        *value = scaled.into();
+    };
+    for key in ["normal", "direction"] {
+        scaled["variables"]["l0"]["value"][key]
+            .as_array_mut()
+            .unwrap()
+            .iter_mut()
+            .for_each(scale);
+    }
+    scaled["variables"]["pi0"]["value"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .for_each(scale);
+    let output = slamjac(&["solve", text(&written(&dir, "scaled.json", &scaled))]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let summary = |output: &std::process::Output| -> Vec<String> {
+        stdout(output)
+            .lines()
+            .filter(|l| l.contains("cost: initial") || l.contains(": mean "))
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(summary(&output).len(), 3, "{}", stdout(&output));
+    assert_eq!(summary(&output), summary(&unit));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Class J: the guide's tracking configuration writes a problem `solve`
 /// accepts (seed 1 wrote a point behind a camera).
 #[test]

@@ -282,6 +282,125 @@ fn problem_files_take_the_schur_solver_and_agree_with_apex() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `room` (a problem file of points and `Se3` cameras, `X_c = R X_w + t`)
+/// with its world moved by `shift`: every point and true point plus
+/// `shift`, every camera's `t` less `R shift`; the same residuals.
+fn shifted(room: &serde_json::Value, shift: nalgebra::Vector3<f64>) -> serde_json::Value {
+    let move_value = |value: &mut serde_json::Value| {
+        if let Some(xyz) = value.as_array_mut() {
+            for (x, s) in xyz.iter_mut().zip(shift.iter()) {
+                *x = (x.as_f64().unwrap() + s).into();
+            }
+        } else {
+            let q: Vec<f64> = serde_json::from_value(value["rotation"].clone()).unwrap();
+            let t: Vec<f64> = serde_json::from_value(value["translation"].clone()).unwrap();
+            let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                q[3], q[0], q[1], q[2],
+            ));
+            let t = nalgebra::Vector3::from_column_slice(&t) - rotation * shift;
+            value["translation"] = serde_json::json!([t.x, t.y, t.z]);
+        }
+    };
+    let mut room = room.clone();
+    for variable in room["variables"].as_object_mut().unwrap().values_mut() {
+        move_value(&mut variable["value"]);
+    }
+    for value in room["truth"].as_object_mut().unwrap().values_mut() {
+        move_value(value);
+    }
+    room
+}
+
+/// A room written in georeferenced coordinates (`synth-plp`'s points,
+/// seed 1, moved by up to 10⁵ m) reaches the unmoved room's optimum. Moved
+/// by 10⁶ m, the steps towards it are refused by the accuracy envelope (a
+/// depth of a few metres from coordinates of 10⁶) and the damping they
+/// raise shortens the last accepted step below the parameter tolerance
+/// (relative to `‖x‖ ≈ 10⁸`): the summary says it stopped short, not
+/// converged, where it used to say "converged" at 13 times the optimum.
+#[test]
+fn georeferenced_rooms_reach_the_optimum_or_say_they_stopped_short() {
+    let dir = temp_dir("georeferenced");
+    let file = dir.join("room.json");
+    solve_ok(&[
+        "synth-plp",
+        "--seed",
+        "1",
+        "--kinds",
+        "points",
+        "--output",
+        file.to_str().unwrap(),
+    ]);
+    let room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let optimum = costs(&solve_ok(&["solve", file.to_str().unwrap()])).1;
+    let direction = nalgebra::Vector3::new(1.0, 0.6, 0.3);
+    for magnitude in [1e3, 1e5, 1e6] {
+        let moved = dir.join(format!("room-{magnitude:e}.json"));
+        std::fs::write(&moved, shifted(&room, direction * magnitude).to_string()).unwrap();
+        let output = slamjac(&["solve", moved.to_str().unwrap()]);
+        if magnitude < 1e6 {
+            assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+            assert_relative(costs(&output).1, optimum, 1e-8, "the moved room's optimum");
+        } else {
+            assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+            let summary = stdout(&output);
+            assert!(
+                summary.contains("summary: stopped short of a minimum, not converged")
+                    && summary.contains("outside the accuracy envelope"),
+                "{summary}"
+            );
+            assert!(costs(&output).1 > optimum, "{summary}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Noise models spanning the `f64` range: every σ 1e-80 (weights 1e160,
+/// gradients near 1e165) reaches the unit optimum times 1e160 on both
+/// paths; one observation 1e4 times tighter than the rest is solved (not
+/// refused as unobservable: the tight rows determine two directions of its
+/// point, the loose ones the third) at the same cost by both paths.
+#[test]
+fn noise_scales_decide_neither_observability_nor_convergence() {
+    let dir = temp_dir("noise-scales");
+    let file = dir.join("room.json");
+    solve_ok(&[
+        "synth-plp",
+        "--seed",
+        "1",
+        "--kinds",
+        "points",
+        "--output",
+        file.to_str().unwrap(),
+    ]);
+    let room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let optimum = costs(&solve_ok(&["solve", file.to_str().unwrap()])).1;
+    let mut tiny = room.clone();
+    for factor in tiny["factors"].as_array_mut().unwrap() {
+        factor["noise"] = serde_json::json!({"sigma": 1e-80});
+    }
+    let mut tight = room;
+    tight["factors"][5]["noise"] = serde_json::json!({"sigma": 1e-4});
+    for (name, problem) in [("tiny", tiny), ("tight", tight)] {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, problem.to_string()).unwrap();
+        let schur = solve_ok(&["solve", path.to_str().unwrap()]);
+        let apex = solve_ok(&["solve", path.to_str().unwrap(), "--solver", "apex"]);
+        assert!(
+            stdout(&schur).contains("Schur complement"),
+            "{}",
+            stdout(&schur)
+        );
+        assert_relative(costs(&schur).1, costs(&apex).1, 1e-8, "both paths");
+        if name == "tiny" {
+            assert_relative(costs(&schur).1, optimum * 1e160, 1e-8, "the scaled optimum");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--output` writes the optimized problem in the input's format: solving
 /// it again starts at the first solve's final cost. For every format.
 #[test]

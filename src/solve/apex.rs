@@ -63,7 +63,7 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
     let outcome = solve_built(args, built)?;
     let finished = finished(&problem.built, &outcome);
     let written = problem.written(&outcome.values);
-    let check = || problem.check_solution(&outcome.values);
+    let check = || problem.check_solution(&outcome.values, &finished.verdict);
     let truth = problem.truth_errors(&outcome.values);
     finish_file(args, &finished, check, truth, &written)
 }

@@ -80,6 +80,7 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
             let line = Object::new(value, path, &["normal", "direction"])?;
             let mut input = line.numbers("normal", 3)?;
             input.extend(line.numbers("direction", 3)?);
+            let input = common_scale::<6>(input);
             checked::<OrthonormalLine<f64>>(&input, path)?;
             let (n, v) = (
                 Vector3::from_column_slice(&input[..3]),
@@ -89,7 +90,7 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
             Ok(Reading::Line(v.cross(&n) / v.norm_squared(), v))
         }
         "InfinitePlane" => {
-            let c = Vector4::from_vec(numbers(value, path, 4)?);
+            let c = Vector4::from_vec(common_scale::<4>(numbers(value, path, 4)?));
             checked::<InfinitePlane<f64>>(c.as_slice(), path)?;
             Ok(Reading::Plane(c / c.xyz().norm()))
         }
@@ -100,6 +101,18 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
                  not {other}"
             ),
         )),
+    }
+}
+
+/// `input`, the coordinates of something any non-zero multiple of which is
+/// the same (Plücker coordinates, a plane), at unit norm, so that a value
+/// of any finite scale (a solution keeps its file's, 1e300 say) passes the
+/// magnitude check; as it is when it has no finite non-zero norm (for the
+/// checks to name).
+fn common_scale<const N: usize>(input: Vec<f64>) -> Vec<f64> {
+    match factor_core::linalg::unit_of(&nalgebra::SVector::<f64, N>::from_column_slice(&input)) {
+        Some(unit) => unit.as_slice().to_vec(),
+        None => input,
     }
 }
 

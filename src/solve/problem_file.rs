@@ -48,6 +48,7 @@ use factor_apex::Kernels;
 use factor_apex::builder::{ProblemBuilder, Values};
 use factor_apex::built::Built;
 use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
+use factor_apex::solve::Verdict;
 use factor_core::geometry::OrthonormalLine;
 use factor_core::{FieldInfo, Layout, Storage};
 
@@ -59,7 +60,7 @@ use super::problem_checks::{self as checks, Shape, at_value, read_json};
 use crate::decode::record_keys;
 use crate::error::{CliError, InputError};
 use crate::field_path::quoted;
-use crate::observability::{Deficiency, Normal, Variable};
+use crate::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
 use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};
 
@@ -193,13 +194,14 @@ pub(super) fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> 
 }
 
 /// The directions of the free variables the built problem's blocks do not
-/// determine at the initial values, or at `solved` ([`crate::observability`]),
-/// in apex-solver's chart, through each block's whitened Jacobian.
+/// determine at the initial values, or at `solved` with its tolerance
+/// ([`crate::observability`]), in apex-solver's chart, through each block's
+/// whitened Jacobian.
 fn deficiency<'a>(
     built: &Built<()>,
     created: impl IntoIterator<Item = (&'a String, &'a Created)>,
     fixed: &[String],
-    solved: Option<&Values>,
+    solved: Option<(&Values, f64)>,
 ) -> Option<Deficiency> {
     let created: HashMap<&String, &Created> = created.into_iter().collect();
     let mut names: Vec<&String> = created
@@ -247,7 +249,7 @@ fn deficiency<'a>(
     let mut normal = Normal::new(variables);
     for block in built.kept.as_deref().unwrap_or_default() {
         let params: Vec<&[f64]> = match solved {
-            Some(values) => block
+            Some((values, _)) => block
                 .keys
                 .iter()
                 .map(|k| values[*k].as_param_slice())
@@ -298,7 +300,17 @@ fn deficiency<'a>(
             .collect();
         normal.add(&blocks);
     }
-    normal.deficiency()
+    normal.deficiency_within(solved.map_or(TOLERANCE, |(_, tolerance)| tolerance))
+}
+
+/// The tolerance of the observability check at a solution: the strict one
+/// after a converged solve, [`DRIFT_TOLERANCE`] after one that stopped
+/// unconverged, whose weakly determined directions are where it drifted.
+pub(super) fn solution_tolerance(verdict: &Verdict) -> f64 {
+    match verdict {
+        Verdict::Converged(_) => TOLERANCE,
+        _ => DRIFT_TOLERANCE,
+    }
 }
 
 /// A block's whitened Jacobian on one free variable in apex's coordinates,
@@ -407,14 +419,17 @@ impl FileProblem {
     /// Refuses a solution whose free variables the measurements do not
     /// determine (the solve drifted to a configuration that leaves a
     /// direction free, as two planes rotated parallel: issue 28's
-    /// `synth-plp --cameras 4`), naming the directions.
+    /// `synth-plp --cameras 4`), naming the directions; after a solve that
+    /// did not converge (`verdict`), one they determine only weakly too
+    /// ([`solution_tolerance`]).
     ///
     /// # Errors
     ///
     /// The deficiency, in words.
-    pub fn check_solution(&self, values: &Values) -> Result<(), String> {
+    pub fn check_solution(&self, values: &Values, verdict: &Verdict) -> Result<(), String> {
         let created = self.variables.iter().map(|(name, c)| (name, c));
-        match deficiency(&self.built, created, &self.fixed, Some(values)) {
+        let at = Some((values, solution_tolerance(verdict)));
+        match deficiency(&self.built, created, &self.fixed, at) {
             Some(deficiency) => Err(deficiency.at("the solution").to_string()),
             None => Ok(()),
         }

@@ -195,7 +195,13 @@ pub fn summary(
         Verdict::Stalled => {
             "stopped: no step reduces the cost any more (damping at its maximum)".to_owned()
         }
+        Verdict::Refused(refusal) => format!(
+            "stopped short of a minimum, not converged: the steps that would lower the cost \
+             further meet configurations a factor refuses, and the damping they raised left only \
+             a step shorter than the parameter tolerance (last refusal: {refusal})"
+        ),
         Verdict::Failed(why) => format!("failed: {why}"),
+        other => format!("{other:?}"),
     };
     let change = if outcome.initial_cost > 0.0 && outcome.final_cost.is_finite() {
         format!(

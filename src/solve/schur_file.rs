@@ -24,7 +24,9 @@ use factor_schur::Solver;
 use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
-use super::problem_file::{add_at, nothing_to_solve, shape, unobservable, value_json};
+use super::problem_file::{
+    add_at, nothing_to_solve, shape, solution_tolerance, unobservable, value_json,
+};
 use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
 use crate::field_path::shown_path;
@@ -88,7 +90,7 @@ pub(super) fn run(
         assembly.problem.eliminate(assembly.created[name].id);
     }
     let fixed: HashSet<String> = checked.fixed.iter().cloned().collect();
-    if let Some(deficiency) = deficiency(&assembly, &fixed, false) {
+    if let Some(deficiency) = deficiency(&assembly, &fixed, None) {
         return Err(unobservable(&args.file, &deficiency));
     }
     let blocks = assembly.problem.factor_count();
@@ -112,7 +114,8 @@ pub(super) fn run(
     let outcome = super::schur::iterate(args, solver, blocks);
     let finished = super::schur::finished(&outcome, blocks);
     let written = written(&json, &assembly);
-    let check = || match deficiency(&assembly, &fixed, true) {
+    let tolerance = solution_tolerance(&finished.verdict);
+    let check = || match deficiency(&assembly, &fixed, Some(tolerance)) {
         Some(d) => Err(d.at("the solution").to_string()),
         None => Ok(()),
     };
@@ -180,13 +183,13 @@ fn written(json: &Value, assembly: &SchurAssembly) -> Value {
 }
 
 /// The directions of the free variables the factors do not determine, at
-/// the initial values or (`solved`) the problem's current ones
-/// ([`crate::observability`]), over each factor's whitened Jacobian in its
-/// variables' own tangents.
+/// the initial values or (`solved`, with its tolerance) the problem's
+/// current ones ([`crate::observability`]), over each factor's whitened
+/// Jacobian in its variables' own tangents.
 fn deficiency(
     assembly: &SchurAssembly,
     fixed: &HashSet<String>,
-    solved: bool,
+    solved: Option<f64>,
 ) -> Option<Deficiency> {
     let mut names: Vec<&String> = assembly
         .created
@@ -214,7 +217,7 @@ fn deficiency(
     let mut stored = Vec::new();
     for kept in &assembly.kept {
         stored.clone_from(&kept.stored);
-        if solved {
+        if solved.is_some() {
             for (id, range) in &kept.variables {
                 stored[range.clone()].copy_from_slice(assembly.problem.value(*id));
             }
@@ -238,5 +241,5 @@ fn deficiency(
         }
         normal.add(&blocks);
     }
-    normal.deficiency()
+    normal.deficiency_within(solved.unwrap_or(crate::observability::TOLERANCE))
 }

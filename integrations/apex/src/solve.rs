@@ -140,6 +140,7 @@ impl std::fmt::Debug for Outcome {
 
 /// How a solve ended, for a command line.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Verdict {
     /// A convergence criterion was met.
     Converged(String),
@@ -147,6 +148,12 @@ pub enum Verdict {
     IterationLimit,
     /// No step reduced the cost any more (damping at its maximum).
     Stalled,
+    /// Stopped short of a minimum, not converged: the steps that would
+    /// lower the cost further met configurations a factor refuses, and the
+    /// damping they raised left only a step shorter than the parameter
+    /// tolerance; the last refusal's message (crate `factor-schur`'s
+    /// Levenberg–Marquardt).
+    Refused(String),
     /// The solve stopped on a failure (non-finite values, an
     /// ill-conditioned system, ...).
     Failed(String),

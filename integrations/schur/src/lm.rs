@@ -14,9 +14,17 @@
 //!   2ν`; λ stays within [1e-12, 1e12];
 //! - after an accepted step: converged when `‖g‖ <` the gradient tolerance
 //!   (`g` at the step's start), and from the second iteration on when the
-//!   step is shorter than the parameter tolerance relative to `‖x‖`, or the
-//!   cost fell by less than the cost tolerance relative; stalled after 5
-//!   rejections in a row with λ at its maximum.
+//!   step is shorter than the parameter tolerance relative to `‖x‖` (and
+//!   lowered the cost by less than 0.1% of it: a step that still makes
+//!   progress never counts as converged by its length, where apex-solver's
+//!   and Ceres' criterion would stop), or the cost fell by less than the
+//!   cost tolerance relative; stalled after 5 rejections in a row with λ at
+//!   its maximum;
+//! - a step shorter than the parameter tolerance that follows a trial step
+//!   a factor refused (since the last accepted step) ends the solve as
+//!   `Verdict::Refused`, not converged: the damping the refusals raised
+//!   shortened it, not a minimum (a room 1e6 m from the origin, where the
+//!   accuracy envelope refuses the steps towards its optimum).
 //!
 //! A rejected step costs no linearization: the normal equations of the
 //! current values are kept and only the damping changes. A damped system
@@ -39,6 +47,13 @@ const MIN_DAMPING: f64 = 1e-12;
 const MAX_DAMPING: f64 = 1e12;
 const MIN_RELATIVE_DECREASE: f64 = 1e-3;
 const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
+/// An accepted step that lowered the cost by at least this fraction of it
+/// is progress, however short: the parameter tolerance is relative to
+/// `‖x‖`, which in georeferenced coordinates (a room 1e6 m from the
+/// origin, `‖x‖ ≈ 1e8`) lets a heavily damped 1 m step, which had just
+/// lowered the cost by 31%, stop the solve as converged at 288 times the
+/// optimum's cost.
+const PROGRESS: f64 = 1e-3;
 
 /// Where a solve's time went (wall time unless said).
 #[derive(Debug, Clone, Copy, Default)]
@@ -119,6 +134,8 @@ pub struct Solver<'p> {
     buffers: StepBuffers,
     profile: Profile,
     rejected: Rejected,
+    /// The message of the last evaluation pass a factor rejected.
+    last_rejection: Option<String>,
     start: Instant,
     initial_cost: f64,
 }
@@ -163,6 +180,7 @@ impl<'p> Solver<'p> {
             reduced,
             profile,
             rejected: Rejected::default(),
+            last_rejection: None,
             problem,
             start,
             initial_cost: f64::NAN,
@@ -235,27 +253,19 @@ impl<'p> Solver<'p> {
         );
         self.profile.evaluation += start.elapsed();
         let ok = rejected.count == 0;
+        if !ok {
+            self.last_rejection.clone_from(&rejected.first);
+        }
         self.rejected.merge(rejected);
         ok.then_some(cost)
     }
 
     fn parameter_norm(&self) -> f64 {
-        self.problem
-            .values
-            .iter()
-            .map(|x| x * x)
-            .sum::<f64>()
-            .sqrt()
+        schur::norm(&[&self.problem.values])
     }
 
     fn step_norm(&self) -> f64 {
-        self.buffers
-            .reduced
-            .iter()
-            .chain(&self.buffers.eliminated)
-            .map(|x| x * x)
-            .sum::<f64>()
-            .sqrt()
+        schur::norm(&[&self.buffers.reduced, &self.buffers.eliminated])
     }
 
     /// Minimises the cost from the problem's values, which hold the
@@ -272,6 +282,8 @@ impl<'p> Solver<'p> {
         let mut lambda = s.problem.damping.initial_lambda();
         let mut nu = 2.0;
         let mut consecutive_rejections = 0;
+        // A factor's refusal of a trial step since the last accepted one.
+        let mut blocked: Option<String> = None;
         let mut history = Vec::new();
         // The first iteration's span holds the set-up, as the general
         // path's does.
@@ -312,6 +324,9 @@ impl<'p> Solver<'p> {
                 let evaluation_start = Instant::now();
                 trial = s.evaluate_candidate().map(|c| (c, step));
                 evaluation = evaluation_start.elapsed();
+                if trial.is_none() {
+                    blocked = s.last_rejection.clone();
+                }
             }
             let rho = match trial {
                 Some((new_cost, step)) if new_cost.is_finite() => {
@@ -363,6 +378,7 @@ impl<'p> Solver<'p> {
             } else if gradient_norm < options.gradient_tolerance {
                 Some(Criterion::GradientTolerance)
             } else if index > 0
+                && (previous - cost) < PROGRESS * previous
                 && step_norm
                     <= options.parameter_tolerance
                         * (s.parameter_norm() + options.parameter_tolerance)
@@ -378,9 +394,18 @@ impl<'p> Solver<'p> {
             if index + 1 >= options.max_iterations.max(1) {
                 break;
             }
-            if let Some(why) = converged {
-                verdict = why.verdict(options);
-                break;
+            match (converged, blocked.take_if(|_| accepted)) {
+                // A step shortened by the damping that refused steps raised
+                // is not a minimum: the steps towards one were refused.
+                (Some(Criterion::ParameterTolerance), Some(refusal)) => {
+                    verdict = Verdict::Refused(refusal);
+                    break;
+                }
+                (Some(why), _) => {
+                    verdict = why.verdict(options);
+                    break;
+                }
+                (None, _) => {}
             }
             if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {
                 verdict = Verdict::Stalled;

@@ -81,13 +81,18 @@ impl Normal {
 
     /// `‖g‖₂` over every free coordinate.
     pub(crate) fn gradient_norm(&self) -> f64 {
-        self.g_reduced
-            .iter()
-            .chain(&self.g_eliminated)
-            .map(|g| g * g)
-            .sum::<f64>()
-            .sqrt()
+        norm(&[&self.g_reduced, &self.g_eliminated])
     }
+}
+
+/// `‖(a, b, …)‖` of the concatenated `parts`, of any magnitude: each part's
+/// norm scaled by its largest entry (`scaled_norm`), so that a gradient of
+/// 1e165 (a measurement weighted by σ = 1e-80) is not reported infinite.
+pub(crate) fn norm(parts: &[&[f64]]) -> f64 {
+    parts
+        .iter()
+        .map(|part| factor_core::linalg::scaled_norm(&nalgebra::DVectorView::from(*part)))
+        .fold(0.0, f64::hypot)
 }
 
 /// The work buffers of the step: `S`, its right-hand side (then `δ_r`),
@@ -588,6 +593,19 @@ pub(crate) fn step(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Norms beyond `√f64::MAX` (a gradient of 1e200) are finite, and
+    /// exact to rounding; zero parts and an empty list are zero.
+    #[test]
+    fn norms_of_any_magnitude_are_finite() {
+        let big = norm(&[&[3e200, 0.0], &[4e200]]);
+        assert!((big / 5e200 - 1.0).abs() < 1e-15, "{big:e}");
+        let small = norm(&[&[3e-200], &[], &[4e-200]]);
+        assert!((small / 5e-200 - 1.0).abs() < 1e-15, "{small:e}");
+        assert_eq!(norm(&[&[0.0, 0.0]]), 0.0);
+        assert_eq!(norm(&[]), 0.0);
+        assert!(norm(&[&[f64::NAN]]).is_nan());
+    }
 
     #[test]
     fn packed_upper_indices_run_row_by_row() {
