@@ -8,7 +8,7 @@
 
 use std::collections::HashMap;
 
-use factor_apex::builder::Noise;
+use factor_core::noise::Noise;
 use factor_core::{FactorError, FieldInfo, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;

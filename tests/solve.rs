@@ -311,6 +311,24 @@ fn shifted(room: &serde_json::Value, shift: nalgebra::Vector3<f64>) -> serde_jso
     room
 }
 
+/// `synth-plp`'s room of points (seed 1), written in `dir`, and the final
+/// cost of its solve with the defaults.
+fn points_room(dir: &Path) -> (serde_json::Value, f64) {
+    let file = dir.join("room.json");
+    let file = file.to_str().unwrap();
+    solve_ok(&[
+        "synth-plp",
+        "--seed",
+        "1",
+        "--kinds",
+        "points",
+        "--output",
+        file,
+    ]);
+    let room = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+    (room, costs(&solve_ok(&["solve", file])).1)
+}
+
 /// A room written in georeferenced coordinates (`synth-plp`'s points,
 /// seed 1, moved by up to 10⁵ m) reaches the unmoved room's optimum. Moved
 /// by 10⁶ m, the steps towards it are refused by the accuracy envelope (a
@@ -321,19 +339,7 @@ fn shifted(room: &serde_json::Value, shift: nalgebra::Vector3<f64>) -> serde_jso
 #[test]
 fn georeferenced_rooms_reach_the_optimum_or_say_they_stopped_short() {
     let dir = temp_dir("georeferenced");
-    let file = dir.join("room.json");
-    solve_ok(&[
-        "synth-plp",
-        "--seed",
-        "1",
-        "--kinds",
-        "points",
-        "--output",
-        file.to_str().unwrap(),
-    ]);
-    let room: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
-    let optimum = costs(&solve_ok(&["solve", file.to_str().unwrap()])).1;
+    let (room, optimum) = points_room(&dir);
     let direction = nalgebra::Vector3::new(1.0, 0.6, 0.3);
     for magnitude in [1e3, 1e5, 1e6] {
         let moved = dir.join(format!("room-{magnitude:e}.json"));
@@ -364,19 +370,7 @@ fn georeferenced_rooms_reach_the_optimum_or_say_they_stopped_short() {
 #[test]
 fn noise_scales_decide_neither_observability_nor_convergence() {
     let dir = temp_dir("noise-scales");
-    let file = dir.join("room.json");
-    solve_ok(&[
-        "synth-plp",
-        "--seed",
-        "1",
-        "--kinds",
-        "points",
-        "--output",
-        file.to_str().unwrap(),
-    ]);
-    let room: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
-    let optimum = costs(&solve_ok(&["solve", file.to_str().unwrap()])).1;
+    let (room, optimum) = points_room(&dir);
     let mut tiny = room.clone();
     for factor in tiny["factors"].as_array_mut().unwrap() {
         factor["noise"] = serde_json::json!({"sigma": 1e-80});

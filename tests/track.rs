@@ -15,7 +15,7 @@ use factor_core::Storage;
 use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, So3};
 use factor_core::nalgebra::{DMatrix, Isometry3, Unit};
-use factor_tracking::{Options, PoseProblem, Whitening};
+use factor_tracking::{Options, PoseProblem};
 use serde_json::Value;
 use slam_data::plp_scene::{PlpConfig, generate};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
@@ -102,7 +102,7 @@ fn a_frame_solved_by_apex_solver_reaches_the_same_pose() {
                 pose: initial,
                 point: scene.truth.points[o.point],
             },
-            Whitening::Sigma(1.0),
+            Noise::Sigma(1.0),
             Noise::Sigma(1.0)
         );
     }
@@ -120,7 +120,7 @@ fn a_frame_solved_by_apex_solver_reaches_the_same_pose() {
                 pose: initial,
                 line: OrthonormalLine::try_from_points(&segment.start, &segment.end).unwrap(),
             },
-            Whitening::Sigma(1.0),
+            Noise::Sigma(1.0),
             Noise::Sigma(1.0)
         );
     }
@@ -136,7 +136,7 @@ fn a_frame_solved_by_apex_solver_reaches_the_same_pose() {
                 pose: initial,
                 plane: InfinitePlane::from_normal_offset(&p.xyz(), p.w),
             },
-            Whitening::SqrtInformation(s.clone()),
+            Noise::SqrtInformation(s.clone()),
             Noise::SqrtInformation(s.clone())
         );
     }

@@ -19,6 +19,8 @@
 //!   solver in the solver's own manifolds, parameter layouts and tangents.
 //! - [`kernel`]: [`WithKernel`], the link from a factor to its generated
 //!   kernel, for batch evaluators, and how a stale kernel is caught.
+//! - [`noise`]: [`noise::Noise`], the noise model every solver path
+//!   whitens a residual by.
 //! - [`numeric`]: numerical differentiation with an error estimate, the
 //!   independent reference for the exact Jacobians.
 //! - [`linalg`]: vector helpers that need only [`Scalar`] arithmetic.
@@ -43,6 +45,7 @@ pub mod kernel;
 pub mod lie;
 pub mod linalg;
 pub mod manifold;
+pub mod noise;
 pub mod numeric;
 pub mod scalar;
 pub mod storage;

@@ -23,17 +23,14 @@ pub enum PoseError {
         /// The factor's name.
         factor: &'static str,
     },
-    /// A whitening matrix of the wrong size for the factor's residual.
-    #[error("{factor}: a whitening matrix of {rows} × {columns} for a residual of {dim}")]
-    Whitening {
+    /// A noise model that does not fit the factor's residual
+    /// ([`factor_core::noise::Noise::check`]).
+    #[error("{factor}: noise model: {reason}")]
+    Noise {
         /// The factor's name.
         factor: &'static str,
-        /// The matrix's rows.
-        rows: usize,
-        /// Its columns.
-        columns: usize,
-        /// The residual's dimension.
-        dim: usize,
+        /// What does not fit.
+        reason: String,
     },
     /// Nothing to solve.
     #[error("no observations")]

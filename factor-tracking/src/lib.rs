@@ -6,7 +6,8 @@
 //! user's), each with exactly one `Se3` variable — the pose — and its other
 //! variables (points, lines, planes) held at the values the factor
 //! carries: the map. Each observation's residual is whitened by its
-//! [`Whitening`] (`½ ‖S r‖²`). [`PoseProblem::solve`] then minimises the
+//! noise model, [`Noise`] (`½ ‖S r‖²`; the one model of every solver
+//! path, `factor_core::noise::Noise`). [`PoseProblem::solve`] then minimises the
 //! sum from an initial pose (in tracking, the previous frame's):
 //!
 //! - each linearization calls every factor's generated kernel through
@@ -32,7 +33,7 @@
 //! use factor_core::geometry::Intrinsics;
 //! use factor_core::lie::Se3;
 //! use factor_core::nalgebra::{Vector2, Vector3, Vector6};
-//! use factor_tracking::{Options, PoseProblem, Whitening};
+//! use factor_tracking::{Noise, Options, PoseProblem};
 //! use slam_factors::PointReprojection;
 //!
 //! // A camera 0.1 m and 0.05 rad away from the one that took the pixels.
@@ -45,7 +46,7 @@
 //!     let seen = truth.transform_point(&point);
 //!     let observed = Vector2::new(400.0 * seen.x / seen.z + 320.0, 400.0 * seen.y / seen.z + 240.0);
 //!     let factor = PointReprojection { intrinsics, observed, pose: initial, point };
-//!     problem.add(&factor, &Whitening::Sigma(1.0))?;
+//!     problem.add(&factor, &Noise::Sigma(1.0))?;
 //! }
 //! let solution = problem.solve(&initial, &Options::default())?;
 //! assert!(solution.converged);
@@ -60,5 +61,6 @@ mod observations;
 mod solver;
 
 pub use error::PoseError;
-pub use observations::{Normal, Whitening};
+pub use factor_core::noise::Noise;
+pub use observations::Normal;
 pub use solver::{Options, PoseProblem, PoseSolution};

@@ -3,8 +3,9 @@
 
 use std::any::Any;
 
+use factor_core::noise::Noise;
 use factor_core::{Factor, FactorError, Perturbation};
-use nalgebra::{DMatrix, Matrix6, Vector6};
+use nalgebra::{Matrix6, Vector6};
 
 use crate::error::PoseError;
 
@@ -12,40 +13,13 @@ use crate::error::PoseError;
 /// the Jacobian request, on the stack).
 const MAX_VARIABLES: usize = 8;
 
-/// How an observation's residual `r` is whitened: the cost is `½ ‖S r‖²`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Whitening {
-    /// `S = I`.
-    Unit,
-    /// `S = I / σ`: one standard deviation for every component.
-    Sigma(f64),
-    /// A square-root information matrix `S` (`SᵀS` is the information),
-    /// residual-dimension square.
-    SqrtInformation(DMatrix<f64>),
-}
-
-impl Whitening {
-    /// `S` as a row-major `dim × dim` array, or the error naming `factor`.
-    fn matrix(&self, factor: &'static str, dim: usize) -> Result<Vec<f64>, PoseError> {
-        let diagonal = |s: f64| {
-            (0..dim * dim)
-                .map(|k| if k % (dim + 1) == 0 { s } else { 0.0 })
-                .collect()
-        };
-        match self {
-            Whitening::Unit => Ok(diagonal(1.0)),
-            Whitening::Sigma(sigma) => Ok(diagonal(1.0 / sigma)),
-            Whitening::SqrtInformation(s) if s.nrows() == dim && s.ncols() == dim => {
-                Ok(s.transpose().as_slice().to_vec())
-            }
-            Whitening::SqrtInformation(s) => Err(PoseError::Whitening {
-                factor,
-                rows: s.nrows(),
-                columns: s.ncols(),
-                dim,
-            }),
-        }
-    }
+/// `S` of `noise` as a row-major `dim × dim` array, or the error naming
+/// `factor` when the model does not fit the residual.
+fn whitening(noise: &Noise, factor: &'static str, dim: usize) -> Result<Vec<f64>, PoseError> {
+    noise
+        .check(dim)
+        .map_err(|reason| PoseError::Noise { factor, reason })?;
+    Ok(noise.sqrt_information(dim).transpose().as_slice().to_vec())
 }
 
 /// The cost `½ Σ ‖S r‖²` of a pose's observations and its normal
@@ -160,10 +134,10 @@ impl<F: Factor> Observations<F> {
     pub(crate) fn push(
         &mut self,
         factor: &F,
-        whitening: &Whitening,
+        noise: &Noise,
         index: usize,
     ) -> Result<(), PoseError> {
-        let s = whitening.matrix(F::NAME, F::RESIDUAL_DIM)?;
+        let s = whitening(noise, F::NAME, F::RESIDUAL_DIM)?;
         self.stored.extend(factor.to_scalars());
         self.whitening.extend(s);
         self.indices.push(index);

@@ -6,7 +6,8 @@ use factor_core::lie::Se3;
 use factor_core::{Factor, Manifold, Perturbation, Storage};
 
 use crate::error::PoseError;
-use crate::observations::{Normal, Observations, Terms, Whitening, normal};
+use crate::observations::{Normal, Observations, Terms, normal};
+use factor_core::noise::Noise;
 
 /// When [`PoseProblem::solve`] stops, and when it refuses a pose as
 /// undetermined.
@@ -77,7 +78,7 @@ impl PoseProblem {
         PoseProblem::default()
     }
 
-    /// Adds `factor`, its residual whitened by `whitening`; its landmarks
+    /// Adds `factor`, its residual whitened by `noise`; its landmarks
     /// (every variable but the pose) stay at the factor's values, and its
     /// pose's value is not used. Returns the observation's index (errors
     /// name it).
@@ -87,11 +88,12 @@ impl PoseProblem {
     /// [`PoseError::NoPose`] when `F` has not exactly one `Se3` variable;
     /// [`PoseError::MixedSides`] when its pose is perturbed on the other
     /// side than the problem's other observations';
-    /// [`PoseError::Whitening`] for a matrix of the wrong size.
+    /// [`PoseError::Noise`] for a noise model that does not fit its
+    /// residual.
     pub fn add<F: Factor + 'static>(
         &mut self,
         factor: &F,
-        whitening: &Whitening,
+        noise: &Noise,
     ) -> Result<usize, PoseError> {
         let index = self.observations;
         let id = TypeId::of::<F>();
@@ -111,7 +113,7 @@ impl PoseProblem {
             .as_any_mut()
             .downcast_mut::<Observations<F>>()
             .expect("the terms of its type");
-        terms.push(factor, whitening, index)?;
+        terms.push(factor, noise, index)?;
         self.observations += 1;
         Ok(index)
     }

@@ -8,7 +8,7 @@ use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, So3};
 use factor_core::nalgebra::{DMatrix, Isometry3, Matrix6, Unit, Vector6};
 use factor_core::{Factor, Storage};
-use factor_tracking::{Options, PoseError, PoseProblem, Whitening};
+use factor_tracking::{Noise, Options, PoseError, PoseProblem};
 use slam_data::plp_scene::{PlpConfig, PlpScene, generate};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 
@@ -46,7 +46,7 @@ fn problem(scene: &PlpScene, camera: usize, planes: bool) -> PoseProblem {
             pose,
             point: truth.points[o.point],
         };
-        problem.add(&factor, &Whitening::Sigma(1.0)).unwrap();
+        problem.add(&factor, &Noise::Sigma(1.0)).unwrap();
     }
     for o in scene
         .segment_observations
@@ -61,7 +61,7 @@ fn problem(scene: &PlpScene, camera: usize, planes: bool) -> PoseProblem {
             pose,
             line: OrthonormalLine::try_from_points(&s.start, &s.end).unwrap(),
         };
-        problem.add(&factor, &Whitening::Sigma(1.0)).unwrap();
+        problem.add(&factor, &Noise::Sigma(1.0)).unwrap();
     }
     if planes {
         for o in scene
@@ -75,7 +75,7 @@ fn problem(scene: &PlpScene, camera: usize, planes: bool) -> PoseProblem {
                 pose,
                 plane: InfinitePlane::from_normal_offset(&p.xyz(), p.w),
             };
-            problem.add(&factor, &Whitening::Unit).unwrap();
+            problem.add(&factor, &Noise::Unit).unwrap();
         }
     }
     problem
@@ -194,7 +194,7 @@ fn normal_equations_agree_with_dual_numbers() {
             plane: InfinitePlane::from_normal_offset(&p.xyz(), p.w),
         };
         problem
-            .add(&factor, &Whitening::SqrtInformation(s.clone()))
+            .add(&factor, &Noise::SqrtInformation(s.clone()))
             .unwrap();
         let l = factor.linearize_dual_dyn().unwrap();
         add(&l.jacobians[0], &l.residual, &s);
@@ -231,7 +231,7 @@ fn an_undetermined_pose_is_refused() {
             pose: initial,
             point: scene.truth.points[o.point],
         };
-        problem.add(&factor, &Whitening::Sigma(1.0)).unwrap();
+        problem.add(&factor, &Noise::Sigma(1.0)).unwrap();
     }
     match problem.solve(&initial, &Options::default()) {
         Err(PoseError::Underdetermined {
@@ -249,9 +249,7 @@ fn an_undetermined_pose_is_refused() {
     let between = slam_factors::BetweenFactor::from_scalars(
         &[0.0; <slam_factors::BetweenFactor as Storage<f64>>::SCALARS],
     );
-    let error = PoseProblem::new()
-        .add(&between, &Whitening::Unit)
-        .unwrap_err();
+    let error = PoseProblem::new().add(&between, &Noise::Unit).unwrap_err();
     assert_eq!(
         error,
         PoseError::NoPose {
@@ -259,12 +257,38 @@ fn an_undetermined_pose_is_refused() {
             found: 0
         }
     );
+    // A noise model that does not fit the residual, named by the model's
+    // own check; nothing is added.
+    let point = slam_factors::PointReprojection::from_scalars(
+        &[0.5; <slam_factors::PointReprojection as Storage<f64>>::SCALARS],
+    );
+    let before = problem.len();
+    for (noise, reason) in [
+        (
+            Noise::Sigmas(vec![1.0; 3]),
+            "3 standard deviations for a residual of 2",
+        ),
+        (
+            Noise::Sigma(-1.0),
+            "standard deviation -1 is not a finite number above 0",
+        ),
+    ] {
+        let error = problem.add(&point, &noise).unwrap_err();
+        assert_eq!(
+            error,
+            PoseError::Noise {
+                factor: "point_reprojection",
+                reason: reason.into()
+            }
+        );
+    }
+    assert_eq!(problem.len(), before);
     // The free line's body pose is perturbed on the right, the point
     // reprojection's pose on the left.
     let free_line = slam_factors::FreeLineFactor::from_scalars(
         &[0.5; <slam_factors::FreeLineFactor as Storage<f64>>::SCALARS],
     );
-    let error = problem.add(&free_line, &Whitening::Unit).unwrap_err();
+    let error = problem.add(&free_line, &Noise::Unit).unwrap_err();
     assert_eq!(
         error,
         PoseError::MixedSides {

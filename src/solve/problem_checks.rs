@@ -25,9 +25,9 @@
 
 use std::path::Path;
 
-use factor_apex::builder::Noise;
 use factor_apex::problems::Robust;
 use factor_core::VariableInfo;
+use factor_core::noise::Noise;
 use serde_json::{Map, Value};
 
 use super::file_truth::Truth;

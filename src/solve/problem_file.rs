@@ -421,7 +421,7 @@ impl FileProblem {
     /// direction free, as two planes rotated parallel: issue 28's
     /// `synth-plp --cameras 4`), naming the directions; after a solve that
     /// did not converge (`verdict`), one they determine only weakly too
-    /// ([`solution_tolerance`]).
+    /// (`solution_tolerance`).
     ///
     /// # Errors
     ///

@@ -106,86 +106,21 @@ impl AnyVariable {
     }
 }
 
-/// A factor's noise model, in its residual space: the residual `r` is
-/// whitened to `S r` (so the cost is `½ ‖S r‖²`, or `½ ρ(‖S r‖²)` with a
-/// robust loss).
-#[derive(Debug, Clone, PartialEq)]
-pub enum Noise {
-    /// No whitening (`S = I`).
-    Unit,
-    /// One standard deviation for every component (`S = I / σ`).
-    Sigma(f64),
-    /// A standard deviation per component (`S = diag(1 / σᵢ)`).
-    Sigmas(Vec<f64>),
-    /// A square-root information matrix `S` (`Sᵀ S` is the information),
-    /// residual-dimension square.
-    SqrtInformation(nalgebra::DMatrix<f64>),
-}
+pub use factor_core::noise::Noise;
 
-impl Noise {
-    /// Checks that the model fits a residual of `dim` components: as many
-    /// standard deviations as components, each finite and above 0; a
-    /// `dim × dim` square-root information with finite entries.
-    ///
-    /// # Errors
-    ///
-    /// What does not fit, in words.
-    pub fn check(&self, dim: usize) -> Result<(), String> {
-        let deviations =
-            |sigmas: &[f64]| match sigmas.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
-                Some(bad) => Err(format!(
-                    "standard deviation {bad} is not a finite number above 0"
-                )),
-                None => Ok(()),
-            };
-        match self {
-            Noise::Unit => Ok(()),
-            Noise::Sigma(sigma) => deviations(&[*sigma]),
-            Noise::Sigmas(sigmas) if sigmas.len() != dim => Err(format!(
-                "{} standard deviations for a residual of {dim}",
-                sigmas.len()
-            )),
-            Noise::Sigmas(sigmas) => deviations(sigmas),
-            Noise::SqrtInformation(s) if s.shape() != (dim, dim) => Err(format!(
-                "square-root information is {}×{}, the residual has {dim} components",
-                s.nrows(),
-                s.ncols()
-            )),
-            Noise::SqrtInformation(s) if s.iter().any(|x| !x.is_finite()) => {
-                Err("a square-root information entry is not finite".into())
-            }
-            Noise::SqrtInformation(_) => Ok(()),
-        }
-    }
-
-    /// `S` for a residual of `dim` components, of a model that passed
-    /// [`Noise::check`].
-    pub fn sqrt_information(&self, dim: usize) -> nalgebra::DMatrix<f64> {
-        use nalgebra::{DMatrix, DVector};
-        match self {
-            Noise::Unit => DMatrix::identity(dim, dim),
-            Noise::Sigma(sigma) => DMatrix::identity(dim, dim) / *sigma,
-            Noise::Sigmas(sigmas) => {
-                DMatrix::from_diagonal(&DVector::from_iterator(dim, sigmas.iter().map(|s| 1.0 / s)))
-            }
-            Noise::SqrtInformation(s) => s.clone(),
-        }
-    }
-
-    /// apex's noise model for a residual of `dim` components.
-    pub(crate) fn model(&self, dim: usize) -> Result<Option<NoiseModel>, String> {
-        self.check(dim)?;
-        let sigmas = |sigmas: &[f64]| NoiseModel::from_sigmas(sigmas).map_err(|e| e.to_string());
-        match self {
-            Noise::Unit => Ok(None),
-            Noise::Sigma(sigma) => sigmas(&vec![*sigma; dim]).map(Some),
-            Noise::Sigmas(values) => sigmas(values).map(Some),
-            Noise::SqrtInformation(s) => {
-                let s = nalgebra_apex::DMatrix::from_column_slice(dim, dim, s.as_slice());
-                NoiseModel::from_sqrt_info(s)
-                    .map(Some)
-                    .map_err(|e| e.to_string())
-            }
+/// apex's noise model of `noise` for a residual of `dim` components.
+pub(crate) fn model(noise: &Noise, dim: usize) -> Result<Option<NoiseModel>, String> {
+    noise.check(dim)?;
+    let sigmas = |sigmas: &[f64]| NoiseModel::from_sigmas(sigmas).map_err(|e| e.to_string());
+    match noise {
+        Noise::Unit => Ok(None),
+        Noise::Sigma(sigma) => sigmas(&vec![*sigma; dim]).map(Some),
+        Noise::Sigmas(values) => sigmas(values).map(Some),
+        Noise::SqrtInformation(s) => {
+            let s = nalgebra_apex::DMatrix::from_column_slice(dim, dim, s.as_slice());
+            NoiseModel::from_sqrt_info(s)
+                .map(Some)
+                .map_err(|e| e.to_string())
         }
     }
 }
@@ -438,8 +373,7 @@ impl ProblemBuilder {
                 error => BuildError::Degenerate { which, error },
             }
         })?;
-        let noise = noise
-            .model(F::RESIDUAL_DIM)
+        let noise = model(noise, F::RESIDUAL_DIM)
             .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", F::NAME)))?;
         let keys: Vec<VarKey> = variables.iter().flat_map(|v| v.keys.clone()).collect();
         let served = served.with_rejections(self.rejections());

@@ -15,9 +15,9 @@ use std::marker::PhantomData;
 use std::ops::Range;
 use std::time::{Duration, Instant};
 
-use factor_apex::builder::Noise;
 use factor_apex::problems::Robust;
 use factor_batch::{Columns, JacobianColumns, NormalColumns, Options, pairs};
+use factor_core::noise::Noise;
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
 

@@ -1,6 +1,6 @@
 //! The noise models of a group's factors: the cost of factor `i` is
 //! `½ ρ(‖Sᵢ rᵢ‖²)` with `Sᵢ` its square-root information
-//! (`factor_apex::builder::Noise`, the vocabulary of the general path).
+//! (`factor_core::noise::Noise`, the one noise model of every path).
 //!
 //! A fused kernel yields `Jᵀ w J`, `Jᵀ w r` and `½ w rᵀr` for a scalar
 //! weight `w`, never `Jᵀ SᵀS J`; so
@@ -14,7 +14,7 @@
 //!   before it forms the normal blocks (`group::whitened`). Such factors
 //!   are few in the problems here (one per plane seen by a camera).
 
-use factor_apex::builder::Noise;
+use factor_core::noise::Noise;
 
 /// The group's noise models, one per factor, in its factors' order.
 #[derive(Debug, Clone)]

@@ -4,10 +4,10 @@
 
 use std::any::{Any, TypeId};
 
-use factor_apex::builder::Noise;
 use factor_apex::problems::Robust;
 use factor_apex::solve::Damping;
 use factor_core::WithKernel;
+use factor_core::noise::Noise;
 use factor_lanes::NormalKernel;
 
 use crate::error::SchurError;

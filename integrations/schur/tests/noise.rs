@@ -14,7 +14,6 @@
 //! - mixed per-factor noise and losses reach apex-solver's optimum under
 //!   the same models (`factor_apex::builder`, an independent solver).
 
-use factor_apex::builder::Noise;
 use factor_apex::builder::ProblemBuilder;
 use factor_apex::problems::Robust;
 use factor_apex::problems::bundle::{camera_pose, factor_of};
@@ -22,6 +21,7 @@ use factor_apex::solve::{SolveOptions, Verdict};
 use factor_core::Factor;
 use factor_core::Storage;
 use factor_core::lie::Se3RhoTheta;
+use factor_core::noise::Noise;
 use factor_schur::{Problem, SchurError, Solver, VariableId};
 use nalgebra::{DMatrix, Rotation2};
 use slam_data::BalProblem;

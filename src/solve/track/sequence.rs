@@ -20,10 +20,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use factor_apex::builder::Noise;
 use factor_core::lie::Se3;
+use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
-use factor_tracking::{PoseError, PoseProblem, Whitening};
+use factor_tracking::{PoseError, PoseProblem};
 use serde_json::{Map, Value};
 use slam_factors::{
     LineObservation, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
@@ -116,7 +116,7 @@ struct Tracked {
     name: &'static str,
     kind: Kind,
     shape: fn() -> Shape,
-    read: fn(&Object, &Object, Whitening) -> Result<Adder, InputError>,
+    read: fn(&Object, &Object, Noise) -> Result<Adder, InputError>,
 }
 
 fn tracked<F: Factor + 'static>(kind: Kind) -> Tracked {
@@ -132,9 +132,9 @@ fn tracked<F: Factor + 'static>(kind: Kind) -> Tracked {
                 .collect(),
             residual_dim: F::RESIDUAL_DIM,
         },
-        read: |variables, constants, whitening| {
+        read: |variables, constants, noise| {
             let factor: F = decode(variables, constants)?;
-            Ok(Box::new(move |problem| problem.add(&factor, &whitening)))
+            Ok(Box::new(move |problem| problem.add(&factor, &noise)))
         },
     }
 }
@@ -148,18 +148,6 @@ fn tracked_factors() -> [Tracked; 5] {
         tracked::<LineObservation>(Kind::Line),
         tracked::<PlaneFactor>(Kind::Plane),
     ]
-}
-
-/// The whitening of a noise model.
-fn whitening(noise: &Noise) -> Whitening {
-    match noise {
-        Noise::Unit => Whitening::Unit,
-        Noise::Sigma(sigma) => Whitening::Sigma(*sigma),
-        Noise::Sigmas(sigmas) => Whitening::SqrtInformation(nalgebra::DMatrix::from_diagonal(
-            &nalgebra::DVector::from_iterator(sigmas.len(), sigmas.iter().map(|s| 1.0 / s)),
-        )),
-        Noise::SqrtInformation(s) => Whitening::SqrtInformation(s.clone()),
-    }
 }
 
 /// A world-to-camera pose written `{"rotation": [qx, qy, qz, qw],
@@ -235,9 +223,8 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
             .iter()
             .find(|t| t.name == entry.factor)
             .expect("checked: a tracked factor");
-        let whitening = whitening(&entry.noise);
         // The file's values, decoded as `solve` decodes them.
-        let mut add = (tracked.read)(&entry.variables()?, &entry.constants, whitening.clone())
+        let mut add = (tracked.read)(&entry.variables()?, &entry.constants, entry.noise.clone())
             .map_err(|e| at_value(e, entry))?;
         let mut frame = None;
         let mut values = Map::new();
@@ -266,7 +253,7 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
             let values = Value::Object(values);
             let fields: Vec<&str> = entry.names.iter().map(|(f, _)| f.as_str()).collect();
             let variables = Object::new(&values, &join(&entry.path, "variables"), &fields)?;
-            add = (tracked.read)(&variables, &entry.constants, whitening)?;
+            add = (tracked.read)(&variables, &entry.constants, entry.noise.clone())?;
         }
         let frame = frame.expect("every tracked factor has an `Se3` pose");
         frames[frame].observations.push(Observation {

@@ -361,8 +361,7 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
         which: format!("{} at the initial values", which()),
         error,
     })?;
-    let model = noise
-        .model(F::RESIDUAL_DIM)
+    let model = crate::builder::model(noise, F::RESIDUAL_DIM)
         .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", which())))?;
     let served = ApexFactor::new(factor, kernels)?.with_rejections(builder.rejections());
     builder.block_with_loss(
