@@ -170,18 +170,18 @@ impl PoseProblem {
     /// `H` at the start of either solve is singular (by
     /// [`Options::min_eigenvalue_ratio`]) or not finite;
     /// [`PoseError::Observation`] for one still undefined at the first
-    /// solve's pose.
+    /// solve's pose, or the first one when none is defined at `initial`.
     pub fn solve(
         &mut self,
         initial: &Se3<f64>,
         options: &Options,
     ) -> Result<PoseSolution, PoseError> {
         let side = self.side().ok_or(PoseError::NoObservations)?;
-        match self.normal(initial) {
+        let undefined = match self.normal(initial) {
             Ok(start) => return self.iterate(initial, start, side, options, 0),
-            Err(PoseError::Observation { .. }) => {}
+            Err(error @ PoseError::Observation { .. }) => error,
             Err(other) => return Err(other),
-        }
+        };
         let mut stored = [0.0; 7];
         initial.write_scalars(&mut stored);
         let deferred: usize = self
@@ -189,6 +189,15 @@ impl PoseProblem {
             .iter_mut()
             .map(|t| t.set_aside_undefined(&stored))
             .sum();
+        // Every observation undefined at the start: nothing to solve the
+        // first pose from, and the first one's error says why (it was a
+        // singular matrix of 0 observations with a NaN ratio).
+        if deferred == self.observations {
+            for t in &mut self.terms {
+                t.activate_all();
+            }
+            return Err(undefined);
+        }
         let first = self
             .normal(initial)
             .and_then(|start| self.iterate(initial, start, side, options, 0));

@@ -257,6 +257,22 @@ fn an_undetermined_pose_is_refused() {
             found: 0
         }
     );
+    // Every observation undefined at the initial pose (its point behind
+    // the camera): the first one's error, not a singular matrix of none.
+    let mut behind = PoseProblem::new();
+    for k in 0..3 {
+        let factor = PointReprojection {
+            intrinsics: Intrinsics::new(fu, fv, cu, cv),
+            observed: nalgebra::Vector2::new(320.0, 240.0),
+            pose: Se3::identity(),
+            point: nalgebra::Vector3::new(f64::from(k), 0.0, -5.0),
+        };
+        behind.add(&factor, &Noise::Unit).unwrap();
+    }
+    match behind.solve(&Se3::identity(), &Options::default()) {
+        Err(PoseError::Observation { observation: 0, .. }) => {}
+        other => panic!("{other:?}"),
+    }
     // A noise model that does not fit the residual, named by the model's
     // own check; nothing is added.
     let point = slam_factors::PointReprojection::from_scalars(

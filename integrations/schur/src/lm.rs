@@ -12,19 +12,31 @@
 //!   decrease, the prediction `−gᵀδ − ½ δᵀHδ`) exceeds 1e-3; then `λ ←
 //!   λ max(1/3, 1 − (2ρ − 1)³)` and `ν ← 2` (Nielsen), else `λ ← λν`, `ν ←
 //!   2ν`; λ stays within [1e-12, 1e12];
-//! - after an accepted step: converged when `‖g‖ <` the gradient tolerance
-//!   (`g` at the step's start), and from the second iteration on when the
-//!   step is shorter than the parameter tolerance relative to `‖x‖` (and
-//!   lowered the cost by less than 0.1% of it: a step that still makes
-//!   progress never counts as converged by its length, where apex-solver's
-//!   and Ceres' criterion would stop), or the cost fell by less than the
-//!   cost tolerance relative; stalled after 5 rejections in a row with λ at
-//!   its maximum;
-//! - a step shorter than the parameter tolerance that follows a trial step
-//!   a factor refused (since the last accepted step) ends the solve as
-//!   `Verdict::Refused`, not converged: the damping the refusals raised
-//!   shortened it, not a minimum (a room 1e6 m from the origin, where the
-//!   accuracy envelope refuses the steps towards its optimum).
+//! - after an accepted step: converged when the largest cosine between
+//!   the whitened residual and a column of the whitened Jacobian, `|g_j| /
+//!   √(H_jj · 2 cost)` (MINPACK's orthogonality test, at the step's
+//!   start), is at most the gradient tolerance; from the second iteration on, when the step is shorter than
+//!   the parameter tolerance relative to `‖x‖` and lowered the cost by at
+//!   most 0.1% of it, or when the cost fell by at most the cost tolerance
+//!   relative — each only for a step the damping shaped no more than the
+//!   cost, `λ D_jj ≤ H_jj` on every coordinate; stalled after 5 rejections
+//!   in a row with λ at its maximum;
+//! - a stall after a trial step a factor refused (since the last accepted
+//!   step) ends the solve as `Verdict::Refused`: stopped short of a
+//!   minimum, the steps towards it refused.
+//!
+//! Where this departs from apex-solver's and Ceres' criteria, each change
+//! answers a wrong "converged": with every σ 1e8 times larger, the
+//! absolute gradient tolerance (apex's) stopped at 79 times the optimum
+//! (and one relative to `‖g₀‖` stopped a problem with one observation of
+//! σ = 1e-4 at 3e-8 above its optimum),
+//! and `D`'s absolute floor of 1e-6 took over the steps, which the length
+//! and cost criteria then read as convergence at the initial cost (σ 1e12
+//! times larger; the cost criterion's floor of 1e-10 on the cost did the
+//! same); in a room 1e6 m from the origin, the parameter tolerance
+//! (relative to `‖x‖ ≈ 1e8`) read a step the damping had shortened, after
+//! the accuracy envelope refused the steps towards the optimum, as
+//! convergence at 13 times the optimum.
 //!
 //! A rejected step costs no linearization: the normal equations of the
 //! current values are kept and only the damping changes. A damped system
@@ -47,12 +59,9 @@ const MIN_DAMPING: f64 = 1e-12;
 const MAX_DAMPING: f64 = 1e12;
 const MIN_RELATIVE_DECREASE: f64 = 1e-3;
 const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
-/// An accepted step that lowered the cost by at least this fraction of it
-/// is progress, however short: the parameter tolerance is relative to
-/// `‖x‖`, which in georeferenced coordinates (a room 1e6 m from the
-/// origin, `‖x‖ ≈ 1e8`) lets a heavily damped 1 m step, which had just
-/// lowered the cost by 31%, stop the solve as converged at 288 times the
-/// optimum's cost.
+/// An accepted step that lowered the cost by more than this fraction of it
+/// is progress, however short (the parameter tolerance is relative to
+/// `‖x‖`, about 1e8 in georeferenced coordinates).
 const PROGRESS: f64 = 1e-3;
 
 /// Where a solve's time went (wall time unless said).
@@ -289,13 +298,16 @@ impl<'p> Solver<'p> {
         // path's does.
         let mut last = s.start;
         let mut linearization = s.linearize();
+        let mut damping_ratio = s.normal.damping_ratio(&s.structure, bounds);
         let mut verdict = Verdict::IterationLimit;
         for index in 0..options.max_iterations.max(1) {
             let gradient_norm = s.normal.gradient_norm();
+            let cosine = s.normal.largest_cosine(&s.structure, cost);
             if !gradient_norm.is_finite() {
                 verdict = Verdict::Failed("the normal equations are not finite".into());
                 break;
             }
+            let lambda_used = lambda;
             let mut times = StepTimes::default();
             let step = schur::step(
                 Damped { lambda, bounds },
@@ -373,20 +385,22 @@ impl<'p> Solver<'p> {
             on_iteration(&report);
             history.push(report);
             // apex-solver's criteria, in its order.
-            let converged = if !accepted {
-                None
-            } else if gradient_norm < options.gradient_tolerance {
-                Some(Criterion::GradientTolerance)
-            } else if index > 0
-                && (previous - cost) < PROGRESS * previous
+            // A step the damping shaped more than the cost on some
+            // coordinate says nothing of a minimum by its length or gain.
+            let undamped = damping_ratio * lambda_used <= 1.0;
+            let short = index > 0
+                && (previous - cost) <= PROGRESS * previous
                 && step_norm
                     <= options.parameter_tolerance
-                        * (s.parameter_norm() + options.parameter_tolerance)
-            {
+                        * (s.parameter_norm() + options.parameter_tolerance);
+            let flat = index > 0 && (previous - cost).abs() <= options.cost_tolerance * previous;
+            let converged = if !accepted {
+                None
+            } else if cosine <= options.gradient_tolerance {
+                Some(Criterion::RelativeGradientTolerance)
+            } else if undamped && short {
                 Some(Criterion::ParameterTolerance)
-            } else if index > 0
-                && (previous - cost).abs() / previous.max(1e-10) < options.cost_tolerance
-            {
+            } else if undamped && flat {
                 Some(Criterion::CostTolerance)
             } else {
                 None
@@ -394,26 +408,22 @@ impl<'p> Solver<'p> {
             if index + 1 >= options.max_iterations.max(1) {
                 break;
             }
-            match (converged, blocked.take_if(|_| accepted)) {
-                // A step shortened by the damping that refused steps raised
-                // is not a minimum: the steps towards one were refused.
-                (Some(Criterion::ParameterTolerance), Some(refusal)) => {
-                    verdict = Verdict::Refused(refusal);
-                    break;
-                }
-                (Some(why), _) => {
-                    verdict = why.verdict(options);
-                    break;
-                }
-                (None, _) => {}
+            if accepted {
+                blocked = None;
+            }
+            if let Some(why) = converged {
+                verdict = why.verdict(options);
+                break;
             }
             if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {
-                verdict = Verdict::Stalled;
+                verdict = blocked.take().map_or(Verdict::Stalled, Verdict::Refused);
                 break;
             }
             last = Instant::now();
             linearization = if accepted {
-                s.linearize()
+                let elapsed = s.linearize();
+                damping_ratio = s.normal.damping_ratio(&s.structure, bounds);
+                elapsed
             } else {
                 Duration::ZERO
             };

@@ -79,6 +79,52 @@ impl Normal {
         }
     }
 
+    /// The largest `D_jj / H_jj` over the free coordinates, `D =
+    /// clamp(diag H, bounds)`: how many times its curvature the damping
+    /// adds to a coordinate at λ = 1 (1 for Marquardt's scaling within its
+    /// bounds, infinite for a coordinate of no curvature). A step whose
+    /// `λ` times this exceeds 1 is shaped by the damping more than by the
+    /// cost on some coordinate.
+    pub(crate) fn damping_ratio(&self, structure: &Structure, bounds: (f64, f64)) -> f64 {
+        let ratio = |h: f64| h.clamp(bounds.0, bounds.1) / h;
+        self.diagonal_of_h(structure).map(ratio).fold(0.0, f64::max)
+    }
+
+    /// The largest cosine between the whitened residual and a column of
+    /// the whitened Jacobian, `|g_j| / √(H_jj ‖r‖²)` with `‖r‖² = 2 cost`
+    /// (MINPACK's orthogonality test): 0 at a stationary point, and the same
+    /// whatever the scale of the noise models. A column of zeros counts 0.
+    pub(crate) fn largest_cosine(&self, structure: &Structure, cost: f64) -> f64 {
+        let gradient = self.g_reduced.iter().chain(&self.g_eliminated);
+        self.diagonal_of_h(structure)
+            .zip(gradient)
+            .map(|(h, g)| {
+                let cosine = g.abs() / (h.sqrt() * (2.0 * cost).sqrt());
+                if cosine.is_nan() { 0.0 } else { cosine }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// `H_jj` over the free coordinates, in the order of `g_reduced` then
+    /// `g_eliminated`.
+    fn diagonal_of_h<'a>(&'a self, structure: &'a Structure) -> impl Iterator<Item = f64> + 'a {
+        let (csc, el) = (&structure.csc, &structure.eliminated);
+        let reduced = csc
+            .dims
+            .iter()
+            .enumerate()
+            .flat_map(move |(v, &d)| (0..d).map(move |a| self.u[csc.diagonal(v, a, a)]));
+        let eliminated = el
+            .tangent
+            .windows(2)
+            .zip(&el.packed)
+            .flat_map(move |(t, &at)| {
+                let d = t[1] - t[0];
+                (0..d).map(move |a| self.v[at + packed(d, a, a)])
+            });
+        reduced.chain(eliminated)
+    }
+
     /// `‖g‖₂` over every free coordinate.
     pub(crate) fn gradient_norm(&self) -> f64 {
         norm(&[&self.g_reduced, &self.g_eliminated])
