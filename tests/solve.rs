@@ -1108,6 +1108,14 @@ fn problem_files_are_solved_and_round_trip() {
     ]);
     let (initial, last) = costs(&first);
     assert!(initial > 1.0 && last < 1e-12, "{initial} → {last}");
+    // The measurements fit exactly: converged at the rounding of a zero
+    // residual (it said "no step reduces the cost any more" once the cost
+    // reached 0 under the scale-free tests).
+    assert!(
+        stdout(&first).contains("summary: converged"),
+        "{}",
+        stdout(&first)
+    );
     let solved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let point: Vec<f64> =

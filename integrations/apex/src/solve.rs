@@ -179,6 +179,9 @@ pub enum Criterion {
     /// a problem whose every σ was 1e8 times larger at 79 times its
     /// optimum).
     RelativeGradientTolerance,
+    /// The cost fell to at most 1e-30 of its initial value: the rounding of
+    /// a zero residual (crate `factor-schur`).
+    NegligibleCost,
 }
 
 impl Criterion {
@@ -202,6 +205,10 @@ impl Criterion {
                 "the residual's cosine with every Jacobian column fell below {:e}",
                 options.gradient_tolerance
             ),
+            Criterion::NegligibleCost => {
+                "the cost fell to 1e-30 of its initial value, the rounding of a zero residual"
+                    .to_owned()
+            }
         })
     }
 }

@@ -12,18 +12,21 @@
 //!   decrease, the prediction `−gᵀδ − ½ δᵀHδ`) exceeds 1e-3; then `λ ←
 //!   λ max(1/3, 1 − (2ρ − 1)³)` and `ν ← 2` (Nielsen), else `λ ← λν`, `ν ←
 //!   2ν`; λ stays within [1e-12, 1e12];
-//! - after an accepted step: converged when the largest cosine between
-//!   the whitened residual and a column of the whitened Jacobian, `|g_j| /
-//!   √(H_jj · 2 cost)` (MINPACK's orthogonality test, at the step's
-//!   start), is at most the gradient tolerance; from the second iteration on, when the step is shorter than
+//! - converged, from the second iteration on, when the largest cosine
+//!   between the whitened residual and a column of the whitened Jacobian,
+//!   `|g_j| / √(H_jj · 2 cost)` (MINPACK's orthogonality test, at the
+//!   values the last accepted step reached), is at most the gradient
+//!   tolerance, or when the cost is at most 1e-30 of the initial cost (a
+//!   zero residual); after an accepted step, from the second iteration on, when the step is shorter than
 //!   the parameter tolerance relative to `‖x‖` and lowered the cost by at
 //!   most 0.1% of it, or when the cost fell by at most the cost tolerance
 //!   relative — each only for a step the damping shaped no more than the
 //!   cost, `λ D_jj ≤ H_jj` on every coordinate; stalled after 5 rejections
 //!   in a row with λ at its maximum;
-//! - a stall after a trial step a factor refused (since the last accepted
-//!   step) ends the solve as `Verdict::Refused`: stopped short of a
-//!   minimum, the steps towards it refused.
+//! - a step that would meet the length or cost test but for its damping,
+//!   or a stall, after a trial step a factor refused (since the last
+//!   accepted step) ends the solve as `Verdict::Refused`: stopped short of
+//!   a minimum, the steps towards it refused.
 //!
 //! Where this departs from apex-solver's and Ceres' criteria, each change
 //! answers a wrong "converged": with every σ 1e8 times larger, the
@@ -63,6 +66,11 @@ const MAX_CONSECUTIVE_REJECTIONS: usize = 5;
 /// is progress, however short (the parameter tolerance is relative to
 /// `‖x‖`, about 1e8 in georeferenced coordinates).
 const PROGRESS: f64 = 1e-3;
+/// A cost at most this fraction of the initial cost is the rounding of a
+/// zero residual (ε² ≈ 5e-32 relative): a problem whose measurements its
+/// variables fit exactly has converged there (its steps still lower the
+/// cost by nearly all of it, and its gradient is parallel to its residual).
+const NEGLIGIBLE_COST: f64 = 1e-30;
 
 /// Where a solve's time went (wall time unless said).
 #[derive(Debug, Clone, Copy, Default)]
@@ -307,6 +315,20 @@ impl<'p> Solver<'p> {
                 verdict = Verdict::Failed("the normal equations are not finite".into());
                 break;
             }
+            // At the values the last accepted step reached.
+            let at_minimum = if index == 0 {
+                None
+            } else if cosine <= options.gradient_tolerance {
+                Some(Criterion::RelativeGradientTolerance)
+            } else if cost <= NEGLIGIBLE_COST * initial_cost {
+                Some(Criterion::NegligibleCost)
+            } else {
+                None
+            };
+            if let Some(why) = at_minimum {
+                verdict = why.verdict(options);
+                break;
+            }
             let lambda_used = lambda;
             let mut times = StepTimes::default();
             let step = schur::step(
@@ -386,8 +408,13 @@ impl<'p> Solver<'p> {
             history.push(report);
             // apex-solver's criteria, in its order.
             // A step the damping shaped more than the cost on some
-            // coordinate says nothing of a minimum by its length or gain.
-            let undamped = damping_ratio * lambda_used <= 1.0;
+            // coordinate says nothing of a minimum by its length or gain,
+            // unless the residual is already nearly orthogonal to the
+            // Jacobian (within the square root of the gradient tolerance:
+            // the rounding near a minimum, where rejected steps raise the
+            // damping too).
+            let undamped =
+                damping_ratio * lambda_used <= 1.0 || cosine <= options.gradient_tolerance.sqrt();
             let short = index > 0
                 && (previous - cost) <= PROGRESS * previous
                 && step_norm
@@ -396,8 +423,6 @@ impl<'p> Solver<'p> {
             let flat = index > 0 && (previous - cost).abs() <= options.cost_tolerance * previous;
             let converged = if !accepted {
                 None
-            } else if cosine <= options.gradient_tolerance {
-                Some(Criterion::RelativeGradientTolerance)
             } else if undamped && short {
                 Some(Criterion::ParameterTolerance)
             } else if undamped && flat {
@@ -408,12 +433,21 @@ impl<'p> Solver<'p> {
             if index + 1 >= options.max_iterations.max(1) {
                 break;
             }
-            if accepted {
-                blocked = None;
-            }
             if let Some(why) = converged {
                 verdict = why.verdict(options);
                 break;
+            }
+            if accepted {
+                // Shortened by the damping that refused steps raised: the
+                // steps towards a minimum were refused.
+                if !undamped
+                    && (short || flat)
+                    && let Some(refusal) = blocked.take()
+                {
+                    verdict = Verdict::Refused(refusal);
+                    break;
+                }
+                blocked = None;
             }
             if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {
                 verdict = blocked.take().map_or(Verdict::Stalled, Verdict::Refused);
