@@ -145,8 +145,8 @@ impl Normal {
     /// weighted 1e8 times its neighbours' (σ = 1e-4 among σ = 1) would
     /// otherwise make the directions only they determine look undetermined
     /// beside its own on the unit diagonal.
-    pub fn add(&mut self, blocks: &[(usize, DMatrix<f64>)]) {
-        let blocks = unit_rows(blocks);
+    pub fn add(&mut self, mut blocks: Vec<(usize, DMatrix<f64>)>) {
+        unit_rows(&mut blocks);
         for (i, (a, ja)) in blocks.iter().enumerate() {
             self.diagonal[*a].gemm_tr(1.0, ja, ja, 1.0);
             for (b, jb) in &blocks[i + 1..] {
@@ -288,11 +288,11 @@ impl Normal {
     }
 }
 
-/// A factor's blocks (all with the same rows) with each row scaled to unit
-/// norm over the blocks; a row shorter than [`ROW_FLOOR`] times the
-/// factor's longest is scaled as if it were that long, so that a row of
+/// Scales each row of a factor's blocks (all with the same rows) to unit
+/// norm over the blocks, in place; a row shorter than [`ROW_FLOOR`] times
+/// the factor's longest is scaled as if it were that long, so that a row of
 /// rounding (a component the free variables do not move) stays negligible.
-fn unit_rows(blocks: &[(usize, DMatrix<f64>)]) -> Vec<(usize, DMatrix<f64>)> {
+fn unit_rows(blocks: &mut [(usize, DMatrix<f64>)]) {
     let rows = blocks.first().map_or(0, |(_, j)| j.nrows());
     let norms: Vec<f64> = (0..rows)
         .map(|r| {
@@ -303,19 +303,14 @@ fn unit_rows(blocks: &[(usize, DMatrix<f64>)]) -> Vec<(usize, DMatrix<f64>)> {
         })
         .collect();
     let longest = norms.iter().copied().fold(0.0, f64::max);
-    blocks
-        .iter()
-        .map(|(v, j)| {
-            let mut j = j.clone();
-            for (r, norm) in norms.iter().enumerate() {
-                let norm = norm.max(ROW_FLOOR * longest);
-                if norm > 0.0 && norm.is_finite() {
-                    j.row_mut(r).unscale_mut(norm);
-                }
+    for (_, j) in blocks.iter_mut() {
+        for (r, norm) in norms.iter().enumerate() {
+            let norm = norm.max(ROW_FLOOR * longest);
+            if norm > 0.0 && norm.is_finite() {
+                j.row_mut(r).unscale_mut(norm);
             }
-            (*v, j)
-        })
-        .collect()
+        }
+    }
 }
 
 /// The shortest row, relative to its factor's longest, that [`unit_rows`]
@@ -487,7 +482,7 @@ mod tests {
     fn a_difference_alone_leaves_the_sum_free() {
         let one = |x: f64| DMatrix::from_element(1, 1, x);
         let mut normal = Normal::new(vec![variable("a", 1), variable("b", 1)]);
-        normal.add(&[(0, one(1.0)), (1, one(-1.0))]);
+        normal.add(vec![(0, one(1.0)), (1, one(-1.0))]);
         let deficiency = normal.deficiency().expect("a free direction");
         assert_eq!(deficiency.count, 1);
         let direction = &deficiency.directions[0];
@@ -504,8 +499,8 @@ mod tests {
         assert!(message.contains("moves a along x0 "), "{message}");
 
         let mut normal = Normal::new(vec![variable("a", 1), variable("b", 1)]);
-        normal.add(&[(0, one(1.0)), (1, one(-1.0))]);
-        normal.add(&[(1, one(3.0))]);
+        normal.add(vec![(0, one(1.0)), (1, one(-1.0))]);
+        normal.add(vec![(1, one(3.0))]);
         assert!(normal.deficiency().is_none());
     }
 
@@ -519,9 +514,9 @@ mod tests {
         let mut normal = Normal::new((0..n).map(|k| variable(&format!("p{k}"), 2)).collect());
         let identity = DMatrix::<f64>::identity(2, 2) * 2.0;
         for k in 0..n - 1 {
-            normal.add(&[(k, identity.clone()), (k + 1, -identity.clone())]);
+            normal.add(vec![(k, identity.clone()), (k + 1, -identity.clone())]);
         }
-        normal.add(&[(0, DMatrix::from_row_slice(1, 2, &[5.0, 0.0]))]);
+        normal.add(vec![(0, DMatrix::from_row_slice(1, 2, &[5.0, 0.0]))]);
         let deficiency = normal.deficiency().expect("y free");
         assert_eq!(deficiency.count, 1);
         let direction = &deficiency.directions[0];
@@ -533,7 +528,7 @@ mod tests {
         }
 
         let mut normal = Normal::new(vec![variable("q", 3)]);
-        normal.add(&[(
+        normal.add(vec![(
             0,
             DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 0.0]),
         )]);
@@ -557,18 +552,18 @@ mod tests {
         let loose = DMatrix::from_row_slice(1, 3, &[1.0, 0.0, 0.05]);
         for scale in [1.0, 1e-80, 1e80] {
             let mut normal = Normal::new(vec![variable("q", 3)]);
-            normal.add(&[(0, &tight * scale)]);
-            normal.add(&[(0, &loose * scale)]);
+            normal.add(vec![(0, &tight * scale)]);
+            normal.add(vec![(0, &loose * scale)]);
             assert!(normal.deficiency().is_none(), "scale {scale}");
         }
 
         // y − z measured, y + z only by the rounding row: still free.
         let mut normal = Normal::new(vec![variable("q", 3)]);
-        normal.add(&[(
+        normal.add(vec![(
             0,
             DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.0, 0.0, 1e-17, 1e-17]),
         )]);
-        normal.add(&[(0, DMatrix::from_row_slice(1, 3, &[0.0, 1.0, -1.0]))]);
+        normal.add(vec![(0, DMatrix::from_row_slice(1, 3, &[0.0, 1.0, -1.0]))]);
         assert_eq!(normal.deficiency().map(|d| d.count), Some(1));
     }
 }

@@ -588,7 +588,7 @@ fn observable(
         if let Some(free) = index.get(&format!("c{}", m.camera)) {
             blocks.push((*free, camera.clone()));
         }
-        normal.add(&blocks);
+        normal.add(blocks);
     }
     match normal.deficiency() {
         None => Ok(()),

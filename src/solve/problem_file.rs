@@ -298,7 +298,7 @@ fn deficiency<'a>(
                 }
             })
             .collect();
-        normal.add(&blocks);
+        normal.add(blocks);
     }
     normal.deficiency_within(solved.map_or(TOLERANCE, |(_, tolerance)| tolerance))
 }

@@ -239,7 +239,7 @@ fn deficiency(
             };
             first += d;
         }
-        normal.add(&blocks);
+        normal.add(blocks);
     }
     normal.deficiency_within(solved.unwrap_or(crate::observability::TOLERANCE))
 }

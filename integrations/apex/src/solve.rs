@@ -178,7 +178,7 @@ pub enum Criterion {
     /// models' scale does not move: the absolute gradient tolerance stopped
     /// a problem whose every σ was 1e8 times larger at 79 times its
     /// optimum).
-    RelativeGradientTolerance,
+    Orthogonality,
     /// The cost fell to at most 1e-30 of its initial value: the rounding of
     /// a zero residual (crate `factor-schur`).
     NegligibleCost,
@@ -201,7 +201,7 @@ impl Criterion {
                 "the gradient's norm fell below {:e}",
                 options.gradient_tolerance
             ),
-            Criterion::RelativeGradientTolerance => format!(
+            Criterion::Orthogonality => format!(
                 "the residual's cosine with every Jacobian column fell below {:e}",
                 options.gradient_tolerance
             ),

@@ -17,9 +17,10 @@
 //!   `|g_j| / √(H_jj · 2 cost)` (MINPACK's orthogonality test, at the
 //!   values the last accepted step reached), is at most the gradient
 //!   tolerance, or when the cost is at most 1e-30 of the initial cost (a
-//!   zero residual); after an accepted step, from the second iteration on, when the step is shorter than
-//!   the parameter tolerance relative to `‖x‖` and lowered the cost by at
-//!   most 0.1% of it, or when the cost fell by at most the cost tolerance
+//!   zero residual); after an accepted step, from the second iteration on,
+//!   when the step is shorter than the parameter tolerance relative to
+//!   `‖x‖` and lowered the cost by at most 0.1% of it, or when the cost
+//!   fell by at most the cost tolerance
 //!   relative — each only for a step the damping shaped no more than the
 //!   cost, `λ D_jj ≤ H_jj` on every coordinate; stalled after 5 rejections
 //!   in a row with λ at its maximum;
@@ -32,8 +33,7 @@
 //! answers a wrong "converged": with every σ 1e8 times larger, the
 //! absolute gradient tolerance (apex's) stopped at 79 times the optimum
 //! (and one relative to `‖g₀‖` stopped a problem with one observation of
-//! σ = 1e-4 at 3e-8 above its optimum),
-//! and `D`'s absolute floor of 1e-6 took over the steps, which the length
+//! σ = 1e-4 at 3e-8 above its optimum), and `D`'s absolute floor of 1e-6 took over the steps, which the length
 //! and cost criteria then read as convergence at the initial cost (σ 1e12
 //! times larger; the cost criterion's floor of 1e-10 on the cost did the
 //! same); in a room 1e6 m from the origin, the parameter tolerance
@@ -306,12 +306,12 @@ impl<'p> Solver<'p> {
         // path's does.
         let mut last = s.start;
         let mut linearization = s.linearize();
+        // What the convergence tests read of each linearization.
         let mut damping_ratio = s.normal.damping_ratio(&s.structure, bounds);
+        let mut cosine = s.normal.largest_cosine(&s.structure, cost);
         let mut verdict = Verdict::IterationLimit;
         for index in 0..options.max_iterations.max(1) {
-            let gradient_norm = s.normal.gradient_norm();
-            let cosine = s.normal.largest_cosine(&s.structure, cost);
-            if !gradient_norm.is_finite() {
+            if !s.normal.gradient_norm().is_finite() {
                 verdict = Verdict::Failed("the normal equations are not finite".into());
                 break;
             }
@@ -319,7 +319,7 @@ impl<'p> Solver<'p> {
             let at_minimum = if index == 0 {
                 None
             } else if cosine <= options.gradient_tolerance {
-                Some(Criterion::RelativeGradientTolerance)
+                Some(Criterion::Orthogonality)
             } else if cost <= NEGLIGIBLE_COST * initial_cost {
                 Some(Criterion::NegligibleCost)
             } else {
@@ -406,7 +406,6 @@ impl<'p> Solver<'p> {
             };
             on_iteration(&report);
             history.push(report);
-            // apex-solver's criteria, in its order.
             // A step the damping shaped more than the cost on some
             // coordinate says nothing of a minimum by its length or gain,
             // unless the residual is already nearly orthogonal to the
@@ -457,6 +456,7 @@ impl<'p> Solver<'p> {
             linearization = if accepted {
                 let elapsed = s.linearize();
                 damping_ratio = s.normal.damping_ratio(&s.structure, bounds);
+                cosine = s.normal.largest_cosine(&s.structure, cost);
                 elapsed
             } else {
                 Duration::ZERO
