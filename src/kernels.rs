@@ -113,11 +113,12 @@ pub fn shipped() -> Registry {
         .fold(registry, Registry::with_spec)
 }
 
-/// The shipped factors whose kernels have fused normal equations
-/// ([`shipped_kernels`]) also in the Schur-complement solver's problems.
-/// Not `PluckerLineReprojection`: the Schur path retracts each variable by
-/// its own manifold, and a `PluckerLine`'s is a free 6-vector that leaves
-/// the Klein quadric and carries a scale no residual sees; its files go to
+/// The shipped factors also in the Schur-complement solver's problems:
+/// those whose kernels have fused normal equations ([`shipped_kernels`]) in
+/// lane batches, the pose-graph and g2o factors one at a time. Not
+/// `PluckerLineReprojection`: the Schur path retracts each variable by its
+/// own manifold, and a `PluckerLine`'s is a free 6-vector that leaves the
+/// Klein quadric and carries a scale no residual sees; its files go to
 /// apex-solver, which solves the line in the orthonormal chart
 /// (`HostMap<Apex>`).
 #[cfg(feature = "solve")]
@@ -130,6 +131,10 @@ fn with_schur(registry: Registry) -> Registry {
         .solve_with_schur::<LineObservation>()
         .solve_with_schur::<SnavelyReprojection>()
         .solve_with_schur::<StereoReprojection>()
+        .solve_with_schur_each::<BetweenFactor>()
+        .solve_with_schur_each::<G2oSe3Edge>()
+        .solve_with_schur_each::<G2oLineEdge>()
+        .solve_with_schur_each::<G2oPlaneEdge>()
 }
 
 /// A shipped factor with a kernel, solved through it; in a build without

@@ -111,13 +111,39 @@ fn factor_table(registry: &Registry, entry: &FactorEntry) -> String {
 }
 
 /// How `solve` linearizes the factor (the `solve:` line of the table), if
-/// it is registered for `solve`.
+/// it is registered for `solve`: by the Schur-complement solver where it
+/// is registered for it, else (and with `--solver apex`) by apex-solver.
 fn solve_line(entry: &FactorEntry) -> Option<String> {
     let how = match entry.solved_by? {
         SolvedBy::Kernel => "its kernel in apex-solver's chart",
         SolvedBy::Dual => "dual numbers in apex-solver's chart",
     };
-    Some(format!("  solve: problem files, through {how}\n"))
+    Some(match schur_words(entry) {
+        Some(schur) => format!(
+            "  solve: problem files, by the Schur-complement solver through {schur}; with \
+             --solver apex through {how}\n"
+        ),
+        None => format!("  solve: problem files, through {how}\n"),
+    })
+}
+
+/// How the Schur-complement solver linearizes the factor, when it is
+/// registered for it.
+#[cfg(feature = "solve")]
+fn schur_words(entry: &FactorEntry) -> Option<&'static str> {
+    entry.schur?;
+    Some(if entry.schur_batched {
+        "its fused normal-equation kernels in lane batches"
+    } else if entry.kernel.is_some() {
+        "its kernel, one factor at a time"
+    } else {
+        "dual numbers, one factor at a time"
+    })
+}
+
+#[cfg(not(feature = "solve"))]
+fn schur_words(_entry: &FactorEntry) -> Option<&'static str> {
+    None
 }
 
 /// [`FactorEntry::solved_by`] in the JSON list.

@@ -100,11 +100,11 @@ enum Command {
     /// Bundler: camera 0's pose fixed), pose graphs (g2o, EDGE3: the first
     /// pose fixed), stereo visual odometry (KITTI VO files: the first pose
     /// fixed), g2o's line and plane graphs (the FIX vertices fixed), and
-    /// problem files of any registered factors (`*.json`); bundle
-    /// adjustment, VO, pose graphs and problem files of factors with fused
-    /// normal-equation kernels by slamjac's Schur-complement solver (the
-    /// landmarks eliminated), other problems by apex-solver. Prints a line
-    /// per iteration and a summary.
+    /// problem files of any registered factors (`*.json`); every data set
+    /// and problem files of factors with fused normal-equation kernels by
+    /// slamjac's Schur-complement solver (the landmarks eliminated), g2o
+    /// graphs with `--factors documents` and other problem files by
+    /// apex-solver. Prints a line per iteration and a summary.
     /// Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
@@ -115,11 +115,11 @@ enum Command {
         #[arg(long, value_parser = parse_format)]
         format: Option<slam_data::Format>,
         /// Which solver: `schur` (landmarks eliminated by a Schur complement
-        /// fed by the fused normal-equation kernels; BAL, Bundler, KITTI VO,
-        /// g2o and EDGE3 pose graphs, problem files of factors with such
-        /// kernels),
-        /// `apex` (apex-solver, any problem), or `auto` (`schur` where it
-        /// applies with the generated kernels, else `apex`).
+        /// fed by the fused normal-equation kernels, or by each factor's
+        /// Jacobians where it has none and with `--kernels dual`; every
+        /// data set, problem files of factors with fused kernels), `apex`
+        /// (apex-solver, any problem), or `auto` (`schur` where it applies,
+        /// else `apex`).
         #[arg(long, value_enum, default_value_t)]
         solver: SolverFlag,
         /// The factors of the lines and planes of a g2o line and plane
@@ -230,8 +230,8 @@ enum SolverFlag {
     /// The Schur-complement solver where it applies, else apex-solver.
     #[default]
     Auto,
-    /// The Schur-complement solver (bundle adjustment, stereo VO, pose
-    /// graphs, problem files of factors with fused kernels).
+    /// The Schur-complement solver (every data set but g2o graphs with the
+    /// documents' factors, problem files of factors with fused kernels).
     Schur,
     /// apex-solver.
     Apex,

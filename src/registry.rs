@@ -42,10 +42,15 @@ pub struct FactorEntry {
     /// How a problem file's entry of it is added to the problem.
     #[cfg(feature = "solve")]
     pub(crate) solve: Option<crate::problem_assembly::AddFn>,
-    /// How it is added to the Schur-complement solver's problem, when its
-    /// kernel has fused normal equations ([`Registry::solve_with_schur`]).
+    /// How it is added to the Schur-complement solver's problem, when it
+    /// was registered for it ([`Registry::solve_with_schur`],
+    /// [`Registry::solve_with_schur_each`]).
     #[cfg(feature = "solve")]
     pub(crate) schur: Option<crate::schur_assembly::SchurAddFn>,
+    /// Whether that solver takes it in lane batches (fused kernels) rather
+    /// than one factor at a time.
+    #[cfg(feature = "solve")]
+    pub(crate) schur_batched: bool,
 }
 
 /// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
@@ -81,6 +86,8 @@ impl FactorEntry {
             solve: None,
             #[cfg(feature = "solve")]
             schur: None,
+            #[cfg(feature = "solve")]
+            schur_batched: false,
         }
     }
 
@@ -167,8 +174,37 @@ impl Registry {
             + factor_lanes::NormalKernel<f64>,
     {
         let mut registry = self.solve_with_kernel::<F>();
-        registry.entry::<F>().schur = Some(crate::schur_assembly::add_schur::<F>);
+        let entry = registry.entry::<F>();
+        entry.schur = Some(crate::schur_assembly::add_schur::<F>);
+        entry.schur_batched = true;
         registry
+    }
+
+    /// Lets `solve` put factor `F`, registered for problem files already
+    /// ([`Registry::solve_with_kernel`] or [`Registry::solve_with_dual`]),
+    /// in the Schur-complement solver's problem (crate `factor-schur`),
+    /// linearized one factor at a time: through its generated kernel where
+    /// it has one, else by dual numbers, its whitened Jacobians formed into
+    /// the normal blocks (no fused kernel needed). As with
+    /// [`Registry::solve_with_schur`], its variables are then retracted by
+    /// their own manifolds, so a type whose own manifold is not the one to
+    /// solve on (the shipped `PluckerLine`) must not be registered so.
+    /// Only in a build with `slamjac`'s feature `solve`.
+    ///
+    /// # Panics
+    ///
+    /// If `F` is not registered for problem files yet.
+    #[cfg(feature = "solve")]
+    pub fn solve_with_schur_each<F: Factor + Send + Sync + 'static>(mut self) -> Self {
+        let entry = self.entry::<F>();
+        assert!(
+            entry.solve.is_some(),
+            "{} is not registered for problem files (solve_with_kernel or solve_with_dual)",
+            F::NAME
+        );
+        entry.schur = Some(crate::schur_assembly::add_each::<F>);
+        entry.schur_batched = false;
+        self
     }
 
     /// Adds factor `F` (as [`Registry::with`]) and lets `solve` read it

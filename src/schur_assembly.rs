@@ -1,18 +1,22 @@
 //! How a problem file's factor entries become factors of a `factor-schur`
-//! problem (feature `solve`): the adder a registry keeps per factor whose
-//! generated kernel has fused normal equations ([`SchurAddFn`], filled by
-//! [`crate::registry::Registry::solve_with_schur`]), the problem variables
-//! they create (each held in its type's stored scalars and retracted by its
-//! own manifold), and what the observability check needs of each factor
-//! ([`Kept`]). `crate::solve::schur_file` drives it.
+//! problem (feature `solve`): the adder a registry keeps per factor
+//! ([`SchurAddFn`]: [`add_schur`] for a factor whose generated kernel has
+//! fused normal equations, filled by
+//! [`crate::registry::Registry::solve_with_schur`]; [`add_each`] for one
+//! linearized one factor at a time, by
+//! [`crate::registry::Registry::solve_with_schur_each`]), the problem
+//! variables they create (each held in its type's stored scalars and
+//! retracted by its own manifold), and what the observability check needs
+//! of each factor ([`Kept`]). `crate::solve::schur_file` drives it.
 
 use std::collections::HashMap;
 
+use factor_apex::problems::Robust;
 use factor_core::noise::Noise;
-use factor_core::{FactorError, FieldInfo, WithKernel};
+use factor_core::{Factor, FactorError, FieldInfo, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;
-use factor_schur::{Problem, SchurError, VariableId};
+use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 
 use crate::decode::decode;
@@ -56,14 +60,17 @@ pub(crate) struct SchurAssembly {
     /// showed it (two factors perturbing one variable differently: that
     /// solver retracts each variable by one chart, apex-solver by its own).
     pub(crate) unsupported: Option<String>,
+    /// Every factor by dual numbers (`--kernels dual`).
+    pub(crate) dual: bool,
 }
 
 /// How a registered factor is added from a problem file to a Schur
 /// problem ([`crate::registry::Registry::solve_with_schur`]).
 pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
 
-/// [`JacobianAt`] of `F`, by its generated kernel.
-fn jacobian_at<F: WithKernel>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatrix<f64>, CliError> {
+/// [`JacobianAt`] of `F`, by its generated kernel (dual numbers for a
+/// factor without one).
+fn jacobian_at<F: Factor>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatrix<f64>, CliError> {
     let factor = F::from_scalars(stored);
     let (linearization, _) = linearize(&factor, Method::Generated)?;
     let blocks: Vec<DMatrix<f64>> = linearization.jacobians.iter().map(|j| s * j).collect();
@@ -77,16 +84,51 @@ fn jacobian_at<F: WithKernel>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatri
     Ok(whole)
 }
 
-/// [`SchurAddFn`] of `F`: decodes it, creates its variables at the first
-/// factor that names them, and adds it with its noise and loss. A variable
-/// whose chart differs between factors (`SchurError::Chart` from
-/// [`Problem::add_weighted`]) is not an error: the file goes to apex-solver,
-/// the reason kept in [`SchurAssembly::unsupported`].
+/// [`SchurAddFn`] of a factor `F` with fused normal-equation kernels: in
+/// lane batches, or one at a time by dual numbers under `--kernels dual`
+/// ([`add_with`]).
 pub(crate) fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
 where
     F: WithKernel + Send + Sync + 'static,
     F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
 {
+    let dual = assembly.dual;
+    add_with::<F>(assembly, entry, |problem, factor, ids, noise, loss| {
+        if dual {
+            problem.add_linearized(factor, ids, noise, loss, Jacobians::Dual)
+        } else {
+            problem.add_weighted(factor, ids, noise, loss)
+        }
+    })
+}
+
+/// [`SchurAddFn`] of any factor `F`, linearized one at a time: through its
+/// generated kernel where it has one, else (and under `--kernels dual`) by
+/// dual numbers ([`add_with`]).
+pub(crate) fn add_each<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
+where
+    F: Factor + Send + Sync + 'static,
+{
+    let jacobians = if assembly.dual {
+        Jacobians::Dual
+    } else {
+        Jacobians::Kernel
+    };
+    add_with::<F>(assembly, entry, |problem, factor, ids, noise, loss| {
+        problem.add_linearized(factor, ids, noise, loss, jacobians)
+    })
+}
+
+/// Decodes `entry` as an `F`, creates its variables at the first factor
+/// that names them, and adds it with its noise and loss by `add`. A
+/// variable whose chart differs between factors (`SchurError::Chart`) is
+/// not an error: the file goes to apex-solver, the reason kept in
+/// [`SchurAssembly::unsupported`].
+fn add_with<F: Factor>(
+    assembly: &mut SchurAssembly,
+    entry: &Entry,
+    add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
+) -> Result<(), CliError> {
     let factor: F = decode(entry.variables, entry.constants)?;
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks).
@@ -132,10 +174,13 @@ where
         };
         ids.push(id);
     }
-    match assembly
-        .problem
-        .add_weighted(&factor, &ids, entry.noise, entry.loss)
-    {
+    match add(
+        &mut assembly.problem,
+        &factor,
+        &ids,
+        entry.noise,
+        entry.loss,
+    ) {
         Ok(()) => {}
         Err(SchurError::Chart {
             variable,

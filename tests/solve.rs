@@ -139,30 +139,43 @@ fn dubrovnik_is_underdetermined() {
     assert!(stdout(&output).contains("iteration limit"));
 }
 
-/// Dual numbers and the generated kernels take the same steps (both
-/// through apex-solver: the Schur path takes the generated kernels only).
+/// Dual numbers and the generated kernels take the same steps, on either
+/// solver.
 #[test]
 fn dual_kernels_reach_the_same_cost() {
-    let generated = costs(&solve_ok(&[
-        "solve",
-        &data("Balbianello.out"),
-        "--solver",
-        "apex",
-    ]));
-    let dual = costs(&solve_ok(&[
-        "solve",
-        &data("Balbianello.out"),
-        "--kernels",
-        "dual",
-    ]));
-    assert_relative(dual.0, generated.0, 1e-12, "initial cost");
-    assert_relative(dual.1, generated.1, 1e-10, "final cost");
+    for solver in ["schur", "apex"] {
+        let generated = costs(&solve_ok(&[
+            "solve",
+            &data("Balbianello.out"),
+            "--solver",
+            solver,
+        ]));
+        let output = solve_ok(&[
+            "solve",
+            &data("Balbianello.out"),
+            "--solver",
+            solver,
+            "--kernels",
+            "dual",
+        ]);
+        if solver == "schur" {
+            assert!(
+                stdout(&output).contains("dual numbers, one factor at a time"),
+                "{}",
+                stdout(&output)
+            );
+        }
+        let dual = costs(&output);
+        assert_relative(dual.0, generated.0, 1e-12, "initial cost");
+        assert_relative(dual.1, generated.1, 1e-10, "final cost");
+    }
 }
 
-/// Bundle adjustment, stereo VO and pose graphs go to the Schur-complement
-/// solver by default and reach apex-solver's final cost (within the
-/// stopping tolerance: the two retract poses differently, so their iterates
-/// differ); `--solver schur` refuses what it cannot solve.
+/// Every data set goes to the Schur-complement solver by default and
+/// reaches apex-solver's final cost (within the stopping tolerance: their
+/// iterates differ by the rounding of two implementations); g2o's line and
+/// plane graphs with the documents' factors, built on apex-solver's inverse
+/// pose, go to apex-solver, saying so, and `--solver schur` refuses them.
 #[test]
 fn the_schur_solver_is_chosen_where_it_applies() {
     for file in [
@@ -170,11 +183,13 @@ fn the_schur_solver_is_chosen_where_it_applies() {
         "VO_stereo_factors_large.txt",
         "pose3example.txt",
         "sphere2500.txt",
+        "g2o-addons/line3d.g2o",
+        "g2o-addons/points3d_gps.g2o",
     ] {
         let schur = solve_ok(&["solve", &data(file)]);
         let apex = solve_ok(&["solve", &data(file), "--solver", "apex"]);
         assert!(
-            stdout(&schur).contains("Schur complement"),
+            stdout(&schur).contains("Schur complement") || stdout(&schur).contains("factor-schur"),
             "{}",
             stdout(&schur)
         );
@@ -183,23 +198,23 @@ fn the_schur_solver_is_chosen_where_it_applies() {
         assert_relative(a.0, b.0, 1e-12, "initial cost");
         assert_relative(a.1, b.1, STOPPING, "final cost");
     }
-    let graph = solve_ok(&["solve", &data("g2o-addons/line3d.g2o")]);
-    assert!(stdout(&graph).contains("(apex-solver)"));
-    let output = slamjac(&["solve", &data("g2o-addons/line3d.g2o"), "--solver", "schur"]);
-    assert_error(
-        &output,
-        2,
-        &["--solver schur takes bundle adjustment, stereo VO, pose graphs and problem files"],
+    let line = data("g2o-addons/line3d.g2o");
+    let documents = solve_ok(&["solve", &line, "--factors", "documents"]);
+    assert!(
+        stdout(&documents).contains("(apex-solver)")
+            && stdout(&documents).contains("solved by apex-solver: the documents' line and plane"),
+        "{}",
+        stdout(&documents)
     );
     let output = slamjac(&[
         "solve",
-        &data("Balbianello.out"),
+        &line,
         "--solver",
         "schur",
-        "--kernels",
-        "dual",
+        "--factors",
+        "documents",
     ]);
-    assert_error(&output, 2, &["generated kernels"]);
+    assert_error(&output, 2, &["--solver schur takes g2o's own edges"]);
 }
 
 /// A problem file of the documents' factors (`synth-plp`'s default room,
@@ -1346,4 +1361,105 @@ fn plucker_lines_stay_on_the_klein_quadric() {
             panic!("{name}: {e}");
         }
     }
+    // The Schur-complement solver would retract the line by its own
+    // manifold, a free 6-vector: the factor is not registered for it.
+    let refused = slamjac(&["solve", file.to_str().unwrap(), "--solver", "schur"]);
+    assert_error(
+        &refused,
+        2,
+        &[
+            "the factor \"plucker_line_reprojection\" is not registered for the Schur-complement solver",
+        ],
+    );
+}
+
+/// A problem file of factors without fused kernels (`g2o_se3`, a loop of
+/// six poses with a loop closure): the Schur-complement solver takes it by
+/// default, one factor at a time (every other pose eliminated), and reaches
+/// apex-solver's cost; with `--kernels dual`, by dual numbers, the same.
+#[test]
+fn problem_files_of_factors_without_fused_kernels_take_the_schur_solver() {
+    use factor_core::lie::{Se3, So3};
+    use nalgebra::Vector3;
+    let pose = |k: usize| {
+        let angle = k as f64 * std::f64::consts::PI / 3.0;
+        Se3::new(
+            So3::exp(&Vector3::new(0.0, 0.0, angle + 0.1)),
+            Vector3::new(3.0 * angle.cos(), 3.0 * angle.sin(), 0.1 * k as f64),
+        )
+    };
+    let json = |p: &Se3<f64>| {
+        let q = p.rotation.quaternion;
+        serde_json::json!({
+            "rotation": [q.x, q.y, q.z, q.w],
+            "translation": [p.translation.x, p.translation.y, p.translation.z]
+        })
+    };
+    let mut variables = serde_json::Map::new();
+    for k in 0..6 {
+        // Initial values off the truth by a rotation and a shift.
+        let off = Se3::new(
+            So3::exp(&Vector3::new(0.02 * k as f64, -0.03, 0.05)),
+            Vector3::new(0.1, -0.2 * k as f64, 0.05),
+        );
+        variables.insert(
+            format!("x{k}"),
+            serde_json::json!({
+                "type": "Se3RhoTheta",
+                "value": json(&if k == 0 { pose(0) } else { pose(k).compose(&off) }),
+                "fixed": k == 0
+            }),
+        );
+    }
+    let factors: Vec<serde_json::Value> = (0..6)
+        .map(|k| {
+            let (i, j) = (k, (k + 1) % 6);
+            // A measurement a little off the truth, so the optimum is not 0.
+            let noise = Se3::new(
+                So3::exp(&Vector3::new(0.01, 0.0, -0.01 * k as f64)),
+                Vector3::new(0.02, 0.01, 0.0),
+            );
+            let measured = pose(i).inverse().compose(&pose(j)).compose(&noise);
+            serde_json::json!({
+                "factor": "g2o_se3",
+                "variables": {"pose_i": format!("x{i}"), "pose_j": format!("x{j}")},
+                "constants": {"measured": json(&measured)},
+                "noise": {"sigma": 0.1}
+            })
+        })
+        .collect();
+    let truth: serde_json::Map<String, serde_json::Value> =
+        (0..6).map(|k| (format!("x{k}"), json(&pose(k)))).collect();
+    let problem = serde_json::json!({
+        "slamjac_problem": 1,
+        "variables": variables,
+        "factors": factors,
+        "truth": truth
+    });
+    let dir = temp_dir("schur_each");
+    let file = dir.join("loop.json");
+    std::fs::write(&file, problem.to_string()).unwrap();
+    let file = file.to_str().unwrap();
+    let schur = solve_ok(&["solve", file]);
+    let text = stdout(&schur);
+    assert!(
+        text.contains("Schur complement")
+            && text.contains("its generated kernel, one factor at a time")
+            && text.contains("converged")
+            && text.contains("6 cameras: ATE RMSE"),
+        "{text}"
+    );
+    let dual = solve_ok(&["solve", file, "--kernels", "dual"]);
+    assert!(
+        stdout(&dual).contains("dual numbers, one factor at a time"),
+        "{}",
+        stdout(&dual)
+    );
+    let apex = solve_ok(&["solve", file, "--solver", "apex"]);
+    let (a, b, c) = (costs(&schur), costs(&dual), costs(&apex));
+    assert!(a.1 > 1e-6, "a loop with an inconsistent closure: {}", a.1);
+    assert_relative(a.0, c.0, 1e-12, "initial cost");
+    assert_relative(a.1, c.1, STOPPING, "final cost");
+    assert_relative(b.1, a.1, 1e-10, "dual numbers' final cost");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

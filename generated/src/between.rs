@@ -16,8 +16,8 @@
 //! # Outputs
 //!
 //! - `residual: [T; 6]`
-//! - `d_pose_i: [T; 36]`: `∂r/∂δ` w.r.t. `pose_i` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
-//! - `d_pose_j: [T; 36]`: `∂r/∂δ` w.r.t. `pose_j` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose_i: [T; 36]`: `∂r/∂δ` w.r.t. `pose_i` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose_j: [T; 36]`: `∂r/∂δ` w.r.t. `pose_j` (`Se3RhoTheta<S>`), 6 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //!
 //! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).
 //!

@@ -16,7 +16,7 @@
 //! # Outputs
 //!
 //! - `residual: [T; 2]`
-//! - `d_pose: [T; 12]`: `∂r/∂δ` w.r.t. `pose` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose: [T; 12]`: `∂r/∂δ` w.r.t. `pose` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //! - `d_intrinsics: [T; 6]`: `∂r/∂δ` w.r.t. `intrinsics` (`RadialIntrinsics<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]
 //! - `d_point: [T; 6]`: `∂r/∂δ` w.r.t. `point` (`Vector3<S>`), 2 × 3 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ, columns δ in the vector's order
 //!

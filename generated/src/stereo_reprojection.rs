@@ -16,7 +16,7 @@
 //! # Outputs
 //!
 //! - `residual: [T; 3]`
-//! - `d_pose: [T; 18]`: `∂r/∂δ` w.r.t. `pose` (`Se3RhoTheta<S>`), 3 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose: [T; 18]`: `∂r/∂δ` w.r.t. `pose` (`Se3RhoTheta<S>`), 3 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //! - `d_landmark: [T; 9]`: `∂r/∂δ` w.r.t. `landmark` (`Vector3<S>`), 3 × 3 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ, columns δ in the vector's order
 //!
 //! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).

@@ -3,7 +3,9 @@
 //! the JSON form of their `value`), printed by `solve` after the summary,
 //! initially → finally:
 //!
-//! - over the `Se3` variables (world-to-camera poses), the absolute
+//! - over the pose variables — `Se3` (world to camera, the documents'
+//!   factors') and `Se3RhoTheta` (body to world, `between`'s and g2o's),
+//!   as world-to-camera poses — the absolute
 //!   trajectory error: the RMS distance of the camera centres `−Rᵀ t` to the
 //!   true ones after aligning them to the truth (Umeyama's method, `align.rs`)
 //!   as a rigid motion (SE(3)) and as a similarity (Sim(3)), and the RMS
@@ -62,16 +64,23 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
         T::from_input(input).map_err(|e| at_part(path.to_owned(), e))
     }
     match kind {
-        "Se3" => {
+        "Se3" | "Se3RhoTheta" => {
             let pose = Object::new(value, path, &["rotation", "translation"])?;
             let mut input = pose.quaternion("rotation")?;
             input.extend(pose.numbers("translation", 3)?);
+            // The two store the same scalars.
             let stored = checked::<Se3<f64>>(&input, path)?;
             let (q, t) = (&stored[..4], &stored[4..]);
-            Ok(Reading::Pose(Isometry3::from_parts(
+            let pose = Isometry3::from_parts(
                 Vector3::new(t[0], t[1], t[2]).into(),
                 UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
-            )))
+            );
+            // World to camera, as the errors read every pose.
+            Ok(Reading::Pose(if kind == "Se3" {
+                pose
+            } else {
+                pose.inverse()
+            }))
         }
         "Vector3" => {
             checked::<Vector3<f64>>(&numbers(value, path, 3)?, path).map(|_| Reading::Point)
@@ -97,8 +106,8 @@ fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError>
         other => Err(InputError::new(
             path,
             format!(
-                "a truth is read for Se3, Vector3, OrthonormalLine and InfinitePlane variables, \
-                 not {other}"
+                "a truth is read for Se3, Se3RhoTheta, Vector3, OrthonormalLine and InfinitePlane \
+                 variables, not {other}"
             ),
         )),
     }
@@ -124,7 +133,13 @@ pub struct Truth {
 }
 
 /// The types [`reading`] knows, as `'static` names.
-const KINDS: [&str; 4] = ["Se3", "Vector3", "OrthonormalLine", "InfinitePlane"];
+const KINDS: [&str; 5] = [
+    "Se3",
+    "Se3RhoTheta",
+    "Vector3",
+    "OrthonormalLine",
+    "InfinitePlane",
+];
 
 impl Truth {
     /// Reads the `truth` object `value` of a file whose variables are

@@ -5,19 +5,22 @@
 //!
 //! Two solvers, chosen by [`SolverChoice`]:
 //!
-//! - bundle adjustment, stereo VO (landmarks to eliminate) and pose graphs
-//!   (g2o, EDGE3: nothing to eliminate) go by default to crate
-//!   `factor-schur` (module `schur`): the landmarks eliminated by a Schur
-//!   complement formed straight from the fused normal-equation kernels in
-//!   lane batches, the reduced system solved by faer's sparse Cholesky;
+//! - every data set (bundle adjustment, stereo VO, g2o's line, plane and
+//!   point graphs: landmarks to eliminate; g2o and EDGE3 pose graphs:
+//!   nothing to eliminate) goes by default to crate `factor-schur` (module
+//!   `schur`): the landmarks eliminated by a Schur complement formed
+//!   straight from the fused normal-equation kernels in lane batches (or,
+//!   for factors without them and under `--kernels dual`, from each
+//!   factor's Jacobians), the reduced system solved by faer's Cholesky;
 //! - a problem file whose factors all have fused normal-equation kernels
 //!   (`Registry::solve_with_schur`) goes there too (module `schur_file`,
 //!   which chooses the variables to eliminate); one it cannot take goes to
 //!   apex-solver with the reason printed, or is refused with
 //!   `--solver schur`;
-//! - everything else, and any problem with `--solver apex` or
-//!   `--kernels dual`, goes to apex-solver through the generic adapter of
-//!   crate `factor-apex` (module `apex`).
+//! - a g2o graph with `--factors documents` (built on apex-solver's
+//!   inverse pose), a problem file the Schur solver cannot take, and any
+//!   problem with `--solver apex` go to apex-solver through the generic
+//!   adapter of crate `factor-apex` (module `apex`).
 //!
 //! Both print the same header, iteration lines and summary:
 //!
@@ -36,6 +39,7 @@
 mod align;
 mod apex;
 pub mod file_truth;
+mod graph_checks;
 pub mod plot;
 mod problem_checks;
 pub mod problem_file;
@@ -171,24 +175,31 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         return Err(CliError::Usage(at(&args.file, empty)));
     }
     let truth = truth::Truth::read(&args.file, format, args.truth.as_deref(), &data)?;
-    let takes = factor_schur::problems::applies(&data);
+    if let slam_data::Problem::G2oAddons(graph) = &data {
+        graph_checks::check_initial(&args.file, graph)?;
+    }
+    // The documents' line and plane factors on g2o's graphs are built on
+    // apex-solver's inverse pose (`factor_apex::inverse_pose`).
+    let documents = args.landmarks == LandmarkFactors::Documents;
     let schur = match args.solver {
-        SolverChoice::Auto => takes && args.kernels == Kernels::Generated,
+        SolverChoice::Auto => !documents,
         SolverChoice::Apex => false,
-        SolverChoice::Schur if !takes => {
+        SolverChoice::Schur if documents => {
             return Err(CliError::Usage(at(
                 &args.file,
-                "--solver schur takes bundle adjustment, stereo VO, pose graphs and problem \
-                 files of factors with fused normal-equation kernels (use --solver apex)",
+                "--solver schur takes g2o's own edges; the documents' line and plane factors \
+                 (--factors documents) are solved by apex-solver (use --solver apex)",
             )));
-        }
-        SolverChoice::Schur if args.kernels != Kernels::Generated => {
-            return Err(CliError::Usage(
-                "--solver schur takes the generated kernels only (--kernels generated)".into(),
-            ));
         }
         SolverChoice::Schur => true,
     };
+    if documents && args.solver == SolverChoice::Auto {
+        progress::print(&format!(
+            "{}: solved by apex-solver: the documents' line and plane factors are built on its \
+             inverse pose",
+            crate::field_path::shown_path(&args.file)
+        ));
+    }
     if schur {
         schur::run(args, &data, truth.as_ref())
     } else {
@@ -301,10 +312,16 @@ fn finish(
             format!("the solve stopped on a failure: {why}; no output written"),
         )));
     }
+    let refused =
+        |why: String| CliError::Solve(at(&args.file, format!("{why}; no output written")));
+    if let slam_data::Problem::G2oAddons(graph) = solved {
+        let tolerance = problem_file::solution_tolerance(&finished.verdict);
+        graph_checks::check_solution(graph, tolerance).map_err(refused)?;
+    }
     let truth = truth
         .map(|truth| truth.describe(solved))
         .transpose()
-        .map_err(|why| CliError::Solve(at(&args.file, format!("{why}; no output written"))))?;
+        .map_err(refused)?;
     if let Some(path) = &args.plot {
         outputs::write(
             path,

@@ -3,6 +3,7 @@
 use std::path::Path;
 use std::time::Duration;
 
+use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::solve::{Iteration, Verdict};
 
 use super::SolveArgs;
@@ -49,10 +50,10 @@ fn bundle_adjustment(
     cameras: usize,
     points: usize,
     observations: usize,
-) -> (String, &'static str, &'static str) {
+) -> (String, String, &'static str) {
     (
         format!("{cameras} cameras, {points} points, {observations} observations"),
-        "snavely_reprojection",
+        "snavely_reprojection".into(),
         "camera 0's pose fixed (the scale is left to the damping)",
     )
 }
@@ -84,6 +85,42 @@ fn g2o_graph_sizes(g: &slam_data::G2oGraph) -> String {
     sizes
 }
 
+/// The factors of a g2o graph's edges, those it has, in words.
+fn g2o_factors(g: &slam_data::G2oGraph, landmarks: LandmarkFactors) -> String {
+    let documents = landmarks == LandmarkFactors::Documents;
+    let names: Vec<&str> = [
+        (g.pose_edges.len(), "g2o_se3"),
+        (
+            g.line_edges.len(),
+            if documents {
+                "line_observation"
+            } else {
+                "g2o_se3_line3d"
+            },
+        ),
+        (
+            g.plane_edges.len(),
+            if documents {
+                "plane"
+            } else {
+                "g2o_se3_plane_calib"
+            },
+        ),
+        (g.point_edges.len(), "g2o_se3_trackxyz"),
+        (g.priors.len(), "g2o_se3_prior"),
+    ]
+    .into_iter()
+    .filter(|(count, _)| *count > 0)
+    .map(|(_, name)| name)
+    .collect();
+    let errors = if documents {
+        "the documents' line and plane factors, g2o's other errors"
+    } else {
+        "g2o's errors; cost = χ²/2"
+    };
+    format!("{} ({errors})", names.join(", "))
+}
+
 /// What the problem is, in words: sizes, factors, kernels, gauge, solver.
 pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &SolveArgs) -> String {
     let (sizes, factor, gauge) = match data {
@@ -102,21 +139,12 @@ pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &Solv
             } else {
                 format!("{} poses, {} edges", g.vertices.len(), g.edges.len())
             },
-            "between",
+            "between".into(),
             "the first pose fixed",
         ),
         slam_data::Problem::G2oAddons(g) => (
             g2o_graph_sizes(g),
-            match args.landmarks {
-                factor_apex::problems::g2o_addons::LandmarkFactors::G2o => {
-                    "g2o_se3, g2o_se3_line3d, g2o_se3_plane_calib, g2o_se3_trackxyz, \
-                     g2o_se3_prior (g2o's errors; cost = χ²/2)"
-                }
-                factor_apex::problems::g2o_addons::LandmarkFactors::Documents => {
-                    "g2o_se3, line_observation, plane (the documents' line and plane factors; g2o's \
-                     point and prior errors)"
-                }
-            },
+            g2o_factors(g, args.landmarks),
             "the file's FIX vertices",
         ),
         slam_data::Problem::KittiVo(vo) => (
@@ -126,7 +154,7 @@ pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &Solv
                 vo.initial_landmarks().len(),
                 vo.observations.len()
             ),
-            "stereo_reprojection",
+            "stereo_reprojection".into(),
             "the first pose fixed",
         ),
     };

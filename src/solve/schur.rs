@@ -1,33 +1,44 @@
-//! The fast path of bundle adjustment, stereo VO and pose graphs: crate
-//! `factor-schur` (Levenberg–Marquardt with the landmarks, where there are
-//! any, eliminated by a Schur complement formed straight from the fused
-//! normal-equation kernels in lane batches, the reduced system by faer's
-//! sparse Cholesky).
+//! The path of every data set: crate `factor-schur` (Levenberg–Marquardt
+//! with the landmarks, where there are any, eliminated by a Schur
+//! complement formed straight from the fused normal-equation kernels in
+//! lane batches or from each factor's Jacobians, the reduced system by
+//! faer's Cholesky).
 
 use factor_apex::problems;
 use factor_apex::solve::SolveOptions;
 use factor_schur::problems::BuildError;
-use factor_schur::{Outcome, Profile, Solver};
+use factor_schur::{Linearized, Outcome, Profile, Solver};
 
 use super::progress::duration;
 use super::truth::Truth;
 use super::{SolveArgs, at, finish, progress, report};
 use crate::error::CliError;
 
-/// The solver in words, for the header: with landmarks to eliminate or
-/// without (a pose graph), and the reduced system's factorization
+/// The solver in words, for the header: how many of the `variables` are
+/// eliminated (none: a pose graph), how each factor type is linearized
+/// (`Problem::linearized`), and the reduced system's factorization
 /// (`Solver::linear_solver`).
-fn solver_words(eliminated: usize, factorization: &str) -> String {
+pub(super) fn solver_words(
+    eliminated: usize,
+    variables: usize,
+    linearized: &[(&str, usize, Linearized)],
+    factorization: &str,
+) -> String {
+    let how = match linearized {
+        [(_, _, only)] => only.describe().to_owned(),
+        _ => linearized
+            .iter()
+            .map(|(name, _, how)| format!("{name} by {}", how.describe()))
+            .collect::<Vec<_>>()
+            .join(", "),
+    };
     if eliminated > 0 {
         format!(
-            "(Schur complement: landmarks eliminated, fused normal-equation kernels on 4×f64 \
-             lanes, {factorization})"
-        )
-    } else {
-        format!(
-            "(factor-schur: nothing to eliminate, fused normal-equation kernels on 4×f64 lanes, \
+            "(Schur complement: {eliminated} of {variables} variables eliminated, {how}, \
              {factorization})"
         )
+    } else {
+        format!("(factor-schur: nothing to eliminate, {how}, {factorization})")
     }
 }
 
@@ -38,7 +49,8 @@ pub(super) fn run(
     data: &slam_data::Problem,
     truth: Option<&Truth>,
 ) -> Result<String, CliError> {
-    let mut built = factor_schur::problems::build(data, args.robust).map_err(|e| match e {
+    let built = factor_schur::problems::build(data, args.robust, args.kernels);
+    let mut built = built.map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
         // Degenerate geometry, the solver's or the adapter's refusal.
         _ => CliError::Solve(at(&args.file, e)),
@@ -46,11 +58,13 @@ pub(super) fn run(
     let before = problems::reprojection_errors(data);
     let blocks = built.blocks;
     let eliminated = built.problem.eliminated_count();
+    let variables = built.problem.variable_count();
+    let linearized = built.problem.linearized();
     let solver = Solver::new(&mut built.problem)
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
     let setup = report::Setup {
         blocks,
-        solver: solver_words(eliminated, &solver.linear_solver()),
+        solver: solver_words(eliminated, variables, &linearized, &solver.linear_solver()),
         initial_cost: solver.initial_cost(),
     };
     progress::print(&report::header(&args.file, data, &setup, args));
@@ -94,8 +108,8 @@ fn breakdown(p: &Profile, elapsed: std::time::Duration) -> Vec<String> {
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / elapsed.as_secs_f64().max(1e-12);
     vec![
         format!(
-            "  fused normal-equation kernels (4×f64 lane batches): {}{} ({:.1}% of the solve), \
-             within linearization passes of {} in all",
+            "  factor kernels (fused in 4×f64 lane batches, or per factor): {}{} ({:.1}% of the \
+             solve), within linearization passes of {} in all",
             duration(p.kernels),
             if p.threads > 1 { " of thread time" } else { "" },
             share(p.kernels) / p.threads as f64,

@@ -1,8 +1,10 @@
 //! A problem file through the Schur-complement solver (crate
 //! `factor-schur`), the default for a file it can take (`--solver auto`):
-//! every factor registered with [`Registry::solve_with_schur`] (a fused
-//! normal-equation kernel), the generated kernels asked for (not
-//! `--kernels dual`), and some free variable to eliminate.
+//! every factor registered for it, with [`Registry::solve_with_schur`] (a
+//! fused normal-equation kernel, in lane batches) or
+//! [`Registry::solve_with_schur_each`] (one factor at a time), and the
+//! factors on each variable perturbing it the same way. Under `--kernels
+//! dual` every factor is linearized one at a time by dual numbers.
 //!
 //! The variables eliminated are chosen greedily, the least connected first
 //! (fewest factors, then the name): a free
@@ -53,9 +55,6 @@ pub(super) fn run(
             format!("nothing to solve: {why}"),
         )));
     }
-    if args.kernels != factor_apex::Kernels::Generated {
-        return Ok(Err("--kernels dual linearizes by dual numbers".into()));
-    }
     let mut adders = Vec::with_capacity(checked.entries.len());
     for entry in &checked.entries {
         let factor = registry
@@ -66,17 +65,17 @@ pub(super) fn run(
             None => {
                 return Ok(Err(format!(
                     "the factor \"{}\" is not registered for the Schur-complement solver \
-                     (Registry::solve_with_schur)",
+                     (Registry::solve_with_schur or solve_with_schur_each)",
                     factor.name
                 )));
             }
         }
     }
     let eliminated = landmarks(&checked);
-    if eliminated.is_empty() {
-        return Ok(Err("no free variable to eliminate".into()));
-    }
-    let mut assembly = SchurAssembly::default();
+    let mut assembly = SchurAssembly {
+        dual: args.kernels == factor_apex::Kernels::Dual,
+        ..SchurAssembly::default()
+    };
     for (entry, add) in checked.entries.iter().zip(adders) {
         add_at(entry, args.robust, |added| add(&mut assembly, added))?;
         if let Some(why) = assembly.unsupported.take() {
@@ -95,19 +94,21 @@ pub(super) fn run(
     }
     let blocks = assembly.problem.factor_count();
     let truth = checked.truth.clone();
-    let counts = [assembly.whitened, eliminated.len(), assembly.created.len()];
+    let linearized = assembly.problem.linearized();
     let solver = Solver::new(&mut assembly.problem)
         .map_err(|e| CliError::Solve(at(&args.file, format!("the solve cannot start: {e}"))))?;
     // Which variables are eliminated, the header's count says: landmarks
     // in a reconstruction, possibly cameras where the landmarks are fixed.
-    let words = format!(
-        "(Schur complement: fused normal-equation kernels on 4×f64 lanes, {})",
-        solver.linear_solver()
+    let words = super::schur::solver_words(
+        eliminated.len(),
+        assembly.created.len(),
+        &linearized,
+        &solver.linear_solver(),
     );
     progress::print(&header(
         &args.file,
         blocks,
-        counts,
+        assembly.whitened,
         &words,
         solver.initial_cost(),
     ));
@@ -123,22 +124,13 @@ pub(super) fn run(
     finish_file(args, &finished, check, errors, &written).map(Ok)
 }
 
-/// The header: the file, its blocks, how they are linearized, the solver
-/// (`words`). `[whitened, eliminated,
-/// variables]`: the factors with a full noise model, the variables
-/// eliminated, all variables.
-fn header(
-    file: &Path,
-    blocks: usize,
-    counts: [usize; 3],
-    words: &str,
-    initial_cost: f64,
-) -> String {
-    let [whitened, eliminated, variables] = counts;
+/// The header: the file, its blocks, how many of them are `whitened` by a
+/// full noise model, the solver, what it eliminates and how each factor
+/// type is linearized (`words`).
+fn header(file: &Path, blocks: usize, whitened: usize, words: &str, initial_cost: f64) -> String {
     format!(
-        "{} (problem file): {blocks} blocks through generated kernels, {whitened} of them whitened by a \
-         full noise model through the Jacobian kernel; Levenberg–Marquardt {words}, {eliminated} \
-         of {variables} variables eliminated; initial cost {initial_cost:.10e}",
+        "{} (problem file): {blocks} blocks, {whitened} of them whitened by a full noise model; \
+         Levenberg–Marquardt {words}; initial cost {initial_cost:.10e}",
         shown_path(file),
     )
 }

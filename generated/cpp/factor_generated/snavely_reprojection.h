@@ -13,7 +13,7 @@
 //
 // Outputs of `snavely_reprojection`: `residual[2]` and, for each pointer that is not null, a block `∂r/∂δ` on the variable's own tangent, row-major (residual rows × tangent columns):
 //
-// - `d_pose[12]`: 2 × 6 w.r.t. `pose` (`Se3RhoTheta<S>`); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `d_pose[12]`: 2 × 6 w.r.t. `pose` (`Se3RhoTheta<S>`); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 // - `d_intrinsics[6]`: 2 × 3 w.r.t. `intrinsics` (`RadialIntrinsics<S>`); tangent: additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]
 // - `d_point[6]`: 2 × 3 w.r.t. `point` (`Vector3<S>`); tangent: additive: x ← x + δ, columns δ in the vector's order
 //

@@ -13,7 +13,7 @@
 //
 // Outputs of `stereo_reprojection`: `residual[3]` and, for each pointer that is not null, a block `∂r/∂δ` on the variable's own tangent, row-major (residual rows × tangent columns):
 //
-// - `d_pose[18]`: 3 × 6 w.r.t. `pose` (`Se3RhoTheta<S>`); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `d_pose[18]`: 3 × 6 w.r.t. `pose` (`Se3RhoTheta<S>`); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 // - `d_landmark[9]`: 3 × 3 w.r.t. `landmark` (`Vector3<S>`); tangent: additive: x ← x + δ, columns δ in the vector's order
 //
 // `stereo_reprojection_ambient` (what a Ceres cost function returns): the same residual and, per variable, its Jacobian w.r.t. the variable's stored scalars, each perturbed additively, row-major (residual rows × stored scalars). Times a manifold's `PlusJacobian` it is the block in that manifold's tangent:

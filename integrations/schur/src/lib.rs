@@ -5,16 +5,19 @@
 //! kernels, no Jacobian ever stored.
 //!
 //! - [`problem`]: a [`Problem`] of variables (held fixed or eliminated) and
-//!   factors of any type derived with `#[derive(Factor)]` whose kernel has
-//!   normal equations (`factor_core::WithKernel`, the kernel crate's `lanes`
-//!   feature), each with its noise model (`Σ ½ ρ(‖S r‖²)`: `noise`) and
-//!   optionally its own robust loss;
+//!   factors of any type derived with `#[derive(Factor)]`: those whose
+//!   kernel has normal equations (`factor_core::WithKernel`, the kernel
+//!   crate's `lanes` feature) in lane batches, any other one factor at a
+//!   time through its kernel or by dual numbers
+//!   ([`Problem::add_linearized`]); each with its noise model
+//!   (`Σ ½ ρ(‖S r‖²)`: `noise`) and optionally its own robust loss;
 //! - [`solve`]: the iteration ([`lm`]), reporting each iteration as
 //!   `factor_apex::solve::Iteration`, so that `slamjac solve` prints the
 //!   same lines whichever path solves;
-//! - [`problems`]: BAL, Bundler and KITTI stereo VO problems built from
-//!   `slam-data` as the general path (`factor_apex::problems`) builds them,
-//!   and the solution written back.
+//! - [`problems`]: BAL, Bundler, KITTI stereo VO, g2o and EDGE3 pose
+//!   graphs and g2o's line, plane and point graphs built from `slam-data`
+//!   as the general path (`factor_apex::problems`) builds them, and the
+//!   solution written back.
 //!
 //! # How an iteration runs
 //!
@@ -47,6 +50,7 @@ mod csc;
 mod error;
 mod group;
 mod layout;
+mod linearization;
 pub mod lm;
 mod noise;
 mod ordering;
@@ -57,9 +61,10 @@ pub mod problems;
 mod reduced;
 mod robust;
 mod schur;
+mod sink;
 mod structure;
 mod whitened;
 
 pub use error::SchurError;
 pub use lm::{Outcome, Profile, SolveError, Solver, solve};
-pub use problem::{Problem, VariableId};
+pub use problem::{Jacobians, Linearized, Problem, VariableId};

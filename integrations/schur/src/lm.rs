@@ -27,7 +27,11 @@
 //! - a step that would meet the length or cost test but for its damping,
 //!   or a stall, after a trial step a factor refused (since the last
 //!   accepted step) ends the solve as `Verdict::Refused`: stopped short of
-//!   a minimum, the steps towards it refused.
+//!   a minimum, the steps towards it refused;
+//! - a stall whose last trial had no finite gain ratio for want of a
+//!   factorization or of f64's range (a pose at 1e50 m) ends it as
+//!   `Verdict::Failed`, and the iteration reports no gain ratio rather than
+//!   a NaN.
 //!
 //! Where this departs from apex-solver's and Ceres' criteria, each change
 //! answers a wrong "converged": with every σ 1e8 times larger, the
@@ -368,6 +372,16 @@ impl<'p> Solver<'p> {
                 }
                 _ => f64::NAN,
             };
+            // Why this trial step had no finite gain ratio, when it was not
+            // a factor's refusal: a failed factorization or a value beyond
+            // f64's range (what a stall then fails on).
+            let unsolvable = if step.is_none() {
+                Some("the damped normal equations cannot be factorized")
+            } else if rho.is_nan() && blocked.is_none() {
+                Some("the step's cost or its predicted decrease is beyond the range of f64")
+            } else {
+                None
+            };
             let accepted = rho > MIN_RELATIVE_DECREASE;
             if accepted {
                 let coefficient = 2.0 * rho - 1.0;
@@ -397,7 +411,7 @@ impl<'p> Solver<'p> {
                     0.0
                 },
                 damping: Some(lambda),
-                step_quality: Some(rho),
+                step_quality: (!rho.is_nan()).then_some(rho),
                 accepted,
                 linearization,
                 evaluation,
@@ -449,7 +463,13 @@ impl<'p> Solver<'p> {
                 blocked = None;
             }
             if consecutive_rejections >= MAX_CONSECUTIVE_REJECTIONS && lambda >= MAX_DAMPING {
-                verdict = blocked.take().map_or(Verdict::Stalled, Verdict::Refused);
+                verdict = match (blocked.take(), unsolvable) {
+                    (Some(refusal), _) => Verdict::Refused(refusal),
+                    (None, Some(why)) => Verdict::Failed(format!(
+                        "{why} at any damping (values at the limits of f64's range?)"
+                    )),
+                    (None, None) => Verdict::Stalled,
+                };
                 break;
             }
             last = Instant::now();

@@ -81,6 +81,45 @@ impl Whitening {
         Ok(())
     }
 
+    /// `‖Sᵢ r‖²` of factor `i`'s residual `r`.
+    pub(crate) fn squared(&self, i: usize, r: &[f64]) -> f64 {
+        let norm: f64 = r.iter().map(|x| x * x).sum();
+        match self {
+            Whitening::Scales(scales) if scales.is_empty() => norm,
+            Whitening::Scales(scales) => scales[i] * norm,
+            Whitening::Full { dim, s } => {
+                let s = &s[i * dim * dim..(i + 1) * dim * dim];
+                s.chunks(*dim)
+                    .map(|row| {
+                        let sr: f64 = row.iter().zip(r).map(|(a, b)| a * b).sum();
+                        sr * sr
+                    })
+                    .sum()
+            }
+        }
+    }
+
+    /// Factor `i`'s `Sᵢ` (`dim × dim` row-major, `dim` its residual's
+    /// length) into `out`.
+    pub(crate) fn matrix_into(&self, i: usize, dim: usize, out: &mut [f64]) {
+        match self {
+            Whitening::Scales(scales) => {
+                let root = if scales.is_empty() {
+                    1.0
+                } else {
+                    scales[i].sqrt()
+                };
+                out.fill(0.0);
+                for k in 0..dim {
+                    out[k * dim + k] = root;
+                }
+            }
+            Whitening::Full { dim, s } => {
+                out.copy_from_slice(&s[i * dim * dim..(i + 1) * dim * dim]);
+            }
+        }
+    }
+
     /// Puts factor `order[i]`'s model at `i`.
     pub(crate) fn reorder(&mut self, order: &[usize]) {
         match self {
@@ -131,6 +170,15 @@ mod tests {
             s,
             &[1.0, 0.0, 0.0, 1.0, 2.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 4.0]
         );
+        assert_eq!(w.squared(1, &[3.0, 4.0]), 4.0 * 9.0 + 4.0 * 16.0);
+        let mut s = [0.0; 4];
+        w.matrix_into(2, 2, &mut s);
+        assert_eq!(s, [1.0, 0.0, 0.0, 4.0]);
+        let mut isotropic = Whitening::new();
+        isotropic.push(&Noise::Sigma(0.5), 2, 0).unwrap();
+        assert_eq!(isotropic.squared(0, &[3.0, 4.0]), 100.0);
+        isotropic.matrix_into(0, 2, &mut s);
+        assert_eq!(s, [2.0, 0.0, 0.0, 2.0]);
         w.reorder(&[2, 0, 1]);
         let Whitening::Full { s, .. } = &w else {
             panic!("{w:?}")

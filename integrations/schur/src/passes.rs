@@ -7,11 +7,12 @@ use std::time::Duration;
 use factor_apex::problems::Robust;
 use rayon::prelude::*;
 
-use crate::group::{Rejected, Sink, Values};
+use crate::group::{Rejected, Values};
 use crate::partition::{Partition, split_at_bounds};
 use crate::problem::Problem;
 use crate::robust;
 use crate::schur::{Normal, StepBuffers};
+use crate::sink::Sink;
 use crate::structure::{Role, Structure};
 
 /// `Σ ½ ρ(‖rᵢ‖²)` at `values`, each factor's `‖rᵢ‖²` kept in `squared` (one

@@ -1,19 +1,21 @@
 //! A [`Problem`]: variables (their stored scalars, held fixed or eliminated)
-//! and factors of any derived type with a normal-equation kernel, grouped by
-//! type.
+//! and factors of any derived type, grouped by type: those with fused
+//! normal-equation kernels linearized in lane batches ([`Problem::add`]),
+//! any other one factor at a time ([`Problem::add_linearized`]).
 
 use std::any::{Any, TypeId};
 
 use factor_apex::problems::Robust;
 use factor_apex::solve::Damping;
-use factor_core::WithKernel;
 use factor_core::noise::Noise;
+use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
 
 use crate::error::SchurError;
 use crate::group::{FactorGroup, Group};
 pub use crate::layout::Lane;
 use crate::layout::{Chart, MAX_SCALARS, MAX_SLOTS, Variable};
+pub use crate::linearization::{Jacobians, Linearized};
 use crate::structure::Structure;
 
 /// A variable of a [`Problem`].
@@ -26,6 +28,10 @@ impl VariableId {
         self.0 as usize
     }
 }
+
+/// Which group a factor type goes to: its type, and how the group
+/// linearizes (`None`: the batch kernels).
+type GroupKey = (TypeId, Option<Jacobians>);
 
 /// A nonlinear least-squares problem, `Σ ½ ρ(‖rᵢ‖²)` over factors of
 /// derived types, in the shape a Schur complement solves: some variables
@@ -42,7 +48,7 @@ pub struct Problem {
     pub(crate) values: Vec<f64>,
     pub(crate) variables: Vec<Variable>,
     pub(crate) groups: Vec<Box<dyn Group>>,
-    group_types: Vec<TypeId>,
+    group_types: Vec<GroupKey>,
     pub(crate) robust: Option<Robust>,
     pub(crate) damping: Damping,
 }
@@ -112,6 +118,15 @@ impl Problem {
         self.groups.iter().map(|g| g.len()).sum()
     }
 
+    /// Each factor type's name, its count and how it is linearized, in the
+    /// order the types were first added.
+    pub fn linearized(&self) -> Vec<(&'static str, usize, Linearized)> {
+        self.groups
+            .iter()
+            .map(|g| (g.name(), g.len(), g.linearized()))
+            .collect()
+    }
+
     /// The stored scalars of `id` (after a solve, its solution).
     pub fn value(&self, id: VariableId) -> &[f64] {
         let v = &self.variables[id.index()];
@@ -158,7 +173,54 @@ impl Problem {
         F: WithKernel + Send + Sync + 'static,
         F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
     {
-        let group = self.group_index::<F>()?;
+        self.add_to(
+            (TypeId::of::<F>(), None),
+            FactorGroup::<F>::batch,
+            factor,
+            variables,
+            noise,
+            robust,
+        )
+    }
+
+    /// Adds `factor` as [`Problem::add_weighted`] does, for a factor type
+    /// without fused normal-equation kernels (or to differentiate one by
+    /// dual numbers): its factors are linearized one at a time by
+    /// `jacobians`, their residuals and Jacobians whitened and formed into
+    /// the same normal blocks. A type added both ways forms two groups.
+    ///
+    /// # Errors
+    ///
+    /// As [`Problem::add_weighted`].
+    pub fn add_linearized<F: Factor + Send + Sync + 'static>(
+        &mut self,
+        factor: &F,
+        variables: &[VariableId],
+        noise: &Noise,
+        robust: Option<Robust>,
+        jacobians: Jacobians,
+    ) -> Result<(), SchurError> {
+        self.add_to(
+            (TypeId::of::<F>(), Some(jacobians)),
+            || FactorGroup::<F>::per_factor(jacobians),
+            factor,
+            variables,
+            noise,
+            robust,
+        )
+    }
+
+    /// Adds `factor` to the group `key`, made by `make` if new.
+    fn add_to<F: Factor + Send + Sync + 'static>(
+        &mut self,
+        key: GroupKey,
+        make: impl FnOnce() -> FactorGroup<F>,
+        factor: &F,
+        variables: &[VariableId],
+        noise: &Noise,
+        robust: Option<Robust>,
+    ) -> Result<(), SchurError> {
+        let group = self.group_index(key, make)?;
         let slots = self.groups[group].slot_info();
         if variables.len() != slots.len() {
             return Err(SchurError::Arity {
@@ -234,18 +296,17 @@ impl Problem {
             })
     }
 
-    /// The index of the group of `F`, created if new.
+    /// The index of the group `key`, made by `make` if new.
     ///
     /// # Errors
     ///
     /// A factor type beyond the solver's buffers.
-    fn group_index<F>(&mut self) -> Result<usize, SchurError>
-    where
-        F: WithKernel + Send + Sync + 'static,
-        F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
-    {
-        let type_id = TypeId::of::<F>();
-        if let Some(k) = self.group_types.iter().position(|t| *t == type_id) {
+    fn group_index<F: Factor + Send + Sync + 'static>(
+        &mut self,
+        key: GroupKey,
+        make: impl FnOnce() -> FactorGroup<F>,
+    ) -> Result<usize, SchurError> {
+        if let Some(k) = self.group_types.iter().position(|t| *t == key) {
             return Ok(k);
         }
         if F::SCALARS > MAX_SCALARS || F::variables().len() > MAX_SLOTS {
@@ -254,8 +315,8 @@ impl Problem {
                 F::NAME
             )));
         }
-        self.group_types.push(type_id);
-        self.groups.push(Box::new(FactorGroup::<F>::new()));
+        self.group_types.push(key);
+        self.groups.push(Box::new(make()));
         Ok(self.groups.len() - 1)
     }
 }

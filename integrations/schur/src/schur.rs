@@ -734,6 +734,7 @@ mod dense {
         let built = build(
             &slam_data::Problem::Bal(bal.clone()),
             Some(Robust::Huber(2.0)),
+            factor_apex::Kernels::Generated,
         )
         .unwrap();
         (bal, built)

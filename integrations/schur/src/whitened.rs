@@ -1,25 +1,29 @@
-//! The normal blocks of factors with a full noise model, from the per-lane
-//! Jacobian kernel's outputs: `r` and each `J` whitened by the factor's
+//! The normal blocks of factors from their residuals and Jacobians (the
+//! per-lane Jacobian kernel's outputs under a full noise model, or a
+//! per-factor group's): `r` and each `J` whitened by the factor's
 //! square-root information `S` first, then `Jᵢᵀ w S r`-style blocks formed
 //! as the fused kernels lay theirs out (`factor_lanes::NormalKernel`), so
 //! that the same scatter adds them ([`crate::noise`] says when).
 
 use factor_batch::{JacobianColumns, pairs};
 
+use crate::noise::Whitening;
+
 /// The gradient blocks and the Hessian blocks (pairs `i ≤ j` in
 /// [`pairs`] order: a diagonal block's upper triangle row by row, an
-/// off-diagonal one row-major) of the `n` factors of `outputs`, whitened by
-/// `s` (`dim × dim` row-major per factor, end to end) and weighted by `w`
-/// (1 when `None`). Each block is its columns end to end, `n` entries per
-/// column.
+/// off-diagonal one row-major) of the `n` factors of `outputs`, factors
+/// `first..first + n` of `whitening`, whitened by their `S` and weighted by
+/// `w` (1 when `None`). Each block is its columns end to end, `n` entries
+/// per column.
 pub(crate) fn normal_columns(
     outputs: &JacobianColumns<f64>,
     tangents: &[usize],
-    dim: usize,
-    s: &[f64],
+    whitening: &Whitening,
+    first: usize,
     w: Option<&[f64]>,
 ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let n = outputs.residual.len();
+    let dim = outputs.residual.width();
     let pairs = pairs(tangents.len());
     let mut gradient: Vec<Vec<f64>> = tangents.iter().map(|d| vec![0.0; d * n]).collect();
     let mut hessian: Vec<Vec<f64>> = pairs
@@ -45,10 +49,11 @@ pub(crate) fn normal_columns(
         })
         .collect();
     let mut sr = vec![0.0; dim];
+    let mut s = vec![0.0; dim * dim];
     // S Jₖ, row-major (dim × dₖ), per variable.
     let mut sj: Vec<Vec<f64>> = tangents.iter().map(|d| vec![0.0; dim * d]).collect();
     for row in 0..n {
-        let s = &s[row * dim * dim..(row + 1) * dim * dim];
+        whitening.matrix_into(first + row, dim, &mut s);
         let weight = w.map_or(1.0, |w| w[row]);
         for (a, x) in sr.iter_mut().enumerate() {
             *x = (0..dim).map(|b| s[a * dim + b] * residual[b][row]).sum();

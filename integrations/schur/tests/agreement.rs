@@ -2,8 +2,10 @@
 //! through `factor-apex`, with the same factors, gauge and initial values),
 //! both run to the optimum (tolerances 1e-12): the same final cost to 1e-9
 //! relative on bundle adjustment (the shipped Bundler file and synthetic
-//! BAL problems, with and without robust losses) and stereo VO; then fixed
-//! variables, and a step that a factor rejects.
+//! BAL problems, with and without robust losses), stereo VO, pose graphs
+//! and g2o's line, plane and point graphs (factors linearized one at a
+//! time, through their kernels or by dual numbers); then fixed variables,
+//! and a step that a factor rejects.
 
 use std::path::Path;
 
@@ -42,7 +44,12 @@ fn apex(data: &slam_data::Problem, robust: Option<Robust>) -> (f64, f64) {
 
 /// `(initial, final)` costs of this solver's solve of `data`.
 fn schur(data: &slam_data::Problem, robust: Option<Robust>) -> (f64, f64) {
-    let mut built = build(data, robust).expect("builds");
+    schur_with(data, robust, Kernels::Generated)
+}
+
+/// [`schur`] with the factors differentiated by `kernels`.
+fn schur_with(data: &slam_data::Problem, robust: Option<Robust>, kernels: Kernels) -> (f64, f64) {
+    let mut built = build(data, robust, kernels).expect("builds");
     let outcome = factor_schur::solve(&mut built.problem, &SolveOptions::converged(500), |_| {})
         .expect("solves");
     // With a robust loss the outliers pull a camera's distortion to the
@@ -130,12 +137,40 @@ fn pose_graphs_reach_apex_solvers_optimum() {
     assert_agree(&data("sphere2500.txt"), None, "sphere2500 (EDGE3)");
 }
 
+/// g2o's own line, plane and point graphs (written by g2o's simulators):
+/// g2o's edges one at a time, the lines and planes seen from every pose
+/// kept in the reduced system, the points eliminated; and by dual numbers
+/// the same costs.
+#[test]
+fn g2o_line_plane_and_point_graphs_reach_apex_solvers_optimum() {
+    for file in [
+        "g2o-addons/line3d.g2o",
+        "g2o-addons/plane3d_calib.g2o",
+        "g2o-addons/points3d_gps.g2o",
+    ] {
+        let data = data(file);
+        assert_agree(&data, None, file);
+        let (generated, dual) = (schur(&data, None), schur_with(&data, None, Kernels::Dual));
+        let relative = |x: f64, y: f64| (x - y).abs() / y.abs();
+        assert!(relative(dual.0, generated.0) <= 1e-12, "{file}: {dual:?}");
+        assert!(
+            relative(dual.1, generated.1) <= AGREEMENT,
+            "{file}: {dual:?}"
+        );
+    }
+}
+
 #[test]
 fn fixed_variables_stay_and_the_free_ones_are_optimal() {
     let slam_data::Problem::Bal(bal) = synthetic(8, 100, 0.0, 2) else {
         unreachable!()
     };
-    let mut built = build(&slam_data::Problem::Bal(bal.clone()), None).unwrap();
+    let mut built = build(
+        &slam_data::Problem::Bal(bal.clone()),
+        None,
+        Kernels::Generated,
+    )
+    .unwrap();
     let Keys::Bundle(keys) = built.keys.clone() else {
         unreachable!()
     };
@@ -233,7 +268,7 @@ fn a_step_a_factor_rejects_is_taken_back() {
             pixel: nalgebra::Vector2::new(6000.0, 0.0),
         }],
     };
-    let mut built = build(&slam_data::Problem::Bal(bal), None).unwrap();
+    let mut built = build(&slam_data::Problem::Bal(bal), None, Kernels::Generated).unwrap();
     let Keys::Bundle(keys) = built.keys.clone() else {
         unreachable!()
     };

@@ -12,7 +12,10 @@
 //!   fused kernel's scalar weight: the same optimum and the same values;
 //! - a loss given per factor is the problem's loss for that factor;
 //! - mixed per-factor noise and losses reach apex-solver's optimum under
-//!   the same models (`factor_apex::builder`, an independent solver).
+//!   the same models (`factor_apex::builder`, an independent solver);
+//! - factors linearized one at a time (`Problem::add_linearized`, through
+//!   the factor's kernel or by dual numbers) give the batch kernels' costs
+//!   and optimum under every model.
 
 use factor_apex::builder::ProblemBuilder;
 use factor_apex::problems::Robust;
@@ -22,7 +25,7 @@ use factor_core::Factor;
 use factor_core::Storage;
 use factor_core::lie::Se3RhoTheta;
 use factor_core::noise::Noise;
-use factor_schur::{Problem, SchurError, Solver, VariableId};
+use factor_schur::{Jacobians, Problem, SchurError, Solver, VariableId};
 use nalgebra::{DMatrix, Rotation2};
 use slam_data::BalProblem;
 use slam_data::synthetic::{SyntheticConfig, generate};
@@ -47,6 +50,17 @@ fn problem(
     noise: impl Fn(usize) -> Noise,
     robust: impl Fn(usize) -> Option<Robust>,
 ) -> (Problem, Vec<VariableId>, Vec<[VariableId; 3]>) {
+    problem_by(bal, noise, robust, None)
+}
+
+/// [`problem`] with its factors added by `jacobians`: the batch kernels
+/// (`None`) or one at a time.
+fn problem_by(
+    bal: &BalProblem,
+    noise: impl Fn(usize) -> Noise,
+    robust: impl Fn(usize) -> Option<Robust>,
+    jacobians: Option<Jacobians>,
+) -> (Problem, Vec<VariableId>, Vec<[VariableId; 3]>) {
     let mut problem = Problem::new();
     let mut cameras = Vec::new();
     for camera in &bal.cameras {
@@ -70,9 +84,12 @@ fn problem(
     for (k, o) in bal.observations.iter().enumerate() {
         let (pose, intrinsics) = cameras[o.camera];
         let ids = [pose, intrinsics, points[o.point]];
-        problem
-            .add_weighted(&factor_of(bal, k), &ids, &noise(k), robust(k))
-            .expect("fits");
+        let factor = factor_of(bal, k);
+        match jacobians {
+            None => problem.add_weighted(&factor, &ids, &noise(k), robust(k)),
+            Some(j) => problem.add_linearized(&factor, &ids, &noise(k), robust(k), j),
+        }
+        .expect("fits");
         variables.push(ids);
     }
     (problem, points, variables)
@@ -281,6 +298,47 @@ fn a_loss_per_factor_is_the_problems_loss_for_it() {
         "final {} vs apex {apex_last}",
         c.1
     );
+}
+
+#[test]
+fn factors_linearized_one_at_a_time_reach_the_batch_kernels_optimum() {
+    let mut bal = bal();
+    for o in bal.observations.iter_mut().step_by(36) {
+        o.pixel.x += 80.0;
+    }
+    // Isotropic, per-component and full models in one group, and a loss
+    // on some factors.
+    let noise = |k: usize| match k % 3 {
+        0 => Noise::Sigma(0.5),
+        1 => Noise::Sigmas(vec![1.0, 4.0]),
+        _ => Noise::SqrtInformation(DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.0, 1.0])),
+    };
+    let s = |k: usize| match noise(k) {
+        Noise::Sigma(x) => DMatrix::identity(2, 2) / x,
+        Noise::Sigmas(x) => DMatrix::from_diagonal(&nalgebra::DVector::from_vec(
+            x.iter().map(|v| 1.0 / v).collect(),
+        )),
+        Noise::SqrtInformation(m) => m,
+        _ => unreachable!(),
+    };
+    let robust = |k: usize| k.is_multiple_of(4).then_some(Robust::Huber(1.5));
+    let expected = cost(&bal, s, robust);
+    let mut batch = problem_by(&bal, noise, robust, None);
+    let (_, optimum) = solve(&mut batch.0);
+    for jacobians in [Jacobians::Kernel, Jacobians::Dual] {
+        let mut each = problem_by(&bal, noise, robust, Some(jacobians));
+        let (initial, last) = solve(&mut each.0);
+        assert!(
+            relative(initial, expected) <= 1e-12,
+            "{jacobians:?}: initial {initial} vs {expected}"
+        );
+        assert!(
+            relative(last, optimum) <= 1e-9,
+            "{jacobians:?}: final {last} vs the batch kernels' {optimum}"
+        );
+        let gap = point_gap(&each, &batch);
+        assert!(gap <= 1e-6, "{jacobians:?}: points {gap} from the batch's");
+    }
 }
 
 #[test]

@@ -19,9 +19,9 @@
 //! # Outputs
 //!
 //! - `residual: [T; 2]`
-//! - `d_pose_i: [T; 12]`: `∂r/∂δ` w.r.t. `pose_i` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
-//! - `d_pose_j: [T; 12]`: `∂r/∂δ` w.r.t. `pose_j` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
-//! - `d_extrinsic: [T; 12]`: `∂r/∂δ` w.r.t. `extrinsic` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose_i: [T; 12]`: `∂r/∂δ` w.r.t. `pose_i` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_pose_j: [T; 12]`: `∂r/∂δ` w.r.t. `pose_j` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+//! - `d_extrinsic: [T; 12]`: `∂r/∂δ` w.r.t. `extrinsic` (`Se3RhoTheta<S>`), 2 × 6 row-major (residual rows × tangent columns); tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 //! - `d_inverse_depth: [T; 2]`: `∂r/∂δ` w.r.t. `inverse_depth` (`f64`), 2 × 1 row-major (residual rows × tangent columns); tangent: additive: x ← x + δ
 //!
 //! Conventions: quaternions `[qx, qy, qz, qw]` are `[x, y, z, w]`, Hamilton product, active rotation; each block is the derivative of `r(x ⊞ δ)` at `δ = 0` on its variable's perturbation side, its columns in the order of that variable's tangent (stated with its output above).

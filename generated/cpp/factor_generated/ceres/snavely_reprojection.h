@@ -4,7 +4,7 @@
 //
 // Residual: 2 values, `snavely_reprojection`'s. Parameter blocks, in order, each a variable's stored scalars; give each block its manifold with `Problem::SetManifold`, so that Ceres steps in the factor's own chart:
 //
-// - `pose[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `pose[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 // - `intrinsics[3]`: `[f, k1, k2]`, Euclidean: no manifold; tangent: additive: [f, k1, k2] ← [f, k1, k2] + δ, columns [δf, δk1, δk2]
 // - `point[3]`: `[x, y, z]`, Euclidean: no manifold; tangent: additive: x ← x + δ, columns δ in the vector's order
 //

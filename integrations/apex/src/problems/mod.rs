@@ -20,6 +20,7 @@
 
 pub mod bundle;
 pub mod g2o_addons;
+pub mod g2o_edges;
 pub mod pose_graph;
 pub mod stereo;
 

@@ -7,6 +7,8 @@ use factor_core::{Factor, Storage};
 use slam_data::{BalProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
 
+use factor_apex::Kernels;
+
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
@@ -16,7 +18,10 @@ pub type BundleKeys = factor_apex::problems::bundle::BundleKeys<VariableId>;
 
 /// Builds the bundle adjustment of `bal`: camera 0's pose fixed, the
 /// points eliminated.
-pub(super) fn build(bal: &BalProblem) -> Result<(Problem, BundleKeys), BuildError> {
+pub(super) fn build(
+    bal: &BalProblem,
+    kernels: Kernels,
+) -> Result<(Problem, BundleKeys), BuildError> {
     let mut problem = Problem::new();
     let mut keys = BundleKeys {
         poses: Vec::with_capacity(bal.cameras.len()),
@@ -48,14 +53,12 @@ pub(super) fn build(bal: &BalProblem) -> Result<(Problem, BundleKeys), BuildErro
             which: format!("{} at the initial values", observation_name(bal, k)),
             error,
         })?;
-        problem.add(
-            &factor,
-            &[
-                keys.poses[o.camera],
-                keys.intrinsics[o.camera],
-                keys.points[o.point],
-            ],
-        )?;
+        let ids = [
+            keys.poses[o.camera],
+            keys.intrinsics[o.camera],
+            keys.points[o.point],
+        ];
+        super::add(&mut problem, &factor, &ids, kernels)?;
     }
     // The gauge: camera 0's pose fixed (the scale is left to the damping),
     // as the general path holds it.

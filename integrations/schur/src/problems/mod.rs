@@ -10,17 +10,23 @@
 //! | BAL, Bundler ([`bundle`]) | per camera its world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]` | the points | `SnavelyReprojection` | camera 0's pose fixed |
 //! | KITTI VO ([`stereo`]) | per pose its camera-to-world pose | the landmarks | `StereoReprojection` | the first pose fixed |
 //! | g2o, EDGE3 ([`pose_graph`]) | per vertex its body-to-world pose (EDGE3 without vertices: the odometry chain) | nothing | `BetweenFactor` (uniform damping) | the first pose fixed |
+//! | g2o lines, planes and points ([`g2o_addons`]) | robot poses and sensor offsets (body to world) | lines, planes, points | g2o's own edges, one at a time (uniform damping) | the file's `FIX` vertices |
 
 pub mod bundle;
 mod error;
+pub mod g2o_addons;
 pub mod pose_graph;
 pub mod stereo;
 
 pub use error::BuildError;
-use factor_core::Storage;
+use factor_apex::Kernels;
 use factor_core::lie::{Se3, Se3RhoTheta};
+use factor_core::noise::Noise;
+use factor_core::{Storage, WithKernel};
+use factor_lanes::NormalKernel;
 
-use crate::problem::{Problem, VariableId};
+use crate::SchurError;
+use crate::problem::{Jacobians, Lane, Problem, VariableId};
 
 /// The variables of a problem, by data-set entity, to read the solution.
 #[derive(Debug, Clone)]
@@ -31,6 +37,8 @@ pub enum Keys {
     Stereo(stereo::StereoKeys),
     /// A pose graph.
     PoseGraph(pose_graph::PoseGraphKeys),
+    /// A g2o line and plane graph.
+    G2oAddons(g2o_addons::G2oGraphKeys),
 }
 
 /// A problem built from a data set.
@@ -43,46 +51,53 @@ pub struct Built {
     pub blocks: usize,
 }
 
-/// Whether this solver takes `data`'s problem (bundle adjustment and stereo
-/// VO: landmarks to eliminate), which `slamjac solve` then solves with it.
-pub fn applies(data: &slam_data::Problem) -> bool {
-    matches!(
-        data,
-        slam_data::Problem::Bal(_)
-            | slam_data::Problem::Bundler(_)
-            | slam_data::Problem::KittiVo(_)
-            | slam_data::Problem::G2o(_)
-            | slam_data::Problem::Edge3(_)
-    )
-}
-
-/// Builds `data`'s problem, with `robust` on every factor.
+/// Builds `data`'s problem, with `robust` on every factor, its factors
+/// differentiated by `kernels`: the generated kernels (fused normal
+/// equations in lane batches where the factor has them, else its kernel
+/// one factor at a time), or dual numbers one factor at a time.
 ///
 /// # Errors
 ///
-/// A factor degenerate at the initial values, data that refer to what they
-/// lack, or a problem this solver does not take ([`applies`]).
+/// A factor degenerate at the initial values, or data that refer to what
+/// they lack.
 pub fn build(
     data: &slam_data::Problem,
     robust: Option<factor_apex::problems::Robust>,
+    kernels: Kernels,
 ) -> Result<Built, BuildError> {
     let mut built = match data {
-        slam_data::Problem::Bal(bal) => Built::of(bundle::build(bal)?, Keys::Bundle),
+        slam_data::Problem::Bal(bal) => Built::of(bundle::build(bal, kernels)?, Keys::Bundle),
         slam_data::Problem::Bundler(bundler) => {
-            Built::of(bundle::build(&bundler.to_bal())?, Keys::Bundle)
+            Built::of(bundle::build(&bundler.to_bal(), kernels)?, Keys::Bundle)
         }
-        slam_data::Problem::KittiVo(vo) => Built::of(stereo::build(vo)?, Keys::Stereo),
+        slam_data::Problem::KittiVo(vo) => Built::of(stereo::build(vo, kernels)?, Keys::Stereo),
         slam_data::Problem::G2o(graph) | slam_data::Problem::Edge3(graph) => {
-            Built::of(pose_graph::build(graph)?, Keys::PoseGraph)
+            Built::of(pose_graph::build(graph, kernels)?, Keys::PoseGraph)
         }
-        slam_data::Problem::G2oAddons(_) => {
-            return Err(BuildError::Unavailable(
-                "g2o's line and plane graphs are solved with apex-solver".into(),
-            ));
+        slam_data::Problem::G2oAddons(graph) => {
+            Built::of(g2o_addons::build(graph, kernels)?, Keys::G2oAddons)
         }
     };
     built.problem.set_robust(robust);
     Ok(built)
+}
+
+/// Adds `factor` on `ids` (unit noise, the problem's loss): through its
+/// fused kernels in lane batches, or one at a time by dual numbers.
+fn add<F>(
+    problem: &mut Problem,
+    factor: &F,
+    ids: &[VariableId],
+    kernels: Kernels,
+) -> Result<(), SchurError>
+where
+    F: WithKernel + Send + Sync + 'static,
+    F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+{
+    match kernels {
+        Kernels::Generated => problem.add(factor, ids),
+        Kernels::Dual => problem.add_linearized(factor, ids, &Noise::Unit, None, Jacobians::Dual),
+    }
 }
 
 impl Built {
@@ -115,6 +130,9 @@ impl Built {
             }
             (Keys::Stereo(keys), slam_data::Problem::KittiVo(vo)) => {
                 slam_data::Problem::KittiVo(keys.write(vo, se3, value))
+            }
+            (Keys::G2oAddons(keys), slam_data::Problem::G2oAddons(graph)) => {
+                slam_data::Problem::G2oAddons(keys.write(graph, value))
             }
             // Keys are built from the same data they write back.
             _ => data.clone(),

@@ -9,6 +9,8 @@ use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::PoseGraph;
 
+use factor_apex::Kernels;
+
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
@@ -20,7 +22,10 @@ pub type PoseGraphKeys = factor_apex::problems::pose_graph::PoseGraphKeys<Variab
 /// Builds the pose graph of `graph` as the general path does: a
 /// `BetweenFactor` per edge, whitened by its information, the first pose
 /// fixed, damped uniformly (one unit system).
-pub(super) fn build(graph: &PoseGraph) -> Result<(Problem, PoseGraphKeys), BuildError> {
+pub(super) fn build(
+    graph: &PoseGraph,
+    kernels: Kernels,
+) -> Result<(Problem, PoseGraphKeys), BuildError> {
     let data = |e: factor_apex::problems::BuildError| BuildError::Data(e.to_string());
     let vertices = initial_vertices(graph).map_err(data)?;
     let mut problem = Problem::new();
@@ -41,7 +46,7 @@ pub(super) fn build(graph: &PoseGraph) -> Result<(Problem, PoseGraphKeys), Build
             which: format!("{} at the initial values", edge_name(graph, index)),
             error,
         })?;
-        problem.add(&factor, &[i, j])?;
+        super::add(&mut problem, &factor, &[i, j], kernels)?;
     }
     if let Some(&(_, id)) = keys.poses.first() {
         problem.fix(id);

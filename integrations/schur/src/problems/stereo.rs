@@ -8,6 +8,8 @@ use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::StereoVo;
 
+use factor_apex::Kernels;
+
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
@@ -17,7 +19,7 @@ pub type StereoKeys = factor_apex::problems::stereo::StereoKeys<VariableId>;
 
 /// Builds the VO problem of `vo`: the first pose fixed, each landmark
 /// initialised as the file initialises it and eliminated.
-pub(super) fn build(vo: &StereoVo) -> Result<(Problem, StereoKeys), BuildError> {
+pub(super) fn build(vo: &StereoVo, kernels: Kernels) -> Result<(Problem, StereoKeys), BuildError> {
     let mut problem = Problem::new();
     let mut poses = HashMap::with_capacity(vo.poses.len());
     let mut keys = StereoKeys {
@@ -52,7 +54,7 @@ pub(super) fn build(vo: &StereoVo) -> Result<(Problem, StereoKeys), BuildError> 
             which: format!("{} at the initial values", observation_name(vo, k)),
             error,
         })?;
-        problem.add(&factor, &[pose_id, landmark_id])?;
+        super::add(&mut problem, &factor, &[pose_id, landmark_id], kernels)?;
     }
     // The gauge: the first pose fixed, as GTSAM's example and the general
     // path do.

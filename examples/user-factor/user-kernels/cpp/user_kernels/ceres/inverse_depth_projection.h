@@ -4,9 +4,9 @@
 //
 // Residual: 2 values, `inverse_depth_projection`'s. Parameter blocks, in order, each a variable's stored scalars; give each block its manifold with `Problem::SetManifold`, so that Ceres steps in the factor's own chart:
 //
-// - `pose_i[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
-// - `pose_j[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
-// - `extrinsic[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: R ← R Exp(δθ), t ← t + R δρ (T Exp([δρ, δθ]) to first order, apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `pose_i[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `pose_j[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
+// - `extrinsic[7]`: `{rotation: [qx, qy, qz, qw], translation: [x, y, z]}`, manifold `Se3RhoThetaRightManifold`; tangent: right: T ← T Exp([δρ, δθ]) (apex-solver's chart), columns [δρ_x, δρ_y, δρ_z, δθ_x, δθ_y, δθ_z]
 // - `inverse_depth[1]`: `number`, Euclidean: no manifold; tangent: additive: x ← x + δ
 //
 // Jacobians: w.r.t. each block's stored scalars (`inverse_depth_projection_ambient`, row-major), exact in every tangent direction: Ceres' product with a manifold's `PlusJacobian` is the factor's Jacobian in that manifold's chart. `Evaluate` returns false when an output is not finite; it does not run the factor's validation (a degenerate configuration gives whatever the formulas give).

@@ -1,0 +1,36 @@
+//! How a problem's factors are linearized: asked for per factor type
+//! ([`Jacobians`], `Problem::add_linearized`), and as reported
+//! ([`Linearized`], `Problem::linearized`).
+
+/// How a factor added by [`Problem::add_linearized`](crate::Problem::add_linearized) is differentiated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Jacobians {
+    /// The factor's own `linearize_stored_into`: its generated kernel
+    /// where it has one (`#[factor(kernel = …)]`), dual numbers otherwise.
+    Kernel,
+    /// Dual numbers, whether or not the factor has a kernel.
+    Dual,
+}
+
+/// How the factors of a type are linearized, as [`Problem::linearized`](crate::Problem::linearized)
+/// reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Linearized {
+    /// By the fused normal-equation kernels, in lane batches.
+    Batch,
+    /// By the factor's generated kernel, one factor at a time.
+    Kernel,
+    /// By dual numbers, one factor at a time.
+    Dual,
+}
+
+impl Linearized {
+    /// In words, for a solve's header.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Linearized::Batch => "fused normal-equation kernels on 4×f64 lanes",
+            Linearized::Kernel => "its generated kernel, one factor at a time",
+            Linearized::Dual => "dual numbers, one factor at a time",
+        }
+    }
+}
