@@ -370,8 +370,10 @@ fn symbol(s: &Symbol, ops: &[PostfixOp]) -> String {
         if let Some(x) = &s.pre_sub {
             out.push_str(&format!("_{{{}}}", expr(x)));
         }
+        // Not `script`: a pre-superscript is read as an expression, with no
+        // postfix marker stripped, so braces around `\odot` would not parse.
         if let Some(x) = &s.pre_sup {
-            out.push_str(&format!("^{{{}}}", script(x)));
+            out.push_str(&format!("^{{{}}}", expr(x)));
         }
     }
     if let Some(font) = s.delta {

@@ -398,3 +398,25 @@ fn nesting_below_the_bound_still_parses() {
     let s = parse_statement(&latex).unwrap();
     assert_eq!(render::statement(&s), "x");
 }
+
+/// Found by `mutated_document_formulas` (inserting `\frac` before `4\times
+/// 4`): an operator read as a one-token argument of `\frac` rendered as
+/// `\frac{4}{\times}`, which does not parse. An operator is no operand of
+/// a fraction or a root, braced or not.
+#[test]
+fn an_operator_is_no_operand_of_a_fraction_or_a_root() {
+    for latex in [
+        "\\frac4\\times 4",
+        "\\frac{4}{\\times} 4",
+        "\\sqrt\\times 4",
+    ] {
+        assert!(parse_statement(latex).is_err(), "{latex}");
+        exercise(latex);
+    }
+    // A script may still name one, a pre-script too (found by
+    // `random_commands`: `{}_x^\odot x` rendered its pre-superscript as
+    // `^{{\odot}}`, which did not parse).
+    assert!(parse_statement("a = x^\\times").is_ok());
+    assert!(parse_statement("{}_x^\\odot x").is_ok());
+    exercise("{}_x^\\odot x");
+}

@@ -24,13 +24,22 @@ pub(super) fn solver_words(
     linearized: &[(&str, usize, Linearized)],
     factorization: &str,
 ) -> String {
-    let how = match linearized {
-        [(_, _, only)] => only.describe().to_owned(),
-        _ => linearized
+    // The factor types by how they are linearized, in order of first
+    // appearance: a method alone when every type shares it.
+    let mut by_method: Vec<(Linearized, Vec<&str>)> = Vec::new();
+    for &(name, _, method) in linearized {
+        match by_method.iter_mut().find(|(m, _)| *m == method) {
+            Some((_, names)) => names.push(name),
+            None => by_method.push((method, vec![name])),
+        }
+    }
+    let how = match &by_method[..] {
+        [(only, _)] => only.describe().to_owned(),
+        _ => by_method
             .iter()
-            .map(|(name, _, how)| format!("{name} by {}", how.describe()))
+            .map(|(method, names)| format!("{} by {}", names.join(", "), method.describe()))
             .collect::<Vec<_>>()
-            .join(", "),
+            .join("; "),
     };
     if eliminated > 0 {
         format!(

@@ -582,8 +582,17 @@ impl Parser<'_> {
         })
     }
 
-    /// A command's argument: a braced group's list, or one token.
+    /// A command's argument: a braced group's list, or one token. An
+    /// operator (`\times`, `\oplus`) is no operand, braced or not: a
+    /// script may name one (`x^\times`), `\frac4\times` may not, as
+    /// `\frac{4}{\times}` may not.
     pub(super) fn argument(&mut self, seps: Seps) -> Result<Vec<Vec<Expr>>, ParseError> {
+        if let Some(tok) = self.peek()
+            && matches!(tok, Tok::Command(_))
+            && super::scripts::operator_named(tok)
+        {
+            return Err(self.unexpected());
+        }
         if self.peek() == Some(&Tok::LBrace) {
             let close = self.matching[self.pos];
             self.pos += 1;
