@@ -3,6 +3,7 @@
 use std::path::Path;
 use std::time::Duration;
 
+use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::solve::{Iteration, Verdict};
 
@@ -161,13 +162,19 @@ pub fn header(file: &Path, data: &slam_data::Problem, setup: &Setup, args: &Solv
     let robust = args
         .robust
         .map_or_else(|| "least squares".to_owned(), |r| format!("robust {r}"));
+    // g2o's line, plane, point and prior edges have no kernel.
+    let kernels = match (data, args.kernels) {
+        (slam_data::Problem::G2oAddons(_), Kernels::Generated) => {
+            "generated kernels where a factor has one, dual numbers for g2o's other edges".into()
+        }
+        (_, kernels) => format!("{} kernels", kernels.name()),
+    };
     format!(
-        "{} ({}): {sizes}\n{} {factor} blocks, {} kernels, {robust}; gauge: {gauge}; \
+        "{} ({}): {sizes}\n{} {factor} blocks, {kernels}, {robust}; gauge: {gauge}; \
          Levenberg–Marquardt {}; initial cost {:.10e}",
         shown_path(file),
         data.format(),
         setup.blocks,
-        args.kernels.name(),
         setup.solver,
         setup.initial_cost
     )
