@@ -131,14 +131,7 @@ fn solve_line(entry: &FactorEntry) -> Option<String> {
 /// registered for it.
 #[cfg(feature = "solve")]
 fn schur_words(entry: &FactorEntry) -> Option<&'static str> {
-    entry.schur?;
-    Some(if entry.schur_batched {
-        "its fused normal-equation kernels in lane batches"
-    } else if entry.kernel.is_some() {
-        "its kernel, one factor at a time"
-    } else {
-        "dual numbers, one factor at a time"
-    })
+    entry.schur.map(|(_, linearized)| linearized.describe())
 }
 
 #[cfg(not(feature = "solve"))]

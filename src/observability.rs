@@ -23,7 +23,10 @@
 use std::collections::{BTreeMap, BinaryHeap};
 use std::fmt;
 
+use factor_core::{Factor, FactorError};
 use nalgebra::{DMatrix, DVector};
+
+use crate::method::{Method, linearize};
 
 /// The eigenvalue, of a normal matrix scaled to a unit diagonal, at or
 /// below which a direction counts as undetermined: far above rounding
@@ -58,6 +61,22 @@ impl Variable {
             columns: tangent_columns(tangent, dim),
         }
     }
+}
+
+/// `factor`'s Jacobian blocks in its variables' own tangents, one per
+/// variable in declaration order, whitened by its square-root information
+/// `s` (`S J`): what [`Normal::add`] takes of a factor. Linearized as
+/// `Method::Generated` does (dual numbers for a factor without a kernel).
+///
+/// # Errors
+///
+/// The factor's validation, or a non-finite Jacobian.
+pub fn whitened_blocks<F: Factor>(
+    factor: &F,
+    s: &DMatrix<f64>,
+) -> Result<Vec<DMatrix<f64>>, FactorError> {
+    let (linearization, _) = linearize(factor, Method::Generated)?;
+    Ok(linearization.jacobians.iter().map(|j| s * j).collect())
 }
 
 /// The names of the `dim` coordinates of a tangent described as `tangent`:

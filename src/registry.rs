@@ -42,15 +42,11 @@ pub struct FactorEntry {
     /// How a problem file's entry of it is added to the problem.
     #[cfg(feature = "solve")]
     pub(crate) solve: Option<crate::problem_assembly::AddFn>,
-    /// How it is added to the Schur-complement solver's problem, when it
-    /// was registered for it ([`Registry::solve_with_schur`],
-    /// [`Registry::solve_with_schur_each`]).
+    /// How it is added to the Schur-complement solver's problem and how
+    /// that solver linearizes it, when it was registered for it
+    /// ([`Registry::solve_with_schur`], [`Registry::solve_with_schur_each`]).
     #[cfg(feature = "solve")]
-    pub(crate) schur: Option<crate::schur_assembly::SchurAddFn>,
-    /// Whether that solver takes it in lane batches (fused kernels) rather
-    /// than one factor at a time.
-    #[cfg(feature = "solve")]
-    pub(crate) schur_batched: bool,
+    pub(crate) schur: Option<(crate::schur_assembly::SchurAddFn, factor_schur::Linearized)>,
 }
 
 /// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
@@ -86,8 +82,6 @@ impl FactorEntry {
             solve: None,
             #[cfg(feature = "solve")]
             schur: None,
-            #[cfg(feature = "solve")]
-            schur_batched: false,
         }
     }
 
@@ -174,9 +168,10 @@ impl Registry {
             + factor_lanes::NormalKernel<f64>,
     {
         let mut registry = self.solve_with_kernel::<F>();
-        let entry = registry.entry::<F>();
-        entry.schur = Some(crate::schur_assembly::add_schur::<F>);
-        entry.schur_batched = true;
+        registry.entry::<F>().schur = Some((
+            crate::schur_assembly::add_schur::<F>,
+            factor_schur::Linearized::Batch,
+        ));
         registry
     }
 
@@ -202,8 +197,10 @@ impl Registry {
             "{} is not registered for problem files (solve_with_kernel or solve_with_dual)",
             F::NAME
         );
-        entry.schur = Some(crate::schur_assembly::add_each::<F>);
-        entry.schur_batched = false;
+        entry.schur = Some((
+            crate::schur_assembly::add_each::<F>,
+            factor_schur::Linearized::per_factor::<F>(factor_schur::Jacobians::Kernel),
+        ));
         self
     }
 

@@ -11,6 +11,7 @@
 
 use std::collections::HashMap;
 
+use factor_apex::Kernels;
 use factor_apex::problems::Robust;
 use factor_core::noise::Noise;
 use factor_core::{Factor, FactorError, FieldInfo, WithKernel};
@@ -22,12 +23,12 @@ use nalgebra::DMatrix;
 use crate::decode::decode;
 use crate::error::CliError;
 use crate::method::{Method, linearize};
-use crate::observability::tangent_columns;
+use crate::observability::{tangent_columns, whitened_blocks};
 use crate::problem_assembly::Entry;
 
-/// A factor's whitened Jacobian over each of its variables' own tangents
-/// (`S J`, its blocks side by side) at its stored scalars.
-type JacobianAt = fn(&[f64], &DMatrix<f64>) -> Result<DMatrix<f64>, CliError>;
+/// A factor's whitened Jacobian blocks over its variables' own tangents
+/// (`S J`, one per variable) at its stored scalars.
+type JacobianAt = fn(&[f64], &DMatrix<f64>) -> Result<Vec<DMatrix<f64>>, CliError>;
 
 /// A problem variable once a factor has created it.
 pub(crate) struct Created {
@@ -60,28 +61,17 @@ pub(crate) struct SchurAssembly {
     /// showed it (two factors perturbing one variable differently: that
     /// solver retracts each variable by one chart, apex-solver by its own).
     pub(crate) unsupported: Option<String>,
-    /// Every factor by dual numbers (`--kernels dual`).
-    pub(crate) dual: bool,
+    /// How the factors are differentiated (`--kernels`).
+    pub(crate) kernels: Kernels,
 }
 
 /// How a registered factor is added from a problem file to a Schur
 /// problem ([`crate::registry::Registry::solve_with_schur`]).
 pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
 
-/// [`JacobianAt`] of `F`, by its generated kernel (dual numbers for a
-/// factor without one).
-fn jacobian_at<F: Factor>(stored: &[f64], s: &DMatrix<f64>) -> Result<DMatrix<f64>, CliError> {
-    let factor = F::from_scalars(stored);
-    let (linearization, _) = linearize(&factor, Method::Generated)?;
-    let blocks: Vec<DMatrix<f64>> = linearization.jacobians.iter().map(|j| s * j).collect();
-    let columns: usize = blocks.iter().map(|b| b.ncols()).sum();
-    let mut whole = DMatrix::zeros(s.nrows(), columns);
-    let mut at = 0;
-    for b in blocks {
-        whole.columns_mut(at, b.ncols()).copy_from(&b);
-        at += b.ncols();
-    }
-    Ok(whole)
+/// [`JacobianAt`] of `F` ([`whitened_blocks`]).
+fn jacobian_at<F: Factor>(stored: &[f64], s: &DMatrix<f64>) -> Result<Vec<DMatrix<f64>>, CliError> {
+    Ok(whitened_blocks(&F::from_scalars(stored), s)?)
 }
 
 /// [`SchurAddFn`] of a factor `F` with fused normal-equation kernels: in
@@ -92,13 +82,9 @@ where
     F: WithKernel + Send + Sync + 'static,
     F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
 {
-    let dual = assembly.dual;
+    let kernels = assembly.kernels;
     add_with::<F>(assembly, entry, |problem, factor, ids, noise, loss| {
-        if dual {
-            problem.add_linearized(factor, ids, noise, loss, Jacobians::Dual)
-        } else {
-            problem.add_weighted(factor, ids, noise, loss)
-        }
+        problem.add_by(factor, ids, noise, loss, kernels)
     })
 }
 
@@ -109,11 +95,7 @@ pub(crate) fn add_each<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result
 where
     F: Factor + Send + Sync + 'static,
 {
-    let jacobians = if assembly.dual {
-        Jacobians::Dual
-    } else {
-        Jacobians::Kernel
-    };
+    let jacobians = Jacobians::from(assembly.kernels);
     add_with::<F>(assembly, entry, |problem, factor, ids, noise, loss| {
         problem.add_linearized(factor, ids, noise, loss, jacobians)
     })

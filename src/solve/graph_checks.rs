@@ -18,8 +18,9 @@ use nalgebra::DMatrix;
 use slam_data::G2oGraph;
 
 use crate::error::CliError;
-use crate::method::{Method, linearize};
-use crate::observability::{Deficiency, Normal, TOLERANCE, Variable, tangent_columns};
+use crate::observability::{
+    Deficiency, Normal, TOLERANCE, Variable, tangent_columns, whitened_blocks,
+};
 
 /// Refuses `graph` at its initial values when its edges leave a direction
 /// of its free vertices undetermined (exit 1, nothing solved).
@@ -123,11 +124,10 @@ fn deficiency(
 /// variable's tangent coordinates.
 type Whitened = (Vec<DMatrix<f64>>, Vec<Vec<String>>);
 
-/// `edge`'s [`Whitened`] blocks, or `None` where it cannot be linearized.
+/// `edge`'s [`Whitened`] blocks ([`whitened_blocks`]), or `None` where it
+/// cannot be linearized.
 fn whitened<F: Factor>(factor: &F, edge: &G2oEdge) -> Option<Whitened> {
-    let (linearization, _) = linearize(factor, Method::Generated).ok()?;
-    let s = edge.noise.sqrt_information(F::RESIDUAL_DIM);
-    let blocks = linearization.jacobians.iter().map(|j| &s * j).collect();
+    let blocks = whitened_blocks(factor, &edge.noise.sqrt_information(F::RESIDUAL_DIM)).ok()?;
     let tangents = F::variables()
         .iter()
         .map(|v| tangent_columns(v.tangent, v.tangent_dim))

@@ -6,6 +6,10 @@ use std::time::Duration;
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::solve::{Iteration, Verdict};
+use factor_core::Factor;
+use slam_factors::{
+    G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
+};
 
 use super::SolveArgs;
 use super::progress::duration;
@@ -90,25 +94,25 @@ fn g2o_graph_sizes(g: &slam_data::G2oGraph) -> String {
 fn g2o_factors(g: &slam_data::G2oGraph, landmarks: LandmarkFactors) -> String {
     let documents = landmarks == LandmarkFactors::Documents;
     let names: Vec<&str> = [
-        (g.pose_edges.len(), "g2o_se3"),
+        (g.pose_edges.len(), G2oSe3Edge::NAME),
         (
             g.line_edges.len(),
             if documents {
-                "line_observation"
+                LineObservation::NAME
             } else {
-                "g2o_se3_line3d"
+                G2oLineEdge::NAME
             },
         ),
         (
             g.plane_edges.len(),
             if documents {
-                "plane"
+                PlaneFactor::NAME
             } else {
-                "g2o_se3_plane_calib"
+                G2oPlaneEdge::NAME
             },
         ),
-        (g.point_edges.len(), "g2o_se3_trackxyz"),
-        (g.priors.len(), "g2o_se3_prior"),
+        (g.point_edges.len(), G2oPointEdge::NAME),
+        (g.priors.len(), G2oPriorEdge::NAME),
     ]
     .into_iter()
     .filter(|(count, _)| *count > 0)

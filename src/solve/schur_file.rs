@@ -61,7 +61,7 @@ pub(super) fn run(
             .find(entry.factor, &entry.path)
             .expect("checked: a registered factor");
         match factor.schur {
-            Some(add) => adders.push(add),
+            Some((add, _)) => adders.push(add),
             None => {
                 return Ok(Err(format!(
                     "the factor \"{}\" is not registered for the Schur-complement solver \
@@ -73,7 +73,7 @@ pub(super) fn run(
     }
     let eliminated = landmarks(&checked);
     let mut assembly = SchurAssembly {
-        dual: args.kernels == factor_apex::Kernels::Dual,
+        kernels: args.kernels,
         ..SchurAssembly::default()
     };
     for (entry, add) in checked.entries.iter().zip(adders) {
@@ -188,11 +188,6 @@ fn deficiency(
         .keys()
         .filter(|n| !fixed.contains(*n))
         .collect();
-    let dim_of: HashMap<_, usize> = assembly
-        .created
-        .values()
-        .map(|c| (c.id, c.columns.len()))
-        .collect();
     names.sort();
     let mut index = HashMap::new();
     let mut variables = Vec::with_capacity(names.len());
@@ -204,7 +199,6 @@ fn deficiency(
             columns: created.columns.clone(),
         });
     }
-    let dims: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
     let mut normal = Normal::new(variables);
     let mut stored = Vec::new();
     for kept in &assembly.kept {
@@ -216,21 +210,15 @@ fn deficiency(
         }
         // A factor degenerate here was refused by the solve already; its
         // measurements count for nothing.
-        let Ok(jacobian) = (kept.jacobian)(&stored, &kept.sqrt_information) else {
+        let Ok(jacobians) = (kept.jacobian)(&stored, &kept.sqrt_information) else {
             continue;
         };
-        let mut first = 0;
-        let mut blocks = Vec::with_capacity(kept.variables.len());
-        for (id, _) in &kept.variables {
-            let d = match index.get(id) {
-                Some(&k) => {
-                    blocks.push((k, jacobian.columns(first, dims[k]).into_owned()));
-                    dims[k]
-                }
-                None => dim_of[id],
-            };
-            first += d;
-        }
+        let blocks = kept
+            .variables
+            .iter()
+            .zip(jacobians)
+            .filter_map(|((id, _), block)| index.get(id).map(|&k| (k, block)))
+            .collect();
         normal.add(blocks);
     }
     normal.deficiency_within(solved.unwrap_or(crate::observability::TOLERANCE))

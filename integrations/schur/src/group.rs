@@ -25,7 +25,7 @@ use std::marker::PhantomData;
 use std::ops::Range;
 
 use factor_apex::problems::Robust;
-use factor_batch::pairs;
+use factor_batch::{JacobianColumns, pairs};
 use factor_core::noise::Noise;
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
@@ -35,6 +35,7 @@ use crate::linearization::{Jacobians, Linearized};
 use crate::noise::Whitening;
 use crate::sink::Sink;
 use crate::structure::{Role, Structure};
+use crate::whitened;
 
 /// Factors per chunk: the inputs and the 91 output columns of a Snavely
 /// chunk of the batch kernel (about 200 KB) stay in the L2 cache, and the
@@ -263,6 +264,26 @@ impl<F: Factor> FactorGroup<F> {
         }
     }
 
+    /// Adds the normal blocks of factors `at..at + n` from their residuals
+    /// and Jacobians `outputs` (`n` rows): whitened by their noise models and
+    /// weighted by `weights` (1 when `None`) into the fused kernels' layout
+    /// (`whitened`), then scattered as theirs are.
+    fn scatter_jacobians(
+        &self,
+        at: usize,
+        outputs: &JacobianColumns<f64>,
+        weights: Option<&[f64]>,
+        structure: &Structure,
+        sink: &mut Sink<'_>,
+    ) {
+        let n = outputs.residual.len();
+        let (g, h) =
+            whitened::normal_columns(outputs, &self.tangents, &self.whitening, at, weights);
+        let g: Vec<Vec<&[f64]>> = g.iter().map(|b| b.chunks(n).collect()).collect();
+        let h: Vec<Vec<&[f64]>> = h.iter().map(|b| b.chunks(n).collect()).collect();
+        self.scatter(at, n, &g, &h, structure, sink);
+    }
+
     /// Adds the normal blocks of factors `at..at + n` (`gradient[slot]`
     /// and `hessian[pair]`, one column per entry, a row per factor as the
     /// batch kernels lay them out) into `sink`, by their variables' roles.
@@ -361,10 +382,7 @@ impl<F: Factor + Send + Sync + 'static> Group for FactorGroup<F> {
     fn linearized(&self) -> Linearized {
         match self.linearization {
             Linearization::Batch(_) => Linearized::Batch,
-            Linearization::PerFactor(Jacobians::Kernel) if F::KERNEL.is_some() => {
-                Linearized::Kernel
-            }
-            Linearization::PerFactor(_) => Linearized::Dual,
+            Linearization::PerFactor(jacobians) => Linearized::per_factor::<F>(jacobians),
         }
     }
 

@@ -2,6 +2,9 @@
 //! ([`Jacobians`], `Problem::add_linearized`), and as reported
 //! ([`Linearized`], `Problem::linearized`).
 
+use factor_apex::Kernels;
+use factor_core::Factor;
+
 /// How a factor added by [`Problem::add_linearized`](crate::Problem::add_linearized) is differentiated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Jacobians {
@@ -10,6 +13,17 @@ pub enum Jacobians {
     Kernel,
     /// Dual numbers, whether or not the factor has a kernel.
     Dual,
+}
+
+impl From<Kernels> for Jacobians {
+    /// What `--kernels` asks of a factor added one at a time: its kernel
+    /// (`Generated`, dual numbers where it has none) or dual numbers.
+    fn from(kernels: Kernels) -> Self {
+        match kernels {
+            Kernels::Generated => Jacobians::Kernel,
+            Kernels::Dual => Jacobians::Dual,
+        }
+    }
 }
 
 /// How the factors of a type are linearized, as [`Problem::linearized`](crate::Problem::linearized)
@@ -25,6 +39,15 @@ pub enum Linearized {
 }
 
 impl Linearized {
+    /// How a factor of type `F` added one at a time by `jacobians` is
+    /// linearized: through its kernel only where it has one.
+    pub fn per_factor<F: Factor>(jacobians: Jacobians) -> Self {
+        match jacobians {
+            Jacobians::Kernel if F::KERNEL.is_some() => Linearized::Kernel,
+            _ => Linearized::Dual,
+        }
+    }
+
     /// In words, for a solve's header.
     pub fn describe(self) -> &'static str {
         match self {

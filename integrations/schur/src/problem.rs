@@ -5,6 +5,7 @@
 
 use std::any::{Any, TypeId};
 
+use factor_apex::Kernels;
 use factor_apex::problems::Robust;
 use factor_apex::solve::Damping;
 use factor_core::noise::Noise;
@@ -181,6 +182,32 @@ impl Problem {
             noise,
             robust,
         )
+    }
+
+    /// Adds `factor` as [`Problem::add_weighted`] does with
+    /// `Kernels::Generated` (its fused kernels in lane batches), or one at a
+    /// time by dual numbers with `Kernels::Dual` ([`Problem::add_linearized`]
+    /// with [`Jacobians::Dual`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`Problem::add_weighted`].
+    pub fn add_by<F>(
+        &mut self,
+        factor: &F,
+        variables: &[VariableId],
+        noise: &Noise,
+        robust: Option<Robust>,
+        kernels: Kernels,
+    ) -> Result<(), SchurError>
+    where
+        F: WithKernel + Send + Sync + 'static,
+        F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
+    {
+        match kernels {
+            Kernels::Generated => self.add_weighted(factor, variables, noise, robust),
+            Kernels::Dual => self.add_linearized(factor, variables, noise, robust, Jacobians::Dual),
+        }
     }
 
     /// Adds `factor` as [`Problem::add_weighted`] does, for a factor type

@@ -16,7 +16,6 @@ use crate::layout::Lane;
 use crate::noise::Whitening;
 use crate::sink::Sink;
 use crate::structure::Structure;
-use crate::whitened;
 
 /// A factor type's batch kernels, as plain functions (so that a group
 /// needs no kernel bound beyond its constructor's).
@@ -184,11 +183,7 @@ impl<F: Factor> FactorGroup<F> {
                 (Whitening::Full { .. }, ChunkOutputs::Jacobian(outputs)) => {
                     (kernels.jacobian)(&inputs, outputs);
                     sink.kernels += start.elapsed();
-                    let (g, h) =
-                        whitened::normal_columns(outputs, &self.tangents, &self.whitening, at, w);
-                    let g: Vec<Vec<&[f64]>> = g.iter().map(|b| b.chunks(n).collect()).collect();
-                    let h: Vec<Vec<&[f64]>> = h.iter().map(|b| b.chunks(n).collect()).collect();
-                    self.scatter(at, n, &g, &h, structure, sink);
+                    self.scatter_jacobians(at, outputs, w, structure, sink);
                 }
                 _ => unreachable!("the outputs are made for the group's whitening"),
             }

@@ -16,7 +16,6 @@ use crate::layout::{MAX_SCALARS, MAX_SLOTS};
 use crate::linearization::Jacobians;
 use crate::sink::Sink;
 use crate::structure::Structure;
-use crate::whitened;
 
 impl<F: Factor> FactorGroup<F> {
     /// Factor `i`'s stored scalars at `values`, into `row`.
@@ -113,10 +112,7 @@ impl<F: Factor> FactorGroup<F> {
             }
             sink.kernels += start.elapsed();
             let w = weights.map(|w| &w[at - range.start..at - range.start + n]);
-            let (g, h) = whitened::normal_columns(&outputs, &self.tangents, &self.whitening, at, w);
-            let g: Vec<Vec<&[f64]>> = g.iter().map(|b| b.chunks(n).collect()).collect();
-            let h: Vec<Vec<&[f64]>> = h.iter().map(|b| b.chunks(n).collect()).collect();
-            self.scatter(at, n, &g, &h, structure, sink);
+            self.scatter_jacobians(at, &outputs, w, structure, sink);
             at += n;
         }
     }

@@ -8,6 +8,7 @@ use slam_data::{BalProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
 
 use factor_apex::Kernels;
+use factor_core::noise::Noise;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
@@ -58,7 +59,7 @@ pub(super) fn build(
             keys.intrinsics[o.camera],
             keys.points[o.point],
         ];
-        super::add(&mut problem, &factor, &ids, kernels)?;
+        problem.add_by(&factor, &ids, &Noise::Unit, None, kernels)?;
     }
     // The gauge: camera 0's pose fixed (the scale is left to the damping),
     // as the general path holds it.

@@ -100,10 +100,7 @@ pub(super) fn build(
         planes: add_all(&mut problem, &vertices.planes, few, fixed, &mut by_id),
         points: add_all(&mut problem, &vertices.points, few, fixed, &mut by_id),
     };
-    let jacobians = match kernels {
-        Kernels::Generated => Jacobians::Kernel,
-        Kernels::Dual => Jacobians::Dual,
-    };
+    let jacobians = Jacobians::from(kernels);
     for edge in edges {
         let ids: Vec<VariableId> = edge.vertices.iter().map(|id| by_id[id]).collect();
         let which = || edge.describe();

@@ -20,13 +20,10 @@ pub mod stereo;
 
 pub use error::BuildError;
 use factor_apex::Kernels;
+use factor_core::Storage;
 use factor_core::lie::{Se3, Se3RhoTheta};
-use factor_core::noise::Noise;
-use factor_core::{Storage, WithKernel};
-use factor_lanes::NormalKernel;
 
-use crate::SchurError;
-use crate::problem::{Jacobians, Lane, Problem, VariableId};
+use crate::problem::{Problem, VariableId};
 
 /// The variables of a problem, by data-set entity, to read the solution.
 #[derive(Debug, Clone)]
@@ -80,24 +77,6 @@ pub fn build(
     };
     built.problem.set_robust(robust);
     Ok(built)
-}
-
-/// Adds `factor` on `ids` (unit noise, the problem's loss): through its
-/// fused kernels in lane batches, or one at a time by dual numbers.
-fn add<F>(
-    problem: &mut Problem,
-    factor: &F,
-    ids: &[VariableId],
-    kernels: Kernels,
-) -> Result<(), SchurError>
-where
-    F: WithKernel + Send + Sync + 'static,
-    F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
-{
-    match kernels {
-        Kernels::Generated => problem.add(factor, ids),
-        Kernels::Dual => problem.add_linearized(factor, ids, &Noise::Unit, None, Jacobians::Dual),
-    }
 }
 
 impl Built {

@@ -10,6 +10,7 @@ use factor_core::{Factor, Storage};
 use slam_data::PoseGraph;
 
 use factor_apex::Kernels;
+use factor_core::noise::Noise;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
@@ -46,7 +47,7 @@ pub(super) fn build(
             which: format!("{} at the initial values", edge_name(graph, index)),
             error,
         })?;
-        super::add(&mut problem, &factor, &[i, j], kernels)?;
+        problem.add_by(&factor, &[i, j], &Noise::Unit, None, kernels)?;
     }
     if let Some(&(_, id)) = keys.poses.first() {
         problem.fix(id);

@@ -9,6 +9,7 @@ use factor_core::{Factor, Storage};
 use slam_data::StereoVo;
 
 use factor_apex::Kernels;
+use factor_core::noise::Noise;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
@@ -54,7 +55,13 @@ pub(super) fn build(vo: &StereoVo, kernels: Kernels) -> Result<(Problem, StereoK
             which: format!("{} at the initial values", observation_name(vo, k)),
             error,
         })?;
-        super::add(&mut problem, &factor, &[pose_id, landmark_id], kernels)?;
+        problem.add_by(
+            &factor,
+            &[pose_id, landmark_id],
+            &Noise::Unit,
+            None,
+            kernels,
+        )?;
     }
     // The gauge: the first pose fixed, as GTSAM's example and the general
     // path do.
