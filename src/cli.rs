@@ -135,8 +135,9 @@ pub struct SolveCommand {
     /// have one, or dual numbers (for comparison).
     #[arg(long, value_enum, default_value_t)]
     pub kernels: KernelChoice,
-    /// The most iterations (accepted or rejected steps).
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    /// The most iterations (accepted or rejected steps): a guard, not a
+    /// tolerance (g2o's own plane graphs need 106–123).
+    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub max_iterations: u64,
     /// A robust loss on every factor without one of its own, `huber:δ` or
     /// `cauchy:δ` (δ in whitened units; for `slamjac solve`'s reprojection

@@ -144,12 +144,12 @@ fn a_frame_solved_by_apex_solver_reaches_the_same_pose() {
         .solve(
             &initial,
             &Options {
-                step_tolerance: 1e-12,
+                solve: SolveOptions::converged(100),
                 ..Options::default()
             },
         )
         .unwrap();
-    assert!(tracked.converged, "{tracked:?}");
+    assert!(tracked.verdict.is_converged(), "{tracked:?}");
     let mut built = builder.build().unwrap();
     let outcome = solve(&mut built, &SolveOptions::converged(100), |_| {}).unwrap();
     let stored = stored_value_of::<PointReprojection>(&outcome.values, &pose, 0);

@@ -17,9 +17,11 @@
 //!   goes through dual numbers), no allocation per factor;
 //! - the whitened rows are summed into the dense 6 × 6 Gauss–Newton matrix
 //!   `H = Σ J̃ᵀJ̃` and gradient `g = Σ J̃ᵀr̃` ([`Normal`]);
-//! - each step solves `(H + λ diag(H)) δ = −g` by Cholesky and retracts the
-//!   pose on its factors' perturbation side (for the documents' `Se3`, the
-//!   left: `T ← Exp(δ) T`); a step that raises the cost or leaves an
+//! - the one Levenberg–Marquardt of every slamjac solver
+//!   (`factor_minimizer::minimize`: its damping, stopping criteria and
+//!   verdicts) steps it: each step solves `(H + λ diag(H)) δ = −g` by
+//!   Cholesky and retracts the pose on its factors' perturbation side (for
+//!   the documents' `Se3`, the left: `T ← Exp(δ) T`); a step that leaves an
 //!   observation undefined is rejected. Observations undefined at the
 //!   initial pose itself (a landmark behind the previous frame's camera)
 //!   are deferred: the pose is solved without them, then with all of them
@@ -49,7 +51,7 @@
 //!     problem.add(&factor, &Noise::Sigma(1.0))?;
 //! }
 //! let solution = problem.solve(&initial, &Options::default())?;
-//! assert!(solution.converged);
+//! assert!(solution.verdict.is_converged(), "{:?}", solution.verdict);
 //! assert!(solution.pose.compose(&truth.inverse()).log().norm() < 1e-9);
 //! # Ok::<(), factor_tracking::PoseError>(())
 //! ```
@@ -57,10 +59,12 @@
 #![deny(missing_docs)]
 
 mod error;
+mod model;
 mod observations;
 mod solver;
 
 pub use error::PoseError;
 pub use factor_core::noise::Noise;
+pub use factor_minimizer::{SolveOptions, Verdict};
 pub use observations::Normal;
 pub use solver::{Options, PoseProblem, PoseSolution};

@@ -3,55 +3,57 @@
 use std::any::TypeId;
 
 use factor_core::lie::Se3;
-use factor_core::{Factor, Manifold, Perturbation, Storage};
+use factor_core::{Factor, Perturbation, Storage};
+
+use factor_core::noise::Noise;
+use factor_minimizer::{Damping, SolveOptions, Verdict, minimize};
 
 use crate::error::PoseError;
+use crate::model::PoseModel;
 use crate::observations::{Normal, Observations, Terms, normal};
-use factor_core::noise::Noise;
 
 /// When [`PoseProblem::solve`] stops, and when it refuses a pose as
 /// undetermined.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
-    /// The most iterations (accepted or rejected steps).
-    pub max_iterations: usize,
-    /// Converged once a step's norm `|δ|` (radians and the translation's
-    /// units, mixed) is below this.
-    pub step_tolerance: f64,
+    /// The shared Levenberg–Marquardt's stopping criteria
+    /// ([`SolveOptions`]).
+    pub solve: SolveOptions,
     /// The Gauss–Newton matrix at the initial pose must have its smallest
     /// eigenvalue above this fraction of its largest.
     pub min_eigenvalue_ratio: f64,
-    /// The first damping `λ`, relative to `H`'s diagonal (`H + λ diag(H)`).
-    pub initial_damping: f64,
 }
 
 impl Default for Options {
-    /// 20 iterations, steps down to 1e-8, eigenvalue ratio 1e-12, damping 1e-6.
+    /// [`SolveOptions::default`]'s tolerances with at most 20 iterations
+    /// per solve (a frame tracked from the previous frame's pose converges
+    /// in a few), and an eigenvalue ratio of 1e-12.
     fn default() -> Self {
         Options {
-            max_iterations: 20,
-            step_tolerance: 1e-8,
+            solve: SolveOptions {
+                max_iterations: 20,
+                ..SolveOptions::default()
+            },
             min_eigenvalue_ratio: 1e-12,
-            initial_damping: 1e-6,
         }
     }
 }
 
 /// What [`PoseProblem::solve`] reached.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PoseSolution {
     /// The pose.
     pub pose: Se3<f64>,
-    /// Iterations taken (each one linearization).
+    /// Iterations taken (steps tried, accepted or rejected).
     pub iterations: usize,
     /// The cost at the initial pose (NaN when observations were
     /// [deferred](PoseSolution::deferred): it is undefined there).
     pub initial_cost: f64,
     /// The cost at [`PoseSolution::pose`].
     pub cost: f64,
-    /// Whether the last step was below [`Options::step_tolerance`] (else
-    /// the iterations ran out, or the damping grew past any use).
-    pub converged: bool,
+    /// How the (last) solve ended: [`Verdict::is_converged`] when a
+    /// convergence criterion was met.
+    pub verdict: Verdict,
     /// The observations undefined at the initial pose (a point behind
     /// it), left out of a first solve whose pose started the solve with
     /// all of them.
@@ -67,10 +69,6 @@ pub struct PoseProblem {
     types: Vec<TypeId>,
     observations: usize,
 }
-
-/// Damping beyond which a step is not worth trying (the gradient is then
-/// below rounding).
-const MAX_DAMPING: f64 = 1e16;
 
 impl PoseProblem {
     /// No observations.
@@ -153,11 +151,12 @@ impl PoseProblem {
         normal(&mut self.terms, &stored)
     }
 
-    /// Levenberg–Marquardt from `initial`: each step solves the 6 × 6
-    /// system `(H + λ diag(H)) δ = −g` by Cholesky and retracts the pose on
-    /// the factors' side; a step that raises the cost, or leaves an
-    /// observation undefined (a point behind the camera), is rejected and
-    /// `λ` grows tenfold, an accepted one divides it by ten.
+    /// Levenberg–Marquardt from `initial`, the shared minimizer's
+    /// ([`factor_minimizer::minimize`]: its damping, criteria and
+    /// verdicts): each step solves the 6 × 6 system `(H + λ diag(H)) δ =
+    /// −g` by Cholesky and retracts the pose on the factors' side; a step
+    /// that leaves an observation undefined (a point behind the camera) is
+    /// rejected.
     ///
     /// Observations undefined at `initial` itself (a landmark behind a
     /// camera started at the previous frame's pose) are deferred: the pose
@@ -218,7 +217,7 @@ impl PoseProblem {
     fn iterate(
         &mut self,
         initial: &Se3<f64>,
-        mut current: Normal,
+        current: Normal,
         side: Perturbation,
         options: &Options,
         iterations: usize,
@@ -233,41 +232,24 @@ impl PoseProblem {
                 ratio,
             });
         }
-        let mut solution = PoseSolution {
-            pose: *initial,
-            iterations,
-            initial_cost: current.cost,
-            cost: current.cost,
-            converged: false,
+        let start = std::time::Instant::now();
+        let initial_cost = current.cost;
+        let mut model = PoseModel::new(&mut self.terms, side, *initial, current);
+        let minimized = minimize(
+            &mut model,
+            initial_cost,
+            start,
+            Damping::Diagonal,
+            &options.solve,
+            |_| {},
+        );
+        Ok(PoseSolution {
+            pose: model.pose,
+            iterations: iterations + minimized.history.len(),
+            initial_cost,
+            cost: minimized.final_cost,
+            verdict: minimized.verdict,
             deferred: 0,
-        };
-        let mut lambda = options.initial_damping;
-        while solution.iterations < options.max_iterations && lambda < MAX_DAMPING {
-            solution.iterations += 1;
-            let mut damped = current.hessian;
-            for i in 0..6 {
-                damped[(i, i)] += lambda * current.hessian[(i, i)];
-            }
-            let Some(cholesky) = damped.cholesky() else {
-                lambda *= 10.0;
-                continue;
-            };
-            let step = -cholesky.solve(&current.gradient);
-            let candidate = solution.pose.retract(step.as_slice(), side);
-            match self.normal(&candidate) {
-                Ok(next) if next.cost <= current.cost => {
-                    solution.pose = candidate;
-                    solution.cost = next.cost;
-                    current = next;
-                    lambda = (lambda / 10.0).max(1e-12);
-                }
-                _ => lambda *= 10.0,
-            }
-            if step.norm() < options.step_tolerance {
-                solution.converged = true;
-                break;
-            }
-        }
-        Ok(solution)
+        })
     }
 }

@@ -55,7 +55,7 @@ use std::path::{Path, PathBuf};
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::problems::{self, Robust};
-use factor_apex::solve::Verdict;
+use factor_minimizer::Verdict;
 use slam_data::Format;
 use slamjac_io::Role;
 

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use factor_apex::solve::Iteration;
+use factor_minimizer::Iteration;
 use plotters::prelude::*;
 
 use crate::error::CliError;

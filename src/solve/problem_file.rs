@@ -48,9 +48,9 @@ use factor_apex::Kernels;
 use factor_apex::builder::{ProblemBuilder, Values};
 use factor_apex::built::Built;
 use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
-use factor_apex::solve::Verdict;
 use factor_core::geometry::OrthonormalLine;
 use factor_core::{FieldInfo, Layout, Storage};
+use factor_minimizer::Verdict;
 
 use nalgebra::DMatrix;
 use serde_json::{Map, Value};

@@ -5,8 +5,8 @@ use std::time::Duration;
 
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;
-use factor_apex::solve::{Iteration, Verdict};
 use factor_core::Factor;
+use factor_minimizer::{Iteration, Verdict};
 use slam_factors::{
     G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
 };
@@ -228,20 +228,7 @@ pub fn summary(
     output: Option<&Path>,
     plot: Option<&Path>,
 ) -> String {
-    let verdict = match &outcome.verdict {
-        Verdict::Converged(why) => format!("converged ({why})"),
-        Verdict::IterationLimit => "stopped at the iteration limit, not converged".to_owned(),
-        Verdict::Stalled => {
-            "stopped: no step reduces the cost any more (damping at its maximum)".to_owned()
-        }
-        Verdict::Refused(refusal) => format!(
-            "stopped short of a minimum, not converged: the steps that would lower the cost \
-             further meet configurations a factor refuses, and the damping they raised left only \
-             a step shorter than the parameter tolerance (last refusal: {refusal})"
-        ),
-        Verdict::Failed(why) => format!("failed: {why}"),
-        other => format!("{other:?}"),
-    };
+    let verdict = outcome.verdict.to_string();
     let change = if outcome.initial_cost > 0.0 && outcome.final_cost.is_finite() {
         format!(
             " ({:+.3}%)",

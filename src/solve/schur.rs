@@ -5,7 +5,7 @@
 //! faer's Cholesky).
 
 use factor_apex::problems;
-use factor_apex::solve::SolveOptions;
+use factor_minimizer::SolveOptions;
 use factor_schur::problems::BuildError;
 use factor_schur::{Linearized, Outcome, Profile, Solver};
 

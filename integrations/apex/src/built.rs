@@ -13,6 +13,7 @@ use apex_solver::linalg::LinearSolverType;
 
 use crate::adapter::Rejections;
 use crate::timing::PhaseClock;
+pub use factor_minimizer::Damping;
 
 /// An apex problem, built from a data set ([`crate::problems::build`],
 /// `K` = [`crate::problems::Keys`]) or by the typed builder
@@ -55,43 +56,6 @@ impl<K> Built<K> {
             clock: self.clock,
             rejections: self.rejections,
             kept: self.kept,
-        }
-    }
-}
-
-/// How Levenberg–Marquardt damps the normal equations, apex-solver's here
-/// and crate `factor-schur`'s alike; λ is updated by Nielsen's rule
-/// (apex's default) either way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Damping {
-    /// `(JᵀJ + λ D) δ = −Jᵀr` with `D` the diagonal of `JᵀJ` clamped to
-    /// `[1e-6, 1e32]`, from λ = 1e-4 (apex's and Ceres' default): invariant
-    /// to each variable's units, for problems that mix them (bundle
-    /// adjustment: focal lengths, distortion, rotations, points).
-    #[default]
-    Diagonal,
-    /// `(JᵀJ + λ I) δ = −Jᵀr` from λ = 1e-5 (GTSAM's default, its
-    /// `diagonalDamping` off), for problems in one unit system (pose
-    /// graphs): on `sphere2500` it reaches the optimum in 47 iterations
-    /// where the diagonal damping needs 104 (apex 1.5, cost tolerance 1e-8).
-    Uniform,
-}
-
-impl Damping {
-    /// The bounds `(low, high)` of `D`'s entries, `D = clamp(diag JᵀJ, low,
-    /// high)`: `D = I` for [`Damping::Uniform`].
-    pub fn diagonal_bounds(self) -> (f64, f64) {
-        match self {
-            Damping::Diagonal => (1e-6, 1e32),
-            Damping::Uniform => (1.0, 1.0),
-        }
-    }
-
-    /// λ at the first iteration.
-    pub fn initial_lambda(self) -> f64 {
-        match self {
-            Damping::Diagonal => 1e-4,
-            Damping::Uniform => 1e-5,
         }
     }
 }

@@ -65,7 +65,7 @@ struct Args {
     #[arg(long, default_value_t = 100_000)]
     apex_max: usize,
     /// Ceres' function tolerance: `slamjac solve`'s (its relative cost
-    /// decrease, `factor_apex::solve::SolveOptions::default`), so that both
+    /// decrease, `factor_minimizer::SolveOptions::default`), so that both
     /// stop by the same criterion.
     #[arg(long, default_value_t = 1e-8)]
     cost_tolerance: f64,
@@ -166,22 +166,27 @@ fn run(mut command: Command, solver: &Solver) -> Run {
 }
 
 /// The command of one run of `solver` on `file`.
+///
+/// Every solver gets the same iteration limit, Ceres' `ba` default of 100
+/// (`slamjac solve`'s default is 500).
 fn command(args: &Args, solver: &Solver, file: &Path) -> Command {
     let mut c = Command::new("/usr/bin/time");
     c.args(["-f", "peak %M"]);
+    let limit = ["--max-iterations", "100"];
     match solver {
         Solver::Ours(t) => {
-            c.arg(&args.slamjac).arg("solve").arg(file);
+            c.arg(&args.slamjac).arg("solve").arg(file).args(limit);
             c.env("RAYON_NUM_THREADS", t.to_string());
         }
         Solver::Apex => {
             c.arg(&args.slamjac)
                 .arg("solve")
                 .arg(file)
-                .args(["--solver", "apex"]);
+                .args(["--solver", "apex"])
+                .args(limit);
         }
         Solver::Ceres(t) => {
-            c.arg(&args.ceres).arg(file).args([
+            c.arg(&args.ceres).arg(file).args(limit).args([
                 "--threads",
                 &t.to_string(),
                 "--function-tolerance",

@@ -11,8 +11,10 @@
 //!   time through its kernel or by dual numbers
 //!   ([`Problem::add_linearized`]); each with its noise model
 //!   (`Σ ½ ρ(‖S r‖²)`: `noise`) and optionally its own robust loss;
-//! - [`solve`]: the iteration ([`lm`]), reporting each iteration as
-//!   `factor_apex::solve::Iteration`, so that `slamjac solve` prints the
+//! - [`solve`]: the problem as a `factor_minimizer::Model` ([`lm`]),
+//!   minimized by the one Levenberg–Marquardt loop of every solver path
+//!   (`factor_minimizer::minimize`), reporting each iteration as a
+//!   `factor_minimizer::Iteration`, so that `slamjac solve` prints the
 //!   same lines whichever path solves;
 //! - [`problems`]: BAL, Bundler, KITTI stereo VO, g2o and EDGE3 pose
 //!   graphs and g2o's line, plane and point graphs built from `slam-data`

@@ -7,10 +7,10 @@ use std::any::{Any, TypeId};
 
 use factor_apex::Kernels;
 use factor_apex::problems::Robust;
-use factor_apex::solve::Damping;
 use factor_core::noise::Noise;
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
+use factor_minimizer::Damping;
 
 use crate::error::SchurError;
 use crate::group::{FactorGroup, Group};

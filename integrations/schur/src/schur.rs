@@ -27,27 +27,12 @@
 //! each adding into its own copy of `S` (the first thread into `S`
 //! itself), summed at the end.
 
+use factor_minimizer::{Damped, Prediction};
 use rayon::prelude::*;
 
 use crate::csc::BlockCsc;
 use crate::partition::{Partition, split_at_bounds};
 use crate::structure::{Eliminated, MAX_ELIMINATED, Structure};
-
-/// The damping of one step, `λ D` with `D = clamp(diag H, low, high)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Damped {
-    /// λ.
-    pub(crate) lambda: f64,
-    /// `(low, high)`: the bounds of `D`'s entries.
-    pub(crate) bounds: (f64, f64),
-}
-
-impl Damped {
-    /// `λ clamp(h, low, high)`: what damping adds to a diagonal entry `h`.
-    fn of(self, h: f64) -> f64 {
-        self.lambda * h.clamp(self.bounds.0, self.bounds.1)
-    }
-}
 
 /// The normal equations `Jᵀ w J`, `Jᵀ w r` at the current values, in the
 /// layout of [`Structure`].
@@ -79,35 +64,12 @@ impl Normal {
         }
     }
 
-    /// The largest `D_jj / H_jj` over the free coordinates, `D =
-    /// clamp(diag H, bounds)`: how many times its curvature the damping
-    /// adds to a coordinate at λ = 1 (1 for Marquardt's scaling within its
-    /// bounds, infinite for a coordinate of no curvature). A step whose
-    /// `λ` times this exceeds 1 is shaped by the damping more than by the
-    /// cost on some coordinate.
-    pub(crate) fn damping_ratio(&self, structure: &Structure, bounds: (f64, f64)) -> f64 {
-        let ratio = |h: f64| h.clamp(bounds.0, bounds.1) / h;
-        self.diagonal_of_h(structure).map(ratio).fold(0.0, f64::max)
-    }
-
-    /// The largest cosine between the whitened residual and a column of
-    /// the whitened Jacobian, `|g_j| / √(H_jj ‖r‖²)` with `‖r‖² = 2 cost`
-    /// (MINPACK's orthogonality test): 0 at a stationary point, and the same
-    /// whatever the scale of the noise models. A column of zeros counts 0.
-    pub(crate) fn largest_cosine(&self, structure: &Structure, cost: f64) -> f64 {
-        let gradient = self.g_reduced.iter().chain(&self.g_eliminated);
-        self.diagonal_of_h(structure)
-            .zip(gradient)
-            .map(|(h, g)| {
-                let cosine = g.abs() / (h.sqrt() * (2.0 * cost).sqrt());
-                if cosine.is_nan() { 0.0 } else { cosine }
-            })
-            .fold(0.0, f64::max)
-    }
-
-    /// `H_jj` over the free coordinates, in the order of `g_reduced` then
-    /// `g_eliminated`.
-    fn diagonal_of_h<'a>(&'a self, structure: &'a Structure) -> impl Iterator<Item = f64> + 'a {
+    /// `(H_jj, g_j)` over the free coordinates, in the order of
+    /// `g_reduced` then `g_eliminated`.
+    pub(crate) fn diagonal_and_gradient<'a>(
+        &'a self,
+        structure: &'a Structure,
+    ) -> impl Iterator<Item = (f64, f64)> + 'a {
         let (csc, el) = (&structure.csc, &structure.eliminated);
         let reduced = csc
             .dims
@@ -122,12 +84,8 @@ impl Normal {
                 let d = t[1] - t[0];
                 (0..d).map(move |a| self.v[at + packed(d, a, a)])
             });
-        reduced.chain(eliminated)
-    }
-
-    /// `‖g‖₂` over every free coordinate.
-    pub(crate) fn gradient_norm(&self) -> f64 {
-        norm(&[&self.g_reduced, &self.g_eliminated])
+        let gradient = self.g_reduced.iter().chain(&self.g_eliminated).copied();
+        reduced.chain(eliminated).zip(gradient)
     }
 }
 
@@ -502,15 +460,6 @@ fn back_substitute(
     (cross, quadratic)
 }
 
-/// The damped step, or `None` when the damped system is not positive
-/// definite.
-pub(crate) struct Step {
-    /// `gᵀδ`, and `δᵀHδ` with the undamped `H`: the model's decrease is
-    /// `−gᵀδ − ½ δᵀHδ`.
-    pub(crate) g_delta: f64,
-    pub(crate) h_delta: f64,
-}
-
 /// The times of a step's parts.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct StepTimes {
@@ -520,7 +469,8 @@ pub(crate) struct StepTimes {
 }
 
 /// Solves `(H + λD) δ = −g` into `buffers.reduced` and
-/// `buffers.eliminated`; `None` if it is not positive definite.
+/// `buffers.eliminated`; `None` if it is not positive definite, else what
+/// the undamped model predicts of the step.
 pub(crate) fn step(
     damped: Damped,
     normal: &Normal,
@@ -529,7 +479,7 @@ pub(crate) fn step(
     solver: &mut crate::reduced::ReducedSolver,
     buffers: &mut StepBuffers,
     times: &mut StepTimes,
-) -> Option<Step> {
+) -> Option<Prediction> {
     let csc = &structure.csc;
     let el = &structure.eliminated;
     let clock = std::time::Instant::now();
@@ -633,7 +583,7 @@ pub(crate) fn step(
         .sum();
     let h_delta = csc.quadratic_form(&normal.u, &buffers.reduced) + 2.0 * cross + quadratic;
     times.back_substitute += clock.elapsed();
-    Some(Step { g_delta, h_delta })
+    Some(Prediction { g_delta, h_delta })
 }
 
 #[cfg(test)]

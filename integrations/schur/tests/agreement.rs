@@ -11,7 +11,7 @@ use std::path::Path;
 
 use factor_apex::Kernels;
 use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
-use factor_apex::solve::{SolveOptions, Verdict};
+use factor_minimizer::{SolveOptions, Verdict};
 use factor_schur::problems::{Keys, build};
 use slam_data::synthetic::{SyntheticConfig, generate};
 

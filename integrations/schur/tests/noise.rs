@@ -20,11 +20,11 @@
 use factor_apex::builder::ProblemBuilder;
 use factor_apex::problems::Robust;
 use factor_apex::problems::bundle::{camera_pose, factor_of};
-use factor_apex::solve::{SolveOptions, Verdict};
 use factor_core::Factor;
 use factor_core::Storage;
 use factor_core::lie::Se3RhoTheta;
 use factor_core::noise::Noise;
+use factor_minimizer::{SolveOptions, Verdict};
 use factor_schur::{Jacobians, Problem, SchurError, Solver, VariableId};
 use nalgebra::{DMatrix, Rotation2};
 use slam_data::BalProblem;

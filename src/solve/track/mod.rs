@@ -18,9 +18,10 @@
 //!   its `value` (`--map values`, e.g. what `solve --output` estimated).
 //! - Frame 0 starts at its true pose (the anchor), each next frame at the
 //!   previous frame's estimate. Each frame is solved by crate
-//!   `factor-tracking`: pose-only Levenberg–Marquardt on the dense 6 × 6
+//!   `factor-tracking`: the one Levenberg–Marquardt of every solver
+//!   (crate `factor-minimizer`, `solve`'s criteria) on the dense 6 × 6
 //!   normal equations, every observation linearized by its factor's
-//!   generated kernel (the pose's block only), until a step is below 1e-8
+//!   generated kernel (the pose's block only), until a criterion is met
 //!   or `--max-iterations` (default 20). Observations undefined at the
 //!   initial pose (a landmark behind the previous frame's camera) are
 //!   deferred: the pose is solved without them first, then with all.
@@ -41,8 +42,9 @@
 //! observations do not determine its pose (fewer than six independent
 //! residuals), or an observation undefined at the frame's initial pose
 //! (a point behind the camera), or whose pose does not converge within
-//! `--max-iterations` (a map point at the camera centre stalls every step:
-//! named when it is undefined at the last estimate) stops the run naming
+//! `--max-iterations` (the verdict says how it stopped; a map point at the
+//! camera centre stalls every step: named when it is undefined at the last
+//! estimate) stops the run naming
 //! the frame and the file's factor (exit 1), as does an estimate whose
 //! error against the truth is not finite; the file is read and checked as
 //! `solve` reads and checks it (`problem_checks`: the same file gets the
@@ -58,7 +60,7 @@ use std::time::Instant;
 
 use factor_core::Storage;
 use factor_core::lie::Se3;
-use factor_tracking::{Options, PoseError, PoseProblem};
+use factor_tracking::{Options, PoseError, PoseProblem, SolveOptions};
 use slamjac_io::Role;
 
 use crate::error::CliError;
@@ -140,9 +142,13 @@ fn frame_error(
 
 /// Tracks the sequence with the observations of `kinds`.
 fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tracked>, CliError> {
+    let defaults = Options::default();
     let options = Options {
-        max_iterations: args.max_iterations,
-        ..Options::default()
+        solve: SolveOptions {
+            max_iterations: args.max_iterations,
+            ..defaults.solve
+        },
+        ..defaults
     };
     let mut tracked: Vec<Tracked> = Vec::with_capacity(sequence.frames.len());
     for (at, frame) in sequence.frames.iter().enumerate() {
@@ -165,7 +171,7 @@ fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tra
         let solution = problem.solve(&initial, &options);
         let seconds = start.elapsed().as_secs_f64();
         let solution = solution.map_err(|e| frame_error(args, at, frame, e, &factors))?;
-        if !solution.converged {
+        if !solution.verdict.is_converged() {
             // An observation undefined near the estimate (a map point at the
             // camera centre) stalls the steps: named where it is one.
             let why = match problem.normal(&solution.pose) {
@@ -176,11 +182,12 @@ fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tra
                 _ => String::new(),
             };
             return Err(CliError::Solve(format!(
-                "{}: frame {at} ({}): the pose did not converge in {} iterations{why}; nothing \
-                 reported",
+                "{}: frame {at} ({}): the pose did not converge in {} iterations ({}){why}; \
+                 nothing reported",
                 args.file.display(),
                 frame.name,
-                solution.iterations
+                solution.iterations,
+                solution.verdict
             )));
         }
         let (translation, rotation) = errors(&solution.pose, &frame.truth);
@@ -195,7 +202,7 @@ fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tra
             observations: problem.len(),
             seconds,
             iterations: solution.iterations,
-            converged: solution.converged,
+            converged: solution.verdict.is_converged(),
             deferred: solution.deferred,
             pose: solution.pose,
             translation,

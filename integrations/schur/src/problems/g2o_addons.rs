@@ -22,9 +22,9 @@ use std::collections::{HashMap, HashSet};
 
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_edges::{self, G2oFactor, Vertices};
-use factor_apex::solve::Damping;
 use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
+use factor_minimizer::Damping;
 use slam_data::G2oGraph;
 
 use super::error::BuildError;

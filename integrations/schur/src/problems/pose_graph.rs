@@ -4,9 +4,9 @@
 use std::collections::HashMap;
 
 use factor_apex::problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
-use factor_apex::solve::Damping;
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
+use factor_minimizer::Damping;
 use slam_data::PoseGraph;
 
 use factor_apex::Kernels;
