@@ -166,6 +166,7 @@ fn no_crate_has_a_cycle_among_its_modules() {
         "factor-batch/src",
         "factor-lanes/src",
         "factor-tracking/src",
+        "factor-minimizer/src",
         // The solvers' crates, in their own workspaces.
         "integrations/apex/src",
         "integrations/schur/src",

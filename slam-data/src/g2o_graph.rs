@@ -417,14 +417,30 @@ impl G2oGraph {
     }
 }
 
+/// The largest `|w · d| / (|w| |d|)` a line may have: g2o writes six
+/// significant digits, which moves the cosine of a Plücker line's `w` and
+/// `d` (0 exactly) by up to about 2e-5.
+const PLUCKER_COSINE: f64 = 1e-4;
+
 /// Fails unless the Plücker coordinates `[w, d]` are in range with a
-/// non-zero direction.
+/// non-zero direction and a moment perpendicular to it (`w · d = 0`, the
+/// Klein quadric, to the digits g2o writes: [`PLUCKER_COSINE`]).
 fn check_line(line: &Vector6<f64>) -> Result<(), String> {
     if !all_in_range(line.iter()) {
         return Err("non-finite or too large line coordinate".into());
     }
-    if line.fixed_rows::<3>(3) == Vector3::zeros() {
+    let (w, d) = (line.fixed_rows::<3>(0), line.fixed_rows::<3>(3));
+    if d == Vector3::zeros() {
         return Err("the line direction d is zero".into());
+    }
+    if w != Vector3::zeros() {
+        let cosine = w.normalize().dot(&d.normalize());
+        if cosine.abs() > PLUCKER_COSINE {
+            return Err(format!(
+                "not a Plücker line: the moment w and the direction d must be perpendicular \
+                 (w · d = 0), their cosine is {cosine:.6}"
+            ));
+        }
     }
     Ok(())
 }

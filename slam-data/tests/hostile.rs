@@ -655,6 +655,23 @@ fn g2o_line_graph_defects() {
         ),
         (
             2,
+            "VERTEX_LINE3D 1 -5 0 0 0.3 1 0",
+            "not a Plücker line: the moment w and the direction d must be perpendicular (w · d \
+             = 0), their cosine is -0.287348",
+        ),
+        (
+            2,
+            "VERTEX_LINE3D 1 -5 0 0 -1 0 0",
+            "not a Plücker line: the moment w and the direction d must be perpendicular (w · d \
+             = 0), their cosine is 1.000000",
+        ),
+        (
+            167,
+            "EDGE_SE3_LINE3D 5 1 0 2.25395 -4.45322 0.229167 0.886898 -0.453441 -0.0883408 1000 0 0 0 1000 0 0 1000 0 10000",
+            "measurement: not a Plücker line",
+        ),
+        (
+            2,
             "VERTEX_LINE3D 1 -5 0 nan 0 1 0",
             "expected a finite number, found `nan`",
         ),
