@@ -48,6 +48,19 @@ impl Linearized {
         }
     }
 
+    /// The work of linearizing one factor, in factors of the fused batch
+    /// kernels (about 60 ns each for bundle adjustment), for sharing the
+    /// factors among threads: one at a time through its kernel about 8
+    /// times that (the whitening and the scatter per factor), by dual
+    /// numbers about 50 (g2o's plane edges: 3.4 µs per block and pass).
+    pub fn relative_cost(self) -> usize {
+        match self {
+            Linearized::Batch => 1,
+            Linearized::Kernel => 8,
+            Linearized::Dual => 50,
+        }
+    }
+
     /// In words, for a solve's header.
     pub fn describe(self) -> &'static str {
         match self {

@@ -119,7 +119,12 @@ impl<'p> Solver<'p> {
         let start = Instant::now();
         let threads = rayon::current_num_threads().max(1);
         let structure = problem.structure()?;
-        let partition = Partition::new(&structure, threads);
+        let cost: Vec<usize> = problem
+            .groups
+            .iter()
+            .map(|g| g.linearized().relative_cost())
+            .collect();
+        let partition = Partition::new(&structure, &cost, threads);
         let reduced = ReducedSolver::new(&structure.csc, partition.parts())?;
         let normal = Normal::zeros(&structure);
         let profile = Profile {

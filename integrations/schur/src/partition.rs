@@ -1,47 +1,66 @@
 //! [`Partition`]: how the threads share the factors and the eliminated
 //! variables.
 
+use std::ops::Range;
+
 use crate::structure::Structure;
 
-/// The fewest factors a thread takes.
+/// The least work a thread takes, in factors linearized by the fused
+/// batch kernels (about 60 ns each): on less, waking threads and merging
+/// their copies of `S` costs more than it saves.
 const MIN_PART: usize = 16_384;
 
 /// The ranges of eliminated variables and of each group's factors that
-/// the threads each take (at most `threads`): contiguous, of about equal factor counts,
-/// cut between eliminated variables (so that no two threads write one
-/// eliminated variable's blocks). Factors with no eliminated variable go
-/// to the last part.
+/// the threads each take (at most `threads`). A group's factors are sorted
+/// by their eliminated variable, those with none last (the tail): each part
+/// takes a contiguous range of the sorted ones, of about equal factor
+/// counts and cut between eliminated variables (so that no two threads
+/// write one eliminated variable's blocks), and an equal share of the tail
+/// (which writes only into the reduced system, of which each thread has a
+/// copy): problems with little or nothing to eliminate (pose graphs, g2o's
+/// graphs of lines seen from every pose) are shared too.
 #[derive(Debug, Clone)]
 pub(crate) struct Partition {
     /// `parts + 1` bounds on the eliminated variables.
     pub(crate) eliminated: Vec<usize>,
-    /// Per group, `parts + 1` bounds on its factors.
+    /// Per group, `parts + 1` bounds on its factors with an eliminated
+    /// variable (the last one where its tail starts).
     pub(crate) factors: Vec<Vec<usize>>,
+    /// Per group, `parts + 1` bounds on its tail, from where it starts to
+    /// the group's end.
+    pub(crate) tail: Vec<Vec<usize>>,
 }
 
 impl Partition {
-    pub(crate) fn new(structure: &Structure, threads: usize) -> Self {
-        let total: usize = structure.factor_eliminated.iter().map(Vec::len).sum();
-        // A thread's share is at least MIN_PART factors: on fewer, waking
-        // threads and merging their copies of S costs more than it saves.
-        Partition::split(structure, threads.clamp(1, total.div_ceil(MIN_PART).max(1)))
+    /// The partition for `threads` threads, each group's factors weighing
+    /// `cost` (in batch-kernel factors: [`crate::Linearized::relative_cost`]).
+    pub(crate) fn new(structure: &Structure, cost: &[usize], threads: usize) -> Self {
+        let work: usize = structure
+            .factor_eliminated
+            .iter()
+            .zip(cost)
+            .map(|(of, c)| of.len() * c)
+            .sum();
+        Partition::split(structure, threads.clamp(1, work.div_ceil(MIN_PART).max(1)))
     }
 
     /// `parts` parts of about equal factor counts.
     fn split(structure: &Structure, parts: usize) -> Self {
         let ne = structure.eliminated.len();
         // Factors per eliminated variable, over every group.
-        let mut weight = vec![0usize; ne + 1];
+        let mut weight = vec![0usize; ne];
         for of in &structure.factor_eliminated {
             for &e in of {
-                weight[(e as usize).min(ne)] += 1;
+                if let Some(w) = weight.get_mut(e as usize) {
+                    *w += 1;
+                }
             }
         }
         let total: usize = weight.iter().sum();
         let parts = parts.max(1);
         let mut bounds = vec![0];
         let mut running = 0;
-        for (e, w) in weight[..ne].iter().enumerate() {
+        for (e, w) in weight.iter().enumerate() {
             if bounds.len() < parts && running >= total * bounds.len() / parts {
                 bounds.push(e);
             }
@@ -51,22 +70,23 @@ impl Partition {
             bounds.push(ne);
         }
         bounds.push(ne);
-        let factors = structure
-            .factor_eliminated
-            .iter()
-            .map(|of| {
-                let mut cut: Vec<usize> = bounds[..parts]
-                    .iter()
-                    .map(|&b| of.partition_point(|&e| (e as usize) < b))
-                    .collect();
-                cut[0] = 0;
-                cut.push(of.len());
-                cut
-            })
-            .collect();
+        let (mut factors, mut tail) = (Vec::new(), Vec::new());
+        for of in &structure.factor_eliminated {
+            let start = of.partition_point(|&e| (e as usize) < ne);
+            let mut cut: Vec<usize> = bounds[..parts]
+                .iter()
+                .map(|&b| of.partition_point(|&e| (e as usize) < b))
+                .collect();
+            cut[0] = 0;
+            cut.push(start);
+            factors.push(cut);
+            let left = of.len() - start;
+            tail.push((0..=parts).map(|t| start + left * t / parts).collect());
+        }
         Partition {
             eliminated: bounds,
             factors,
+            tail,
         }
     }
 
@@ -75,6 +95,21 @@ impl Partition {
     #[cfg(test)]
     pub(crate) fn forced(structure: &Structure, parts: usize) -> Self {
         Partition::split(structure, parts)
+    }
+
+    /// Part `t`'s factors of group `g`: a range with eliminated variables
+    /// and a range of the tail.
+    pub(crate) fn ranges(&self, g: usize, t: usize) -> [Range<usize>; 2] {
+        let (cut, tail) = (&self.factors[g], &self.tail[g]);
+        [cut[t]..cut[t + 1], tail[t]..tail[t + 1]]
+    }
+
+    /// Group `g`'s factors in `2 × parts` contiguous pieces, in order: the
+    /// parts' ranges with eliminated variables, then their shares of the
+    /// tail (for passes that write one output per factor).
+    pub(crate) fn pieces(&self, g: usize) -> Vec<usize> {
+        let (cut, tail) = (&self.factors[g], &self.tail[g]);
+        cut[..cut.len() - 1].iter().chain(tail).copied().collect()
     }
 
     /// The number of parts.

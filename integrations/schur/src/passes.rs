@@ -24,32 +24,46 @@ pub(crate) fn evaluate(
     partition: &Partition,
     squared: &mut [Vec<f64>],
 ) -> (f64, Rejected) {
-    let mut cost = 0.0;
-    let mut rejected = Rejected::default();
-    for ((group, cuts), squared) in problem.groups.iter().zip(&partition.factors).zip(squared) {
-        let parts = split_at_bounds(squared, cuts);
-        let results: Vec<(f64, Rejected)> = parts
-            .into_par_iter()
-            .enumerate()
-            .map(|(t, part)| {
-                let mut rejected = Rejected::default();
-                let range = cuts[t]..cuts[t + 1];
-                let losses = &group.losses()[range.clone()];
-                group.evaluate(range, values, part, &mut rejected);
-                let cost: f64 = part
-                    .iter()
-                    .zip(losses)
-                    .map(|(&s, own)| 0.5 * robust::loss(own.or(problem.robust), s))
-                    .sum();
-                (cost, rejected)
-            })
-            .collect();
-        for (c, r) in results {
-            cost += c;
-            rejected.merge(r);
+    // Every group's non-empty pieces, one task each.
+    let mut work = Vec::new();
+    for (g, (group, squared)) in problem.groups.iter().zip(squared).enumerate() {
+        let cuts = partition.pieces(g);
+        for (t, piece) in split_at_bounds(squared, &cuts).into_iter().enumerate() {
+            if !piece.is_empty() {
+                work.push((group, cuts[t]..cuts[t + 1], piece));
+            }
         }
     }
+    let results = each(work, |(group, range, piece)| {
+        let mut rejected = Rejected::default();
+        let losses = &group.losses()[range.clone()];
+        group.evaluate(range, values, piece, &mut rejected);
+        let cost: f64 = piece
+            .iter()
+            .zip(losses)
+            .map(|(&s, own)| 0.5 * robust::loss(own.or(problem.robust), s))
+            .sum();
+        (cost, rejected)
+    });
+    let mut cost = 0.0;
+    let mut rejected = Rejected::default();
+    for (c, r) in results {
+        cost += c;
+        rejected.merge(r);
+    }
     (cost, rejected)
+}
+
+/// `f` of every task, in order: on rayon's threads, or on this one when
+/// there is one task or one thread (a task handed to the pool wakes a
+/// worker and puts this thread to sleep, which on a loaded machine costs
+/// milliseconds per pass).
+fn each<T: Send, R: Send>(tasks: Vec<T>, f: impl Fn(T) -> R + Send + Sync) -> Vec<R> {
+    if tasks.len() <= 1 || rayon::current_num_threads() <= 1 {
+        tasks.into_iter().map(f).collect()
+    } else {
+        tasks.into_par_iter().map(f).collect()
+    }
 }
 
 /// The IRLS weights `ρ'(‖Sᵢ rᵢ‖²)` of a group's factors (each its own
@@ -121,9 +135,9 @@ pub(crate) fn linearize(
         .zip(w)
         .enumerate()
         .collect();
-    let kernels: Duration = work
-        .into_par_iter()
-        .map(|(t, ((((u, diagonal, g_reduced), g_eliminated), v), w))| {
+    let kernels: Duration = each(
+        work,
+        |(t, ((((u, diagonal, g_reduced), g_eliminated), v), w))| {
             let mut sink = Sink {
                 u,
                 diagonal,
@@ -135,19 +149,20 @@ pub(crate) fn linearize(
                 cleared: bounds[t],
                 kernels: Duration::ZERO,
             };
-            for ((group, cuts), weights) in
-                problem.groups.iter().zip(&partition.factors).zip(&weights)
-            {
-                let range = cuts[t]..cuts[t + 1];
-                let weights = weights.as_ref().map(|w| &w[range.clone()]);
-                group.linearize(range, values, weights, structure, &mut sink);
+            for (g, (group, weights)) in problem.groups.iter().zip(&weights).enumerate() {
+                for range in partition.ranges(g, t) {
+                    let weights = weights.as_ref().map(|w| &w[range.clone()]);
+                    group.linearize(range, values, weights, structure, &mut sink);
+                }
             }
             if bounds[t + 1] > bounds[t] {
                 sink.clear_through(bounds[t + 1] - 1, structure);
             }
             sink.kernels
-        })
-        .sum();
+        },
+    )
+    .into_iter()
+    .sum();
     for (u, diagonal, g) in &copies {
         normal.u.par_iter_mut().zip(u).for_each(|(a, b)| *a += b);
         for (a, b) in normal.diagonal.iter_mut().zip(diagonal) {
@@ -184,7 +199,7 @@ pub(crate) fn retract(
         })
         .collect();
     let pieces = split_at_bounds(candidate, &bounds);
-    pieces.into_par_iter().enumerate().for_each(|(p, piece)| {
+    each(pieces.into_iter().enumerate().collect(), |(p, piece)| {
         let base = bounds[p];
         for (i, &id) in order.iter().enumerate().skip(p * per).take(per) {
             let variable = &variables[id as usize];
@@ -213,4 +228,71 @@ pub(crate) fn retract(
             );
         }
     });
+}
+
+/// The passes split among threads give what one thread gives, on a g2o
+/// graph whose lines (seen from every pose) stay in the reduced system, so
+/// that every factor is in the tail the parts share.
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::problems::build;
+
+    #[test]
+    fn parts_sharing_the_tail_sum_to_one_threads_normal_equations() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/g2o-addons/line3d.g2o");
+        let data = slam_data::Problem::read(&path, None).unwrap();
+        let mut built = build(&data, None, factor_apex::Kernels::Generated).unwrap();
+        let problem = &mut built.problem;
+        let structure = problem.structure().unwrap();
+        let offsets: Vec<usize> = structure
+            .storage_order
+            .iter()
+            .map(|&id| problem.variables[id as usize].offset)
+            .collect();
+        let values = Values {
+            scalars: &problem.values,
+            offsets: &offsets,
+        };
+        let run = |parts: usize| {
+            let partition = Partition::forced(&structure, parts);
+            let mut squared: Vec<Vec<f64>> =
+                problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
+            let (cost, rejected) = evaluate(problem, values, &partition, &mut squared);
+            assert_eq!(rejected.count, 0);
+            let mut normal = Normal::zeros(&structure);
+            linearize(
+                problem,
+                values,
+                &structure,
+                &partition,
+                &squared,
+                &mut normal,
+            );
+            (cost, squared, normal)
+        };
+        let (cost, squared, normal) = run(1);
+        for parts in [2, 3] {
+            let partition = Partition::forced(&structure, parts);
+            // Every factor is in the tail, and every part has a share.
+            for g in 0..problem.groups.len() {
+                let [with, tail] = partition.ranges(g, parts - 1);
+                assert!(with.is_empty() && !tail.is_empty(), "group {g}");
+            }
+            let (c, s, n) = run(parts);
+            let close = |a: &[f64], b: &[f64]| {
+                let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+                a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale)
+            };
+            assert!(
+                (c - cost).abs() <= 1e-12 * cost,
+                "{parts} parts: {c} vs {cost}"
+            );
+            assert_eq!(s, squared, "{parts} parts");
+            assert!(close(&n.u, &normal.u), "{parts} parts: U");
+            assert!(close(&n.g_reduced, &normal.g_reduced), "{parts} parts: g");
+        }
+    }
 }

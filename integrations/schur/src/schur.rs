@@ -766,10 +766,7 @@ mod dense {
         };
         // On one thread and on three (each its own copy of U, summed).
         for threads in [1, 3] {
-            let mut partition = Partition::new(&structure, 1);
-            if threads > 1 {
-                partition = Partition::forced(&structure, threads);
-            }
+            let partition = Partition::forced(&structure, threads);
             let mut squared: Vec<Vec<f64>> =
                 problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
             let (cost, rejected) = passes::evaluate(problem, values, &partition, &mut squared);
