@@ -11,6 +11,10 @@
 //! path (exit 2); what only the factor can judge (a point behind the camera,
 //! parallel bearings, ...) is left to its `validate()`.
 
+use std::any::TypeId;
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use factor_core::{Factor, FieldInfo, Layout, StorageError};
 
 use crate::error::InputError;
@@ -111,6 +115,29 @@ pub fn stored_scalars(
 /// Factor `F` from its checked `variables` and `constants` objects (each
 /// with exactly `F`'s variable and constant fields).
 pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, InputError> {
-    let stored = stored_scalars(&F::fields(), variables, constants)?;
+    decode_with(&F::fields(), variables, constants)
+}
+
+/// [`decode`] with `F`'s `fields` given ([`FieldsCache`]).
+pub(crate) fn decode_with<F: Factor>(
+    fields: &[FieldInfo],
+    variables: &Object,
+    constants: &Object,
+) -> Result<F, InputError> {
+    let stored = stored_scalars(fields, variables, constants)?;
     Ok(F::from_scalars(&stored))
+}
+
+/// Each factor type's fields, built once: [`Factor::fields`] builds them
+/// (their layouts' names as strings) anew at every call, and a problem
+/// file decodes thousands of factors of a few types.
+#[derive(Default)]
+pub(crate) struct FieldsCache(HashMap<TypeId, Arc<[FieldInfo]>>);
+
+impl FieldsCache {
+    /// `F`'s fields.
+    pub(crate) fn of<F: Factor + 'static>(&mut self) -> Arc<[FieldInfo]> {
+        let fields = self.0.entry(TypeId::of::<F>());
+        Arc::clone(fields.or_insert_with(|| F::fields().into()))
+    }
 }
