@@ -234,6 +234,20 @@ mod tests {
         assert_eq!(error.path, "input[1]");
     }
 
+    /// An object gathered from values elsewhere reads them as the object
+    /// of those fields would, its errors at its own path.
+    #[test]
+    fn a_gathered_object_reads_its_fields_as_an_object_would() {
+        let (a, b) = (serde_json::json!([1.0, 2.0]), serde_json::json!({"x": 3.0}));
+        let gathered = Object::gathered("f.variables", vec![("a", &a), ("b", &b)]);
+        assert_eq!(gathered.numbers("a", 2).unwrap(), [1.0, 2.0]);
+        let b = gathered.object("b", &["x"]).unwrap();
+        assert_eq!(b.number("x").unwrap(), 3.0);
+        let error = gathered.numbers("a", 3).unwrap_err();
+        assert_eq!(error.path, "f.variables.a");
+        assert_eq!(gathered.string("b").unwrap_err().path, "f.variables.b");
+    }
+
     #[test]
     fn quaternions_are_read_w_first_where_asked_and_recorded() {
         let value =
