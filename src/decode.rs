@@ -111,6 +111,60 @@ pub fn stored_scalars(
 /// Factor `F` from its checked `variables` and `constants` objects (each
 /// with exactly `F`'s variable and constant fields).
 pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, InputError> {
-    let stored = stored_scalars(&F::fields(), variables, constants)?;
+    decode_with(&F::fields(), variables, constants)
+}
+
+/// [`decode`] with `F`'s `fields` given (from a `FieldsCache`).
+pub(crate) fn decode_with<F: Factor>(
+    fields: &[FieldInfo],
+    variables: &Object,
+    constants: &Object,
+) -> Result<F, InputError> {
+    let stored = stored_scalars(fields, variables, constants)?;
     Ok(F::from_scalars(&stored))
+}
+
+/// Each factor type's fields, built once: [`Factor::fields`] builds them
+/// (their layouts' names as strings) anew at every call, and a problem
+/// file decodes thousands of factors of a few types (`solve`).
+#[cfg(feature = "solve")]
+#[derive(Default)]
+pub(crate) struct FieldsCache(
+    std::collections::HashMap<std::any::TypeId, std::sync::Arc<[FieldInfo]>>,
+);
+
+#[cfg(feature = "solve")]
+impl FieldsCache {
+    /// `F`'s fields.
+    pub(crate) fn of<F: Factor + 'static>(&mut self) -> std::sync::Arc<[FieldInfo]> {
+        let fields = self.0.entry(std::any::TypeId::of::<F>());
+        std::sync::Arc::clone(fields.or_insert_with(|| F::fields().into()))
+    }
+}
+
+#[cfg(all(test, feature = "solve"))]
+mod tests {
+    use super::*;
+
+    /// The cache hands out each type's fields as `Factor::fields` builds
+    /// them, built once per type.
+    #[test]
+    fn the_cache_holds_each_types_fields() {
+        use slam_factors::{BetweenFactor, PointReprojection};
+        let shown = |fields: &[FieldInfo]| -> Vec<(&str, usize, Option<usize>, String)> {
+            fields
+                .iter()
+                .map(|f| (f.name, f.scalars, f.variable, json_shape(&f.input_layout)))
+                .collect()
+        };
+        let mut cache = FieldsCache::default();
+        let first = cache.of::<PointReprojection>();
+        assert_eq!(shown(&first), shown(&PointReprojection::fields()));
+        let between = cache.of::<BetweenFactor>();
+        assert_eq!(shown(&between), shown(&BetweenFactor::fields()));
+        assert!(std::sync::Arc::ptr_eq(
+            &first,
+            &cache.of::<PointReprojection>()
+        ));
+    }
 }

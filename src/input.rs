@@ -89,21 +89,30 @@ pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputErr
 #[derive(Debug, Clone)]
 pub struct Object<'a> {
     path: String,
-    map: &'a Map<String, Value>,
+    fields: Fields<'a>,
     quaternions: Option<&'a QuaternionReading>,
+}
+
+/// Where an [`Object`]'s fields are: a JSON object, or values gathered
+/// from elsewhere under the object's keys ([`Object::gathered`]).
+#[derive(Debug, Clone)]
+enum Fields<'a> {
+    Map(&'a Map<String, Value>),
+    Gathered(Vec<(&'a str, &'a Value)>),
 }
 
 impl<'a> Object<'a> {
     /// Checks that `value` (at `path`, `""` for the top level) is an object
     /// with exactly the fields `keys`.
     pub fn new(value: &'a Value, path: &str, keys: &[&str]) -> Result<Self, InputError> {
-        let expected = keys.join(", ");
+        let expected = || keys.join(", ");
         let map = value.as_object().ok_or_else(|| {
             let at = if path.is_empty() { "input" } else { path };
             InputError::new(
                 at,
                 format!(
-                    "expected an object with fields {expected}, found {}",
+                    "expected an object with fields {}, found {}",
+                    expected(),
                     kind(value)
                 ),
             )
@@ -111,7 +120,7 @@ impl<'a> Object<'a> {
         if let Some(unknown) = map.keys().find(|k| !keys.contains(&k.as_str())) {
             return Err(InputError::new(
                 join(path, unknown),
-                format!("unknown field; expected only {expected}"),
+                format!("unknown field; expected only {}", expected()),
             ));
         }
         if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
@@ -119,9 +128,20 @@ impl<'a> Object<'a> {
         }
         Ok(Object {
             path: path.into(),
-            map,
+            fields: Fields::Map(map),
             quaternions: None,
         })
+    }
+
+    /// The object at `path` whose fields are the values `fields`, by key,
+    /// read from elsewhere (a factor entry's variable fields, each the
+    /// value of the variable it names).
+    pub fn gathered(path: &str, fields: Vec<(&'a str, &'a Value)>) -> Self {
+        Object {
+            path: path.into(),
+            fields: Fields::Gathered(fields),
+            quaternions: None,
+        }
     }
 
     /// Like [`Object::new`] for the top level, reading its quaternions (and
@@ -144,7 +164,13 @@ impl<'a> Object<'a> {
 
     /// The value of field `key` (checked present by [`Object::new`]).
     pub fn get(&self, key: &str) -> &'a Value {
-        &self.map[key]
+        match &self.fields {
+            Fields::Map(map) => &map[key],
+            Fields::Gathered(fields) => match fields.iter().find(|(k, _)| *k == key) {
+                Some((_, value)) => value,
+                None => panic!("no field {key}"),
+            },
+        }
     }
 
     /// A string field.
@@ -206,6 +232,20 @@ mod tests {
         assert_eq!(error.path, "v[\"a\\nb\"]");
         let error = numbers(&serde_json::json!([1, "x"]), "", 2).unwrap_err();
         assert_eq!(error.path, "input[1]");
+    }
+
+    /// An object gathered from values elsewhere reads them as the object
+    /// of those fields would, its errors at its own path.
+    #[test]
+    fn a_gathered_object_reads_its_fields_as_an_object_would() {
+        let (a, b) = (serde_json::json!([1.0, 2.0]), serde_json::json!({"x": 3.0}));
+        let gathered = Object::gathered("f.variables", vec![("a", &a), ("b", &b)]);
+        assert_eq!(gathered.numbers("a", 2).unwrap(), [1.0, 2.0]);
+        let b = gathered.object("b", &["x"]).unwrap();
+        assert_eq!(b.number("x").unwrap(), 3.0);
+        let error = gathered.numbers("a", 3).unwrap_err();
+        assert_eq!(error.path, "f.variables.a");
+        assert_eq!(gathered.string("b").unwrap_err().path, "f.variables.b");
     }
 
     #[test]

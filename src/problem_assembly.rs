@@ -15,7 +15,7 @@ use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 use factor_core::manifold::ChartMap;
 use nalgebra::DMatrix;
 
-use crate::decode::decode;
+use crate::decode::{FieldsCache, decode_with};
 use crate::error::CliError;
 use crate::input::Object;
 use crate::observability::tangent_columns;
@@ -53,6 +53,7 @@ pub(crate) struct Assembly {
     pub(crate) linearized_by: [usize; 2],
     /// Whether factors with a kernel go through it (not `--kernels dual`).
     pub(crate) kernels: bool,
+    pub(crate) fields: FieldsCache,
 }
 
 /// One factor entry of a problem file, checked: its `variables` (by
@@ -62,7 +63,7 @@ pub(crate) struct Assembly {
 pub(crate) struct Entry<'a> {
     pub(crate) variables: &'a Object<'a>,
     pub(crate) constants: &'a Object<'a>,
-    pub(crate) names: &'a [(String, String)],
+    pub(crate) names: &'a [(&'static str, &'a str)],
     pub(crate) noise: &'a Noise,
     pub(crate) loss: Option<Robust>,
 }
@@ -77,14 +78,14 @@ pub(crate) type AddFn = fn(&mut Assembly, &Entry) -> Result<(), CliError>;
 fn variables_of<F: HostFactor<Apex> + 'static>(
     assembly: &mut Assembly,
     factor: &F,
-    names: &[(String, String)],
+    fields: &[FieldInfo],
+    names: &[(&'static str, &str)],
 ) -> Vec<AnyVariable> {
-    let fields = F::fields();
     names
         .iter()
         .enumerate()
         .map(|(index, (_, name))| {
-            if let Some(created) = assembly.created.get(name) {
+            if let Some(created) = assembly.created.get(*name) {
                 return created.variable.clone();
             }
             let variable = assembly.builder.add_variable_of(factor, index);
@@ -118,7 +119,7 @@ fn variables_of<F: HostFactor<Apex> + 'static>(
                     .collect()
             };
             assembly.created.insert(
-                name.clone(),
+                (*name).to_owned(),
                 Created {
                     variable: variable.clone(),
                     field,
@@ -241,8 +242,9 @@ fn add_with<F: HostFactor<Apex> + 'static>(
     entry: &Entry,
     add: BuilderAdd<F>,
 ) -> Result<(), CliError> {
-    let factor: F = decode(entry.variables, entry.constants)?;
-    let keys = variables_of(assembly, &factor, entry.names);
+    let fields = assembly.fields.of::<F>();
+    let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
+    let keys = variables_of(assembly, &factor, &fields, entry.names);
     add(
         &mut assembly.builder,
         &factor,

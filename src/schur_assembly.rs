@@ -20,7 +20,7 @@ use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 
-use crate::decode::decode;
+use crate::decode::{FieldsCache, decode_with};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
 use crate::observability::{tangent_columns, whitened_blocks};
@@ -63,6 +63,7 @@ pub(crate) struct SchurAssembly {
     pub(crate) unsupported: Option<String>,
     /// How the factors are differentiated (`--kernels`).
     pub(crate) kernels: Kernels,
+    pub(crate) fields: FieldsCache,
 }
 
 /// How a registered factor is added from a problem file to a Schur
@@ -106,12 +107,13 @@ where
 /// variable whose chart differs between factors (`SchurError::Chart`) is
 /// not an error: the file goes to apex-solver, the reason kept in
 /// [`SchurAssembly::unsupported`].
-fn add_with<F: Factor>(
+fn add_with<F: Factor + 'static>(
     assembly: &mut SchurAssembly,
     entry: &Entry,
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
 ) -> Result<(), CliError> {
-    let factor: F = decode(entry.variables, entry.constants)?;
+    let fields = assembly.fields.of::<F>();
+    let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks).
     let (linearization, _) = linearize(&factor, Method::Generated)?;
@@ -126,19 +128,17 @@ fn add_with<F: Factor>(
     let mut stored = vec![0.0; F::SCALARS];
     factor.write_scalars(&mut stored);
     // Each variable's range among the stored scalars.
-    let fields = F::fields();
     let mut ranges = vec![0..0; entry.names.len()];
     let mut start = 0;
-    for field in &fields {
+    for field in fields.iter() {
         if let Some(k) = field.variable {
             ranges[k] = start..start + field.scalars;
         }
         start += field.scalars;
     }
-    let infos = F::variables();
     let mut ids = Vec::with_capacity(ranges.len());
     for (k, (_, name)) in entry.names.iter().enumerate() {
-        let id = match assembly.created.get(name) {
+        let id = match assembly.created.get(*name) {
             Some(created) => created.id,
             None => {
                 let id = assembly.problem.add_variable(&stored[ranges[k].clone()]);
@@ -147,10 +147,11 @@ fn add_with<F: Factor>(
                     .find(|f| f.variable == Some(k))
                     .cloned()
                     .expect("every variable is a field");
-                let columns = tangent_columns(infos[k].tangent, infos[k].tangent_dim);
+                let info = &F::variables()[k];
+                let columns = tangent_columns(info.tangent, info.tangent_dim);
                 assembly
                     .created
-                    .insert(name.clone(), Created { id, field, columns });
+                    .insert((*name).to_owned(), Created { id, field, columns });
                 id
             }
         };
@@ -174,7 +175,7 @@ fn add_with<F: Factor>(
                 .iter()
                 .zip(&ids)
                 .find(|(_, id)| id.index() == variable)
-                .map_or("?", |((_, name), _)| name.as_str());
+                .map_or("?", |((_, name), _)| *name);
             assembly.unsupported = Some(format!(
                 "variable \"{name}\": {first}, {second}: this solver needs every factor on a \
                  variable to declare the same type, side and tangent"

@@ -62,10 +62,10 @@ pub(super) fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<
     ));
     let outcome = solve_built(args, built)?;
     let finished = finished(&problem.built, &outcome);
-    let written = problem.written(&outcome.values);
+    let solved = problem.solved_variables(&outcome.values);
     let check = || problem.check_solution(&outcome.values, &finished.verdict);
-    let truth = problem.truth_errors(&outcome.values);
-    finish_file(args, &finished, check, truth, &written)
+    let truth = problem.truth_errors(&solved);
+    finish_file(args, &finished, check, truth, || problem.written(&solved))
 }
 
 fn build_options(args: &SolveArgs) -> BuildOptions {

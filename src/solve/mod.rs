@@ -257,14 +257,14 @@ pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String,
 
 /// The end of a problem file's solve, either path's: a failed solve
 /// refused, then the `check` of the solution, the `truth` errors, the
-/// plot, the file `written` back with the solution (`--output`) and the
-/// summary. Nothing is written after a failure.
+/// plot, the file `written` back with the solution (built for `--output`
+/// only) and the summary. Nothing is written after a failure.
 fn finish_file(
     args: &SolveArgs,
     finished: &report::Finished<'_>,
     check: impl FnOnce() -> Result<(), String>,
     truth: Option<Result<String, String>>,
-    written: &serde_json::Value,
+    written: impl FnOnce() -> serde_json::Value,
 ) -> Result<String, CliError> {
     if let Verdict::Failed(why) = &finished.verdict {
         return Err(CliError::Solve(at(
@@ -281,7 +281,7 @@ fn finish_file(
         outputs::write(path, svg)?;
     }
     if let Some(path) = &args.output {
-        outputs::write(path, crate::pretty::to_string(written) + "\n")?;
+        outputs::write(path, crate::pretty::to_string(&written()) + "\n")?;
     }
     let mut summary = report::summary(finished, None, args.output.as_deref(), args.plot.as_deref());
     if let Some(errors) = truth {

@@ -54,10 +54,10 @@ pub(crate) struct Entry<'a> {
     pub(crate) factor: &'a str,
     /// Per variable field, in the factor's order: the field and the
     /// problem variable it names.
-    pub(crate) names: Vec<(String, String)>,
-    /// Its `variables` object: the values of the variables it names, by
-    /// field (at the entry's `variables` path, for [`at_value`]).
-    pub(crate) values: Value,
+    pub(crate) names: Vec<(&'static str, &'a str)>,
+    /// Per variable field, in the factor's order: the value of the variable
+    /// it names (read at the entry's `variables` path, for [`at_value`]).
+    pub(crate) values: Vec<&'a Value>,
     /// Its `constants` object.
     pub(crate) constants: Object<'a>,
     /// Its noise model (unit when absent).
@@ -68,9 +68,12 @@ pub(crate) struct Entry<'a> {
 
 impl Entry<'_> {
     /// The entry's variable values as an object with exactly its fields.
-    pub(crate) fn variables(&self) -> Result<Object<'_>, InputError> {
-        let fields: Vec<&str> = self.names.iter().map(|(f, _)| f.as_str()).collect();
-        Object::new(&self.values, &join(&self.path, "variables"), &fields)
+    pub(crate) fn variables(&self) -> Object<'_> {
+        let fields = self.names.iter().map(|(field, _)| *field);
+        Object::gathered(
+            &join(&self.path, "variables"),
+            fields.zip(self.values.iter().copied()).collect(),
+        )
     }
 }
 
@@ -162,12 +165,15 @@ pub(crate) fn check<'a>(
         .expect("read_json checked `factors`");
     let mut entries = Vec::with_capacity(factors.len());
     let mut used = std::collections::HashSet::new();
+    // Each factor's shape, asked once per factor name.
+    let mut shapes = Vec::new();
     for (k, spec) in factors.iter().enumerate() {
-        let entry = check_entry(spec, &format!("factors[{k}]"), declared, &shape)?;
-        used.extend(entry.names.iter().map(|(_, name)| name.clone()));
+        let at = format!("factors[{k}]");
+        let entry = check_entry(spec, &at, declared, &mut shapes, &shape)?;
+        used.extend(entry.names.iter().map(|(_, name)| *name));
         entries.push(entry);
     }
-    if let Some(unused) = declared.keys().find(|n| !used.contains(*n)) {
+    if let Some(unused) = declared.keys().find(|n| !used.contains(n.as_str())) {
         return Err(InputError::new(
             join("variables", unused),
             "no factor uses this variable",
@@ -181,11 +187,13 @@ pub(crate) fn check<'a>(
     })
 }
 
-/// Checks the factor entry `spec` at `path`.
+/// Checks the factor entry `spec` at `path`, the shape of its factor from
+/// `shapes` or else `shape` (then kept in `shapes`).
 fn check_entry<'a>(
     spec: &'a Value,
     path: &str,
     declared: &'a Map<String, Value>,
+    shapes: &mut Vec<(&'a str, Shape)>,
     shape: &impl Fn(&str, &str) -> Result<Shape, InputError>,
 ) -> Result<Entry<'a>, InputError> {
     let object = open(
@@ -195,22 +203,29 @@ fn check_entry<'a>(
         &["noise", "robust"],
     )?;
     let factor = object.string("factor")?;
-    let shape = shape(factor, &object.path_of("factor"))?;
+    let index = match shapes.iter().position(|(name, _)| *name == factor) {
+        Some(index) => index,
+        None => {
+            shapes.push((factor, shape(factor, &object.path_of("factor"))?));
+            shapes.len() - 1
+        }
+    };
+    let shape = &shapes[index].1;
     let fields: Vec<&str> = shape.variables.iter().map(|v| v.name).collect();
     let named = object.object("variables", &fields)?;
-    let mut names: Vec<(String, String)> = Vec::with_capacity(fields.len());
-    let mut values = Map::new();
+    let mut names: Vec<(&'static str, &'a str)> = Vec::with_capacity(fields.len());
+    let mut values = Vec::with_capacity(fields.len());
     for info in &shape.variables {
-        let at = named.path_of(info.name);
+        let at = || named.path_of(info.name);
         let name = named.string(info.name)?;
         let variable = declared.get(name).ok_or_else(|| {
-            InputError::new(&at, format!("no variable {} in variables", quoted(name)))
+            InputError::new(at(), format!("no variable {} in variables", quoted(name)))
         })?;
         let declared_type = variable["type"].as_str().unwrap_or_default();
         let wanted = type_name(info.type_name);
         if declared_type != wanted {
             return Err(InputError::new(
-                &at,
+                at(),
                 format!(
                     "variable {} is a {declared_type}, the factor's {} is a {wanted}",
                     quoted(name),
@@ -218,9 +233,9 @@ fn check_entry<'a>(
                 ),
             ));
         }
-        if let Some((other, _)) = names.iter().find(|(_, n)| n == name) {
+        if let Some((other, _)) = names.iter().find(|(_, n)| *n == name) {
             return Err(InputError::new(
-                &at,
+                at(),
                 format!(
                     "names the variable {} that {other} names: a factor's variables must be \
                      distinct",
@@ -228,8 +243,8 @@ fn check_entry<'a>(
                 ),
             ));
         }
-        names.push((info.name.to_owned(), name.to_owned()));
-        values.insert(info.name.to_owned(), variable["value"].clone());
+        names.push((info.name, name));
+        values.push(&variable["value"]);
     }
     let constants = object.object("constants", &shape.constants)?;
     let noise = match spec.get("noise") {
@@ -249,7 +264,7 @@ fn check_entry<'a>(
         path: path.to_owned(),
         factor,
         names,
-        values: Value::Object(values),
+        values,
         constants,
         noise,
         robust,

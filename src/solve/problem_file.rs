@@ -57,7 +57,7 @@ use serde_json::{Map, Value};
 
 use super::file_truth::Truth;
 use super::problem_checks::{self as checks, Shape, at_value, read_json};
-use crate::decode::record_keys;
+use crate::decode::{FieldsCache, record_keys};
 use crate::error::{CliError, InputError};
 use crate::field_path::quoted;
 use crate::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
@@ -96,10 +96,10 @@ pub(super) fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Sha
     }
     Ok(Shape {
         variables: (entry.variables)(),
-        constants: entry
-            .json_fields(false)
+        constants: (entry.fields)()
             .into_iter()
-            .map(|(n, _)| n)
+            .filter(|field| field.variable.is_none())
+            .map(|field| field.name)
             .collect(),
         residual_dim: entry.residual_dim,
     })
@@ -137,6 +137,7 @@ pub fn read(
         created: HashMap::new(),
         linearized_by: [0; 2],
         kernels: options.factors == FactorChoice::Ours(Kernels::Generated),
+        fields: FieldsCache::default(),
     };
     for entry in &checked.entries {
         add_entry(&mut assembly, registry, entry, options.robust)?;
@@ -345,7 +346,7 @@ pub(super) fn add_at(
     default_loss: Option<Robust>,
     add: impl FnOnce(&Entry) -> Result<(), CliError>,
 ) -> Result<(), CliError> {
-    let variables = entry.variables()?;
+    let variables = entry.variables();
     let checked = Entry {
         variables: &variables,
         constants: &entry.constants,
@@ -405,15 +406,31 @@ fn layout_json(layout: &Layout, rest: &mut &[f64]) -> Value {
     }
 }
 
+/// The file's JSON `json` with its `variables` object replaced by
+/// `variables` (the solved values): what `--output` writes.
+pub(super) fn with_variables(json: &Value, variables: &Value) -> Value {
+    let top = json.as_object().expect("read_json checked the top level");
+    let replaced = top.iter().map(|(key, value)| {
+        let value = if key == "variables" { variables } else { value };
+        (key.clone(), value.clone())
+    });
+    Value::Object(replaced.collect())
+}
+
 impl FileProblem {
-    /// The file's JSON with the variables' values of `values`.
-    pub fn written(&self, values: &Values) -> Value {
-        let mut json = self.json.clone();
+    /// The file's `variables` object with the values of `values`.
+    pub fn solved_variables(&self, values: &Values) -> Value {
+        let mut variables = self.json["variables"].clone();
         for (name, created) in &self.variables {
             let stored = (created.read_back)(values, &created.variable, created.index);
-            json["variables"][name]["value"] = value_json(&created.field, &stored);
+            variables[name]["value"] = value_json(&created.field, &stored);
         }
-        json
+        variables
+    }
+
+    /// The file's JSON with the solved `variables` ([`Self::solved_variables`]).
+    pub fn written(&self, variables: &Value) -> Value {
+        with_variables(&self.json, variables)
     }
 
     /// Refuses a solution whose free variables the measurements do not
@@ -435,16 +452,16 @@ impl FileProblem {
         }
     }
 
-    /// The errors of the initial values and of `values` against the file's
-    /// truth, in words; `None` when it has none.
+    /// The errors of the initial values and of the `solved` variables
+    /// ([`Self::solved_variables`]) against the file's truth, in words;
+    /// `None` when it has none.
     ///
     /// # Errors
     ///
     /// Errors that cannot be measured ([`Truth::describe`]), in words.
-    pub fn truth_errors(&self, values: &Values) -> Option<Result<String, String>> {
+    pub fn truth_errors(&self, solved: &Value) -> Option<Result<String, String>> {
         let truth = self.truth.as_ref()?;
-        let solved = self.written(values);
-        Some(truth.describe(&self.json["variables"], &solved["variables"]))
+        Some(truth.describe(&self.json["variables"], solved))
     }
 }
 

@@ -27,7 +27,7 @@ use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
-    add_at, nothing_to_solve, shape, solution_tolerance, unobservable, value_json,
+    add_at, nothing_to_solve, shape, solution_tolerance, unobservable, value_json, with_variables,
 };
 use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
@@ -114,14 +114,17 @@ pub(super) fn run(
     ));
     let outcome = super::schur::iterate(args, solver, blocks);
     let finished = super::schur::finished(&outcome, blocks);
-    let written = written(&json, &assembly);
+    let solved = solved_variables(&json, &assembly);
     let tolerance = solution_tolerance(&finished.verdict);
     let check = || match deficiency(&assembly, &fixed, Some(tolerance)) {
         Some(d) => Err(d.at("the solution").to_string()),
         None => Ok(()),
     };
-    let errors = truth.map(|t| t.describe(&json["variables"], &written["variables"]));
-    finish_file(args, &finished, check, errors, &written).map(Ok)
+    let errors = truth.map(|t| t.describe(&json["variables"], &solved));
+    finish_file(args, &finished, check, errors, || {
+        with_variables(&json, &solved)
+    })
+    .map(Ok)
 }
 
 /// The header: the file, its blocks, how many of them are `whitened` by a
@@ -141,7 +144,7 @@ fn landmarks(checked: &checks::Checked<'_>) -> HashSet<String> {
     let mut factors_of: HashMap<&str, Vec<usize>> = HashMap::new();
     for (k, entry) in checked.entries.iter().enumerate() {
         for (_, name) in &entry.names {
-            factors_of.entry(name.as_str()).or_default().push(k);
+            factors_of.entry(name).or_default().push(k);
         }
     }
     let mut order: Vec<&str> = factors_of
@@ -164,14 +167,13 @@ fn landmarks(checked: &checks::Checked<'_>) -> HashSet<String> {
     eliminated
 }
 
-/// The file's JSON with the solved variables' values.
-fn written(json: &Value, assembly: &SchurAssembly) -> Value {
-    let mut json = json.clone();
+/// The file's `variables` object with the solved values.
+fn solved_variables(json: &Value, assembly: &SchurAssembly) -> Value {
+    let mut variables = json["variables"].clone();
     for (name, created) in &assembly.created {
-        json["variables"][name]["value"] =
-            value_json(&created.field, assembly.problem.value(created.id));
+        variables[name]["value"] = value_json(&created.field, assembly.problem.value(created.id));
     }
-    json
+    variables
 }
 
 /// The directions of the free variables the factors do not determine, at

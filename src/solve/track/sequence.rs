@@ -224,14 +224,14 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
             .find(|t| t.name == entry.factor)
             .expect("checked: a tracked factor");
         // The file's values, decoded as `solve` decodes them.
-        let mut add = (tracked.read)(&entry.variables()?, &entry.constants, entry.noise.clone())
+        let mut add = (tracked.read)(&entry.variables(), &entry.constants, entry.noise.clone())
             .map_err(|e| at_value(e, entry))?;
         let mut frame = None;
         let mut values = Map::new();
         for (field, variable) in &entry.names {
-            let spec = &declared[variable];
+            let spec = &declared[*variable];
             let value = if spec["type"] == "Se3" {
-                frame = frames.iter().position(|f| &f.name == variable);
+                frame = frames.iter().position(|f| f.name == *variable);
                 &spec["value"]
             } else {
                 landmarks.insert(variable, tracked.kind);
@@ -246,12 +246,12 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
                     })?,
                 }
             };
-            values.insert(field.clone(), value.clone());
+            values.insert((*field).to_owned(), value.clone());
         }
         if map == MapSource::Truth {
             // The map at its truth (checked as values are by `checks`).
             let values = Value::Object(values);
-            let fields: Vec<&str> = entry.names.iter().map(|(f, _)| f.as_str()).collect();
+            let fields: Vec<&str> = entry.names.iter().map(|(f, _)| *f).collect();
             let variables = Object::new(&values, &join(&entry.path, "variables"), &fields)?;
             add = (tracked.read)(&variables, &entry.constants, entry.noise.clone())?;
         }
