@@ -75,10 +75,14 @@ pub struct Minimized {
 }
 
 /// Minimises `model`'s cost from its current values, whose cost is
-/// `initial_cost` (finite), damped as `damping` says, until `options`' criteria
+/// `initial_cost`, damped as `damping` says, until `options`' criteria
 /// stop it; calls `on_iteration` as each iteration ends. `start` is when
 /// the solve began: the first iteration's report holds the time from it
 /// (the solver's set-up), and every report's `elapsed` counts from it.
+///
+/// An initial cost that is not finite (or negative) ends the solve at once
+/// as [`Verdict::Failed`], with no iteration and the model untouched: no
+/// step can be judged against it.
 pub fn minimize<M: Model>(
     model: &mut M,
     initial_cost: f64,
@@ -87,6 +91,13 @@ pub fn minimize<M: Model>(
     options: &SolveOptions,
     mut on_iteration: impl FnMut(&Iteration),
 ) -> Minimized {
+    if !(initial_cost.is_finite() && initial_cost >= 0.0) {
+        return Minimized {
+            final_cost: initial_cost,
+            history: Vec::new(),
+            verdict: Verdict::Failed(format!("the initial cost is {initial_cost}")),
+        };
+    }
     let mut cost = initial_cost;
     let bounds = damping.diagonal_bounds();
     let mut lambda = damping.initial_lambda();

@@ -236,3 +236,35 @@ fn a_criterion_names_its_tolerance() {
         "stopped at the iteration limit, not converged"
     );
 }
+
+#[test]
+fn an_initial_cost_that_is_not_finite_fails_at_once() {
+    for initial in [f64::NAN, f64::INFINITY, -1.0] {
+        let mut model = Rosenbrock::at(START);
+        let minimized = minimize(
+            &mut model,
+            initial,
+            Instant::now(),
+            Damping::Diagonal,
+            &SolveOptions::default(),
+            |_| {},
+        );
+        assert_eq!(
+            minimized.verdict,
+            Verdict::Failed(format!("the initial cost is {initial}"))
+        );
+        assert!(minimized.history.is_empty());
+        assert_eq!(model.x, START);
+    }
+}
+
+/// A zero residual from the start: one rejected step (nothing to gain),
+/// then the residual's cosine with the Jacobian (0 of 0 counts 0) ends it.
+#[test]
+fn a_zero_initial_cost_converges() {
+    let mut model = Rosenbrock::at([1.0, 1.0]);
+    let minimized = run(&mut model, &SolveOptions::default());
+    assert!(minimized.verdict.is_converged(), "{minimized:?}");
+    assert_eq!(minimized.final_cost, 0.0);
+    assert_eq!(model.x, [1.0, 1.0]);
+}
