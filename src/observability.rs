@@ -273,11 +273,11 @@ impl Normal {
             })
             .collect();
         for (v, d) in self.diagonal.iter_mut().enumerate() {
-            *d = DMatrix::from_diagonal(&scales[v]) * &*d * DMatrix::from_diagonal(&scales[v]);
+            scale_block(d, &scales[v], &scales[v]);
         }
         for (v, off) in self.off.iter_mut().enumerate() {
             for (w, h) in off.iter_mut() {
-                *h = DMatrix::from_diagonal(&scales[v]) * &*h * DMatrix::from_diagonal(&scales[*w]);
+                scale_block(h, &scales[v], &scales[*w]);
             }
         }
         scales
@@ -304,6 +304,15 @@ impl Normal {
         moves.retain(|(_, m)| m.norm() >= NEGLIGIBLE);
         moves.sort_by(|a, b| b.1.norm().total_cmp(&a.1.norm()));
         moves
+    }
+}
+
+/// `h ← diag(rows) · h · diag(columns)`, in place.
+fn scale_block(h: &mut DMatrix<f64>, rows: &DVector<f64>, columns: &DVector<f64>) {
+    for (j, mut column) in h.column_iter_mut().enumerate() {
+        for (x, r) in column.iter_mut().zip(rows.iter()) {
+            *x = *x * r * columns[j];
+        }
     }
 }
 
