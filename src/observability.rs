@@ -568,6 +568,18 @@ mod tests {
         );
     }
 
+    /// Scaling a block in place gives the bits of `diag(r) · h · diag(c)`.
+    #[test]
+    fn a_block_scaled_in_place_is_the_product_with_the_diagonals() {
+        let h = DMatrix::from_fn(3, 2, |i, j| (i as f64 + 0.3).powi(3) - 1.7 * j as f64);
+        let rows = DVector::from_column_slice(&[0.1, 3.7, 1e-5]);
+        let columns = DVector::from_column_slice(&[2.3e4, 0.77]);
+        let product = DMatrix::from_diagonal(&rows) * &h * DMatrix::from_diagonal(&columns);
+        let mut scaled = h.clone();
+        scale_block(&mut scaled, &rows, &columns);
+        assert_eq!(scaled, product);
+    }
+
     /// A point measured tightly (weight 1e4, σ = 1e-4) across a ray and
     /// loosely (weight 1) along it is determined, whatever the weights: the
     /// loose row moves `[−0.1, −0.1, 1]` by 0.05 of its length, which on a
