@@ -273,11 +273,11 @@ impl Normal {
             })
             .collect();
         for (v, d) in self.diagonal.iter_mut().enumerate() {
-            *d = DMatrix::from_diagonal(&scales[v]) * &*d * DMatrix::from_diagonal(&scales[v]);
+            scale_block(d, &scales[v], &scales[v]);
         }
         for (v, off) in self.off.iter_mut().enumerate() {
             for (w, h) in off.iter_mut() {
-                *h = DMatrix::from_diagonal(&scales[v]) * &*h * DMatrix::from_diagonal(&scales[*w]);
+                scale_block(h, &scales[v], &scales[*w]);
             }
         }
         scales
@@ -304,6 +304,15 @@ impl Normal {
         moves.retain(|(_, m)| m.norm() >= NEGLIGIBLE);
         moves.sort_by(|a, b| b.1.norm().total_cmp(&a.1.norm()));
         moves
+    }
+}
+
+/// `h ← diag(rows) · h · diag(columns)`, in place.
+fn scale_block(h: &mut DMatrix<f64>, rows: &DVector<f64>, columns: &DVector<f64>) {
+    for (j, mut column) in h.column_iter_mut().enumerate() {
+        for (x, r) in column.iter_mut().zip(rows.iter()) {
+            *x = *x * r * columns[j];
+        }
     }
 }
 
@@ -557,6 +566,18 @@ mod tests {
             deficiency.to_string().contains("q along x2 "),
             "{deficiency}"
         );
+    }
+
+    /// Scaling a block in place gives the bits of `diag(r) · h · diag(c)`.
+    #[test]
+    fn a_block_scaled_in_place_is_the_product_with_the_diagonals() {
+        let h = DMatrix::from_fn(3, 2, |i, j| (i as f64 + 0.3).powi(3) - 1.7 * j as f64);
+        let rows = DVector::from_column_slice(&[0.1, 3.7, 1e-5]);
+        let columns = DVector::from_column_slice(&[2.3e4, 0.77]);
+        let product = DMatrix::from_diagonal(&rows) * &h * DMatrix::from_diagonal(&columns);
+        let mut scaled = h.clone();
+        scale_block(&mut scaled, &rows, &columns);
+        assert_eq!(scaled, product);
     }
 
     /// A point measured tightly (weight 1e4, σ = 1e-4) across a ray and
