@@ -12,7 +12,8 @@
 //!   `|g_j| / √(H_jj · 2 cost)` (MINPACK's orthogonality test, at the
 //!   values the last accepted step reached), is at most the gradient
 //!   tolerance, or when the cost is at most 1e-30 of the initial cost (a
-//!   zero residual); from the second iteration on, when a step (accepted,
+//!   zero residual), these two also after the last iteration the limit
+//!   allows; from the second iteration on, when a step (accepted,
 //!   or rejected but evaluated) is shorter than the parameter tolerance
 //!   relative to `‖x‖` and lowered the cost by at most 0.1% of it, or when
 //!   an accepted step lowered the cost by at most the cost tolerance
@@ -81,8 +82,9 @@ pub struct Minimized {
 /// (the solver's set-up), and every report's `elapsed` counts from it.
 ///
 /// An initial cost that is not finite (or negative) ends the solve at once
-/// as [`Verdict::Failed`], with no iteration and the model untouched: no
-/// step can be judged against it.
+/// as [`Verdict::Failed`], with no iteration and the model untouched (no
+/// step can be judged against it), as do options with a tolerance that is
+/// negative or NaN. `max_iterations: 0` runs one iteration.
 pub fn minimize<M: Model>(
     model: &mut M,
     initial_cost: f64,
@@ -91,11 +93,16 @@ pub fn minimize<M: Model>(
     options: &SolveOptions,
     mut on_iteration: impl FnMut(&Iteration),
 ) -> Minimized {
-    if !(initial_cost.is_finite() && initial_cost >= 0.0) {
+    let refusal = if !(initial_cost.is_finite() && initial_cost >= 0.0) {
+        Some(format!("the initial cost is {initial_cost}"))
+    } else {
+        options.invalid()
+    };
+    if let Some(why) = refusal {
         return Minimized {
             final_cost: initial_cost,
             history: Vec::new(),
-            verdict: Verdict::Failed(format!("the initial cost is {initial_cost}")),
+            verdict: Verdict::Failed(why),
         };
     }
     let mut cost = initial_cost;
@@ -111,7 +118,10 @@ pub fn minimize<M: Model>(
     let mut linearization = model.linearize(cost, bounds);
     let mut linearized_in = linearization_time.elapsed();
     let mut verdict = Verdict::IterationLimit;
-    for index in 0..options.max_iterations.max(1) {
+    let limit = options.max_iterations.max(1);
+    // One pass more than the limit allows steps: its tests at the values
+    // the last step reached count, then the limit stops it.
+    for index in 0..=limit {
         if !linearization.gradient_finite {
             verdict = Verdict::Failed("the normal equations are not finite".into());
             break;
@@ -128,6 +138,9 @@ pub fn minimize<M: Model>(
         };
         if let Some(why) = at_minimum {
             verdict = why.verdict(options);
+            break;
+        }
+        if index == limit {
             break;
         }
         let lambda_used = lambda;
@@ -154,7 +167,7 @@ pub fn minimize<M: Model>(
         let unsolvable = if prediction.is_none() {
             Some("the damped normal equations cannot be factorized")
         } else if rho.is_nan() && blocked.is_none() {
-            Some("the step's cost or its predicted decrease is beyond the range of f64")
+            Some("the step's cost or its predicted decrease is not finite")
         } else {
             None
         };
@@ -227,9 +240,6 @@ pub fn minimize<M: Model>(
         } else {
             None
         };
-        if index + 1 >= options.max_iterations.max(1) {
-            break;
-        }
         if let Some(why) = converged {
             verdict = why.verdict(options);
             break;
@@ -250,7 +260,8 @@ pub fn minimize<M: Model>(
             verdict = match (blocked.take(), unsolvable) {
                 (Some(refusal), _) => Verdict::Refused(refusal),
                 (None, Some(why)) => Verdict::Failed(format!(
-                    "{why} at any damping (values at the limits of f64's range?)"
+                    "{why} at any damping (a singular or indefinite system, NaN, or values at \
+                     the limits of f64's range)"
                 )),
                 (None, None) => Verdict::Stalled,
             };

@@ -3,7 +3,13 @@
 /// A least-squares problem as Levenberg–Marquardt sees it: current values,
 /// their normal equations `H δ = −g` (`H = JᵀJ`, `g = Jᵀr`, whitened), a
 /// step and the candidate values it reaches. The problem keeps all of it;
-/// the minimizer only orders the calls:
+/// the minimizer only orders the calls.
+///
+/// The cost is `½ Σ ‖rᵢ‖²` of the whitened residuals (the ½ matters: the
+/// predicted decrease `−gᵀδ − ½ δᵀHδ` and the cosine test assume it), `H`
+/// and `g` its Gauss–Newton matrix and gradient in the tangent coordinates
+/// the step is solved in; the problem retracts its values by the step
+/// itself (on a manifold, by its own retraction). The calls:
 ///
 /// 1. [`Model::linearize`] at the current values (once at the start, then
 ///    after every accepted step);
@@ -30,11 +36,13 @@ pub trait Model {
     /// [`Model::evaluate_step`] returned a cost).
     fn accept(&mut self);
 
-    /// `‖δ‖`, the last step's norm.
+    /// `‖δ‖`, the last step's norm in its tangent coordinates.
     fn step_norm(&self) -> f64;
 
-    /// `‖x‖`, the current values' norm (the parameter tolerance is relative
-    /// to it).
+    /// `‖x‖`, the current values' norm: the scale the parameter tolerance
+    /// is relative to (a step counts as short when `‖δ‖ ≤ tol (‖x‖ +
+    /// tol)`); for values on a manifold, the norm of their stored
+    /// coordinates (a unit quaternion counts 1).
     fn parameter_norm(&self) -> f64;
 }
 

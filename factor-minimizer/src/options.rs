@@ -42,6 +42,19 @@ impl Default for SolveOptions {
 }
 
 impl SolveOptions {
+    /// Why these options cannot run a solve: a tolerance that is negative
+    /// or NaN (`None` when they can).
+    pub fn invalid(&self) -> Option<String> {
+        [
+            ("cost", self.cost_tolerance),
+            ("parameter", self.parameter_tolerance),
+            ("gradient", self.gradient_tolerance),
+        ]
+        .into_iter()
+        .find(|(_, tolerance)| tolerance.is_nan() || *tolerance < 0.0)
+        .map(|(name, tolerance)| format!("the {name} tolerance is {tolerance}, not a number ≥ 0"))
+    }
+
     /// Tolerances at the level of rounding (1e-12, 1e-12, 1e-12) and
     /// `max_iterations`: a solve that runs to the optimum, for comparing
     /// final costs.

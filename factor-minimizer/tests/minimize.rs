@@ -268,3 +268,49 @@ fn a_zero_initial_cost_converges() {
     assert_eq!(minimized.final_cost, 0.0);
     assert_eq!(model.x, [1.0, 1.0]);
 }
+
+/// A criterion met at the last iteration the limit allows is the verdict:
+/// a limit of exactly the iterations an unlimited solve takes converges.
+#[test]
+fn a_criterion_met_at_the_last_allowed_iteration_converges() {
+    let mut unlimited = Rosenbrock::at(START);
+    let all = run(&mut unlimited, &SolveOptions::default());
+    assert!(all.verdict.is_converged(), "{all:?}");
+    let options = SolveOptions {
+        max_iterations: all.history.len(),
+        ..SolveOptions::default()
+    };
+    let mut limited = Rosenbrock::at(START);
+    let exact = run(&mut limited, &options);
+    assert_eq!(exact.verdict, all.verdict);
+    assert_eq!(limited.x, unlimited.x);
+    let options = SolveOptions {
+        max_iterations: all.history.len() - 1,
+        ..SolveOptions::default()
+    };
+    let short = run(&mut Rosenbrock::at(START), &options);
+    assert_eq!(short.verdict, Verdict::IterationLimit);
+}
+
+#[test]
+fn tolerances_that_are_not_numbers_at_least_zero_fail_at_once() {
+    for options in [
+        SolveOptions {
+            cost_tolerance: f64::NAN,
+            ..SolveOptions::default()
+        },
+        SolveOptions {
+            parameter_tolerance: -1e-8,
+            ..SolveOptions::default()
+        },
+    ] {
+        let mut model = Rosenbrock::at(START);
+        let minimized = run(&mut model, &options);
+        match &minimized.verdict {
+            Verdict::Failed(why) => assert!(why.contains("tolerance is"), "{why}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(minimized.history.is_empty());
+    }
+    assert_eq!(SolveOptions::default().invalid(), None);
+}

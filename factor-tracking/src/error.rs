@@ -48,7 +48,8 @@ pub enum PoseError {
     /// residual directions, e.g. two points).
     #[error(
         "the {observations} observations ({rows} residuals) do not determine the 6-dof pose: \
-         the Gauss–Newton matrix's smallest eigenvalue is {ratio:.1e} of its largest"
+         with every Jacobian row scaled to unit norm, the Gauss–Newton matrix's smallest \
+         eigenvalue is {ratio:.1e} of its largest"
     )]
     Underdetermined {
         /// The observations (those defined at the initial pose, when some

@@ -6,6 +6,7 @@ use factor_core::{Manifold, Perturbation, Storage};
 use factor_minimizer::{Damped, Linearization, Model, Prediction, Trial};
 use nalgebra::Vector6;
 
+use crate::error::PoseError;
 use crate::observations::{Normal, Terms, normal};
 
 /// The pose, its normal equations, and the trial step's.
@@ -21,6 +22,8 @@ pub(crate) struct PoseModel<'t> {
     step: Vector6<f64>,
     candidate: Se3<f64>,
     next: Option<Normal>,
+    /// The observation that refused the last trial it refused.
+    pub(crate) refused: Option<usize>,
 }
 
 impl<'t> PoseModel<'t> {
@@ -40,6 +43,7 @@ impl<'t> PoseModel<'t> {
             step: Vector6::zeros(),
             candidate: pose,
             next: None,
+            refused: None,
         }
     }
 }
@@ -75,7 +79,14 @@ impl Model for PoseModel<'_> {
             }
             Err(error) => {
                 self.next = None;
-                Trial::Refused(error.to_string())
+                // The factor's own words; which observation, by index.
+                Trial::Refused(match error {
+                    PoseError::Observation { observation, error } => {
+                        self.refused = Some(observation);
+                        error.to_string()
+                    }
+                    other => other.to_string(),
+                })
             }
         }
     }

@@ -48,8 +48,15 @@ impl Normal {
 /// Observations of any factor type, as the problem holds them.
 pub(crate) trait Terms {
     /// Adds the cost and normal equations of the active observations at
-    /// the pose stored as `pose` (`H`'s upper triangle only) to `normal`.
-    fn accumulate(&mut self, pose: &[f64; 7], normal: &mut Normal) -> Result<(), PoseError>;
+    /// the pose stored as `pose` (`H`'s upper triangle only) to `normal`,
+    /// and to `determination`, when given, `Σ uuᵀ` over the whitened rows
+    /// `u` of their Jacobians each scaled to unit norm (upper triangle).
+    fn accumulate(
+        &mut self,
+        pose: &[f64; 7],
+        normal: &mut Normal,
+        determination: Option<&mut Matrix6<f64>>,
+    ) -> Result<(), PoseError>;
     /// Sets aside the observations whose residual is undefined at `pose`
     /// (inactive), the others active; returns how many were set aside.
     fn set_aside_undefined(&mut self, pose: &[f64; 7]) -> usize;
@@ -147,7 +154,12 @@ impl<F: Factor> Observations<F> {
 }
 
 impl<F: Factor + 'static> Terms for Observations<F> {
-    fn accumulate(&mut self, pose: &[f64; 7], normal: &mut Normal) -> Result<(), PoseError> {
+    fn accumulate(
+        &mut self,
+        pose: &[f64; 7],
+        normal: &mut Normal,
+        mut determination: Option<&mut Matrix6<f64>>,
+    ) -> Result<(), PoseError> {
         let dim = F::RESIDUAL_DIM;
         let chunks = self
             .stored
@@ -187,6 +199,9 @@ impl<F: Factor + 'static> Terms for Observations<F> {
                     for b in a..6 {
                         normal.hessian[(a, b)] += row[a] * row[b];
                     }
+                }
+                if let Some(d) = determination.as_deref_mut() {
+                    add_unit_row(d, &row[..6]);
                 }
             }
         }
@@ -231,16 +246,53 @@ impl<F: Factor + 'static> Terms for Observations<F> {
     }
 }
 
-/// The normal equations of `terms` at the pose stored as `pose`.
-pub(crate) fn normal(terms: &mut [Box<dyn Terms>], pose: &[f64; 7]) -> Result<Normal, PoseError> {
-    let mut normal = Normal::zero();
-    for t in terms {
-        t.accumulate(pose, &mut normal)?;
+/// `d += uuᵀ/‖u‖²` (upper triangle) for the Jacobian row `u`: a row of
+/// zeros adds nothing; its scale, and so its weight, does not count.
+fn add_unit_row(d: &mut Matrix6<f64>, row: &[f64]) {
+    let scale = row.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if !(scale > 0.0 && scale.is_finite()) {
+        return;
     }
+    let mut u = [0.0; 6];
+    for (u, x) in u.iter_mut().zip(row) {
+        *u = x / scale;
+    }
+    let squared: f64 = u.iter().map(|x| x * x).sum();
     for a in 0..6 {
-        for b in 0..a {
-            normal.hessian[(a, b)] = normal.hessian[(b, a)];
+        for b in a..6 {
+            d[(a, b)] += u[a] * u[b] / squared;
         }
     }
+}
+
+/// The normal equations of `terms` at the pose stored as `pose`.
+pub(crate) fn normal(terms: &mut [Box<dyn Terms>], pose: &[f64; 7]) -> Result<Normal, PoseError> {
+    normal_with(terms, pose, None)
+}
+
+/// [`normal`], and `Σ uuᵀ` of the unit Jacobian rows into `determination`
+/// when given (both made symmetric).
+pub(crate) fn normal_with(
+    terms: &mut [Box<dyn Terms>],
+    pose: &[f64; 7],
+    mut determination: Option<&mut Matrix6<f64>>,
+) -> Result<Normal, PoseError> {
+    let mut normal = Normal::zero();
+    for t in terms {
+        t.accumulate(pose, &mut normal, determination.as_deref_mut())?;
+    }
+    symmetric(&mut normal.hessian);
+    if let Some(d) = determination {
+        symmetric(d);
+    }
     Ok(normal)
+}
+
+/// The lower triangle of `m` from its upper one.
+fn symmetric(m: &mut Matrix6<f64>) {
+    for a in 0..6 {
+        for b in 0..a {
+            m[(a, b)] = m[(b, a)];
+        }
+    }
 }

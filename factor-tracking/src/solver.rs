@@ -7,10 +7,11 @@ use factor_core::{Factor, Perturbation, Storage};
 
 use factor_core::noise::Noise;
 use factor_minimizer::{Damping, SolveOptions, Verdict, minimize};
+use nalgebra::Matrix6;
 
 use crate::error::PoseError;
 use crate::model::PoseModel;
-use crate::observations::{Normal, Observations, Terms, normal};
+use crate::observations::{Normal, Observations, Terms, normal, normal_with};
 
 /// When [`PoseProblem::solve`] stops, and when it refuses a pose as
 /// undetermined.
@@ -19,7 +20,9 @@ pub struct Options {
     /// The shared Levenberg–Marquardt's stopping criteria
     /// ([`SolveOptions`]).
     pub solve: SolveOptions,
-    /// The Gauss–Newton matrix at the initial pose must have its smallest
+    /// At the initial pose, `Σ uuᵀ` of the observations' whitened Jacobian
+    /// rows `u` scaled to unit norm (the Gauss–Newton matrix with every
+    /// row weighted alike, whatever its noise model) must have its smallest
     /// eigenvalue above this fraction of its largest.
     pub min_eigenvalue_ratio: f64,
 }
@@ -58,6 +61,10 @@ pub struct PoseSolution {
     /// it), left out of a first solve whose pose started the solve with
     /// all of them.
     pub deferred: usize,
+    /// With [`Verdict::Refused`], the observation (its index, as
+    /// [`PoseProblem::add`] returned it) whose refusal of a trial pose
+    /// ended the solve.
+    pub refused: Option<usize>,
 }
 
 /// One pose's observations against a fixed map: factors of any types, each
@@ -176,7 +183,7 @@ impl PoseProblem {
         options: &Options,
     ) -> Result<PoseSolution, PoseError> {
         let side = self.side().ok_or(PoseError::NoObservations)?;
-        let undefined = match self.normal(initial) {
+        let undefined = match self.start(initial) {
             Ok(start) => return self.iterate(initial, start, side, options, 0),
             Err(error @ PoseError::Observation { .. }) => error,
             Err(other) => return Err(other),
@@ -198,31 +205,43 @@ impl PoseProblem {
             return Err(undefined);
         }
         let first = self
-            .normal(initial)
+            .start(initial)
             .and_then(|start| self.iterate(initial, start, side, options, 0));
         for t in &mut self.terms {
             t.activate_all();
         }
         let first = first?;
-        let start = self.normal(&first.pose)?;
+        let start = self.start(&first.pose)?;
         let mut solution = self.iterate(&first.pose, start, side, options, first.iterations)?;
         solution.initial_cost = f64::NAN;
         solution.deferred = deferred;
         Ok(solution)
     }
 
+    /// The normal equations at `pose` and how well the active
+    /// observations determine it: `Σ uuᵀ` of their whitened Jacobian rows
+    /// `u` scaled to unit norm, which no noise model's scale moves (one
+    /// observation weighted by σ = 1e-90 made `H` itself look singular).
+    fn start(&mut self, pose: &Se3<f64>) -> Result<(Normal, Matrix6<f64>), PoseError> {
+        let mut stored = [0.0; 7];
+        pose.write_scalars(&mut stored);
+        let mut determination = Matrix6::zeros();
+        let normal = normal_with(&mut self.terms, &stored, Some(&mut determination))?;
+        Ok((normal, determination))
+    }
+
     /// Levenberg–Marquardt on the active observations from `initial`,
-    /// whose normal equations are `current`, the iterations counted from
-    /// `iterations`.
+    /// whose normal equations and determination are `start` ([`Self::start`]),
+    /// the iterations counted from `iterations`.
     fn iterate(
         &mut self,
         initial: &Se3<f64>,
-        current: Normal,
+        (current, determination): (Normal, Matrix6<f64>),
         side: Perturbation,
         options: &Options,
         iterations: usize,
     ) -> Result<PoseSolution, PoseError> {
-        let eigenvalues = current.hessian.symmetric_eigenvalues();
+        let eigenvalues = determination.symmetric_eigenvalues();
         let ratio = eigenvalues.min() / eigenvalues.max();
         // Also refuses a NaN (incomparable).
         if ratio.partial_cmp(&options.min_eigenvalue_ratio) != Some(std::cmp::Ordering::Greater) {
@@ -248,6 +267,9 @@ impl PoseProblem {
             iterations: iterations + minimized.history.len(),
             initial_cost,
             cost: minimized.final_cost,
+            refused: matches!(minimized.verdict, Verdict::Refused(_))
+                .then_some(model.refused)
+                .flatten(),
             verdict: minimized.verdict,
             deferred: 0,
         })

@@ -8,7 +8,7 @@ use factor_core::geometry::{InfinitePlane, Intrinsics, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, So3};
 use factor_core::nalgebra::{DMatrix, Isometry3, Matrix6, Unit, Vector6};
 use factor_core::{Factor, Storage};
-use factor_tracking::{Noise, Options, PoseError, PoseProblem, SolveOptions};
+use factor_tracking::{Noise, Options, PoseError, PoseProblem, SolveOptions, Verdict};
 use slam_data::plp_scene::{PlpConfig, PlpScene, generate};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 
@@ -348,4 +348,35 @@ fn observations_behind_the_start_are_deferred() {
         }
     }
     assert!(deferred > 0, "no observation was behind a starting camera");
+}
+
+/// How well the observations determine the pose does not depend on their
+/// weights: one observation of σ = 1e-90 among the frame's others (which
+/// made the Gauss–Newton matrix itself look singular, its smallest
+/// eigenvalue 1e-17 of its largest) does not make the frame undetermined.
+#[test]
+fn a_heavily_weighted_observation_leaves_the_pose_determined() {
+    let scene = generate(&PlpConfig::room(1).noise_free()).unwrap();
+    let [fu, fv, cu, cv] = scene.config.intrinsics;
+    let initial = se3(&scene.initial.cameras[0]);
+    let mut problem = PoseProblem::new();
+    let seen = scene.point_observations.iter().filter(|o| o.camera == 0);
+    for (k, o) in seen.enumerate() {
+        let factor = PointReprojection {
+            intrinsics: Intrinsics::new(fu, fv, cu, cv),
+            observed: o.pixel,
+            pose: initial,
+            point: scene.truth.points[o.point],
+        };
+        let sigma = if k == 0 { 1e-90 } else { 1.0 };
+        problem.add(&factor, &Noise::Sigma(sigma)).unwrap();
+    }
+    let solution = problem.solve(&initial, &Options::default()).unwrap();
+    // In `H` itself the other rows are below the rounding of that one's
+    // (1e180 times theirs): f64 cannot solve for the steps, and the
+    // verdict says so rather than calling the pose undetermined.
+    assert!(
+        matches!(&solution.verdict, Verdict::Failed(why) if why.contains("cannot be factorized")),
+        "{solution:?}"
+    );
 }

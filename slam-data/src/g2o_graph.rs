@@ -13,7 +13,7 @@ use std::collections::{HashMap, HashSet};
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector4, Vector6};
 
 use crate::checks::{check_information, check_semidefinite_information};
-use crate::input::all_in_range;
+use crate::input::{MAX_MAGNITUDE, all_in_range, in_range};
 use crate::pose_graph::{Edge, Pose, PoseGraph, Vertex};
 
 /// `PARAMS_SE3OFFSET id x y z qx qy qz qw`: a sensor offset parameter, the
@@ -433,8 +433,19 @@ fn check_line(line: &Vector6<f64>) -> Result<(), String> {
     if d == Vector3::zeros() {
         return Err("the line direction d is zero".into());
     }
-    if w != Vector3::zeros() {
-        let cosine = w.normalize().dot(&d.normalize());
+    // Each vector divided by its largest entry first, so that no square
+    // underflows (a direction of 1e-200).
+    let (w_max, d_max) = (w.amax(), d.amax());
+    let (w_scaled, d_scaled) = (w / w_max.max(f64::MIN_POSITIVE), d / d_max);
+    let distance = w_max * w_scaled.norm() / (d_max * d_scaled.norm());
+    if !in_range(distance) {
+        return Err(format!(
+            "the line is {distance:.1e} from the origin (|w| / |d|), beyond the range of \
+             coordinates (at most {MAX_MAGNITUDE:e})"
+        ));
+    }
+    if w_max > 0.0 {
+        let cosine = w_scaled.normalize().dot(&d_scaled.normalize());
         if cosine.abs() > PLUCKER_COSINE {
             return Err(format!(
                 "not a Plücker line: the moment w and the direction d must be perpendicular \

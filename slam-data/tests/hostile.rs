@@ -672,6 +672,17 @@ fn g2o_line_graph_defects() {
         ),
         (
             2,
+            "VERTEX_LINE3D 1 -5 0 0 0 1e-100 0",
+            "the line is 5.0e100 from the origin (|w| / |d|), beyond the range of coordinates (at \
+             most 1e100)",
+        ),
+        (
+            2,
+            "VERTEX_LINE3D 1 -5 0 0 0 1e-300 0",
+            "the line is 5.0e300 from the origin",
+        ),
+        (
+            2,
             "VERTEX_LINE3D 1 -5 0 nan 0 1 0",
             "expected a finite number, found `nan`",
         ),

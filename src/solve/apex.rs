@@ -33,7 +33,6 @@ pub(super) fn run(
         // Degenerate geometry, the solver's or the adapter's refusal.
         _ => CliError::Solve(at(&args.file, e)),
     })?;
-    let before = problems::reprojection_errors(data);
     let setup = report::Setup {
         blocks: built.blocks,
         solver: format!("(apex-solver), {:?}", built.linear_solver),
@@ -42,7 +41,7 @@ pub(super) fn run(
     progress::print(&report::header(&args.file, data, &setup, args));
     let outcome = solve_built(args, &mut built)?;
     let solved = built.write_back(data, &outcome.values);
-    finish(args, &solved, truth, before, &finished(&built, &outcome))
+    finish(args, data, &solved, truth, &finished(&built, &outcome))
 }
 
 /// Reads, solves and reports a problem file, and writes it back with the

@@ -293,16 +293,17 @@ fn finish_file(
 
 /// The end of either path: the verdict, the errors against the ground
 /// truth where there is one ([`truth`]), the plot, the output file and the
-/// summary, with the reprojection errors `before` the solve and those of
-/// the `solved` problem. Nothing is written after a failed solve, or when
-/// the errors against the truth cannot be measured.
+/// summary, with the reprojection errors of the `initial` problem and of
+/// the `solved` one. Nothing is written after a failed solve, or when the
+/// errors against the truth cannot be measured.
 fn finish(
     args: &SolveArgs,
+    initial: &slam_data::Problem,
     solved: &slam_data::Problem,
     truth: Option<&truth::Truth>,
-    before: Option<Vec<f64>>,
     finished: &report::Finished<'_>,
 ) -> Result<String, CliError> {
+    let before = problems::reprojection_errors(initial);
     let after = problems::reprojection_errors(solved);
     let errors = before.as_deref().zip(after.as_deref());
     if let Verdict::Failed(why) = &finished.verdict {
@@ -314,9 +315,10 @@ fn finish(
     }
     let refused =
         |why: String| CliError::Solve(at(&args.file, format!("{why}; no output written")));
-    if let slam_data::Problem::G2oAddons(graph) = solved {
-        let tolerance = problem_file::solution_tolerance(&finished.verdict);
-        graph_checks::check_solution(graph, tolerance).map_err(refused)?;
+    if let (slam_data::Problem::G2oAddons(initial), slam_data::Problem::G2oAddons(graph)) =
+        (initial, solved)
+    {
+        graph_checks::check_solution(initial, graph, &finished.verdict).map_err(refused)?;
     }
     let truth = truth
         .map(|truth| truth.describe(solved))

@@ -239,8 +239,9 @@ pub fn summary(
     };
     let mut lines = vec![
         format!(
-            "summary: {verdict} after {} iterations in {}",
+            "summary: {verdict} after {} iteration{} in {}",
             outcome.iterations,
+            if outcome.iterations == 1 { "" } else { "s" },
             duration(outcome.elapsed)
         ),
         format!(

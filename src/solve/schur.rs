@@ -4,7 +4,6 @@
 //! lane batches or from each factor's Jacobians, the reduced system by
 //! faer's Cholesky).
 
-use factor_apex::problems;
 use factor_minimizer::SolveOptions;
 use factor_schur::problems::BuildError;
 use factor_schur::{Linearized, Outcome, Profile, Solver};
@@ -64,7 +63,6 @@ pub(super) fn run(
         // Degenerate geometry, the solver's or the adapter's refusal.
         _ => CliError::Solve(at(&args.file, e)),
     })?;
-    let before = problems::reprojection_errors(data);
     let blocks = built.blocks;
     let eliminated = built.problem.eliminated_count();
     let variables = built.problem.variable_count();
@@ -80,7 +78,7 @@ pub(super) fn run(
     let outcome = iterate(args, solver, blocks);
     let solved = built.write_back(data);
     let finished = finished(&outcome, blocks);
-    finish(args, &solved, truth, before, &finished)
+    finish(args, data, &solved, truth, &finished)
 }
 
 /// Runs `solver` with the command line's options (`args`), its progress

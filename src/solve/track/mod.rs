@@ -174,8 +174,11 @@ fn track(args: &TrackArgs, sequence: &Sequence, kinds: &Kinds) -> Result<Vec<Tra
         if !solution.verdict.is_converged() {
             // An observation undefined near the estimate (a map point at the
             // camera centre) stalls the steps: named where it is one.
-            let why = match problem.normal(&solution.pose) {
-                Err(PoseError::Observation { observation, error }) => format!(
+            let why = match (solution.refused, problem.normal(&solution.pose)) {
+                (Some(observation), _) => {
+                    format!("; factors[{}] refused the steps", factors[observation])
+                }
+                (None, Err(PoseError::Observation { observation, error })) => format!(
                     "; factors[{}] is undefined at the last estimate: {error}",
                     factors[observation]
                 ),

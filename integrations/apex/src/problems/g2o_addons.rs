@@ -11,7 +11,7 @@
 //! | `VERTEX_PLANE` | `InfinitePlane` | the same |
 //! | `VERTEX_TRACKXYZ` | `Vector3` (Euclidean) | the same |
 //! | `EDGE_SE3:QUAT` | [`G2oSe3Edge`](slam_factors::G2oSe3Edge), generated kernel | the same |
-//! | `EDGE_SE3_LINE3D` | [`G2oLineEdge`](slam_factors::G2oLineEdge), dual numbers | [`LineObservation`](slam_factors::LineObservation) (generated kernel) on `X⁻¹` ([`InversePose`](crate::inverse_pose::InversePose)), information moved into its residual space ([`slam_factors::g2o::line_observation`]) |
+//! | `EDGE_SE3_LINE3D` | [`G2oLineEdge`](slam_factors::G2oLineEdge), dual numbers | [`LineObservation`](slam_factors::LineObservation) (generated kernel) on `X⁻¹` ([`InversePose`]), information moved into its residual space ([`slam_factors::g2o::line_observation`]) |
 //! | `EDGE_SE3_PLANE_CALIB` | [`G2oPlaneEdge`](slam_factors::G2oPlaneEdge), dual numbers | [`PlaneFactor`](slam_factors::PlaneFactor) (generated kernel) on `X⁻¹`, the measurement moved into the body frame through the offset, which must be fixed ([`slam_factors::g2o::plane_observation`]) |
 //! | `EDGE_SE3_TRACKXYZ` | [`G2oPointEdge`](slam_factors::G2oPointEdge), dual numbers, its `PARAMS_SE3OFFSET` a constant | the same |
 //! | `EDGE_SE3_PRIOR` | [`G2oPriorEdge`](slam_factors::G2oPriorEdge), dual numbers, its `PARAMS_SE3OFFSET` a constant | the same |
@@ -227,7 +227,7 @@ fn within(error: BuildError, which: &dyn Fn() -> String) -> BuildError {
 }
 
 /// Adds a documents' factor whose first variable is the world-to-camera
-/// pose, on the body-to-world pose variable `keys[0]` ([`InversePose`](crate::inverse_pose::InversePose)).
+/// pose, on the body-to-world pose variable `keys[0]` ([`InversePose`]).
 fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + 'static>(
     builder: &mut ProblemBuilder,
     factor: &F,
