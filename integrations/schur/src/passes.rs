@@ -230,6 +230,40 @@ pub(crate) fn retract(
     });
 }
 
+/// The cost, each factor's squared norm and the normal equations of
+/// `problem` at its values, by the passes split into `parts` parts
+/// whatever the problem's size (for tests of the threads' shares).
+#[cfg(test)]
+pub(crate) fn at_values(
+    problem: &Problem,
+    structure: &Structure,
+    parts: usize,
+) -> (f64, Vec<Vec<f64>>, Normal) {
+    let offsets: Vec<usize> = structure
+        .storage_order
+        .iter()
+        .map(|&id| problem.variables[id as usize].offset)
+        .collect();
+    let values = Values {
+        scalars: &problem.values,
+        offsets: &offsets,
+    };
+    let partition = Partition::forced(structure, parts);
+    let mut squared: Vec<Vec<f64>> = problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
+    let (cost, rejected) = evaluate(problem, values, &partition, &mut squared);
+    assert_eq!(rejected.count, 0, "a factor rejects the values");
+    let mut normal = Normal::zeros(structure);
+    linearize(
+        problem,
+        values,
+        structure,
+        &partition,
+        &squared,
+        &mut normal,
+    );
+    (cost, squared, normal)
+}
+
 /// The passes split among threads give what one thread gives, on a g2o
 /// graph whose lines (seen from every pose) stay in the reduced system, so
 /// that every factor is in the tail the parts share.
@@ -247,33 +281,7 @@ mod tests {
         let mut built = build(&data, None, factor_apex::Kernels::Generated).unwrap();
         let problem = &mut built.problem;
         let structure = problem.structure().unwrap();
-        let offsets: Vec<usize> = structure
-            .storage_order
-            .iter()
-            .map(|&id| problem.variables[id as usize].offset)
-            .collect();
-        let values = Values {
-            scalars: &problem.values,
-            offsets: &offsets,
-        };
-        let run = |parts: usize| {
-            let partition = Partition::forced(&structure, parts);
-            let mut squared: Vec<Vec<f64>> =
-                problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
-            let (cost, rejected) = evaluate(problem, values, &partition, &mut squared);
-            assert_eq!(rejected.count, 0);
-            let mut normal = Normal::zeros(&structure);
-            linearize(
-                problem,
-                values,
-                &structure,
-                &partition,
-                &squared,
-                &mut normal,
-            );
-            (cost, squared, normal)
-        };
-        let (cost, squared, normal) = run(1);
+        let (cost, squared, normal) = at_values(problem, &structure, 1);
         for parts in [2, 3] {
             let partition = Partition::forced(&structure, parts);
             // Every factor is in the tail, and every part has a share.
@@ -281,7 +289,7 @@ mod tests {
                 let [with, tail] = partition.ranges(g, parts - 1);
                 assert!(with.is_empty() && !tail.is_empty(), "group {g}");
             }
-            let (c, s, n) = run(parts);
+            let (c, s, n) = at_values(problem, &structure, parts);
             let close = |a: &[f64], b: &[f64]| {
                 let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
                 a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale)

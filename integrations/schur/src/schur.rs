@@ -663,7 +663,6 @@ mod dense {
     use slam_data::synthetic::{SyntheticConfig, generate};
 
     use super::*;
-    use crate::group::Values;
     use crate::partition::Partition;
     use crate::passes;
     use crate::problems::{Keys, build};
@@ -755,31 +754,11 @@ mod dense {
         let n = structure.csc.dim();
         let el = &structure.eliminated;
         let problem = &built.problem;
-        let offsets: Vec<usize> = structure
-            .storage_order
-            .iter()
-            .map(|&id| problem.variables[id as usize].offset)
-            .collect();
-        let values = Values {
-            scalars: &problem.values,
-            offsets: &offsets,
-        };
         // On one thread and on three (each its own copy of U, summed).
         for threads in [1, 3] {
             let partition = Partition::forced(&structure, threads);
-            let mut squared: Vec<Vec<f64>> =
-                problem.groups.iter().map(|g| vec![0.0; g.len()]).collect();
-            let (cost, rejected) = passes::evaluate(problem, values, &partition, &mut squared);
-            assert!(cost.is_finite() && rejected.count == 0);
-            let mut normal = Normal::zeros(&structure);
-            passes::linearize(
-                problem,
-                values,
-                &structure,
-                &partition,
-                &squared,
-                &mut normal,
-            );
+            let (cost, _, normal) = passes::at_values(problem, &structure, threads);
+            assert!(cost.is_finite());
             // U: every stored entry of S's lower triangle, and nothing
             // outside the structure.
             let csc = &structure.csc;
