@@ -114,9 +114,7 @@ pub fn minimize<M: Model>(
     let mut blocked: Option<String> = None;
     let mut history = Vec::new();
     let mut last = start;
-    let mut linearization_time = Instant::now();
-    let mut linearization = model.linearize(cost, bounds);
-    let mut linearized_in = linearization_time.elapsed();
+    let (mut linearization, mut linearized_in) = timed(|| model.linearize(cost, bounds));
     let mut verdict = Verdict::IterationLimit;
     let limit = options.max_iterations.max(1);
     // One pass more than the limit allows steps: its tests at the values
@@ -148,12 +146,12 @@ pub fn minimize<M: Model>(
         let mut evaluation = Duration::ZERO;
         let mut new_cost = None;
         if prediction.is_some() {
-            let evaluation_start = Instant::now();
-            match model.evaluate_step() {
+            let trial;
+            (trial, evaluation) = timed(|| model.evaluate_step());
+            match trial {
                 Trial::Cost(c) => new_cost = Some(c),
                 Trial::Refused(why) => blocked = Some(why),
             }
-            evaluation = evaluation_start.elapsed();
         }
         let rho = match (prediction, new_cost) {
             (Some(p), Some(c)) if c.is_finite() => {
@@ -269,9 +267,7 @@ pub fn minimize<M: Model>(
         }
         last = Instant::now();
         if accepted {
-            linearization_time = Instant::now();
-            linearization = model.linearize(cost, bounds);
-            linearized_in = linearization_time.elapsed();
+            (linearization, linearized_in) = timed(|| model.linearize(cost, bounds));
         } else {
             linearized_in = Duration::ZERO;
         }
@@ -281,6 +277,13 @@ pub fn minimize<M: Model>(
         history,
         verdict,
     }
+}
+
+/// `f()` and its wall time.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
+    let start = Instant::now();
+    let value = f();
+    (value, start.elapsed())
 }
 
 /// The gain ratio, as apex-solver computes it: the actual decrease over

@@ -101,8 +101,6 @@ pub struct Solver<'p> {
     buffers: StepBuffers,
     profile: Profile,
     rejected: Rejected,
-    /// The message of the last evaluation pass a factor rejected.
-    last_rejection: Option<String>,
     start: Instant,
     initial_cost: f64,
 }
@@ -152,19 +150,17 @@ impl<'p> Solver<'p> {
             reduced,
             profile,
             rejected: Rejected::default(),
-            last_rejection: None,
             problem,
             start,
             initial_cost: f64::NAN,
         };
         // The candidate holds the initial values.
         solver.initial_cost = match solver.evaluate_candidate() {
-            Some(cost) if cost.is_finite() => cost,
-            Some(cost) => return Err(SolveError::Initial(format!("the initial cost is {cost}"))),
-            None => {
+            Ok(cost) if cost.is_finite() => cost,
+            Ok(cost) => return Err(SolveError::Initial(format!("the initial cost is {cost}"))),
+            Err(why) => {
                 return Err(SolveError::Initial(format!(
-                    "a factor is degenerate at the initial values: {}",
-                    solver.rejected.first.clone().unwrap_or_default()
+                    "a factor is degenerate at the initial values: {why}"
                 )));
             }
         };
@@ -207,9 +203,10 @@ impl<'p> Solver<'p> {
         self.profile.linearization += start.elapsed();
     }
 
-    /// The cost at the candidate values (`None` where a factor rejects its
-    /// configuration); their squared norms in `trial_squared`.
-    fn evaluate_candidate(&mut self) -> Option<f64> {
+    /// The cost at the candidate values, or the message of the first factor
+    /// that rejects its configuration there; their squared norms in
+    /// `trial_squared`.
+    fn evaluate_candidate(&mut self) -> Result<f64, String> {
         let start = Instant::now();
         let values = Values {
             scalars: &self.candidate,
@@ -222,12 +219,9 @@ impl<'p> Solver<'p> {
             &mut self.trial_squared,
         );
         self.profile.evaluation += start.elapsed();
-        let ok = rejected.count == 0;
-        if !ok {
-            self.last_rejection.clone_from(&rejected.first);
-        }
+        let refusal = (rejected.count > 0).then(|| rejected.first.clone().unwrap_or_default());
         self.rejected.merge(rejected);
-        ok.then_some(cost)
+        refusal.map_or(Ok(cost), Err)
     }
 
     /// Minimises the cost from the problem's values, which hold the
@@ -294,8 +288,8 @@ impl Model for Solver<'_> {
         );
         self.profile.retract += retract_start.elapsed();
         match self.evaluate_candidate() {
-            Some(cost) => Trial::Cost(cost),
-            None => Trial::Refused(self.last_rejection.clone().unwrap_or_default()),
+            Ok(cost) => Trial::Cost(cost),
+            Err(why) => Trial::Refused(why),
         }
     }
 
