@@ -115,17 +115,22 @@ pub fn shipped() -> Registry {
 
 /// The shipped factors also in the Schur-complement solver's problems:
 /// those whose kernels have fused normal equations ([`shipped_kernels`]) in
-/// lane batches, the pose-graph and g2o factors one at a time. Not
-/// `PluckerLineReprojection`: the Schur path retracts each variable by its
-/// own manifold, and a `PluckerLine`'s is a free 6-vector that leaves the
-/// Klein quadric and carries a scale no residual sees; its files go to
-/// apex-solver, which solves the line in the orthonormal chart
-/// (`HostMap<Apex>`).
+/// lane batches, the pose-graph and g2o factors one at a time.
+/// `PluckerLineReprojection` goes as `LineReprojection`, the same residual
+/// with its line in the orthonormal chart
+/// ([`crate::schur_assembly::add_plucker_line`]): the Schur path retracts
+/// each variable by its own manifold, and a `PluckerLine`'s is a free
+/// 6-vector that leaves the Klein quadric and carries a scale no residual
+/// sees.
 #[cfg(feature = "solve")]
 fn with_schur(registry: Registry) -> Registry {
     registry
         .solve_with_schur::<PointReprojection>()
         .solve_with_schur::<LineReprojection>()
+        .solve_with_schur_by::<PluckerLineReprojection>(
+            crate::schur_assembly::add_plucker_line,
+            factor_schur::Linearized::Batch,
+        )
         .solve_with_schur::<PlaneFactor>()
         .solve_with_schur::<FreeLineFactor>()
         .solve_with_schur::<LineObservation>()

@@ -156,9 +156,10 @@ impl Registry {
     /// file whose factors are not all registered so goes to apex-solver
     /// (`--solver auto`, saying why) or is refused (`--solver schur`).
     /// A factor on a variable whose own manifold is not the one to solve
-    /// on (the shipped `PluckerLine`, a free 6-vector there, solved in the
-    /// orthonormal chart by its `HostMap<Apex>`) stays with
-    /// [`Registry::solve_with_kernel`].
+    /// on (a free 6-vector such as the shipped `PluckerLine`) must not be
+    /// registered so: `slamjac`'s own registry solves
+    /// `plucker_line_reprojection` as `line_reprojection`, its line in the
+    /// orthonormal chart.
     /// Only in a build with `slamjac`'s feature `solve`.
     #[cfg(feature = "solve")]
     pub fn solve_with_schur<F>(self) -> Self
@@ -167,12 +168,23 @@ impl Registry {
         F::Kernel: factor_lanes::NormalKernel<factor_schur::problem::Lane>
             + factor_lanes::NormalKernel<f64>,
     {
-        let mut registry = self.solve_with_kernel::<F>();
-        registry.entry::<F>().schur = Some((
+        self.solve_with_kernel::<F>().solve_with_schur_by::<F>(
             crate::schur_assembly::add_schur::<F>,
             factor_schur::Linearized::Batch,
-        ));
-        registry
+        )
+    }
+
+    /// Factor `F`, registered for problem files already, put in the
+    /// Schur-complement solver's problem by `add`, linearized as
+    /// `linearized` says.
+    #[cfg(feature = "solve")]
+    pub(crate) fn solve_with_schur_by<F: Factor>(
+        mut self,
+        add: crate::schur_assembly::SchurAddFn,
+        linearized: factor_schur::Linearized,
+    ) -> Self {
+        self.entry::<F>().schur = Some((add, linearized));
+        self
     }
 
     /// Lets `solve` put factor `F`, registered for problem files already
@@ -197,11 +209,10 @@ impl Registry {
             "{} is not registered for problem files (solve_with_kernel or solve_with_dual)",
             F::NAME
         );
-        entry.schur = Some((
+        self.solve_with_schur_by::<F>(
             crate::schur_assembly::add_each::<F>,
             factor_schur::Linearized::per_factor::<F>(factor_schur::Jacobians::Kernel),
-        ));
-        self
+        )
     }
 
     /// Adds factor `F` (as [`Registry::with`]) and lets `solve` read it

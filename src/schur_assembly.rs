@@ -13,12 +13,14 @@ use std::collections::HashMap;
 
 use factor_apex::Kernels;
 use factor_apex::problems::Robust;
+use factor_core::geometry::{OrthonormalLine, PluckerLine};
 use factor_core::noise::Noise;
 use factor_core::{Factor, FactorError, FieldInfo, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
+use slam_factors::{LineReprojection, PluckerLineReprojection};
 
 use crate::decode::{FieldsCache, decode_with};
 use crate::error::CliError;
@@ -102,11 +104,59 @@ where
     })
 }
 
-/// Decodes `entry` as an `F`, creates its variables at the first factor
-/// that names them, and adds it with its noise and loss by `add`. A
-/// variable whose chart differs between factors (`SchurError::Chart`) is
-/// not an error: the file goes to apex-solver, the reason kept in
+/// [`SchurAddFn`] of `plucker_line_reprojection`, whose line is a free
+/// 6-vector in its own manifold (it would leave the Klein quadric, and its
+/// scale, which no residual sees, would be left undetermined): solved as
+/// `line_reprojection`, the same residual (document 000 (6)–(8); `𝒦 n_c`
+/// is divided by its own norm, so the line's scale cancels), its line in
+/// the orthonormal chart, `(U, W) ∈ SO(3) × SO(2)`, 4 dof. A value off the
+/// quadric is put on it first, as the apex path does
+/// ([`OrthonormalLine::projected_from_plucker`]); the solved line is
+/// written back as Plücker coordinates with a unit direction
+/// ([`crate::solve`]'s `value_json`). A line through the world origin
+/// (`n = 0`), where the chart is singular (`n = w₁ u₁` does not move as
+/// `U` turns about `u₂`), goes to apex-solver, the reason kept in
 /// [`SchurAssembly::unsupported`].
+pub(crate) fn add_plucker_line(
+    assembly: &mut SchurAssembly,
+    entry: &Entry,
+) -> Result<(), CliError> {
+    let fields = assembly.fields.of::<PluckerLineReprojection>();
+    let given: PluckerLineReprojection = decode_with(&fields, entry.variables, entry.constants)?;
+    let line = OrthonormalLine::projected_from_plucker(&given.line);
+    if line.distance() == 0.0 {
+        let (_, name) = entry.names[1];
+        assembly.unsupported = Some(format!(
+            "variable \"{name}\": the line passes through the world origin, where its \
+             orthonormal chart (this solver's) is singular"
+        ));
+        return Ok(());
+    }
+    // Refused as the factor it was given as, naming it, at the scale it
+    // is solved at (a unit direction: any scale of `[n, v]` is the same
+    // line).
+    let given = PluckerLineReprojection {
+        line: PluckerLine::new(line.moment(), line.direction()),
+        ..given
+    };
+    linearize(&given, Method::Generated)?;
+    let factor = LineReprojection {
+        intrinsics: given.intrinsics,
+        start: given.start,
+        end: given.end,
+        pose: given.pose,
+        line,
+    };
+    let kernels = assembly.kernels;
+    add_decoded(
+        assembly,
+        entry,
+        factor,
+        |problem, factor, ids, noise, loss| problem.add_by(factor, ids, noise, loss, kernels),
+    )
+}
+
+/// Decodes `entry` as an `F` and adds it ([`add_decoded`]).
 fn add_with<F: Factor + 'static>(
     assembly: &mut SchurAssembly,
     entry: &Entry,
@@ -114,6 +164,21 @@ fn add_with<F: Factor + 'static>(
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<F>();
     let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
+    add_decoded(assembly, entry, factor, add)
+}
+
+/// Creates the variables of `factor` (`entry`'s) at the first factor that
+/// names them, and adds it with its noise and loss by `add`. A variable
+/// whose chart differs between factors (`SchurError::Chart`) is not an
+/// error: the file goes to apex-solver, the reason kept in
+/// [`SchurAssembly::unsupported`].
+fn add_decoded<F: Factor + 'static>(
+    assembly: &mut SchurAssembly,
+    entry: &Entry,
+    factor: F,
+    add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
+) -> Result<(), CliError> {
+    let fields = assembly.fields.of::<F>();
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks).
     let (linearization, _) = linearize(&factor, Method::Generated)?;

@@ -1303,12 +1303,15 @@ fn synthetic_point_line_plane_rooms_are_solved_against_their_truth() {
 }
 
 /// A `synth-plp` room whose lines are Plücker lines `[n, v]`
-/// (`plucker_line_reprojection`): solved in their orthonormal chart, every
-/// line returned is on the Klein quadric (`n · v = 0` to rounding) with a
-/// unit direction, and passes `OrthonormalLine::try_from_plucker`. (Served
-/// as a free `Rn(6)`, the lines left the quadric, cosines up to 0.61, and
-/// now that unobservable directions are refused, the scale of each `[n, v]`,
-/// seen by no residual, made the solve refuse the file.)
+/// (`plucker_line_reprojection`): solved in their orthonormal chart by the
+/// Schur-complement solver (as `line_reprojection`), by default, and by
+/// apex-solver (`SO3 × SO2`) on request; both reach the optimum of the same
+/// room with orthonormal lines, and every line returned is on the Klein
+/// quadric (`n · v = 0` to rounding) with a unit direction, and passes
+/// `OrthonormalLine::try_from_plucker`. (Served as a free `Rn(6)`, the
+/// lines left the quadric, cosines up to 0.61, and now that unobservable
+/// directions are refused, the scale of each `[n, v]`, seen by no residual,
+/// made the solve refuse the file.)
 #[test]
 fn plucker_lines_stay_on_the_klein_quadric() {
     use factor_core::geometry::{OrthonormalLine, PluckerLine};
@@ -1345,46 +1348,91 @@ fn plucker_lines_stay_on_the_klein_quadric() {
     }
     assert!(lines.len() > 10, "{lines:?}");
     std::fs::write(&file, room.to_string()).unwrap();
-    let plucker = solve_ok(&[
-        "solve",
-        file.to_str().unwrap(),
-        "--output",
-        solved_file.to_str().unwrap(),
-    ]);
     // The same lines in the same 4-dof chart: the optimum of the room with
-    // orthonormal lines (both stop when a step gains less than 1e-8 of the
-    // cost).
+    // orthonormal lines (each solver stops when a step gains less than 1e-8
+    // of the cost).
     let same = solve_ok(&["solve", orthonormal.to_str().unwrap()]);
-    assert_relative(costs(&plucker).1, costs(&same).1, 1e-7, "final cost");
-    let solved: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&solved_file).unwrap()).unwrap();
     let vector = |value: &serde_json::Value| -> Vector3<f64> {
         Vector3::from_vec(serde_json::from_value(value.clone()).unwrap())
     };
-    for name in &lines {
-        let value = &solved["variables"][name]["value"];
-        let line = PluckerLine::new(vector(&value["normal"]), vector(&value["direction"]));
-        let (n, v) = (line.normal, line.direction);
-        assert!((v.norm() - 1.0).abs() < 1e-12, "{name}: |v| = {}", v.norm());
-        assert!(
-            n.dot(&v).abs() <= 1e-12 * n.norm().max(1.0),
-            "{name}: n · v = {:e}",
-            n.dot(&v)
-        );
-        if let Err(e) = OrthonormalLine::try_from_plucker(&line) {
-            panic!("{name}: {e}");
+    for (solver, words) in [("auto", "Schur complement"), ("apex", "(apex-solver)")] {
+        let plucker = solve_ok(&[
+            "solve",
+            file.to_str().unwrap(),
+            "--solver",
+            solver,
+            "--output",
+            solved_file.to_str().unwrap(),
+        ]);
+        assert!(stdout(&plucker).contains(words), "{}", stdout(&plucker));
+        assert_relative(costs(&plucker).1, costs(&same).1, 1e-7, "final cost");
+        let solved: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&solved_file).unwrap()).unwrap();
+        for name in &lines {
+            let value = &solved["variables"][name]["value"];
+            let line = PluckerLine::new(vector(&value["normal"]), vector(&value["direction"]));
+            let (n, v) = (line.normal, line.direction);
+            assert!(
+                (v.norm() - 1.0).abs() < 1e-12,
+                "{solver} {name}: |v| = {}",
+                v.norm()
+            );
+            assert!(
+                n.dot(&v).abs() <= 1e-12 * n.norm().max(1.0),
+                "{solver} {name}: n · v = {:e}",
+                n.dot(&v)
+            );
+            if let Err(e) = OrthonormalLine::try_from_plucker(&line) {
+                panic!("{solver} {name}: {e}");
+            }
         }
     }
-    // The Schur-complement solver would retract the line by its own
-    // manifold, a free 6-vector: the factor is not registered for it.
-    let refused = slamjac(&["solve", file.to_str().unwrap(), "--solver", "schur"]);
-    assert_error(
-        &refused,
-        2,
-        &[
-            "the factor \"plucker_line_reprojection\" is not registered for the Schur-complement solver",
-        ],
+    // Any scale of `[n, v]` is the same line: the first line at 1e200 (its
+    // image line beyond the accuracy envelope at that scale) is solved at
+    // a unit direction, to the same optimum.
+    let first = &lines[0];
+    let scaled = dir.join("room-scaled.json");
+    let mut huge = room.clone();
+    for key in ["normal", "direction"] {
+        let value = &mut huge["variables"][first]["value"][key];
+        let scaled: Vec<f64> = serde_json::from_value::<Vec<f64>>(value.clone())
+            .unwrap()
+            .iter()
+            .map(|x| x * 1e200)
+            .collect();
+        *value = scaled.into();
+    }
+    std::fs::write(&scaled, huge.to_string()).unwrap();
+    let output = solve_ok(&["solve", scaled.to_str().unwrap()]);
+    assert!(
+        stdout(&output).contains("Schur complement"),
+        "{}",
+        stdout(&output)
     );
+    assert_relative(
+        costs(&output).1,
+        costs(&same).1,
+        1e-7,
+        "final cost at 1e200",
+    );
+    // A line through the world origin (`n = 0`), where the orthonormal
+    // chart is singular: apex-solver's path takes the file, saying why.
+    let through = dir.join("room-origin.json");
+    room["variables"][first]["value"]["normal"] = serde_json::json!([0.0, 0.0, 0.0]);
+    std::fs::write(&through, room.to_string()).unwrap();
+    let output = solve_ok(&["solve", through.to_str().unwrap()]);
+    let why = format!(
+        "variable \"{first}\": the line passes through the world origin, where its orthonormal \
+         chart (this solver's) is singular"
+    );
+    assert!(
+        stdout(&output).contains("(apex-solver)"),
+        "{}",
+        stdout(&output)
+    );
+    assert!(stderr(&output).contains(&why) || stdout(&output).contains(&why));
+    let refused = slamjac(&["solve", through.to_str().unwrap(), "--solver", "schur"]);
+    assert_error(&refused, 2, &[&why, "(use --solver apex)"]);
 }
 
 /// A problem file of factors without fused kernels (`g2o_se3`, a loop of

@@ -371,11 +371,14 @@ pub(super) fn value_json(field: &FieldInfo, stored: &[f64]) -> Value {
         stored.to_vec()
     } else {
         // The one type stored otherwise than written: the orthonormal
-        // line, written as Plücker coordinates `[normal, direction]`.
-        let line = OrthonormalLine::<f64>::from_scalars(stored).to_plucker();
-        line.normal
+        // line, written as Plücker coordinates `[normal, direction]` scaled
+        // to a unit direction (as the apex path writes a `PluckerLine`
+        // solved in this chart), so that `|normal|` is its distance from
+        // the origin.
+        let line = OrthonormalLine::<f64>::from_scalars(stored);
+        line.moment()
             .iter()
-            .chain(line.direction.iter())
+            .chain(line.direction().iter())
             .copied()
             .collect()
     };

@@ -112,7 +112,7 @@ impl OrthonormalLine<f64> {
     ///
     /// If `v` is zero or not finite (a stored Plücker line's is neither:
     /// its [`Storage::from_input`] refuses it).
-    pub(crate) fn projected_from_plucker(line: &PluckerLine<f64>) -> Self {
+    pub fn projected_from_plucker(line: &PluckerLine<f64>) -> Self {
         let v = line.direction;
         let u2 = unit_of(&v).expect("a Plücker line's direction is non-zero and finite");
         let moment = line.normal - scale(dot(&line.normal, &u2), &u2);
