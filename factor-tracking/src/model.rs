@@ -2,12 +2,12 @@
 //! 6 × 6 normal equations, solved by Cholesky.
 
 use factor_core::lie::Se3;
-use factor_core::{Manifold, Perturbation, Storage};
+use factor_core::{Manifold, Perturbation};
 use factor_minimizer::{Damped, Linearization, Model, Prediction, Trial};
 use nalgebra::Vector6;
 
 use crate::error::PoseError;
-use crate::observations::{Normal, Terms, normal};
+use crate::observations::{Normal, Terms, normal, stored_scalars};
 
 /// The pose, its normal equations, and the trial step's.
 pub(crate) struct PoseModel<'t> {
@@ -69,8 +69,7 @@ impl Model for PoseModel<'_> {
 
     fn evaluate_step(&mut self) -> Trial {
         self.candidate = self.pose.retract(self.step.as_slice(), self.side);
-        let mut stored = [0.0; 7];
-        self.candidate.write_scalars(&mut stored);
+        let stored = stored_scalars(&self.candidate);
         match normal(self.terms, &stored) {
             Ok(next) => {
                 let cost = next.cost;
@@ -103,8 +102,7 @@ impl Model for PoseModel<'_> {
     }
 
     fn parameter_norm(&self) -> f64 {
-        let mut stored = [0.0; 7];
-        self.pose.write_scalars(&mut stored);
+        let stored = stored_scalars(&self.pose);
         stored.iter().map(|x| x * x).sum::<f64>().sqrt()
     }
 }

@@ -3,8 +3,9 @@
 
 use std::any::Any;
 
+use factor_core::lie::Se3;
 use factor_core::noise::Noise;
-use factor_core::{Factor, FactorError, Perturbation};
+use factor_core::{Factor, FactorError, Perturbation, Storage};
 use nalgebra::{Matrix6, Vector6};
 
 use crate::error::PoseError;
@@ -263,6 +264,14 @@ fn add_unit_row(d: &mut Matrix6<f64>, row: &[f64]) {
             d[(a, b)] += u[a] * u[b] / squared;
         }
     }
+}
+
+/// `pose`'s stored scalars, `[qx, qy, qz, qw, tx, ty, tz]`: what the
+/// observations are linearized at.
+pub(crate) fn stored_scalars(pose: &Se3<f64>) -> [f64; 7] {
+    let mut stored = [0.0; 7];
+    pose.write_scalars(&mut stored);
+    stored
 }
 
 /// The normal equations of `terms` at the pose stored as `pose`.

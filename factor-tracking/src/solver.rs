@@ -3,7 +3,7 @@
 use std::any::TypeId;
 
 use factor_core::lie::Se3;
-use factor_core::{Factor, Perturbation, Storage};
+use factor_core::{Factor, Perturbation};
 
 use factor_core::noise::Noise;
 use factor_minimizer::{Damping, SolveOptions, Verdict, minimize};
@@ -11,7 +11,7 @@ use nalgebra::Matrix6;
 
 use crate::error::PoseError;
 use crate::model::PoseModel;
-use crate::observations::{Normal, Observations, Terms, normal, normal_with};
+use crate::observations::{Normal, Observations, Terms, normal, normal_with, stored_scalars};
 
 /// When [`PoseProblem::solve`] stops, and when it refuses a pose as
 /// undetermined.
@@ -153,8 +153,7 @@ impl PoseProblem {
     /// [`PoseError::Observation`] for the first one that cannot be
     /// evaluated there.
     pub fn normal(&mut self, pose: &Se3<f64>) -> Result<Normal, PoseError> {
-        let mut stored = [0.0; 7];
-        pose.write_scalars(&mut stored);
+        let stored = stored_scalars(pose);
         normal(&mut self.terms, &stored)
     }
 
@@ -188,8 +187,7 @@ impl PoseProblem {
             Err(error @ PoseError::Observation { .. }) => error,
             Err(other) => return Err(other),
         };
-        let mut stored = [0.0; 7];
-        initial.write_scalars(&mut stored);
+        let stored = stored_scalars(initial);
         let deferred: usize = self
             .terms
             .iter_mut()
@@ -223,8 +221,7 @@ impl PoseProblem {
     /// `u` scaled to unit norm, which no noise model's scale moves (one
     /// observation weighted by σ = 1e-90 made `H` itself look singular).
     fn start(&mut self, pose: &Se3<f64>) -> Result<(Normal, Matrix6<f64>), PoseError> {
-        let mut stored = [0.0; 7];
-        pose.write_scalars(&mut stored);
+        let stored = stored_scalars(pose);
         let mut determination = Matrix6::zeros();
         let normal = normal_with(&mut self.terms, &stored, Some(&mut determination))?;
         Ok((normal, determination))
