@@ -66,9 +66,29 @@ pub fn number(value: &Value, path: &str) -> Result<f64, InputError> {
 
 /// An array of exactly `n` finite numbers at `path`.
 pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    numbers_at(value, n, || path.to_owned())
+}
+
+/// The finite number `value`, or `None` (then [`number`] says why).
+fn finite(value: &Value) -> Option<f64> {
+    value.as_f64().filter(|x| x.is_finite())
+}
+
+/// [`numbers`] with the path made only for an error.
+fn numbers_at(
+    value: &Value,
+    n: usize,
+    path: impl FnOnce() -> String,
+) -> Result<Vec<f64>, InputError> {
+    if let Some(items) = value.as_array().filter(|items| items.len() == n)
+        && let Some(numbers) = items.iter().map(finite).collect::<Option<Vec<f64>>>()
+    {
+        return Ok(numbers);
+    }
+    let path = path();
     let items = value.as_array().ok_or_else(|| {
         InputError::new(
-            path,
+            &path,
             format!("expected an array of {n} numbers, found {}", kind(value)),
         )
     })?;
@@ -81,7 +101,7 @@ pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputErr
     items
         .iter()
         .enumerate()
-        .map(|(i, item)| number(item, &field_path::index(path, i)))
+        .map(|(i, item)| number(item, &field_path::index(&path, i)))
         .collect()
 }
 
@@ -117,14 +137,18 @@ impl<'a> Object<'a> {
                 ),
             )
         })?;
-        if let Some(unknown) = map.keys().find(|k| !keys.contains(&k.as_str())) {
-            return Err(InputError::new(
-                join(path, unknown),
-                format!("unknown field; expected only {}", expected()),
-            ));
-        }
-        if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
-            return Err(InputError::new(join(path, missing), "missing field"));
+        // Exactly the keys: as many, each present (the slow search for
+        // the culprit runs only when not).
+        if map.len() != keys.len() || !keys.iter().all(|k| map.contains_key(*k)) {
+            if let Some(unknown) = map.keys().find(|k| !keys.contains(&k.as_str())) {
+                return Err(InputError::new(
+                    join(path, unknown),
+                    format!("unknown field; expected only {}", expected()),
+                ));
+            }
+            if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
+                return Err(InputError::new(join(path, missing), "missing field"));
+            }
         }
         Ok(Object {
             path: path.into(),
@@ -186,12 +210,13 @@ impl<'a> Object<'a> {
 
     /// A finite number field.
     pub fn number(&self, key: &str) -> Result<f64, InputError> {
-        number(self.get(key), &self.path_of(key))
+        let value = self.get(key);
+        finite(value).map_or_else(|| number(value, &self.path_of(key)), Ok)
     }
 
     /// A field holding an array of `n` finite numbers.
     pub fn numbers(&self, key: &str, n: usize) -> Result<Vec<f64>, InputError> {
-        numbers(self.get(key), &self.path_of(key), n)
+        numbers_at(self.get(key), n, || self.path_of(key))
     }
 
     /// A field holding a quaternion's four numbers, returned `[x, y, z, w]`:
@@ -200,9 +225,9 @@ impl<'a> Object<'a> {
     /// quaternion is for its type to judge
     /// ([`factor_core::Storage::from_input`]).
     pub fn quaternion(&self, key: &str) -> Result<Vec<f64>, InputError> {
-        let path = self.path_of(key);
         let mut c = self.numbers(key, 4)?;
         if let Some(reading) = self.quaternions {
+            let path = self.path_of(key);
             if reading.w_first.contains(&path) {
                 c.rotate_left(1);
             }

@@ -12,10 +12,14 @@
 //! hands each number over as its literal text: from text in memory
 //! ([`parse_json`]) or as a reader streams it in ([`parse_json_from`], so
 //! that a source that is not JSON is refused at its first bytes, not once
-//! it has been read whole).
+//! it has been read whole). A problem file of some ten megabytes is mostly
+//! plain JSON, which [`parse_json_from`] reads by a fast path first
+//! (`fast`); the events decide everything else.
+
+mod fast;
 
 use std::borrow::Cow;
-use std::io::Read;
+use std::io::{BufReader, Read};
 
 use json_event_parser::{
     JsonEvent, JsonParseError, JsonSyntaxError, ReaderJsonParser, SliceJsonParser,
@@ -219,9 +223,13 @@ pub fn parse_json(text: &str, source: &str) -> Result<Value, InputError> {
 /// [`parse_json`] of what `reader` streams in (a file read through
 /// [`crate::source::Checked`]): the parse stops at the first byte that is
 /// not JSON, and a failed read is an error naming `source` with the
-/// reader's one-line message.
+/// reader's one-line message. Plain JSON is read by the fast path; where
+/// it stops, the events read the same input again from its start.
 pub fn parse_json_from(reader: impl Read, source: &str) -> Result<Value, InputError> {
-    build(ReaderJsonParser::new(reader), source)
+    match fast::parse(BufReader::new(reader)) {
+        fast::Parsed::Value(value) => Ok(value),
+        fast::Parsed::Replay(input) => build(ReaderJsonParser::new(input), source),
+    }
 }
 
 /// The whole document of `parser`'s events.
