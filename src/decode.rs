@@ -15,7 +15,7 @@ use factor_core::{Factor, FieldInfo, Layout, StorageError};
 
 use crate::error::InputError;
 use crate::field_path::join;
-use crate::input::{Object, number};
+use crate::input::Object;
 
 /// The JSON shape of a layout, for `list` and error messages:
 /// `{"rotation": [qx, qy, qz, qw], "translation": [x, y, z]}`.
@@ -51,7 +51,7 @@ fn is_quaternion(names: &[String]) -> bool {
 /// Appends the numbers of field `key` of `object`, written in `layout`, to `out`.
 fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
     match layout {
-        Layout::Scalar => out.push(number(object.get(key), &object.path_of(key))?),
+        Layout::Scalar => out.push(object.number(key)?),
         Layout::Array(names) if is_quaternion(names) => out.extend(object.quaternion(key)?),
         Layout::Array(names) => out.extend(object.numbers(key, names.len())?),
         Layout::Record(parts) => {

@@ -27,9 +27,11 @@ use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
-    add_at, nothing_to_solve, shape, solution_tolerance, unobservable, value_json, with_variables,
+    add_at, nothing_to_solve, shape, solution_tolerance, truth_errors, unobservable, value_json,
+    variables_of, with_variables,
 };
 use super::{SolveArgs, at, finish_file, progress};
+use crate::document::Document;
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::observability::{Deficiency, Normal, Variable};
@@ -120,7 +122,7 @@ pub(super) fn run(
         Some(d) => Err(d.at("the solution").to_string()),
         None => Ok(()),
     };
-    let errors = truth.map(|t| t.describe(&json["variables"], &solved));
+    let errors = truth.map(|t| truth_errors(&t, &json, &solved));
     let summary = finish_file(args, &finished, check, errors, || {
         with_variables(&json, &solved)
     });
@@ -170,8 +172,8 @@ fn landmarks(checked: &checks::Checked<'_>) -> HashSet<String> {
 }
 
 /// The file's `variables` object with the solved values.
-fn solved_variables(json: &Value, assembly: &SchurAssembly) -> Value {
-    let mut variables = json["variables"].clone();
+fn solved_variables(json: &Document, assembly: &SchurAssembly) -> Value {
+    let mut variables = variables_of(json);
     for (name, created) in &assembly.created {
         variables[name]["value"] = value_json(&created.field, assembly.problem.value(created.id));
     }

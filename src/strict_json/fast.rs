@@ -1,21 +1,20 @@
-//! The common case of [`super::parse_json_from`], fast: a document of
-//! plain JSON (strings without escapes, finite numbers, no key twice in an
-//! object, nested at most [`MAX_DEPTH`] deep) read straight into its
-//! [`Value`] by recursive descent over the bytes as they stream in. Anything
-//! else — an escape, any fault, a failed read — is not decided here: the
-//! parse stops and hands back the bytes read so far (and the read's error),
-//! for the strict parser to read from the start ([`Replay`]), which gives
-//! the value or the error.
+//! The common case of [`super::parse_json`] and [`super::parse_json_from`],
+//! fast: a document of plain JSON (strings without escapes, finite numbers,
+//! no key twice in an object, nested at most [`MAX_DEPTH`] deep) read
+//! straight into its [`Document`] by recursive descent over the bytes as
+//! they stream in. Anything else — an escape, any fault, a failed read — is
+//! not decided here: the parse stops and hands back the bytes read so far
+//! (and the read's error), for the strict parser to read from the start
+//! ([`Replay`]), which gives the value or the error.
 
 use std::io::{self, BufRead, Read};
 
-use serde_json::{Map, Number, Value};
-
 use super::MAX_DEPTH;
+use crate::document::{Builder, Document};
 
-/// What the fast parse gives: the value, or the input to replay.
+/// What the fast parse gives: the document, or the input to replay.
 pub(super) enum Parsed<R> {
-    Value(Value),
+    Document(Document),
     Replay(Replay<R>),
 }
 
@@ -48,13 +47,14 @@ pub(super) fn parse<R: BufRead>(reader: R) -> Parsed<R> {
         at: 0,
         error: None,
         ended: false,
+        builder: Builder::default(),
     };
-    let value = input.value(0).filter(|_| {
+    let read = input.value(0).filter(|()| {
         input.whitespace();
         input.peek().is_none() && input.error.is_none()
     });
-    match value {
-        Some(value) => Parsed::Value(value),
+    match read {
+        Some(()) => Parsed::Document(input.builder.finish()),
         None => Parsed::Replay(Replay {
             seen: io::Cursor::new(input.bytes),
             error: input.error,
@@ -63,13 +63,15 @@ pub(super) fn parse<R: BufRead>(reader: R) -> Parsed<R> {
     }
 }
 
-/// The bytes read so far and where the parse is among them.
+/// The bytes read so far, where the parse is among them, and the document
+/// read.
 struct Input<R> {
     reader: R,
     bytes: Vec<u8>,
     at: usize,
     error: Option<io::Error>,
     ended: bool,
+    builder: Builder,
 }
 
 impl<R: BufRead> Input<R> {
@@ -114,83 +116,84 @@ impl<R: BufRead> Input<R> {
         (self.peek()? == byte).then(|| self.at += 1)
     }
 
-    /// The value starting here, within `depth` arrays and objects.
-    fn value(&mut self, depth: usize) -> Option<Value> {
+    /// Reads the value starting here, within `depth` arrays and objects;
+    /// `None` where it is not plain JSON.
+    fn value(&mut self, depth: usize) -> Option<()> {
         self.whitespace();
         match self.peek()? {
-            b'{' if depth < MAX_DEPTH => self.object(depth + 1).map(Value::Object),
-            b'[' if depth < MAX_DEPTH => self.array(depth + 1).map(Value::Array),
-            b'"' => self.string().map(Value::String),
-            b't' => self.word(b"true", Value::Bool(true)),
-            b'f' => self.word(b"false", Value::Bool(false)),
-            b'n' => self.word(b"null", Value::Null),
-            b'-' | b'0'..=b'9' => self.number(),
+            b'{' if depth < MAX_DEPTH => self.object(depth + 1),
+            b'[' if depth < MAX_DEPTH => self.array(depth + 1),
+            b'"' => {
+                let span = self.string()?;
+                let text = std::str::from_utf8(&self.bytes[span]).ok()?;
+                self.builder.string(text);
+                Some(())
+            }
+            b't' => self.word(b"true").map(|()| self.builder.bool(true)),
+            b'f' => self.word(b"false").map(|()| self.builder.bool(false)),
+            b'n' => self.word(b"null").map(|()| self.builder.null()),
+            b'-' | b'0'..=b'9' => self.number().map(|x| self.builder.number(x)),
             _ => None,
         }
     }
 
-    fn word(&mut self, word: &[u8], value: Value) -> Option<Value> {
+    fn word(&mut self, word: &[u8]) -> Option<()> {
         for &byte in word {
             (self.peek()? == byte).then(|| self.at += 1)?;
         }
-        Some(value)
+        Some(())
     }
 
-    fn object(&mut self, depth: usize) -> Option<Map<String, Value>> {
+    fn object(&mut self, depth: usize) -> Option<()> {
         self.at += 1;
-        let mut map = Map::new();
+        let opened = self.builder.open();
         self.whitespace();
-        if self.peek()? == b'}' {
-            self.at += 1;
-            return Some(map);
-        }
-        loop {
-            self.whitespace();
-            if self.peek()? != b'"' {
-                return None;
-            }
-            let key = self.string()?;
-            self.expect(b':')?;
-            let value = self.value(depth)?;
-            if map.insert(key, value).is_some() {
-                return None;
-            }
-            self.whitespace();
-            match self.peek()? {
-                b',' => self.at += 1,
-                b'}' => {
-                    self.at += 1;
-                    return Some(map);
+        if self.peek()? != b'}' {
+            loop {
+                self.whitespace();
+                if self.peek()? != b'"' {
+                    return None;
                 }
-                _ => return None,
+                let span = self.string()?;
+                let key = std::str::from_utf8(&self.bytes[span]).ok()?;
+                self.builder.key(key);
+                self.expect(b':')?;
+                self.value(depth)?;
+                self.whitespace();
+                match self.peek()? {
+                    b',' => self.at += 1,
+                    b'}' => break,
+                    _ => return None,
+                }
             }
         }
-    }
-
-    fn array(&mut self, depth: usize) -> Option<Vec<Value>> {
         self.at += 1;
-        let mut items = Vec::new();
-        self.whitespace();
-        if self.peek()? == b']' {
-            self.at += 1;
-            return Some(items);
-        }
-        loop {
-            items.push(self.value(depth)?);
-            self.whitespace();
-            match self.peek()? {
-                b',' => self.at += 1,
-                b']' => {
-                    self.at += 1;
-                    return Some(items);
-                }
-                _ => return None,
-            }
-        }
+        self.builder.object(opened).then_some(())
     }
 
-    /// A string without escapes or control characters.
-    fn string(&mut self) -> Option<String> {
+    fn array(&mut self, depth: usize) -> Option<()> {
+        self.at += 1;
+        let opened = self.builder.open();
+        self.whitespace();
+        if self.peek()? != b']' {
+            loop {
+                self.value(depth)?;
+                self.whitespace();
+                match self.peek()? {
+                    b',' => self.at += 1,
+                    b']' => break,
+                    _ => return None,
+                }
+            }
+        }
+        self.at += 1;
+        self.builder.array(opened);
+        Some(())
+    }
+
+    /// A string without escapes or control characters: where its text
+    /// lies among the bytes.
+    fn string(&mut self) -> Option<std::ops::Range<usize>> {
         self.at += 1;
         let start = self.at;
         loop {
@@ -202,9 +205,7 @@ impl<R: BufRead> Input<R> {
                 Some(k) if rest[k] == b'"' => {
                     let end = self.at + k;
                     self.at = end + 1;
-                    return std::str::from_utf8(&self.bytes[start..end])
-                        .ok()
-                        .map(str::to_owned);
+                    return Some(start..end);
                 }
                 Some(_) => return None,
                 None => {
@@ -218,7 +219,7 @@ impl<R: BufRead> Input<R> {
     }
 
     /// A finite number: `-? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?`.
-    fn number(&mut self) -> Option<Value> {
+    fn number(&mut self) -> Option<f64> {
         let start = self.at;
         if self.peek()? == b'-' {
             self.at += 1;
@@ -244,11 +245,7 @@ impl<R: BufRead> Input<R> {
         // Rust's float syntax contains JSON's (as the strict parser reads
         // it); beyond the range it reads ±∞, left to the strict parser.
         let literal = std::str::from_utf8(&self.bytes[start..self.at]).ok()?;
-        literal
-            .parse::<f64>()
-            .ok()
-            .and_then(Number::from_f64)
-            .map(Value::Number)
+        literal.parse::<f64>().ok().filter(|x| x.is_finite())
     }
 
     fn digits(&mut self) {
@@ -262,6 +259,7 @@ impl<R: BufRead> Input<R> {
 mod tests {
     use super::super::{parse_json, parse_json_from};
     use super::*;
+    use serde_json::Value;
 
     /// Documents of the fast path's subset, and documents outside it (each
     /// read by the strict parser: a value or an error).
@@ -296,19 +294,25 @@ mod tests {
     ];
 
     /// The value or the error (its path and message).
-    fn outcome(parsed: Result<Value, crate::error::InputError>) -> Result<Value, (String, String)> {
-        parsed.map_err(|e| (e.path, e.message))
+    fn outcome(
+        parsed: Result<Document, crate::error::InputError>,
+    ) -> Result<Value, (String, String)> {
+        parsed
+            .map(|d| d.root().to_value())
+            .map_err(|e| (e.path, e.message))
     }
 
     #[test]
     fn plain_documents_are_read_as_the_strict_parser_reads_them() {
         let nested = format!("{}{}", "[".repeat(MAX_DEPTH), "]".repeat(MAX_DEPTH));
         for text in PLAIN.iter().copied().chain([nested.as_str()]) {
-            let expected = parse_json(text, "x").unwrap();
+            let expected = super::super::events(text, "x").unwrap();
             for chunk in [1, 3, 8192] {
                 let reader = io::BufReader::with_capacity(chunk, text.as_bytes());
                 match parse(reader) {
-                    Parsed::Value(value) => assert_eq!(value, expected, "{text}"),
+                    Parsed::Document(document) => {
+                        assert_eq!(document.root().to_value(), expected, "{text}")
+                    }
                     Parsed::Replay(_) => panic!("not read by the fast path: {text}"),
                 }
             }
@@ -322,9 +326,15 @@ mod tests {
             for chunk in [1, 3, 8192] {
                 let reader = || io::BufReader::with_capacity(chunk, text.as_bytes());
                 assert!(matches!(parse(reader()), Parsed::Replay(_)), "{text}");
+                let strict = super::super::events(text, "x");
                 assert_eq!(
                     outcome(parse_json_from(reader(), "x")),
+                    strict.clone().map_err(|e| (e.path, e.message)),
+                    "{text}"
+                );
+                assert_eq!(
                     outcome(parse_json(text, "x")),
+                    strict.map_err(|e| (e.path, e.message)),
                     "{text}"
                 );
             }
