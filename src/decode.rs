@@ -15,7 +15,7 @@ use factor_core::{Factor, FieldInfo, Layout, StorageError};
 
 use crate::error::InputError;
 use crate::field_path::join;
-use crate::input::{Object, number};
+use crate::input::Object;
 
 /// The JSON shape of a layout, for `list` and error messages:
 /// `{"rotation": [qx, qy, qz, qw], "translation": [x, y, z]}`.
@@ -51,7 +51,7 @@ fn is_quaternion(names: &[String]) -> bool {
 /// Appends the numbers of field `key` of `object`, written in `layout`, to `out`.
 fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
     match layout {
-        Layout::Scalar => out.push(number(object.get(key), &object.path_of(key))?),
+        Layout::Scalar => out.push(object.number(key)?),
         Layout::Array(names) if is_quaternion(names) => out.extend(object.quaternion(key)?),
         Layout::Array(names) => out.extend(object.numbers(key, names.len())?),
         Layout::Record(parts) => {
@@ -124,21 +124,31 @@ pub(crate) fn decode_with<F: Factor>(
     Ok(F::from_scalars(&stored))
 }
 
-/// Each factor type's fields, built once: [`Factor::fields`] builds them
-/// (their layouts' names as strings) anew at every call, and a problem
-/// file decodes thousands of factors of a few types (`solve`).
+/// Each factor type's fields and its variables' tangent dimensions, built
+/// once: [`Factor::fields`] and [`Factor::variables`] build them (their
+/// layouts' names as strings) anew at every call, and a problem file
+/// decodes thousands of factors of a few types (`solve`).
 #[cfg(feature = "solve")]
 #[derive(Default)]
-pub(crate) struct FieldsCache(
-    std::collections::HashMap<std::any::TypeId, std::sync::Arc<[FieldInfo]>>,
-);
+pub(crate) struct FieldsCache {
+    fields: std::collections::HashMap<std::any::TypeId, std::sync::Arc<[FieldInfo]>>,
+    tangents: std::collections::HashMap<std::any::TypeId, std::sync::Arc<[usize]>>,
+}
 
 #[cfg(feature = "solve")]
 impl FieldsCache {
     /// `F`'s fields.
     pub(crate) fn of<F: Factor + 'static>(&mut self) -> std::sync::Arc<[FieldInfo]> {
-        let fields = self.0.entry(std::any::TypeId::of::<F>());
+        let fields = self.fields.entry(std::any::TypeId::of::<F>());
         std::sync::Arc::clone(fields.or_insert_with(|| F::fields().into()))
+    }
+
+    /// The tangent dimension of each of `F`'s variables, in order.
+    pub(crate) fn tangent_dims<F: Factor + 'static>(&mut self) -> std::sync::Arc<[usize]> {
+        let dims = self.tangents.entry(std::any::TypeId::of::<F>());
+        std::sync::Arc::clone(
+            dims.or_insert_with(|| F::variables().iter().map(|v| v.tangent_dim).collect()),
+        )
     }
 }
 
@@ -166,5 +176,10 @@ mod tests {
             &first,
             &cache.of::<PointReprojection>()
         ));
+        let dims: Vec<usize> = PointReprojection::variables()
+            .iter()
+            .map(|v| v.tangent_dim)
+            .collect();
+        assert_eq!(*cache.tangent_dims::<PointReprojection>(), dims[..]);
     }
 }

@@ -4,6 +4,7 @@
 use factor_core::{DynLinearization, FactorError, VariableInfo};
 use serde_json::{Map, Value};
 
+use crate::document::Json;
 use crate::error::CliError;
 use crate::input::{Object, QuaternionReading};
 use crate::method::Method;
@@ -31,7 +32,7 @@ pub struct Evaluation {
 /// written `[w, x, y, z]` gets a hint naming them (see [`w_first`]).
 pub fn evaluate(
     registry: &Registry,
-    request: &Value,
+    request: Json<'_>,
     method: Method,
 ) -> Result<Evaluation, CliError> {
     let reading = QuaternionReading::default();
@@ -48,7 +49,7 @@ pub fn evaluate(
 /// [`evaluate`] without the hint, reading quaternions as `reading` says.
 fn evaluate_reading(
     registry: &Registry,
-    request: &Value,
+    request: Json<'_>,
     method: Method,
     reading: &QuaternionReading,
 ) -> Result<Evaluation, CliError> {
@@ -78,7 +79,7 @@ fn evaluate_reading(
 pub fn run(registry: &Registry, source: &str, method: Method) -> Result<String, CliError> {
     let text = read_source(source)?;
     let request = parse_json(&text, source)?;
-    let evaluation = evaluate(registry, &request, method)?;
+    let evaluation = evaluate(registry, request.root(), method)?;
     Ok(pretty::to_string(&evaluation.to_json()))
 }
 

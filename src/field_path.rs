@@ -71,7 +71,7 @@ fn is_identifier(key: &str) -> bool {
 pub fn join(parent: &str, key: &str) -> String {
     match (parent.is_empty(), is_identifier(key)) {
         (true, true) => key.to_owned(),
-        (false, true) => format!("{parent}.{key}"),
+        (false, true) => [parent, ".", key].concat(),
         (true, false) => quoted(key),
         (false, false) => format!("{parent}[{}]", quoted(key)),
     }

@@ -4,12 +4,12 @@
 //!
 //! Objects are closed: a key that is not expected is an error at every level,
 //! as is a missing one. Numbers are finite: [`crate::strict_json`] rejects
-//! literals beyond the `f64` range as it reads them.
+//! literals beyond the `f64` range as it reads them. Values are read from
+//! a [`crate::document::Document`].
 
 use std::cell::RefCell;
 
-use serde_json::{Map, Value};
-
+use crate::document::{Json, Members};
 use crate::error::InputError;
 use crate::field_path::{self, join};
 
@@ -38,38 +38,34 @@ impl QuaternionReading {
     }
 }
 
-/// What kind of JSON value this is, for "expected X, found Y".
-fn kind(value: &Value) -> &'static str {
-    match value {
-        Value::Null => "null",
-        Value::Bool(_) => "a boolean",
-        Value::Number(_) => "a number",
-        Value::String(_) => "a string",
-        Value::Array(_) => "an array",
-        Value::Object(_) => "an object",
-    }
-}
-
 /// A finite number at `path`.
-pub fn number(value: &Value, path: &str) -> Result<f64, InputError> {
-    match value {
-        Value::Number(n) => match n.as_f64() {
-            Some(x) if x.is_finite() => Ok(x),
-            _ => Err(InputError::new(path, format!("non-finite number {n}"))),
-        },
-        other => Err(InputError::new(
-            path,
-            format!("expected a number, found {}", kind(other)),
-        )),
-    }
+pub fn number(value: Json<'_>, path: &str) -> Result<f64, InputError> {
+    value
+        .as_f64()
+        .ok_or_else(|| InputError::new(path, format!("expected a number, found {}", value.kind())))
 }
 
 /// An array of exactly `n` finite numbers at `path`.
-pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+pub fn numbers(value: Json<'_>, path: &str, n: usize) -> Result<Vec<f64>, InputError> {
+    numbers_at(value, n, || path.to_owned())
+}
+
+/// [`numbers`] with the path made only for an error.
+fn numbers_at(
+    value: Json<'_>,
+    n: usize,
+    path: impl FnOnce() -> String,
+) -> Result<Vec<f64>, InputError> {
+    if let Some(items) = value.as_array().filter(|items| items.len() == n)
+        && let Some(numbers) = items.iter().map(Json::as_f64).collect::<Option<Vec<f64>>>()
+    {
+        return Ok(numbers);
+    }
+    let path = path();
     let items = value.as_array().ok_or_else(|| {
         InputError::new(
-            path,
-            format!("expected an array of {n} numbers, found {}", kind(value)),
+            &path,
+            format!("expected an array of {n} numbers, found {}", value.kind()),
         )
     })?;
     if items.len() != n {
@@ -81,7 +77,7 @@ pub fn numbers(value: &Value, path: &str, n: usize) -> Result<Vec<f64>, InputErr
     items
         .iter()
         .enumerate()
-        .map(|(i, item)| number(item, &field_path::index(path, i)))
+        .map(|(i, item)| number(item, &field_path::index(&path, i)))
         .collect()
 }
 
@@ -97,14 +93,14 @@ pub struct Object<'a> {
 /// from elsewhere under the object's keys ([`Object::gathered`]).
 #[derive(Debug, Clone)]
 enum Fields<'a> {
-    Map(&'a Map<String, Value>),
-    Gathered(Vec<(&'a str, &'a Value)>),
+    Map(Members<'a>),
+    Gathered(Vec<(&'a str, Json<'a>)>),
 }
 
 impl<'a> Object<'a> {
     /// Checks that `value` (at `path`, `""` for the top level) is an object
     /// with exactly the fields `keys`.
-    pub fn new(value: &'a Value, path: &str, keys: &[&str]) -> Result<Self, InputError> {
+    pub fn new(value: Json<'a>, path: &str, keys: &[&str]) -> Result<Self, InputError> {
         let expected = || keys.join(", ");
         let map = value.as_object().ok_or_else(|| {
             let at = if path.is_empty() { "input" } else { path };
@@ -113,18 +109,22 @@ impl<'a> Object<'a> {
                 format!(
                     "expected an object with fields {}, found {}",
                     expected(),
-                    kind(value)
+                    value.kind()
                 ),
             )
         })?;
-        if let Some(unknown) = map.keys().find(|k| !keys.contains(&k.as_str())) {
-            return Err(InputError::new(
-                join(path, unknown),
-                format!("unknown field; expected only {}", expected()),
-            ));
-        }
-        if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
-            return Err(InputError::new(join(path, missing), "missing field"));
+        // Exactly the keys: as many, each present (the slow search for
+        // the culprit runs only when not).
+        if map.len() != keys.len() || !keys.iter().all(|k| map.contains_key(*k)) {
+            if let Some(unknown) = map.keys().find(|k| !keys.contains(k)) {
+                return Err(InputError::new(
+                    join(path, unknown),
+                    format!("unknown field; expected only {}", expected()),
+                ));
+            }
+            if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
+                return Err(InputError::new(join(path, missing), "missing field"));
+            }
         }
         Ok(Object {
             path: path.into(),
@@ -136,7 +136,7 @@ impl<'a> Object<'a> {
     /// The object at `path` whose fields are the values `fields`, by key,
     /// read from elsewhere (a factor entry's variable fields, each the
     /// value of the variable it names).
-    pub fn gathered(path: &str, fields: Vec<(&'a str, &'a Value)>) -> Self {
+    pub fn gathered(path: &str, fields: Vec<(&'a str, Json<'a>)>) -> Self {
         Object {
             path: path.into(),
             fields: Fields::Gathered(fields),
@@ -147,7 +147,7 @@ impl<'a> Object<'a> {
     /// Like [`Object::new`] for the top level, reading its quaternions (and
     /// those of its sub-objects) as `quaternions` says.
     pub fn top(
-        value: &'a Value,
+        value: Json<'a>,
         keys: &[&str],
         quaternions: &'a QuaternionReading,
     ) -> Result<Self, InputError> {
@@ -163,14 +163,12 @@ impl<'a> Object<'a> {
     }
 
     /// The value of field `key` (checked present by [`Object::new`]).
-    pub fn get(&self, key: &str) -> &'a Value {
-        match &self.fields {
-            Fields::Map(map) => &map[key],
-            Fields::Gathered(fields) => match fields.iter().find(|(k, _)| *k == key) {
-                Some((_, value)) => value,
-                None => panic!("no field {key}"),
-            },
-        }
+    pub fn get(&self, key: &str) -> Json<'a> {
+        let value = match &self.fields {
+            Fields::Map(map) => map.get(key),
+            Fields::Gathered(fields) => fields.iter().find(|(k, _)| *k == key).map(|(_, v)| *v),
+        };
+        value.unwrap_or_else(|| panic!("no field {key}"))
     }
 
     /// A string field.
@@ -179,19 +177,22 @@ impl<'a> Object<'a> {
         value.as_str().ok_or_else(|| {
             InputError::new(
                 self.path_of(key),
-                format!("expected a string, found {}", kind(value)),
+                format!("expected a string, found {}", value.kind()),
             )
         })
     }
 
     /// A finite number field.
     pub fn number(&self, key: &str) -> Result<f64, InputError> {
-        number(self.get(key), &self.path_of(key))
+        let value = self.get(key);
+        value
+            .as_f64()
+            .map_or_else(|| number(value, &self.path_of(key)), Ok)
     }
 
     /// A field holding an array of `n` finite numbers.
     pub fn numbers(&self, key: &str, n: usize) -> Result<Vec<f64>, InputError> {
-        numbers(self.get(key), &self.path_of(key), n)
+        numbers_at(self.get(key), n, || self.path_of(key))
     }
 
     /// A field holding a quaternion's four numbers, returned `[x, y, z, w]`:
@@ -200,9 +201,9 @@ impl<'a> Object<'a> {
     /// quaternion is for its type to judge
     /// ([`factor_core::Storage::from_input`]).
     pub fn quaternion(&self, key: &str) -> Result<Vec<f64>, InputError> {
-        let path = self.path_of(key);
         let mut c = self.numbers(key, 4)?;
         if let Some(reading) = self.quaternions {
+            let path = self.path_of(key);
             if reading.w_first.contains(&path) {
                 c.rotate_left(1);
             }
@@ -223,14 +224,19 @@ impl<'a> Object<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::document::Document;
+
+    fn document(value: serde_json::Value) -> Document {
+        Document::from_value(&value)
+    }
 
     #[test]
     fn paths_of_unusual_keys_are_quoted() {
-        let value = serde_json::json!({"v": {"a\nb": 1}});
-        let top = Object::new(&value, "", &["v"]).unwrap();
+        let value = document(serde_json::json!({"v": {"a\nb": 1}}));
+        let top = Object::new(value.root(), "", &["v"]).unwrap();
         let error = top.object("v", &["c"]).unwrap_err();
         assert_eq!(error.path, "v[\"a\\nb\"]");
-        let error = numbers(&serde_json::json!([1, "x"]), "", 2).unwrap_err();
+        let error = numbers(document(serde_json::json!([1, "x"])).root(), "", 2).unwrap_err();
         assert_eq!(error.path, "input[1]");
     }
 
@@ -238,8 +244,11 @@ mod tests {
     /// of those fields would, its errors at its own path.
     #[test]
     fn a_gathered_object_reads_its_fields_as_an_object_would() {
-        let (a, b) = (serde_json::json!([1.0, 2.0]), serde_json::json!({"x": 3.0}));
-        let gathered = Object::gathered("f.variables", vec![("a", &a), ("b", &b)]);
+        let (a, b) = (
+            document(serde_json::json!([1.0, 2.0])),
+            document(serde_json::json!({"x": 3.0})),
+        );
+        let gathered = Object::gathered("f.variables", vec![("a", a.root()), ("b", b.root())]);
         assert_eq!(gathered.numbers("a", 2).unwrap(), [1.0, 2.0]);
         let b = gathered.object("b", &["x"]).unwrap();
         assert_eq!(b.number("x").unwrap(), 3.0);
@@ -250,10 +259,11 @@ mod tests {
 
     #[test]
     fn quaternions_are_read_w_first_where_asked_and_recorded() {
-        let value =
-            serde_json::json!({"p": {"q": [1.0, 0.0, 0.0, 0.0], "r": [1.0, 0.0, 0.0, 0.0]}});
+        let value = document(
+            serde_json::json!({"p": {"q": [1.0, 0.0, 0.0, 0.0], "r": [1.0, 0.0, 0.0, 0.0]}}),
+        );
         let reading = QuaternionReading::w_first(&["p.q".to_owned()]);
-        let top = Object::top(&value, &["p"], &reading).unwrap();
+        let top = Object::top(value.root(), &["p"], &reading).unwrap();
         let p = top.object("p", &["q", "r"]).unwrap();
         assert_eq!(p.quaternion("q").unwrap(), [0.0, 0.0, 0.0, 1.0]);
         assert_eq!(p.quaternion("r").unwrap(), [1.0, 0.0, 0.0, 0.0]);

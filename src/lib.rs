@@ -42,6 +42,7 @@ pub mod audit;
 pub mod audit_text;
 pub mod cli;
 pub mod decode;
+pub mod document;
 pub mod error;
 pub mod eval;
 pub mod field_path;

@@ -25,12 +25,14 @@ use slam_factors::{LineReprojection, PluckerLineReprojection};
 use crate::decode::{FieldsCache, decode_with};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
-use crate::observability::{tangent_columns, whitened_blocks};
+use crate::observability::tangent_columns;
 use crate::problem_assembly::Entry;
 
-/// A factor's whitened Jacobian blocks over its variables' own tangents
-/// (`S J`, one per variable) at its stored scalars.
-type JacobianAt = fn(&[f64], &DMatrix<f64>) -> Result<Vec<DMatrix<f64>>, CliError>;
+/// A factor's residual and Jacobian blocks over its variables' own
+/// tangents (row-major, one per variable) at its stored scalars, written to
+/// the slices given (`Factor::linearize_stored_into`).
+pub(crate) type LinearizeAt =
+    fn(&[f64], &mut [f64], &mut [Option<&mut [f64]>]) -> Result<(), FactorError>;
 
 /// A problem variable once a factor has created it.
 pub(crate) struct Created {
@@ -42,12 +44,16 @@ pub(crate) struct Created {
 }
 
 /// What the observability check keeps of a factor: its stored scalars at
-/// the initial values, where each variable's lie among them, its `S`.
+/// the initial values, each variable's range among them and its tangent's
+/// dimension, its `S`, how to linearize it, and its Jacobian at the initial
+/// values (every variable's block, row-major, end to end: the build's, for
+/// the check there).
 pub(crate) struct Kept {
     pub(crate) stored: Vec<f64>,
-    pub(crate) variables: Vec<(VariableId, std::ops::Range<usize>)>,
+    pub(crate) variables: Vec<(VariableId, std::ops::Range<usize>, usize)>,
     pub(crate) sqrt_information: DMatrix<f64>,
-    pub(crate) jacobian: JacobianAt,
+    pub(crate) linearize: LinearizeAt,
+    pub(crate) initial: Vec<f64>,
 }
 
 /// The Schur problem being assembled.
@@ -71,11 +77,6 @@ pub(crate) struct SchurAssembly {
 /// How a registered factor is added from a problem file to a Schur
 /// problem ([`crate::registry::Registry::solve_with_schur`]).
 pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
-
-/// [`JacobianAt`] of `F` ([`whitened_blocks`]).
-fn jacobian_at<F: Factor>(stored: &[f64], s: &DMatrix<f64>) -> Result<Vec<DMatrix<f64>>, CliError> {
-    Ok(whitened_blocks(&F::from_scalars(stored), s)?)
-}
 
 /// [`SchurAddFn`] of a factor `F` with fused normal-equation kernels: in
 /// lane batches, or one at a time by dual numbers under `--kernels dual`
@@ -179,19 +180,44 @@ fn add_decoded<F: Factor + 'static>(
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<F>();
+    let mut stored = vec![0.0; F::SCALARS];
+    factor.write_scalars(&mut stored);
     // Validated, finite at the initial values, and a finite whitened cost
-    // (what the apex path's builder checks).
-    let (linearization, _) = linearize(&factor, Method::Generated)?;
+    // (what the apex path's builder checks); the Jacobian kept for the
+    // observability check there.
+    let dims = assembly.fields.tangent_dims::<F>();
+    let rows = F::RESIDUAL_DIM;
+    let mut residual = vec![0.0; rows];
+    let mut jacobian = vec![0.0; rows * dims.iter().sum::<usize>()];
+    let linearized = F::linearize_stored_into(
+        &stored,
+        &mut residual,
+        &mut blocks_of(&mut jacobian, rows, &dims),
+    );
+    if let Err(e) = linearized {
+        // The refusal as `linearize` words it (the same validation and
+        // kernel).
+        return Err(linearize(&factor, Method::Generated)
+            .err()
+            .unwrap_or(e)
+            .into());
+    }
     // Checked by the file's reader.
-    let s = entry.noise.sqrt_information(F::RESIDUAL_DIM);
-    if !(&s * &linearization.residual).norm_squared().is_finite() {
+    let s = entry.noise.sqrt_information(rows);
+    let cost: f64 = (0..rows)
+        .map(|r| {
+            (0..rows)
+                .map(|q| s[(r, q)] * residual[q])
+                .sum::<f64>()
+                .powi(2)
+        })
+        .sum();
+    if !cost.is_finite() {
         return Err(CliError::Factor(FactorError::NonFinite {
             factor: F::NAME,
             what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
         }));
     }
-    let mut stored = vec![0.0; F::SCALARS];
-    factor.write_scalars(&mut stored);
     // Each variable's range among the stored scalars.
     let mut ranges = vec![0..0; entry.names.len()];
     let mut start = 0;
@@ -254,9 +280,30 @@ fn add_decoded<F: Factor + 'static>(
     }
     assembly.kept.push(Kept {
         stored,
-        variables: ids.into_iter().zip(ranges).collect(),
+        variables: ids
+            .into_iter()
+            .zip(ranges)
+            .zip(dims.iter())
+            .map(|((id, range), d)| (id, range, *d))
+            .collect(),
         sqrt_information: s,
-        jacobian: jacobian_at::<F>,
+        linearize: F::linearize_stored_into,
+        initial: jacobian,
     });
     Ok(())
+}
+
+/// `jacobian` cut into its blocks of `rows` × each of `dims`.
+pub(crate) fn blocks_of<'a>(
+    mut jacobian: &'a mut [f64],
+    rows: usize,
+    dims: &[usize],
+) -> Vec<Option<&'a mut [f64]>> {
+    dims.iter()
+        .map(|d| {
+            let (block, rest) = std::mem::take(&mut jacobian).split_at_mut(rows * d);
+            jacobian = rest;
+            Some(block)
+        })
+        .collect()
 }

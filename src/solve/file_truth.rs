@@ -24,11 +24,11 @@ use factor_core::Storage;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::Se3;
 use nalgebra::{Isometry3, Point3, Similarity3, UnitQuaternion, Vector3, Vector4};
-use serde_json::{Map, Value};
 
 use super::align::umeyama;
 use super::truth::angle;
 use crate::decode::at_part;
+use crate::document::{Json, Members};
 use crate::error::InputError;
 use crate::field_path::join;
 use crate::input::{Object, numbers};
@@ -50,7 +50,7 @@ enum Reading {
 /// quaternion, Plücker coordinates, a plane with a normal) and with every
 /// number of magnitude at most [`slam_data::MAX_MAGNITUDE`], so that the
 /// errors computed from it stay finite.
-fn reading(kind: &str, value: &Value, path: &str) -> Result<Reading, InputError> {
+fn reading(kind: &str, value: Json<'_>, path: &str) -> Result<Reading, InputError> {
     fn checked<T: Storage<f64>>(input: &[f64], path: &str) -> Result<Vec<f64>, InputError> {
         if let Some(x) = input.iter().find(|x| x.abs() > slam_data::MAX_MAGNITUDE) {
             return Err(InputError::new(
@@ -149,20 +149,23 @@ impl Truth {
     ///
     /// Naming the field: not an object, a name that is not a variable, a
     /// value not of its variable's form, a type without a truth.
-    pub fn read(value: &Value, declared: &Map<String, Value>) -> Result<Truth, InputError> {
+    pub fn read(value: Json<'_>, declared: Members<'_>) -> Result<Truth, InputError> {
         let map = value
             .as_object()
             .ok_or_else(|| InputError::new("truth", "expected an object of values by name"))?;
         let mut values = Vec::with_capacity(map.len());
-        for (name, value) in map {
+        for (name, value) in map.iter() {
             let path = join("truth", name);
             let declared = declared
                 .get(name)
                 .ok_or_else(|| InputError::new(&path, "no variable of this name in variables"))?;
-            let kind = declared["type"].as_str().unwrap_or_default();
+            let kind = declared
+                .get("type")
+                .and_then(Json::as_str)
+                .unwrap_or_default();
             let reading = reading(kind, value, &path)?;
             let kind = KINDS.iter().find(|k| **k == kind).expect("a known kind");
-            values.push((name.clone(), *kind, reading));
+            values.push((name.to_owned(), *kind, reading));
         }
         values.sort_by(|a, b| a.0.cmp(&b.0));
         Ok(Truth { values })
@@ -176,7 +179,7 @@ impl Truth {
     /// An estimate out of the range a truth may hold, or an error that is
     /// not finite (estimates too far off to measure): why, in words; no
     /// figure is printed.
-    pub fn describe(&self, initial: &Value, solved: &Value) -> Result<String, String> {
+    pub fn describe(&self, initial: Json<'_>, solved: Json<'_>) -> Result<String, String> {
         let (before, after) = (self.errors(initial)?, self.errors(solved)?);
         let figures = [&before, &after].into_iter().flat_map(|e| {
             let line = |l: Option<(usize, f64, f64)>| l.map(|(_, a, d)| [a, d]);
@@ -222,11 +225,14 @@ impl Truth {
 
     /// The errors of the values `variables` (a file's `variables` object),
     /// or why they cannot be measured.
-    fn errors(&self, variables: &Value) -> Result<Errors, String> {
+    fn errors(&self, variables: Json<'_>) -> Result<Errors, String> {
         let mut estimated = Vec::new();
         let mut poses = Vec::new();
         for (name, kind, truth) in &self.values {
-            let value = &variables[name.as_str()]["value"];
+            let value = variables
+                .get(name)
+                .and_then(|variable| variable.get("value"))
+                .expect("checked: every variable with a truth has a value");
             let estimate = reading(kind, value, &join("variables", name))
                 .map_err(|e| format!("the estimate of {e}"))?;
             if let (Reading::Pose(e), Reading::Pose(t)) = (estimate, truth) {

@@ -255,6 +255,14 @@ pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String,
     apex::run_problem_file(args, registry)
 }
 
+/// Drops `value` on a thread of its own: a problem file's JSON tree and the
+/// problem built from it are a million small allocations, which the caller
+/// need not wait to free (at the end of `slamjac solve` the process exits
+/// first). Where no thread can be started, it is dropped here.
+fn drop_later<T: Send + 'static>(value: T) {
+    let _ = std::thread::Builder::new().spawn(move || drop(value));
+}
+
 /// The end of a problem file's solve, either path's: a failed solve
 /// refused, then the `check` of the solution, the `truth` errors, the
 /// plot, the file `written` back with the solution (built for `--output`

@@ -28,9 +28,9 @@ use std::path::Path;
 use factor_apex::problems::Robust;
 use factor_core::VariableInfo;
 use factor_core::noise::Noise;
-use serde_json::{Map, Value};
 
 use super::file_truth::Truth;
+use crate::document::{Document, Json, Members};
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
@@ -57,7 +57,7 @@ pub(crate) struct Entry<'a> {
     pub(crate) names: Vec<(&'static str, &'a str)>,
     /// Per variable field, in the factor's order: the value of the variable
     /// it names (read at the entry's `variables` path, for [`at_value`]).
-    pub(crate) values: Vec<&'a Value>,
+    pub(crate) values: Vec<Json<'a>>,
     /// Its `constants` object.
     pub(crate) constants: Object<'a>,
     /// Its noise model (unit when absent).
@@ -80,7 +80,7 @@ impl Entry<'_> {
 /// A problem file that passed the checks.
 pub(crate) struct Checked<'a> {
     /// The declared variables, by name.
-    pub(crate) declared: &'a Map<String, Value>,
+    pub(crate) declared: Members<'a>,
     /// The names of the variables marked `fixed`.
     pub(crate) fixed: Vec<String>,
     /// The truth, checked.
@@ -97,12 +97,12 @@ pub(crate) struct Checked<'a> {
 ///
 /// [`CliError::Input`] naming the file (unreadable, over the cap, not UTF-8
 /// or not JSON) or the field at fault.
-pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
+pub(crate) fn read_json(file: &Path) -> Result<Document, CliError> {
     let name = file.display().to_string();
     let reader = crate::source::open_problem_file(file)?;
-    let json = crate::strict_json::parse_json_from(std::io::BufReader::new(reader), &name)?;
+    let json = crate::strict_json::parse_json_from(reader, &name)?;
     let top = open(
-        &json,
+        json.root(),
         "",
         &["slamjac_problem", "variables", "factors"],
         &["truth"],
@@ -115,10 +115,10 @@ pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
         )
         .into());
     }
-    if !json["variables"].is_object() {
+    if !json.root().get("variables").is_some_and(Json::is_object) {
         return Err(InputError::new("variables", "expected an object of named variables").into());
     }
-    if !json["factors"].is_array() {
+    if !json.root().get("factors").is_some_and(Json::is_array) {
         return Err(InputError::new("factors", "expected an array of factors").into());
     }
     Ok(json)
@@ -132,14 +132,16 @@ pub(crate) fn read_json(file: &Path) -> Result<Value, CliError> {
 ///
 /// The first fault, at its field path (see the module documentation).
 pub(crate) fn check<'a>(
-    json: &'a Value,
+    json: &'a Document,
     shape: impl Fn(&str, &str) -> Result<Shape, InputError>,
 ) -> Result<Checked<'a>, InputError> {
-    let declared = json["variables"]
-        .as_object()
+    let root = json.root();
+    let declared = root
+        .get("variables")
+        .and_then(Json::as_object)
         .expect("read_json checked `variables`");
     let mut fixed = Vec::new();
-    for (name, spec) in declared {
+    for (name, spec) in declared.iter() {
         let object = open(
             spec,
             &join("variables", name),
@@ -147,21 +149,22 @@ pub(crate) fn check<'a>(
             &["fixed"],
         )?;
         object.string("type")?;
-        if spec.get("fixed").is_some() {
-            let is_fixed = spec["fixed"].as_bool().ok_or_else(|| {
+        if let Some(value) = spec.get("fixed") {
+            let is_fixed = value.as_bool().ok_or_else(|| {
                 InputError::new(object.path_of("fixed"), "expected true or false")
             })?;
             if is_fixed {
-                fixed.push(name.clone());
+                fixed.push(name.to_owned());
             }
         }
     }
-    let truth = json
+    let truth = root
         .get("truth")
         .map(|truth| Truth::read(truth, declared))
         .transpose()?;
-    let factors = json["factors"]
-        .as_array()
+    let factors = root
+        .get("factors")
+        .and_then(Json::as_array)
         .expect("read_json checked `factors`");
     let mut entries = Vec::with_capacity(factors.len());
     let mut used = std::collections::HashSet::new();
@@ -173,7 +176,7 @@ pub(crate) fn check<'a>(
         used.extend(entry.names.iter().map(|(_, name)| *name));
         entries.push(entry);
     }
-    if let Some(unused) = declared.keys().find(|n| !used.contains(n.as_str())) {
+    if let Some(unused) = declared.keys().find(|n| !used.contains(n)) {
         return Err(InputError::new(
             join("variables", unused),
             "no factor uses this variable",
@@ -190,9 +193,9 @@ pub(crate) fn check<'a>(
 /// Checks the factor entry `spec` at `path`, the shape of its factor from
 /// `shapes` or else `shape` (then kept in `shapes`).
 fn check_entry<'a>(
-    spec: &'a Value,
+    spec: Json<'a>,
     path: &str,
-    declared: &'a Map<String, Value>,
+    declared: Members<'a>,
     shapes: &mut Vec<(&'a str, Shape)>,
     shape: &impl Fn(&str, &str) -> Result<Shape, InputError>,
 ) -> Result<Entry<'a>, InputError> {
@@ -221,7 +224,10 @@ fn check_entry<'a>(
         let variable = declared.get(name).ok_or_else(|| {
             InputError::new(at(), format!("no variable {} in variables", quoted(name)))
         })?;
-        let declared_type = variable["type"].as_str().unwrap_or_default();
+        let declared_type = variable
+            .get("type")
+            .and_then(Json::as_str)
+            .unwrap_or_default();
         let wanted = type_name(info.type_name);
         if declared_type != wanted {
             return Err(InputError::new(
@@ -244,7 +250,11 @@ fn check_entry<'a>(
             ));
         }
         names.push((info.name, name));
-        values.push(&variable["value"]);
+        values.push(
+            variable
+                .get("value")
+                .expect("checked: every variable has a value"),
+        );
     }
     let constants = object.object("constants", &shape.constants)?;
     let noise = match spec.get("noise") {
@@ -278,15 +288,25 @@ pub(crate) fn type_name(info: &str) -> &str {
 
 /// An object at `path` with the fields `required` and any of `optional`.
 fn open<'a>(
-    value: &'a Value,
+    value: Json<'a>,
     path: &str,
     required: &[&str],
     optional: &[&str],
 ) -> Result<Object<'a>, InputError> {
     let present: Vec<&str> = match value.as_object() {
         Some(map) => {
+            let present: Vec<&str> = required
+                .iter()
+                .copied()
+                .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
+                .collect();
+            // The required fields, and as many fields as present: none
+            // unknown (the slow search for one runs only when not).
+            if map.len() == present.len() && required.iter().all(|k| map.contains_key(*k)) {
+                return Object::new(value, path, &present);
+            }
             let allowed: Vec<&str> = required.iter().chain(optional).copied().collect();
-            if let Some(unknown) = map.keys().find(|k| !allowed.contains(&k.as_str())) {
+            if let Some(unknown) = map.keys().find(|k| !allowed.contains(k)) {
                 return Err(InputError::new(
                     join(path, unknown),
                     format!("unknown field; expected only {}", allowed.join(", ")),
@@ -312,9 +332,9 @@ fn open<'a>(
 const NOISE_RANGE: (f64, f64) = (1e-100, 1e100);
 
 /// The noise model at `path`, for a residual of `dim` components.
-fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
+fn noise(value: Json<'_>, path: &str, dim: usize) -> Result<Noise, InputError> {
     let object = open(value, path, &[], &["sigma", "sigmas", "sqrt_information"])?;
-    let keys: Vec<&String> = value
+    let keys: Vec<&str> = value
         .as_object()
         .map(|m| m.keys().collect())
         .unwrap_or_default();
@@ -336,7 +356,7 @@ fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
             ))
         }
     };
-    match key.as_str() {
+    match *key {
         "sigma" => Ok(Noise::Sigma(deviation(object.number(key)?, &at)?)),
         "sigmas" => {
             let sigmas = object.numbers(key, dim)?;
@@ -353,7 +373,7 @@ fn noise(value: &Value, path: &str, dim: usize) -> Result<Noise, InputError> {
 /// magnitude at most 1e100, invertible to within rounding (its smallest
 /// singular value above `dim · ε` times its largest).
 fn sqrt_information(
-    value: &Value,
+    value: Json<'_>,
     at: &str,
     dim: usize,
 ) -> Result<nalgebra::DMatrix<f64>, InputError> {

@@ -58,6 +58,7 @@ use serde_json::{Map, Value};
 use super::file_truth::Truth;
 use super::problem_checks::{self as checks, Shape, at_value, read_json};
 use crate::decode::{FieldsCache, record_keys};
+use crate::document::{Document, Json};
 use crate::error::{CliError, InputError};
 use crate::field_path::quoted;
 use crate::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
@@ -67,7 +68,7 @@ use crate::registry::{Registry, SolvedBy};
 /// A problem read from a file and built for apex.
 pub struct FileProblem {
     /// The file's JSON, written back with the solution's values.
-    json: Value,
+    json: Document,
     /// The apex problem.
     pub built: Built<()>,
     variables: Vec<(String, Created)>,
@@ -411,19 +412,47 @@ fn layout_json(layout: &Layout, rest: &mut &[f64]) -> Value {
 
 /// The file's JSON `json` with its `variables` object replaced by
 /// `variables` (the solved values): what `--output` writes.
-pub(super) fn with_variables(json: &Value, variables: &Value) -> Value {
-    let top = json.as_object().expect("read_json checked the top level");
+pub(super) fn with_variables(json: &Document, variables: &Value) -> Value {
+    let top = json
+        .root()
+        .as_object()
+        .expect("read_json checked the top level");
     let replaced = top.iter().map(|(key, value)| {
-        let value = if key == "variables" { variables } else { value };
-        (key.clone(), value.clone())
+        let value = if key == "variables" {
+            variables.clone()
+        } else {
+            value.to_value()
+        };
+        (key.to_owned(), value)
     });
     Value::Object(replaced.collect())
+}
+
+/// The file's `variables` object as written, to take the solved values.
+pub(super) fn variables_of(json: &Document) -> Value {
+    json.root()
+        .get("variables")
+        .map_or(Value::Null, Json::to_value)
+}
+
+/// The errors against `truth` of the file's initial values and of the
+/// `solved` variables ([`Truth::describe`]).
+pub(super) fn truth_errors(
+    truth: &Truth,
+    json: &Document,
+    solved: &Value,
+) -> Result<String, String> {
+    let initial = json
+        .root()
+        .get("variables")
+        .expect("read_json checked `variables`");
+    truth.describe(initial, Document::from_value(solved).root())
 }
 
 impl FileProblem {
     /// The file's `variables` object with the values of `values`.
     pub fn solved_variables(&self, values: &Values) -> Value {
-        let mut variables = self.json["variables"].clone();
+        let mut variables = variables_of(&self.json);
         for (name, created) in &self.variables {
             let stored = (created.read_back)(values, &created.variable, created.index);
             variables[name]["value"] = value_json(&created.field, &stored);
@@ -464,7 +493,7 @@ impl FileProblem {
     /// Errors that cannot be measured ([`Truth::describe`]), in words.
     pub fn truth_errors(&self, solved: &Value) -> Option<Result<String, String>> {
         let truth = self.truth.as_ref()?;
-        Some(truth.describe(&self.json["variables"], solved))
+        Some(truth_errors(truth, &self.json, solved))
     }
 }
 

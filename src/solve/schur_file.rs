@@ -27,14 +27,16 @@ use serde_json::Value;
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
-    add_at, nothing_to_solve, shape, solution_tolerance, unobservable, value_json, with_variables,
+    add_at, nothing_to_solve, shape, solution_tolerance, truth_errors, unobservable, value_json,
+    variables_of, with_variables,
 };
 use super::{SolveArgs, at, finish_file, progress};
+use crate::document::Document;
 use crate::error::CliError;
 use crate::field_path::shown_path;
 use crate::observability::{Deficiency, Normal, Variable};
 use crate::registry::Registry;
-use crate::schur_assembly::SchurAssembly;
+use crate::schur_assembly::{SchurAssembly, blocks_of};
 
 /// Solves the problem file of `args` with the Schur-complement solver and
 /// returns the summary, or, when that solver cannot take it, why (nothing
@@ -89,7 +91,7 @@ pub(super) fn run(
         assembly.problem.eliminate(assembly.created[name].id);
     }
     let fixed: HashSet<String> = checked.fixed.iter().cloned().collect();
-    if let Some(deficiency) = deficiency(&assembly, &fixed, None) {
+    if let Some(deficiency) = deficiency(&mut assembly, &fixed, None) {
         return Err(unobservable(&args.file, &deficiency));
     }
     let blocks = assembly.problem.factor_count();
@@ -116,15 +118,17 @@ pub(super) fn run(
     let finished = super::schur::finished(&outcome, blocks);
     let solved = solved_variables(&json, &assembly);
     let tolerance = solution_tolerance(&finished.verdict);
-    let check = || match deficiency(&assembly, &fixed, Some(tolerance)) {
+    let check = || match deficiency(&mut assembly, &fixed, Some(tolerance)) {
         Some(d) => Err(d.at("the solution").to_string()),
         None => Ok(()),
     };
-    let errors = truth.map(|t| t.describe(&json["variables"], &solved));
-    finish_file(args, &finished, check, errors, || {
+    let errors = truth.map(|t| truth_errors(&t, &json, &solved));
+    let summary = finish_file(args, &finished, check, errors, || {
         with_variables(&json, &solved)
-    })
-    .map(Ok)
+    });
+    drop(checked);
+    super::drop_later((json, assembly, solved));
+    summary.map(Ok)
 }
 
 /// The header: the file, its blocks, how many of them are `whitened` by a
@@ -168,8 +172,8 @@ fn landmarks(checked: &checks::Checked<'_>) -> HashSet<String> {
 }
 
 /// The file's `variables` object with the solved values.
-fn solved_variables(json: &Value, assembly: &SchurAssembly) -> Value {
-    let mut variables = json["variables"].clone();
+fn solved_variables(json: &Document, assembly: &SchurAssembly) -> Value {
+    let mut variables = variables_of(json);
     for (name, created) in &assembly.created {
         variables[name]["value"] = value_json(&created.field, assembly.problem.value(created.id));
     }
@@ -177,11 +181,12 @@ fn solved_variables(json: &Value, assembly: &SchurAssembly) -> Value {
 }
 
 /// The directions of the free variables the factors do not determine, at
-/// the initial values or (`solved`, with its tolerance) the problem's
-/// current ones ([`crate::observability`]), over each factor's whitened
-/// Jacobian in its variables' own tangents.
+/// the initial values (each factor's Jacobian there, kept by the build) or
+/// (`solved`, with its tolerance) the problem's current ones
+/// ([`crate::observability`]), over each factor's whitened Jacobian in its
+/// variables' own tangents.
 fn deficiency(
-    assembly: &SchurAssembly,
+    assembly: &mut SchurAssembly,
     fixed: &HashSet<String>,
     solved: Option<f64>,
 ) -> Option<Deficiency> {
@@ -191,37 +196,58 @@ fn deficiency(
         .filter(|n| !fixed.contains(*n))
         .collect();
     names.sort();
-    let mut index = HashMap::new();
+    // Each problem variable's index among the free ones.
+    let mut index = vec![None; assembly.problem.variable_count()];
     let mut variables = Vec::with_capacity(names.len());
     for (k, name) in names.into_iter().enumerate() {
         let created = &assembly.created[name];
-        index.insert(created.id, k);
+        index[created.id.index()] = Some(k);
         variables.push(Variable {
             name: name.clone(),
             columns: created.columns.clone(),
         });
     }
     let mut normal = Normal::new(variables);
-    let mut stored = Vec::new();
-    for kept in &assembly.kept {
-        stored.clone_from(&kept.stored);
+    let (mut stored, mut residual, mut jacobian) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut free, mut whitened) = (Vec::new(), Vec::new());
+    for kept in &mut assembly.kept {
+        let s = &kept.sqrt_information;
+        let rows = s.nrows();
         if solved.is_some() {
-            for (id, range) in &kept.variables {
+            stored.clone_from(&kept.stored);
+            for (id, range, _) in &kept.variables {
                 stored[range.clone()].copy_from_slice(assembly.problem.value(*id));
             }
+            residual.resize(rows, 0.0);
+            let dims: Vec<usize> = kept.variables.iter().map(|(_, _, d)| *d).collect();
+            jacobian.resize(rows * dims.iter().sum::<usize>(), 0.0);
+            let mut blocks = blocks_of(&mut jacobian, rows, &dims);
+            // A factor degenerate here was refused by the solve already;
+            // its measurements count for nothing.
+            if (kept.linearize)(&stored, &mut residual, &mut blocks).is_err() {
+                continue;
+            }
+        } else {
+            jacobian = std::mem::take(&mut kept.initial);
         }
-        // A factor degenerate here was refused by the solve already; its
-        // measurements count for nothing.
-        let Ok(jacobians) = (kept.jacobian)(&stored, &kept.sqrt_information) else {
-            continue;
-        };
-        let blocks = kept
-            .variables
-            .iter()
-            .zip(jacobians)
-            .filter_map(|((id, _), block)| index.get(id).map(|&k| (k, block)))
-            .collect();
-        normal.add(blocks);
+        // `S J` on the free variables.
+        free.clear();
+        whitened.clear();
+        let mut start = 0;
+        for (id, _, d) in &kept.variables {
+            let block = &jacobian[start..start + rows * d];
+            start += rows * d;
+            let Some(k) = index[id.index()] else {
+                continue;
+            };
+            free.push(k);
+            for r in 0..rows {
+                whitened.extend(
+                    (0..*d).map(|c| (0..rows).map(|q| s[(r, q)] * block[q * d + c]).sum::<f64>()),
+                );
+            }
+        }
+        normal.add_rows(rows, &free, &mut whitened);
     }
     normal.deficiency_within(solved.unwrap_or(crate::observability::TOLERANCE))
 }

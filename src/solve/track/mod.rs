@@ -242,7 +242,7 @@ pub fn run(args: &TrackArgs) -> Result<String, CliError> {
         outputs::write(path, plot::svg(path, &runs)?)?;
     }
     if let (Some(path), Some((_, last))) = (&args.output, runs.last()) {
-        let mut json = sequence.json.clone();
+        let mut json = sequence.json.root().to_value();
         for (frame, t) in sequence.frames.iter().zip(last) {
             let s = t.pose.to_scalars();
             json["variables"][&frame.name]["value"] =

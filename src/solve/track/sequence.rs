@@ -24,13 +24,13 @@ use factor_core::lie::Se3;
 use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
 use factor_tracking::{PoseError, PoseProblem};
-use serde_json::{Map, Value};
 use slam_factors::{
     LineObservation, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
 
 use super::super::problem_checks::{self as checks, Shape, at_value, read_json};
 use crate::decode::decode;
+use crate::document::{Document, Json};
 use crate::error::{CliError, InputError};
 use crate::field_path::{join, quoted};
 use crate::input::Object;
@@ -104,7 +104,7 @@ pub struct Frame {
 /// The sequence of a problem file.
 pub struct Sequence {
     /// The file's JSON.
-    pub json: Value,
+    pub json: Document,
     /// The frames, in file order.
     pub frames: Vec<Frame>,
     /// The landmarks the observations hold fixed: points, lines, planes.
@@ -152,7 +152,7 @@ fn tracked_factors() -> [Tracked; 5] {
 
 /// A world-to-camera pose written `{"rotation": [qx, qy, qz, qw],
 /// "translation": [x, y, z]}` at `path`.
-fn pose(value: &Value, path: &str) -> Result<Se3<f64>, InputError> {
+fn pose(value: Json<'_>, path: &str) -> Result<Se3<f64>, InputError> {
     let object = Object::new(value, path, &["rotation", "translation"])?;
     let mut input = object.quaternion("rotation")?;
     input.extend(object.numbers("translation", 3)?);
@@ -187,7 +187,7 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
         Ok((entry.shape)())
     })?;
     let declared = checked.declared;
-    let truth = json.get("truth").ok_or_else(|| {
+    let truth = json.root().get("truth").ok_or_else(|| {
         InputError::new(
             "truth",
             "missing: track starts frame 0 at its true pose and measures the errors against \
@@ -195,17 +195,24 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
         )
     })?;
     let mut frames = Vec::new();
-    for (name, spec) in declared.iter().filter(|(_, s)| s["type"] == "Se3") {
+    fn type_of(spec: Json<'_>) -> Option<&str> {
+        spec.get("type").and_then(Json::as_str)
+    }
+    fn value_of(spec: Json<'_>) -> Json<'_> {
+        spec.get("value")
+            .expect("checked: every variable has a value")
+    }
+    for (name, spec) in declared.iter().filter(|(_, s)| type_of(*s) == Some("Se3")) {
         let at = join("truth", name);
         let value = truth
             .get(name)
             .ok_or_else(|| InputError::new(&at, "missing: every pose needs its truth"))?;
         frames.push(Frame {
-            name: name.clone(),
+            name: name.to_owned(),
             truth: pose(value, &at)?,
             observations: Vec::new(),
         });
-        pose(&spec["value"], &join(&join("variables", name), "value"))?;
+        pose(value_of(spec), &join(&join("variables", name), "value"))?;
     }
     if frames.is_empty() {
         return Err(InputError::new("variables", "no Se3 variable: no frame to track").into());
@@ -227,16 +234,18 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
         let mut add = (tracked.read)(&entry.variables(), &entry.constants, entry.noise.clone())
             .map_err(|e| at_value(e, entry))?;
         let mut frame = None;
-        let mut values = Map::new();
+        let mut values = Vec::with_capacity(entry.names.len());
         for (field, variable) in &entry.names {
-            let spec = &declared[*variable];
-            let value = if spec["type"] == "Se3" {
+            let spec = declared
+                .get(variable)
+                .expect("checked: a declared variable");
+            let value = if type_of(spec) == Some("Se3") {
                 frame = frames.iter().position(|f| f.name == *variable);
-                &spec["value"]
+                value_of(spec)
             } else {
                 landmarks.insert(variable, tracked.kind);
                 match map {
-                    MapSource::Values => &spec["value"],
+                    MapSource::Values => value_of(spec),
                     MapSource::Truth => truth.get(variable).ok_or_else(|| {
                         InputError::new(
                             join("truth", variable),
@@ -246,13 +255,11 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
                     })?,
                 }
             };
-            values.insert((*field).to_owned(), value.clone());
+            values.push((*field, value));
         }
         if map == MapSource::Truth {
             // The map at its truth (checked as values are by `checks`).
-            let values = Value::Object(values);
-            let fields: Vec<&str> = entry.names.iter().map(|(f, _)| *f).collect();
-            let variables = Object::new(&values, &join(&entry.path, "variables"), &fields)?;
+            let variables = Object::gathered(&join(&entry.path, "variables"), values);
             add = (tracked.read)(&variables, &entry.constants, entry.noise.clone())?;
         }
         let frame = frame.expect("every tracked factor has an `Se3` pose");

@@ -1,5 +1,5 @@
-//! JSON text → [`serde_json::Value`], in one pass over the text, stricter than
-//! the JSON grammar where a lenient reading would let a wrong number through:
+//! JSON text → [`Document`], in one pass over the text, stricter than the
+//! JSON grammar where a lenient reading would let a wrong number through:
 //!
 //! - a key given twice in one object is an error at its path (the last one
 //!   would silently win);
@@ -12,16 +12,21 @@
 //! hands each number over as its literal text: from text in memory
 //! ([`parse_json`]) or as a reader streams it in ([`parse_json_from`], so
 //! that a source that is not JSON is refused at its first bytes, not once
-//! it has been read whole).
+//! it has been read whole). A problem file of some ten megabytes is mostly
+//! plain JSON, which [`parse_json_from`] reads by a fast path first
+//! (`fast`); the events decide everything else.
+
+mod fast;
 
 use std::borrow::Cow;
-use std::io::Read;
+use std::io::{BufReader, Read};
 
 use json_event_parser::{
     JsonEvent, JsonParseError, JsonSyntaxError, ReaderJsonParser, SliceJsonParser,
 };
 use serde_json::{Map, Number, Value};
 
+use crate::document::Document;
 use crate::error::InputError;
 use crate::field_path::{self, shortened};
 use crate::source::source_name;
@@ -211,17 +216,32 @@ impl<E: Events> Builder<'_, E> {
 
 /// Parses JSON text read from `source` (for error messages): syntax errors
 /// name the source, line and column; duplicate keys and out-of-range numbers
-/// their field path.
-pub fn parse_json(text: &str, source: &str) -> Result<Value, InputError> {
+/// their field path. Plain JSON is read by the fast path; where it stops,
+/// the events read the text.
+pub fn parse_json(text: &str, source: &str) -> Result<Document, InputError> {
+    match fast::parse(text.as_bytes()) {
+        fast::Parsed::Document(document) => Ok(document),
+        fast::Parsed::Replay(_) => events(text, source).map(|value| Document::from_value(&value)),
+    }
+}
+
+/// The value of `text` read by the events alone.
+fn events(text: &str, source: &str) -> Result<Value, InputError> {
     build(SliceJsonParser::new(text.as_bytes()), source)
 }
 
 /// [`parse_json`] of what `reader` streams in (a file read through
 /// [`crate::source::Checked`]): the parse stops at the first byte that is
 /// not JSON, and a failed read is an error naming `source` with the
-/// reader's one-line message.
-pub fn parse_json_from(reader: impl Read, source: &str) -> Result<Value, InputError> {
-    build(ReaderJsonParser::new(reader), source)
+/// reader's one-line message. Where the fast path stops, the events read
+/// the same input again from its start.
+pub fn parse_json_from(reader: impl Read, source: &str) -> Result<Document, InputError> {
+    match fast::parse(BufReader::new(reader)) {
+        fast::Parsed::Document(document) => Ok(document),
+        fast::Parsed::Replay(input) => {
+            build(ReaderJsonParser::new(input), source).map(|value| Document::from_value(&value))
+        }
+    }
 }
 
 /// The whole document of `parser`'s events.
@@ -247,11 +267,16 @@ mod tests {
     fn values_read_as_serde_json_reads_them() {
         let text = r#"{"a": [1.0, -2.5e3, true, null, "x\u00e9\n"], "b": {"c": {}}, "": []}"#;
         let expected: Value = serde_json::from_str(text).unwrap();
-        let value = parse_json(text, "t").unwrap();
-        assert_eq!(value, expected);
+        let document = parse_json(text, "t").unwrap();
+        assert_eq!(document.root().to_value(), expected);
+        assert_eq!(events(text, "t").unwrap(), expected);
         // Every number is read as an `f64`.
-        assert_eq!(parse_json("[7]", "t").unwrap(), serde_json::json!([7.0]));
-        let keys: Vec<&String> = value.as_object().unwrap().keys().collect();
+        assert_eq!(
+            parse_json("[7]", "t").unwrap().root().to_value(),
+            serde_json::json!([7.0])
+        );
+        assert_eq!(events("[7]", "t").unwrap(), serde_json::json!([7.0]));
+        let keys: Vec<&str> = document.root().as_object().unwrap().keys().collect();
         assert_eq!(keys, ["a", "b", ""], "order kept");
     }
 
@@ -268,7 +293,7 @@ mod tests {
         assert_eq!(parse_json("1e400", "x").unwrap_err().path, "input");
         // Underflow reads as zero, as everywhere.
         assert_eq!(
-            parse_json("[1e-999]", "x").unwrap(),
+            parse_json("[1e-999]", "x").unwrap().root().to_value(),
             serde_json::json!([0.0])
         );
     }

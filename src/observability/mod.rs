@@ -20,12 +20,15 @@
 //! through the earlier eliminations gives it over every variable, which
 //! [`Deficiency`] names.
 
+mod blocks;
+
 use std::collections::{BTreeMap, BinaryHeap};
 use std::fmt;
 
 use factor_core::{Factor, FactorError};
 use nalgebra::{DMatrix, DVector};
 
+use self::blocks::{Blocks, add_product, transpose};
 use crate::method::{Method, linearize};
 
 /// The eigenvalue, of a normal matrix scaled to a unit diagonal, at or
@@ -100,10 +103,9 @@ pub fn tangent_columns(tangent: &str, dim: usize) -> Vec<String> {
 #[derive(Debug)]
 pub struct Normal {
     variables: Vec<Variable>,
-    /// Per variable: its diagonal block and its off-diagonal blocks by
-    /// neighbour (`H_vw`, rows of `v`, columns of `w`).
-    diagonal: Vec<DMatrix<f64>>,
-    off: Vec<BTreeMap<usize, DMatrix<f64>>>,
+    blocks: Blocks,
+    /// Room for a factor's blocks column-major ([`Normal::add_rows`]).
+    columns: Vec<f64>,
 }
 
 /// The undetermined directions of a problem.
@@ -133,45 +135,86 @@ const SHOWN_VARIABLES: usize = 4;
 const NEGLIGIBLE: f64 = 1e-3;
 
 /// One elimination, kept for back-substitution: the variable, the
-/// pseudo-inverse of its diagonal block, and its blocks to the neighbours
-/// left at the time.
+/// pseudo-inverse of its diagonal block, and the neighbours left at the
+/// time, each with the offset of the pair's block (no later elimination
+/// changes it).
 struct Elimination {
     variable: usize,
     pseudo_inverse: DMatrix<f64>,
-    neighbours: Vec<(usize, DMatrix<f64>)>,
+    neighbours: Vec<(usize, usize)>,
 }
 
 impl Normal {
     /// An empty normal matrix over `variables` (the free ones).
     pub fn new(variables: Vec<Variable>) -> Self {
-        let diagonal = variables
-            .iter()
-            .map(|v| DMatrix::zeros(v.columns.len(), v.columns.len()))
-            .collect();
-        let off = variables.iter().map(|_| BTreeMap::new()).collect();
+        let dims = variables.iter().map(|v| v.columns.len()).collect();
         Normal {
             variables,
-            diagonal,
-            off,
+            blocks: Blocks::new(dims),
+            columns: Vec::new(),
         }
     }
 
     /// Adds a factor's whitened Jacobian blocks on free variables, `(index,
-    /// rows × tangent)`, all with the same rows.
+    /// rows × tangent)`, all with the same rows ([`Normal::add_rows`]).
+    pub fn add(&mut self, blocks: Vec<(usize, DMatrix<f64>)>) {
+        let rows = blocks.first().map_or(0, |(_, j)| j.nrows());
+        let variables: Vec<usize> = blocks.iter().map(|(v, _)| *v).collect();
+        let mut jacobian = vec![0.0; blocks.iter().map(|(_, j)| j.len()).sum()];
+        let mut start = 0;
+        for (_, j) in &blocks {
+            transpose(j.as_slice(), rows, &mut jacobian[start..start + j.len()]);
+            start += j.len();
+        }
+        self.add_rows(rows, &variables, &mut jacobian);
+    }
+
+    /// Adds a factor's whitened Jacobian on the free `variables`:
+    /// `jacobian` holds their blocks end to end, each `rows` × the
+    /// variable's dimension, row-major.
     ///
-    /// Each row is scaled to unit norm first (`unit_rows`): the null space
-    /// of `J` does not depend on the rows' weights, and a measurement
-    /// weighted 1e8 times its neighbours' (σ = 1e-4 among σ = 1) would
-    /// otherwise make the directions only they determine look undetermined
-    /// beside its own on the unit diagonal.
-    pub fn add(&mut self, mut blocks: Vec<(usize, DMatrix<f64>)>) {
-        unit_rows(&mut blocks);
-        for (i, (a, ja)) in blocks.iter().enumerate() {
-            self.diagonal[*a].gemm_tr(1.0, ja, ja, 1.0);
-            for (b, jb) in &blocks[i + 1..] {
-                // H_ab += J_aᵀ J_b and H_ba += J_bᵀ J_a, in place.
-                accumulate(&mut self.off[*a], *b, 1.0, ja, jb);
-                accumulate(&mut self.off[*b], *a, 1.0, jb, ja);
+    /// Each row is scaled to unit norm first, in place (`unit_rows`): the
+    /// null space of `J` does not depend on the rows' weights, and a
+    /// measurement weighted 1e8 times its neighbours' (σ = 1e-4 among σ =
+    /// 1) would otherwise make the directions only they determine look
+    /// undetermined beside its own on the unit diagonal.
+    pub fn add_rows(&mut self, rows: usize, variables: &[usize], jacobian: &mut [f64]) {
+        let h = &mut self.blocks;
+        let dims: Vec<usize> = variables.iter().map(|v| h.dims[*v]).collect();
+        unit_rows(rows, &dims, jacobian);
+        // Each block column-major too (its transpose as stored), end to
+        // end: a row-major block is its transpose column-major.
+        let columns = &mut self.columns;
+        columns.resize(jacobian.len(), 0.0);
+        let mut starts = Vec::with_capacity(dims.len());
+        let mut start = 0;
+        for d in &dims {
+            let end = start + rows * d;
+            transpose(&jacobian[start..end], *d, &mut columns[start..end]);
+            starts.push(start..end);
+            start = end;
+        }
+        for (i, &a) in variables.iter().enumerate() {
+            let (ja_t, ja) = (&jacobian[starts[i].clone()], &columns[starts[i].clone()]);
+            let at = h.diagonal(a);
+            add_product(&mut h.values[at..], 1.0, ja_t, ja, dims[i]);
+            for (k, &b) in variables.iter().enumerate().skip(i + 1) {
+                let (jb_t, jb) = (&jacobian[starts[k].clone()], &columns[starts[k].clone()]);
+                if a == b {
+                    // One variable given twice: both products on its
+                    // diagonal.
+                    add_product(&mut h.values[at..], 1.0, ja_t, jb, dims[i]);
+                    add_product(&mut h.values[at..], 1.0, jb_t, ja, dims[i]);
+                    continue;
+                }
+                // H_ab += J_aᵀ J_b, stored as the lower index's rows.
+                let (low_t, high, height) = if a < b {
+                    (ja_t, jb, dims[i])
+                } else {
+                    (jb_t, ja, dims[k])
+                };
+                let (pair, _) = h.pair(a, b);
+                add_product(&mut h.values[pair..], 1.0, low_t, high, height);
             }
         }
     }
@@ -186,47 +229,82 @@ impl Normal {
     /// or [`DRIFT_TOLERANCE`] after a solve that did not converge).
     pub fn deficiency_within(mut self, tolerance: f64) -> Option<Deficiency> {
         let scales = self.scale();
-        let original = Blocks {
-            diagonal: self.diagonal.clone(),
-            off: self.off.clone(),
-        };
-        let mut eliminated = Vec::with_capacity(self.variables.len());
+        // The scaled matrix, for the candidates' test: the blocks created
+        // by the eliminations come after its end.
+        let original = self.blocks.values.clone();
+        let n = self.variables.len();
+        let mut eliminated = Vec::with_capacity(n);
         // Null directions, each as (variable, direction in its scaled
         // coordinates, how many eliminations preceded it).
         let mut null: Vec<(usize, DVector<f64>, usize)> = Vec::new();
-        let mut done = vec![false; self.variables.len()];
-        let mut queue: BinaryHeap<(std::cmp::Reverse<usize>, usize)> = (0..self.variables.len())
-            .map(|v| (std::cmp::Reverse(self.off[v].len()), v))
-            .collect();
-        while let Some((std::cmp::Reverse(degree), v)) = queue.pop() {
+        let mut done = vec![false; n];
+        let h = &mut self.blocks;
+        // Each variable's neighbours not eliminated yet (an eliminated one
+        // stays in the lists, marked `done`).
+        let mut degree: Vec<usize> = h.off.iter().map(Vec::len).collect();
+        let mut queue: BinaryHeap<(std::cmp::Reverse<usize>, usize)> =
+            (0..n).map(|v| (std::cmp::Reverse(degree[v]), v)).collect();
+        // Per neighbour of the variable eliminated: H_va and (P H_va)ᵀ
+        // (column-major), end to end, and where each starts.
+        let (mut h_v, mut p_h_v, mut starts) = (Vec::new(), Vec::new(), Vec::new());
+        let mut h_av = Vec::new();
+        while let Some((std::cmp::Reverse(d), v)) = queue.pop() {
             if done[v] {
                 continue;
             }
-            if degree != self.off[v].len() {
-                queue.push((std::cmp::Reverse(self.off[v].len()), v));
+            if d != degree[v] {
+                queue.push((std::cmp::Reverse(degree[v]), v));
                 continue;
             }
             done[v] = true;
-            let (pseudo_inverse, directions) = split(&self.diagonal[v], tolerance);
+            let dv = h.dims[v];
+            let at = h.diagonal(v);
+            let diagonal = DMatrix::from_column_slice(dv, dv, &h.values[at..at + dv * dv]);
+            let (pseudo_inverse, directions) = split(&diagonal, tolerance);
             for u in directions {
                 null.push((v, u, eliminated.len()));
             }
-            let neighbours: Vec<(usize, DMatrix<f64>)> =
-                std::mem::take(&mut self.off[v]).into_iter().collect();
-            for (i, (a, h_va)) in neighbours.iter().enumerate() {
-                self.off[*a].remove(&v);
-                // `P H_va` (P symmetric): H_aa −= H_vaᵀ P H_va, and for
-                // each later neighbour H_ab −= (P H_va)ᵀ H_vb, H_ba its
-                // transpose, in place.
-                let p_h_va = &pseudo_inverse * h_va;
-                self.diagonal[*a].gemm_tr(-1.0, h_va, &p_h_va, 1.0);
-                for (b, h_vb) in &neighbours[i + 1..] {
-                    accumulate(&mut self.off[*a], *b, -1.0, &p_h_va, h_vb);
-                    accumulate(&mut self.off[*b], *a, -1.0, h_vb, &p_h_va);
+            let neighbours: Vec<(usize, usize)> = std::mem::take(&mut h.off[v])
+                .into_iter()
+                .filter(|(a, _)| !done[*a])
+                .collect();
+            h_v.clear();
+            p_h_v.clear();
+            starts.clear();
+            for &(a, pair) in &neighbours {
+                degree[a] -= 1;
+                let (start, da) = (h_v.len(), h.dims[a]);
+                starts.push(start);
+                h_v.resize(start + dv * da, 0.0);
+                h.rows_of(&h.values, v, a, pair, &mut h_v[start..]);
+                // (P H_va)ᵀ = H_av P (P symmetric).
+                h_av.resize(dv * da, 0.0);
+                transpose(&h_v[start..], dv, &mut h_av);
+                p_h_v.resize(start + dv * da, 0.0);
+                let p = pseudo_inverse.as_slice();
+                add_product(&mut p_h_v[start..], 1.0, &h_av, p, da);
+            }
+            // H_aa −= (P H_va)ᵀ H_va, and for each later neighbour b
+            // H_ab −= (P H_va)ᵀ H_vb, in place.
+            for (i, &(a, _)) in neighbours.iter().enumerate() {
+                let (start, da) = (starts[i], h.dims[a]);
+                let (h_va, p_h_va) = (&h_v[start..start + dv * da], &p_h_v[start..start + dv * da]);
+                let at = h.diagonal(a);
+                add_product(&mut h.values[at..], -1.0, p_h_va, h_va, da);
+                let mut from = 0;
+                for (j, &(b, _)) in neighbours.iter().enumerate().skip(i + 1) {
+                    let h_vb = &h_v[starts[j]..starts[j] + dv * h.dims[b]];
+                    let (pair, created, k) = h.pair_from(a, b, from);
+                    from = k;
+                    if created {
+                        degree[a] += 1;
+                        degree[b] += 1;
+                    }
+                    add_product(&mut h.values[pair..], -1.0, p_h_va, h_vb, da);
                 }
             }
-            for (a, _) in &neighbours {
-                queue.push((std::cmp::Reverse(self.off[*a].len()), *a));
+            for &(a, _) in &neighbours {
+                queue.push((std::cmp::Reverse(degree[a]), a));
             }
             eliminated.push(Elimination {
                 variable: v,
@@ -239,8 +317,8 @@ impl Normal {
         // not (`xᵀ H x` of a true null direction is at most the tolerance).
         let null: Vec<BTreeMap<usize, DVector<f64>>> = null
             .into_iter()
-            .map(|(v, u, step)| lift(&eliminated[..step], v, u))
-            .filter(|x| original.curvature(x) <= tolerance)
+            .map(|(v, u, step)| self.lift(&eliminated[..step], v, u))
+            .filter(|x| self.curvature(&original, &eliminated, x) <= tolerance)
             .collect();
         if null.is_empty() {
             return None;
@@ -264,27 +342,86 @@ impl Normal {
     /// coordinate no factor measures keeps a zero diagonal, and its scale
     /// 1: it is a null direction of its block).
     fn scale(&mut self) -> Vec<DVector<f64>> {
-        let scales: Vec<DVector<f64>> = self
-            .diagonal
-            .iter()
-            .map(|d| {
-                d.diagonal()
-                    .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 1.0 })
+        let h = &self.blocks;
+        let scales: Vec<DVector<f64>> = (0..h.dims.len())
+            .map(|v| {
+                let (d, at) = (h.dims[v], h.diagonal(v));
+                DVector::from_fn(d, |i, _| {
+                    let x = h.values[at + i * (d + 1)];
+                    if x > 0.0 { 1.0 / x.sqrt() } else { 1.0 }
+                })
             })
             .collect();
-        for (v, d) in self.diagonal.iter_mut().enumerate() {
-            scale_block(d, &scales[v], &scales[v]);
-        }
-        for (v, off) in self.off.iter_mut().enumerate() {
-            for (w, h) in off.iter_mut() {
-                scale_block(h, &scales[v], &scales[*w]);
-            }
-        }
+        self.blocks.scale(&scales);
         scales
     }
 
+    /// `H_vw` (the rows of `v`) of the pair's block at `pair` in `values`
+    /// (the blocks' values, or a copy of them).
+    fn block(&self, values: &[f64], v: usize, w: usize, pair: usize) -> DMatrix<f64> {
+        let h = &self.blocks;
+        let mut block = DMatrix::zeros(h.dims[v], h.dims[w]);
+        h.rows_of(values, v, w, pair, block.as_mut_slice());
+        block
+    }
+
+    /// The null direction found at `v` (direction `u`, scaled coordinates)
+    /// over every variable: zero on those eliminated after `v`,
+    /// back-substituted through the `earlier` eliminations.
+    fn lift(
+        &self,
+        earlier: &[Elimination],
+        v: usize,
+        u: DVector<f64>,
+    ) -> BTreeMap<usize, DVector<f64>> {
+        let mut x: BTreeMap<usize, DVector<f64>> = BTreeMap::from([(v, u)]);
+        for step in earlier.iter().rev() {
+            let mut sum = DVector::zeros(step.pseudo_inverse.nrows());
+            for &(a, pair) in &step.neighbours {
+                if let Some(xa) = x.get(&a) {
+                    sum += self.block(&self.blocks.values, step.variable, a, pair) * xa;
+                }
+            }
+            x.insert(step.variable, -(&step.pseudo_inverse * sum));
+        }
+        x
+    }
+
+    /// `xᵀ H x / xᵀ x` for the direction `x` (by variable; absent ones
+    /// zero), `H` the scaled matrix `original`: its pairs are those of the
+    /// `eliminated` steps' neighbours (each pair is one of them, at the
+    /// first of its two eliminations) whose blocks lie within it.
+    fn curvature(
+        &self,
+        original: &[f64],
+        eliminated: &[Elimination],
+        x: &BTreeMap<usize, DVector<f64>>,
+    ) -> f64 {
+        let h = &self.blocks;
+        let mut quadratic = 0.0;
+        for (v, xv) in x {
+            let (d, at) = (h.dims[*v], h.diagonal(*v));
+            let diagonal = DMatrix::from_column_slice(d, d, &original[at..at + d * d]);
+            quadratic += xv.dot(&(diagonal * xv));
+        }
+        for step in eliminated {
+            let Some(xv) = x.get(&step.variable) else {
+                continue;
+            };
+            for &(a, pair) in &step.neighbours {
+                if let Some(xa) = x.get(&a)
+                    && pair < original.len()
+                {
+                    let h_va = self.block(original, step.variable, a, pair);
+                    quadratic += 2.0 * xv.dot(&(h_va * xa));
+                }
+            }
+        }
+        quadratic / x.values().map(DVector::norm_squared).sum::<f64>()
+    }
+
     /// A null direction over every variable (scaled coordinates,
-    /// [`lift`]), unscaled, of unit norm, its moves largest first.
+    /// [`Normal::lift`]), unscaled, of unit norm, its moves largest first.
     fn direction(
         x: BTreeMap<usize, DVector<f64>>,
         scales: &[DVector<f64>],
@@ -307,37 +444,44 @@ impl Normal {
     }
 }
 
-/// `h ← diag(rows) · h · diag(columns)`, in place.
-fn scale_block(h: &mut DMatrix<f64>, rows: &DVector<f64>, columns: &DVector<f64>) {
-    for (j, mut column) in h.column_iter_mut().enumerate() {
-        for (x, r) in column.iter_mut().zip(rows.iter()) {
-            *x = *x * r * columns[j];
+/// Scales each row of a factor's blocks (`rows` × each of `dims`,
+/// row-major, end to end in `jacobian`) to unit norm over the blocks, in
+/// place; a row shorter than [`ROW_FLOOR`] times the factor's longest is
+/// scaled as if it were that long, so that a row of rounding (a component
+/// the free variables do not move) stays negligible.
+fn unit_rows(rows: usize, dims: &[usize], jacobian: &mut [f64]) {
+    let mut norms = vec![0.0_f64; rows];
+    let mut start = 0;
+    for d in dims {
+        for (r, norm) in norms.iter_mut().enumerate() {
+            let row = start + r * d..start + (r + 1) * d;
+            *norm = norm.hypot(scaled_norm(&jacobian[row]));
         }
+        start += rows * d;
     }
-}
-
-/// Scales each row of a factor's blocks (all with the same rows) to unit
-/// norm over the blocks, in place; a row shorter than [`ROW_FLOOR`] times
-/// the factor's longest is scaled as if it were that long, so that a row of
-/// rounding (a component the free variables do not move) stays negligible.
-fn unit_rows(blocks: &mut [(usize, DMatrix<f64>)]) {
-    let rows = blocks.first().map_or(0, |(_, j)| j.nrows());
-    let norms: Vec<f64> = (0..rows)
-        .map(|r| {
-            blocks
-                .iter()
-                .map(|(_, j)| factor_core::linalg::scaled_norm(&j.row(r)))
-                .fold(0.0, f64::hypot)
-        })
-        .collect();
     let longest = norms.iter().copied().fold(0.0, f64::max);
-    for (_, j) in blocks.iter_mut() {
+    let mut start = 0;
+    for d in dims {
         for (r, norm) in norms.iter().enumerate() {
             let norm = norm.max(ROW_FLOOR * longest);
             if norm > 0.0 && norm.is_finite() {
-                j.row_mut(r).unscale_mut(norm);
+                for x in &mut jacobian[start + r * d..start + (r + 1) * d] {
+                    *x /= norm;
+                }
             }
         }
+        start += rows * d;
+    }
+}
+
+/// `‖v‖` of any magnitude: its largest magnitude times the norm of `v`
+/// divided by it (as `factor_core::linalg::scaled_norm`).
+fn scaled_norm(v: &[f64]) -> f64 {
+    let largest = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if largest > 0.0 && largest.is_finite() {
+        largest * v.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
+    } else {
+        largest
     }
 }
 
@@ -345,59 +489,6 @@ fn unit_rows(blocks: &mut [(usize, DMatrix<f64>)]) {
 /// scales to unit norm: far above rounding, below any ratio of two noise
 /// levels in one factor that a file would give.
 const ROW_FLOOR: f64 = 1.0;
-
-/// `off[at] += alpha · xᵀ y`, the block created (zero) if new.
-fn accumulate(
-    off: &mut BTreeMap<usize, DMatrix<f64>>,
-    at: usize,
-    alpha: f64,
-    x: &DMatrix<f64>,
-    y: &DMatrix<f64>,
-) {
-    off.entry(at)
-        .or_insert_with(|| DMatrix::zeros(x.ncols(), y.ncols()))
-        .gemm_tr(alpha, x, y, 1.0);
-}
-
-/// The blocks of a normal matrix (scaled), kept to check candidates.
-struct Blocks {
-    diagonal: Vec<DMatrix<f64>>,
-    off: Vec<BTreeMap<usize, DMatrix<f64>>>,
-}
-
-impl Blocks {
-    /// `xᵀ H x / xᵀ x` for the direction `x` (by variable; absent ones
-    /// zero).
-    fn curvature(&self, x: &BTreeMap<usize, DVector<f64>>) -> f64 {
-        let mut quadratic = 0.0;
-        for (v, xv) in x {
-            quadratic += xv.dot(&(&self.diagonal[*v] * xv));
-            for (w, h) in &self.off[*v] {
-                if let Some(xw) = x.get(w) {
-                    quadratic += xv.dot(&(h * xw));
-                }
-            }
-        }
-        quadratic / x.values().map(DVector::norm_squared).sum::<f64>()
-    }
-}
-
-/// The null direction found at `v` (direction `u`, scaled coordinates)
-/// over every variable: zero on those eliminated after `v`,
-/// back-substituted through the `earlier` eliminations.
-fn lift(earlier: &[Elimination], v: usize, u: DVector<f64>) -> BTreeMap<usize, DVector<f64>> {
-    let mut x: BTreeMap<usize, DVector<f64>> = BTreeMap::from([(v, u)]);
-    for step in earlier.iter().rev() {
-        let mut sum = DVector::zeros(step.pseudo_inverse.nrows());
-        for (a, h_va) in &step.neighbours {
-            if let Some(xa) = x.get(a) {
-                sum += h_va * xa;
-            }
-        }
-        x.insert(step.variable, -(&step.pseudo_inverse * sum));
-    }
-    x
-}
 
 /// The pseudo-inverse of the symmetric block `d` on its determined
 /// directions, and its undetermined ones (eigenvalue at most
@@ -566,18 +657,6 @@ mod tests {
             deficiency.to_string().contains("q along x2 "),
             "{deficiency}"
         );
-    }
-
-    /// Scaling a block in place gives the bits of `diag(r) · h · diag(c)`.
-    #[test]
-    fn a_block_scaled_in_place_is_the_product_with_the_diagonals() {
-        let h = DMatrix::from_fn(3, 2, |i, j| (i as f64 + 0.3).powi(3) - 1.7 * j as f64);
-        let rows = DVector::from_column_slice(&[0.1, 3.7, 1e-5]);
-        let columns = DVector::from_column_slice(&[2.3e4, 0.77]);
-        let product = DMatrix::from_diagonal(&rows) * &h * DMatrix::from_diagonal(&columns);
-        let mut scaled = h.clone();
-        scale_block(&mut scaled, &rows, &columns);
-        assert_eq!(scaled, product);
     }
 
     /// A point measured tightly (weight 1e4, σ = 1e-4) across a ray and
