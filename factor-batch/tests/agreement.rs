@@ -1,9 +1,9 @@
 //! How batches are checked against the scalar kernel and dual numbers
 //! ([`check`]), for the five document factors (`document_factors.rs`) and a
-//! user's factor (`users_factor.rs`, its own test binary) at 10⁴ + 3
-//! configurations each (the plane's straddling both of its branch
-//! points, `factor_testing::branch_points`), in every lane type, Jacobians
-//! and fused normal equations alike.
+//! user's factor (`users_factor.rs`) at 10⁴ + 3 configurations each (the
+//! plane's straddling both of its branch points,
+//! `factor_testing::branch_points`), in every lane type, Jacobians and fused
+//! normal equations alike.
 //!
 //! Tolerances, and why:
 //!

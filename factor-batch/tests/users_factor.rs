@@ -1,12 +1,7 @@
 //! A user's factor's batches agree with its scalar kernel and dual numbers
-//! in every lane type (`agreement::check`). Its own test binary (see
-//! `Cargo.toml`): its kernel, with `sin`, `cos` and `atan2` in every lane
-//! type, is the largest to compile, and beside the document factors' binary
-//! both compile at once.
+//! in every lane type (`agreement::check`).
 
-mod agreement;
-
-use agreement::{check, sampled};
+use crate::agreement::{check, sampled};
 
 /// A user's factor (`examples/user-factor`), whose kernel crate declares the
 /// `lanes` feature as the crate writer asks: poses `T_i`, `T_j` and a

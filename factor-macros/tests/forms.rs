@@ -1,6 +1,8 @@
 //! The accepted forms: any scalar parameter name, a residual named by a
 //! module path or `Self::`, every `#[variable]` spelling, a scalar constant,
-//! `validate` and `name`.
+//! `validate` and `name`. An ordinary test rather than one of trybuild's
+//! pass cases (`tests/ui.rs`): with only compile-fail cases, trybuild checks
+//! them all in one `cargo check` instead of building them one at a time.
 
 use factor_core::{Factor, FactorError, Scalar};
 use nalgebra::{Vector1, Vector2};
@@ -48,7 +50,8 @@ impl<S: Scalar> Prior<S> {
     }
 }
 
-fn main() {
+#[test]
+fn every_accepted_form_derives_a_factor() {
     let spring = Spring {
         rest: 1.0,
         a: Vector2::new(0.0, 0.0),
