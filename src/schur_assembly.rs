@@ -20,7 +20,7 @@ use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 
-use crate::decode::{FieldsCache, decode_with};
+use crate::decode::{FieldsCache, stored_scalars};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
 use crate::observability::tangent_columns;
@@ -114,8 +114,8 @@ fn add_with<F: Factor + 'static>(
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<F>();
-    let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
-    let mut stored = vec![0.0; F::SCALARS];
+    let mut stored = stored_scalars(&fields, entry.variables, entry.constants)?;
+    let factor = F::from_scalars(&stored);
     factor.write_scalars(&mut stored);
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks); the Jacobian kept for the
