@@ -52,8 +52,8 @@ fn is_quaternion(names: &[String]) -> bool {
 fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Result<(), InputError> {
     match layout {
         Layout::Scalar => out.push(object.number(key)?),
-        Layout::Array(names) if is_quaternion(names) => out.extend(object.quaternion(key)?),
-        Layout::Array(names) => out.extend(object.numbers(key, names.len())?),
+        Layout::Array(names) if is_quaternion(names) => object.quaternion_into(key, out)?,
+        Layout::Array(names) => object.numbers_into(key, names.len(), out)?,
         Layout::Record(parts) => {
             let inner = object.object(key, &record_keys(layout))?;
             for (part_key, part) in parts {
@@ -65,11 +65,15 @@ fn read(object: &Object, key: &str, layout: &Layout, out: &mut Vec<f64>) -> Resu
 }
 
 /// Field `field`'s stored scalars from `object` (the request's `variables`
-/// or `constants`).
-fn field_scalars(object: &Object, field: &FieldInfo) -> Result<Vec<f64>, InputError> {
-    let mut input = Vec::with_capacity(field.input_layout.scalars());
-    read(object, field.name, &field.input_layout, &mut input)?;
-    (field.from_input)(&input).map_err(|e| at_part(object.path_of(field.name), e))
+/// or `constants`), its input read into `input`.
+fn field_scalars(
+    object: &Object,
+    field: &FieldInfo,
+    input: &mut Vec<f64>,
+) -> Result<Vec<f64>, InputError> {
+    input.clear();
+    read(object, field.name, &field.input_layout, input)?;
+    (field.from_input)(input).map_err(|e| at_part(object.path_of(field.name), e))
 }
 
 /// The type's refusal `error` of the value at `path`, at the part of it at
@@ -96,14 +100,15 @@ pub fn stored_scalars(
     variables: &Object,
     constants: &Object,
 ) -> Result<Vec<f64>, InputError> {
-    let mut stored = Vec::new();
+    let mut stored = Vec::with_capacity(fields.iter().map(|f| f.scalars).sum());
+    let mut input = Vec::new();
     for field in fields {
         let object = if field.variable.is_some() {
             variables
         } else {
             constants
         };
-        stored.extend(field_scalars(object, field)?);
+        stored.extend(field_scalars(object, field, &mut input)?);
     }
     Ok(stored)
 }

@@ -195,20 +195,48 @@ impl<'a> Object<'a> {
         numbers_at(self.get(key), n, || self.path_of(key))
     }
 
+    /// [`Object::numbers`] appended to `out`.
+    pub(crate) fn numbers_into(
+        &self,
+        key: &str,
+        n: usize,
+        out: &mut Vec<f64>,
+    ) -> Result<(), InputError> {
+        let value = self.get(key);
+        if let Some(items) = value.as_array().filter(|items| items.len() == n) {
+            let start = out.len();
+            out.extend(items.iter().map_while(Json::as_f64));
+            if out.len() == start + n {
+                return Ok(());
+            }
+            out.truncate(start);
+        }
+        out.extend(numbers_at(value, n, || self.path_of(key))?);
+        Ok(())
+    }
+
+    /// [`Object::quaternion`] appended to `out`.
+    pub(crate) fn quaternion_into(&self, key: &str, out: &mut Vec<f64>) -> Result<(), InputError> {
+        let start = out.len();
+        self.numbers_into(key, 4, out)?;
+        if let Some(reading) = self.quaternions {
+            let path = self.path_of(key);
+            if reading.w_first.contains(&path) {
+                out[start..].rotate_left(1);
+            }
+            reading.read.borrow_mut().push(path);
+        }
+        Ok(())
+    }
+
     /// A field holding a quaternion's four numbers, returned `[x, y, z, w]`:
     /// as written, or read `[w, x, y, z]` where the [`QuaternionReading`]
     /// says so; the reading records the field's path. Whether it is a unit
     /// quaternion is for its type to judge
     /// ([`factor_core::Storage::from_input`]).
     pub fn quaternion(&self, key: &str) -> Result<Vec<f64>, InputError> {
-        let mut c = self.numbers(key, 4)?;
-        if let Some(reading) = self.quaternions {
-            let path = self.path_of(key);
-            if reading.w_first.contains(&path) {
-                c.rotate_left(1);
-            }
-            reading.read.borrow_mut().push(path);
-        }
+        let mut c = Vec::with_capacity(4);
+        self.quaternion_into(key, &mut c)?;
         Ok(c)
     }
 

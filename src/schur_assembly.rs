@@ -15,14 +15,14 @@ use factor_apex::Kernels;
 use factor_apex::problems::Robust;
 use factor_core::geometry::{OrthonormalLine, PluckerLine};
 use factor_core::noise::Noise;
-use factor_core::{Factor, FactorError, FieldInfo, WithKernel};
+use factor_core::{Factor, FactorError, FieldInfo, Storage, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 use slam_factors::{LineReprojection, PluckerLineReprojection};
 
-use crate::decode::{FieldsCache, decode_with};
+use crate::decode::{FieldsCache, stored_scalars};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
 use crate::observability::tangent_columns;
@@ -123,7 +123,11 @@ pub(crate) fn add_plucker_line(
     entry: &Entry,
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<PluckerLineReprojection>();
-    let given: PluckerLineReprojection = decode_with(&fields, entry.variables, entry.constants)?;
+    let given = PluckerLineReprojection::from_scalars(&stored_scalars(
+        &fields,
+        entry.variables,
+        entry.constants,
+    )?);
     let line = OrthonormalLine::projected_from_plucker(&given.line);
     if line.distance() == 0.0 {
         let (_, name) = entry.names[1];
@@ -148,11 +152,14 @@ pub(crate) fn add_plucker_line(
         pose: given.pose,
         line,
     };
+    let mut stored = vec![0.0; LineReprojection::<f64>::SCALARS];
+    factor.write_scalars(&mut stored);
     let kernels = assembly.kernels;
     add_decoded(
         assembly,
         entry,
         factor,
+        stored,
         |problem, factor, ids, noise, loss| problem.add_by(factor, ids, noise, loss, kernels),
     )
 }
@@ -164,24 +171,24 @@ fn add_with<F: Factor + 'static>(
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<F>();
-    let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
-    add_decoded(assembly, entry, factor, add)
+    let stored = stored_scalars(&fields, entry.variables, entry.constants)?;
+    let factor = F::from_scalars(&stored);
+    add_decoded(assembly, entry, factor, stored, add)
 }
 
-/// Creates the variables of `factor` (`entry`'s) at the first factor that
-/// names them, and adds it with its noise and loss by `add`. A variable
-/// whose chart differs between factors (`SchurError::Chart`) is not an
-/// error: the file goes to apex-solver, the reason kept in
-/// [`SchurAssembly::unsupported`].
+/// Creates the variables of `factor` (`entry`'s, whose stored scalars are
+/// `stored`) at the first factor that names them, and adds it with its
+/// noise and loss by `add`. A variable whose chart differs between factors
+/// (`SchurError::Chart`) is not an error: the file goes to apex-solver, the
+/// reason kept in [`SchurAssembly::unsupported`].
 fn add_decoded<F: Factor + 'static>(
     assembly: &mut SchurAssembly,
     entry: &Entry,
     factor: F,
+    stored: Vec<f64>,
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
 ) -> Result<(), CliError> {
     let fields = assembly.fields.of::<F>();
-    let mut stored = vec![0.0; F::SCALARS];
-    factor.write_scalars(&mut stored);
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks); the Jacobian kept for the
     // observability check there.

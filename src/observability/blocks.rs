@@ -13,7 +13,8 @@ use nalgebra::DVector;
 pub(super) struct Blocks {
     /// Each variable's dimension.
     pub(super) dims: Vec<usize>,
-    /// Each variable's diagonal block: its offset in `values`.
+    /// Each variable's diagonal block: its offset in `values` (the
+    /// diagonal blocks first, then the pairs').
     diagonal: Vec<usize>,
     /// Each variable's neighbours, sorted: the neighbour and the offset of
     /// the pair's block.
@@ -76,6 +77,40 @@ impl Blocks {
             .expect_err("pairs are created both ways at once");
         self.off[b].insert(j, (a, at));
         (at, true, k)
+    }
+
+    /// Lays the pairs' blocks out anew, those of each variable of `order`
+    /// (every variable once) side by side in turn, each pair with the first
+    /// of its two variables there: an elimination in about that order
+    /// reads each variable's blocks from one place, not from wherever its
+    /// factors put them. Returns the room of the old layout.
+    pub(super) fn repack(&mut self, order: &[usize]) -> Vec<f64> {
+        let mut position = vec![0; order.len()];
+        for (k, &v) in order.iter().enumerate() {
+            position[v] = k;
+        }
+        let pairs = self.diagonal.last().map_or(0, |&at| {
+            let d = self.dims[self.dims.len() - 1];
+            at + d * d
+        });
+        let mut values = Vec::with_capacity(self.values.len());
+        values.extend_from_slice(&self.values[..pairs]);
+        for &v in order {
+            for k in 0..self.off[v].len() {
+                let (w, at) = self.off[v][k];
+                if position[w] < position[v] {
+                    continue;
+                }
+                let moved = values.len();
+                values.extend_from_slice(&self.values[at..at + self.dims[v] * self.dims[w]]);
+                self.off[v][k].1 = moved;
+                let j = self.off[w]
+                    .binary_search_by_key(&v, |&(u, _)| u)
+                    .expect("pairs are kept both ways");
+                self.off[w][j].1 = moved;
+            }
+        }
+        std::mem::replace(&mut self.values, values)
     }
 
     /// `H_vw` (the rows of `v`) of the pair's block at `at` in `values`
@@ -216,6 +251,23 @@ mod tests {
             from = k;
         }
         assert!(many.pair_from(0, 2, 1).1, "a pair not there is created");
+
+        // Laid out anew, every pair's block reads the same.
+        let before: Vec<Vec<f64>> = (1..40)
+            .step_by(3)
+            .map(|b| {
+                let at = many.pair(0, b).0;
+                many.values[at] = b as f64;
+                many.values[at..at + 1].to_vec()
+            })
+            .collect();
+        let order: Vec<usize> = (0..40).rev().collect();
+        let _ = many.repack(&order);
+        for (b, value) in (1..40).step_by(3).zip(before) {
+            let (at, created) = many.pair(b, 0);
+            assert!(!created);
+            assert_eq!(many.values[at..at + 1], value[..]);
+        }
         let h01 = DMatrix::from_fn(2, 3, |i, j| (3 * i + j) as f64);
         blocks.values[at..at + 6].copy_from_slice(h01.as_slice());
         let mut rows = vec![0.0; 6];

@@ -228,10 +228,20 @@ impl Normal {
     /// The directions determined no more than `tolerance` ([`TOLERANCE`],
     /// or [`DRIFT_TOLERANCE`] after a solve that did not converge).
     pub fn deficiency_within(mut self, tolerance: f64) -> Option<Deficiency> {
+        // The blocks laid out in the order of the first eliminations (the
+        // least connected first, which the eliminations of variables of no
+        // common neighbour, landmarks', keep).
+        let h = &mut self.blocks;
+        let mut order: Vec<usize> = (0..h.dims.len()).collect();
+        order.sort_by_key(|&v| (h.off[v].len(), std::cmp::Reverse(v)));
+        let spare = h.repack(&order);
         let scales = self.scale();
-        // The scaled matrix, for the candidates' test: the blocks created
-        // by the eliminations come after its end.
-        let original = self.blocks.values.clone();
+        // The scaled matrix, for the candidates' test, copied into the
+        // memory of the old layout: the blocks the eliminations create
+        // come after its end.
+        let mut original = spare;
+        original.clear();
+        original.extend_from_slice(&self.blocks.values);
         let n = self.variables.len();
         let mut eliminated = Vec::with_capacity(n);
         // Null directions, each as (variable, direction in its scaled

@@ -23,6 +23,7 @@
 //! decoded, and their errors are moved to the value's path
 //! ([`at_value`]).
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use factor_apex::problems::Robust;
@@ -167,16 +168,20 @@ pub(crate) fn check<'a>(
         .and_then(Json::as_array)
         .expect("read_json checked `factors`");
     let mut entries = Vec::with_capacity(factors.len());
-    let mut used = std::collections::HashSet::new();
+    // Each declared variable by name: its specification, and whether a
+    // factor uses it.
+    let mut variables: HashMap<&str, (Json<'a>, bool)> = declared
+        .iter()
+        .map(|(name, spec)| (name, (spec, false)))
+        .collect();
     // Each factor's shape, asked once per factor name.
     let mut shapes = Vec::new();
     for (k, spec) in factors.iter().enumerate() {
         let at = format!("factors[{k}]");
-        let entry = check_entry(spec, &at, declared, &mut shapes, &shape)?;
-        used.extend(entry.names.iter().map(|(_, name)| *name));
+        let entry = check_entry(spec, &at, &mut variables, &mut shapes, &shape)?;
         entries.push(entry);
     }
-    if let Some(unused) = declared.keys().find(|n| !used.contains(n)) {
+    if let Some(unused) = declared.keys().find(|n| !variables[n].1) {
         return Err(InputError::new(
             join("variables", unused),
             "no factor uses this variable",
@@ -195,7 +200,7 @@ pub(crate) fn check<'a>(
 fn check_entry<'a>(
     spec: Json<'a>,
     path: &str,
-    declared: Members<'a>,
+    declared: &mut HashMap<&str, (Json<'a>, bool)>,
     shapes: &mut Vec<(&'a str, Shape)>,
     shape: &impl Fn(&str, &str) -> Result<Shape, InputError>,
 ) -> Result<Entry<'a>, InputError> {
@@ -221,9 +226,11 @@ fn check_entry<'a>(
     for info in &shape.variables {
         let at = || named.path_of(info.name);
         let name = named.string(info.name)?;
-        let variable = declared.get(name).ok_or_else(|| {
+        let (variable, used) = declared.get_mut(name).ok_or_else(|| {
             InputError::new(at(), format!("no variable {} in variables", quoted(name)))
         })?;
+        *used = true;
+        let variable = *variable;
         let declared_type = variable
             .get("type")
             .and_then(Json::as_str)
