@@ -175,8 +175,8 @@ impl Normal {
     ///
     /// Each row is scaled to unit norm first, in place (`unit_rows`): the
     /// null space of `J` does not depend on the rows' weights, and a
-    /// measurement weighted 1e8 times its neighbours' (σ = 1e-4 among σ =
-    /// 1) would otherwise make the directions only they determine look
+    /// measurement weighted 1e8 times its neighbours' (σ = 1e-4 among
+    /// σ = 1) would otherwise make the directions only they determine look
     /// undetermined beside its own on the unit diagonal.
     pub fn add_rows(&mut self, rows: usize, variables: &[usize], jacobian: &mut [f64]) {
         let h = &mut self.blocks;
