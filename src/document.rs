@@ -6,7 +6,7 @@
 //! handles ([`Json`]) that are copied, not borrowed from a tree of boxes.
 //!
 //! Objects keep their members in the order written; one with more than
-//! [`INDEXED`] members (a problem file's `variables`, its `truth`) also
+//! `INDEXED` (16) members (a problem file's `variables`, its `truth`) also
 //! keeps them sorted by key, so that a member is found by bisection.
 //! Numbers are finite `f64`: the readers ([`crate::strict_json`]) refuse
 //! any other.
