@@ -271,6 +271,38 @@ fn fixed_variables_skip_their_blocks() {
     assert_eq!(d_point.as_slice(), full.point.transpose().as_slice());
 }
 
+/// Through a kernel, every block requested or some: finite outputs whose
+/// sum overflows are still finite (the quick test of their sum is
+/// confirmed value by value), and a non-finite one is an error naming it.
+#[test]
+fn kernel_outputs_are_tested_for_finiteness_exactly() {
+    let huge = Weighted {
+        weight: 1e308,
+        x: Vector2::new(1.0, 1.0),
+        y: Vector2::zeros(),
+    };
+    let mut residual = [0.0; 2];
+    let (mut d_x, mut d_y) = ([0.0; 4], [0.0; 4]);
+    huge.linearize_into(&mut residual, &mut [Some(&mut d_x[..]), Some(&mut d_y[..])])
+        .unwrap();
+    // r = a (x − y), ∂r/∂x = a I, ∂r/∂y = −a I.
+    assert_eq!(residual, [1e308, 1e308]);
+    assert_eq!(d_x, [1e308, 0.0, 0.0, 1e308]);
+    assert_eq!(d_y, [-1e308, 0.0, 0.0, -1e308]);
+    let infinite = Weighted {
+        weight: f64::INFINITY,
+        ..huge
+    };
+    let expected = Err(FactorError::NonFinite {
+        factor: "weighted",
+        what: "residual".into(),
+    });
+    let every: &mut [Option<&mut [f64]>] = &mut [Some(&mut d_x[..]), Some(&mut d_y[..])];
+    assert_eq!(infinite.linearize_into(&mut residual, every), expected);
+    let some: &mut [Option<&mut [f64]>] = &mut [None, Some(&mut d_y[..])];
+    assert_eq!(infinite.linearize_into(&mut residual, some), expected);
+}
+
 #[test]
 fn with_retracted_moves_one_variable_exactly() {
     let f = difference();

@@ -383,6 +383,32 @@ pub trait Factor: Storage<f64> + Sized {
         jacobians: &mut [Option<&mut [f64]>],
     ) -> Result<(), FactorError>;
 
+    /// [`Factor::linearize_stored_into`] at stored scalars the caller knows
+    /// the factor accepts: the same outputs without the validation, their
+    /// finiteness still checked. A solver that evaluates every trial step's
+    /// residuals, validating each factor there, and linearizes only where it
+    /// accepted a step meets no configuration here that the validation has
+    /// not passed (`factor-schur`'s per-factor path; for apex-solver,
+    /// [`crate::host::linearize_host_validated`]). By default
+    /// [`Factor::linearize_stored_into`], validation included; the derive
+    /// skips it for a factor with a generated kernel.
+    ///
+    /// # Errors
+    ///
+    /// [`FactorError::NonFinite`] naming the first non-finite output; by
+    /// default also the validation's error.
+    ///
+    /// # Panics
+    ///
+    /// As [`Factor::linearize_stored_into`].
+    fn linearize_stored_validated_into(
+        stored: &[f64],
+        residual: &mut [f64],
+        jacobians: &mut [Option<&mut [f64]>],
+    ) -> Result<(), FactorError> {
+        Self::linearize_stored_into(stored, residual, jacobians)
+    }
+
     /// A copy with variable `index` retracted (exactly) by `delta`, on that
     /// variable's perturbation side.
     fn with_retracted(&self, index: usize, delta: &[f64]) -> Self;

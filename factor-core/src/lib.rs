@@ -93,13 +93,63 @@ pub mod __private {
     pub use crate::kernel::{KernelWatch, host_kernel_stale, kernel_stale};
 
     /// [`all_finite`](crate::all_finite) of `values`, unrolled for their
-    /// length `N` when it is `N` (the derive's check of a kernel's outputs,
-    /// whose lengths it knows).
+    /// length `N` when it is `N` (the derive's check of a kernel's outputs
+    /// in memory, whose lengths it knows).
     #[inline(always)]
     pub fn all_finite_of<const N: usize>(values: &[f64]) -> bool {
         match <&[f64; N]>::try_from(values) {
             Ok(values) => crate::all_finite(values),
             Err(_) => crate::all_finite(values),
+        }
+    }
+
+    /// The most outputs (residual and every block) of a kernel that the
+    /// derive's linearizations keep in local arrays, to test and copy them
+    /// from registers: measured, 20–30 outputs (the point, line, plane,
+    /// Snavely and stereo factors) are faster so, 78 (the between factor's)
+    /// slower, its locals spilled to memory and copied once more.
+    pub const OUTPUTS_IN_REGISTERS: usize = 32;
+
+    /// Whether outputs of these lengths (the residual's, each block's) are
+    /// at most [`OUTPUTS_IN_REGISTERS`], in a constant.
+    pub const fn in_registers(lengths: &[usize]) -> bool {
+        let (mut total, mut i) = (0, 0);
+        while i < lengths.len() {
+            total += lengths[i];
+            i += 1;
+        }
+        total <= OUTPUTS_IN_REGISTERS
+    }
+
+    /// The derive's test that a kernel's outputs, in registers, are all
+    /// finite: their sum is. A NaN or an infinity makes the sum NaN or
+    /// infinite, so a finite sum is exact; a sum of finite values can
+    /// overflow, so an infinite one is only a hint, which the derive
+    /// confirms value by value ([`first_non_finite`](crate::first_non_finite)).
+    /// One addition per value, in four interleaved sums (one sum would be a
+    /// chain of dependent additions) started at `−0`, which the first
+    /// additions fold away (`x + (−0) = x` exactly).
+    #[derive(Debug, Clone, Copy)]
+    pub struct OutputSum([f64; 4]);
+
+    impl OutputSum {
+        /// No values yet.
+        pub const EMPTY: Self = OutputSum([-0.0; 4]);
+
+        /// `values` added.
+        #[inline(always)]
+        pub fn with<const N: usize>(mut self, values: &[f64; N]) -> Self {
+            for (i, x) in values.iter().enumerate() {
+                self.0[i % 4] += x;
+            }
+            self
+        }
+
+        /// Whether the sum is finite.
+        #[inline(always)]
+        pub fn is_finite(self) -> bool {
+            let [a, b, c, d] = self.0;
+            ((a + b) + (c + d)).is_finite()
         }
     }
 

@@ -526,7 +526,7 @@ pub const SHAPE: Shape = Shape {
 };
 
 /// [`line_reprojection`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
-#[inline]
+#[inline(always)]
 pub fn line_reprojection_slices<T: Real>(
     inputs: &[&[T]],
     residual: &mut [T],

@@ -136,8 +136,11 @@ pub fn check_residual_digits(
 /// dependency chain on every linearization's path.
 #[inline]
 pub(crate) fn max_abs<const N: usize>(vectors: &[nalgebra::Vector3<f64>; N]) -> f64 {
-    let each = vectors.map(|v| v.x.abs().max(v.y.abs()).max(v.z.abs()));
-    each.into_iter().fold(0.0, f64::max)
+    // From 0, `x > m` leaves out a NaN as `f64::max` does, in one
+    // instruction instead of three.
+    let larger = |m: f64, x: f64| if x > m { x } else { m };
+    let each = vectors.map(|v| larger(larger(larger(0.0, v.x.abs()), v.y.abs()), v.z.abs()));
+    each.into_iter().fold(0.0, larger)
 }
 
 /// Rejects `magnitude` (of `what`, a max-abs norm) outside

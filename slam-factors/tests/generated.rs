@@ -152,6 +152,115 @@ fn linearize_uses_the_generated_kernel() {
     );
 }
 
+/// What a block not requested holds before and after a linearization.
+const UNTOUCHED: f64 = 7.0;
+
+/// A stored-scalar entry of the `Factor` trait: `linearize_stored_into`
+/// or its validated twin.
+type StoredEntry =
+    fn(&[f64], &mut [f64], &mut [Option<&mut [f64]>]) -> Result<(), factor_core::FactorError>;
+
+/// The residual and every block of `F` at `stored` through `entry`, the
+/// blocks requested per `requested` (the others keep [`UNTOUCHED`]).
+fn stored_entry<F: Factor>(
+    entry: StoredEntry,
+    stored: &[f64],
+    requested: &[bool],
+) -> Result<Vec<Vec<f64>>, factor_core::FactorError> {
+    let mut residual = vec![UNTOUCHED; F::RESIDUAL_DIM];
+    let mut blocks: Vec<Vec<f64>> = F::variables()
+        .iter()
+        .map(|v| vec![UNTOUCHED; F::RESIDUAL_DIM * v.tangent_dim])
+        .collect();
+    let mut out: Vec<Option<&mut [f64]>> = blocks
+        .iter_mut()
+        .zip(requested)
+        .map(|(b, &r)| r.then_some(&mut b[..]))
+        .collect();
+    entry(stored, &mut residual, &mut out)?;
+    Ok(std::iter::once(residual).chain(blocks).collect())
+}
+
+/// `linearize_stored_validated_into` is `linearize_stored_into` without
+/// the validation, every block requested or some: the same outputs where
+/// the factor is valid; where the validation refuses the configuration
+/// (the point behind the camera) the kernel's own outputs instead of the
+/// error; a non-finite output still an error.
+#[test]
+fn the_validated_entry_skips_the_validation_only() {
+    type F = slam_factors::SnavelyReprojection;
+    let checked: StoredEntry = F::linearize_stored_into;
+    let validated: StoredEntry = F::linearize_stored_validated_into;
+    let kernel = |f: &F| {
+        let (observed, pose, intrinsics, point) = (
+            flat(&f.observed, |x| x),
+            flat(&f.pose, |x| x),
+            flat(&f.intrinsics, |x| x),
+            flat(&f.point, |x| x),
+        );
+        let (mut r, mut d0, mut d1, mut d2) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
+        factor_generated::snavely_reprojection::snavely_reprojection(
+            &observed,
+            &pose,
+            &intrinsics,
+            &point,
+            &mut r,
+            Some(&mut d0),
+            Some(&mut d1),
+            Some(&mut d2),
+        );
+        vec![r.to_vec(), d0.to_vec(), d1.to_vec(), d2.to_vec()]
+    };
+    let all = [true; 3];
+    let pose_only = [true, false, false];
+    let mut sampler = Sampler::new(23);
+    for i in 0..CONFIGURATIONS {
+        let factor = sampler.snavely_reprojection();
+        let stored = factor.to_scalars();
+        let expected = kernel(&factor);
+        for requested in [all, pose_only] {
+            let through = |entry| stored_entry::<F>(entry, &stored, &requested);
+            let (a, b) = (through(checked).unwrap(), through(validated).unwrap());
+            assert_eq!(a, b, "configuration {i}, blocks {requested:?}");
+            for (k, (block, kernel_block)) in a[1..].iter().zip(&expected[1..]).enumerate() {
+                match requested[k] {
+                    true => assert_eq!(block, kernel_block, "configuration {i}, block {k}"),
+                    false => assert!(block.iter().all(|&x| x == UNTOUCHED), "block {k} written"),
+                }
+            }
+            assert_eq!(a[0], expected[0], "configuration {i}, blocks {requested:?}");
+        }
+        // The point mirrored behind the camera: −P_z < 0.
+        let mut behind = factor.clone();
+        let mut p_c = factor.pose.transform_point(&factor.point);
+        p_c.z = -p_c.z;
+        behind.point = factor.pose.inverse_transform_point(&p_c);
+        let stored = behind.to_scalars();
+        let refused = stored_entry::<F>(checked, &stored, &all).unwrap_err();
+        assert!(
+            matches!(refused, factor_core::FactorError::Degenerate { .. }),
+            "configuration {i}: {refused}"
+        );
+        let kernel_outputs = stored_entry::<F>(validated, &stored, &all).unwrap();
+        assert_eq!(kernel_outputs, kernel(&behind), "configuration {i}");
+    }
+    let mut not_finite = sampler.snavely_reprojection();
+    not_finite.observed.x = f64::NAN;
+    let stored = not_finite.to_scalars();
+    let non_finite = factor_core::FactorError::NonFinite {
+        factor: F::NAME,
+        what: "residual".into(),
+    };
+    for requested in [all, pose_only] {
+        for entry in [checked, validated] {
+            assert_eq!(
+                stored_entry::<F>(entry, &stored, &requested),
+                Err(non_finite.clone())
+            );
+        }
+    }
+}
+
 /// The stored scalars of a field in storage order, converted by `convert`.
 fn flat<M: Storage<f64>, T: Copy + Default, const N: usize>(
     value: &M,

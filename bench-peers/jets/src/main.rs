@@ -5,7 +5,7 @@
 //! jets write SAMPLES N        N configurations of each factor, in jets.cc's format
 //! jets check N CERES_OUTPUT   Ceres' outputs against ours (exit 1 when they differ)
 //! jets time N PASSES          ns per evaluation of each of our methods, one JSON line each
-//! jets factors N PASSES       every shipped factor: dual numbers, the generated path and its bare kernel
+//! jets factors N PASSES       every shipped factor: dual numbers, the generated paths and the bare kernel
 //! ```
 //!
 //! The configurations are made here from fixed seeds, so `check` and
@@ -313,6 +313,33 @@ fn time_snavely(n: usize, passes: usize) {
         }
         sum
     });
+    time(name, "linearize_stored_validated_into", n, passes, || {
+        let (mut r, mut a, mut b, mut c) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
+        let mut sum = 0.0;
+        for s in &stored {
+            let blocks = &mut [Some(&mut a[..]), Some(&mut b[..]), Some(&mut c[..])];
+            if SnavelyReprojection::linearize_stored_validated_into(black_box(s), &mut r, blocks)
+                .is_ok()
+            {
+                black_box((&r, &a, &b, &c));
+                sum += r[0] + a[0];
+            }
+        }
+        sum
+    });
+    // The pose's block alone, the others held fixed (pose tracking's path).
+    time(name, "linearize_stored_into_pose", n, passes, || {
+        let (mut r, mut a) = ([0.0; 2], [0.0; 12]);
+        let mut sum = 0.0;
+        for s in &stored {
+            let blocks = &mut [Some(&mut a[..]), None, None];
+            if SnavelyReprojection::linearize_stored_into(black_box(s), &mut r, blocks).is_ok() {
+                black_box((&r, &a));
+                sum += r[0] + a[0];
+            }
+        }
+        sum
+    });
     time(name, "kernel_slices", n, passes, || {
         let (mut r, mut a, mut b, mut c) = ([0.0; 2], [0.0; 12], [0.0; 6], [0.0; 6]);
         let mut sum = 0.0;
@@ -430,10 +457,11 @@ fn time_projection(n: usize, passes: usize) {
 /// A kernel's slice entry (`<factor>_slices` of `factor-generated`).
 type Slices = fn(&[&[f64]], &mut [f64], &mut [Option<&mut [f64]>]) -> bool;
 
-/// One factor type's three paths on `factors`, every block requested and
-/// every output kept: `linearize_dual_into` (dual numbers) and
-/// `linearize_into` (the generated kernel), which both validate and check
-/// finiteness, and the bare kernel through its slice entry.
+/// One factor type's paths on `factors`, every block requested and every
+/// output kept: `linearize_dual_into` (dual numbers), `linearize_into` and
+/// `linearize_stored_into` (the generated kernel), which validate and check
+/// finiteness, `linearize_stored_validated_into` (the same without the
+/// validation), and the bare kernel through its slice entry, out of line.
 fn time_factor<F: Factor>(name: &str, factors: &[F], passes: usize, kernel: Slices) {
     let n = factors.len();
     let rows = F::RESIDUAL_DIM;
@@ -466,11 +494,35 @@ fn time_factor<F: Factor>(name: &str, factors: &[F], passes: usize, kernel: Slic
         }
         sum
     });
+    let scalars: Vec<Vec<f64>> = factors.iter().map(Storage::to_scalars).collect();
+    time(name, "stored", n, passes, || {
+        let mut sum = 0.0;
+        for s in &scalars {
+            if F::linearize_stored_into(black_box(s), &mut residual, &mut out).is_ok() {
+                black_box((&residual, &out));
+                sum += residual[0];
+            }
+        }
+        sum
+    });
+    time(name, "stored_validated", n, passes, || {
+        let mut sum = 0.0;
+        for s in &scalars {
+            if F::linearize_stored_validated_into(black_box(s), &mut residual, &mut out).is_ok() {
+                black_box((&residual, &out));
+                sum += residual[0];
+            }
+        }
+        sum
+    });
     let stored: Vec<Vec<Vec<f64>>> = factors.iter().map(fields).collect();
     let inputs: Vec<Vec<&[f64]>> = stored
         .iter()
         .map(|v| v.iter().map(Vec::as_slice).collect())
         .collect();
+    // Called out of line (the pointer hidden from the optimizer), so that
+    // the slice entry is not inlined into this loop for some factors only.
+    let kernel = black_box(kernel);
     time(name, "kernel", n, passes, || {
         let mut sum = 0.0;
         for i in &inputs {

@@ -199,9 +199,12 @@ fn slices_fn(
          nothing, when the number or the length of a slice differs from [`{}`].",
         f.shape
     );
+    // Inlined like the kernel: a caller passing arrays of the right lengths
+    // (the derive's linearizations) then checks nothing at run time and
+    // keeps the outputs in registers.
     quote! {
         #[doc = #doc]
-        #[inline]
+        #[inline(always)]
         pub fn #slices<T: Real>(
             inputs: &[&[T]],
             residual: &mut [T],

@@ -96,6 +96,16 @@ pub fn emit(cx: &Context) -> TokenStream {
     let outputs: Vec<_> = (0..blocks.len())
         .map(|k| format_ident!("__d_{}", k))
         .collect();
+    let locals: Vec<_> = (0..blocks.len())
+        .map(|k| format_ident!("__values_{}", k))
+        .collect();
+    let block_count = blocks.len();
+    let scalar_count = quote!(<#ident<f64> as #krate::Storage<f64>>::SCALARS);
+    let lengths = format!(
+        "{{}}: the residual has {rows} entries, and the Jacobians one entry per variable \
+         ({block_count}), each block {rows} × the variable's tangent dimension",
+        rows = dim.base10_digits()
+    );
 
     let regenerate = regenerate_text(cx);
     let stale = format!(
@@ -154,34 +164,75 @@ pub fn emit(cx: &Context) -> TokenStream {
             ) -> ::core::result::Result<(), #krate::FactorError> {
                 let mut stored = [0.0_f64; <Self as #krate::Storage<f64>>::SCALARS];
                 #krate::Storage::write_scalars(self, &mut stored);
-                Self::__factor_kernel(&stored, residual, jacobians, || {
-                    <Self as #krate::Factor>::validate(self)
-                })
+                Self::__factor_kernel(&stored, residual, jacobians, ::core::option::Option::Some(self))
+            }
+
+            /// [`Self::__factor_kernel`] out of line, for the stored-scalar
+            /// entries (`linearize_generated_into` inlines it: through a
+            /// call, the between factor's took 20% longer).
+            fn __factor_kernel_stored(
+                stored: &[f64],
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+                factor: ::core::option::Option<&Self>,
+            ) -> ::core::result::Result<(), #krate::FactorError> {
+                Self::__factor_kernel(stored, residual, jacobians, factor)
             }
 
             /// The generated kernel on the factor stored as `stored`, then
-            /// `validate`, then the check that every output is finite. The
-            /// kernel runs first (it never panics: on an invalid configuration
-            /// its outputs are discarded): the validation between its stores
-            /// and the check's loads of the same values keeps those loads from
-            /// waiting for the stores, which cost as much as the validation.
+            /// the validation of `factor` (the same factor) when given, then
+            /// the check that every output is finite: the
+            /// linearizations through the kernel. The kernel runs first (it
+            /// never panics: on an invalid configuration its outputs are
+            /// discarded).
             #[inline(always)]
             fn __factor_kernel(
                 stored: &[f64],
                 residual: &mut [f64],
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
-                validate: impl ::core::ops::FnOnce() -> ::core::result::Result<(), #krate::FactorError>,
+                factor: ::core::option::Option<&Self>,
             ) -> ::core::result::Result<(), #krate::FactorError> {
+                let ::core::result::Result::Ok(stored) = <&[f64; #scalar_count]>::try_from(stored) else {
+                    ::core::panic!(
+                        "{}: the factor stores {} scalars, not {}",
+                        <Self as #krate::Factor>::NAME,
+                        #scalar_count,
+                        stored.len(),
+                    );
+                };
                 #[cfg(debug_assertions)]
                 Self::__factor_check_kernel(stored)?;
-                Self::__factor_kernel_slices(stored, residual, jacobians);
-                validate()?;
-                // One branch-free test of every output at its known length;
-                // the search for the culprit runs only when one is not finite.
-                let finite = #krate::__private::all_finite_of::<#rows>(residual)
-                    #(& jacobians[#block_indices]
+                let fits = residual.len() == #dim
+                    && jacobians.len() == #block_count
+                    #(&& jacobians[#block_indices]
                         .as_deref()
-                        .is_none_or(#krate::__private::all_finite_of::<{ #rows * #block_dims }>))*;
+                        .is_none_or(|block| block.len() == #dim * #block_dims))*;
+                ::core::assert!(fits, #lengths, <Self as #krate::Factor>::NAME);
+                let every = match jacobians {
+                    [#(::core::option::Option::Some(#outputs)),*]
+                        if const { #krate::__private::in_registers(&[#rows #(, #rows * #block_dims)*]) } =>
+                    ::core::option::Option::Some(
+                        Self::__factor_kernel_every(stored, residual, #(#outputs),*),
+                    ),
+                    _ => {
+                        Self::__factor_kernel_some(stored, residual, jacobians);
+                        ::core::option::Option::None
+                    }
+                };
+                if let ::core::option::Option::Some(factor) = factor {
+                    <Self as #krate::Factor>::validate(factor)?;
+                }
+                // Without the local arrays (a block held fixed, or too many
+                // outputs) the outputs are tested in memory after the
+                // validation, which gives the kernel's stores time to land
+                // before they are loaded: one branch-free test of every
+                // output at its known length.
+                let finite = every.unwrap_or_else(|| {
+                    #krate::__private::all_finite_of::<#rows>(residual)
+                        #(& jacobians[#block_indices]
+                            .as_deref()
+                            .is_none_or(#krate::__private::all_finite_of::<{ #rows * #block_dims }>))*
+                });
                 if finite {
                     return ::core::result::Result::Ok(());
                 }
@@ -193,27 +244,67 @@ pub fn emit(cx: &Context) -> TokenStream {
                 }
             }
 
-            /// The generated kernel's slice entry on the factor stored as `stored`.
+            /// The kernel with every block requested, into local arrays that
+            /// stay in registers (the kernel and its slice entry are inlined):
+            /// the finiteness test reads the values there, not back from
+            /// memory just after they were stored, and they are copied into
+            /// the caller's storage after it. Whether every output is finite;
+            /// `false` may also be a finite sum's overflow, which the caller
+            /// rules out value by value.
+            #[inline(always)]
+            fn __factor_kernel_every(
+                stored: &[f64; #scalar_count],
+                residual: &mut [f64],
+                #(#outputs: &mut [f64],)*
+            ) -> bool {
+                let mut values = [0.0_f64; #dim];
+                #(
+                    let mut #locals = [0.0_f64; #dim * #block_dims];
+                )*
+                Self::__factor_kernel_slices(
+                    stored,
+                    &mut values,
+                    &mut [#(::core::option::Option::Some(&mut #locals[..])),*],
+                );
+                let finite = #krate::__private::OutputSum::EMPTY
+                    .with(&values)
+                    #(.with(&#locals))*
+                    .is_finite();
+                residual.copy_from_slice(&values);
+                #(
+                    #outputs.copy_from_slice(&#locals);
+                )*
+                finite
+            }
+
+            /// The kernel with some blocks not requested (or too many
+            /// outputs for registers), straight into the caller's storage
+            /// (out of line: every block requested is the path to keep
+            /// short).
+            #[inline(never)]
+            fn __factor_kernel_some(
+                stored: &[f64; #scalar_count],
+                residual: &mut [f64],
+                jacobians: &mut [::core::option::Option<&mut [f64]>],
+            ) {
+                Self::__factor_kernel_slices(stored, residual, jacobians);
+            }
+
+            /// The generated kernel's slice entry on the factor stored as
+            /// `stored` (the callers check the outputs' lengths first).
+            #[inline(always)]
             fn __factor_kernel_slices(
-                stored: &[f64],
+                stored: &[f64; #scalar_count],
                 residual: &mut [f64],
                 jacobians: &mut [::core::option::Option<&mut [f64]>],
             ) {
                 let done = #slices(&[#(#slices_of_stored),*], residual, jacobians);
-                ::core::assert!(
-                    done,
-                    "{}: the residual has {} entries and each variable's block {} × its \
-                     tangent dimension ({} blocks)",
-                    <Self as #krate::Factor>::NAME,
-                    #dim,
-                    #dim,
-                    <Self as #krate::Factor>::variables().len(),
-                );
+                ::core::assert!(done, #lengths, <Self as #krate::Factor>::NAME);
             }
 
             /// The generated kernel on the factor stored as `stored`, every
             /// block computed, its outputs not checked.
-            fn __factor_kernel_all(stored: &[f64]) -> #linearization {
+            fn __factor_kernel_all(stored: &[f64; #scalar_count]) -> #linearization {
                 let mut residual = [0.0_f64; #dim];
                 #(
                     let mut #outputs = [0.0_f64; #dim * #block_dims];
@@ -239,7 +330,7 @@ pub fn emit(cx: &Context) -> TokenStream {
             /// "A stale kernel never runs unnoticed").
             #[cfg(debug_assertions)]
             fn __factor_check_kernel(
-                stored: &[f64],
+                stored: &[f64; #scalar_count],
             ) -> ::core::result::Result<(), #krate::FactorError> {
                 static WATCH: #krate::__private::KernelWatch = #krate::__private::KernelWatch::new();
                 WATCH.check(|| {

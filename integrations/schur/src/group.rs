@@ -13,9 +13,10 @@
 //!   through `factor_batch` in lane chunks of [`CHUNK`] factors,
 //!   structure-of-arrays columns (the bundle-adjustment speed);
 //! - `per_factor`: any other factor, one at a time through its own
-//!   `linearize_stored_into` (its generated kernel where it has one, dual
-//!   numbers otherwise) or by dual numbers ([`Jacobians`]), the Jacobians
-//!   whitened and formed into the same normal blocks (`whitened`).
+//!   `linearize_stored_validated_into` (its generated kernel where it has
+//!   one, dual numbers otherwise) or by dual numbers ([`Jacobians`]), the
+//!   Jacobians whitened and formed into the same normal blocks
+//!   (`whitened`).
 
 mod batch;
 mod per_factor;

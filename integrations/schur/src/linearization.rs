@@ -8,8 +8,9 @@ use factor_core::Factor;
 /// How a factor added by [`Problem::add_linearized`](crate::Problem::add_linearized) is differentiated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Jacobians {
-    /// The factor's own `linearize_stored_into`: its generated kernel
-    /// where it has one (`#[factor(kernel = …)]`), dual numbers otherwise.
+    /// The factor's own `linearize_stored_validated_into` (the values
+    /// were validated when evaluated): its generated kernel where it has
+    /// one (`#[factor(kernel = …)]`), dual numbers otherwise.
     Kernel,
     /// Dual numbers, whether or not the factor has a kernel.
     Dual,

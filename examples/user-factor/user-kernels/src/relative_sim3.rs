@@ -2747,7 +2747,7 @@ pub const SHAPE: Shape = Shape {
 };
 
 /// [`relative_sim3`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
-#[inline]
+#[inline(always)]
 pub fn relative_sim3_slices<T: Real>(
     inputs: &[&[T]],
     residual: &mut [T],

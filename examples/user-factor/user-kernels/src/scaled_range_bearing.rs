@@ -183,7 +183,7 @@ pub const SHAPE: Shape = Shape {
 };
 
 /// [`scaled_range_bearing`] over slices: `inputs` holds one slice per input array, `blocks` one entry per block (`None` for a block not wanted). Returns `false`, computing nothing, when the number or the length of a slice differs from [`SHAPE`].
-#[inline]
+#[inline(always)]
 pub fn scaled_range_bearing_slices<T: Real>(
     inputs: &[&[T]],
     residual: &mut [T],

@@ -1,9 +1,10 @@
 //! The per-factor path of a group: each factor rebuilt from its stored
 //! scalars, validated and evaluated in `f64`, or linearized by its own
-//! `linearize_stored_into` (its generated kernel where it has one, dual
-//! numbers otherwise) or by dual numbers ([`Jacobians`]); a chunk's
-//! residuals and Jacobians are whitened and formed into the fused kernels'
-//! normal-block layout (`whitened`), so the same scatter adds them.
+//! `linearize_stored_validated_into` (its generated kernel where it has
+//! one, dual numbers otherwise) or by dual numbers ([`Jacobians`]); a
+//! chunk's residuals and Jacobians are whitened and formed into the fused
+//! kernels' normal-block layout (`whitened`), so the same scatter adds
+//! them.
 
 use std::ops::Range;
 use std::time::Instant;
@@ -54,10 +55,11 @@ impl<F: Factor> FactorGroup<F> {
 
     /// The whitened normal equations of factors `range` (weights
     /// `weights`, or 1) added into `sink`, each factor's residual and
-    /// Jacobians by `jacobians`. A factor that fails to linearize (the
-    /// values were evaluated, so only a non-finite output can) leaves NaN
-    /// in its residual, which the solver's finiteness check of the normal
-    /// equations reports.
+    /// Jacobians by `jacobians`. The values were evaluated, each factor
+    /// validated there, so the kernel path skips the validation
+    /// (`linearize_stored_validated_into`, as the batch path does) and only
+    /// a non-finite output can fail: it leaves NaN in its residual, which
+    /// the solver's finiteness check of the normal equations reports.
     pub(super) fn linearize_each(
         &self,
         jacobians: Jacobians,
@@ -94,7 +96,9 @@ impl<F: Factor> FactorGroup<F> {
                 }
                 let out = &mut out[..k];
                 let linearized = match jacobians {
-                    Jacobians::Kernel => F::linearize_stored_into(row, &mut residual, out),
+                    Jacobians::Kernel => {
+                        F::linearize_stored_validated_into(row, &mut residual, out)
+                    }
                     Jacobians::Dual => F::from_scalars(row).linearize_dual_into(&mut residual, out),
                 };
                 if linearized.is_err() {
