@@ -279,34 +279,68 @@ fn hessian_block(
     out
 }
 
-/// One entry of the normal equations of a row: its name, the fused kernel's
-/// value, the value from a linearization, the sum of the absolute values of
-/// its terms, and the natural scale of its error given `J` within a relative
-/// `δ` and `r` within `δ · scale`.
+/// Where an entry of the normal equations is: the cost, entry `a` of the
+/// gradient block of variable `k`, or entry `e` of Hessian block `p` (of
+/// variables `a` and `b`).
+#[derive(Clone, Copy)]
+enum Slot {
+    Cost,
+    Gradient {
+        k: usize,
+        a: usize,
+    },
+    Hessian {
+        p: usize,
+        a: usize,
+        b: usize,
+        e: usize,
+    },
+}
+
+impl Slot {
+    /// Its name, for messages.
+    fn name<F: Factor>(self) -> String {
+        let variables = F::variables();
+        match self {
+            Slot::Cost => "cost".into(),
+            Slot::Gradient { k, a } => format!("g_{}[{a}]", variables[k].name),
+            Slot::Hessian { a, b, e, .. } => {
+                format!("h_{}_{}[{e}]", variables[a].name, variables[b].name)
+            }
+        }
+    }
+
+    /// Its value in row `i` of the fused normal equations `out`.
+    fn fused(self, out: &NormalColumns<f64>, i: usize) -> f64 {
+        match self {
+            Slot::Cost => out.cost.column(0)[i],
+            Slot::Gradient { k, a } => out.gradient[k].as_ref().expect("free").column(a)[i],
+            Slot::Hessian { p, e, .. } => out.hessian[p].as_ref().expect("free").column(e)[i],
+        }
+    }
+}
+
+/// One entry of the normal equations of a row from a linearization: where
+/// it is, its value, the sum of the absolute values of its terms, and the
+/// natural scale of its error given `J` within a relative `δ` and `r`
+/// within `δ · scale`.
 struct Entry {
-    what: String,
-    fused: f64,
+    slot: Slot,
     reference: f64,
     magnitude: f64,
     natural: f64,
 }
 
-/// Every entry of the normal equations of row `i` (cost, gradient blocks,
-/// Hessian blocks) against the linearization `lin` of that factor.
-fn normal_entries<F: Factor>(
-    factor: &F,
-    out: &NormalColumns<f64>,
-    lin: &DynLinearization,
-    w: f64,
-    i: usize,
-) -> Vec<Entry> {
+/// Every entry of the normal equations (cost, gradient blocks, Hessian
+/// blocks) of the linearization `lin` of `factor` with weight `w`, computed
+/// once for every fused output it is compared with.
+fn normal_entries<F: Factor>(factor: &F, lin: &DynLinearization, w: f64) -> Vec<Entry> {
     let r = &lin.residual;
     let scale = input_scale(factor);
     let norms: Vec<f64> = lin.jacobians.iter().map(|j| j.norm()).collect();
     let rn = r.norm();
     let mut entries = vec![Entry {
-        what: "cost".into(),
-        fused: out.cost.column(0)[i],
+        slot: Slot::Cost,
         reference: 0.5 * w * r.norm_squared(),
         magnitude: 0.5 * w * r.norm_squared(),
         natural: w * rn.max(1e-9) * scale,
@@ -315,11 +349,9 @@ fn normal_entries<F: Factor>(
     for (k, v) in variables.iter().enumerate() {
         let g = lin.jacobians[k].transpose() * r * w;
         let m = lin.jacobians[k].map(f64::abs).transpose() * r.map(f64::abs) * w;
-        let block = out.gradient[k].as_ref().expect("free");
         for a in 0..v.tangent_dim {
             entries.push(Entry {
-                what: format!("g_{}[{a}]", v.name),
-                fused: block.column(a)[i],
+                slot: Slot::Gradient { k, a },
                 reference: g[a],
                 magnitude: m[a],
                 natural: w * norms[k] * (rn + scale),
@@ -327,13 +359,11 @@ fn normal_entries<F: Factor>(
         }
     }
     for (p, (a, b)) in pairs(variables.len()).into_iter().enumerate() {
-        let block = out.hessian[p].as_ref().expect("free");
         let reference = hessian_block(lin, w, a, b, |x| x);
         let magnitude = hessian_block(lin, w, a, b, f64::abs);
         for (e, (h, m)) in reference.iter().zip(&magnitude).enumerate() {
             entries.push(Entry {
-                what: format!("h_{}_{}[{e}]", variables[a].name, variables[b].name),
-                fused: block.column(e)[i],
+                slot: Slot::Hessian { p, a, b, e },
                 reference: *h,
                 magnitude: *m,
                 natural: w * norms[a] * norms[b],
@@ -409,11 +439,8 @@ where
             .linearize_generated_dyn()
             .expect("a kernel")
             .expect("valid");
-        assert_eq!(
-            row::<F, f64>(&scalar.jacobian, i),
-            one,
-            "{name} configuration {i}"
-        );
+        let kernel = row::<F, f64>(&scalar.jacobian, i);
+        assert_eq!(kernel, one, "{name} configuration {i}");
 
         // Scalar and `f64` lanes vs dual numbers.
         let dual = factor.linearize_dual_dyn().expect("valid");
@@ -434,29 +461,29 @@ where
 
         // Fused vs the Jacobian kernel's J and r: only the order of the sums.
         let r = F::RESIDUAL_DIM as f64;
-        let kernel = row::<F, f64>(&scalar.jacobian, i);
-        for e in normal_entries(factor, &scalar.normal, &kernel, w[i], i) {
+        for e in normal_entries(factor, &kernel, w[i]) {
+            let fused = e.slot.fused(&scalar.normal, i);
             let bound = (r + 2.0) * f64::EPSILON * e.magnitude;
-            let error = (e.fused - e.reference).abs();
+            let error = (fused - e.reference).abs();
             assert!(
                 error <= bound,
-                "{name} configuration {i}: {}: fused {:e} vs {:e} (bound {bound:e})",
-                e.what,
-                e.fused,
+                "{name} configuration {i}: {}: fused {fused:e} vs {:e} (bound {bound:e})",
+                e.slot.name::<F>(),
                 e.reference
             );
             worst[2] = worst[2].max(error / e.magnitude.max(f64::MIN_POSITIVE));
         }
         // Fused vs dual numbers, relative to the natural scales; in `f64`
         // lanes too.
+        let entries = normal_entries(factor, &dual, w[i]);
         for outputs in [&scalar, &x4, &x8] {
-            for e in normal_entries(factor, &outputs.normal, &dual, w[i], i) {
-                let error = (e.fused - e.reference).abs() / e.natural.max(f64::MIN_POSITIVE);
+            for e in &entries {
+                let fused = e.slot.fused(&outputs.normal, i);
+                let error = (fused - e.reference).abs() / e.natural.max(f64::MIN_POSITIVE);
                 assert!(
                     error <= NORMAL_VS_DUAL,
-                    "{name} configuration {i}: {}: fused {:e} vs dual {:e} ({error:e})",
-                    e.what,
-                    e.fused,
+                    "{name} configuration {i}: {}: fused {fused:e} vs dual {:e} ({error:e})",
+                    e.slot.name::<F>(),
                     e.reference
                 );
                 worst[3] = worst[3].max(error);

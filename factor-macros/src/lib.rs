@@ -22,60 +22,8 @@ use syn::{DeriveInput, parse_macro_input};
 /// Derives a factor from a struct of constants and variables and a residual
 /// function generic over the scalar.
 ///
-/// ```
-/// use factor_core::lie::Se3;
-/// use factor_core::{Factor, FactorError, Scalar};
-/// use nalgebra::{Vector2, Vector3};
-///
-/// #[derive(Clone, Debug, Factor)]
-/// #[factor(residual = point_residual, dim = 2, validate = point_validate)]
-/// pub struct PointReprojection<S: Scalar = f64> {
-///     pub focal: S, // no attribute: a constant
-///     pub observed: Vector2<S>,
-///     #[variable(left)] // `left`, `right`, or a bare `#[variable]` (= left)
-///     pub pose: Se3<S>,
-///     #[variable]
-///     pub point: Vector3<S>,
-/// }
-///
-/// pub fn point_residual<S: Scalar>(f: &PointReprojection<S>) -> Vector2<S> {
-///     let p = f.pose.transform_point(&f.point);
-///     Vector2::new(p.x / p.z, p.y / p.z) * f.focal - f.observed
-/// }
-///
-/// pub fn point_validate(f: &PointReprojection<f64>) -> Result<(), FactorError> {
-///     let depth = f.pose.transform_point(&f.point).z;
-///     if depth > 1e-9 {
-///         Ok(())
-///     } else {
-///         Err(FactorError::Degenerate {
-///             factor: "point_reprojection",
-///             reason: format!("point at depth {depth}"),
-///         })
-///     }
-/// }
-///
-/// let f = PointReprojection {
-///     focal: 500.0,
-///     observed: Vector2::new(12.0, 25.0),
-///     pose: Se3::identity(),
-///     point: Vector3::new(0.1, 0.2, 4.0),
-/// };
-/// let linearization: PointReprojectionLinearization = f.linearize().unwrap();
-/// assert_eq!(linearization.pose.shape(), (2, 6));
-/// assert_eq!(linearization.point.shape(), (2, 3));
-/// assert_eq!(<PointReprojection as Factor>::NAME, "point_reprojection");
-/// // Numerical differentiation on the manifolds agrees (in a test, one line
-/// // does all blocks: `factor_testing::assert_correct_jacobians(&f, 1e-6)`).
-/// use factor_core::NumericLinearize;
-/// let numeric = f.linearize_numeric_dyn().unwrap();
-/// let error = numeric.jacobians[0]
-///     .iter()
-///     .zip(linearization.pose.iter())
-///     .map(|(n, d)| (n - d).abs())
-///     .fold(0.0, f64::max);
-/// assert!(error <= 1e-6 * linearization.pose.amax());
-/// ```
+/// The example is on the re-export a user derives through,
+/// `factor_core::Factor` (and doctested there).
 ///
 /// `#[factor(...)]` keys: `residual = path` (required; a function
 /// `fn<S: Scalar>(&Foo<S>) -> SVector<S, dim>`), `dim = integer` (required, at

@@ -7,5 +7,27 @@
 
 #[test]
 fn ui() {
+    // trybuild checks its project's dependencies (factor-core, nalgebra, …)
+    // twice: first alone, then with the cases and `--diagnostic-width=140`
+    // added to its rustflags, which changes every dependency's fingerprint.
+    // Cargo prefers `CARGO_ENCODED_RUSTFLAGS` to the `--config` rustflags
+    // trybuild passes: set to its second set of flags (trybuild 1.0.122),
+    // both checks use the same ones and the dependencies are checked once.
+    // SAFETY: this is the binary's only test; no other thread reads the
+    // environment.
+    unsafe {
+        std::env::set_var(
+            "CARGO_ENCODED_RUSTFLAGS",
+            [
+                "--cfg",
+                "trybuild",
+                "--verbose",
+                "-A",
+                "dead_code",
+                "--diagnostic-width=140",
+            ]
+            .join("\x1f"),
+        );
+    }
     trybuild::TestCases::new().compile_fail("tests/ui/fail_*.rs");
 }
