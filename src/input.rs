@@ -115,14 +115,14 @@ impl<'a> Object<'a> {
         })?;
         // Exactly the keys: as many, each present (the slow search for
         // the culprit runs only when not).
-        if map.len() != keys.len() || !keys.iter().all(|k| map.contains_key(*k)) {
+        if map.len() != keys.len() || !keys.iter().all(|k| map.contains_key(k)) {
             if let Some(unknown) = map.keys().find(|k| !keys.contains(k)) {
                 return Err(InputError::new(
                     join(path, unknown),
                     format!("unknown field; expected only {}", expected()),
                 ));
             }
-            if let Some(missing) = keys.iter().find(|k| !map.contains_key(**k)) {
+            if let Some(missing) = keys.iter().find(|k| !map.contains_key(k)) {
                 return Err(InputError::new(join(path, missing), "missing field"));
             }
         }

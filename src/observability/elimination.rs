@@ -24,11 +24,14 @@ pub(crate) struct Plan {
     neighbours: Vec<(usize, usize)>,
     /// The blocks of each step's pairs of neighbours, in the order updated.
     pairs: Vec<usize>,
-    /// The structure before the eliminations ([`Blocks::off`]).
+    /// The structure before the eliminations ([`Blocks::off`]), to lay a
+    /// matrix of the same factors out alike (`Normal::planned`).
+    #[cfg(feature = "solve")]
     pub(super) off: Vec<Vec<(usize, usize)>>,
     /// The length of the blocks' values before the eliminations (the
     /// matrix itself) and after (with the blocks they created).
     pub(super) before: usize,
+    #[cfg(feature = "solve")]
     pub(super) after: usize,
 }
 
@@ -72,6 +75,7 @@ struct Scratch {
 pub(super) fn fresh(h: &mut Blocks, tolerance: f64) -> Eliminated {
     let n = h.dims.len();
     let mut plan = Plan {
+        #[cfg(feature = "solve")]
         off: h.off.clone(),
         before: h.values.len(),
         ..Plan::default()
@@ -138,7 +142,10 @@ pub(super) fn fresh(h: &mut Blocks, tolerance: f64) -> Eliminated {
             pairs: pairs_start..plan.pairs.len(),
         });
     }
-    plan.after = h.values.len();
+    #[cfg(feature = "solve")]
+    {
+        plan.after = h.values.len();
+    }
     Eliminated { plan, found }
 }
 

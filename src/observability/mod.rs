@@ -159,6 +159,7 @@ impl Normal {
     /// says: the same factors are to be added (on the same variables, at
     /// other values). Where a factor joins a pair the plan does not have,
     /// the elimination is searched for anew.
+    #[cfg(feature = "solve")]
     pub(crate) fn planned(variables: Vec<Variable>, mut plan: Plan) -> Self {
         let dims = variables.iter().map(|v| v.columns.len()).collect();
         let blocks = Blocks::laid_out(dims, std::mem::take(&mut plan.off), plan.after);
@@ -191,8 +192,8 @@ impl Normal {
     ///
     /// Each row is scaled to unit norm first, in place (`unit_rows`): the
     /// null space of `J` does not depend on the rows' weights, and a
-    /// measurement weighted 1e8 times its neighbours' (σ = 1e-4 among σ =
-    /// 1) would otherwise make the directions only they determine look
+    /// measurement weighted 1e8 times its neighbours' (σ = 1e-4 among
+    /// σ = 1) would otherwise make the directions only they determine look
     /// undetermined beside its own on the unit diagonal.
     pub fn add_rows(&mut self, rows: usize, variables: &[usize], jacobian: &mut [f64]) {
         let h = &mut self.blocks;
@@ -575,6 +576,7 @@ mod tests {
     /// for bit. A factor joining a pair the plan lacks makes it search
     /// anew, as a fresh check of those factors does.
     #[test]
+    #[cfg(feature = "solve")]
     fn a_plan_repeats_the_elimination_at_other_values() {
         // A ring of 2-D points measured by their differences (scaled by
         // `at`), the first pinned along x: y is free; `extra` joins 0 and 5.

@@ -305,11 +305,11 @@ fn open<'a>(
             let present: Vec<&str> = required
                 .iter()
                 .copied()
-                .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
+                .chain(optional.iter().copied().filter(|k| map.contains_key(k)))
                 .collect();
             // The required fields, and as many fields as present: none
             // unknown (the slow search for one runs only when not).
-            if map.len() == present.len() && required.iter().all(|k| map.contains_key(*k)) {
+            if map.len() == present.len() && required.iter().all(|k| map.contains_key(k)) {
                 return Object::new(value, path, &present);
             }
             let allowed: Vec<&str> = required.iter().chain(optional).copied().collect();
@@ -322,7 +322,7 @@ fn open<'a>(
             required
                 .iter()
                 .copied()
-                .chain(optional.iter().copied().filter(|k| map.contains_key(*k)))
+                .chain(optional.iter().copied().filter(|k| map.contains_key(k)))
                 .collect()
         }
         // Not an object: what it should hold (every field it may hold
