@@ -39,6 +39,17 @@ impl Blocks {
         }
     }
 
+    /// Zero blocks of the dimensions `dims`, the pairs `off` (each
+    /// variable's neighbours, sorted, with their blocks' offsets) among
+    /// `len` values: the layout of blocks laid out before.
+    #[cfg(feature = "solve")]
+    pub(super) fn laid_out(dims: Vec<usize>, off: Vec<Vec<(usize, usize)>>, len: usize) -> Self {
+        let mut blocks = Blocks::new(dims);
+        blocks.off = off;
+        blocks.values.resize(len, 0.0);
+        blocks
+    }
+
     /// The offset of variable `v`'s diagonal block.
     pub(super) fn diagonal(&self, v: usize) -> usize {
         self.diagonal[v]

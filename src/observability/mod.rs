@@ -21,14 +21,16 @@
 //! [`Deficiency`] names.
 
 mod blocks;
+mod elimination;
 
-use std::collections::{BTreeMap, BinaryHeap};
+use std::collections::BTreeMap;
 use std::fmt;
 
 use factor_core::{Factor, FactorError};
 use nalgebra::{DMatrix, DVector};
 
 use self::blocks::{Blocks, add_product, transpose};
+pub(crate) use self::elimination::Plan;
 use crate::method::{Method, linearize};
 
 /// The eigenvalue, of a normal matrix scaled to a unit diagonal, at or
@@ -106,6 +108,11 @@ pub struct Normal {
     blocks: Blocks,
     /// Room for a factor's blocks column-major ([`Normal::add_rows`]).
     columns: Vec<f64>,
+    /// The plan of an earlier check of the same factors, its layout the
+    /// blocks' ([`Normal::planned`]); `stale` once a factor joined a pair
+    /// it did not have.
+    plan: Option<Plan>,
+    stale: bool,
 }
 
 /// The undetermined directions of a problem.
@@ -134,16 +141,6 @@ const SHOWN_VARIABLES: usize = 4;
 /// named.
 const NEGLIGIBLE: f64 = 1e-3;
 
-/// One elimination, kept for back-substitution: the variable, the
-/// pseudo-inverse of its diagonal block, and the neighbours left at the
-/// time, each with the offset of the pair's block (no later elimination
-/// changes it).
-struct Elimination {
-    variable: usize,
-    pseudo_inverse: DMatrix<f64>,
-    neighbours: Vec<(usize, usize)>,
-}
-
 impl Normal {
     /// An empty normal matrix over `variables` (the free ones).
     pub fn new(variables: Vec<Variable>) -> Self {
@@ -152,6 +149,26 @@ impl Normal {
             variables,
             blocks: Blocks::new(dims),
             columns: Vec::new(),
+            plan: None,
+            stale: false,
+        }
+    }
+
+    /// An empty normal matrix over `variables`, laid out as `plan` (made
+    /// by [`Normal::deficiency_planned`]) says, to be eliminated as it
+    /// says: the same factors are to be added (on the same variables, at
+    /// other values). Where a factor joins a pair the plan does not have,
+    /// the elimination is searched for anew.
+    #[cfg(feature = "solve")]
+    pub(crate) fn planned(variables: Vec<Variable>, mut plan: Plan) -> Self {
+        let dims = variables.iter().map(|v| v.columns.len()).collect();
+        let blocks = Blocks::laid_out(dims, std::mem::take(&mut plan.off), plan.after);
+        Normal {
+            variables,
+            blocks,
+            columns: Vec::new(),
+            plan: Some(plan),
+            stale: false,
         }
     }
 
@@ -213,7 +230,8 @@ impl Normal {
                 } else {
                     (jb_t, ja, dims[k])
                 };
-                let (pair, _) = h.pair(a, b);
+                let (pair, created) = h.pair(a, b);
+                self.stale |= created && self.plan.is_some();
                 add_product(&mut h.values[pair..], 1.0, low_t, high, height);
             }
         }
@@ -227,111 +245,50 @@ impl Normal {
 
     /// The directions determined no more than `tolerance` ([`TOLERANCE`],
     /// or [`DRIFT_TOLERANCE`] after a solve that did not converge).
-    pub fn deficiency_within(mut self, tolerance: f64) -> Option<Deficiency> {
-        // The blocks laid out in the order of the first eliminations (the
-        // least connected first, which the eliminations of variables of no
-        // common neighbour, landmarks', keep).
-        let h = &mut self.blocks;
-        let mut order: Vec<usize> = (0..h.dims.len()).collect();
-        order.sort_by_key(|&v| (h.off[v].len(), std::cmp::Reverse(v)));
-        let spare = h.repack(&order);
-        let scales = self.scale();
-        // The scaled matrix, for the candidates' test, copied into the
-        // memory of the old layout: the blocks the eliminations create
-        // come after its end.
-        let mut original = spare;
-        original.clear();
-        original.extend_from_slice(&self.blocks.values);
-        let n = self.variables.len();
-        let mut eliminated = Vec::with_capacity(n);
-        // Null directions, each as (variable, direction in its scaled
-        // coordinates, how many eliminations preceded it).
-        let mut null: Vec<(usize, DVector<f64>, usize)> = Vec::new();
-        let mut done = vec![false; n];
-        let h = &mut self.blocks;
-        // Each variable's neighbours not eliminated yet (an eliminated one
-        // stays in the lists, marked `done`).
-        let mut degree: Vec<usize> = h.off.iter().map(Vec::len).collect();
-        let mut queue: BinaryHeap<(std::cmp::Reverse<usize>, usize)> =
-            (0..n).map(|v| (std::cmp::Reverse(degree[v]), v)).collect();
-        // Per neighbour of the variable eliminated: H_va and (P H_va)ᵀ
-        // (column-major), end to end, and where each starts.
-        let (mut h_v, mut p_h_v, mut starts) = (Vec::new(), Vec::new(), Vec::new());
-        let mut h_av = Vec::new();
-        while let Some((std::cmp::Reverse(d), v)) = queue.pop() {
-            if done[v] {
-                continue;
-            }
-            if d != degree[v] {
-                queue.push((std::cmp::Reverse(degree[v]), v));
-                continue;
-            }
-            done[v] = true;
-            let dv = h.dims[v];
-            let at = h.diagonal(v);
-            let diagonal = DMatrix::from_column_slice(dv, dv, &h.values[at..at + dv * dv]);
-            let (pseudo_inverse, directions) = split(&diagonal, tolerance);
-            for u in directions {
-                null.push((v, u, eliminated.len()));
-            }
-            let neighbours: Vec<(usize, usize)> = std::mem::take(&mut h.off[v])
-                .into_iter()
-                .filter(|(a, _)| !done[*a])
-                .collect();
-            h_v.clear();
-            p_h_v.clear();
-            starts.clear();
-            for &(a, pair) in &neighbours {
-                degree[a] -= 1;
-                let (start, da) = (h_v.len(), h.dims[a]);
-                starts.push(start);
-                h_v.resize(start + dv * da, 0.0);
-                h.rows_of(&h.values, v, a, pair, &mut h_v[start..]);
-                // (P H_va)ᵀ = H_av P (P symmetric).
-                h_av.resize(dv * da, 0.0);
-                transpose(&h_v[start..], dv, &mut h_av);
-                p_h_v.resize(start + dv * da, 0.0);
-                let p = pseudo_inverse.as_slice();
-                add_product(&mut p_h_v[start..], 1.0, &h_av, p, da);
-            }
-            // H_aa −= (P H_va)ᵀ H_va, and for each later neighbour b
-            // H_ab −= (P H_va)ᵀ H_vb, in place.
-            for (i, &(a, _)) in neighbours.iter().enumerate() {
-                let (start, da) = (starts[i], h.dims[a]);
-                let (h_va, p_h_va) = (&h_v[start..start + dv * da], &p_h_v[start..start + dv * da]);
-                let at = h.diagonal(a);
-                add_product(&mut h.values[at..], -1.0, p_h_va, h_va, da);
-                let mut from = 0;
-                for (j, &(b, _)) in neighbours.iter().enumerate().skip(i + 1) {
-                    let h_vb = &h_v[starts[j]..starts[j] + dv * h.dims[b]];
-                    let (pair, created, k) = h.pair_from(a, b, from);
-                    from = k;
-                    if created {
-                        degree[a] += 1;
-                        degree[b] += 1;
-                    }
-                    add_product(&mut h.values[pair..], -1.0, p_h_va, h_vb, da);
-                }
-            }
-            for &(a, _) in &neighbours {
-                queue.push((std::cmp::Reverse(degree[a]), a));
-            }
-            eliminated.push(Elimination {
-                variable: v,
-                pseudo_inverse,
-                neighbours,
-            });
+    pub fn deficiency_within(self, tolerance: f64) -> Option<Deficiency> {
+        self.deficiency_planned(tolerance).0
+    }
+
+    /// [`Normal::deficiency_within`], and the plan of the elimination: the
+    /// order and structure a check of the same factors at other values
+    /// repeats ([`Normal::planned`]).
+    pub(crate) fn deficiency_planned(mut self, tolerance: f64) -> (Option<Deficiency>, Plan) {
+        let plan = self.plan.take().filter(|_| !self.stale);
+        let mut original = Vec::new();
+        if plan.is_none() {
+            // The blocks laid out in the order of the first eliminations
+            // (the least connected first, which the eliminations of
+            // variables of no common neighbour, landmarks', keep).
+            let h = &mut self.blocks;
+            let mut order: Vec<usize> = (0..h.dims.len()).collect();
+            order.sort_by_key(|&v| (h.off[v].len(), std::cmp::Reverse(v)));
+            original = h.repack(&order);
         }
+        let scales = self.scale();
+        // The scaled matrix, for the candidates' test (in the memory the
+        // old layout leaves): the blocks the eliminations create come
+        // after its end.
+        let before = plan.as_ref().map_or(self.blocks.values.len(), |p| p.before);
+        original.clear();
+        original.extend_from_slice(&self.blocks.values[..before]);
+        let eliminated = match plan {
+            Some(plan) => elimination::replay(&mut self.blocks, plan, tolerance),
+            None => elimination::fresh(&mut self.blocks, tolerance),
+        };
         // Each candidate is checked against the matrix itself: rounding in
         // the eliminations can leave a block nearly singular where `H` is
         // not (`xᵀ H x` of a true null direction is at most the tolerance).
-        let null: Vec<BTreeMap<usize, DVector<f64>>> = null
-            .into_iter()
-            .map(|(v, u, step)| self.lift(&eliminated[..step], v, u))
-            .filter(|x| self.curvature(&original, &eliminated, x) <= tolerance)
+        let h = &self.blocks;
+        let null: Vec<BTreeMap<usize, DVector<f64>>> = eliminated
+            .found
+            .null
+            .iter()
+            .map(|(v, u, step)| eliminated.lift(h, *step, *v, u.clone()))
+            .filter(|x| eliminated.curvature(h, &original, x) <= tolerance)
             .collect();
+        let plan = eliminated.plan;
         if null.is_empty() {
-            return None;
+            return (None, plan);
         }
         let count = null.len();
         let directions = null
@@ -339,13 +296,14 @@ impl Normal {
             .take(SHOWN_DIRECTIONS)
             .map(|x| Self::direction(x, &scales))
             .collect();
-        Some(Deficiency {
+        let deficiency = Deficiency {
             count,
             directions,
             variables: self.variables,
             values: "the initial values",
             tolerance,
-        })
+        };
+        (Some(deficiency), plan)
     }
 
     /// Scales every coordinate to a unit diagonal; returns the scales (a
@@ -366,72 +324,8 @@ impl Normal {
         scales
     }
 
-    /// `H_vw` (the rows of `v`) of the pair's block at `pair` in `values`
-    /// (the blocks' values, or a copy of them).
-    fn block(&self, values: &[f64], v: usize, w: usize, pair: usize) -> DMatrix<f64> {
-        let h = &self.blocks;
-        let mut block = DMatrix::zeros(h.dims[v], h.dims[w]);
-        h.rows_of(values, v, w, pair, block.as_mut_slice());
-        block
-    }
-
-    /// The null direction found at `v` (direction `u`, scaled coordinates)
-    /// over every variable: zero on those eliminated after `v`,
-    /// back-substituted through the `earlier` eliminations.
-    fn lift(
-        &self,
-        earlier: &[Elimination],
-        v: usize,
-        u: DVector<f64>,
-    ) -> BTreeMap<usize, DVector<f64>> {
-        let mut x: BTreeMap<usize, DVector<f64>> = BTreeMap::from([(v, u)]);
-        for step in earlier.iter().rev() {
-            let mut sum = DVector::zeros(step.pseudo_inverse.nrows());
-            for &(a, pair) in &step.neighbours {
-                if let Some(xa) = x.get(&a) {
-                    sum += self.block(&self.blocks.values, step.variable, a, pair) * xa;
-                }
-            }
-            x.insert(step.variable, -(&step.pseudo_inverse * sum));
-        }
-        x
-    }
-
-    /// `xᵀ H x / xᵀ x` for the direction `x` (by variable; absent ones
-    /// zero), `H` the scaled matrix `original`: its pairs are those of the
-    /// `eliminated` steps' neighbours (each pair is one of them, at the
-    /// first of its two eliminations) whose blocks lie within it.
-    fn curvature(
-        &self,
-        original: &[f64],
-        eliminated: &[Elimination],
-        x: &BTreeMap<usize, DVector<f64>>,
-    ) -> f64 {
-        let h = &self.blocks;
-        let mut quadratic = 0.0;
-        for (v, xv) in x {
-            let (d, at) = (h.dims[*v], h.diagonal(*v));
-            let diagonal = DMatrix::from_column_slice(d, d, &original[at..at + d * d]);
-            quadratic += xv.dot(&(diagonal * xv));
-        }
-        for step in eliminated {
-            let Some(xv) = x.get(&step.variable) else {
-                continue;
-            };
-            for &(a, pair) in &step.neighbours {
-                if let Some(xa) = x.get(&a)
-                    && pair < original.len()
-                {
-                    let h_va = self.block(original, step.variable, a, pair);
-                    quadratic += 2.0 * xv.dot(&(h_va * xa));
-                }
-            }
-        }
-        quadratic / x.values().map(DVector::norm_squared).sum::<f64>()
-    }
-
     /// A null direction over every variable (scaled coordinates,
-    /// [`Normal::lift`]), unscaled, of unit norm, its moves largest first.
+    /// back-substituted), unscaled, of unit norm, its moves largest first.
     fn direction(
         x: BTreeMap<usize, DVector<f64>>,
         scales: &[DVector<f64>],
@@ -499,25 +393,6 @@ fn scaled_norm(v: &[f64]) -> f64 {
 /// scales to unit norm: far above rounding, below any ratio of two noise
 /// levels in one factor that a file would give.
 const ROW_FLOOR: f64 = 1.0;
-
-/// The pseudo-inverse of the symmetric block `d` on its determined
-/// directions, and its undetermined ones (eigenvalue at most
-/// `tolerance`).
-fn split(d: &DMatrix<f64>, tolerance: f64) -> (DMatrix<f64>, Vec<DVector<f64>>) {
-    let n = d.nrows();
-    let eigen = nalgebra::SymmetricEigen::new(d.clone());
-    let mut pseudo_inverse = DMatrix::zeros(n, n);
-    let mut null = Vec::new();
-    for (k, lambda) in eigen.eigenvalues.iter().enumerate() {
-        let u = eigen.eigenvectors.column(k).into_owned();
-        if *lambda > tolerance {
-            pseudo_inverse += &u * u.transpose() / *lambda;
-        } else {
-            null.push(u);
-        }
-    }
-    (pseudo_inverse, null)
-}
 
 impl fmt::Display for Deficiency {
     /// One line: how many directions, and what the first ones move.
@@ -694,5 +569,48 @@ mod tests {
         )]);
         normal.add(vec![(0, DMatrix::from_row_slice(1, 3, &[0.0, 1.0, -1.0]))]);
         assert_eq!(normal.deficiency().map(|d| d.count), Some(1));
+    }
+
+    /// A check planned by an earlier one of the same factors eliminates
+    /// as a fresh check at the new values does: the same directions, bit
+    /// for bit. A factor joining a pair the plan lacks makes it search
+    /// anew, as a fresh check of those factors does.
+    #[test]
+    #[cfg(feature = "solve")]
+    fn a_plan_repeats_the_elimination_at_other_values() {
+        // A ring of 2-D points measured by their differences (scaled by
+        // `at`), the first pinned along x: y is free; `extra` joins 0 and 5.
+        let n = 12;
+        let variables = || {
+            (0..n)
+                .map(|k| variable(&format!("p{k}"), 2))
+                .collect::<Vec<_>>()
+        };
+        let add = |normal: &mut Normal, at: f64, extra: bool| {
+            for k in 0..n {
+                let weight = DMatrix::from_row_slice(2, 2, &[1.0 + at * k as f64, at, 0.0, 1.0]);
+                normal.add(vec![(k, weight.clone()), ((k + 1) % n, -weight)]);
+            }
+            normal.add(vec![(0, DMatrix::from_row_slice(1, 2, &[1.0, 0.0]))]);
+            if extra {
+                let identity = DMatrix::<f64>::identity(2, 2);
+                normal.add(vec![(0, identity.clone()), (5, -identity)]);
+            }
+        };
+        let mut first = Normal::new(variables());
+        add(&mut first, 0.3, false);
+        let (found, plan) = first.deficiency_planned(TOLERANCE);
+        assert_eq!(found.map(|d| d.count), Some(1));
+        for extra in [false, true] {
+            let mut fresh = Normal::new(variables());
+            add(&mut fresh, 0.7, extra);
+            let expected = fresh.deficiency().expect("y free");
+            let mut planned = Normal::planned(variables(), plan.clone());
+            add(&mut planned, 0.7, extra);
+            assert_eq!(planned.stale, extra);
+            let found = planned.deficiency().expect("y free");
+            assert_eq!(found.count, expected.count);
+            assert_eq!(found.directions, expected.directions, "extra pair: {extra}");
+        }
     }
 }

@@ -34,7 +34,7 @@ use super::{SolveArgs, at, finish_file, progress};
 use crate::document::Document;
 use crate::error::CliError;
 use crate::field_path::shown_path;
-use crate::observability::{Deficiency, Normal, Variable};
+use crate::observability::{Deficiency, Normal, Plan, Variable};
 use crate::registry::Registry;
 use crate::schur_assembly::{SchurAssembly, blocks_of};
 
@@ -91,7 +91,8 @@ pub(super) fn run(
         assembly.problem.eliminate(assembly.created[name].id);
     }
     let fixed: HashSet<String> = checked.fixed.iter().cloned().collect();
-    if let Some(deficiency) = deficiency(&mut assembly, &fixed, None) {
+    let (found, plan) = deficiency(&mut assembly, &fixed, None, None);
+    if let Some(deficiency) = found {
         return Err(unobservable(&args.file, &deficiency));
     }
     let blocks = assembly.problem.factor_count();
@@ -118,7 +119,7 @@ pub(super) fn run(
     let finished = super::schur::finished(&outcome, blocks);
     let solved = solved_variables(&json, &assembly);
     let tolerance = solution_tolerance(&finished.verdict);
-    let check = || match deficiency(&mut assembly, &fixed, Some(tolerance)) {
+    let check = || match deficiency(&mut assembly, &fixed, Some(tolerance), Some(plan)).0 {
         Some(d) => Err(d.at("the solution").to_string()),
         None => Ok(()),
     };
@@ -184,12 +185,16 @@ fn solved_variables(json: &Document, assembly: &SchurAssembly) -> Value {
 /// the initial values (each factor's Jacobian there, kept by the build) or
 /// (`solved`, with its tolerance) the problem's current ones
 /// ([`crate::observability`]), over each factor's whitened Jacobian in its
-/// variables' own tangents.
+/// variables' own tangents; and the elimination's plan. With the `plan` of
+/// the check at the initial values, the check at the solution eliminates
+/// as it did, unless a factor is degenerate there (its pairs may then be
+/// missing: the elimination is searched for anew).
 fn deficiency(
     assembly: &mut SchurAssembly,
     fixed: &HashSet<String>,
     solved: Option<f64>,
-) -> Option<Deficiency> {
+    plan: Option<Plan>,
+) -> (Option<Deficiency>, Plan) {
     let mut names: Vec<&String> = assembly
         .created
         .keys()
@@ -207,7 +212,12 @@ fn deficiency(
             columns: created.columns.clone(),
         });
     }
-    let mut normal = Normal::new(variables);
+    let planned = plan.is_some();
+    let mut normal = match plan {
+        Some(plan) => Normal::planned(variables, plan),
+        None => Normal::new(variables),
+    };
+    let mut skipped = false;
     let (mut stored, mut residual, mut jacobian) = (Vec::new(), Vec::new(), Vec::new());
     let (mut free, mut whitened) = (Vec::new(), Vec::new());
     for kept in &mut assembly.kept {
@@ -225,6 +235,10 @@ fn deficiency(
             // A factor degenerate here was refused by the solve already;
             // its measurements count for nothing.
             if (kept.linearize)(&stored, &mut residual, &mut blocks).is_err() {
+                skipped = true;
+                if planned {
+                    break;
+                }
                 continue;
             }
         } else {
@@ -249,5 +263,8 @@ fn deficiency(
         }
         normal.add_rows(rows, &free, &mut whitened);
     }
-    normal.deficiency_within(solved.unwrap_or(crate::observability::TOLERANCE))
+    if skipped && planned {
+        return deficiency(assembly, fixed, solved, None);
+    }
+    normal.deficiency_planned(solved.unwrap_or(crate::observability::TOLERANCE))
 }

@@ -76,21 +76,33 @@ impl Lists {
 
 /// The adjacency of the graph on `n` nodes whose edges join every two
 /// members of each clique, each list increasing, without the node itself.
+/// Each node's neighbours are gathered once each (marked as met), so that
+/// a pair in many cliques (two cameras seeing many landmarks) costs no
+/// sort of its repeats.
 pub(crate) fn adjacency(n: usize, cliques: &Lists) -> Lists {
     let member_of = Lists::from_pairs(n, || {
         (0..cliques.len())
             .flat_map(|c| cliques.list(c).iter().map(move |&u| (u as usize, c as u32)))
     });
-    Lists::from_pairs(n, || {
-        (0..n).flat_map(|u| {
-            member_of
-                .list(u)
-                .iter()
-                .flat_map(|&c| cliques.list(c as usize).iter())
-                .filter(move |&&v| v as usize != u)
-                .map(move |&v| (u, v))
-        })
-    })
+    // The last node each node was met as a neighbour of.
+    let mut met = vec![usize::MAX; n];
+    let mut start = Vec::with_capacity(n + 1);
+    let mut items = Vec::new();
+    start.push(0);
+    for u in 0..n {
+        let first = items.len();
+        for &c in member_of.list(u) {
+            for &v in cliques.list(c as usize) {
+                if v as usize != u && met[v as usize] != u {
+                    met[v as usize] = u;
+                    items.push(v);
+                }
+            }
+        }
+        items[first..].sort_unstable();
+        start.push(items.len());
+    }
+    Lists { start, items }
 }
 
 /// Each node's position in an approximate minimum degree ordering of the

@@ -312,18 +312,15 @@ fn eliminate_body(
                 }
                 // The diagonal block's rows b.., then each block below.
                 let base = csc.col_ptr[ov + b];
-                for (t, x) in s[base..base + dv - b].iter_mut().zip(&column[..dv - b]) {
-                    *t -= x;
-                }
+                subtract(&mut s[base..base + dv - b], &column[..dv - b]);
                 let mut at = dv - b;
                 // Blocks i > j of this variable: pair (i, j) is number
                 // i(i − 1)/2 + j among the prefixes.
+                let below = csc.below(v as usize, 0, 0, b);
                 for (i, &u) in blocks.iter().enumerate().skip(j + 1) {
                     let du = csc.dims[u as usize];
-                    let run = csc.below(v as usize, prefixes[i * (i - 1) / 2 + j], 0, b);
-                    for (t, x) in s[run..run + du].iter_mut().zip(&column[at..at + du]) {
-                        *t -= x;
-                    }
+                    let run = below + prefixes[i * (i - 1) / 2 + j] as usize;
+                    subtract(&mut s[run..run + du], &column[at..at + du]);
                     at += du;
                 }
             }
@@ -331,6 +328,21 @@ fn eliminate_body(
         }
     }
     true
+}
+
+/// `s −= x`, entry by entry; a run of six (a pose's block column) as one
+/// fixed-size operation, without a loop's bookkeeping per run.
+#[inline(always)]
+fn subtract(s: &mut [f64], x: &[f64]) {
+    if let (Ok(s), Ok(x)) = (<&mut [f64; 6]>::try_from(&mut *s), <&[f64; 6]>::try_from(x)) {
+        for (t, y) in s.iter_mut().zip(x) {
+            *t -= y;
+        }
+        return;
+    }
+    for (t, y) in s.iter_mut().zip(x) {
+        *t -= y;
+    }
 }
 
 /// [`eliminate_body`] compiled for AVX2 (its products of columns are
