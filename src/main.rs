@@ -102,9 +102,8 @@ enum Command {
     /// fixed), g2o's line and plane graphs (the FIX vertices fixed), and
     /// problem files of any registered factors (`*.json`); every data set
     /// and problem files of factors with fused normal-equation kernels by
-    /// slamjac's Schur-complement solver (the landmarks eliminated), g2o
-    /// graphs with `--factors documents` and other problem files by
-    /// apex-solver. Prints a line per iteration and a summary.
+    /// slamjac's Schur-complement solver (the landmarks eliminated), other
+    /// problem files by apex-solver. Prints a line per iteration and a summary.
     /// Needs
     /// the feature `solve` (`cargo run --release --features solve -- solve FILE`).
     #[command(allow_negative_numbers = true)]
@@ -230,8 +229,8 @@ enum SolverFlag {
     /// The Schur-complement solver where it applies, else apex-solver.
     #[default]
     Auto,
-    /// The Schur-complement solver (every data set but g2o graphs with the
-    /// documents' factors, problem files of factors with fused kernels).
+    /// The Schur-complement solver (every data set, problem files of
+    /// factors with fused kernels).
     Schur,
     /// apex-solver.
     Apex,

@@ -188,8 +188,7 @@ fn dual_kernels_reach_the_same_cost() {
 /// Every data set goes to the Schur-complement solver by default and
 /// reaches apex-solver's final cost (within the stopping tolerance: their
 /// iterates differ by the rounding of two implementations); g2o's line and
-/// plane graphs with the documents' factors, built on apex-solver's inverse
-/// pose, go to apex-solver, saying so, and `--solver schur` refuses them.
+/// plane graphs with the documents' factors too.
 #[test]
 fn the_schur_solver_is_chosen_where_it_applies() {
     for file in [
@@ -212,23 +211,35 @@ fn the_schur_solver_is_chosen_where_it_applies() {
         assert_relative(a.0, b.0, 1e-12, "initial cost");
         assert_relative(a.1, b.1, STOPPING, "final cost");
     }
-    let line = data("g2o-addons/line3d.g2o");
-    let documents = solve_ok(&["solve", &line, "--factors", "documents"]);
-    assert!(
-        stdout(&documents).contains("(apex-solver)")
-            && stdout(&documents).contains("solved by apex-solver: the documents' line and plane"),
-        "{}",
-        stdout(&documents)
-    );
-    let output = slamjac(&[
-        "solve",
-        &line,
-        "--solver",
-        "schur",
-        "--factors",
-        "documents",
-    ]);
-    assert_error(&output, 2, &["--solver schur takes g2o's own edges"]);
+    // The documents' factors on g2o's graphs: the Schur-complement solver
+    // (the factors on the body pose, by dual numbers) against apex-solver
+    // (the documents' generated kernels on its inverse pose).
+    for file in ["g2o-addons/line3d.g2o", "g2o-addons/plane3d_planar.g2o"] {
+        let file = data(file);
+        let schur = solve_ok(&["solve", &file, "--factors", "documents"]);
+        let forced = solve_ok(&[
+            "solve",
+            &file,
+            "--factors",
+            "documents",
+            "--solver",
+            "schur",
+        ]);
+        let apex = solve_ok(&["solve", &file, "--factors", "documents", "--solver", "apex"]);
+        for (text, words) in [
+            (stdout(&schur), "by dual numbers"),
+            (stdout(&forced), "by dual numbers"),
+            (stdout(&apex), "(apex-solver)"),
+        ] {
+            assert!(text.contains(words), "{text}");
+        }
+        assert!(stdout(&schur).contains("on_body"), "{}", stdout(&schur));
+        let (a, b) = (costs(&schur), costs(&forced));
+        assert_relative(a.1, b.1, 1e-12, "final cost, --solver schur");
+        let (a, b) = (costs(&schur), costs(&apex));
+        assert_relative(a.0, b.0, 1e-12, "initial cost");
+        assert_relative(a.1, b.1, STOPPING, "final cost");
+    }
 }
 
 /// A problem file of the documents' factors (`synth-plp`'s default room,

@@ -110,3 +110,44 @@ fn mapped_costs_equal_g2os_to_first_order_in_the_noise() {
         assert!(planes <= 20.0 * scale, "planes at {scale:e}: {planes:e}");
     }
 }
+
+/// The documents' factors on g2o's body-to-world pose `X` have the
+/// residual of the documents' factor at `T = X⁻¹`, and their pose block
+/// is the documents' left-chart block moved to `X`'s right chart by
+/// `inverse_pose_block` (a closed form, independent of the dual numbers
+/// that differentiate through the inverse).
+#[test]
+fn documents_factors_on_body_pose_are_the_documents_at_the_inverse() {
+    use factor_core::Factor;
+    use factor_core::lie::inverse_pose_block;
+    use slam_factors::g2o::{LineObservationOnBody, PlaneFactorOnBody};
+
+    fn compare<const R: usize>(documents: &impl Factor, on_body: &impl Factor) {
+        let t = documents.linearize_dual_dyn().expect("documents' factor");
+        let x = on_body.linearize_dual_dyn().expect("on the body pose");
+        let scale = t.residual.norm().max(1.0);
+        assert!(
+            (&t.residual - &x.residual).norm() <= 1e-12 * scale,
+            "{} against {}",
+            t.residual,
+            x.residual
+        );
+        let block_t = SMatrix::<f64, R, 6>::from_fn(|r, c| t.jacobians[0][(r, c)]);
+        let moved = inverse_pose_block(&block_t);
+        let block_x = SMatrix::<f64, R, 6>::from_fn(|r, c| x.jacobians[0][(r, c)]);
+        let error = (moved - block_x).norm() / moved.norm().max(1e-300);
+        assert!(
+            error <= 1e-10,
+            "pose block: relative error {error:e}\n{moved}\n{block_x}"
+        );
+    }
+    let mut s = Sampler::new(41);
+    for _ in 0..100 {
+        let f = s.line_observation();
+        let on_body = LineObservationOnBody::new(&f, Se3RhoTheta::new(f.pose.inverse()));
+        compare::<4>(&f, &on_body);
+        let f = s.plane();
+        let on_body = PlaneFactorOnBody::new(&f, Se3RhoTheta::new(f.pose.inverse()));
+        compare::<3>(&f, &on_body);
+    }
+}

@@ -197,3 +197,21 @@ fn line_observation_dual_matches_numeric() {
     let worst = worst_error(13, Sampler::line_observation);
     println!("line_observation: worst relative error {worst:e}");
 }
+
+/// The documents' line and plane factors on g2o's body-to-world pose
+/// (`g2o::{LineObservationOnBody, PlaneFactorOnBody}`).
+#[test]
+fn documents_factors_on_body_dual_match_numeric() {
+    use factor_core::lie::Se3RhoTheta;
+    use slam_factors::g2o::{LineObservationOnBody, PlaneFactorOnBody};
+    let worst = worst_error(31, |s| {
+        let f = s.line_observation();
+        LineObservationOnBody::new(&f, Se3RhoTheta::new(f.pose.inverse()))
+    });
+    println!("line_observation_on_body: worst relative error {worst:e}");
+    let worst = worst_error(32, |s| {
+        let f = s.plane();
+        PlaneFactorOnBody::new(&f, Se3RhoTheta::new(f.pose.inverse()))
+    });
+    println!("plane_on_body: worst relative error {worst:e}");
+}

@@ -17,10 +17,10 @@
 //!   which chooses the variables to eliminate); one it cannot take goes to
 //!   apex-solver with the reason printed, or is refused with
 //!   `--solver schur`;
-//! - a g2o graph with `--factors documents` (built on apex-solver's
-//!   inverse pose), a problem file the Schur solver cannot take, and any
-//!   problem with `--solver apex` go to apex-solver through the generic
-//!   adapter of crate `factor-apex` (module `apex`).
+//! - a problem file the Schur solver cannot take, and any problem with
+//!   `--solver apex`, go to apex-solver through the generic adapter of
+//!   crate `factor-apex` (module `apex`; g2o graphs with `--factors
+//!   documents` there on apex-solver's inverse pose).
 //!
 //! Both print the same header, iteration lines and summary:
 //!
@@ -178,29 +178,7 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
     if let slam_data::Problem::G2oAddons(graph) = &data {
         graph_checks::check_initial(&args.file, graph)?;
     }
-    // The documents' line and plane factors on g2o's graphs are built on
-    // apex-solver's inverse pose (`factor_apex::inverse_pose`).
-    let documents = args.landmarks == LandmarkFactors::Documents;
-    let schur = match args.solver {
-        SolverChoice::Auto => !documents,
-        SolverChoice::Apex => false,
-        SolverChoice::Schur if documents => {
-            return Err(CliError::Usage(at(
-                &args.file,
-                "--solver schur takes g2o's own edges; the documents' line and plane factors \
-                 (--factors documents) are solved by apex-solver (use --solver apex)",
-            )));
-        }
-        SolverChoice::Schur => true,
-    };
-    if documents && args.solver == SolverChoice::Auto {
-        progress::print(&format!(
-            "{}: solved by apex-solver: the documents' line and plane factors are built on its \
-             inverse pose",
-            crate::field_path::shown_path(&args.file)
-        ));
-    }
-    if schur {
+    if args.solver != SolverChoice::Apex {
         schur::run(args, &data, truth.as_ref())
     } else {
         apex::run(args, &data, truth.as_ref())

@@ -57,7 +57,7 @@ pub(super) fn run(
     data: &slam_data::Problem,
     truth: Option<&Truth>,
 ) -> Result<String, CliError> {
-    let built = factor_schur::problems::build(data, args.robust, args.kernels);
+    let built = factor_schur::problems::build_with(data, args.robust, args.kernels, args.landmarks);
     let mut built = built.map_err(|e| match e {
         BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
         // Degenerate geometry, the solver's or the adapter's refusal.

@@ -62,6 +62,13 @@ pub fn line_landmark(line: &Vector6<f64>) -> Result<OrthonormalLine<f64>, Storag
 /// The documents' world-to-camera pose of g2o's body-to-world `X`: `X⁻¹`,
 /// its quaternion normalised.
 pub fn world_to_body(pose: &Se3<f64>) -> Se3<f64> {
+    inverse_of_normalized(pose)
+}
+
+/// [`world_to_body`] over any scalar (the factors on the body pose,
+/// [`super::LineObservationOnBody`] and [`super::PlaneFactorOnBody`],
+/// differentiate through it).
+pub(super) fn inverse_of_normalized<S: Scalar>(pose: &Se3<S>) -> Se3<S> {
     let q = pose.rotation.quaternion.normalized();
     Se3::new(So3::from_quaternion(q), pose.translation).inverse()
 }

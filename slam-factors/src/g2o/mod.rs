@@ -11,6 +11,14 @@
 //! | [`G2oPointEdge`] | `EDGE_SE3_TRACKXYZ` (`EdgeSE3PointXYZ`) | pose (right), point (Euclidean); offset `P` a constant | `(X P)⁻¹ p − m` |
 //! | [`G2oPriorEdge`] | `EDGE_SE3_PRIOR` (`EdgeSE3Prior`) | pose (right); offset `P` a constant | `[q_v, t]` of `Z⁻¹ X P`, `w ≥ 0` |
 //!
+//! and, for the documents' factors on these graphs
+//! ([`line_observation`], [`plane_observation`] map the measurements):
+//!
+//! | factor | g2o edge | variables (perturbation) | residual |
+//! | --- | --- | --- | --- |
+//! | [`LineObservationOnBody`] | `EDGE_SE3_LINE3D` | pose (right), orthonormal line (right) | [`LineObservation`](crate::LineObservation)'s at `X⁻¹` |
+//! | [`PlaneFactorOnBody`] | `EDGE_SE3_PLANE_CALIB`, offset fixed | pose (right), plane (right) | [`PlaneFactor`](crate::PlaneFactor)'s at `X⁻¹` |
+//!
 //! The factors are unwhitened: the information matrix of an edge weights
 //! its residual outside (`eᵀ Ω e`), in the residual order above, which is
 //! g2o's order for the line, plane and point edges and that of
@@ -67,6 +75,7 @@
 mod documents;
 pub mod eigen;
 mod line_edge;
+mod on_body;
 mod plane_edge;
 mod point_edge;
 mod prior_edge;
@@ -76,6 +85,10 @@ pub use documents::{
     line_landmark, line_observation, line_observation_information, plane_observation, world_to_body,
 };
 pub use line_edge::{G2oLineEdge, g2o_line_residual, validate_g2o_line};
+pub use on_body::{
+    LineObservationOnBody, PlaneFactorOnBody, line_observation_on_body_residual,
+    plane_on_body_residual, validate_line_observation_on_body, validate_plane_on_body,
+};
 pub use plane_edge::{G2oPlaneEdge, g2o_plane_residual, validate_g2o_plane};
 pub use point_edge::{G2oPointEdge, g2o_point_residual, validate_g2o_point};
 pub use prior_edge::{G2oPriorEdge, g2o_prior_residual, validate_g2o_prior};

@@ -36,10 +36,9 @@ use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::Se3RhoTheta;
 use nalgebra::Vector3;
 use slam_data::G2oGraph;
-use slam_factors::g2o::{line_observation, plane_observation};
 use slotmap::SlotMap;
 
-use super::g2o_edges::{self, G2oEdge, G2oFactor, Vertices, sqrt_information};
+use super::g2o_edges::{self, DocumentsFactor, G2oEdge, G2oFactor, Vertices};
 use crate::adapter::{ApexFactor, Kernels};
 use crate::builder::{AnyVariable, Noise, ProblemBuilder, Variable, value_of};
 use crate::built::{Built, Damping};
@@ -165,9 +164,8 @@ where
 }
 
 /// Adds the documents' factor of a line or plane `edge` on `variables`
-/// (the pose, then the landmark): the orthonormal-line observation, or the
-/// plane factor with the measurement moved into the body frame through
-/// the sensor offset, which must be fixed.
+/// (the pose, then the landmark), served on the body-to-world pose
+/// ([`g2o_edges::documents_factor`]).
 fn documents_factor(
     builder: &mut ProblemBuilder,
     graph: &G2oGraph,
@@ -178,39 +176,15 @@ fn documents_factor(
 ) -> Result<(), BuildError> {
     let which = || edge.describe();
     let keys: Vec<VarKey> = [variables[0].keys(), variables[1].keys()].concat();
-    match &edge.factor {
-        G2oFactor::Line(f) => {
-            let e = &graph.line_edges[edge.index];
-            let (factor, information) =
-                line_observation(&f.pose.se3(), &f.line, &e.measurement, &e.information)
-                    .map_err(|err| BuildError::Data(format!("{}: {err}", which())))?;
-            let noise = sqrt_information(&information, &which)?;
-            on_inverse_pose(builder, &factor, kernels, &keys, &noise, loss, &which)
+    let (factor, noise) = g2o_edges::documents_factor(graph, edge)
+        .expect("only lines and planes have documents' factors")?;
+    match factor {
+        DocumentsFactor::Line(f) => {
+            on_inverse_pose(builder, &f, kernels, &keys, &noise, loss, &which)
         }
-        G2oFactor::Plane(f) => {
-            let e = &graph.plane_edges[edge.index];
-            if !graph.fixed.contains(&e.offset) {
-                return Err(BuildError::Unavailable(format!(
-                    "{}: the sensor offset is free (calibrated), which the documents' plane \
-                     factor (one pose) cannot estimate; solve it with g2o's factors",
-                    which()
-                )));
-            }
-            let (factor, information) = plane_observation(
-                &f.pose.se3(),
-                &f.plane,
-                &f.offset.se3(),
-                &e.measurement,
-                &e.information,
-            )
-            .map_err(|error| BuildError::Degenerate {
-                which: format!("{} at the initial values", which()),
-                error,
-            })?;
-            let noise = sqrt_information(&information, &which)?;
-            on_inverse_pose(builder, &factor, kernels, &keys, &noise, loss, &which)
+        DocumentsFactor::Plane(f) => {
+            on_inverse_pose(builder, &f, kernels, &keys, &noise, loss, &which)
         }
-        _ => unreachable!("only lines and planes have documents' factors"),
     }
 }
 
@@ -237,10 +211,6 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
     loss: Option<crate::options::Robust>,
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
-    factor.validate().map_err(|error| BuildError::Degenerate {
-        which: format!("{} at the initial values", which()),
-        error,
-    })?;
     let model = crate::builder::model(noise, F::RESIDUAL_DIM)
         .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", which())))?;
     let served = ApexFactor::new(factor, kernels)?.with_rejections(builder.rejections());

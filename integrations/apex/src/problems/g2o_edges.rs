@@ -7,13 +7,16 @@
 
 use std::collections::HashMap;
 
+use factor_core::Factor;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::{Quaternion, Se3, Se3RhoTheta, So3};
 use factor_core::noise::Noise;
 use nalgebra::{DMatrix, Matrix6, SMatrix, Vector3, Vector4, Vector6};
 use slam_data::{G2oGraph, LineVertex, PlaneVertex, PointVertex, Pose, Rotation, Vertex};
-use slam_factors::g2o::line_landmark;
-use slam_factors::{G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge};
+use slam_factors::g2o::{line_landmark, line_observation, plane_observation};
+use slam_factors::{
+    G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
+};
 
 use super::pose_graph;
 use crate::options::BuildError;
@@ -342,4 +345,75 @@ pub fn solution(graph: &G2oGraph, solved: &Vertices) -> G2oGraph {
         }
     }
     out
+}
+
+/// The documents' factor of a line or plane edge, in place of g2o's own
+/// ([`super::g2o_addons::LandmarkFactors::Documents`]): its pose is the
+/// world-to-camera `T = X⁻¹` of the edge's body-to-world vertex `X`.
+#[derive(Debug, Clone)]
+pub enum DocumentsFactor {
+    /// The orthonormal-line observation of an `EDGE_SE3_LINE3D`.
+    Line(LineObservation),
+    /// The plane factor of an `EDGE_SE3_PLANE_CALIB`, the measurement
+    /// moved into the body frame through the (fixed) sensor offset.
+    Plane(PlaneFactor),
+}
+
+/// The documents' factor of the line or plane `edge` of `graph` at its
+/// initial values, and its noise model: the edge's information moved into
+/// the factor's residual space
+/// ([`slam_factors::g2o::line_observation`],
+/// [`slam_factors::g2o::plane_observation`]).
+///
+/// # Errors
+///
+/// A measurement without an orthonormal representation, a plane edge whose
+/// sensor offset is free (the documents' plane factor has one pose), a
+/// factor degenerate at the initial values, an information matrix that is
+/// not positive definite; `None` for an edge that is neither a line nor a
+/// plane.
+pub fn documents_factor(
+    graph: &G2oGraph,
+    edge: &G2oEdge,
+) -> Option<Result<(DocumentsFactor, Noise), BuildError>> {
+    let which = || edge.describe();
+    let degenerate = |error| BuildError::Degenerate {
+        which: format!("{} at the initial values", which()),
+        error,
+    };
+    Some(match &edge.factor {
+        G2oFactor::Line(f) => {
+            let e = &graph.line_edges[edge.index];
+            line_observation(&f.pose.se3(), &f.line, &e.measurement, &e.information)
+                .map_err(|err| BuildError::Data(format!("{}: {err}", which())))
+                .and_then(|(factor, information)| {
+                    factor.validate().map_err(degenerate)?;
+                    let noise = sqrt_information(&information, &which)?;
+                    Ok((DocumentsFactor::Line(factor), noise))
+                })
+        }
+        G2oFactor::Plane(f) => {
+            let e = &graph.plane_edges[edge.index];
+            if !graph.fixed.contains(&e.offset) {
+                return Some(Err(BuildError::Unavailable(format!(
+                    "{}: the sensor offset is free (calibrated), which the documents' plane \
+                     factor (one pose) cannot estimate; solve it with g2o's factors",
+                    which()
+                ))));
+            }
+            plane_observation(
+                &f.pose.se3(),
+                &f.plane,
+                &f.offset.se3(),
+                &e.measurement,
+                &e.information,
+            )
+            .map_err(degenerate)
+            .and_then(|(factor, information)| {
+                let noise = sqrt_information(&information, &which)?;
+                Ok((DocumentsFactor::Plane(factor), noise))
+            })
+        }
+        _ => return None,
+    })
 }

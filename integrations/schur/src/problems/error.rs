@@ -19,7 +19,8 @@ pub enum BuildError {
     /// The data refer to something they do not hold.
     #[error("{0}")]
     Data(String),
-    /// Not a problem this solver takes (a g2o line and plane graph).
+    /// Not a problem these factors can model (the documents' plane factor
+    /// on a free sensor offset).
     #[error("{0}")]
     Unavailable(String),
     /// The problem is not in the solver's shape.

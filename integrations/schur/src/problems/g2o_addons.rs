@@ -2,7 +2,12 @@
 //! `types_slam3d`, what g2o's simulators write) with g2o's own error
 //! definitions, built from the same vertices and edges as the general path
 //! (`factor_apex::problems::g2o_edges`), each edge whitened by the square
-//! root of its information, so the cost is half g2o's χ².
+//! root of its information, so the cost is half g2o's χ²; or with the
+//! documents' line and plane factors in place of g2o's line and plane
+//! edges ([`LandmarkFactors::Documents`]: `slam_factors::g2o`'s
+//! `LineObservationOnBody` and `PlaneFactorOnBody`, the documents' factors
+//! on g2o's body-to-world pose, the information moved into their residual
+//! spaces as `g2o_edges::documents_factor` moves it).
 //!
 //! The poses (robot poses and sensor offsets) are reduced. A line, plane
 //! or point is eliminated when at most [`MAX_OBSERVERS`] poses observe it;
@@ -21,11 +26,13 @@
 use std::collections::{HashMap, HashSet};
 
 use factor_apex::Kernels;
-use factor_apex::problems::g2o_edges::{self, G2oFactor, Vertices};
+use factor_apex::problems::g2o_addons::LandmarkFactors;
+use factor_apex::problems::g2o_edges::{self, DocumentsFactor, G2oFactor, Vertices};
 use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
 use factor_minimizer::Damping;
 use slam_data::G2oGraph;
+use slam_factors::g2o::{LineObservationOnBody, PlaneFactorOnBody};
 
 use super::error::BuildError;
 use crate::problem::{Jacobians, Problem, VariableId};
@@ -71,12 +78,14 @@ fn add_all<V: Storage<f64>>(
         .collect()
 }
 
-/// Builds `graph` as the general path does with g2o's factors: the file's
-/// `FIX` vertices held fixed, damped uniformly (metres and radians,
-/// whitened by the edges' information, as a pose graph).
+/// Builds `graph` as the general path does with `landmarks`' factors for
+/// the lines and planes: the file's `FIX` vertices held fixed, damped
+/// uniformly (metres and radians, whitened by the edges' information, as a
+/// pose graph).
 pub(super) fn build(
     graph: &G2oGraph,
     kernels: Kernels,
+    landmarks: LandmarkFactors,
 ) -> Result<(Problem, G2oGraphKeys), BuildError> {
     let data = |e: factor_apex::problems::BuildError| BuildError::Data(e.to_string());
     let vertices = Vertices::read(graph).map_err(data)?;
@@ -104,6 +113,27 @@ pub(super) fn build(
     for edge in edges {
         let ids: Vec<VariableId> = edge.vertices.iter().map(|id| by_id[id]).collect();
         let which = || edge.describe();
+        if landmarks == LandmarkFactors::Documents
+            && let Some(documents) = g2o_edges::documents_factor(graph, &edge)
+        {
+            let (factor, noise) = documents.map_err(|e| match e {
+                factor_apex::problems::BuildError::Degenerate { which, error } => {
+                    BuildError::Degenerate { which, error }
+                }
+                factor_apex::problems::BuildError::Unavailable(why) => BuildError::Unavailable(why),
+                other => data(other),
+            })?;
+            add_documents(
+                &mut problem,
+                &edge.factor,
+                factor,
+                &ids,
+                &noise,
+                jacobians,
+                &which,
+            )?;
+            continue;
+        }
         match &edge.factor {
             G2oFactor::Pose(f) => add(&mut problem, f, &ids, &edge.noise, jacobians, &which),
             G2oFactor::Line(f) => add(&mut problem, f, &ids, &edge.noise, jacobians, &which),
@@ -114,6 +144,34 @@ pub(super) fn build(
     }
     problem.set_damping(Damping::Uniform);
     Ok((problem, keys))
+}
+
+/// Adds the documents' `factor` of a line or plane edge (`g2o`, whose
+/// body-to-world pose it is built on) on the edge's pose and landmark
+/// `ids`: the factor on the body pose, so the solver holds g2o's vertices
+/// whichever factors measure them (the sensor offset of a plane edge, fixed,
+/// is already in the measurement).
+fn add_documents(
+    problem: &mut Problem,
+    g2o: &G2oFactor,
+    factor: DocumentsFactor,
+    ids: &[VariableId],
+    noise: &Noise,
+    jacobians: Jacobians,
+    which: &dyn Fn() -> String,
+) -> Result<(), BuildError> {
+    let ids = &ids[..2];
+    match (factor, g2o) {
+        (DocumentsFactor::Line(f), G2oFactor::Line(edge)) => {
+            let on_body = LineObservationOnBody::new(&f, edge.pose);
+            add(problem, &on_body, ids, noise, jacobians, which)
+        }
+        (DocumentsFactor::Plane(f), G2oFactor::Plane(edge)) => {
+            let on_body = PlaneFactorOnBody::new(&f, edge.pose);
+            add(problem, &on_body, ids, noise, jacobians, which)
+        }
+        _ => unreachable!("a documents' factor is of its edge's kind"),
+    }
 }
 
 /// Adds `factor` on `ids` with `noise`, linearized one at a time by

@@ -10,7 +10,7 @@
 //! | BAL, Bundler ([`bundle`]) | per camera its world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]` | the points | `SnavelyReprojection` | camera 0's pose fixed |
 //! | KITTI VO ([`stereo`]) | per pose its camera-to-world pose | the landmarks | `StereoReprojection` | the first pose fixed |
 //! | g2o, EDGE3 ([`pose_graph`]) | per vertex its body-to-world pose (EDGE3 without vertices: the odometry chain) | nothing | `BetweenFactor` (uniform damping) | the first pose fixed |
-//! | g2o lines, planes and points ([`g2o_addons`]) | robot poses and sensor offsets (body to world) | lines, planes, points | g2o's own edges, one at a time (uniform damping) | the file's `FIX` vertices |
+//! | g2o lines, planes and points ([`g2o_addons`]) | robot poses and sensor offsets (body to world) | lines, planes, points | g2o's own edges (or the documents' line and plane factors, [`build_with`]), one at a time (uniform damping) | the file's `FIX` vertices |
 
 pub mod bundle;
 mod error;
@@ -20,6 +20,7 @@ pub mod stereo;
 
 pub use error::BuildError;
 use factor_apex::Kernels;
+use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_core::Storage;
 use factor_core::lie::{Se3, Se3RhoTheta};
 
@@ -62,6 +63,23 @@ pub fn build(
     robust: Option<factor_apex::problems::Robust>,
     kernels: Kernels,
 ) -> Result<Built, BuildError> {
+    build_with(data, robust, kernels, LandmarkFactors::G2o)
+}
+
+/// [`build`], with `landmarks`' factors for the lines and planes of g2o's
+/// line and plane graphs (g2o's own edges, or the documents' factors; other
+/// data sets have none).
+///
+/// # Errors
+///
+/// As [`build`]; with the documents' factors, also a plane edge whose sensor
+/// offset is free, and a measurement without an orthonormal representation.
+pub fn build_with(
+    data: &slam_data::Problem,
+    robust: Option<factor_apex::problems::Robust>,
+    kernels: Kernels,
+    landmarks: LandmarkFactors,
+) -> Result<Built, BuildError> {
     let mut built = match data {
         slam_data::Problem::Bal(bal) => Built::of(bundle::build(bal, kernels)?, Keys::Bundle),
         slam_data::Problem::Bundler(bundler) => {
@@ -71,9 +89,10 @@ pub fn build(
         slam_data::Problem::G2o(graph) | slam_data::Problem::Edge3(graph) => {
             Built::of(pose_graph::build(graph, kernels)?, Keys::PoseGraph)
         }
-        slam_data::Problem::G2oAddons(graph) => {
-            Built::of(g2o_addons::build(graph, kernels)?, Keys::G2oAddons)
-        }
+        slam_data::Problem::G2oAddons(graph) => Built::of(
+            g2o_addons::build(graph, kernels, landmarks)?,
+            Keys::G2oAddons,
+        ),
     };
     built.problem.set_robust(robust);
     Ok(built)
