@@ -716,7 +716,7 @@ pub fn compile(
                 .iter()
                 .filter(|e| **e != located.rhs)
                 .collect();
-            super::edits::nearby_terms(&others, &located.rhs)
+            super::tree::nearby_terms(&others, &located.rhs)
         },
         differential_in,
         understood,

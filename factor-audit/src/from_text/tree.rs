@@ -2,7 +2,7 @@
 //! in one fixed order, read or changed in place (the erratum search edits
 //! a printed formula this way).
 
-use doc_latex::ast::Expr;
+use doc_latex::ast::{Expr, Sign};
 
 /// A node's place: the child indices from the root.
 pub type Path = Vec<usize>;
@@ -134,6 +134,48 @@ pub fn derivatives(e: &Expr) -> Vec<&Expr> {
         stack.extend(children(node).into_iter().rev());
     }
     out
+}
+
+/// Most terms gathered from the formula's line for the erratum search's
+/// additions (`super::edits::additions`).
+pub const MAX_NEARBY_TERMS: usize = 24;
+
+/// The terms printed in the claim's display (the other sides of its chain,
+/// its other lines, a value's left side, the sums inside its right side),
+/// each with its sign, except the right side's own: what a term missing
+/// from the right side may be.
+pub fn nearby_terms(others: &[&Expr], rhs: &Expr) -> Vec<Expr> {
+    let own: Vec<String> = sum_terms(rhs).iter().map(|t| t.to_string()).collect();
+    let mut out: Vec<Expr> = Vec::new();
+    for e in others.iter().copied().chain(std::iter::once(rhs)) {
+        for (_, node) in nodes(e) {
+            for t in sum_terms(node) {
+                let key = t.to_string();
+                if out.len() < MAX_NEARBY_TERMS
+                    && !own.contains(&key)
+                    && !out.iter().any(|o| o.to_string() == key)
+                {
+                    out.push(t);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The terms of a sum with their signs (`Neg` for a subtracted one); none
+/// for another node.
+fn sum_terms(e: &Expr) -> Vec<Expr> {
+    if !matches!(e, Expr::Sum { .. }) {
+        return Vec::new();
+    }
+    e.terms()
+        .into_iter()
+        .map(|(sign, t)| match sign {
+            Sign::Minus => Expr::Neg(Box::new(t.clone())),
+            Sign::Plus => t.clone(),
+        })
+        .collect()
 }
 
 #[cfg(test)]
