@@ -9,6 +9,8 @@ use super::context::Context;
 use super::lower::{number, symbol_key};
 use super::term::Meaning;
 use super::tree::{Path, at, at_mut, nodes};
+// Where they were before they moved to `tree` (the public API stays).
+pub use super::tree::{MAX_NEARBY_TERMS, nearby_terms};
 
 /// One edit of a printed formula.
 #[derive(Debug, Clone, PartialEq)]
