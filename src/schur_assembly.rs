@@ -21,8 +21,8 @@ use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 use slam_factors::{LineReprojection, PluckerLineReprojection};
+use slamjac_problem::decode::{FieldsCache, stored_scalars};
 
-use crate::decode::{FieldsCache, stored_scalars};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
 use crate::observability::tangent_columns;

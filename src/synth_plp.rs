@@ -52,9 +52,9 @@ use serde_json::{Map, Value, json};
 use slam_data::plp_scene::{self, PlpConfig, PlpScene, PlpState, Segment};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 use slamjac_io::Role;
+use slamjac_problem::field_path::shown_path;
 
 use crate::error::CliError;
-use crate::field_path::shown_path;
 use crate::method::{Method, linearize};
 use crate::observability::{Normal, Variable};
 use crate::outputs;
@@ -546,7 +546,7 @@ impl Problem {
 
     fn json(&self) -> Value {
         json!({
-            "slamjac_problem": crate::PROBLEM_FILE_VERSION,
+            "slamjac_problem": slamjac_problem::PROBLEM_FILE_VERSION,
             "variables": self.variables,
             "factors": self.factors,
             "truth": self.truth,

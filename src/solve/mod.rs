@@ -197,7 +197,7 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
         progress::print(&format!(
             "{}: solved by apex-solver: the documents' line and plane factors are built on its \
              inverse pose",
-            crate::field_path::shown_path(&args.file)
+            slamjac_problem::field_path::shown_path(&args.file)
         ));
     }
     if schur {
@@ -248,7 +248,7 @@ pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String,
             }
             Err(why) => progress::print(&format!(
                 "{}: solved by apex-solver: the Schur-complement solver cannot take it ({why})",
-                crate::field_path::shown_path(&args.file)
+                slamjac_problem::field_path::shown_path(&args.file)
             )),
         }
     }

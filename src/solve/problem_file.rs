@@ -54,13 +54,15 @@ use factor_minimizer::Verdict;
 
 use nalgebra::DMatrix;
 use serde_json::{Map, Value};
+use slamjac_problem::InputError;
+use slamjac_problem::decode::{FieldsCache, record_keys};
+use slamjac_problem::document::{Document, Json};
+use slamjac_problem::field_path::quoted;
 
 use super::file_truth::Truth;
 use super::problem_checks::{self as checks, Shape, at_value, read_json};
-use crate::decode::{FieldsCache, record_keys};
-use crate::document::{Document, Json};
-use crate::error::{CliError, InputError};
-use crate::field_path::quoted;
+
+use crate::error::CliError;
 use crate::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
 use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};

@@ -24,6 +24,8 @@ use std::path::Path;
 
 use factor_schur::Solver;
 use serde_json::Value;
+use slamjac_problem::document::Document;
+use slamjac_problem::field_path::shown_path;
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
@@ -31,9 +33,7 @@ use super::problem_file::{
     variables_of, with_variables,
 };
 use super::{SolveArgs, at, finish_file, progress};
-use crate::document::Document;
 use crate::error::CliError;
-use crate::field_path::shown_path;
 use crate::observability::{Deficiency, Normal, Plan, Variable};
 use crate::registry::Registry;
 use crate::schur_assembly::{SchurAssembly, blocks_of};
