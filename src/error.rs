@@ -8,8 +8,8 @@
 //!
 //! Every error is printed as one line, `error: <where>: <what>`, where
 //! `<where>` is the JSON field path (`variables.pose.rotation[3]`,
-//! `variables["a b"]`: see [`slamjac_problem::field_path`] for quoting, escaping and
-//! the cut of long names), the input source (a file name or `<stdin>`), a
+//! `variables["a b"]`: see [`slamjac_problem::field_path`] for quoting,
+//! escaping and the cut of long names), the input source (a file name or `<stdin>`), a
 //! directory or file of the generated crate, or the factor's name. No
 //! character that ends a line or steers a terminal is printed raw.
 

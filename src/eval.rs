@@ -30,7 +30,8 @@ pub struct Evaluation {
 
 /// Evaluates the request `{"factor", "variables", "constants"}` for a
 /// factor of `registry`. A degenerate configuration whose quaternions look
-/// written `[w, x, y, z]` gets a hint naming them (see [`slamjac_problem::w_first`]).
+/// written `[w, x, y, z]` gets a hint naming them (see
+/// [`slamjac_problem::w_first`]).
 pub fn evaluate(
     registry: &Registry,
     request: Json<'_>,

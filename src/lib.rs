@@ -5,7 +5,8 @@
 //! user of the public APIs of `slam-factors`, `factor-codegen` and
 //! `factor-audit`, like any other. Its input layer (reading a source,
 //! strict JSON, typed values, decoding factors, the problem-file format's
-//! version) is the crate `slamjac-problem`.
+//! version) and the observability check of a problem are the crate
+//! `slamjac-problem`.
 //!
 //! - [`registry`]: the factors a command line knows ([`registry::Registry`])
 //!   and the kernel crate it generates;
@@ -14,8 +15,6 @@
 //! - [`init`]: `init`, a new project for factors of your own;
 //! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
 //! - [`eval`]: evaluation and the output JSON;
-//! - [`observability`]: the directions a problem's residuals do not
-//!   determine (a gauge left free, a rank deficiency), named;
 //! - [`list`]: the factor table, text or JSON;
 //! - [`kernels`]: the shipped factors: `slamjac`'s own registry, their
 //!   kernel specs and provenance;
@@ -48,7 +47,6 @@ pub mod init;
 pub mod kernels;
 pub mod list;
 pub mod method;
-pub mod observability;
 pub mod outputs;
 pub mod pretty;
 #[cfg(feature = "solve")]

@@ -13,6 +13,8 @@
 //!   escaped, cut);
 //! - [`decode`]: each factor's `variables` and `constants` → the factor;
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
+//! - [`observability`]: the directions a problem's residuals do not
+//!   determine (a gauge left free, a rank deficiency), named;
 //! - [`error`]: [`InputError`], the one error of this layer.
 
 pub mod decode;
@@ -20,6 +22,7 @@ pub mod document;
 pub mod error;
 pub mod field_path;
 pub mod input;
+pub mod observability;
 pub mod source;
 pub mod strict_json;
 pub mod w_first;

@@ -2,8 +2,8 @@
 //! `solve` and `track` read a file through [`read`], so the same file gets
 //! the same exit status and the same message from both (issue 28).
 //!
-//! - The file: at most [`slamjac_problem::source::MAX_PROBLEM_FILE_BYTES`] of UTF-8
-//!   JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
+//! - The file: at most [`slamjac_problem::source::MAX_PROBLEM_FILE_BYTES`]
+//!   of UTF-8 JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
 //!   only `slamjac_problem`, `variables`, `factors` and `truth` at the top
 //!   level, the version this build reads.
 //! - Each variable: an object with `type`, `value` and optionally `fixed`
