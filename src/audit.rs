@@ -4,10 +4,12 @@
 //! is audited document by document, `slamjac audit DOC --symbols FILE`: its
 //! texts keep their own licences and are not built into the binary.)
 
+use slamjac_problem::InputError;
 use std::path::Path;
 
 use crate::audit_text::{audit_document, check_samples, report_and_gate, report_roles};
-use crate::error::{CliError, InputError};
+
+use crate::error::CliError;
 use crate::outputs;
 
 /// A document shipped in `documents/`: its file name, text and symbols file.

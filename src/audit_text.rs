@@ -12,10 +12,11 @@ use factor_audit::from_text::{TextAudit, TextError, Unread};
 use serde_json::{Value, json};
 
 use slamjac_io::Role;
+use slamjac_problem::InputError;
+use slamjac_problem::source::{read_source, source_name};
 
-use crate::error::{CliError, InputError};
+use crate::error::CliError;
 use crate::outputs;
-use crate::source::{read_source, source_name};
 
 /// The most sampled points per formula `audit` accepts. The samples are
 /// streamed (memory does not grow with them), so the bound is on time: a run

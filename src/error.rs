@@ -8,42 +8,21 @@
 //!
 //! Every error is printed as one line, `error: <where>: <what>`, where
 //! `<where>` is the JSON field path (`variables.pose.rotation[3]`,
-//! `variables["a b"]`: see [`crate::field_path`] for quoting, escaping and
-//! the cut of long names), the input source (a file name or `<stdin>`), a
+//! `variables["a b"]`: see [`slamjac_problem::field_path`] for quoting,
+//! escaping and the cut of long names), the input source (a file name or `<stdin>`), a
 //! directory or file of the generated crate, or the factor's name. No
 //! character that ends a line or steers a terminal is printed raw.
 
 use std::path::PathBuf;
 
 use factor_core::FactorError;
-
-use crate::field_path::escape_unprintable;
+use slamjac_problem::InputError;
+use slamjac_problem::field_path::escape_unprintable;
 
 /// Exit code of rejected input (and of clap's usage errors).
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit code of a well-formed input the factor cannot be evaluated at.
 pub const EXIT_DEGENERATE: u8 = 1;
-
-/// Input that does not describe a point a factor can be evaluated at: where
-/// (a field path such as `variables.pose.rotation`, or the input source) and what.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{path}: {message}")]
-pub struct InputError {
-    /// The JSON field path, or the input source for unreadable files and invalid JSON.
-    pub path: String,
-    /// What is wrong, one line.
-    pub message: String,
-}
-
-impl InputError {
-    /// An error at `path`.
-    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
-        InputError {
-            path: path.into(),
-            message: message.into(),
-        }
-    }
-}
 
 /// Anything `slamjac` reports instead of a result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

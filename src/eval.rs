@@ -3,15 +3,16 @@
 
 use factor_core::{DynLinearization, FactorError, VariableInfo};
 use serde_json::{Map, Value};
+use slamjac_problem::document::Json;
+use slamjac_problem::input::{Object, QuaternionReading};
+use slamjac_problem::source::read_source;
+use slamjac_problem::strict_json::parse_json;
+use slamjac_problem::w_first;
 
-use crate::document::Json;
 use crate::error::CliError;
-use crate::input::{Object, QuaternionReading};
 use crate::method::Method;
+use crate::pretty;
 use crate::registry::Registry;
-use crate::source::read_source;
-use crate::strict_json::parse_json;
-use crate::{pretty, w_first};
 
 /// A factor evaluated at a point.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,7 +30,8 @@ pub struct Evaluation {
 
 /// Evaluates the request `{"factor", "variables", "constants"}` for a
 /// factor of `registry`. A degenerate configuration whose quaternions look
-/// written `[w, x, y, z]` gets a hint naming them (see [`w_first`]).
+/// written `[w, x, y, z]` gets a hint naming them (see
+/// [`slamjac_problem::w_first`]).
 pub fn evaluate(
     registry: &Registry,
     request: Json<'_>,
@@ -38,9 +40,17 @@ pub fn evaluate(
     let reading = QuaternionReading::default();
     match evaluate_reading(registry, request, method, &reading) {
         Err(CliError::Factor(error @ FactorError::Degenerate { .. })) => {
-            Err(w_first::with_hint(error, &reading.read(), |reading| {
-                evaluate_reading(registry, request, method, reading)
-            }))
+            // Validation passed when the evaluation succeeded or failed only after it.
+            let validates = |reading: &QuaternionReading| {
+                matches!(
+                    evaluate_reading(registry, request, method, reading),
+                    Ok(_) | Err(CliError::Factor(FactorError::NonFinite { .. }))
+                )
+            };
+            Err(match w_first::hint(&reading.read(), validates) {
+                Some(hint) => CliError::Hinted { error, hint },
+                None => CliError::Factor(error),
+            })
         }
         result => result,
     }

@@ -42,9 +42,10 @@ use factor_codegen::{
     self as codegen, CodegenError, CppLibrary, GeneratedCrate, GeneratedModule, KernelSpec,
     Provenance, SymbolicKernel,
 };
+use slamjac_problem::InputError;
+use slamjac_problem::field_path::shown_path;
 
-use crate::error::{CliError, InputError};
-use crate::field_path::shown_path;
+use crate::error::CliError;
 use crate::registry::{KernelCrate, Registry};
 
 /// What a directory is, for `generate` and `check`.

@@ -22,9 +22,10 @@ use std::path::{Path, PathBuf};
 
 use factor_codegen::build_profile::PROFILE_ENTRIES;
 use factor_codegen::manifest::{Membership, manifest, placeholder_lib, toml_escaped};
+use slamjac_problem::InputError;
+use slamjac_problem::field_path::{quoted, shown_path};
 
-use crate::error::{CliError, InputError};
-use crate::field_path::{quoted, shown_path};
+use crate::error::CliError;
 
 /// The checkout this binary was built from, which the project depends on.
 const CHECKOUT: &str = env!("CARGO_MANIFEST_DIR");

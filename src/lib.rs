@@ -3,15 +3,11 @@
 //! a point given as JSON (the README's "Command line"); generate and check
 //! the document factors' kernels; audit the documents' derivations. It is a
 //! user of the public APIs of `slam-factors`, `factor-codegen` and
-//! `factor-audit`, like any other.
+//! `factor-audit`, like any other. Its input layer (reading a source,
+//! strict JSON, typed values, decoding factors, the problem-file format's
+//! version) and the observability check of a problem are the crate
+//! `slamjac-problem`.
 //!
-//! - [`source`]: reading an input file or standard input (16 MiB at most, UTF-8);
-//! - [`strict_json`]: JSON text → value tree, rejecting duplicate keys and
-//!   out-of-range numbers at their field path;
-//! - [`input`]: JSON → typed values, errors naming the field path;
-//! - [`field_path`]: how errors show field paths and input text (quoted,
-//!   escaped, cut);
-//! - [`decode`]: each factor's `variables` and `constants` → the factor;
 //! - [`registry`]: the factors a command line knows ([`registry::Registry`])
 //!   and the kernel crate it generates;
 //! - [`cli`]: the command line as a library, `list`, `eval`, `generate` and
@@ -19,20 +15,23 @@
 //! - [`init`]: `init`, a new project for factors of your own;
 //! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
 //! - [`eval`]: evaluation and the output JSON;
-//! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
-//! - [`observability`]: the directions a problem's residuals do not
-//!   determine (a gauge left free, a rank deficiency), named;
 //! - [`list`]: the factor table, text or JSON;
 //! - [`kernels`]: the shipped factors: `slamjac`'s own registry, their
 //!   kernel specs and provenance;
 //! - [`generate`]: `generate` and `check` of a registry's kernel crate;
 //! - [`audit`]: `audit` of the documents' derivations;
+//! - [`audit_text`]: `audit DOC --symbols FILE`, a document's formulas
+//!   audited from its text;
 //! - [`pretty`]: indented JSON with arrays of numbers on one line;
 //! - [`synth`]: `synth-bal`, seeded synthetic BAL problems;
+//! - [`synth_plp`]: `synth-plp`, a seeded point-line-plane room written as
+//!   a problem file;
 //! - [`outputs`]: the files a command writes, checked before any work;
 //! - [`usage`]: clap's usage errors as one line;
 //! - `problem_assembly` (feature `solve`): a problem file's factor entries
 //!   added to an apex-solver problem, the adders a registry keeps;
+//! - `schur_assembly` (feature `solve`): the same entries added to a
+//!   `factor-schur` problem;
 //! - `solve` (feature `solve`): real estimation problems solved by
 //!   apex-solver through the factors' generated kernels;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
@@ -41,18 +40,13 @@
 pub mod audit;
 pub mod audit_text;
 pub mod cli;
-pub mod decode;
-pub mod document;
 pub mod error;
 pub mod eval;
-pub mod field_path;
 pub mod generate;
 pub mod init;
-pub mod input;
 pub mod kernels;
 pub mod list;
 pub mod method;
-pub mod observability;
 pub mod outputs;
 pub mod pretty;
 #[cfg(feature = "solve")]
@@ -62,17 +56,10 @@ pub mod registry;
 mod schur_assembly;
 #[cfg(feature = "solve")]
 pub mod solve;
-pub mod source;
-pub mod strict_json;
 pub mod synth;
 pub mod synth_plp;
 pub mod usage;
-pub mod w_first;
 
-pub use error::{CliError, InputError};
-
-/// The version of the problem file format (`slamjac_problem`) this build
-/// reads (`solve`) and writes (`solve --output`, `synth-plp`).
-pub const PROBLEM_FILE_VERSION: u64 = 1;
+pub use error::CliError;
 pub use eval::Evaluation;
 pub use method::Method;

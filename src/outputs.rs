@@ -7,9 +7,9 @@
 use std::path::Path;
 
 use slamjac_io::Role;
+use slamjac_problem::field_path::escape_unprintable;
 
 use crate::error::CliError;
-use crate::field_path::escape_unprintable;
 
 /// Refuses, before any work, an output that names one of the `inputs` or
 /// another output, or that cannot be written (exit 2).

@@ -14,11 +14,11 @@ use factor_core::dual::Dual;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 use factor_core::manifold::ChartMap;
 use nalgebra::DMatrix;
+use slamjac_problem::decode::{FieldsCache, decode_with};
+use slamjac_problem::input::Object;
+use slamjac_problem::observability::tangent_columns;
 
-use crate::decode::{FieldsCache, decode_with};
 use crate::error::CliError;
-use crate::input::Object;
-use crate::observability::tangent_columns;
 
 /// Reads a variable's stored scalars back from a solution.
 pub(crate) type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;

@@ -5,16 +5,17 @@
 //! factors (see [`crate::cli`]).
 //!
 //! Registering a factor is one call: its JSON form comes from its fields'
-//! storage ([`crate::decode`]).
+//! storage ([`slamjac_problem::decode`]).
 
 use factor_codegen::{KernelSpec, Provenance};
 use factor_core::host::{Apex, HostFactor, HostKernel};
 use factor_core::{DynLinearization, Factor, FieldInfo, VariableInfo};
+use slamjac_problem::InputError;
+use slamjac_problem::decode::{decode, json_shape};
+use slamjac_problem::field_path::quoted;
+use slamjac_problem::input::Object;
 
-use crate::decode::{decode, json_shape};
-use crate::error::{CliError, InputError};
-use crate::field_path::quoted;
-use crate::input::Object;
+use crate::error::CliError;
 use crate::method::{Method, linearize};
 
 /// One registered factor, its description and how to evaluate it from JSON.

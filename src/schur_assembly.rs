@@ -21,11 +21,11 @@ use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 use slam_factors::{LineReprojection, PluckerLineReprojection};
+use slamjac_problem::decode::{FieldsCache, stored_scalars};
+use slamjac_problem::observability::tangent_columns;
 
-use crate::decode::{FieldsCache, stored_scalars};
 use crate::error::CliError;
 use crate::method::{Method, linearize};
-use crate::observability::tangent_columns;
 use crate::problem_assembly::Entry;
 
 /// A factor's residual and Jacobian blocks over its variables' own

@@ -7,9 +7,9 @@ use std::path::Path;
 
 use slam_data::synthetic::{self, SyntheticConfig, Visibility};
 use slamjac_io::Role;
+use slamjac_problem::field_path::shown_path;
 
 use crate::error::CliError;
-use crate::field_path::shown_path;
 use crate::outputs;
 
 /// What to generate, as the command line gives it.

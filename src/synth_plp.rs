@@ -31,8 +31,8 @@
 //!   1° (`MIN_LINE_PARALLAX`), and only cameras with a measurement.
 //! - A problem whose measurements do not determine its free variables (a
 //!   camera that sees two walls and nothing else, a plane seen only by
-//!   free cameras: [`crate::observability`], at the true values and at
-//!   the written initial values) is refused naming the directions nothing
+//!   free cameras: [`slamjac_problem::observability`], at the true values
+//!   and at the written initial values) is refused naming the directions nothing
 //!   determines; nothing is written. A problem observable at both can still
 //!   be drawn by the solve into a configuration that is not (`--cameras 4`:
 //!   a wall seen only by free cameras rotated parallel to another); `solve`
@@ -52,11 +52,11 @@ use serde_json::{Map, Value, json};
 use slam_data::plp_scene::{self, PlpConfig, PlpScene, PlpState, Segment};
 use slam_factors::{LineReprojection, PlaneFactor, PointReprojection};
 use slamjac_io::Role;
+use slamjac_problem::field_path::shown_path;
+use slamjac_problem::observability::{Normal, Variable};
 
 use crate::error::CliError;
-use crate::field_path::shown_path;
 use crate::method::{Method, linearize};
-use crate::observability::{Normal, Variable};
 use crate::outputs;
 
 /// The measurement kinds a problem holds.
@@ -546,7 +546,7 @@ impl Problem {
 
     fn json(&self) -> Value {
         json!({
-            "slamjac_problem": crate::PROBLEM_FILE_VERSION,
+            "slamjac_problem": slamjac_problem::PROBLEM_FILE_VERSION,
             "variables": self.variables,
             "factors": self.factors,
             "truth": self.truth,
@@ -555,8 +555,8 @@ impl Problem {
 }
 
 /// Refuses a problem whose free variables its measurements do not
-/// determine ([`crate::observability`]): the gauge's two cameras are
-/// fixed, every other camera and every landmark is free.
+/// determine ([`slamjac_problem::observability`]): the gauge's two
+/// cameras are fixed, every other camera and every landmark is free.
 fn observable(
     measurements: &[Measurement],
     cameras: &[usize],

@@ -8,9 +8,9 @@
 use std::process::ExitCode;
 
 use clap::error::ErrorKind;
+use slamjac_problem::field_path::escape_unprintable;
 
 use crate::error::EXIT_BAD_INPUT;
-use crate::field_path::escape_unprintable;
 
 /// What to print for clap's `error` of the command `program`, and the exit
 /// code: help and version as clap renders them (exit 0); anything else one

@@ -37,7 +37,9 @@ fn assert_error(output: &Output, code: i32, needles: &[&str]) {
     let line = err.strip_suffix('\n').unwrap_or(&err);
     assert!(!line.contains('\n'), "not one line: {err}");
     assert!(
-        !line.chars().any(slamjac::field_path::is_unprintable),
+        !line
+            .chars()
+            .any(slamjac_problem::field_path::is_unprintable),
         "unprintable character: {line:?}"
     );
     for needle in needles {

@@ -31,7 +31,7 @@ use common::Rng;
 /// the quadratic parser, which would have needed hours for 1.2 million
 /// literals (14–21 s for 20,000 in a release build).
 const CASE_TIMEOUT: Duration = Duration::from_secs(60);
-/// The input cap of `slamjac eval` (`slamjac::input::MAX_INPUT_BYTES`).
+/// The input cap of `slamjac eval` (`slamjac_problem::source::MAX_INPUT_BYTES`).
 const MAX_INPUT_BYTES: usize = 16 * 1024 * 1024;
 /// Exit code of rejected input.
 const BAD_INPUT: i32 = 2;

@@ -1077,7 +1077,9 @@ fn fuzzed_problem_files_keep_the_contract() {
                     "{label}: {err}"
                 );
                 assert!(
-                    !line.chars().any(slamjac::field_path::is_unprintable),
+                    !line
+                        .chars()
+                        .any(slamjac_problem::field_path::is_unprintable),
                     "{label}: {line:?}"
                 );
                 // Outside the input's own tokens (quoted in backticks), no

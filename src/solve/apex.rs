@@ -6,11 +6,11 @@ use factor_apex::built::Built;
 use factor_apex::problems::g2o_addons;
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, solve};
+use slamjac_problem::field_path::shown_path;
 
 use super::truth::Truth;
 use super::{SolveArgs, at, finish, finish_file, problem_file, progress, report};
 use crate::error::CliError;
-use crate::field_path::shown_path;
 use crate::registry::Registry;
 
 /// Builds, solves and reports `data` with apex-solver, against `truth`

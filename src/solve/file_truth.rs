@@ -24,14 +24,14 @@ use factor_core::Storage;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::Se3;
 use nalgebra::{Isometry3, Point3, Similarity3, UnitQuaternion, Vector3, Vector4};
+use slamjac_problem::InputError;
+use slamjac_problem::decode::at_part;
+use slamjac_problem::document::{Json, Members};
+use slamjac_problem::field_path::join;
+use slamjac_problem::input::{Object, numbers};
 
 use super::align::umeyama;
 use super::truth::angle;
-use crate::decode::at_part;
-use crate::document::{Json, Members};
-use crate::error::InputError;
-use crate::field_path::join;
-use crate::input::{Object, numbers};
 
 /// A variable's value, as far as its errors go.
 #[derive(Debug, Clone, Copy)]

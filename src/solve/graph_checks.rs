@@ -1,6 +1,6 @@
 //! The observability check of a g2o line, plane and point graph, as a
-//! problem file has it ([`crate::observability`]): at the initial values
-//! and at the solution, the directions of the free vertices (those not on
+//! problem file has it ([`slamjac_problem::observability`]): at the
+//! initial values and at the solution, the directions of the free vertices (those not on
 //! a `FIX` line) that no edge's whitened Jacobian determines — a graph
 //! without its `FIX` line (a gauge left free), a vertex no edge joins, a
 //! pose held only by a prior that weighs its height alone.
@@ -17,11 +17,12 @@ use factor_core::Factor;
 use factor_minimizer::Verdict;
 use nalgebra::DMatrix;
 use slam_data::G2oGraph;
+use slamjac_problem::observability::{
+    DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable, tangent_columns,
+};
 
 use crate::error::CliError;
-use crate::observability::{
-    DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable, tangent_columns, whitened_blocks,
-};
+use crate::method::{Method, linearize};
 
 /// Refuses `graph` at its initial values when its edges leave a direction
 /// of its free vertices undetermined (exit 1, nothing solved).
@@ -149,10 +150,13 @@ fn deficiency(
 /// variable's tangent coordinates.
 type Whitened = (Vec<DMatrix<f64>>, Vec<Vec<String>>);
 
-/// `edge`'s [`Whitened`] blocks ([`whitened_blocks`]), or `None` where it
-/// cannot be linearized.
+/// `edge`'s [`Whitened`] blocks, or `None` where it cannot be linearized
+/// (its validation, or a non-finite Jacobian). Linearized as
+/// `Method::Generated` does (dual numbers for a factor without a kernel).
 fn whitened<F: Factor>(factor: &F, edge: &G2oEdge) -> Option<Whitened> {
-    let blocks = whitened_blocks(factor, &edge.noise.sqrt_information(F::RESIDUAL_DIM)).ok()?;
+    let (linearization, _) = linearize(factor, Method::Generated).ok()?;
+    let s = edge.noise.sqrt_information(F::RESIDUAL_DIM);
+    let blocks = linearization.jacobians.iter().map(|j| &s * j).collect();
     let tangents = F::variables()
         .iter()
         .map(|v| tangent_columns(v.tangent, v.tangent_dim))

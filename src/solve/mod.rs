@@ -226,7 +226,7 @@ pub fn run_problem_file(args: &SolveArgs, registry: &Registry) -> Result<String,
             }
             Err(why) => progress::print(&format!(
                 "{}: solved by apex-solver: the Schur-complement solver cannot take it ({why})",
-                crate::field_path::shown_path(&args.file)
+                slamjac_problem::field_path::shown_path(&args.file)
             )),
         }
     }

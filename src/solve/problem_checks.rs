@@ -2,8 +2,8 @@
 //! `solve` and `track` read a file through [`read`], so the same file gets
 //! the same exit status and the same message from both (issue 28).
 //!
-//! - The file: at most [`crate::source::MAX_PROBLEM_FILE_BYTES`] of UTF-8
-//!   JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
+//! - The file: at most [`slamjac_problem::source::MAX_PROBLEM_FILE_BYTES`]
+//!   of UTF-8 JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
 //!   only `slamjac_problem`, `variables`, `factors` and `truth` at the top
 //!   level, the version this build reads.
 //! - Each variable: an object with `type`, `value` and optionally `fixed`
@@ -29,15 +29,17 @@ use std::path::Path;
 use factor_apex::problems::Robust;
 use factor_core::VariableInfo;
 use factor_core::noise::Noise;
+use slamjac_problem::InputError;
+use slamjac_problem::document::{Document, Json, Members};
+use slamjac_problem::field_path::{join, quoted};
+use slamjac_problem::input::{Object, numbers};
 
 use super::file_truth::Truth;
-use crate::document::{Document, Json, Members};
-use crate::error::{CliError, InputError};
-use crate::field_path::{join, quoted};
-use crate::input::{Object, numbers};
+
+use crate::error::CliError;
 
 /// The format version this build reads and writes.
-pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
+pub const VERSION: u64 = slamjac_problem::PROBLEM_FILE_VERSION;
 
 /// What a reader knows of a factor: its variable fields (with their
 /// types), its constant fields and its residual's dimension.
@@ -100,8 +102,8 @@ pub(crate) struct Checked<'a> {
 /// or not JSON) or the field at fault.
 pub(crate) fn read_json(file: &Path) -> Result<Document, CliError> {
     let name = file.display().to_string();
-    let reader = crate::source::open_problem_file(file)?;
-    let json = crate::strict_json::parse_json_from(reader, &name)?;
+    let reader = slamjac_problem::source::open_problem_file(file)?;
+    let json = slamjac_problem::strict_json::parse_json_from(reader, &name)?;
     let top = open(
         json.root(),
         "",

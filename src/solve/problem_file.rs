@@ -54,14 +54,16 @@ use factor_minimizer::Verdict;
 
 use nalgebra::DMatrix;
 use serde_json::{Map, Value};
+use slamjac_problem::InputError;
+use slamjac_problem::decode::{FieldsCache, record_keys};
+use slamjac_problem::document::{Document, Json};
+use slamjac_problem::field_path::quoted;
+use slamjac_problem::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
 
 use super::file_truth::Truth;
 use super::problem_checks::{self as checks, Shape, at_value, read_json};
-use crate::decode::{FieldsCache, record_keys};
-use crate::document::{Document, Json};
-use crate::error::{CliError, InputError};
-use crate::field_path::quoted;
-use crate::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
+
+use crate::error::CliError;
 use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};
 
@@ -197,7 +199,7 @@ pub(super) fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> 
 
 /// The directions of the free variables the built problem's blocks do not
 /// determine at the initial values, or at `solved` with its tolerance
-/// ([`crate::observability`]), in apex-solver's chart, through each block's
+/// ([`slamjac_problem::observability`]), in apex-solver's chart, through each block's
 /// whitened Jacobian.
 fn deficiency<'a>(
     built: &Built<()>,

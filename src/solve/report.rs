@@ -10,10 +10,10 @@ use factor_minimizer::{Iteration, Verdict};
 use slam_factors::{
     G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
 };
+use slamjac_problem::field_path::shown_path;
 
 use super::SolveArgs;
 use super::progress::duration;
-use crate::field_path::shown_path;
 
 /// What the header says of the problem built, whichever solver has it.
 #[derive(Debug, Clone)]

@@ -24,6 +24,9 @@ use std::path::Path;
 
 use factor_schur::Solver;
 use serde_json::Value;
+use slamjac_problem::document::Document;
+use slamjac_problem::field_path::shown_path;
+use slamjac_problem::observability::{Deficiency, Normal, Plan, Variable};
 
 use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
@@ -31,10 +34,7 @@ use super::problem_file::{
     variables_of, with_variables,
 };
 use super::{SolveArgs, at, finish_file, progress};
-use crate::document::Document;
 use crate::error::CliError;
-use crate::field_path::shown_path;
-use crate::observability::{Deficiency, Normal, Plan, Variable};
 use crate::registry::Registry;
 use crate::schur_assembly::{SchurAssembly, blocks_of};
 
@@ -184,7 +184,7 @@ fn solved_variables(json: &Document, assembly: &SchurAssembly) -> Value {
 /// The directions of the free variables the factors do not determine, at
 /// the initial values (each factor's Jacobian there, kept by the build) or
 /// (`solved`, with its tolerance) the problem's current ones
-/// ([`crate::observability`]), over each factor's whitened Jacobian in its
+/// ([`slamjac_problem::observability`]), over each factor's whitened Jacobian in its
 /// variables' own tangents; and the elimination's plan. With the `plan` of
 /// the check at the initial values, the check at the solution eliminates
 /// as it did, unless a factor is degenerate there (its pairs may then be
@@ -266,5 +266,5 @@ fn deficiency(
     if skipped && planned {
         return deficiency(assembly, fixed, solved, None);
     }
-    normal.deficiency_planned(solved.unwrap_or(crate::observability::TOLERANCE))
+    normal.deficiency_planned(solved.unwrap_or(slamjac_problem::observability::TOLERANCE))
 }

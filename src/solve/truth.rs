@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 use slam_data::{Format, G2oGraph, Pose};
+use slamjac_problem::field_path::shown_path;
 
 use crate::error::CliError;
-use crate::field_path::shown_path;
 
 /// The ground truth a solve of `file` (in `format`, when given or told by
 /// the name) reads, and its part in messages: `--truth` when given; else,

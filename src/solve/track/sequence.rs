@@ -27,13 +27,15 @@ use factor_tracking::{PoseError, PoseProblem};
 use slam_factors::{
     LineObservation, LineReprojection, PlaneFactor, PluckerLineReprojection, PointReprojection,
 };
+use slamjac_problem::InputError;
+use slamjac_problem::decode::decode;
+use slamjac_problem::document::{Document, Json};
+use slamjac_problem::field_path::{join, quoted};
+use slamjac_problem::input::Object;
 
 use super::super::problem_checks::{self as checks, Shape, at_value, read_json};
-use crate::decode::decode;
-use crate::document::{Document, Json};
-use crate::error::{CliError, InputError};
-use crate::field_path::{join, quoted};
-use crate::input::Object;
+
+use crate::error::CliError;
 use crate::synth_plp::Kinds;
 
 /// Where the fixed map's values come from.

@@ -32,10 +32,11 @@ use factor_core::{Factor, Layout, Storage};
 use factor_testing::samples::Sampler;
 use nalgebra::Vector3;
 use serde_json::{Map, Value, json};
-use slamjac::decode::stored_scalars;
-use slamjac::input::Object;
 use slamjac::kernels::shipped;
 use slamjac::registry::Registry;
+use slamjac_problem::decode::stored_scalars;
+use slamjac_problem::document::Document;
+use slamjac_problem::input::Object;
 use user_factors::sim3::Sim3;
 use user_factors::unit_vector::UnitVector3;
 use user_factors::{Direction, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing};
@@ -232,12 +233,13 @@ fn problem(file: &Path, out: &Path) -> Result<(), Failure> {
             values.insert(info.name.to_owned(), declared["value"].clone());
             used.push(variable.to_owned());
         }
-        let values = Value::Object(values);
+        let values = Document::from_value(&Value::Object(values));
         let keys: Vec<&str> = (entry.variables)().iter().map(|v| v.name).collect();
-        let variables_object = Object::new(&values, &format!("{path}.variables"), &keys)?;
+        let variables_object = Object::new(values.root(), &format!("{path}.variables"), &keys)?;
         let constant_keys: Vec<&str> = entry.json_fields(false).into_iter().map(|(n, _)| n).collect();
+        let given_constants = Document::from_value(&spec["constants"]);
         let constants_object =
-            Object::new(&spec["constants"], &format!("{path}.constants"), &constant_keys)?;
+            Object::new(given_constants.root(), &format!("{path}.constants"), &constant_keys)?;
         let stored = stored_scalars(&fields, &variables_object, &constants_object)?;
         let (mut offset, mut constants, mut indices) = (0, Vec::new(), Vec::new());
         for field in &fields {

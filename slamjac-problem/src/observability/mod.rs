@@ -26,12 +26,10 @@ mod elimination;
 use std::collections::BTreeMap;
 use std::fmt;
 
-use factor_core::{Factor, FactorError};
 use nalgebra::{DMatrix, DVector};
 
 use self::blocks::{Blocks, add_product, transpose};
-pub(crate) use self::elimination::Plan;
-use crate::method::{Method, linearize};
+pub use self::elimination::Plan;
 
 /// The eigenvalue, of a normal matrix scaled to a unit diagonal, at or
 /// below which a direction counts as undetermined: far above rounding
@@ -66,22 +64,6 @@ impl Variable {
             columns: tangent_columns(tangent, dim),
         }
     }
-}
-
-/// `factor`'s Jacobian blocks in its variables' own tangents, one per
-/// variable in declaration order, whitened by its square-root information
-/// `s` (`S J`): what [`Normal::add`] takes of a factor. Linearized as
-/// `Method::Generated` does (dual numbers for a factor without a kernel).
-///
-/// # Errors
-///
-/// The factor's validation, or a non-finite Jacobian.
-pub fn whitened_blocks<F: Factor>(
-    factor: &F,
-    s: &DMatrix<f64>,
-) -> Result<Vec<DMatrix<f64>>, FactorError> {
-    let (linearization, _) = linearize(factor, Method::Generated)?;
-    Ok(linearization.jacobians.iter().map(|j| s * j).collect())
 }
 
 /// The names of the `dim` coordinates of a tangent described as `tangent`:
@@ -159,8 +141,7 @@ impl Normal {
     /// says: the same factors are to be added (on the same variables, at
     /// other values). Where a factor joins a pair the plan does not have,
     /// the elimination is searched for anew.
-    #[cfg(feature = "solve")]
-    pub(crate) fn planned(variables: Vec<Variable>, mut plan: Plan) -> Self {
+    pub fn planned(variables: Vec<Variable>, mut plan: Plan) -> Self {
         let dims = variables.iter().map(|v| v.columns.len()).collect();
         let blocks = Blocks::laid_out(dims, std::mem::take(&mut plan.off), plan.after);
         Normal {
@@ -252,7 +233,7 @@ impl Normal {
     /// [`Normal::deficiency_within`], and the plan of the elimination: the
     /// order and structure a check of the same factors at other values
     /// repeats ([`Normal::planned`]).
-    pub(crate) fn deficiency_planned(mut self, tolerance: f64) -> (Option<Deficiency>, Plan) {
+    pub fn deficiency_planned(mut self, tolerance: f64) -> (Option<Deficiency>, Plan) {
         let plan = self.plan.take().filter(|_| !self.stale);
         let mut original = Vec::new();
         if plan.is_none() {
@@ -576,7 +557,6 @@ mod tests {
     /// for bit. A factor joining a pair the plan lacks makes it search
     /// anew, as a fresh check of those factors does.
     #[test]
-    #[cfg(feature = "solve")]
     fn a_plan_repeats_the_elimination_at_other_values() {
         // A ring of 2-D points measured by their differences (scaled by
         // `at`), the first pinned along x: y is free; `extra` joins 0 and 5.

@@ -78,7 +78,7 @@ fn field_scalars(
 
 /// The type's refusal `error` of the value at `path`, at the part of it at
 /// fault (`…rotation`, `…[2]`).
-pub(crate) fn at_part(mut path: String, error: StorageError) -> InputError {
+pub fn at_part(mut path: String, error: StorageError) -> InputError {
     if !error.path.is_empty() {
         for part in error.path.split('.') {
             path = match part.strip_prefix('[') {
@@ -120,7 +120,7 @@ pub fn decode<F: Factor>(variables: &Object, constants: &Object) -> Result<F, In
 }
 
 /// [`decode`] with `F`'s `fields` given (from a `FieldsCache`).
-pub(crate) fn decode_with<F: Factor>(
+pub fn decode_with<F: Factor>(
     fields: &[FieldInfo],
     variables: &Object,
     constants: &Object,
@@ -133,23 +133,21 @@ pub(crate) fn decode_with<F: Factor>(
 /// once: [`Factor::fields`] and [`Factor::variables`] build them (their
 /// layouts' names as strings) anew at every call, and a problem file
 /// decodes thousands of factors of a few types (`solve`).
-#[cfg(feature = "solve")]
 #[derive(Default)]
-pub(crate) struct FieldsCache {
+pub struct FieldsCache {
     fields: std::collections::HashMap<std::any::TypeId, std::sync::Arc<[FieldInfo]>>,
     tangents: std::collections::HashMap<std::any::TypeId, std::sync::Arc<[usize]>>,
 }
 
-#[cfg(feature = "solve")]
 impl FieldsCache {
     /// `F`'s fields.
-    pub(crate) fn of<F: Factor + 'static>(&mut self) -> std::sync::Arc<[FieldInfo]> {
+    pub fn of<F: Factor + 'static>(&mut self) -> std::sync::Arc<[FieldInfo]> {
         let fields = self.fields.entry(std::any::TypeId::of::<F>());
         std::sync::Arc::clone(fields.or_insert_with(|| F::fields().into()))
     }
 
     /// The tangent dimension of each of `F`'s variables, in order.
-    pub(crate) fn tangent_dims<F: Factor + 'static>(&mut self) -> std::sync::Arc<[usize]> {
+    pub fn tangent_dims<F: Factor + 'static>(&mut self) -> std::sync::Arc<[usize]> {
         let dims = self.tangents.entry(std::any::TypeId::of::<F>());
         std::sync::Arc::clone(
             dims.or_insert_with(|| F::variables().iter().map(|v| v.tangent_dim).collect()),
@@ -157,7 +155,7 @@ impl FieldsCache {
     }
 }
 
-#[cfg(all(test, feature = "solve"))]
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -16,9 +16,12 @@ use nalgebra::{DMatrix, DVector};
 
 use super::blocks::{Blocks, add_product, transpose};
 
-/// The order and the structure of an elimination.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct Plan {
+/// The order and the structure of an elimination, made by
+/// [`Normal::deficiency_planned`](super::Normal::deficiency_planned) and
+/// followed by a [`Normal::planned`](super::Normal::planned) over the same
+/// variables.
+#[derive(Debug, Clone)]
+pub struct Plan {
     steps: Vec<Step>,
     /// Each step's neighbours left at the time, with their pair's block.
     neighbours: Vec<(usize, usize)>,
@@ -26,12 +29,10 @@ pub(crate) struct Plan {
     pairs: Vec<usize>,
     /// The structure before the eliminations ([`Blocks::off`]), to lay a
     /// matrix of the same factors out alike (`Normal::planned`).
-    #[cfg(feature = "solve")]
     pub(super) off: Vec<Vec<(usize, usize)>>,
     /// The length of the blocks' values before the eliminations (the
     /// matrix itself) and after (with the blocks they created).
     pub(super) before: usize,
-    #[cfg(feature = "solve")]
     pub(super) after: usize,
 }
 
@@ -75,10 +76,12 @@ struct Scratch {
 pub(super) fn fresh(h: &mut Blocks, tolerance: f64) -> Eliminated {
     let n = h.dims.len();
     let mut plan = Plan {
-        #[cfg(feature = "solve")]
         off: h.off.clone(),
         before: h.values.len(),
-        ..Plan::default()
+        steps: Vec::new(),
+        neighbours: Vec::new(),
+        pairs: Vec::new(),
+        after: 0,
     };
     let mut found = Found::default();
     let mut done = vec![false; n];
@@ -142,10 +145,7 @@ pub(super) fn fresh(h: &mut Blocks, tolerance: f64) -> Eliminated {
             pairs: pairs_start..plan.pairs.len(),
         });
     }
-    #[cfg(feature = "solve")]
-    {
-        plan.after = h.values.len();
-    }
+    plan.after = h.values.len();
     Eliminated { plan, found }
 }
 

@@ -42,7 +42,6 @@ impl Blocks {
     /// Zero blocks of the dimensions `dims`, the pairs `off` (each
     /// variable's neighbours, sorted, with their blocks' offsets) among
     /// `len` values: the layout of blocks laid out before.
-    #[cfg(feature = "solve")]
     pub(super) fn laid_out(dims: Vec<usize>, off: Vec<Vec<(usize, usize)>>, len: usize) -> Self {
         let mut blocks = Blocks::new(dims);
         blocks.off = off;
