@@ -30,6 +30,8 @@ pub struct Plan {
     /// The structure before the eliminations ([`Blocks::off`]), to lay a
     /// matrix of the same factors out alike (`Normal::planned`).
     pub(super) off: Vec<Vec<(usize, usize)>>,
+    /// The dimensions of the variables it was made over.
+    pub(super) dims: Vec<usize>,
     /// The length of the blocks' values before the eliminations (the
     /// matrix itself) and after (with the blocks they created).
     pub(super) before: usize,
@@ -77,6 +79,7 @@ pub(super) fn fresh(h: &mut Blocks, tolerance: f64) -> Eliminated {
     let n = h.dims.len();
     let mut plan = Plan {
         off: h.off.clone(),
+        dims: h.dims.clone(),
         before: h.values.len(),
         steps: Vec::new(),
         neighbours: Vec::new(),

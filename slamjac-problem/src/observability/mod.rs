@@ -140,9 +140,13 @@ impl Normal {
     /// by [`Normal::deficiency_planned`]) says, to be eliminated as it
     /// says: the same factors are to be added (on the same variables, at
     /// other values). Where a factor joins a pair the plan does not have,
-    /// the elimination is searched for anew.
+    /// or `variables` are not those of the plan (their number or
+    /// dimensions), the elimination is searched for anew.
     pub fn planned(variables: Vec<Variable>, mut plan: Plan) -> Self {
-        let dims = variables.iter().map(|v| v.columns.len()).collect();
+        let dims: Vec<usize> = variables.iter().map(|v| v.columns.len()).collect();
+        if dims != plan.dims {
+            return Normal::new(variables);
+        }
         let blocks = Blocks::laid_out(dims, std::mem::take(&mut plan.off), plan.after);
         Normal {
             variables,
@@ -591,6 +595,27 @@ mod tests {
             let found = planned.deficiency().expect("y free");
             assert_eq!(found.count, expected.count);
             assert_eq!(found.directions, expected.directions, "extra pair: {extra}");
+        }
+        // A plan of other variables (one fewer, or another dimension) is not
+        // followed: the check searches anew and finds what a fresh one finds.
+        for others in [
+            (0..n - 1)
+                .map(|k| variable(&format!("p{k}"), 2))
+                .collect::<Vec<_>>(),
+            (0..n)
+                .map(|k| variable(&format!("p{k}"), if k == 3 { 3 } else { 2 }))
+                .collect(),
+        ] {
+            let mut planned = Normal::planned(others.clone(), plan.clone());
+            assert!(planned.plan.is_none());
+            let mut fresh = Normal::new(others);
+            for normal in [&mut planned, &mut fresh] {
+                normal.add(vec![(0, DMatrix::from_row_slice(1, 2, &[1.0, 0.0]))]);
+            }
+            assert_eq!(
+                planned.deficiency().map(|d| (d.count, d.directions)),
+                fresh.deficiency().map(|d| (d.count, d.directions))
+            );
         }
     }
 }
