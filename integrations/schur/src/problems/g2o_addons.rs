@@ -28,6 +28,7 @@ use std::collections::{HashMap, HashSet};
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_apex::problems::g2o_edges::{self, DocumentsFactor, G2oFactor, Vertices};
+use factor_core::lie::Se3RhoTheta;
 use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
 use factor_minimizer::Damping;
@@ -123,15 +124,7 @@ pub(super) fn build(
                 factor_apex::problems::BuildError::Unavailable(why) => BuildError::Unavailable(why),
                 other => data(other),
             })?;
-            add_documents(
-                &mut problem,
-                &edge.factor,
-                factor,
-                &ids,
-                &noise,
-                jacobians,
-                &which,
-            )?;
+            add_documents(&mut problem, factor, &ids[..2], &noise, jacobians, &which)?;
             continue;
         }
         match &edge.factor {
@@ -146,31 +139,29 @@ pub(super) fn build(
     Ok((problem, keys))
 }
 
-/// Adds the documents' `factor` of a line or plane edge (`g2o`, whose
-/// body-to-world pose it is built on) on the edge's pose and landmark
-/// `ids`: the factor on the body pose, so the solver holds g2o's vertices
-/// whichever factors measure them (the sensor offset of a plane edge, fixed,
-/// is already in the measurement).
+/// Adds the documents' `factor` of a line or plane edge on its pose and
+/// landmark `ids`, as the factor on the body-to-world pose that `ids[0]`
+/// holds, so the solver keeps g2o's vertices whichever factors measure them
+/// (the sensor offset of a plane edge, fixed, is already in the
+/// measurement).
 fn add_documents(
     problem: &mut Problem,
-    g2o: &G2oFactor,
     factor: DocumentsFactor,
     ids: &[VariableId],
     noise: &Noise,
     jacobians: Jacobians,
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
-    let ids = &ids[..2];
-    match (factor, g2o) {
-        (DocumentsFactor::Line(f), G2oFactor::Line(edge)) => {
-            let on_body = LineObservationOnBody::new(&f, edge.pose);
+    let pose = Se3RhoTheta::from_scalars(problem.value(ids[0]));
+    match factor {
+        DocumentsFactor::Line(f) => {
+            let on_body = LineObservationOnBody::new(&f, pose);
             add(problem, &on_body, ids, noise, jacobians, which)
         }
-        (DocumentsFactor::Plane(f), G2oFactor::Plane(edge)) => {
-            let on_body = PlaneFactorOnBody::new(&f, edge.pose);
+        DocumentsFactor::Plane(f) => {
+            let on_body = PlaneFactorOnBody::new(&f, pose);
             add(problem, &on_body, ids, noise, jacobians, which)
         }
-        _ => unreachable!("a documents' factor is of its edge's kind"),
     }
 }
 
