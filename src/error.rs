@@ -94,6 +94,19 @@ pub enum CliError {
     Solve(String),
 }
 
+/// A ground truth that cannot be read is a data error, one the solve cannot
+/// use a usage error (both exit 2).
+impl From<slamjac_problem::truth::TruthError> for CliError {
+    fn from(error: slamjac_problem::truth::TruthError) -> Self {
+        use slamjac_problem::truth::TruthError;
+        match error {
+            TruthError::Read(error) => CliError::Data(error),
+            TruthError::NothingToCompare(message) => CliError::Usage(message),
+            other => CliError::Usage(other.to_string()),
+        }
+    }
+}
+
 impl CliError {
     /// The process exit code for this error.
     pub fn exit_code(&self) -> u8 {

@@ -1,7 +1,8 @@
 //! `slamjac-problem`, the input layer of the factor toolchain's command
 //! line: `eval` requests and problem files read from their source, parsed
 //! strictly, read as typed values and decoded into factors, every error one
-//! line naming the field path or the source. It depends on no solver.
+//! line naming the field path or the source; and the ground truth a solution
+//! is measured against. It depends on no solver.
 //!
 //! - [`source`]: reading an input file or standard input (16 MiB at most,
 //!   UTF-8), or streaming a problem file (1 GiB at most);
@@ -15,16 +16,24 @@
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
 //! - [`observability`]: the directions a problem's residuals do not
 //!   determine (a gauge left free, a rank deficiency), named;
-//! - [`error`]: [`InputError`], the one error of this layer.
+//! - [`truth`]: a g2o line and plane graph's ground truth (`--truth`, or
+//!   `STEM_truth.g2o` beside it) and the errors of a solution against it;
+//! - [`file_truth`]: a problem file's `truth` object and the errors of a
+//!   solution against it (trajectory, lines, planes);
+//! - [`align`]: Umeyama's alignment of a trajectory to its truth;
+//! - [`error`]: [`InputError`], the one error of the reading layer.
 
+pub mod align;
 pub mod decode;
 pub mod document;
 pub mod error;
 pub mod field_path;
+pub mod file_truth;
 pub mod input;
 pub mod observability;
 pub mod source;
 pub mod strict_json;
+pub mod truth;
 pub mod w_first;
 
 pub use error::InputError;

@@ -8,10 +8,10 @@ use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, solve};
 use slamjac_problem::field_path::shown_path;
 
-use super::truth::Truth;
 use super::{SolveArgs, at, finish, finish_file, problem_file, progress, report};
 use crate::error::CliError;
 use crate::registry::Registry;
+use slamjac_problem::truth::Truth;
 
 /// Builds, solves and reports `data` with apex-solver, against `truth`
 /// where there is one.

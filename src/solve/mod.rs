@@ -36,9 +36,7 @@
 //! for a problem that is degenerate at its initial values or a solve that
 //! stops on a failure.
 
-mod align;
 mod apex;
-pub mod file_truth;
 mod graph_checks;
 pub mod plot;
 mod problem_checks;
@@ -48,9 +46,12 @@ pub mod report;
 mod schur;
 mod schur_file;
 pub mod track;
-pub mod truth;
 
 use std::path::{Path, PathBuf};
+
+/// The ground truth of a solve and a solution's errors against it, read by
+/// `slamjac-problem`.
+pub use slamjac_problem::{file_truth, truth};
 
 use factor_apex::Kernels;
 use factor_apex::problems::g2o_addons::LandmarkFactors;

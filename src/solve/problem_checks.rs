@@ -34,7 +34,7 @@ use slamjac_problem::document::{Document, Json, Members};
 use slamjac_problem::field_path::{join, quoted};
 use slamjac_problem::input::{Object, numbers};
 
-use super::file_truth::Truth;
+use slamjac_problem::file_truth::Truth;
 
 use crate::error::CliError;
 

@@ -60,8 +60,8 @@ use slamjac_problem::document::{Document, Json};
 use slamjac_problem::field_path::quoted;
 use slamjac_problem::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
 
-use super::file_truth::Truth;
 use super::problem_checks::{self as checks, Shape, at_value, read_json};
+use slamjac_problem::file_truth::Truth;
 
 use crate::error::CliError;
 use crate::problem_assembly::{Assembly, Created, Entry, build_error};

@@ -9,9 +9,9 @@ use factor_schur::problems::BuildError;
 use factor_schur::{Linearized, Outcome, Profile, Solver};
 
 use super::progress::duration;
-use super::truth::Truth;
 use super::{SolveArgs, at, finish, progress, report};
 use crate::error::CliError;
+use slamjac_problem::truth::Truth;
 
 /// The solver in words, for the header: how many of the `variables` are
 /// eliminated (none: a pose graph), how each factor type is linearized

@@ -7,7 +7,7 @@
 //!   factors') and `Se3RhoTheta` (body to world, `between`'s and g2o's),
 //!   as world-to-camera poses — the absolute
 //!   trajectory error: the RMS distance of the camera centres `−Rᵀ t` to the
-//!   true ones after aligning them to the truth (Umeyama's method, `align.rs`)
+//!   true ones after aligning them to the truth (Umeyama's method, [`crate::align`])
 //!   as a rigid motion (SE(3)) and as a similarity (Sim(3)), and the RMS
 //!   angle of the camera rotations after the SE(3) alignment (degrees);
 //! - over the `OrthonormalLine` variables, after the SE(3) alignment, the
@@ -20,18 +20,18 @@
 //! `Vector3` variables may carry a truth (it is checked) but are not
 //! reported; other types may not.
 
+use crate::InputError;
+use crate::decode::at_part;
+use crate::document::{Json, Members};
+use crate::field_path::join;
+use crate::input::{Object, numbers};
 use factor_core::Storage;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::Se3;
 use nalgebra::{Isometry3, Point3, Similarity3, UnitQuaternion, Vector3, Vector4};
-use slamjac_problem::InputError;
-use slamjac_problem::decode::at_part;
-use slamjac_problem::document::{Json, Members};
-use slamjac_problem::field_path::join;
-use slamjac_problem::input::{Object, numbers};
 
-use super::align::umeyama;
-use super::truth::angle;
+use crate::align::umeyama;
+use crate::truth::angle;
 
 /// A variable's value, as far as its errors go.
 #[derive(Debug, Clone, Copy)]

@@ -11,11 +11,9 @@
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
+use crate::field_path::shown_path;
 use nalgebra::Vector3;
 use slam_data::{Format, G2oGraph, Pose};
-use slamjac_problem::field_path::shown_path;
-
-use crate::error::CliError;
 
 /// The ground truth a solve of `file` (in `format`, when given or told by
 /// the name) reads, and its part in messages: `--truth` when given; else,
@@ -43,6 +41,18 @@ fn beside(file: &Path) -> Option<PathBuf> {
     path.is_file().then_some(path)
 }
 
+/// Why a g2o graph's ground truth cannot be used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TruthError {
+    /// The truth file cannot be read as a g2o graph.
+    #[error(transparent)]
+    Read(#[from] slam_data::Error),
+    /// The truth holds none of the graph's robot poses: nothing to compare.
+    #[error("{0}")]
+    NothingToCompare(String),
+}
+
 /// The ground truth of a g2o line and plane graph, read before the solve.
 pub struct Truth {
     path: PathBuf,
@@ -64,7 +74,7 @@ impl Truth {
         format: Option<Format>,
         truth: Option<&Path>,
         data: &slam_data::Problem,
-    ) -> Result<Option<Truth>, CliError> {
+    ) -> Result<Option<Truth>, TruthError> {
         let slam_data::Problem::G2oAddons(initial) = data else {
             return Ok(None);
         };
@@ -80,7 +90,7 @@ impl Truth {
                 .iter()
                 .filter(|v| !offsets.contains(&v.id))
                 .count();
-            return Err(CliError::Usage(format!(
+            return Err(TruthError::NothingToCompare(format!(
                 "{}: the ground truth holds none of the graph's {poses} robot poses (by id): \
                  nothing to compare",
                 shown_path(&path)
@@ -132,7 +142,7 @@ fn pose_error(pose: &Pose, truth: &Pose) -> (f64, f64) {
 }
 
 /// The angle between two directions, degrees.
-pub(super) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+pub(crate) fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     (a.dot(b) / (a.norm() * b.norm()))
         .clamp(-1.0, 1.0)
         .acos()
