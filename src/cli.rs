@@ -164,8 +164,8 @@ impl SolveCommand {
     ///
     /// [`CliError::Usage`] for a `--robust` that is not a loss.
     pub fn args(&self) -> Result<crate::solve::SolveArgs, CliError> {
-        use factor_apex::Kernels;
-        use factor_apex::problems::g2o_addons::LandmarkFactors;
+        use slam_problems::Kernels;
+        use slam_problems::g2o_edges::LandmarkFactors;
         let robust = self
             .robust
             .as_deref()

@@ -280,7 +280,7 @@ fn solve(
     factors: LandmarkChoice,
     truth: Option<PathBuf>,
 ) -> Result<String, CliError> {
-    use factor_apex::problems::g2o_addons::LandmarkFactors;
+    use slam_problems::g2o_edges::LandmarkFactors;
     use slamjac::solve::{SolveArgs, SolverChoice};
     slamjac::solve::run(&SolveArgs {
         format,

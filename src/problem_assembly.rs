@@ -8,12 +8,13 @@
 use std::collections::HashMap;
 
 use factor_apex::builder::{AnyVariable, Noise, ProblemBuilder, Values, stored_value_of};
-use factor_apex::problems::{BuildError, Robust};
+use factor_apex::problems::BuildError;
 use factor_core::FieldInfo;
 use factor_core::dual::Dual;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 use factor_core::manifold::ChartMap;
 use nalgebra::DMatrix;
+use slam_problems::Robust;
 use slamjac_problem::decode::{FieldsCache, decode_with};
 use slamjac_problem::input::Object;
 use slamjac_problem::observability::tangent_columns;

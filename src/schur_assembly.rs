@@ -11,8 +11,6 @@
 
 use std::collections::HashMap;
 
-use factor_apex::Kernels;
-use factor_apex::problems::Robust;
 use factor_core::geometry::{OrthonormalLine, PluckerLine};
 use factor_core::noise::Noise;
 use factor_core::{Factor, FactorError, FieldInfo, Storage, WithKernel};
@@ -21,6 +19,7 @@ use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
 use nalgebra::DMatrix;
 use slam_factors::{LineReprojection, PluckerLineReprojection};
+use slam_problems::{Kernels, Robust};
 use slamjac_problem::decode::{FieldsCache, stored_scalars};
 use slamjac_problem::observability::tangent_columns;
 

@@ -1,5 +1,7 @@
 //! The workspace keeps its architecture: the runtime crate an embedder
-//! depends on pulls in nothing the generator needs, and no crate has a cycle
+//! depends on pulls in nothing the generator needs, the solvers' shared
+//! vocabulary and the Schur-complement solver pull in no other solver
+//! (apex-solver stays an integration), and no crate has a cycle
 //! among its modules' imports (`crate::a` using `crate::b` using `crate::a`).
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -49,6 +51,29 @@ fn the_runtime_crate_depends_only_on_what_runs_in_an_estimator() {
             .all(|d| ["syn", "quote", "proc-macro2"].contains(&d.as_str())),
         "{macros:?}"
     );
+}
+
+/// `slam-problems` (robust losses, kernels, the data sets' factors) holds
+/// no solver, and `factor-schur` builds on it, not on the apex-solver
+/// adapter, which stays one of its dev-dependencies (agreement tests).
+#[test]
+fn the_solvers_vocabulary_depends_on_no_solver() {
+    let vocabulary = dependencies(&workspace().join("slam-problems/Cargo.toml"));
+    let allowed: BTreeSet<String> = [
+        "factor-core",
+        "slam-factors",
+        "slam-data",
+        "nalgebra",
+        "thiserror",
+    ]
+    .map(String::from)
+    .into();
+    assert_eq!(vocabulary, allowed);
+    let schur = dependencies(&workspace().join("integrations/schur/Cargo.toml"));
+    assert!(schur.contains("slam-problems"), "{schur:?}");
+    for solver in ["factor-apex", "apex-solver"] {
+        assert!(!schur.contains(solver), "factor-schur depends on {solver}");
+    }
 }
 
 /// Every `.rs` file under `src` (outside `#[cfg(test)]` modules) as the
@@ -168,6 +193,7 @@ fn no_crate_has_a_cycle_among_its_modules() {
         "factor-lanes/src",
         "factor-tracking/src",
         "factor-minimizer/src",
+        "slam-problems/src",
         // The solvers' crates, in their own workspaces.
         "integrations/apex/src",
         "integrations/schur/src",

@@ -12,11 +12,11 @@
 
 use std::collections::HashMap;
 
-use factor_apex::problems::g2o_edges::{self, G2oEdge, G2oFactor, Vertices};
 use factor_core::Factor;
 use factor_minimizer::Verdict;
 use nalgebra::DMatrix;
 use slam_data::G2oGraph;
+use slam_problems::g2o_edges::{self, G2oEdge, G2oFactor, Vertices};
 use slamjac_problem::observability::{
     DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable, tangent_columns,
 };

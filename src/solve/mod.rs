@@ -53,11 +53,10 @@ use std::path::{Path, PathBuf};
 /// `slamjac-problem`.
 pub use slamjac_problem::{file_truth, truth};
 
-use factor_apex::Kernels;
-use factor_apex::problems::g2o_addons::LandmarkFactors;
-use factor_apex::problems::{self, Robust};
 use factor_minimizer::Verdict;
 use slam_data::Format;
+use slam_problems::g2o_edges::LandmarkFactors;
+use slam_problems::{Kernels, Robust};
 use slamjac_io::Role;
 
 use crate::error::CliError;
@@ -172,7 +171,7 @@ pub fn run(args: &SolveArgs) -> Result<String, CliError> {
             path.display()
         )));
     }
-    if let Some(empty) = problems::nothing_to_solve(&data) {
+    if let Some(empty) = slam_problems::nothing_to_solve(&data) {
         return Err(CliError::Usage(at(&args.file, empty)));
     }
     let truth = truth::Truth::read(&args.file, format, args.truth.as_deref(), &data)?;
@@ -291,8 +290,8 @@ fn finish(
     truth: Option<&truth::Truth>,
     finished: &report::Finished<'_>,
 ) -> Result<String, CliError> {
-    let before = problems::reprojection_errors(initial);
-    let after = problems::reprojection_errors(solved);
+    let before = slam_problems::reprojection_errors(initial);
+    let after = slam_problems::reprojection_errors(solved);
     let errors = before.as_deref().zip(after.as_deref());
     if let Verdict::Failed(why) = &finished.verdict {
         progress::print(&report::summary(finished, errors, None, None));

@@ -26,9 +26,9 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use factor_apex::problems::Robust;
 use factor_core::VariableInfo;
 use factor_core::noise::Noise;
+use slam_problems::Robust;
 use slamjac_problem::InputError;
 use slamjac_problem::document::{Document, Json, Members};
 use slamjac_problem::field_path::{join, quoted};

@@ -44,13 +44,13 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use factor_apex::Kernels;
 use factor_apex::builder::{ProblemBuilder, Values};
 use factor_apex::built::Built;
-use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
+use factor_apex::problems::{BuildOptions, FactorChoice};
 use factor_core::geometry::OrthonormalLine;
 use factor_core::{FieldInfo, Layout, Storage};
 use factor_minimizer::Verdict;
+use slam_problems::{Kernels, Robust};
 
 use nalgebra::DMatrix;
 use serde_json::{Map, Value};

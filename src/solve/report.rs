@@ -3,13 +3,13 @@
 use std::path::Path;
 use std::time::Duration;
 
-use factor_apex::Kernels;
-use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_core::Factor;
 use factor_minimizer::{Iteration, Verdict};
 use slam_factors::{
     G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
 };
+use slam_problems::Kernels;
+use slam_problems::g2o_edges::LandmarkFactors;
 use slamjac_problem::field_path::shown_path;
 
 use super::SolveArgs;

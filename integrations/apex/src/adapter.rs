@@ -34,30 +34,13 @@ use factor_core::host::{
     linearize_host_validated,
 };
 use faer::prelude::ReborrowMut;
+/// How an [`ApexFactor`] linearizes: its generated apex kernel
+/// ([`HostKernel`]) or dual numbers through the same host trace
+/// ([`linearize_host_dual`]).
+pub use slam_problems::Kernels;
 use smallvec::SmallVec;
 
 use crate::error::AdapterError;
-
-/// How an [`ApexFactor`] linearizes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Kernels {
-    /// The factor's generated apex kernel ([`HostKernel`]).
-    #[default]
-    Generated,
-    /// Dual numbers through the same host trace ([`linearize_host_dual`]):
-    /// the same factor, for comparison.
-    Dual,
-}
-
-impl Kernels {
-    /// `generated` or `dual`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kernels::Generated => "generated",
-            Kernels::Dual => "dual",
-        }
-    }
-}
 
 /// Evaluations at configurations a factor rejected, shared by the factors
 /// of a problem.

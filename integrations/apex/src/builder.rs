@@ -55,6 +55,7 @@ use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};
 use crate::built::{Built, Damping, KeptBlock};
+use crate::losses::apex_loss;
 use crate::options::{BuildError, BuildOptions, FactorChoice, Robust};
 use crate::timing::{Marks, PhaseClock, Timed};
 use crate::variables::{manifold_type, split_parts, to_apex};
@@ -471,7 +472,7 @@ impl ProblemBuilder {
         let noise = noise.unwrap_or_else(NoiseModel::null);
         noise.whiten_residual(&mut residual);
         let squared: f64 = residual.iter().map(|r| r * r).sum();
-        let evaluated = loss.map(Robust::loss).transpose()?;
+        let evaluated = loss.map(apex_loss).transpose()?;
         self.cost += 0.5
             * evaluated
                 .as_ref()
@@ -512,7 +513,7 @@ impl ProblemBuilder {
                 factor: block.factor,
                 marks: Marks::of_block(&clock, index, count),
             };
-            let loss = block.loss.map(Robust::loss).transpose()?;
+            let loss = block.loss.map(apex_loss).transpose()?;
             self.problem
                 .try_add_residual_block_with_noise(&block.keys, Box::new(timed), loss, block.noise)
                 .map_err(|e| BuildError::Solver(e.to_string()))?;

@@ -15,7 +15,10 @@
 //! `ρ'' = −(ρ'/δ)²`. apex's `HuberLoss` (`s`, or `2δ√s − δ²` beyond `δ²`)
 //! loses nothing and is used as it is.
 
-use apex_solver::core::loss_functions::LossFunction;
+use apex_solver::core::loss_functions::{HuberLoss, LossFunction};
+use slam_problems::Robust;
+
+use crate::options::BuildError;
 
 /// Where `ln(1 + x)` is `ln x` in `f64`.
 const LOG_IS_LINEAR: f64 = 1e16;
@@ -53,6 +56,19 @@ impl LossFunction for Cauchy {
         };
         let weight = 1.0 / (1.0 + x);
         [rho, weight, -(weight / self.delta).powi(2)]
+    }
+}
+
+/// The loss `robust` served to apex-solver: apex's Huber, this module's
+/// Cauchy.
+pub(crate) fn apex_loss(robust: Robust) -> Result<Box<dyn LossFunction + Send + Sync>, BuildError> {
+    match robust {
+        Robust::Huber(delta) => HuberLoss::new(delta)
+            .map(|l| Box::new(l) as _)
+            .map_err(|e| BuildError::Solver(e.to_string())),
+        Robust::Cauchy(delta) => Cauchy::new(delta)
+            .map(|l| Box::new(l) as _)
+            .map_err(BuildError::Solver),
     }
 }
 

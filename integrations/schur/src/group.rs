@@ -25,11 +25,11 @@ use std::any::Any;
 use std::marker::PhantomData;
 use std::ops::Range;
 
-use factor_apex::problems::Robust;
 use factor_batch::{JacobianColumns, pairs};
 use factor_core::noise::Noise;
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
+use slam_problems::Robust;
 
 use crate::layout::{Lane, MAX_SCALARS, MAX_SLOTS, SlotInfo, Topology};
 use crate::linearization::{Jacobians, Linearized};

@@ -18,8 +18,8 @@
 //!   same lines whichever path solves;
 //! - [`problems`]: BAL, Bundler, KITTI stereo VO, g2o and EDGE3 pose
 //!   graphs and g2o's line, plane and point graphs built from `slam-data`
-//!   as the general path (`factor_apex::problems`) builds them, and the
-//!   solution written back.
+//!   with the factors of crate `slam-problems`, as the apex-solver path
+//!   (`factor_apex::problems`) builds them, and the solution written back.
 //!
 //! # A factor of your own
 //!

@@ -2,8 +2,8 @@
 //! ([`Jacobians`], `Problem::add_linearized`), and as reported
 //! ([`Linearized`], `Problem::linearized`).
 
-use factor_apex::Kernels;
 use factor_core::Factor;
+use slam_problems::Kernels;
 
 /// How a factor added by [`Problem::add_linearized`](crate::Problem::add_linearized) is differentiated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

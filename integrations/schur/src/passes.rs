@@ -4,8 +4,8 @@
 
 use std::time::Duration;
 
-use factor_apex::problems::Robust;
 use rayon::prelude::*;
+use slam_problems::Robust;
 
 use crate::group::{Rejected, Values};
 use crate::partition::{Partition, split_at_bounds};
@@ -278,7 +278,7 @@ mod tests {
     fn parts_sharing_the_tail_sum_to_one_threads_normal_equations() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/g2o-addons/line3d.g2o");
         let data = slam_data::Problem::read(&path, None).unwrap();
-        let mut built = build(&data, None, factor_apex::Kernels::Generated).unwrap();
+        let mut built = build(&data, None, slam_problems::Kernels::Generated).unwrap();
         let problem = &mut built.problem;
         let structure = problem.structure().unwrap();
         let (cost, squared, normal) = at_values(problem, &structure, 1);

@@ -5,12 +5,12 @@
 
 use std::any::{Any, TypeId};
 
-use factor_apex::Kernels;
-use factor_apex::problems::Robust;
 use factor_core::noise::Noise;
 use factor_core::{Factor, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_minimizer::Damping;
+use slam_problems::Kernels;
+use slam_problems::Robust;
 
 use crate::error::SchurError;
 use crate::group::{FactorGroup, Group};

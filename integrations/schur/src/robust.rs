@@ -9,7 +9,7 @@
 //! (and Ceres'): Huber `ρ(s) = s` up to `δ²`, `2δ√s − δ²` beyond; Cauchy
 //! `ρ(s) = δ² ln(1 + s/δ²)`.
 
-use factor_apex::problems::Robust;
+use slam_problems::Robust;
 
 /// `ρ(s)`: `s` for least squares.
 pub(crate) fn loss(robust: Option<Robust>, s: f64) -> f64 {

@@ -668,11 +668,11 @@ mod tests {
 /// dense Cholesky solve of the whole damped system.
 #[cfg(test)]
 mod dense {
-    use factor_apex::problems::Robust;
-    use factor_apex::problems::bundle::factor_of;
     use factor_core::Factor;
     use nalgebra::{DMatrix, DVector};
     use slam_data::synthetic::{SyntheticConfig, generate};
+    use slam_problems::Robust;
+    use slam_problems::bundle::factor_of;
 
     use super::*;
     use crate::partition::Partition;
@@ -695,7 +695,7 @@ mod dense {
         let built = build(
             &slam_data::Problem::Bal(bal.clone()),
             Some(Robust::Huber(2.0)),
-            factor_apex::Kernels::Generated,
+            slam_problems::Kernels::Generated,
         )
         .unwrap();
         (bal, built)

@@ -9,11 +9,11 @@
 
 use std::path::Path;
 
-use factor_apex::Kernels;
-use factor_apex::problems::{BuildOptions, FactorChoice, Robust};
+use factor_apex::problems::{BuildOptions, FactorChoice};
 use factor_minimizer::{SolveOptions, Verdict};
 use factor_schur::problems::{Keys, build};
 use slam_data::synthetic::{SyntheticConfig, generate};
+use slam_problems::{Kernels, Robust};
 
 const AGREEMENT: f64 = 1e-9;
 
@@ -197,7 +197,7 @@ fn fixed_variables_stay_and_the_free_ones_are_optimal() {
         // Σ Jᵀr over the free variables, by variable.
         let mut total = vec![0.0; built.problem.variable_count() * 6];
         for (k, o) in solved.observations.iter().enumerate() {
-            let factor = factor_apex::problems::bundle::factor_of(&solved, k);
+            let factor = slam_problems::bundle::factor_of(&solved, k);
             let lin = factor.linearize_dual().unwrap();
             let r = lin.residual;
             let blocks: [(_, Vec<f64>); 3] = [

@@ -18,8 +18,6 @@
 //!   and optimum under every model.
 
 use factor_apex::builder::ProblemBuilder;
-use factor_apex::problems::Robust;
-use factor_apex::problems::bundle::{camera_pose, factor_of};
 use factor_core::Factor;
 use factor_core::Storage;
 use factor_core::lie::Se3RhoTheta;
@@ -29,6 +27,8 @@ use factor_schur::{Jacobians, Problem, SchurError, Solver, VariableId};
 use nalgebra::{DMatrix, Rotation2};
 use slam_data::BalProblem;
 use slam_data::synthetic::{SyntheticConfig, generate};
+use slam_problems::Robust;
+use slam_problems::bundle::{camera_pose, factor_of};
 
 fn bal() -> BalProblem {
     let config = SyntheticConfig {

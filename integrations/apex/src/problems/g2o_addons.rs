@@ -38,34 +38,14 @@ use nalgebra::Vector3;
 use slam_data::G2oGraph;
 use slotmap::SlotMap;
 
-use super::g2o_edges::{self, DocumentsFactor, G2oEdge, G2oFactor, Vertices};
+pub use slam_problems::g2o_edges::LandmarkFactors;
+use slam_problems::g2o_edges::{self, DocumentsFactor, G2oEdge, G2oFactor, Vertices};
+
 use crate::adapter::{ApexFactor, Kernels};
 use crate::builder::{AnyVariable, Noise, ProblemBuilder, Variable, value_of};
 use crate::built::{Built, Damping};
 use crate::inverse_pose::InversePose;
-use crate::options::{BuildError, BuildOptions, FactorChoice};
-
-/// Which factors measure the lines and planes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LandmarkFactors {
-    /// g2o's own errors ([`G2oLineEdge`](slam_factors::G2oLineEdge), [`G2oPlaneEdge`](slam_factors::G2oPlaneEdge)): the cost is
-    /// g2o's.
-    #[default]
-    G2o,
-    /// The documents' orthonormal-line and quaternion-plane factors
-    /// ([`slam_factors::LineObservation`], [`slam_factors::PlaneFactor`]).
-    Documents,
-}
-
-impl LandmarkFactors {
-    /// `g2o` or `documents`.
-    pub fn name(self) -> &'static str {
-        match self {
-            LandmarkFactors::G2o => "g2o",
-            LandmarkFactors::Documents => "documents",
-        }
-    }
-}
+use crate::options::{BuildError, BuildOptions, FactorChoice, Robust};
 
 /// The variables of a line and plane graph, by vertex id, in file order.
 #[derive(Debug, Clone)]
@@ -172,7 +152,7 @@ fn documents_factor(
     edge: &G2oEdge,
     variables: &[AnyVariable],
     kernels: Kernels,
-    loss: Option<crate::options::Robust>,
+    loss: Option<Robust>,
 ) -> Result<(), BuildError> {
     let which = || edge.describe();
     let keys: Vec<VarKey> = [variables[0].keys(), variables[1].keys()].concat();
@@ -208,7 +188,7 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
     kernels: Kernels,
     keys: &[VarKey],
     noise: &Noise,
-    loss: Option<crate::options::Robust>,
+    loss: Option<Robust>,
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
     let model = crate::builder::model(noise, F::RESIDUAL_DIM)

@@ -20,13 +20,14 @@
 
 pub mod bundle;
 pub mod g2o_addons;
-pub mod g2o_edges;
 pub mod pose_graph;
 pub mod stereo;
 
 use apex_solver::core::VarKey;
 use apex_solver::core::variable::ManifoldVariable;
 use slotmap::SlotMap;
+
+pub use slam_problems::{g2o_edges, nothing_to_solve, reprojection_errors};
 
 pub use crate::built::KeptBlock;
 pub use crate::options::{BuildError, BuildOptions, FactorChoice, ROBUST_SCALES, Robust};
@@ -79,36 +80,6 @@ pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built,
     }
 }
 
-/// Why `data` has nothing to solve, if it has not: no observation or no
-/// edge makes a cost that is identically 0, with no step to take, and a
-/// g2o graph whose `FIX` lines hold every vertex has no value to estimate.
-pub fn nothing_to_solve(data: &slam_data::Problem) -> Option<String> {
-    let what = match data {
-        slam_data::Problem::G2o(_)
-        | slam_data::Problem::Edge3(_)
-        | slam_data::Problem::G2oAddons(_) => "edges",
-        _ => "observations",
-    };
-    if data.measurements() == 0 {
-        return Some(format!("nothing to solve: the problem has no {what}"));
-    }
-    if let slam_data::Problem::G2oAddons(graph) = data {
-        let fixed: std::collections::HashSet<usize> = graph.fixed.iter().copied().collect();
-        let vertices = graph.poses.iter().map(|v| v.id);
-        let vertices = vertices
-            .chain(graph.lines.iter().map(|v| v.id))
-            .chain(graph.planes.iter().map(|v| v.id))
-            .chain(graph.points.iter().map(|v| v.id));
-        if vertices.clone().all(|id| fixed.contains(&id)) {
-            return Some(format!(
-                "nothing to solve: the FIX lines hold every one of the {} vertices",
-                vertices.count()
-            ));
-        }
-    }
-    None
-}
-
 impl Built {
     /// `data` with its variables replaced by `values` (the solver's result):
     /// the optimized problem, in the input's format.
@@ -140,22 +111,5 @@ impl Built {
             // Keys are built from the same data they write back.
             _ => data.clone(),
         }
-    }
-}
-
-/// The reprojection error of each observation (pixels: `‖predicted −
-/// observed‖`, two coordinates for BAL and Bundler, `[u_L, u_R, v]` for
-/// stereo) at the problem's values, through this project's factors; `None`
-/// for a pose graph (with or without lines and planes). An observation degenerate at these values is NaN.
-pub fn reprojection_errors(data: &slam_data::Problem) -> Option<Vec<f64>> {
-    match data {
-        slam_data::Problem::Bal(bal) => Some(bundle::reprojection_errors(bal)),
-        slam_data::Problem::Bundler(bundler) => {
-            Some(bundle::reprojection_errors(&bundler.to_bal()))
-        }
-        slam_data::Problem::KittiVo(vo) => Some(stereo::reprojection_errors(vo)),
-        slam_data::Problem::G2o(_)
-        | slam_data::Problem::Edge3(_)
-        | slam_data::Problem::G2oAddons(_) => None,
     }
 }

@@ -1,21 +1,21 @@
 //! Bundle adjustment of BAL and Bundler problems (Snavely's camera model),
 //! the points eliminated.
 
-use factor_apex::problems::bundle::{camera_pose, factor_of, observation_name};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::{BalProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
+use slam_problems::bundle::{camera_pose, factor_of, observation_name};
 
-use factor_apex::Kernels;
 use factor_core::noise::Noise;
+use slam_problems::Kernels;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
 /// The variables of a bundle-adjustment problem: each camera's
 /// world-to-camera pose (`Se3RhoTheta`) and `[f, k1, k2]`, each point.
-pub type BundleKeys = factor_apex::problems::bundle::BundleKeys<VariableId>;
+pub type BundleKeys = slam_problems::bundle::BundleKeys<VariableId>;
 
 /// Builds the bundle adjustment of `bal`: camera 0's pose fixed, the
 /// points eliminated.

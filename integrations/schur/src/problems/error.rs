@@ -1,6 +1,7 @@
 //! [`BuildError`]: why a data set cannot make a problem for this solver.
 
 use factor_core::FactorError;
+use slam_problems::ProblemError;
 
 use crate::error::SchurError;
 
@@ -26,4 +27,15 @@ pub enum BuildError {
     /// The problem is not in the solver's shape.
     #[error(transparent)]
     Shape(#[from] SchurError),
+}
+
+/// The data sets' errors (crate `slam-problems`), variant for variant.
+impl From<ProblemError> for BuildError {
+    fn from(error: ProblemError) -> Self {
+        match error {
+            ProblemError::Degenerate { which, error } => BuildError::Degenerate { which, error },
+            ProblemError::Data(what) => BuildError::Data(what),
+            ProblemError::Unavailable(why) => BuildError::Unavailable(why),
+        }
+    }
 }

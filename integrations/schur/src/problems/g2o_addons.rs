@@ -1,7 +1,7 @@
 //! g2o's graphs of lines, planes and points (`types_slam3d_addons` and
 //! `types_slam3d`, what g2o's simulators write) with g2o's own error
 //! definitions, built from the same vertices and edges as the general path
-//! (`factor_apex::problems::g2o_edges`), each edge whitened by the square
+//! (`slam_problems::g2o_edges`), each edge whitened by the square
 //! root of its information, so the cost is half g2o's χ²; or with the
 //! documents' line and plane factors in place of g2o's line and plane
 //! edges ([`LandmarkFactors::Documents`]: `slam_factors::g2o`'s
@@ -25,15 +25,15 @@
 
 use std::collections::{HashMap, HashSet};
 
-use factor_apex::Kernels;
-use factor_apex::problems::g2o_addons::LandmarkFactors;
-use factor_apex::problems::g2o_edges::{self, DocumentsFactor, G2oFactor, Vertices};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::noise::Noise;
 use factor_core::{Factor, Storage};
 use factor_minimizer::Damping;
 use slam_data::G2oGraph;
 use slam_factors::g2o::{LineObservationOnBody, PlaneFactorOnBody};
+use slam_problems::Kernels;
+use slam_problems::g2o_edges::LandmarkFactors;
+use slam_problems::g2o_edges::{self, DocumentsFactor, G2oFactor, Vertices};
 
 use super::error::BuildError;
 use crate::problem::{Jacobians, Problem, VariableId};
@@ -88,12 +88,11 @@ pub(super) fn build(
     kernels: Kernels,
     landmarks: LandmarkFactors,
 ) -> Result<(Problem, G2oGraphKeys), BuildError> {
-    let data = |e: factor_apex::problems::BuildError| BuildError::Data(e.to_string());
-    let vertices = Vertices::read(graph).map_err(data)?;
+    let vertices = Vertices::read(graph)?;
     let mut problem = Problem::new();
     let mut by_id = HashMap::new();
     let fixed = &graph.fixed;
-    let edges = g2o_edges::edges(graph, &vertices).map_err(data)?;
+    let edges = g2o_edges::edges(graph, &vertices)?;
     // The distinct poses that observe each landmark.
     let mut observers: HashMap<usize, HashSet<usize>> = HashMap::new();
     for edge in &edges {
@@ -117,13 +116,7 @@ pub(super) fn build(
         if landmarks == LandmarkFactors::Documents
             && let Some(documents) = g2o_edges::documents_factor(graph, &edge)
         {
-            let (factor, noise) = documents.map_err(|e| match e {
-                factor_apex::problems::BuildError::Degenerate { which, error } => {
-                    BuildError::Degenerate { which, error }
-                }
-                factor_apex::problems::BuildError::Unavailable(why) => BuildError::Unavailable(why),
-                other => data(other),
-            })?;
+            let (factor, noise) = documents?;
             add_documents(&mut problem, factor, &ids[..2], &noise, jacobians, &which)?;
             continue;
         }

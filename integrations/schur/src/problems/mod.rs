@@ -1,8 +1,8 @@
 //! Real problems for this solver: bundle adjustment (BAL, Bundler), stereo
 //! visual odometry (KITTI VO) and pose graphs (g2o, EDGE3), built from
-//! `slam-data` with the same factors, variables, gauge, damping and initial
-//! values as the general path (`factor_apex::problems`), the points and
-//! landmarks eliminated; and the solution written back in the input's
+//! `slam-data` with the factors of crate `slam-problems` and the same
+//! variables, gauge, damping and initial values as the apex-solver path
+//! (`factor_apex::problems`), the points and landmarks eliminated; and the solution written back in the input's
 //! format.
 //!
 //! | data set | reduced variables | eliminated | factor | gauge |
@@ -19,10 +19,10 @@ pub mod pose_graph;
 pub mod stereo;
 
 pub use error::BuildError;
-use factor_apex::Kernels;
-use factor_apex::problems::g2o_addons::LandmarkFactors;
 use factor_core::Storage;
 use factor_core::lie::{Se3, Se3RhoTheta};
+use slam_problems::Kernels;
+use slam_problems::g2o_edges::LandmarkFactors;
 
 use crate::problem::{Problem, VariableId};
 
@@ -60,7 +60,7 @@ pub struct Built {
 /// they lack.
 pub fn build(
     data: &slam_data::Problem,
-    robust: Option<factor_apex::problems::Robust>,
+    robust: Option<slam_problems::Robust>,
     kernels: Kernels,
 ) -> Result<Built, BuildError> {
     build_with(data, robust, kernels, LandmarkFactors::G2o)
@@ -76,7 +76,7 @@ pub fn build(
 /// offset is free, and a measurement without an orthonormal representation.
 pub fn build_with(
     data: &slam_data::Problem,
-    robust: Option<factor_apex::problems::Robust>,
+    robust: Option<slam_problems::Robust>,
     kernels: Kernels,
     landmarks: LandmarkFactors,
 ) -> Result<Built, BuildError> {

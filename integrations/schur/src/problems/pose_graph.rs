@@ -3,14 +3,14 @@
 
 use std::collections::HashMap;
 
-use factor_apex::problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use factor_minimizer::Damping;
 use slam_data::PoseGraph;
+use slam_problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
 
-use factor_apex::Kernels;
 use factor_core::noise::Noise;
+use slam_problems::Kernels;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
@@ -18,7 +18,7 @@ use crate::problem::{Problem, VariableId};
 /// The variables of a pose graph: each vertex id and its body-to-world pose
 /// (`Se3RhoTheta`), in the file's vertex order (or the odometry chain's, for
 /// a file without vertices).
-pub type PoseGraphKeys = factor_apex::problems::pose_graph::PoseGraphKeys<VariableId>;
+pub type PoseGraphKeys = slam_problems::pose_graph::PoseGraphKeys<VariableId>;
 
 /// Builds the pose graph of `graph` as the general path does: a
 /// `BetweenFactor` per edge, whitened by its information, the first pose
@@ -27,8 +27,7 @@ pub(super) fn build(
     graph: &PoseGraph,
     kernels: Kernels,
 ) -> Result<(Problem, PoseGraphKeys), BuildError> {
-    let data = |e: factor_apex::problems::BuildError| BuildError::Data(e.to_string());
-    let vertices = initial_vertices(graph).map_err(data)?;
+    let vertices = initial_vertices(graph)?;
     let mut problem = Problem::new();
     let mut keys = PoseGraphKeys {
         poses: Vec::with_capacity(vertices.len()),
@@ -41,8 +40,8 @@ pub(super) fn build(
         by_id.insert(v.id, (id, pose));
     }
     for (index, e) in graph.edges.iter().enumerate() {
-        let ((i, pose_i), (j, pose_j)) = endpoints(graph, index, &by_id).map_err(data)?;
-        let factor = factor_of(e, &pose_i, &pose_j).map_err(data)?;
+        let ((i, pose_i), (j, pose_j)) = endpoints(graph, index, &by_id)?;
+        let factor = factor_of(e, &pose_i, &pose_j)?;
         factor.validate().map_err(|error| BuildError::Degenerate {
             which: format!("{} at the initial values", edge_name(graph, index)),
             error,

@@ -3,20 +3,20 @@
 
 use std::collections::HashMap;
 
-use factor_apex::problems::stereo::{camera_to_world, factor_of, observation_name};
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::StereoVo;
+use slam_problems::stereo::{camera_to_world, factor_of, observation_name};
 
-use factor_apex::Kernels;
 use factor_core::noise::Noise;
+use slam_problems::Kernels;
 
 use super::error::BuildError;
 use crate::problem::{Problem, VariableId};
 
 /// The variables of a stereo VO problem: each pose's camera-to-world pose
 /// (`Se3RhoTheta`), in file order, and each landmark id's position.
-pub type StereoKeys = factor_apex::problems::stereo::StereoKeys<VariableId>;
+pub type StereoKeys = slam_problems::stereo::StereoKeys<VariableId>;
 
 /// Builds the VO problem of `vo`: the first pose fixed, each landmark
 /// initialised as the file initialises it and eliminated.

@@ -2,8 +2,9 @@
 //! and factors, whichever solver takes them: the vertices' initial values
 //! ([`Vertices`]), each edge as the factor of g2o's own error definition
 //! with its noise model ([`G2oEdge`]), and a solution written back as a
-//! graph ([`solution`]). [`super::g2o_addons`] builds them for apex-solver;
-//! crate `factor-schur` builds them for its own solver.
+//! graph ([`solution`]); which factors measure the lines and planes
+//! ([`LandmarkFactors`]). Crate `factor-apex` builds them for apex-solver,
+//! crate `factor-schur` for its own solver.
 
 use std::collections::HashMap;
 
@@ -18,11 +19,33 @@ use slam_factors::{
     G2oLineEdge, G2oPlaneEdge, G2oPointEdge, G2oPriorEdge, G2oSe3Edge, LineObservation, PlaneFactor,
 };
 
-use super::pose_graph;
-use crate::options::BuildError;
+use crate::error::ProblemError;
+use crate::pose_graph;
+
+/// Which factors measure the lines and planes of a graph.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LandmarkFactors {
+    /// g2o's own errors ([`G2oLineEdge`], [`G2oPlaneEdge`]): the cost is
+    /// g2o's.
+    #[default]
+    G2o,
+    /// The documents' orthonormal-line and quaternion-plane factors
+    /// ([`LineObservation`], [`PlaneFactor`]).
+    Documents,
+}
+
+impl LandmarkFactors {
+    /// `g2o` or `documents`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LandmarkFactors::G2o => "g2o",
+            LandmarkFactors::Documents => "documents",
+        }
+    }
+}
 
 /// A file's pose with its quaternion as written (g2o's factors use it so).
-pub(crate) fn as_written(pose: &Pose) -> Se3<f64> {
+fn as_written(pose: &Pose) -> Se3<f64> {
     match pose.rotation {
         Rotation::Quaternion([x, y, z, w]) => Se3::new(
             So3::from_quaternion(Quaternion::new(x, y, z, w)),
@@ -33,12 +56,12 @@ pub(crate) fn as_written(pose: &Pose) -> Se3<f64> {
 }
 
 /// The noise model of an information matrix `Ω`: `S = Lᵀ`, `Ω = L Lᵀ`.
-pub(crate) fn sqrt_information<const N: usize>(
+fn sqrt_information<const N: usize>(
     information: &SMatrix<f64, N, N>,
     which: &dyn Fn() -> String,
-) -> Result<Noise, BuildError> {
+) -> Result<Noise, ProblemError> {
     let l = information.cholesky().ok_or_else(|| {
-        BuildError::Data(format!(
+        ProblemError::Data(format!(
             "{}: the information matrix is not positive definite",
             which()
         ))
@@ -63,7 +86,7 @@ fn sqrt_semidefinite_information(information: &Matrix6<f64>) -> Noise {
 }
 
 /// The initial values of a graph's vertices, by kind, in file order; pose
-/// quaternions normalized, as apex-solver keeps them (g2o's files write six
+/// quaternions normalized, as the solvers keep them (g2o's files write six
 /// digits, so they are unit only to about 1e-6), while the measurements
 /// are used as written.
 #[derive(Debug, Clone)]
@@ -85,8 +108,8 @@ impl Vertices {
     ///
     /// A graph that does not validate, or a line without an orthonormal
     /// representation.
-    pub fn read(graph: &G2oGraph) -> Result<Self, BuildError> {
-        graph.validate().map_err(BuildError::Data)?;
+    pub fn read(graph: &G2oGraph) -> Result<Self, ProblemError> {
+        graph.validate().map_err(ProblemError::Data)?;
         let poses = graph
             .poses
             .iter()
@@ -98,7 +121,7 @@ impl Vertices {
             .map(|LineVertex { id, line }| {
                 line_landmark(line)
                     .map(|value| (*id, value))
-                    .map_err(|e| BuildError::Data(format!("line vertex {id}: {e}")))
+                    .map_err(|e| ProblemError::Data(format!("line vertex {id}: {e}")))
             })
             .collect::<Result<_, _>>()?;
         let planes = graph
@@ -194,9 +217,9 @@ fn find<V: Copy>(
     values: &HashMap<usize, V>,
     id: usize,
     which: &dyn Fn() -> String,
-) -> Result<V, BuildError> {
+) -> Result<V, ProblemError> {
     values.get(&id).copied().ok_or_else(|| {
-        BuildError::Data(format!(
+        ProblemError::Data(format!(
             "{}: vertex {id} is not of the kind joined",
             which()
         ))
@@ -212,7 +235,7 @@ fn find<V: Copy>(
 /// An edge joining a vertex of the wrong kind, a parameter not defined, or
 /// an information matrix that is not positive definite (semi-definite for
 /// a prior).
-pub fn edges(graph: &G2oGraph, vertices: &Vertices) -> Result<Vec<G2oEdge>, BuildError> {
+pub fn edges(graph: &G2oGraph, vertices: &Vertices) -> Result<Vec<G2oEdge>, ProblemError> {
     let poses: HashMap<usize, Se3RhoTheta<f64>> = vertices.poses.iter().copied().collect();
     let lines: HashMap<usize, OrthonormalLine<f64>> = vertices.lines.iter().copied().collect();
     let planes: HashMap<usize, InfinitePlane<f64>> = vertices.planes.iter().copied().collect();
@@ -224,10 +247,9 @@ pub fn edges(graph: &G2oGraph, vertices: &Vertices) -> Result<Vec<G2oEdge>, Buil
         .map(|p| (p.id, as_written(&p.offset)))
         .collect();
     let offset = |id: usize, which: &dyn Fn() -> String| {
-        offsets
-            .get(&id)
-            .copied()
-            .ok_or_else(|| BuildError::Data(format!("{}: parameter {id} is not defined", which())))
+        offsets.get(&id).copied().ok_or_else(|| {
+            ProblemError::Data(format!("{}: parameter {id} is not defined", which()))
+        })
     };
     let mut out = Vec::new();
     for (index, e) in graph.pose_edges.iter().enumerate() {
@@ -348,7 +370,7 @@ pub fn solution(graph: &G2oGraph, solved: &Vertices) -> G2oGraph {
 }
 
 /// The documents' factor of a line or plane edge, in place of g2o's own
-/// ([`super::g2o_addons::LandmarkFactors::Documents`]): its pose is the
+/// ([`LandmarkFactors::Documents`]): its pose is the
 /// world-to-camera `T = X⁻¹` of the edge's body-to-world vertex `X`.
 #[derive(Debug, Clone)]
 pub enum DocumentsFactor {
@@ -375,9 +397,9 @@ pub enum DocumentsFactor {
 pub fn documents_factor(
     graph: &G2oGraph,
     edge: &G2oEdge,
-) -> Option<Result<(DocumentsFactor, Noise), BuildError>> {
+) -> Option<Result<(DocumentsFactor, Noise), ProblemError>> {
     let which = || edge.describe();
-    let degenerate = |error| BuildError::Degenerate {
+    let degenerate = |error| ProblemError::Degenerate {
         which: format!("{} at the initial values", which()),
         error,
     };
@@ -385,7 +407,7 @@ pub fn documents_factor(
         G2oFactor::Line(f) => {
             let e = &graph.line_edges[edge.index];
             line_observation(&f.pose.se3(), &f.line, &e.measurement, &e.information)
-                .map_err(|err| BuildError::Data(format!("{}: {err}", which())))
+                .map_err(|err| ProblemError::Data(format!("{}: {err}", which())))
                 .and_then(|(factor, information)| {
                     factor.validate().map_err(degenerate)?;
                     let noise = sqrt_information(&information, &which)?;
@@ -395,7 +417,7 @@ pub fn documents_factor(
         G2oFactor::Plane(f) => {
             let e = &graph.plane_edges[edge.index];
             if !graph.fixed.contains(&e.offset) {
-                return Some(Err(BuildError::Unavailable(format!(
+                return Some(Err(ProblemError::Unavailable(format!(
                     "{}: the sensor offset is free (calibrated), which the documents' plane \
                      factor (one pose) cannot estimate; solve it with g2o's factors",
                     which()
