@@ -47,6 +47,7 @@ pub mod linalg;
 pub mod manifold;
 pub mod noise;
 pub mod numeric;
+mod residual_check;
 pub mod scalar;
 pub mod storage;
 pub mod validation;
@@ -91,6 +92,7 @@ pub mod __private {
     }
 
     pub use crate::kernel::{KernelWatch, host_kernel_stale, kernel_stale};
+    pub use crate::residual_check::{residual_arg, residual_value};
 
     /// [`all_finite`](crate::all_finite) of `values`, unrolled for their
     /// length `N` when it is `N` (the derive's check of a kernel's outputs

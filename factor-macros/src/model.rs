@@ -6,6 +6,10 @@ use syn::{
     Path, PathArguments, Type, TypeParamBound, Visibility, WherePredicate,
 };
 
+use proc_macro2::{Group, Span, TokenStream, TokenTree};
+use quote::ToTokens;
+use syn::spanned::Spanned;
+
 use crate::attrs::{self, FactorAttr, HostAttr, Side};
 use crate::errors;
 use crate::naming;
@@ -44,7 +48,8 @@ pub struct FactorModel {
 pub struct Field {
     /// The field's name.
     pub ident: Ident,
-    /// The field's type as written (over the scalar parameter).
+    /// The field's type as written (over the scalar parameter), every token
+    /// spanned at its first ([`spanned_at_first_token`]).
     pub ty: Type,
     /// Constant or variable.
     pub kind: FieldKind,
@@ -339,7 +344,7 @@ fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
         }
         Ok(Field {
             ident,
-            ty: field.ty.clone(),
+            ty: spanned_at_first_token(&field.ty),
             kind,
             doc: first_paragraph(&field.attrs),
         })
@@ -352,6 +357,33 @@ fn parse_fields(input: &DeriveInput) -> syn::Result<Vec<Field>> {
         ));
     }
     Ok(fields)
+}
+
+/// `ty` with every token spanned at its first. The derive spans each use
+/// of a field type's traits at the type (see `emit`); rustc reports a
+/// missing trait at a path's self type with the type's span, and at a call
+/// returning one of the trait's associated types with the call's span, from
+/// its first token to its last, which the derive can only span at one token
+/// (joining spans is unstable). With the type itself spanned at one token,
+/// both reports have the same span and text, and rustc prints one.
+fn spanned_at_first_token(ty: &Type) -> Type {
+    fn respan(tokens: TokenStream, span: Span) -> TokenStream {
+        tokens
+            .into_iter()
+            .map(|mut token| {
+                if let TokenTree::Group(group) = &token {
+                    let mut inner = Group::new(group.delimiter(), respan(group.stream(), span));
+                    inner.set_span(span);
+                    token = TokenTree::Group(inner);
+                } else {
+                    token.set_span(span);
+                }
+                token
+            })
+            .collect()
+    }
+    let span = ty.span();
+    syn::parse2(respan(ty.to_token_stream(), span)).expect("a type re-spanned is a type")
 }
 
 /// The scalar parameter's name as written, for messages (`S` when the

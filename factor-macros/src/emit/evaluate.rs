@@ -13,6 +13,7 @@ pub fn emit(cx: &Context) -> TokenStream {
     let krate = &cx.krate;
     let nalgebra = &cx.nalgebra;
     let ident = &cx.model.ident;
+    let scalar = &cx.model.scalar;
     let dim = &cx.dim;
     let linearization = cx.model.linearization_ident();
     let tangent_dim = cx.tangent_dim_f64();
@@ -27,14 +28,28 @@ pub fn emit(cx: &Context) -> TokenStream {
     // The struct is lifted to constants through its `Storage` impl (so that a
     // field type that is not stored is reported there, once), then each
     // variable is seeded through its chart at its offset in the stacked
-    // tangent; the constant copies of the variables are dead stores.
-    let seeded = cx.variables.iter().map(|v| {
-        let (name, ty) = (v.ident, v.ty);
-        let (dim, offset, side) = (cx.dim_f64(v), cx.offset_f64(v), &v.side_tokens);
+    // tangent; the constant copies of the variables are dead stores. The
+    // seeding is generic over the scalar, like every other use of a field
+    // type's traits (see `emit`), so that a variable that is not a manifold
+    // is not reported again for `f64`; its tangent dimension, a const generic
+    // argument, is given by this `f64` code.
+    let dim_params: Vec<_> = cx
+        .variables
+        .iter()
+        .map(|v| quote::format_ident!("__D{}", v.index))
+        .collect();
+    let seeded = cx.variables.iter().zip(&dim_params).map(|(v, dim)| {
+        let (ty, side) = (v.ty, &v.side_tokens);
+        // The field's name at the type too, so that the statement's errors
+        // are reported at the type alone.
+        let mut name = v.ident.clone();
+        name.set_span(ty.span());
+        let offset = cx.offset_generic(v);
         quote_spanned! {ty.span()=>
-            lifted.#name = #krate::Manifold::<f64>::seeded::<{ #dim }, __N>(&self.#name, #side, #offset);
+            lifted.#name = <#ty as #krate::Manifold<#scalar>>::seeded::<#dim, __N>(&self.#name, #side, #offset);
         }
     });
+    let dims_f64 = cx.variables.iter().map(|v| cx.dim_f64(v));
     let dual_doc = format!(
         "Residual and Jacobian blocks, exact to rounding, by one evaluation of the residual \
          on dual numbers ([`Dual`](::factor_core::dual::Dual)) carrying the derivative w.r.t. \
@@ -70,7 +85,21 @@ pub fn emit(cx: &Context) -> TokenStream {
             quote!(self.linearize_dual()),
         ),
     };
+    let (impl_generics, ty_generics, where_clause) = cx.generics.split_for_impl();
     quote! {
+        impl #impl_generics #ident #ty_generics #where_clause {
+            /// Each variable of `lifted`, the factor as dual-number constants,
+            /// seeded through its chart at its offset in the stacked tangent of
+            /// `N`; `__Dk` is the tangent dimension of the `k`-th variable.
+            #[inline(always)]
+            fn __factor_seed<const __N: usize, #(const #dim_params: usize),*>(
+                &self,
+                lifted: &mut #ident<#krate::dual::Dual<__N>>,
+            ) where #scalar: ::core::convert::Into<f64> {
+                #(#seeded)*
+            }
+        }
+
         impl #ident<f64> {
             #[doc = #tangent_doc]
             pub const TANGENT_DIM: usize = #tangent_dim;
@@ -122,7 +151,7 @@ pub fn emit(cx: &Context) -> TokenStream {
             fn __factor_seeded<const __N: usize>(&self) -> #ident<#krate::dual::Dual<__N>> {
                 let mut lifted: #ident<#krate::dual::Dual<__N>> =
                     #krate::Storage::map_scalars(self, &mut #krate::dual::Dual::<__N>::constant);
-                #(#seeded)*
+                self.__factor_seed::<__N, #({ #dims_f64 }),*>(&mut lifted);
                 lifted
             }
 

@@ -36,7 +36,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         let tangent_dim = cx.dim_generic(v);
         let tangent =
             quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::tangent_description);
-        quote! {
+        quote_spanned! {ty.span()=>
             #krate::VariableInfo {
                 name: #field,
                 type_name: #type_name,
@@ -67,7 +67,7 @@ pub fn emit(cx: &Context) -> TokenStream {
         let manifold = quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>);
         let storage = quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>);
         let map = quote!(#krate::manifold::ChartMap);
-        quote! {
+        quote_spanned! {ty.span()=>
             #k => {
                 let value = #storage::from_scalars(point);
                 match map {
@@ -101,14 +101,15 @@ pub fn emit(cx: &Context) -> TokenStream {
     let field_infos = cx.model.fields.iter().map(|field| {
         let (field_name, doc) = (field.ident.to_string(), &field.doc);
         let ty = &field.ty;
-        let item = |item: TokenStream| {
+        let item = |item: &str| {
+            let item = syn::Ident::new(item, ty.span());
             quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
         };
         let (scalars, layout, input_layout, from_input) = (
-            item(quote!(SCALARS)),
-            item(quote!(layout)),
-            item(quote!(input_layout)),
-            item(quote!(from_input)),
+            item("SCALARS"),
+            item("layout"),
+            item("input_layout"),
+            item("from_input"),
         );
         let variable = match cx.variable(field) {
             Some(v) => {
@@ -117,7 +118,7 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
             None => quote!(::core::option::Option::None),
         };
-        quote! {
+        quote_spanned! {ty.span()=>
             #krate::FieldInfo {
                 name: #field_name,
                 doc: #doc,

@@ -32,8 +32,19 @@ pub fn emit(cx: &Context) -> TokenStream {
             None => quote_spanned!(ty.span()=> #name: ::core::clone::Clone::clone(&self.#name)),
         }
     });
+    // The field types are named in the residual's call, so that one that
+    // does not resolve (reported at the type) marks the call erroneous:
+    // rustc then does not add that the residual's scalar cannot be inferred
+    // (the struct's parameter is unconstrained when no field type resolves).
+    let types = cx.model.fields.iter().map(|field| &field.ty);
     let residual_fn = &cx.model.residual;
-    let residual_fn = quote_spanned!(residual_fn.span()=> #residual_fn);
+    let span = residual_fn.span();
+    let private = quote!(#krate::__private);
+    let arg =
+        quote_spanned!(span=> #private::residual_arg::<Self, #scalar, _, _, _>(factor, signature));
+    let checked =
+        quote_spanned!(span=> #private::residual_value::<Self, #scalar, _, _, _>(value, signature));
+    let residual_fn = quote_spanned!(span=> #residual_fn);
     let value = quote_spanned!(dim.span()=> value);
     let doc = format!(
         "The residual with every variable retracted by its slice of `delta`, to first \
@@ -58,11 +69,15 @@ pub fn emit(cx: &Context) -> TokenStream {
             }
 
             /// The residual function of `#[factor(residual = ...)]`, called at one
-            /// place so that a wrong signature is reported once, at the function's
-            /// path, and a wrong dimension at `dim`.
+            /// place so that a residual not generic over the scalar is reported
+            /// once, at the function's path (`factor_core`'s `ResidualOf` says
+            /// how to write it), and a wrong dimension at `dim`.
             fn __factor_residual(factor: &Self) -> #nalgebra::SVector<#scalar, #dim> {
-                let residual: fn(&Self) -> _ = #residual_fn;
-                let value = residual(factor);
+                let _: ::core::marker::PhantomData<(#(#types,)*)> = ::core::marker::PhantomData;
+                let signature = ::core::marker::PhantomData;
+                let arg = #arg;
+                let value = #residual_fn(arg);
+                let value = #checked;
                 #value
             }
         }

@@ -13,43 +13,51 @@ pub fn emit(cx: &Context) -> TokenStream {
     let ident = &cx.model.ident;
     let scalar = &cx.model.scalar;
     let (impl_generics, ty_generics, where_clause) = cx.generics.split_for_impl();
-    // Every use of a field type's `Storage` is spanned at the type, so a type
-    // that is not stored is reported there, once.
-    let item = |ty: &syn::Type, item: TokenStream| quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item);
+    // Every use of a field type's `Storage`, and every call of one of its
+    // functions, is spanned at the type, so a type that is not stored is
+    // reported there, once (a call spanned elsewhere is reported again there).
+    let item = |ty: &syn::Type, item: &str| {
+        let item = syn::Ident::new(item, ty.span());
+        quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
+    };
     let counts = cx
         .model
         .fields
         .iter()
-        .map(|field| item(&field.ty, quote!(SCALARS)));
-    let layout_of = |method: TokenStream| {
+        .map(|field| item(&field.ty, "SCALARS"));
+    let layout_of = |method: &str| {
         let parts = cx.model.fields.iter().map(|field| {
-            let (name, layout) = (field.ident.to_string(), item(&field.ty, method.clone()));
-            quote!((#name, #layout()))
+            let (name, layout) = (field.ident.to_string(), item(&field.ty, method));
+            quote_spanned!(field.ty.span()=> (#name, #layout()))
         });
         quote!(#krate::Layout::Record(::std::vec![#(#parts),*]))
     };
-    let layout = layout_of(quote!(layout));
-    let input_layout = layout_of(quote!(input_layout));
+    let layout = layout_of("layout");
+    let input_layout = layout_of("input_layout");
     let mapped = cx.model.fields.iter().map(|field| {
         let (name, ty) = (&field.ident, &field.ty);
-        let map = item(ty, quote!(map_scalars));
+        let map = item(ty, "map_scalars");
         quote_spanned!(ty.span()=> #name: #map(&self.#name, f))
     });
     let read = cx.model.fields.iter().map(|field| {
-        let (name, read) = (&field.ident, item(&field.ty, quote!(read_scalars)));
-        quote!(#name: #read(next))
+        let (name, read) = (&field.ident, item(&field.ty, "read_scalars"));
+        quote_spanned!(field.ty.span()=> #name: #read(next))
     });
     let from_input = cx.model.fields.iter().map(|field| {
         let name = field.ident.to_string();
         let (layout, convert) = (
-            item(&field.ty, quote!(input_layout)),
-            item(&field.ty, quote!(from_input)),
+            item(&field.ty, "input_layout"),
+            item(&field.ty, "from_input"),
+        );
+        let (count, converted) = (
+            quote_spanned!(field.ty.span()=> #layout().scalars()),
+            quote_spanned!(field.ty.span()=> #convert(part)),
         );
         quote! {
-            let count = #layout().scalars();
+            let count = #count;
             let (part, rest) = input.split_at(count);
             input = rest;
-            stored.extend(#convert(part).map_err(|e| e.within(#name))?);
+            stored.extend(#converted.map_err(|e| e.within(#name))?);
         }
     });
     quote! {
