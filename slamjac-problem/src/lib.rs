@@ -12,6 +12,9 @@
 //! - [`input`]: JSON → typed values, errors naming the field path;
 //! - [`field_path`]: how errors show field paths and input text (quoted,
 //!   escaped, cut);
+//! - [`checks`]: what every reader of a problem file checks before it
+//!   builds anything (the top level, the version, each variable and
+//!   factor entry, noise models, losses);
 //! - [`decode`]: each factor's `variables` and `constants` → the factor;
 //! - [`w_first`]: the hint for quaternions written `[w, x, y, z]`;
 //! - [`observability`]: the directions a problem's residuals do not
@@ -24,6 +27,7 @@
 //! - [`error`]: [`InputError`], the one error of the reading layer.
 
 pub mod align;
+pub mod checks;
 pub mod decode;
 pub mod document;
 pub mod error;

@@ -39,7 +39,6 @@
 mod apex;
 mod graph_checks;
 pub mod plot;
-mod problem_checks;
 pub mod problem_file;
 pub mod progress;
 pub mod report;

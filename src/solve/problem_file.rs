@@ -60,7 +60,7 @@ use slamjac_problem::document::{Document, Json};
 use slamjac_problem::field_path::quoted;
 use slamjac_problem::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable};
 
-use super::problem_checks::{self as checks, Shape, at_value, read_json};
+use slamjac_problem::checks::{self, Shape, at_value, read_json};
 use slamjac_problem::file_truth::Truth;
 
 use crate::error::CliError;
@@ -114,7 +114,7 @@ pub(super) fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Sha
 /// # Errors
 ///
 /// [`CliError::Input`] naming the field at fault (exit 2; the checks of
-/// `problem_checks`, shared with `track`), nothing to solve (every variable
+/// `slamjac_problem::checks`, shared with `track`), nothing to solve (every variable
 /// fixed, or no factor: [`CliError::Usage`], exit 2), a factor
 /// degenerate at the initial values (exit 1), apex's refusal.
 pub fn read(

@@ -28,7 +28,6 @@ use slamjac_problem::document::Document;
 use slamjac_problem::field_path::shown_path;
 use slamjac_problem::observability::{Deficiency, Normal, Plan, Variable};
 
-use super::problem_checks::{self as checks, read_json};
 use super::problem_file::{
     add_at, nothing_to_solve, shape, solution_tolerance, truth_errors, unobservable, value_json,
     variables_of, with_variables,
@@ -37,6 +36,7 @@ use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
 use crate::registry::Registry;
 use crate::schur_assembly::{SchurAssembly, blocks_of};
+use slamjac_problem::checks::{self, read_json};
 
 /// Solves the problem file of `args` with the Schur-complement solver and
 /// returns the summary, or, when that solver cannot take it, why (nothing

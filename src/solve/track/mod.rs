@@ -47,7 +47,7 @@
 //! estimate) stops the run naming
 //! the frame and the file's factor (exit 1), as does an estimate whose
 //! error against the truth is not finite; the file is read and checked as
-//! `solve` reads and checks it (`problem_checks`: the same file gets the
+//! `solve` reads and checks it (`slamjac_problem::checks`: the same file gets the
 //! same error from both, exit 2), and a missing truth, a factor other than
 //! one pose against one landmark or a robust loss is exit 2 too.
 

@@ -33,7 +33,7 @@ use slamjac_problem::document::{Document, Json};
 use slamjac_problem::field_path::{join, quoted};
 use slamjac_problem::input::Object;
 
-use super::super::problem_checks::{self as checks, Shape, at_value, read_json};
+use slamjac_problem::checks::{self, Shape, at_value, read_json};
 
 use crate::error::CliError;
 use crate::synth_plp::Kinds;
@@ -167,7 +167,7 @@ fn pose(value: Json<'_>, path: &str) -> Result<Se3<f64>, InputError> {
 ///
 /// # Errors
 ///
-/// As `solve` for the same file (`problem_checks`: exit 2 naming the field at
+/// As `solve` for the same file (`slamjac_problem::checks`: exit 2 naming the field at
 /// fault, values checked by their types); and, for `track` (exit 2): a
 /// factor that is not one pose against one landmark, a robust loss, no
 /// truth for a pose (or, with [`MapSource::Truth`], for a landmark).

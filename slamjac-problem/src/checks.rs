@@ -1,14 +1,15 @@
 //! What every reader of a problem file checks before it builds anything:
-//! `solve` and `track` read a file through [`read`], so the same file gets
-//! the same exit status and the same message from both (issue 28).
+//! `slamjac solve` and `slamjac track` read a file through [`read_json`]
+//! and [`check`], so the same file gets the same exit status and the same
+//! message from both.
 //!
-//! - The file: at most [`slamjac_problem::source::MAX_PROBLEM_FILE_BYTES`]
+//! - The file: at most [`crate::source::MAX_PROBLEM_FILE_BYTES`]
 //!   of UTF-8 JSON, parsed as it streams in (`/dev/zero` stops at its first byte);
 //!   only `slamjac_problem`, `variables`, `factors` and `truth` at the top
 //!   level, the version this build reads.
 //! - Each variable: an object with `type`, `value` and optionally `fixed`
 //!   (`true` or `false`); every variable named by some factor.
-//! - The `truth`: checked as values are ([`super::file_truth`]).
+//! - The `truth`: checked as values are ([`crate::file_truth`]).
 //! - Each factor entry: `factor`, `variables`, `constants`, optionally
 //!   `noise` and `robust`; a `factor` the reader knows ([`Shape`]); each
 //!   variable field naming a declared variable of the field's type, no
@@ -26,52 +27,53 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use crate::InputError;
+use crate::document::{Document, Json, Members};
+use crate::field_path::{join, quoted};
+use crate::input::{Object, numbers};
 use factor_core::VariableInfo;
 use factor_core::noise::Noise;
 use slam_problems::Robust;
-use slamjac_problem::InputError;
-use slamjac_problem::document::{Document, Json, Members};
-use slamjac_problem::field_path::{join, quoted};
-use slamjac_problem::input::{Object, numbers};
 
-use slamjac_problem::file_truth::Truth;
-
-use crate::error::CliError;
+use crate::file_truth::Truth;
 
 /// The format version this build reads and writes.
-pub const VERSION: u64 = slamjac_problem::PROBLEM_FILE_VERSION;
+pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
 
 /// What a reader knows of a factor: its variable fields (with their
 /// types), its constant fields and its residual's dimension.
-pub(crate) struct Shape {
-    pub(crate) variables: Vec<VariableInfo>,
-    pub(crate) constants: Vec<&'static str>,
-    pub(crate) residual_dim: usize,
+pub struct Shape {
+    /// The variable fields, in the factor's order, with their types.
+    pub variables: Vec<VariableInfo>,
+    /// The constant fields.
+    pub constants: Vec<&'static str>,
+    /// The residual's dimension.
+    pub residual_dim: usize,
 }
 
 /// A factor entry that passed the checks.
-pub(crate) struct Entry<'a> {
+pub struct Entry<'a> {
     /// `factors[k]`.
-    pub(crate) path: String,
+    pub path: String,
     /// Its `factor`.
-    pub(crate) factor: &'a str,
+    pub factor: &'a str,
     /// Per variable field, in the factor's order: the field and the
     /// problem variable it names.
-    pub(crate) names: Vec<(&'static str, &'a str)>,
+    pub names: Vec<(&'static str, &'a str)>,
     /// Per variable field, in the factor's order: the value of the variable
     /// it names (read at the entry's `variables` path, for [`at_value`]).
-    pub(crate) values: Vec<Json<'a>>,
+    pub values: Vec<Json<'a>>,
     /// Its `constants` object.
-    pub(crate) constants: Object<'a>,
+    pub constants: Object<'a>,
     /// Its noise model (unit when absent).
-    pub(crate) noise: Noise,
+    pub noise: Noise,
     /// Its own loss, if it has one.
-    pub(crate) robust: Option<Robust>,
+    pub robust: Option<Robust>,
 }
 
 impl Entry<'_> {
     /// The entry's variable values as an object with exactly its fields.
-    pub(crate) fn variables(&self) -> Object<'_> {
+    pub fn variables(&self) -> Object<'_> {
         let fields = self.names.iter().map(|(field, _)| *field);
         Object::gathered(
             &join(&self.path, "variables"),
@@ -81,15 +83,15 @@ impl Entry<'_> {
 }
 
 /// A problem file that passed the checks.
-pub(crate) struct Checked<'a> {
+pub struct Checked<'a> {
     /// The declared variables, by name.
-    pub(crate) declared: Members<'a>,
+    pub declared: Members<'a>,
     /// The names of the variables marked `fixed`.
-    pub(crate) fixed: Vec<String>,
+    pub fixed: Vec<String>,
     /// The truth, checked.
-    pub(crate) truth: Option<Truth>,
+    pub truth: Option<Truth>,
     /// The factor entries, in file order.
-    pub(crate) entries: Vec<Entry<'a>>,
+    pub entries: Vec<Entry<'a>>,
 }
 
 /// Reads the problem file `file`: its JSON, the top level checked (only
@@ -98,12 +100,12 @@ pub(crate) struct Checked<'a> {
 ///
 /// # Errors
 ///
-/// [`CliError::Input`] naming the file (unreadable, over the cap, not UTF-8
+/// The [`InputError`] naming the file (unreadable, over the cap, not UTF-8
 /// or not JSON) or the field at fault.
-pub(crate) fn read_json(file: &Path) -> Result<Document, CliError> {
+pub fn read_json(file: &Path) -> Result<Document, InputError> {
     let name = file.display().to_string();
-    let reader = slamjac_problem::source::open_problem_file(file)?;
-    let json = slamjac_problem::strict_json::parse_json_from(reader, &name)?;
+    let reader = crate::source::open_problem_file(file)?;
+    let json = crate::strict_json::parse_json_from(reader, &name)?;
     let top = open(
         json.root(),
         "",
@@ -115,14 +117,16 @@ pub(crate) fn read_json(file: &Path) -> Result<Document, CliError> {
         return Err(InputError::new(
             "slamjac_problem",
             format!("version {version} is not the version this slamjac reads ({VERSION})"),
-        )
-        .into());
+        ));
     }
     if !json.root().get("variables").is_some_and(Json::is_object) {
-        return Err(InputError::new("variables", "expected an object of named variables").into());
+        return Err(InputError::new(
+            "variables",
+            "expected an object of named variables",
+        ));
     }
     if !json.root().get("factors").is_some_and(Json::is_array) {
-        return Err(InputError::new("factors", "expected an array of factors").into());
+        return Err(InputError::new("factors", "expected an array of factors"));
     }
     Ok(json)
 }
@@ -134,7 +138,7 @@ pub(crate) fn read_json(file: &Path) -> Result<Document, CliError> {
 /// # Errors
 ///
 /// The first fault, at its field path (see the module documentation).
-pub(crate) fn check<'a>(
+pub fn check<'a>(
     json: &'a Document,
     shape: impl Fn(&str, &str) -> Result<Shape, InputError>,
 ) -> Result<Checked<'a>, InputError> {
@@ -291,7 +295,7 @@ fn check_entry<'a>(
 }
 
 /// `Se3` for `Se3<S>`: a type as the file names it.
-pub(crate) fn type_name(info: &str) -> &str {
+pub fn type_name(info: &str) -> &str {
     info.strip_suffix("<S>").unwrap_or(info)
 }
 
@@ -425,7 +429,7 @@ fn sqrt_information(
 /// field (`factors[0].variables.gravity[2]`), the values read from the
 /// variable named there, becomes the path into that variable's value
 /// (`variables.g.value[2]`).
-pub(crate) fn at_value(error: InputError, entry: &Entry<'_>) -> InputError {
+pub fn at_value(error: InputError, entry: &Entry<'_>) -> InputError {
     let variables = join(&entry.path, "variables");
     for (field, name) in &entry.names {
         let prefix = join(&variables, field);
