@@ -12,6 +12,7 @@
 
 mod convert;
 mod ops;
+mod pairs;
 mod rewrite;
 mod select;
 
@@ -56,21 +57,14 @@ pub fn compile(graph: &Graph, outputs: &[Expr]) -> (Program, Vec<Value>) {
 
 /// Compiles `outputs` with one strategy.
 pub fn compile_with(graph: &Graph, outputs: &[Expr], strategy: Strategy) -> (Program, Vec<Value>) {
-    let mut c = Compiler {
-        graph,
-        ops: Vec::new(),
-        of_expr: HashMap::new(),
-        recip_of: HashMap::new(),
-        interned: HashMap::new(),
-    };
+    let mut c = Compiler::new(graph);
     let roots: Vec<usize> = outputs.iter().map(|e| c.op_of(*e)).collect();
-    let pairs =
-        |c: &mut Compiler, live: &[usize]| c.extract_product_pair(live) || c.extract_sum_pair(live);
+    c.track(&roots);
     let mut factoring = matches!(strategy, Strategy::FactorFirst | Strategy::FactorShared);
     let shared = strategy == Strategy::FactorShared;
     loop {
-        let live = c.live(&roots);
-        let changed = (factoring && c.factor_sum(&live, shared)) || pairs(&mut c, &live);
+        let changed =
+            (factoring && c.factor_sum(shared)) || c.extract_product_pair() || c.extract_sum_pair();
         if !changed {
             if strategy == Strategy::PairsThenFactor && !factoring {
                 factoring = true;
@@ -79,11 +73,10 @@ pub fn compile_with(graph: &Graph, outputs: &[Expr], strategy: Strategy) -> (Pro
             break;
         }
     }
-    let live = c.live(&roots);
-    let uses = c.use_counts(&live);
+    let live = c.live();
     let mut emitter = Emitter {
         ops: &c.ops,
-        uses,
+        uses: c.uses.clone(),
         program: Program::default(),
         values: HashMap::new(),
         ready: Vec::new(),
