@@ -44,6 +44,7 @@ pub(super) enum LeafOp {
     Select([usize; 4]),
 }
 
+#[derive(Clone)]
 pub(super) struct Compiler<'g> {
     pub(super) graph: &'g Graph,
     pub(super) ops: Vec<Op>,
@@ -68,7 +69,7 @@ pub(super) struct Compiler<'g> {
 }
 
 /// The identity of a product or sum, for interning ops made by rewrites.
-#[derive(PartialEq, Eq, Hash)]
+#[derive(Clone, PartialEq, Eq, Hash)]
 pub(super) enum OpKey {
     Product(u64, Vec<usize>),
     Sum(u64, Vec<(usize, u64)>),

@@ -10,6 +10,7 @@ use factor_symbolic::graph::Real;
 
 use super::ops::Op;
 
+#[derive(Clone)]
 pub(super) struct PairIndex<P> {
     /// The ops holding each pair (an op holds a pair once), in no order.
     holders: HashMap<P, Vec<usize>>,

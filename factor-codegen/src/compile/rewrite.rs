@@ -9,9 +9,22 @@ use std::collections::BTreeMap;
 
 use factor_symbolic::graph::Real;
 
+use super::Phase;
 use super::ops::{Compiler, Op};
 
 impl Compiler<'_> {
+    /// Runs `phase`'s rewrites until none applies: factoring first (for the
+    /// factoring phases), then the most frequent product pair, then the most
+    /// frequent sum pair, one at a time.
+    pub(super) fn rewrite(&mut self, phase: Phase) {
+        let factoring = phase != Phase::Pairs;
+        let shared = phase == Phase::FactorShared;
+        while (factoring && self.factor_sum(shared))
+            || self.extract_product_pair()
+            || self.extract_sum_pair()
+        {}
+    }
+
     /// Factors the most common factor out of the first live sum that has
     /// one, among its product terms (only single-use ones unless `shared`):
     /// `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` saves a multiplication per term beyond the
