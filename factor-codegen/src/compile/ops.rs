@@ -268,6 +268,11 @@ impl Compiler<'_> {
         self.factorless_at[op] = Some(self.clock);
     }
 
+    /// Forgets which ops were found to have no common factor.
+    pub(super) fn forget_factorless(&mut self) {
+        self.factorless_at.fill(None);
+    }
+
     /// Whether `op` was found to have no common factor and neither it nor
     /// its terms (their factors, their uses) changed since: what decides
     /// whether it has one.

@@ -19,6 +19,8 @@ impl Compiler<'_> {
     pub(super) fn rewrite(&mut self, phase: Phase) {
         let factoring = phase != Phase::Pairs;
         let shared = phase == Phase::FactorShared;
+        // What `factor_sum` found factorless, it found for one `shared`.
+        self.forget_factorless();
         while (factoring && self.factor_sum(shared))
             || self.extract_product_pair()
             || self.extract_sum_pair()
