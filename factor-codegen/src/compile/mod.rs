@@ -12,6 +12,7 @@
 
 mod convert;
 mod ops;
+mod pairs;
 mod rewrite;
 mod select;
 
@@ -44,46 +45,80 @@ pub const STRATEGIES: [Strategy; 4] = [
     Strategy::FactorShared,
 ];
 
+/// The rewrites a strategy runs one after the other, each to a fixed point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    /// Pair extraction.
+    Pairs,
+    /// Distributive factoring of single-use product terms, then pairs.
+    Factor,
+    /// Distributive factoring of every product term, then pairs.
+    FactorShared,
+}
+
+impl Strategy {
+    fn phases(self) -> &'static [Phase] {
+        match self {
+            Strategy::Pairs => &[Phase::Pairs],
+            Strategy::FactorFirst => &[Phase::Factor],
+            Strategy::PairsThenFactor => &[Phase::Pairs, Phase::Factor],
+            Strategy::FactorShared => &[Phase::FactorShared],
+        }
+    }
+}
+
 /// Compiles `outputs` (of `graph`) with every [`Strategy`] and keeps the
-/// program with the fewest operations (the first on a tie).
+/// program with the fewest operations (the first on a tie). The outputs
+/// are converted once, and a strategy whose phases begin with another's
+/// continues from its result (`PairsThenFactor` from `Pairs`).
 pub fn compile(graph: &Graph, outputs: &[Expr]) -> (Program, Vec<Value>) {
-    STRATEGIES
-        .iter()
-        .map(|s| compile_with(graph, outputs, *s))
+    let (converted, roots) = convert(graph, outputs);
+    let mut rewritten: Vec<(&[Phase], Compiler)> = Vec::new();
+    let mut programs = Vec::new();
+    for strategy in STRATEGIES {
+        let phases = strategy.phases();
+        let (done, mut c) = rewritten
+            .iter()
+            .filter(|(before, _)| phases.starts_with(before))
+            .max_by_key(|(before, _)| before.len())
+            .map_or((0, converted.clone()), |(before, c)| {
+                (before.len(), c.clone())
+            });
+        for phase in &phases[done..] {
+            c.rewrite(*phase);
+        }
+        programs.push(emit(&c, &roots));
+        rewritten.push((phases, c));
+    }
+    programs
+        .into_iter()
         .min_by_key(|(program, values)| program.counts(values).total())
         .expect("at least one strategy")
 }
 
 /// Compiles `outputs` with one strategy.
 pub fn compile_with(graph: &Graph, outputs: &[Expr], strategy: Strategy) -> (Program, Vec<Value>) {
-    let mut c = Compiler {
-        graph,
-        ops: Vec::new(),
-        of_expr: HashMap::new(),
-        recip_of: HashMap::new(),
-        interned: HashMap::new(),
-    };
-    let roots: Vec<usize> = outputs.iter().map(|e| c.op_of(*e)).collect();
-    let pairs =
-        |c: &mut Compiler, live: &[usize]| c.extract_product_pair(live) || c.extract_sum_pair(live);
-    let mut factoring = matches!(strategy, Strategy::FactorFirst | Strategy::FactorShared);
-    let shared = strategy == Strategy::FactorShared;
-    loop {
-        let live = c.live(&roots);
-        let changed = (factoring && c.factor_sum(&live, shared)) || pairs(&mut c, &live);
-        if !changed {
-            if strategy == Strategy::PairsThenFactor && !factoring {
-                factoring = true;
-                continue;
-            }
-            break;
-        }
+    let (mut c, roots) = convert(graph, outputs);
+    for phase in strategy.phases() {
+        c.rewrite(*phase);
     }
-    let live = c.live(&roots);
-    let uses = c.use_counts(&live);
+    emit(&c, &roots)
+}
+
+/// Stage 1: `outputs` as ops, tracked from their roots (returned).
+fn convert<'g>(graph: &'g Graph, outputs: &[Expr]) -> (Compiler<'g>, Vec<usize>) {
+    let mut c = Compiler::new(graph);
+    let roots: Vec<usize> = outputs.iter().map(|e| c.op_of(*e)).collect();
+    c.track(&roots);
+    (c, roots)
+}
+
+/// Stage 3: the program computing `roots`.
+fn emit(c: &Compiler, roots: &[usize]) -> (Program, Vec<Value>) {
+    let live = c.live();
     let mut emitter = Emitter {
         ops: &c.ops,
-        uses,
+        uses: c.uses.clone(),
         program: Program::default(),
         values: HashMap::new(),
         ready: Vec::new(),

@@ -9,20 +9,44 @@ use std::collections::BTreeMap;
 
 use factor_symbolic::graph::Real;
 
+use super::Phase;
 use super::ops::{Compiler, Op};
 
 impl Compiler<'_> {
+    /// Runs `phase`'s rewrites until none applies: factoring first (for the
+    /// factoring phases), then the most frequent product pair, then the most
+    /// frequent sum pair, one at a time.
+    pub(super) fn rewrite(&mut self, phase: Phase) {
+        let factoring = phase != Phase::Pairs;
+        let shared = phase == Phase::FactorShared;
+        // What `factor_sum` found factorless, it found for one `shared`.
+        self.forget_factorless();
+        while (factoring && self.factor_sum(shared))
+            || self.extract_product_pair()
+            || self.extract_sum_pair()
+        {}
+    }
+
     /// Factors the most common factor out of the first live sum that has
     /// one, among its product terms (only single-use ones unless `shared`):
     /// `Σ cᵢ f gᵢ = f · Σ cᵢ gᵢ` saves a multiplication per term beyond the
     /// first.
-    pub(super) fn factor_sum(&mut self, live: &[usize], shared: bool) -> bool {
-        let uses = self.use_counts(live);
+    pub(super) fn factor_sum(&mut self, shared: bool) -> bool {
         let mut held = Vec::new();
-        let Some((op, f)) = live
-            .iter()
-            .find_map(|&op| Some((op, self.common_factor(op, &uses, shared, &mut held)?)))
-        else {
+        let mut found = None;
+        for op in 0..self.ops.len() {
+            if !self.is_live(op) || self.factorless(op) {
+                continue;
+            }
+            match self.common_factor(op, shared, &mut held) {
+                Some(f) => {
+                    found = Some((op, f));
+                    break;
+                }
+                None => self.set_factorless(op),
+            }
+        }
+        let Some((op, f)) = found else {
             return false;
         };
         let Op::Sum { constant, terms } = self.ops[op].clone() else {
@@ -31,7 +55,7 @@ impl Compiler<'_> {
         let split: Vec<Option<(f64, Vec<usize>)>> = terms
             .iter()
             .map(|(t, _)| {
-                self.term_factors(t, &uses, shared)
+                self.term_factors(t, shared)
                     .map(|(k, factors)| (k, factors.to_vec()))
             })
             .collect();
@@ -74,10 +98,13 @@ impl Compiler<'_> {
         });
         outer.push((factored, sign));
         outer.sort_unstable_by_key(|(t, _)| *t);
-        self.ops[op] = Op::Sum {
-            constant,
-            terms: outer,
-        };
+        self.replace(
+            op,
+            Op::Sum {
+                constant,
+                terms: outer,
+            },
+        );
         true
     }
 
@@ -85,17 +112,12 @@ impl Compiler<'_> {
     /// a product only this sum uses (any product when `shared`), or any
     /// other op as its own single factor; `None` for a product that stays
     /// whole.
-    fn term_factors<'a>(
-        &'a self,
-        term: &'a usize,
-        uses: &[usize],
-        shared: bool,
-    ) -> Option<(f64, &'a [usize])> {
+    fn term_factors<'a>(&'a self, term: &'a usize, shared: bool) -> Option<(f64, &'a [usize])> {
         match &self.ops[*term] {
             Op::Product {
                 coefficient,
                 factors,
-            } if shared || uses[*term] == 1 => Some((*coefficient, factors)),
+            } if shared || self.uses[*term] == 1 => Some((*coefficient, factors)),
             Op::Product { .. } => None,
             _ => Some((1.0, std::slice::from_ref(term))),
         }
@@ -104,19 +126,13 @@ impl Compiler<'_> {
     /// The factor most of the sum `op`'s splittable terms hold, if two do
     /// (a term counts it once; factor lists are sorted), the smallest among
     /// equally frequent ones. `held` is scratch space.
-    fn common_factor(
-        &self,
-        op: usize,
-        uses: &[usize],
-        shared: bool,
-        held: &mut Vec<usize>,
-    ) -> Option<usize> {
+    fn common_factor(&self, op: usize, shared: bool, held: &mut Vec<usize>) -> Option<usize> {
         let Op::Sum { terms, .. } = &self.ops[op] else {
             return None;
         };
         held.clear();
         for (t, _) in terms {
-            if let Some((_, factors)) = self.term_factors(t, uses, shared) {
+            if let Some((_, factors)) = self.term_factors(t, shared) {
                 held.extend(factors.chunk_by(|a, b| a == b).map(|run| run[0]));
             }
         }
@@ -128,65 +144,57 @@ impl Compiler<'_> {
     }
 
     /// Extracts the most frequent operand pair of the live products.
-    pub(super) fn extract_product_pair(&mut self, live: &[usize]) -> bool {
-        let mut pairs = Vec::new();
-        for &op in live {
-            if let Op::Product { factors, .. } = &self.ops[op] {
-                pairs.extend(distinct_pairs(factors.len(), |i, j| {
-                    (factors[i], factors[j])
-                }));
-            }
-        }
-        let Some((a, b)) = most_frequent(pairs) else {
+    pub(super) fn extract_product_pair(&mut self) -> bool {
+        let Some((a, b)) = self.product_pairs.most_frequent() else {
             return false;
         };
         let pair = self.push(Op::Product {
             coefficient: 1.0,
             factors: vec![a, b],
         });
-        for &op in live {
+        let holders: Vec<usize> = self.product_pairs.holders(&(a, b)).to_vec();
+        for op in holders {
             if op == pair {
                 continue;
             }
-            if let Op::Product { factors, .. } = &mut self.ops[op] {
-                {
-                    if let Some(i) = factors.iter().position(|f| *f == a) {
-                        let rest: Vec<usize> = factors
-                            .iter()
-                            .enumerate()
-                            .filter(|(k, _)| *k != i)
-                            .map(|(_, f)| *f)
-                            .collect();
-                        if let Some(j) = rest.iter().position(|f| *f == b) {
-                            let mut next: Vec<usize> = rest
-                                .iter()
-                                .enumerate()
-                                .filter(|(k, _)| *k != j)
-                                .map(|(_, f)| *f)
-                                .collect();
-                            next.push(pair);
-                            next.sort_unstable();
-                            *factors = next;
-                        }
-                    }
-                }
-            }
+            let Op::Product {
+                coefficient,
+                factors,
+            } = &self.ops[op]
+            else {
+                unreachable!("only products hold operand pairs");
+            };
+            let i = factors.iter().position(|f| *f == a).expect("a held pair");
+            let rest: Vec<usize> = factors
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| *k != i)
+                .map(|(_, f)| *f)
+                .collect();
+            let j = rest.iter().position(|f| *f == b).expect("a held pair");
+            let mut next: Vec<usize> = rest
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| *k != j)
+                .map(|(_, f)| *f)
+                .collect();
+            next.push(pair);
+            next.sort_unstable();
+            let coefficient = *coefficient;
+            self.replace(
+                op,
+                Op::Product {
+                    coefficient,
+                    factors: next,
+                },
+            );
         }
         true
     }
 
     /// Extracts the most frequent term pair `a + r·b` of the live sums.
-    pub(super) fn extract_sum_pair(&mut self, live: &[usize]) -> bool {
-        let mut pairs = Vec::new();
-        for &op in live {
-            if let Op::Sum { terms, .. } = &self.ops[op] {
-                pairs.extend(distinct_pairs(terms.len(), |i, j| {
-                    let ratio = Real::new(terms[j].1 / terms[i].1);
-                    (terms[i].0, terms[j].0, ratio.bits())
-                }));
-            }
-        }
-        let Some((a, b, ratio_bits)) = most_frequent(pairs) else {
+    pub(super) fn extract_sum_pair(&mut self) -> bool {
+        let Some((a, b, ratio_bits)) = self.sum_pairs.most_frequent() else {
             return false;
         };
         let ratio = f64::from_bits(ratio_bits);
@@ -194,50 +202,36 @@ impl Compiler<'_> {
             constant: 0.0,
             terms: vec![(a, 1.0), (b, ratio)],
         });
-        for &op in live {
+        // A sum whose first `a` and first `b` are `r` apart holds the pair
+        // `(a, b, r)` when `a ≠ b`. A pair `(a, a, 1)` is held only by a sum
+        // with a term twice (an extracted pair that was a term already), but
+        // every live sum with the term `a` is rewritten: all are looked at.
+        let candidates = if a == b {
+            self.live()
+        } else {
+            self.sum_pairs.holders(&(a, b, ratio_bits)).to_vec()
+        };
+        for op in candidates {
             if op == pair {
                 continue;
             }
-            if let Op::Sum { terms, .. } = &mut self.ops[op] {
-                let ia = terms.iter().position(|(t, _)| *t == a);
-                let ib = terms.iter().position(|(t, _)| *t == b);
-                if let (Some(ia), Some(ib)) = (ia, ib) {
-                    let ca = terms[ia].1;
-                    if Real::new(terms[ib].1 / ca) == Real::new(ratio) {
-                        terms.retain(|(t, _)| *t != a && *t != b);
-                        terms.push((pair, ca));
-                        terms.sort_unstable_by_key(|(t, _)| *t);
-                    }
+            let Op::Sum { constant, terms } = &self.ops[op] else {
+                continue;
+            };
+            let ia = terms.iter().position(|(t, _)| *t == a);
+            let ib = terms.iter().position(|(t, _)| *t == b);
+            if let (Some(ia), Some(ib)) = (ia, ib) {
+                let ca = terms[ia].1;
+                if Real::new(terms[ib].1 / ca) == Real::new(ratio) {
+                    let mut terms = terms.clone();
+                    terms.retain(|(t, _)| *t != a && *t != b);
+                    terms.push((pair, ca));
+                    terms.sort_unstable_by_key(|(t, _)| *t);
+                    let constant = *constant;
+                    self.replace(op, Op::Sum { constant, terms });
                 }
             }
         }
         true
     }
-}
-
-/// The distinct values of `pair(i, j)` over `i < j < n`, sorted (an
-/// operation counts a pair once however often it holds it).
-fn distinct_pairs<P: Ord>(n: usize, pair: impl Fn(usize, usize) -> P) -> Vec<P> {
-    let mut pairs: Vec<P> = (0..n)
-        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
-        .map(|(i, j)| pair(i, j))
-        .collect();
-    pairs.sort_unstable();
-    pairs.dedup();
-    pairs
-}
-
-/// The pair held by the most operations, at least two; among equally
-/// frequent ones the smallest (canonical operand order: deterministic).
-/// Sorting and counting runs is the same choice as a map from pair to count,
-/// without a map's insertions, the generator's largest cost.
-fn most_frequent<P: Ord + Copy>(mut pairs: Vec<P>) -> Option<P> {
-    pairs.sort_unstable();
-    let mut best: Option<(usize, P)> = None;
-    for run in pairs.chunk_by(|a, b| a == b) {
-        if run.len() >= 2 && best.is_none_or(|(n, _)| run.len() > n) {
-            best = Some((run.len(), run[0]));
-        }
-    }
-    best.map(|(_, pair)| pair)
 }
