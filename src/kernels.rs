@@ -36,8 +36,8 @@ pub const KERNEL_CRATE: KernelCrate = KernelCrate {
 /// factors and the 3D line observation over the documents' orthonormal
 /// line, the three of `slamjac solve`, then g2o's pose-edge error. (g2o's
 /// line and plane edge errors linearize through dual numbers: their kernels
-/// take the generator 30 s and 19 s, which every `generate` and `check`
-/// would pay; see `slam_factors::g2o`.) Every one also has a kernel in
+/// would double the generator's time in every `generate` and `check`; see
+/// `slam_factors::g2o`.) Every one also has a kernel in
 /// apex-solver's chart ([`factor_core::host::Apex`]) and, in the C++ of
 /// `generated/cpp/`, a Ceres cost function and manifolds.
 pub fn shipped_kernels() -> Vec<KernelSpec> {

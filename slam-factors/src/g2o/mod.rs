@@ -31,10 +31,10 @@
 //! [`G2oPointEdge`] and [`G2oPriorEdge`] linearize through dual numbers
 //! (one of each per pose or observation: not where the time goes);
 //! [`G2oLineEdge`] and [`G2oPlaneEdge`] linearize through dual numbers:
-//! their kernels take the code generator 30 s and 19 s on this project's
-//! 2-core machine (its whole shipped set of eleven kernels took 13 s), and
-//! every `slamjac generate` and `check`, and the tests that run them, would
-//! pay that. They still compare exactly with g2o (the cost does not depend
+//! their kernels take the code generator about 2.2 s of CPU together in
+//! the debug build, as much as the whole shipped set (2.0 s; measured on
+//! 30 November 2026), so every `slamjac generate` and `check`, and the
+//! tests that run them, would take twice as long. They still compare exactly with g2o (the cost does not depend
 //! on how the Jacobian is formed).
 //!
 //! # Exactly as g2o computes
