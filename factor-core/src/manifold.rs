@@ -138,8 +138,8 @@ impl Perturbation {
 #[diagnostic::on_unimplemented(
     message = "`{Self}` cannot be a variable: it does not implement `Manifold<{S}>`",
     label = "no tangent space and retraction over `{S}`",
-    note = "a `#[variable]` needs a tangent space: `{S}`, nalgebra's vectors, `factor_core`'s \
-            Lie and geometry types, or a type of yours implementing `factor_core::Manifold<{S}>` \
+    note = "a `#[variable]` needs a tangent space: `{S}`, nalgebra's vectors (a point is a \
+            `Vector3<{S}>`, not a `Point3`), `factor_core`'s Lie and geometry types, or a type of yours implementing `factor_core::Manifold<{S}>` \
             (see its documentation for the rules); a field without `#[variable]` is a constant \
             and needs `Storage<{S}>` only"
 )]
