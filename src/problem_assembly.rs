@@ -14,7 +14,7 @@ use factor_core::dual::Dual;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 use factor_core::manifold::ChartMap;
 use nalgebra::DMatrix;
-use slam_problems::Robust;
+use slam_problems::{ProblemError, Robust};
 use slamjac_problem::decode::{FieldsCache, decode_with};
 use slamjac_problem::input::Object;
 use slamjac_problem::observability::tangent_columns;
@@ -259,7 +259,7 @@ fn add_with<F: HostFactor<Apex> + 'static>(
 /// A builder's refusal as the command line reports it.
 pub(crate) fn build_error(error: BuildError) -> CliError {
     match error {
-        BuildError::Degenerate { error, .. } => CliError::Factor(error),
+        BuildError::Problem(ProblemError::Degenerate { error, .. }) => CliError::Factor(error),
         other => CliError::Solve(other.to_string()),
     }
 }

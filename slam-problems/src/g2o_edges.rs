@@ -399,10 +399,7 @@ pub fn documents_factor(
     edge: &G2oEdge,
 ) -> Option<Result<(DocumentsFactor, Noise), ProblemError>> {
     let which = || edge.describe();
-    let degenerate = |error| ProblemError::Degenerate {
-        which: format!("{} at the initial values", which()),
-        error,
-    };
+    let degenerate = |error| ProblemError::at_initial_values(which(), error);
     Some(match &edge.factor {
         G2oFactor::Line(f) => {
             let e = &graph.line_edges[edge.index];

@@ -16,7 +16,7 @@
 //!   input's format; [`nothing_to_solve`] and [`reprojection_errors`] of a
 //!   data set;
 //! - [`ProblemError`]: why a data set's factors cannot be built (each
-//!   solver's build error converts from it).
+//!   solver's build error wraps it in one variant).
 //!
 //! Nothing here depends on a solver (neither apex-solver nor faer): a
 //! build of the Schur-complement solver does not build apex-solver.

@@ -6,6 +6,7 @@ use factor_apex::built::Built;
 use factor_apex::problems::g2o_addons;
 use factor_apex::problems::{self, BuildError, BuildOptions, FactorChoice};
 use factor_apex::solve::{Outcome, SolveOptions, solve};
+use slam_problems::ProblemError;
 use slamjac_problem::field_path::shown_path;
 
 use super::{SolveArgs, at, finish, finish_file, problem_file, progress, report};
@@ -29,7 +30,9 @@ pub(super) fn run(
         _ => problems::build(data, &options),
     };
     let mut built = built.map_err(|e| match e {
-        BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
+        BuildError::Problem(ProblemError::Data(_) | ProblemError::Unavailable(_)) => {
+            CliError::Usage(at(&args.file, e))
+        }
         // Degenerate geometry, the solver's or the adapter's refusal.
         _ => CliError::Solve(at(&args.file, e)),
     })?;

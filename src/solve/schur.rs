@@ -7,6 +7,7 @@
 use factor_minimizer::SolveOptions;
 use factor_schur::problems::BuildError;
 use factor_schur::{Linearized, Outcome, Profile, Solver};
+use slam_problems::ProblemError;
 
 use super::progress::duration;
 use super::{SolveArgs, at, finish, progress, report};
@@ -59,7 +60,9 @@ pub(super) fn run(
 ) -> Result<String, CliError> {
     let built = factor_schur::problems::build_with(data, args.robust, args.kernels, args.landmarks);
     let mut built = built.map_err(|e| match e {
-        BuildError::Data(_) | BuildError::Unavailable(_) => CliError::Usage(at(&args.file, e)),
+        BuildError::Problem(ProblemError::Data(_) | ProblemError::Unavailable(_)) => {
+            CliError::Usage(at(&args.file, e))
+        }
         // Degenerate geometry, the solver's or the adapter's refusal.
         _ => CliError::Solve(at(&args.file, e)),
     })?;

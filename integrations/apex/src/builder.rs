@@ -51,6 +51,7 @@ use apex_solver::factors::Factor;
 use apex_solver::linalg::{JacobianMode, LinearSolverType};
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold, HostMap};
 use factor_core::{FactorError, Storage};
+use slam_problems::ProblemError;
 use slotmap::SlotMap;
 
 use crate::adapter::{ApexFactor, Kernels, Rejections};
@@ -269,17 +270,19 @@ impl ProblemBuilder {
     ///
     /// # Errors
     ///
-    /// [`BuildError::Data`] for a part `V` does not have; apex's refusal.
+    /// [`ProblemError::Data`] (in [`BuildError::Problem`]) for a part `V`
+    /// does not have; apex's refusal.
     pub fn fix_part<V: HostMap<Apex>>(
         &mut self,
         variable: &Variable<V>,
         part: usize,
     ) -> Result<(), BuildError> {
         let (Some(key), Some(host)) = (variable.keys.get(part), V::PARTS.get(part)) else {
-            return Err(BuildError::Data(format!(
+            return Err(ProblemError::Data(format!(
                 "part {part} of a variable with {} parts",
                 V::PARTS.len()
-            )));
+            ))
+            .into());
         };
         self.fix(*key, host.manifold.dof())
     }
@@ -300,9 +303,9 @@ impl ProblemBuilder {
     ///
     /// # Errors
     ///
-    /// [`BuildError::Data`] when `variables` are not the factor's (count or
-    /// types) or the noise model does not fit its residual;
-    /// [`BuildError::Degenerate`] when the factor is degenerate at the
+    /// [`BuildError::Problem`]: [`ProblemError::Data`] when `variables` are
+    /// not the factor's (count or types) or the noise model does not fit its
+    /// residual, [`ProblemError::Degenerate`] when the factor is degenerate at the
     /// initial values (or its outputs are not finite there);
     /// [`BuildError::StaleKernel`], in a debug build, when its generated
     /// kernel no longer matches its definition; the adapter's and apex's
@@ -349,46 +352,46 @@ impl ProblemBuilder {
     ) -> Result<(), BuildError> {
         let declared = F::variables();
         if variables.len() != declared.len() {
-            return Err(BuildError::Data(format!(
+            return Err(ProblemError::Data(format!(
                 "{}: {} variables given, the factor has {}",
                 F::NAME,
                 variables.len(),
                 declared.len()
-            )));
+            ))
+            .into());
         }
         for (k, (given, info)) in variables.iter().zip(&declared).enumerate() {
             if given.type_id != F::variable_type(k) {
-                return Err(BuildError::Data(format!(
+                return Err(ProblemError::Data(format!(
                     "{}: variable `{}` is a `{}`, given a `{}`",
                     F::NAME,
                     info.name,
                     info.type_name,
                     given.type_name
-                )));
+                ))
+                .into());
             }
         }
-        served.linearize_at(factor).map_err(|error| {
-            let which = format!("{} at the initial values", F::NAME);
-            match error {
-                FactorError::StaleKernel { .. } => BuildError::StaleKernel { which, error },
-                error => BuildError::Degenerate { which, error },
-            }
+        served.linearize_at(factor).map_err(|error| match error {
+            FactorError::StaleKernel { .. } => BuildError::StaleKernel {
+                which: format!("{} at the initial values", F::NAME),
+                error,
+            },
+            error => ProblemError::at_initial_values(F::NAME, error).into(),
         })?;
         let noise = model(noise, F::RESIDUAL_DIM)
-            .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", F::NAME)))?;
+            .map_err(|e| ProblemError::Data(format!("{}: noise model: {e}", F::NAME)))?;
         let keys: Vec<VarKey> = variables.iter().flat_map(|v| v.keys.clone()).collect();
         let served = served.with_rejections(self.rejections());
         self.block_with_loss(&keys, Arc::new(served), noise, loss)?;
         // The blocks before were finite (each is checked as it is added):
         // this one is the first whose cost is not.
         if !self.cost.is_finite() {
-            return Err(BuildError::Degenerate {
-                which: format!("{} at the initial values", F::NAME),
-                error: FactorError::NonFinite {
-                    factor: F::NAME,
-                    what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
-                },
-            });
+            let error = FactorError::NonFinite {
+                factor: F::NAME,
+                what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
+            };
+            return Err(ProblemError::at_initial_values(F::NAME, error).into());
         }
         Ok(())
     }

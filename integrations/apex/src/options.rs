@@ -45,14 +45,12 @@ pub struct BuildOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum BuildError {
-    /// A block is degenerate at the initial values.
-    #[error("{which}: {error}")]
-    Degenerate {
-        /// The observation or edge, in words.
-        which: String,
-        /// The factor's error.
-        error: FactorError,
-    },
+    /// The data cannot make a problem (crate `slam-problems`): a block
+    /// degenerate at the initial values, data that cannot make a problem
+    /// (an information matrix that is not positive definite, no odometry
+    /// to initialise from, ...), or factors that do not exist for it.
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
     /// A block's generated kernel is stale: a debug build compared it with
     /// dual numbers at the initial values ([`factor_core::kernel`]).
     #[error("{which}: {error}")]
@@ -62,28 +60,10 @@ pub enum BuildError {
         /// [`FactorError::StaleKernel`].
         error: FactorError,
     },
-    /// The data cannot make a problem (an information matrix that is not
-    /// positive definite, no odometry to initialise from, ...).
-    #[error("{0}")]
-    Data(String),
-    /// The factors asked for do not exist for this problem.
-    #[error("{0}")]
-    Unavailable(String),
     /// apex-solver refused the problem.
     #[error("apex-solver: {0}")]
     Solver(String),
     /// The adapter cannot serve a factor.
     #[error(transparent)]
     Adapter(#[from] crate::error::AdapterError),
-}
-
-/// The data sets' errors, variant for variant.
-impl From<ProblemError> for BuildError {
-    fn from(error: ProblemError) -> Self {
-        match error {
-            ProblemError::Degenerate { which, error } => BuildError::Degenerate { which, error },
-            ProblemError::Data(what) => BuildError::Data(what),
-            ProblemError::Unavailable(why) => BuildError::Unavailable(why),
-        }
-    }
 }

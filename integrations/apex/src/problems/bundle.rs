@@ -8,6 +8,7 @@ use apex_solver::linalg::LinearSolverType;
 use apex_solver::{ManifoldType, apex_camera_models::CameraModelError};
 use factor_core::Factor;
 use slam_data::{BalProblem, SnavelyIntrinsics};
+use slam_problems::ProblemError;
 use slam_problems::bundle::by_point;
 pub use slam_problems::bundle::{
     bal_camera, camera_pose, factor_of, observation_name, solved_bal, solved_bundler,
@@ -73,10 +74,9 @@ pub(super) fn build(
         match options.factors {
             FactorChoice::Ours(kernels) => {
                 let factor = factor_of(bal, k);
-                factor.validate().map_err(|error| BuildError::Degenerate {
-                    which: format!("{} at the initial values", observation_name(bal, k)),
-                    error,
-                })?;
+                factor
+                    .validate()
+                    .map_err(|e| ProblemError::at_initial_values(observation_name(bal, k), e))?;
                 let served =
                     ApexFactor::new(&factor, kernels)?.with_rejections(builder.rejections());
                 builder.block(&[pose, intrinsics, point], Arc::new(served), None)?;

@@ -38,6 +38,7 @@ use nalgebra::Vector3;
 use slam_data::G2oGraph;
 use slotmap::SlotMap;
 
+use slam_problems::ProblemError;
 pub use slam_problems::g2o_edges::LandmarkFactors;
 use slam_problems::g2o_edges::{self, DocumentsFactor, G2oEdge, G2oFactor, Vertices};
 
@@ -77,9 +78,10 @@ pub fn build_with(
     let kernels = match options.factors {
         FactorChoice::Ours(kernels) => kernels,
         FactorChoice::Apex => {
-            return Err(BuildError::Unavailable(
+            return Err(ProblemError::Unavailable(
                 "apex-solver has no factors for g2o's lines and planes".into(),
-            ));
+            )
+            .into());
         }
     };
     let mut builder = ProblemBuilder::with_options(options);
@@ -171,11 +173,12 @@ fn documents_factor(
 /// `which: ` before an error's message.
 fn within(error: BuildError, which: &dyn Fn() -> String) -> BuildError {
     match error {
-        BuildError::Data(what) => BuildError::Data(format!("{}: {what}", which())),
-        BuildError::Degenerate { error, .. } => BuildError::Degenerate {
-            which: format!("{} at the initial values", which()),
-            error,
-        },
+        BuildError::Problem(ProblemError::Data(what)) => {
+            ProblemError::Data(format!("{}: {what}", which())).into()
+        }
+        BuildError::Problem(ProblemError::Degenerate { error, .. }) => {
+            ProblemError::at_initial_values(which(), error).into()
+        }
         other => other,
     }
 }
@@ -192,7 +195,7 @@ fn on_inverse_pose<F: factor_core::host::HostKernel<factor_core::host::Apex> + '
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
     let model = crate::builder::model(noise, F::RESIDUAL_DIM)
-        .map_err(|e| BuildError::Data(format!("{}: noise model: {e}", which())))?;
+        .map_err(|e| ProblemError::Data(format!("{}: noise model: {e}", which())))?;
     let served = ApexFactor::new(factor, kernels)?.with_rejections(builder.rejections());
     builder.block_with_loss(
         keys,

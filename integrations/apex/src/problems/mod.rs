@@ -25,6 +25,7 @@ pub mod stereo;
 
 use apex_solver::core::VarKey;
 use apex_solver::core::variable::ManifoldVariable;
+use slam_problems::ProblemError;
 use slotmap::SlotMap;
 
 pub use slam_problems::{g2o_edges, nothing_to_solve, reprojection_errors};
@@ -58,7 +59,7 @@ pub enum Keys {
 /// apex does not have for it, or apex's refusal.
 pub fn build(data: &slam_data::Problem, options: &BuildOptions) -> Result<Built, BuildError> {
     if let Some(empty) = nothing_to_solve(data) {
-        return Err(BuildError::Data(empty));
+        return Err(ProblemError::Data(empty).into());
     }
     match data {
         slam_data::Problem::Bal(bal) => {

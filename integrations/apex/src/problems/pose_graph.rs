@@ -11,6 +11,7 @@ use apex_solver::{ManifoldType, NoiseModel, SE3};
 use factor_core::Factor;
 use slam_data::PoseGraph;
 use slam_factors::SqrtInformation6;
+use slam_problems::ProblemError;
 pub use slam_problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
 
 use crate::adapter::ApexFactor;
@@ -52,10 +53,9 @@ pub(super) fn build(
         let factor = factor_of(e, &pose_i, &pose_j)?;
         match options.factors {
             FactorChoice::Ours(kernels) => {
-                factor.validate().map_err(|error| BuildError::Degenerate {
-                    which: format!("{} at the initial values", edge_name(graph, index)),
-                    error,
-                })?;
+                factor
+                    .validate()
+                    .map_err(|e| ProblemError::at_initial_values(edge_name(graph, index), e))?;
                 let served =
                     ApexFactor::new(&factor, kernels)?.with_rejections(builder.rejections());
                 builder.block(&[key_i, key_j], Arc::new(served), None)?;

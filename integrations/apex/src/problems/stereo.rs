@@ -9,6 +9,7 @@ use apex_solver::factors::visual::{StereoCalibration as ApexStereoCalibration, S
 use apex_solver::linalg::LinearSolverType;
 use factor_core::Factor;
 use slam_data::{StereoCalibration, StereoVo};
+use slam_problems::ProblemError;
 use slam_problems::stereo::by_landmark;
 pub use slam_problems::stereo::{camera_to_world, factor_of, observation_name};
 
@@ -25,10 +26,11 @@ pub type StereoKeys = slam_problems::stereo::StereoKeys<VarKey>;
 /// point for both images.
 fn apex_calibration(c: &StereoCalibration) -> Result<ApexStereoCalibration, BuildError> {
     if c.skew != 0.0 {
-        return Err(BuildError::Unavailable(format!(
+        return Err(ProblemError::Unavailable(format!(
             "apex-solver's stereo factor has no skew; this calibration's is {}",
             c.skew
-        )));
+        ))
+        .into());
     }
     ApexStereoCalibration::new(c.fx, c.fy, c.u0, c.v0, c.baseline).map_err(BuildError::Solver)
 }
@@ -80,10 +82,9 @@ pub(super) fn build(
         let block: Arc<dyn apex_solver::factors::Factor + Send + Sync> =
             match (options.factors, &calibration) {
                 (FactorChoice::Ours(kernels), _) => {
-                    factor.validate().map_err(|error| BuildError::Degenerate {
-                        which: format!("{} at the initial values", observation_name(vo, k)),
-                        error,
-                    })?;
+                    factor
+                        .validate()
+                        .map_err(|e| ProblemError::at_initial_values(observation_name(vo, k), e))?;
                     Arc::new(
                         ApexFactor::new(&factor, kernels)?.with_rejections(builder.rejections()),
                     )
@@ -93,7 +94,7 @@ pub(super) fn build(
                     calibration.clone(),
                 )),
                 (FactorChoice::Apex, None) => {
-                    return Err(BuildError::Unavailable("no stereo calibration".into()));
+                    return Err(ProblemError::Unavailable("no stereo calibration".into()).into());
                 }
             };
         builder.block(&[pose_key, landmark_key], block, None)?;

@@ -5,6 +5,7 @@ use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::{BalProblem, SnavelyIntrinsics};
 use slam_factors::SnavelyReprojection;
+use slam_problems::ProblemError;
 use slam_problems::bundle::{camera_pose, factor_of, observation_name};
 
 use factor_core::noise::Noise;
@@ -50,10 +51,9 @@ pub(super) fn build(
             point: bal.points[o.point],
             ..template.clone()
         };
-        factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!("{} at the initial values", observation_name(bal, k)),
-            error,
-        })?;
+        factor
+            .validate()
+            .map_err(|e| ProblemError::at_initial_values(observation_name(bal, k), e))?;
         let ids = [
             keys.poses[o.camera],
             keys.intrinsics[o.camera],

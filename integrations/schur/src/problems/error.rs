@@ -1,6 +1,5 @@
 //! [`BuildError`]: why a data set cannot make a problem for this solver.
 
-use factor_core::FactorError;
 use slam_problems::ProblemError;
 
 use crate::error::SchurError;
@@ -9,33 +8,12 @@ use crate::error::SchurError;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum BuildError {
-    /// A factor is degenerate at the initial values.
-    #[error("{which}: {error}")]
-    Degenerate {
-        /// The observation, in words.
-        which: String,
-        /// The factor's error.
-        error: FactorError,
-    },
-    /// The data refer to something they do not hold.
-    #[error("{0}")]
-    Data(String),
-    /// Not a problem these factors can model (the documents' plane factor
-    /// on a free sensor offset).
-    #[error("{0}")]
-    Unavailable(String),
+    /// The data cannot make a problem (crate `slam-problems`): a factor
+    /// degenerate at the initial values, data that refer to something they
+    /// do not hold, or a problem these factors cannot model.
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
     /// The problem is not in the solver's shape.
     #[error(transparent)]
     Shape(#[from] SchurError),
-}
-
-/// The data sets' errors (crate `slam-problems`), variant for variant.
-impl From<ProblemError> for BuildError {
-    fn from(error: ProblemError) -> Self {
-        match error {
-            ProblemError::Degenerate { which, error } => BuildError::Degenerate { which, error },
-            ProblemError::Data(what) => BuildError::Data(what),
-            ProblemError::Unavailable(why) => BuildError::Unavailable(why),
-        }
-    }
 }

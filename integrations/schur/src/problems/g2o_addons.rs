@@ -32,6 +32,7 @@ use factor_minimizer::Damping;
 use slam_data::G2oGraph;
 use slam_factors::g2o::{LineObservationOnBody, PlaneFactorOnBody};
 use slam_problems::Kernels;
+use slam_problems::ProblemError;
 use slam_problems::g2o_edges::LandmarkFactors;
 use slam_problems::g2o_edges::{self, DocumentsFactor, G2oFactor, Vertices};
 
@@ -168,10 +169,9 @@ fn add<F: Factor + Send + Sync + 'static>(
     jacobians: Jacobians,
     which: &dyn Fn() -> String,
 ) -> Result<(), BuildError> {
-    factor.validate().map_err(|error| BuildError::Degenerate {
-        which: format!("{} at the initial values", which()),
-        error,
-    })?;
+    factor
+        .validate()
+        .map_err(|e| ProblemError::at_initial_values(which(), e))?;
     problem.add_linearized(factor, ids, noise, None, jacobians)?;
     Ok(())
 }

@@ -7,6 +7,7 @@ use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use factor_minimizer::Damping;
 use slam_data::PoseGraph;
+use slam_problems::ProblemError;
 use slam_problems::pose_graph::{edge_name, endpoints, factor_of, initial_vertices, se3};
 
 use factor_core::noise::Noise;
@@ -42,10 +43,9 @@ pub(super) fn build(
     for (index, e) in graph.edges.iter().enumerate() {
         let ((i, pose_i), (j, pose_j)) = endpoints(graph, index, &by_id)?;
         let factor = factor_of(e, &pose_i, &pose_j)?;
-        factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!("{} at the initial values", edge_name(graph, index)),
-            error,
-        })?;
+        factor
+            .validate()
+            .map_err(|e| ProblemError::at_initial_values(edge_name(graph, index), e))?;
         problem.add_by(&factor, &[i, j], &Noise::Unit, None, kernels)?;
     }
     if let Some(&(_, id)) = keys.poses.first() {

@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use factor_core::lie::Se3RhoTheta;
 use factor_core::{Factor, Storage};
 use slam_data::StereoVo;
+use slam_problems::ProblemError;
 use slam_problems::stereo::{camera_to_world, factor_of, observation_name};
 
 use factor_core::noise::Noise;
@@ -43,7 +44,7 @@ pub(super) fn build(vo: &StereoVo, kernels: Kernels) -> Result<(Problem, StereoK
     }
     for (k, o) in vo.observations.iter().enumerate() {
         let missing =
-            |what: &str, id: usize| BuildError::Data(format!("observation {k}: no {what} {id}"));
+            |what: &str, id: usize| ProblemError::Data(format!("observation {k}: no {what} {id}"));
         let &(pose_id, pose) = poses.get(&o.pose).ok_or_else(|| missing("pose", o.pose))?;
         let (&landmark_id, position) = keys
             .landmarks
@@ -51,10 +52,9 @@ pub(super) fn build(vo: &StereoVo, kernels: Kernels) -> Result<(Problem, StereoK
             .zip(positions.get(&o.landmark))
             .ok_or_else(|| missing("landmark", o.landmark))?;
         let factor = factor_of(vo, o, &pose, position);
-        factor.validate().map_err(|error| BuildError::Degenerate {
-            which: format!("{} at the initial values", observation_name(vo, k)),
-            error,
-        })?;
+        factor
+            .validate()
+            .map_err(|e| ProblemError::at_initial_values(observation_name(vo, k), e))?;
         problem.add_by(
             &factor,
             &[pose_id, landmark_id],
