@@ -49,7 +49,6 @@ pub fn emit(cx: &Context) -> TokenStream {
             lifted.#name = <#ty as #krate::Manifold<#scalar>>::seeded::<#dim, __N>(&self.#name, #side, #offset);
         }
     });
-    let dims_f64 = cx.variables.iter().map(|v| cx.dim_f64(v));
     let dual_doc = format!(
         "Residual and Jacobian blocks, exact to rounding, by one evaluation of the residual \
          on dual numbers ([`Dual`](::factor_core::dual::Dual)) carrying the derivative w.r.t. \
@@ -151,7 +150,7 @@ pub fn emit(cx: &Context) -> TokenStream {
             fn __factor_seeded<const __N: usize>(&self) -> #ident<#krate::dual::Dual<__N>> {
                 let mut lifted: #ident<#krate::dual::Dual<__N>> =
                     #krate::Storage::map_scalars(self, &mut #krate::dual::Dual::<__N>::constant);
-                self.__factor_seed::<__N, #({ #dims_f64 }),*>(&mut lifted);
+                self.__factor_seed::<__N, #({ #block_dims }),*>(&mut lifted);
                 lifted
             }
 

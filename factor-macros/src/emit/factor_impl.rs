@@ -101,10 +101,7 @@ pub fn emit(cx: &Context) -> TokenStream {
     let field_infos = cx.model.fields.iter().map(|field| {
         let (field_name, doc) = (field.ident.to_string(), &field.doc);
         let ty = &field.ty;
-        let item = |item: &str| {
-            let item = syn::Ident::new(item, ty.span());
-            quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
-        };
+        let item = |item: &str| cx.storage_item(ty, item);
         let (scalars, layout, input_layout, from_input) = (
             item("SCALARS"),
             item("layout"),

@@ -60,10 +60,11 @@ pub fn emit(cx: &Context) -> TokenStream {
         quote_spanned!(ty.span()=> <#ty as #krate::Manifold<#scalar>>::DIM)
     });
     let field_count = cx.model.fields.len();
-    let scalars = cx.model.fields.iter().map(|field| {
-        let ty = &field.ty;
-        quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::SCALARS)
-    });
+    let scalars = cx
+        .model
+        .fields
+        .iter()
+        .map(|field| cx.storage_item(&field.ty, "SCALARS"));
     let offsets = (0..count).map(|k| {
         let previous = 0..k;
         quote!(0usize #(+ Self::__FACTOR_DIMS[#previous])*)
@@ -113,6 +114,16 @@ impl Context<'_> {
     pub fn tangent_dim_f64(&self) -> TokenStream {
         let ident = &self.model.ident;
         quote!(<#ident<f64>>::__FACTOR_TANGENT_DIM)
+    }
+
+    /// `<ty as Storage<S>>::item`, every token spanned at the field type
+    /// `ty`, so that a type that is not stored is reported there, once (a
+    /// call of one of its functions spanned elsewhere is reported again
+    /// there).
+    pub fn storage_item(&self, ty: &syn::Type, item: &str) -> TokenStream {
+        let (krate, scalar) = (&self.krate, &self.model.scalar);
+        let item = syn::Ident::new(item, ty.span());
+        quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
     }
 
     /// The layout of `field` if it is a variable.

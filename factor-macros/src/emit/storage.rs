@@ -14,12 +14,8 @@ pub fn emit(cx: &Context) -> TokenStream {
     let scalar = &cx.model.scalar;
     let (impl_generics, ty_generics, where_clause) = cx.generics.split_for_impl();
     // Every use of a field type's `Storage`, and every call of one of its
-    // functions, is spanned at the type, so a type that is not stored is
-    // reported there, once (a call spanned elsewhere is reported again there).
-    let item = |ty: &syn::Type, item: &str| {
-        let item = syn::Ident::new(item, ty.span());
-        quote_spanned!(ty.span()=> <#ty as #krate::Storage<#scalar>>::#item)
-    };
+    // functions, is spanned at the type (`Context::storage_item`).
+    let item = |ty: &syn::Type, item: &str| cx.storage_item(ty, item);
     let counts = cx
         .model
         .fields
