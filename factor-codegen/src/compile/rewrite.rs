@@ -164,20 +164,12 @@ impl Compiler<'_> {
             else {
                 unreachable!("only products hold operand pairs");
             };
-            let i = factors.iter().position(|f| *f == a).expect("a held pair");
-            let rest: Vec<usize> = factors
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| *k != i)
-                .map(|(_, f)| *f)
-                .collect();
-            let j = rest.iter().position(|f| *f == b).expect("a held pair");
-            let mut next: Vec<usize> = rest
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| *k != j)
-                .map(|(_, f)| *f)
-                .collect();
+            // One `a` and one `b` out (two `a`s for a square), the pair in.
+            let mut next = factors.clone();
+            for x in [a, b] {
+                let i = next.iter().position(|f| *f == x).expect("a held pair");
+                next.remove(i);
+            }
             next.push(pair);
             next.sort_unstable();
             let coefficient = *coefficient;
