@@ -31,19 +31,26 @@ fn dependencies(manifest: &Path) -> BTreeSet<String> {
     names
 }
 
+/// Asserts that the crate of `manifest` (relative to the workspace) has
+/// exactly the `[dependencies]` `expected`.
+fn depends_exactly_on(manifest: &str, expected: &[&str]) {
+    let found = dependencies(&workspace().join(manifest));
+    let expected: BTreeSet<String> = expected.iter().map(|d| d.to_string()).collect();
+    assert_eq!(found, expected, "{manifest}");
+}
+
 #[test]
 fn the_runtime_crate_depends_only_on_what_runs_in_an_estimator() {
-    let runtime = dependencies(&workspace().join("factor-core/Cargo.toml"));
-    let allowed: BTreeSet<String> = [
-        "nalgebra",
-        "num-dual",
-        "num-traits",
-        "thiserror",
-        "factor-macros",
-    ]
-    .map(String::from)
-    .into();
-    assert_eq!(runtime, allowed);
+    depends_exactly_on(
+        "factor-core/Cargo.toml",
+        &[
+            "nalgebra",
+            "num-dual",
+            "num-traits",
+            "thiserror",
+            "factor-macros",
+        ],
+    );
     let macros = dependencies(&workspace().join("factor-macros/Cargo.toml"));
     assert!(
         macros
@@ -58,17 +65,16 @@ fn the_runtime_crate_depends_only_on_what_runs_in_an_estimator() {
 /// adapter, which stays one of its dev-dependencies (agreement tests).
 #[test]
 fn the_solvers_vocabulary_depends_on_no_solver() {
-    let vocabulary = dependencies(&workspace().join("slam-problems/Cargo.toml"));
-    let allowed: BTreeSet<String> = [
-        "factor-core",
-        "slam-factors",
-        "slam-data",
-        "nalgebra",
-        "thiserror",
-    ]
-    .map(String::from)
-    .into();
-    assert_eq!(vocabulary, allowed);
+    depends_exactly_on(
+        "slam-problems/Cargo.toml",
+        &[
+            "factor-core",
+            "slam-factors",
+            "slam-data",
+            "nalgebra",
+            "thiserror",
+        ],
+    );
     let schur = dependencies(&workspace().join("integrations/schur/Cargo.toml"));
     assert!(schur.contains("slam-problems"), "{schur:?}");
     for solver in ["factor-apex", "apex-solver"] {
