@@ -27,18 +27,15 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::InputError;
 use crate::document::{Document, Json, Members};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
+use crate::{InputError, PROBLEM_FILE_VERSION};
 use factor_core::VariableInfo;
 use factor_core::noise::Noise;
 use slam_problems::Robust;
 
 use crate::file_truth::Truth;
-
-/// The format version this build reads and writes.
-pub const VERSION: u64 = crate::PROBLEM_FILE_VERSION;
 
 /// What a reader knows of a factor: its variable fields (with their
 /// types), its constant fields and its residual's dimension.
@@ -113,10 +110,12 @@ pub fn read_json(file: &Path) -> Result<Document, InputError> {
         &["truth"],
     )?;
     let version = top.number("slamjac_problem")?;
-    if version != VERSION as f64 {
+    if version != PROBLEM_FILE_VERSION as f64 {
         return Err(InputError::new(
             "slamjac_problem",
-            format!("version {version} is not the version this slamjac reads ({VERSION})"),
+            format!(
+                "version {version} is not the version this slamjac reads ({PROBLEM_FILE_VERSION})"
+            ),
         ));
     }
     if !json.root().get("variables").is_some_and(Json::is_object) {
