@@ -428,7 +428,7 @@ fn main() -> ExitCode {
             output,
         } => synth_plp::run(
             // Within the ranges above.
-            &synth_plp::SynthPlpArgs {
+            &synth_plp::RoomRequest {
                 seed,
                 cameras: cameras as usize,
                 points: points as usize,

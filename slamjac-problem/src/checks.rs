@@ -31,8 +31,8 @@ use crate::document::{Document, Json, Members};
 use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
 use crate::{InputError, PROBLEM_FILE_VERSION};
-use factor_core::VariableInfo;
 use factor_core::noise::Noise;
+use factor_core::{Factor, VariableInfo};
 use slam_problems::Robust;
 
 use crate::file_truth::Truth;
@@ -46,6 +46,21 @@ pub struct Shape {
     pub constants: Vec<&'static str>,
     /// The residual's dimension.
     pub residual_dim: usize,
+}
+
+impl Shape {
+    /// The shape of factor `F`.
+    pub fn of<F: Factor>() -> Shape {
+        Shape {
+            variables: F::variables(),
+            constants: F::fields()
+                .into_iter()
+                .filter(|field| field.variable.is_none())
+                .map(|field| field.name)
+                .collect(),
+            residual_dim: F::RESIDUAL_DIM,
+        }
+    }
 }
 
 /// A factor entry that passed the checks.

@@ -1,8 +1,8 @@
 //! `slamjac-problem`, the input layer of the factor toolchain's command
 //! line: `eval` requests and problem files read from their source, parsed
 //! strictly, read as typed values and decoded into factors, every error one
-//! line naming the field path or the source; and the ground truth a solution
-//! is measured against. It depends on no solver.
+//! line naming the field path or the source; the ground truth a solution
+//! is measured against; and a synthetic room to solve. It depends on no solver.
 //!
 //! - [`source`]: reading an input file or standard input (16 MiB at most,
 //!   UTF-8), or streaming a problem file (1 GiB at most);
@@ -24,6 +24,8 @@
 //! - [`file_truth`]: a problem file's `truth` object and the errors of a
 //!   solution against it (trajectory, lines, planes);
 //! - [`align`]: Umeyama's alignment of a trajectory to its truth;
+//! - [`synthetic_room`]: a seeded point-line-plane room as a problem file
+//!   with its truth (`slamjac synth-plp`);
 //! - [`error`]: [`InputError`], the one error of the reading layer.
 
 pub mod align;
@@ -37,6 +39,7 @@ pub mod input;
 pub mod observability;
 pub mod source;
 pub mod strict_json;
+pub mod synthetic_room;
 pub mod truth;
 pub mod w_first;
 

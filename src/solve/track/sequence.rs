@@ -125,15 +125,7 @@ fn tracked<F: Factor + 'static>(kind: Kind) -> Tracked {
     Tracked {
         name: F::NAME,
         kind,
-        shape: || Shape {
-            variables: F::variables(),
-            constants: F::fields()
-                .into_iter()
-                .filter(|f| f.variable.is_none())
-                .map(|f| f.name)
-                .collect(),
-            residual_dim: F::RESIDUAL_DIM,
-        },
+        shape: Shape::of::<F>,
         read: |variables, constants, noise| {
             let factor: F = decode(variables, constants)?;
             Ok(Box::new(move |problem| problem.add(&factor, &noise)))
