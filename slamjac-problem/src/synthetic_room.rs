@@ -260,6 +260,31 @@ struct Measurement {
     jacobians: [[DMatrix<f64>; 2]; 2],
 }
 
+impl Measurement {
+    /// The entry of `factor` on camera `camera` (its field `pose`) and the
+    /// landmark `landmark` (its field `field`).
+    fn new(
+        factor: &str,
+        (camera, field, landmark): (usize, &str, String),
+        constants: Value,
+        noise: Value,
+        jacobians: [[DMatrix<f64>; 2]; 2],
+    ) -> Measurement {
+        let json = json!({
+            "factor": factor,
+            "variables": {"pose": format!("c{camera}"), field: landmark},
+            "constants": constants,
+            "noise": noise,
+        });
+        Measurement {
+            camera,
+            landmark,
+            json,
+            jacobians,
+        }
+    }
+}
+
 /// Which values the observability check linearizes at.
 #[derive(Clone, Copy)]
 enum At {
@@ -296,13 +321,25 @@ fn jacobians<F: Factor>(factor: &F, s: &DMatrix<f64>) -> Option<[DMatrix<f64>; 2
     ])
 }
 
-/// How many of `measurements` measure each landmark.
-fn views(measurements: &[Measurement]) -> HashMap<&str, usize> {
-    let mut views = HashMap::new();
-    for m in measurements {
+/// The `measurements` of the landmarks `keep` accepts, given each
+/// landmark's name and how many of `measurements` measure it.
+fn well_measured(
+    measurements: Vec<Measurement>,
+    keep: impl Fn(&str, usize) -> bool,
+) -> Vec<Measurement> {
+    let mut views: HashMap<&str, usize> = HashMap::new();
+    for m in &measurements {
         *views.entry(m.landmark.as_str()).or_insert(0) += 1;
     }
-    views
+    let kept: Vec<bool> = measurements
+        .iter()
+        .map(|m| keep(&m.landmark, views[m.landmark.as_str()]))
+        .collect();
+    measurements
+        .into_iter()
+        .zip(kept)
+        .filter_map(|(m, kept)| kept.then_some(m))
+        .collect()
 }
 
 /// The normal of the interpretation plane of `segment` seen from a camera
@@ -367,31 +404,16 @@ impl Problem {
                     at(start(o.camera), initial),
                     at(&truth.cameras[o.camera], truth),
                 ) {
-                    points.push(Measurement {
-                        camera: o.camera,
-                        landmark: format!("p{}", o.point),
-                        json: json!({
-                            "factor": "point_reprojection",
-                            "variables": {"pose": format!("c{}", o.camera), "point": format!("p{}", o.point)},
-                            "constants": {"intrinsics": config.intrinsics, "observed": [o.pixel.x, o.pixel.y]},
-                            "noise": sigma,
-                        }),
-                        jacobians: [initially, truly],
-                    });
+                    points.push(Measurement::new(
+                        "point_reprojection",
+                        (o.camera, "point", format!("p{}", o.point)),
+                        json!({"intrinsics": config.intrinsics, "observed": [o.pixel.x, o.pixel.y]}),
+                        sigma.clone(),
+                        [initially, truly],
+                    ));
                 }
             }
-            let views = views(&points);
-            let seen: Vec<bool> = points
-                .iter()
-                .map(|m| views[m.landmark.as_str()] >= 2)
-                .collect();
-            measurements.extend(
-                points
-                    .into_iter()
-                    .zip(seen)
-                    .filter(|(_, s)| *s)
-                    .map(|(m, _)| m),
-            );
+            measurements.extend(well_measured(points, |_, views| views >= 2));
         }
         if args.kinds.lines {
             let kept = args.lines.min(truth.segments.len());
@@ -427,38 +449,22 @@ impl Problem {
                             &truth.segments[o.segment],
                             &truth.cameras[o.camera],
                         ));
-                    lines.push(Measurement {
-                        camera: o.camera,
-                        landmark: format!("l{}", o.segment),
-                        json: json!({
-                            "factor": "line_reprojection",
-                            "variables": {"pose": format!("c{}", o.camera), "line": format!("l{}", o.segment)},
-                            "constants": {"intrinsics": config.intrinsics, "start": [o.start.x, o.start.y], "end": [o.end.x, o.end.y]},
-                            "noise": sigma,
-                        }),
-                        jacobians: [initially, truly],
-                    });
+                    lines.push(Measurement::new(
+                        "line_reprojection",
+                        (o.camera, "line", format!("l{}", o.segment)),
+                        json!({"intrinsics": config.intrinsics, "start": [o.start.x, o.start.y], "end": [o.end.x, o.end.y]}),
+                        sigma.clone(),
+                        [initially, truly],
+                    ));
                 }
             }
-            let views = views(&lines);
             let parallax: HashMap<String, f64> = planes
                 .iter()
                 .map(|(segment, normals)| (format!("l{segment}"), widest_angle(normals)))
                 .collect();
-            let seen: Vec<bool> = lines
-                .iter()
-                .map(|m| {
-                    let name = m.landmark.as_str();
-                    views[name] >= 3 && parallax[name] >= MIN_LINE_PARALLAX
-                })
-                .collect();
-            measurements.extend(
-                lines
-                    .into_iter()
-                    .zip(seen)
-                    .filter(|(_, s)| *s)
-                    .map(|(m, _)| m),
-            );
+            measurements.extend(well_measured(lines, |name, views| {
+                views >= 3 && parallax[name] >= MIN_LINE_PARALLAX
+            }));
         }
         if args.kinds.planes {
             // The measurement's noise in g2o's chart of it (azimuth and
@@ -493,17 +499,13 @@ impl Problem {
                         .row_iter()
                         .map(|r| vector_json(&[r[0], r[1], r[2]]))
                         .collect();
-                    measurements.push(Measurement {
-                        camera: o.camera,
-                        landmark: format!("pi{}", o.plane),
-                        json: json!({
-                            "factor": "plane",
-                            "variables": {"pose": format!("c{}", o.camera), "plane": format!("pi{}", o.plane)},
-                            "constants": {"measured": vector_json(o.measured.as_slice())},
-                            "noise": {"sqrt_information": rows},
-                        }),
-                        jacobians: [initially, truly],
-                    });
+                    measurements.push(Measurement::new(
+                        "plane",
+                        (o.camera, "plane", format!("pi{}", o.plane)),
+                        json!({"measured": vector_json(o.measured.as_slice())}),
+                        json!({"sqrt_information": rows}),
+                        [initially, truly],
+                    ));
                 }
             }
         }
