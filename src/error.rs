@@ -94,6 +94,21 @@ pub enum CliError {
     Solve(String),
 }
 
+/// A registry's error as the command line reports it: the variant of the
+/// same name, the same message.
+impl From<slamjac_registry::RegistryError> for CliError {
+    fn from(error: slamjac_registry::RegistryError) -> Self {
+        use slamjac_registry::RegistryError;
+        match error {
+            RegistryError::Input(error) => CliError::Input(error),
+            RegistryError::Factor(error) => CliError::Factor(error),
+            RegistryError::Hinted { error, hint } => CliError::Hinted { error, hint },
+            RegistryError::Solve(message) => CliError::Solve(message),
+            other => CliError::Solve(other.to_string()),
+        }
+    }
+}
+
 /// A ground truth that cannot be read is a data error, one the solve cannot
 /// use a usage error (both exit 2).
 impl From<slamjac_problem::truth::TruthError> for CliError {

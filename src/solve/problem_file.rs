@@ -64,8 +64,9 @@ use slamjac_problem::checks::{self, Shape, at_value, read_json};
 use slamjac_problem::file_truth::Truth;
 
 use crate::error::CliError;
-use crate::problem_assembly::{Assembly, Created, Entry, build_error};
 use crate::registry::{Registry, SolvedBy};
+use slamjac_registry::RegistryError;
+use slamjac_registry::problem_assembly::{Assembly, Created, Entry, build_error};
 
 /// A problem read from a file and built for apex.
 pub struct FileProblem {
@@ -347,7 +348,7 @@ fn add_entry(
 pub(super) fn add_at(
     entry: &checks::Entry<'_>,
     default_loss: Option<Robust>,
-    add: impl FnOnce(&Entry) -> Result<(), CliError>,
+    add: impl FnOnce(&Entry) -> Result<(), RegistryError>,
 ) -> Result<(), CliError> {
     let variables = entry.variables();
     let checked = Entry {
@@ -359,11 +360,13 @@ pub(super) fn add_at(
     };
     let path = &entry.path;
     add(&checked).map_err(|e| match e {
-        CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
+        RegistryError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
         // Degenerate at the initial values: which entry (exit 1).
-        CliError::Factor(_) | CliError::Hinted { .. } => CliError::Solve(format!("{path}: {e}")),
-        CliError::Input(error) => CliError::Input(at_value(error, entry)),
-        other => other,
+        RegistryError::Factor(_) | RegistryError::Hinted { .. } => {
+            CliError::Solve(format!("{path}: {e}"))
+        }
+        RegistryError::Input(error) => CliError::Input(at_value(error, entry)),
+        other => other.into(),
     })
 }
 

@@ -35,8 +35,8 @@ use super::problem_file::{
 use super::{SolveArgs, at, finish_file, progress};
 use crate::error::CliError;
 use crate::registry::Registry;
-use crate::schur_assembly::{SchurAssembly, blocks_of};
 use slamjac_problem::checks::{self, read_json};
+use slamjac_registry::schur_assembly::{SchurAssembly, blocks_of};
 
 /// Solves the problem file of `args` with the Schur-complement solver and
 /// returns the summary, or, when that solver cannot take it, why (nothing
