@@ -109,6 +109,22 @@ impl From<slamjac_registry::RegistryError> for CliError {
     }
 }
 
+/// A problem file's or a graph's refusal as the command line reports it:
+/// the variant of the same name, the same message.
+#[cfg(feature = "solve")]
+impl From<slamjac_solve::SolveError> for CliError {
+    fn from(error: slamjac_solve::SolveError) -> Self {
+        use slamjac_solve::SolveError;
+        match error {
+            SolveError::Input(error) => CliError::Input(error),
+            SolveError::Usage(message) => CliError::Usage(message),
+            SolveError::Solve(message) => CliError::Solve(message),
+            SolveError::Registry(error) => error.into(),
+            other => CliError::Solve(other.to_string()),
+        }
+    }
+}
+
 /// A ground truth that cannot be read is a data error, one the solve cannot
 /// use a usage error (both exit 2).
 impl From<slamjac_problem::truth::TruthError> for CliError {

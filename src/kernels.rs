@@ -198,4 +198,13 @@ mod tests {
         assert_eq!(without, ["g2o_se3_line3d", "g2o_se3_plane_calib"]);
         assert!(registry.kernel_crate().is_some());
     }
+
+    /// Every factor `slamjac` ships is registered for `solve`.
+    #[cfg(feature = "solve")]
+    #[test]
+    fn every_shipped_factor_can_be_solved() {
+        for entry in shipped().factors() {
+            assert!(entry.solve.is_some(), "{}", entry.name);
+        }
+    }
 }

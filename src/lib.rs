@@ -34,9 +34,10 @@
 //! - [`outputs`]: the files a command writes, checked before any work;
 //! - [`usage`]: clap's usage errors as one line;
 //! - `solve` (feature `solve`): real estimation problems solved by
-//!   apex-solver through the factors' generated kernels, problem files
-//!   through the adders of `slamjac_registry`'s `problem_assembly` and
-//!   `schur_assembly`;
+//!   apex-solver through the factors' generated kernels, and problem files
+//!   read and built by the crate `slamjac-solve` (its `problem_file`,
+//!   re-exported as `solve::problem_file`, and `schur_file`) through the
+//!   adders of `slamjac-registry`, solved, printed and written here;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
 //!   geometry or non-finite result, 2 rejected input).
 

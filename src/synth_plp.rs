@@ -1,5 +1,5 @@
 //! `slamjac synth-plp`: a seeded point-line-plane room (crate `slam-data`'s
-//! `plp_scene`) written as a problem file (`src/solve/problem_file.rs`,
+//! `plp_scene`) written as a problem file (`slamjac-solve/src/problem_file.rs`,
 //! read by `slamjac solve FILE.json`) of the documents' factors, with its
 //! ground truth.
 //!

@@ -108,6 +108,29 @@ fn the_registry_is_a_library_of_the_command_line() {
     assert!(root.contains("slamjac-registry"), "{root:?}");
 }
 
+/// The problem files' pipeline (`slamjac-solve`) prints nothing (no
+/// progress bar, no plot, no command line), and its solvers are optional
+/// (feature `solve`): without it the crate holds its error alone.
+#[test]
+fn the_problem_files_pipeline_is_a_library_of_the_command_line() {
+    depends_exactly_on(
+        "slamjac-solve/Cargo.toml",
+        &[
+            "slamjac-problem",
+            "serde_json",
+            "thiserror",
+            "slamjac-registry",
+            "factor-apex",
+            "factor-schur",
+            "factor-minimizer",
+            "slam-problems",
+            "slam-data",
+            "nalgebra",
+            "factor-core",
+        ],
+    );
+}
+
 /// Every `.rs` file under `src` (outside `#[cfg(test)]` modules) as the
 /// top-level module it belongs to and the top-level modules it names as
 /// `crate::name`.
@@ -221,6 +244,7 @@ fn no_crate_has_a_cycle_among_its_modules() {
         "slamjac-io/src",
         "slamjac-problem/src",
         "slamjac-registry/src",
+        "slamjac-solve/src",
         "doc-latex/src",
         "factor-batch/src",
         "factor-lanes/src",
