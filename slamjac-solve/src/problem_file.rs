@@ -125,12 +125,7 @@ pub fn read(
 ) -> Result<FileProblem, SolveError> {
     let json = read_json(file)?;
     let checked = checks::check(&json, |factor, path| shape(registry, factor, path))?;
-    if let Some(why) = nothing_to_solve(&checked) {
-        return Err(SolveError::Usage(format!(
-            "{}: nothing to solve: {why}",
-            file.display()
-        )));
-    }
+    something_to_solve(file, &checked)?;
     // Every block kept, for the observability check.
     let options = BuildOptions {
         keep_blocks: true,
@@ -181,21 +176,29 @@ pub fn unobservable(file: &Path, deficiency: &Deficiency) -> SolveError {
     ))
 }
 
-/// Why the checked file has nothing to solve, if it has not: no factor, or
-/// every variable held fixed (every variable is used by a factor, so a
-/// factor on fixed variables only is among these).
-pub fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
-    if checked.entries.is_empty() {
-        Some("the problem has no factors".into())
+/// Refuses the checked file `file` when it has nothing to solve: no
+/// factor, or every variable held fixed (every variable is used by a
+/// factor, so a factor on fixed variables only is among these).
+///
+/// # Errors
+///
+/// [`SolveError::Usage`] saying which.
+pub fn something_to_solve(file: &Path, checked: &checks::Checked<'_>) -> Result<(), SolveError> {
+    let why = if checked.entries.is_empty() {
+        "the problem has no factors".to_owned()
     } else if checked.fixed.len() == checked.declared.len() {
-        Some(format!(
+        format!(
             "every variable is fixed ({} of {}): no value is left to estimate",
             checked.fixed.len(),
             checked.declared.len()
-        ))
+        )
     } else {
-        None
-    }
+        return Ok(());
+    };
+    Err(SolveError::Usage(format!(
+        "{}: nothing to solve: {why}",
+        file.display()
+    )))
 }
 
 /// The directions of the free variables the built problem's blocks do not

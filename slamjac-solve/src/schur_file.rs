@@ -34,7 +34,7 @@ use slamjac_registry::schur_assembly::{SchurAssembly, blocks_of};
 
 use crate::error::SolveError;
 use crate::problem_file::{
-    add_at, nothing_to_solve, shape, unobservable, value_json, variables_of,
+    add_at, shape, something_to_solve, unobservable, value_json, variables_of,
 };
 
 /// A problem file assembled for the Schur-complement solver, checked at
@@ -71,12 +71,7 @@ pub fn build(
 ) -> Result<Result<SchurFile, String>, SolveError> {
     let json = read_json(file)?;
     let checked = checks::check(&json, |factor, path| shape(registry, factor, path))?;
-    if let Some(why) = nothing_to_solve(&checked) {
-        return Err(SolveError::Usage(format!(
-            "{}: nothing to solve: {why}",
-            file.display()
-        )));
-    }
+    something_to_solve(file, &checked)?;
     let mut adders = Vec::with_capacity(checked.entries.len());
     for entry in &checked.entries {
         let factor = registry
