@@ -25,7 +25,7 @@ use crate::error::RegistryError;
 pub type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
 
 /// A variable's own tangent in its host coordinates at given host
-/// parameters ([`own_tangent_in_host`]).
+/// parameters (`own_tangent_in_host`).
 pub type InHost = fn(usize, &[f64]) -> DMatrix<f64>;
 
 /// A problem variable once a factor has created it.
@@ -41,7 +41,7 @@ pub struct Created {
     /// more coordinates than its dimension (a direction on S² as `Rn(3)`).
     pub columns: Vec<String>,
     /// Its own tangent in apex's coordinates, where those are more than its
-    /// dimension ([`own_tangent_in_host`] for its factor type).
+    /// dimension (`own_tangent_in_host` for its factor type).
     pub in_host: Option<InHost>,
 }
 

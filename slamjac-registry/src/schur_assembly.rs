@@ -78,7 +78,7 @@ pub type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), RegistryError
 
 /// [`SchurAddFn`] of a factor `F` with fused normal-equation kernels: in
 /// lane batches, or one at a time by dual numbers under `--kernels dual`
-/// ([`add_with`]).
+/// (`add_with`).
 pub fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), RegistryError>
 where
     F: WithKernel + Send + Sync + 'static,
@@ -92,7 +92,7 @@ where
 
 /// [`SchurAddFn`] of any factor `F`, linearized one at a time: through its
 /// generated kernel where it has one, else (and under `--kernels dual`) by
-/// dual numbers ([`add_with`]).
+/// dual numbers (`add_with`).
 pub fn add_each<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), RegistryError>
 where
     F: Factor + Send + Sync + 'static,
