@@ -10,7 +10,7 @@
 //! use std::process::ExitCode;
 //!
 //! use slam_factors::PointReprojection; // your factors instead
-//! use slamjac::cli::{KernelCrate, Provenance, Registry};
+//! use slamjac::cli::{CommandLine, KernelCrate, Provenance, Registry};
 //!
 //! /// The crate `generate` writes and `check` compares.
 //! const KERNELS: KernelCrate = KernelCrate {
@@ -45,8 +45,8 @@
 //! chart) or [`Registry::solve_with_dual`] (dual numbers in that chart).
 //!
 //! A binary with subcommands of its own flattens [`FactorCommand`] into its
-//! clap command and hands it to [`Registry::execute`] (and a
-//! [`SolveCommand`] to [`Registry::solve`]); `slamjac`'s `main` does so
+//! clap command and hands it to [`CommandLine::execute`] (and a
+//! [`SolveCommand`] to [`CommandLine::solve`]); `slamjac`'s `main` does so
 //! beside `audit`, `synth-bal` and its `solve` of data files.
 
 use std::io::Write;
@@ -226,10 +226,27 @@ pub const AFTER_HELP: &str = "Exit codes: 0 success; 1 degenerate geometry or no
     <what>`; keys that are not plain identifiers are quoted and JSON-escaped \
     (`variables[\"a\\nb\"]`), names and values from the input cut after 64 characters (`…`).";
 
-impl Registry {
+/// The command line of a [`Registry`] (the registry itself is the crate
+/// `slamjac-registry`'s, which parses no argument and prints nothing):
+/// `use slamjac::cli::CommandLine` and call [`CommandLine::run`] on it.
+pub trait CommandLine {
     /// Runs `command` on this registry's factors: the text to print, or
     /// the error to report ([`report`]).
-    pub fn execute(&self, command: &FactorCommand) -> Result<String, CliError> {
+    fn execute(&self, command: &FactorCommand) -> Result<String, CliError>;
+
+    /// Solves the problem file of `command` with this registry's factors
+    /// (those registered for `solve`), printing a line per iteration; the
+    /// summary, or the error to report ([`report`]).
+    fn solve(&self, command: &SolveCommand) -> Result<String, CliError>;
+
+    /// The whole command line of a binary called `name`: parses the
+    /// process's arguments (a usage error exits 2), runs the subcommand and
+    /// reports its result.
+    fn run(&self, name: &'static str) -> ExitCode;
+}
+
+impl CommandLine for Registry {
+    fn execute(&self, command: &FactorCommand) -> Result<String, CliError> {
         match command {
             FactorCommand::Eval { file, method } => eval::run(self, file, *method),
             FactorCommand::List { json: true } => Ok(pretty::to_string(&list::json(self))),
@@ -241,10 +258,7 @@ impl Registry {
         }
     }
 
-    /// Solves the problem file of `command` with this registry's factors
-    /// (those registered for `solve`), printing a line per iteration; the
-    /// summary, or the error to report ([`report`]).
-    pub fn solve(&self, command: &SolveCommand) -> Result<String, CliError> {
+    fn solve(&self, command: &SolveCommand) -> Result<String, CliError> {
         #[cfg(feature = "solve")]
         {
             crate::solve::run_problem_file(&command.args()?, self)
@@ -256,10 +270,7 @@ impl Registry {
         }
     }
 
-    /// The whole command line of a binary called `name`: parses the
-    /// process's arguments (a usage error exits 2), runs the subcommand and
-    /// reports its result.
-    pub fn run(&self, name: &'static str) -> ExitCode {
+    fn run(&self, name: &'static str) -> ExitCode {
         // The about after the subcommands: clap's derive gives the command
         // the doc comment of `RegistryCommand` otherwise.
         let command = RegistryCommand::augment_subcommands(clap::Command::new(name))

@@ -18,6 +18,7 @@ use std::path::PathBuf;
 use factor_core::FactorError;
 use slamjac_problem::InputError;
 use slamjac_problem::field_path::escape_unprintable;
+use slamjac_registry::RegistryError;
 
 /// Exit code of rejected input (and of clap's usage errors).
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -35,15 +36,12 @@ pub enum CliError {
     /// message names the factor.
     #[error(transparent)]
     Factor(#[from] FactorError),
-    /// A degenerate configuration with a hint at its likely cause in the
-    /// input (exit 1), e.g. a quaternion written `[w, x, y, z]`.
-    #[error("{error} ({hint})")]
-    Hinted {
-        /// The factor's error.
-        error: FactorError,
-        /// The hint, naming the input field.
-        hint: String,
-    },
+    /// A registry's factor not evaluated or not added to a problem: exit 2
+    /// for rejected input, 1 for a degenerate configuration (with a hint
+    /// at its likely cause in the input, e.g. a quaternion written
+    /// `[w, x, y, z]`), a non-finite result or a solver's refusal.
+    #[error(transparent)]
+    Registry(#[from] RegistryError),
     /// `check`: these generated files differ from what the factor
     /// definitions produce, are missing or are not generated (exit 1).
     #[error(
@@ -94,6 +92,22 @@ pub enum CliError {
     Solve(String),
 }
 
+/// A problem file's or a graph's refusal as the command line reports it:
+/// the variant of the same name, the same message.
+#[cfg(feature = "solve")]
+impl From<slamjac_solve::SolveError> for CliError {
+    fn from(error: slamjac_solve::SolveError) -> Self {
+        use slamjac_solve::SolveError;
+        match error {
+            SolveError::Input(error) => CliError::Input(error),
+            SolveError::Usage(message) => CliError::Usage(message),
+            SolveError::Solve(message) => CliError::Solve(message),
+            SolveError::Registry(error) => CliError::Registry(error),
+            other => CliError::Solve(other.to_string()),
+        }
+    }
+}
+
 /// A ground truth that cannot be read is a data error, one the solve cannot
 /// use a usage error (both exit 2).
 impl From<slamjac_problem::truth::TruthError> for CliError {
@@ -111,9 +125,12 @@ impl CliError {
     /// The process exit code for this error.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Input(_) | CliError::Data(_) | CliError::Usage(_) => EXIT_BAD_INPUT,
+            CliError::Input(_)
+            | CliError::Registry(RegistryError::Input(_))
+            | CliError::Data(_)
+            | CliError::Usage(_) => EXIT_BAD_INPUT,
             CliError::Factor(_)
-            | CliError::Hinted { .. }
+            | CliError::Registry(_)
             | CliError::Stale { .. }
             | CliError::Codegen(_)
             | CliError::Disagreement { .. }

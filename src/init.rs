@@ -156,7 +156,7 @@ const CLI_MAIN: &str = r#"//! `@NAME@`: list the factors of `@NAME@-factors`, ev
 
 use std::process::ExitCode;
 
-use slamjac::cli::{KernelCrate, KernelSpec, Provenance, Registry};
+use slamjac::cli::{CommandLine, KernelCrate, KernelSpec, Provenance, Registry};
 
 /// The crate `generate` writes and `check` compares.
 const KERNELS: KernelCrate = KernelCrate {

@@ -118,7 +118,7 @@ pub fn shipped() -> Registry {
 /// lane batches, the pose-graph and g2o factors one at a time.
 /// `PluckerLineReprojection` goes as `LineReprojection`, the same residual
 /// with its line in the orthonormal chart
-/// ([`crate::schur_assembly::add_plucker_line`]): the Schur path retracts
+/// ([`slamjac_registry::schur_assembly::add_plucker_line`]): the Schur path retracts
 /// each variable by its own manifold, and a `PluckerLine`'s is a free
 /// 6-vector that leaves the Klein quadric and carries a scale no residual
 /// sees.
@@ -128,7 +128,7 @@ fn with_schur(registry: Registry) -> Registry {
         .solve_with_schur::<PointReprojection>()
         .solve_with_schur::<LineReprojection>()
         .solve_with_schur_by::<PluckerLineReprojection>(
-            crate::schur_assembly::add_plucker_line,
+            slamjac_registry::schur_assembly::add_plucker_line,
             factor_schur::Linearized::Batch,
         )
         .solve_with_schur::<PlaneFactor>()
@@ -197,5 +197,14 @@ mod tests {
         assert_eq!(with.len(), kernels.len(), "a kernel without its factor");
         assert_eq!(without, ["g2o_se3_line3d", "g2o_se3_plane_calib"]);
         assert!(registry.kernel_crate().is_some());
+    }
+
+    /// Every factor `slamjac` ships is registered for `solve`.
+    #[cfg(feature = "solve")]
+    #[test]
+    fn every_shipped_factor_can_be_solved() {
+        for entry in shipped().factors() {
+            assert!(entry.solve.is_some(), "{}", entry.name);
+        }
     }
 }

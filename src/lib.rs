@@ -6,15 +6,20 @@
 //! `factor-audit`, like any other. Its input layer (reading a source,
 //! strict JSON, typed values, decoding factors, the problem-file format's
 //! version) and the observability check of a problem are the crate
-//! `slamjac-problem`.
+//! `slamjac-problem`; the factors a command line knows, how they are
+//! evaluated and added to the solvers' problems, the crate
+//! `slamjac-registry` (re-exported here as [`registry`], [`method`] and
+//! [`eval`]).
 //!
 //! - [`registry`]: the factors a command line knows ([`registry::Registry`])
-//!   and the kernel crate it generates;
+//!   and the kernel crate it generates (`slamjac_registry::registry`);
 //! - [`cli`]: the command line as a library, `list`, `eval`, `generate` and
 //!   `check` for any registry (a user's own factors);
 //! - [`init`]: `init`, a new project for factors of your own;
-//! - [`method`]: how the Jacobians are computed (generated, dual, numeric);
-//! - [`eval`]: evaluation and the output JSON;
+//! - [`method`]: how the Jacobians are computed (generated, dual, numeric;
+//!   `slamjac_registry::method`);
+//! - [`eval`]: evaluation and the output JSON (`slamjac_registry::eval`),
+//!   and `eval`'s request read and its output printed;
 //! - [`list`]: the factor table, text or JSON;
 //! - [`kernels`]: the shipped factors: `slamjac`'s own registry, their
 //!   kernel specs and provenance;
@@ -28,12 +33,11 @@
 //!   a problem file;
 //! - [`outputs`]: the files a command writes, checked before any work;
 //! - [`usage`]: clap's usage errors as one line;
-//! - `problem_assembly` (feature `solve`): a problem file's factor entries
-//!   added to an apex-solver problem, the adders a registry keeps;
-//! - `schur_assembly` (feature `solve`): the same entries added to a
-//!   `factor-schur` problem;
 //! - `solve` (feature `solve`): real estimation problems solved by
-//!   apex-solver through the factors' generated kernels;
+//!   apex-solver through the factors' generated kernels, and problem files
+//!   read and built by the crate `slamjac-solve` (its `problem_file`,
+//!   re-exported as `solve::problem_file`, and `schur_file`) through the
+//!   adders of `slamjac-registry`, solved, printed and written here;
 //! - [`error`]: errors and the exit-code policy (0 ok, 1 degenerate
 //!   geometry or non-finite result, 2 rejected input).
 
@@ -46,14 +50,8 @@ pub mod generate;
 pub mod init;
 pub mod kernels;
 pub mod list;
-pub mod method;
 pub mod outputs;
 pub mod pretty;
-#[cfg(feature = "solve")]
-mod problem_assembly;
-pub mod registry;
-#[cfg(feature = "solve")]
-mod schur_assembly;
 #[cfg(feature = "solve")]
 pub mod solve;
 pub mod synth;
@@ -61,5 +59,4 @@ pub mod synth_plp;
 pub mod usage;
 
 pub use error::CliError;
-pub use eval::Evaluation;
-pub use method::Method;
+pub use slamjac_registry::{Evaluation, Method, method, registry};

@@ -29,7 +29,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use slamjac::cli::{self, FactorCommand};
+use slamjac::cli::{self, CommandLine, FactorCommand};
 use slamjac::usage;
 use slamjac::{CliError, audit, audit_text, init, kernels, synth, synth_plp};
 

@@ -82,6 +82,55 @@ fn the_solvers_vocabulary_depends_on_no_solver() {
     }
 }
 
+/// The factors a command line knows (`slamjac-registry`) are a library:
+/// the input layer, the generator's specs and, for problem files (feature
+/// `solve`, optional), the solvers' problems; no printing (progress bars,
+/// plots) and no command line but clap's value enum (feature `clap`).
+#[test]
+fn the_registry_is_a_library_of_the_command_line() {
+    depends_exactly_on(
+        "slamjac-registry/Cargo.toml",
+        &[
+            "factor-core",
+            "factor-codegen",
+            "slamjac-problem",
+            "serde_json",
+            "thiserror",
+            "clap",
+            "factor-apex",
+            "factor-schur",
+            "factor-lanes",
+            "slam-problems",
+            "slam-factors",
+        ],
+    );
+    let root = dependencies(&workspace().join("Cargo.toml"));
+    assert!(root.contains("slamjac-registry"), "{root:?}");
+}
+
+/// The problem files' pipeline (`slamjac-solve`) prints nothing (no
+/// progress bar, no plot, no command line), and its solvers are optional
+/// (feature `solve`): without it the crate holds its error alone.
+#[test]
+fn the_problem_files_pipeline_is_a_library_of_the_command_line() {
+    depends_exactly_on(
+        "slamjac-solve/Cargo.toml",
+        &[
+            "slamjac-problem",
+            "serde_json",
+            "thiserror",
+            "slamjac-registry",
+            "factor-apex",
+            "factor-schur",
+            "factor-minimizer",
+            "slam-problems",
+            "slam-data",
+            "nalgebra",
+            "factor-core",
+        ],
+    );
+}
+
 /// Every `.rs` file under `src` (outside `#[cfg(test)]` modules) as the
 /// top-level module it belongs to and the top-level modules it names as
 /// `crate::name`.
@@ -194,6 +243,8 @@ fn no_crate_has_a_cycle_among_its_modules() {
         "slam-data/src",
         "slamjac-io/src",
         "slamjac-problem/src",
+        "slamjac-registry/src",
+        "slamjac-solve/src",
         "doc-latex/src",
         "factor-batch/src",
         "factor-lanes/src",

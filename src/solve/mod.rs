@@ -13,7 +13,7 @@
 //!   for factors without them and under `--kernels dual`, from each
 //!   factor's Jacobians), the reduced system solved by faer's Cholesky;
 //! - a problem file whose factors all have fused normal-equation kernels
-//!   (`Registry::solve_with_schur`) goes there too (module `schur_file`,
+//!   (`Registry::solve_with_schur`) goes there too (`slamjac_solve::schur_file`,
 //!   which chooses the variables to eliminate); one it cannot take goes to
 //!   apex-solver with the reason printed, or is refused with
 //!   `--solver schur`;
@@ -37,9 +37,7 @@
 //! stops on a failure.
 
 mod apex;
-mod graph_checks;
 pub mod plot;
-pub mod problem_file;
 pub mod progress;
 pub mod report;
 mod schur;
@@ -51,6 +49,10 @@ use std::path::{Path, PathBuf};
 /// The ground truth of a solve and a solution's errors against it, read by
 /// `slamjac-problem`.
 pub use slamjac_problem::{file_truth, truth};
+use slamjac_solve::graph_checks;
+/// The problem file: its format, read and built for apex-solver
+/// (`slamjac_solve::problem_file`).
+pub use slamjac_solve::problem_file;
 
 use factor_minimizer::Verdict;
 use slam_data::Format;

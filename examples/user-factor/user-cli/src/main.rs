@@ -23,7 +23,7 @@
 
 use std::process::ExitCode;
 
-use slamjac::cli::{Apex, HostSpec, KernelCrate, KernelSpec, Provenance, Registry};
+use slamjac::cli::{Apex, CommandLine, HostSpec, KernelCrate, KernelSpec, Provenance, Registry};
 use user_factors::{
     Direction, InverseDepthProjection, PointToPlane, RelativePose, RelativeSim3, ScaledRangeBearing,
 };

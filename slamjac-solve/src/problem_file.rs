@@ -32,13 +32,13 @@
 //!
 //! - `truth` (optional): the true value of variables by name, in the form
 //!   of their `value`; `solve` then reports the errors against it after the
-//!   summary ([`super::file_truth`]).
+//!   summary ([`slamjac_problem::file_truth`]).
 //!
 //! The factors are those a [`Registry`] registered for `solve`
 //! ([`Registry::solve_with_kernel`]: its generated kernel in apex-solver's
 //! chart; [`Registry::solve_with_dual`]: dual numbers in that chart);
-//! `slamjac`'s own is [`crate::kernels::shipped`], a user's command line
-//! has its own ([`crate::cli`]). Errors name the field path
+//! `slamjac`'s own is `slamjac::kernels::shipped`, a user's command line
+//! has its own (`slamjac::cli`). Errors name the field path
 //! (`error: factors[3].variables.pose: …`, exit 2).
 
 use std::collections::HashMap;
@@ -63,9 +63,10 @@ use slamjac_problem::observability::{DRIFT_TOLERANCE, Deficiency, Normal, TOLERA
 use slamjac_problem::checks::{self, Shape, at_value, read_json};
 use slamjac_problem::file_truth::Truth;
 
-use crate::error::CliError;
-use crate::problem_assembly::{Assembly, Created, Entry, build_error};
-use crate::registry::{Registry, SolvedBy};
+use crate::error::SolveError;
+use slamjac_registry::RegistryError;
+use slamjac_registry::problem_assembly::{Assembly, Created, Entry, build_error};
+use slamjac_registry::registry::{Registry, SolvedBy};
 
 /// A problem read from a file and built for apex.
 pub struct FileProblem {
@@ -85,7 +86,7 @@ pub struct FileProblem {
 
 /// What `solve` knows of the factor `factor` of `registry`: those
 /// registered for `solve` (an error at `path` for any other).
-pub(super) fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputError> {
+pub fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, InputError> {
     let entry = registry.find(factor, path)?;
     if entry.solve.is_none() {
         return Err(InputError::new(
@@ -113,23 +114,18 @@ pub(super) fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Sha
 ///
 /// # Errors
 ///
-/// [`CliError::Input`] naming the field at fault (exit 2; the checks of
+/// [`SolveError::Input`] naming the field at fault (exit 2; the checks of
 /// `slamjac_problem::checks`, shared with `track`), nothing to solve (every variable
-/// fixed, or no factor: [`CliError::Usage`], exit 2), a factor
+/// fixed, or no factor: [`SolveError::Usage`], exit 2), a factor
 /// degenerate at the initial values (exit 1), apex's refusal.
 pub fn read(
     file: &Path,
     options: &BuildOptions,
     registry: &Registry,
-) -> Result<FileProblem, CliError> {
+) -> Result<FileProblem, SolveError> {
     let json = read_json(file)?;
     let checked = checks::check(&json, |factor, path| shape(registry, factor, path))?;
-    if let Some(why) = nothing_to_solve(&checked) {
-        return Err(CliError::Usage(format!(
-            "{}: nothing to solve: {why}",
-            file.display()
-        )));
-    }
+    something_to_solve(file, &checked)?;
     // Every block kept, for the observability check.
     let options = BuildOptions {
         keep_blocks: true,
@@ -172,29 +168,37 @@ pub fn read(
 
 /// The refusal of a file whose free variables the factors do not
 /// determine at the initial values (either solver path's check).
-pub(super) fn unobservable(file: &Path, deficiency: &Deficiency) -> CliError {
-    CliError::Solve(format!(
+pub fn unobservable(file: &Path, deficiency: &Deficiency) -> SolveError {
+    SolveError::Solve(format!(
         "{}: {deficiency}; nothing solved: hold more variables fixed (\"fixed\": true) or add \
          measurements",
         file.display()
     ))
 }
 
-/// Why the checked file has nothing to solve, if it has not: no factor, or
-/// every variable held fixed (every variable is used by a factor, so a
-/// factor on fixed variables only is among these).
-pub(super) fn nothing_to_solve(checked: &checks::Checked<'_>) -> Option<String> {
-    if checked.entries.is_empty() {
-        Some("the problem has no factors".into())
+/// Refuses the checked file `file` when it has nothing to solve: no
+/// factor, or every variable held fixed (every variable is used by a
+/// factor, so a factor on fixed variables only is among these).
+///
+/// # Errors
+///
+/// [`SolveError::Usage`] saying which.
+pub fn something_to_solve(file: &Path, checked: &checks::Checked<'_>) -> Result<(), SolveError> {
+    let why = if checked.entries.is_empty() {
+        "the problem has no factors".to_owned()
     } else if checked.fixed.len() == checked.declared.len() {
-        Some(format!(
+        format!(
             "every variable is fixed ({} of {}): no value is left to estimate",
             checked.fixed.len(),
             checked.declared.len()
-        ))
+        )
     } else {
-        None
-    }
+        return Ok(());
+    };
+    Err(SolveError::Usage(format!(
+        "{}: nothing to solve: {why}",
+        file.display()
+    )))
 }
 
 /// The directions of the free variables the built problem's blocks do not
@@ -310,7 +314,7 @@ fn deficiency<'a>(
 /// The tolerance of the observability check at a solution: the strict one
 /// after a converged solve, [`DRIFT_TOLERANCE`] after one that stopped
 /// unconverged, whose weakly determined directions are where it drifted.
-pub(super) fn solution_tolerance(verdict: &Verdict) -> f64 {
+pub fn solution_tolerance(verdict: &Verdict) -> f64 {
     match verdict {
         Verdict::Converged(_) => TOLERANCE,
         _ => DRIFT_TOLERANCE,
@@ -331,7 +335,7 @@ fn add_entry(
     registry: &Registry,
     entry: &checks::Entry<'_>,
     default_loss: Option<Robust>,
-) -> Result<(), CliError> {
+) -> Result<(), SolveError> {
     let factor = registry
         .find(entry.factor, &entry.path)
         .expect("checked: a registered factor");
@@ -344,11 +348,11 @@ fn add_entry(
 /// Runs `add` on the checked factor entry `entry` (its variables decoded,
 /// its loss or else `default_loss`), its errors placed at the entry's
 /// path: either solver path's adder.
-pub(super) fn add_at(
+pub fn add_at(
     entry: &checks::Entry<'_>,
     default_loss: Option<Robust>,
-    add: impl FnOnce(&Entry) -> Result<(), CliError>,
-) -> Result<(), CliError> {
+    add: impl FnOnce(&Entry) -> Result<(), RegistryError>,
+) -> Result<(), SolveError> {
     let variables = entry.variables();
     let checked = Entry {
         variables: &variables,
@@ -359,17 +363,19 @@ pub(super) fn add_at(
     };
     let path = &entry.path;
     add(&checked).map_err(|e| match e {
-        CliError::Solve(what) => CliError::Usage(format!("{path}: {what}")),
+        RegistryError::Solve(what) => SolveError::Usage(format!("{path}: {what}")),
         // Degenerate at the initial values: which entry (exit 1).
-        CliError::Factor(_) | CliError::Hinted { .. } => CliError::Solve(format!("{path}: {e}")),
-        CliError::Input(error) => CliError::Input(at_value(error, entry)),
-        other => other,
+        RegistryError::Factor(_) | RegistryError::Hinted { .. } => {
+            SolveError::Solve(format!("{path}: {e}"))
+        }
+        RegistryError::Input(error) => SolveError::Input(at_value(error, entry)),
+        other => other.into(),
     })
 }
 
 /// The JSON of stored scalars `stored` of a value of field `field`, in the
 /// form the file reads (its input layout).
-pub(super) fn value_json(field: &FieldInfo, stored: &[f64]) -> Value {
+pub fn value_json(field: &FieldInfo, stored: &[f64]) -> Value {
     let input = if field.input_layout == field.layout {
         stored.to_vec()
     } else {
@@ -414,7 +420,7 @@ fn layout_json(layout: &Layout, rest: &mut &[f64]) -> Value {
 
 /// The file's JSON `json` with its `variables` object replaced by
 /// `variables` (the solved values): what `--output` writes.
-pub(super) fn with_variables(json: &Document, variables: &Value) -> Value {
+pub fn with_variables(json: &Document, variables: &Value) -> Value {
     let top = json
         .root()
         .as_object()
@@ -431,7 +437,7 @@ pub(super) fn with_variables(json: &Document, variables: &Value) -> Value {
 }
 
 /// The file's `variables` object as written, to take the solved values.
-pub(super) fn variables_of(json: &Document) -> Value {
+pub fn variables_of(json: &Document) -> Value {
     json.root()
         .get("variables")
         .map_or(Value::Null, Json::to_value)
@@ -439,11 +445,7 @@ pub(super) fn variables_of(json: &Document) -> Value {
 
 /// The errors against `truth` of the file's initial values and of the
 /// `solved` variables ([`Truth::describe`]).
-pub(super) fn truth_errors(
-    truth: &Truth,
-    json: &Document,
-    solved: &Value,
-) -> Result<String, String> {
+pub fn truth_errors(truth: &Truth, json: &Document, solved: &Value) -> Result<String, String> {
     let initial = json
         .root()
         .get("variables")
@@ -496,16 +498,5 @@ impl FileProblem {
     pub fn truth_errors(&self, solved: &Value) -> Option<Result<String, String>> {
         let truth = self.truth.as_ref()?;
         Some(truth_errors(truth, &self.json, solved))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    /// Every factor `slamjac` ships is registered for `solve`.
-    #[test]
-    fn every_shipped_factor_can_be_solved() {
-        for entry in crate::kernels::shipped().factors() {
-            assert!(entry.solve.is_some(), "{}", entry.name);
-        }
     }
 }

@@ -1,8 +1,8 @@
 //! The factors a command line knows ([`Registry`]): what `list` shows, what
 //! `eval` evaluates, and what `generate` and `check` write into which
 //! kernel crate ([`KernelCrate`]). `slamjac`'s own is
-//! [`crate::kernels::shipped`]; a user's command line builds one of its own
-//! factors (see [`crate::cli`]).
+//! `slamjac::kernels::shipped`; a user's command line builds one of its own
+//! factors (see `slamjac::cli`).
 //!
 //! Registering a factor is one call: its JSON form comes from its fields'
 //! storage ([`slamjac_problem::decode`]).
@@ -15,7 +15,7 @@ use slamjac_problem::decode::{decode, json_shape};
 use slamjac_problem::field_path::quoted;
 use slamjac_problem::input::Object;
 
-use crate::error::CliError;
+use crate::error::RegistryError;
 use crate::method::{Method, linearize};
 
 /// One registered factor, its description and how to evaluate it from JSON.
@@ -42,12 +42,12 @@ pub struct FactorEntry {
     pub solved_by: Option<SolvedBy>,
     /// How a problem file's entry of it is added to the problem.
     #[cfg(feature = "solve")]
-    pub(crate) solve: Option<crate::problem_assembly::AddFn>,
+    pub solve: Option<crate::problem_assembly::AddFn>,
     /// How it is added to the Schur-complement solver's problem and how
     /// that solver linearizes it, when it was registered for it
     /// ([`Registry::solve_with_schur`], [`Registry::solve_with_schur_each`]).
     #[cfg(feature = "solve")]
-    pub(crate) schur: Option<(crate::schur_assembly::SchurAddFn, factor_schur::Linearized)>,
+    pub schur: Option<(crate::schur_assembly::SchurAddFn, factor_schur::Linearized)>,
 }
 
 /// How `solve` linearizes a factor ([`FactorEntry::solved_by`]).
@@ -63,7 +63,8 @@ pub enum SolvedBy {
 
 /// How a [`FactorEntry`] evaluates: checked `variables` and `constants`
 /// objects and the requested method → the linearization and the method used.
-pub type LinearizeFn = fn(&Object, &Object, Method) -> Result<(DynLinearization, Method), CliError>;
+pub type LinearizeFn =
+    fn(&Object, &Object, Method) -> Result<(DynLinearization, Method), RegistryError>;
 
 impl FactorEntry {
     /// The entry of factor `F`.
@@ -101,7 +102,7 @@ impl FactorEntry {
 /// kernels `generate` writes and `check` compares, and the crate they go to.
 ///
 /// ```
-/// use slamjac::registry::Registry;
+/// use slamjac_registry::Registry;
 /// use slam_factors::{BetweenFactor, PointReprojection};
 ///
 /// let registry = Registry::new()
@@ -136,7 +137,8 @@ impl Registry {
     /// apex-solver's chart: the factor names a kernel crate with
     /// `#[factor(kernel = …, hosts(apex))]`, and its spec has the host
     /// (`KernelSpec::of::<F>().with_host(HostSpec::of::<F, Apex>())`).
-    /// `solve` works in a binary built with `slamjac`'s feature `solve`.
+    /// `solve` works in a binary built with `slamjac`'s feature `solve`
+    /// (this crate's feature `solve`).
     pub fn solve_with_kernel<F: HostKernel<Apex> + 'static>(mut self) -> Self {
         let entry = self.entry::<F>();
         entry.solved_by = Some(SolvedBy::Kernel);
@@ -161,7 +163,7 @@ impl Registry {
     /// registered so: `slamjac`'s own registry solves
     /// `plucker_line_reprojection` as `line_reprojection`, its line in the
     /// orthonormal chart.
-    /// Only in a build with `slamjac`'s feature `solve`.
+    /// Only in a build with `slamjac`'s feature `solve` (this crate's).
     #[cfg(feature = "solve")]
     pub fn solve_with_schur<F>(self) -> Self
     where
@@ -177,9 +179,11 @@ impl Registry {
 
     /// Factor `F`, registered for problem files already, put in the
     /// Schur-complement solver's problem by `add`, linearized as
-    /// `linearized` says.
+    /// `linearized` says (`slamjac`'s own registry puts
+    /// `plucker_line_reprojection` there by
+    /// [`add_plucker_line`](crate::schur_assembly::add_plucker_line)).
     #[cfg(feature = "solve")]
-    pub(crate) fn solve_with_schur_by<F: Factor>(
+    pub fn solve_with_schur_by<F: Factor>(
         mut self,
         add: crate::schur_assembly::SchurAddFn,
         linearized: factor_schur::Linearized,
@@ -197,7 +201,7 @@ impl Registry {
     /// [`Registry::solve_with_schur`], its variables are then retracted by
     /// their own manifolds, so a type whose own manifold is not the one to
     /// solve on (the shipped `PluckerLine`) must not be registered so.
-    /// Only in a build with `slamjac`'s feature `solve`.
+    /// Only in a build with `slamjac`'s feature `solve` (this crate's).
     ///
     /// # Panics
     ///

@@ -7,39 +7,38 @@
 //! [`crate::registry::Registry::solve_with_schur_each`]), the problem
 //! variables they create (each held in its type's stored scalars and
 //! retracted by its own manifold), and what the observability check needs
-//! of each factor ([`Kept`]). `crate::solve::schur_file` drives it.
+//! of each factor ([`Kept`]). `slamjac`'s `solve` (its module `schur_file`) drives it.
 
 use std::collections::HashMap;
 
 use factor_core::geometry::{OrthonormalLine, PluckerLine};
+use factor_core::nalgebra::DMatrix;
 use factor_core::noise::Noise;
 use factor_core::{Factor, FactorError, FieldInfo, Storage, WithKernel};
 use factor_lanes::NormalKernel;
 use factor_schur::problem::Lane;
 use factor_schur::{Jacobians, Problem, SchurError, VariableId};
-use nalgebra::DMatrix;
 use slam_factors::{LineReprojection, PluckerLineReprojection};
 use slam_problems::{Kernels, Robust};
 use slamjac_problem::decode::{FieldsCache, stored_scalars};
 use slamjac_problem::observability::tangent_columns;
 
-use crate::error::CliError;
+use crate::error::RegistryError;
 use crate::method::{Method, linearize};
 use crate::problem_assembly::Entry;
 
 /// A factor's residual and Jacobian blocks over its variables' own
 /// tangents (row-major, one per variable) at its stored scalars, written to
 /// the slices given (`Factor::linearize_stored_into`).
-pub(crate) type LinearizeAt =
-    fn(&[f64], &mut [f64], &mut [Option<&mut [f64]>]) -> Result<(), FactorError>;
+pub type LinearizeAt = fn(&[f64], &mut [f64], &mut [Option<&mut [f64]>]) -> Result<(), FactorError>;
 
 /// A problem variable once a factor has created it.
-pub(crate) struct Created {
-    pub(crate) id: VariableId,
+pub struct Created {
+    pub id: VariableId,
     /// The factor variable it was created as (its layouts).
-    pub(crate) field: FieldInfo,
+    pub field: FieldInfo,
     /// Its tangent coordinates' names (the observability check's columns).
-    pub(crate) columns: Vec<String>,
+    pub columns: Vec<String>,
 }
 
 /// What the observability check keeps of a factor: its stored scalars at
@@ -47,40 +46,40 @@ pub(crate) struct Created {
 /// dimension, its `S`, how to linearize it, and its Jacobian at the initial
 /// values (every variable's block, row-major, end to end: the build's, for
 /// the check there).
-pub(crate) struct Kept {
-    pub(crate) stored: Vec<f64>,
-    pub(crate) variables: Vec<(VariableId, std::ops::Range<usize>, usize)>,
-    pub(crate) sqrt_information: DMatrix<f64>,
-    pub(crate) linearize: LinearizeAt,
-    pub(crate) initial: Vec<f64>,
+pub struct Kept {
+    pub stored: Vec<f64>,
+    pub variables: Vec<(VariableId, std::ops::Range<usize>, usize)>,
+    pub sqrt_information: DMatrix<f64>,
+    pub linearize: LinearizeAt,
+    pub initial: Vec<f64>,
 }
 
 /// The Schur problem being assembled.
 #[derive(Default)]
-pub(crate) struct SchurAssembly {
-    pub(crate) problem: Problem,
-    pub(crate) created: HashMap<String, Created>,
-    pub(crate) kept: Vec<Kept>,
+pub struct SchurAssembly {
+    pub problem: Problem,
+    pub created: HashMap<String, Created>,
+    pub kept: Vec<Kept>,
     /// Factors with per-component or full noise (whitened through the
     /// Jacobian kernel rather than the fused one).
-    pub(crate) whitened: usize,
+    pub whitened: usize,
     /// Why the Schur-complement solver cannot take the file, once a factor
     /// showed it (two factors perturbing one variable differently: that
     /// solver retracts each variable by one chart, apex-solver by its own).
-    pub(crate) unsupported: Option<String>,
+    pub unsupported: Option<String>,
     /// How the factors are differentiated (`--kernels`).
-    pub(crate) kernels: Kernels,
-    pub(crate) fields: FieldsCache,
+    pub kernels: Kernels,
+    pub fields: FieldsCache,
 }
 
 /// How a registered factor is added from a problem file to a Schur
 /// problem ([`crate::registry::Registry::solve_with_schur`]).
-pub(crate) type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), CliError>;
+pub type SchurAddFn = fn(&mut SchurAssembly, &Entry) -> Result<(), RegistryError>;
 
 /// [`SchurAddFn`] of a factor `F` with fused normal-equation kernels: in
 /// lane batches, or one at a time by dual numbers under `--kernels dual`
-/// ([`add_with`]).
-pub(crate) fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
+/// (`add_with`).
+pub fn add_schur<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), RegistryError>
 where
     F: WithKernel + Send + Sync + 'static,
     F::Kernel: NormalKernel<Lane> + NormalKernel<f64>,
@@ -93,8 +92,8 @@ where
 
 /// [`SchurAddFn`] of any factor `F`, linearized one at a time: through its
 /// generated kernel where it has one, else (and under `--kernels dual`) by
-/// dual numbers ([`add_with`]).
-pub(crate) fn add_each<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), CliError>
+/// dual numbers (`add_with`).
+pub fn add_each<F>(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), RegistryError>
 where
     F: Factor + Send + Sync + 'static,
 {
@@ -113,14 +112,11 @@ where
 /// quadric is put on it first, as the apex path does
 /// ([`OrthonormalLine::projected_from_plucker`]); the solved line is
 /// written back as Plücker coordinates with a unit direction
-/// ([`crate::solve`]'s `value_json`). A line through the world origin
+/// (`slamjac::solve`'s `value_json`). A line through the world origin
 /// (`n = 0`), where the chart is singular (`n = w₁ u₁` does not move as
 /// `U` turns about `u₂`), goes to apex-solver, the reason kept in
 /// [`SchurAssembly::unsupported`].
-pub(crate) fn add_plucker_line(
-    assembly: &mut SchurAssembly,
-    entry: &Entry,
-) -> Result<(), CliError> {
+pub fn add_plucker_line(assembly: &mut SchurAssembly, entry: &Entry) -> Result<(), RegistryError> {
     let fields = assembly.fields.of::<PluckerLineReprojection>();
     let given = PluckerLineReprojection::from_scalars(&stored_scalars(
         &fields,
@@ -168,7 +164,7 @@ fn add_with<F: Factor + 'static>(
     assembly: &mut SchurAssembly,
     entry: &Entry,
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
-) -> Result<(), CliError> {
+) -> Result<(), RegistryError> {
     let fields = assembly.fields.of::<F>();
     let stored = stored_scalars(&fields, entry.variables, entry.constants)?;
     let factor = F::from_scalars(&stored);
@@ -186,7 +182,7 @@ fn add_decoded<F: Factor + 'static>(
     factor: F,
     stored: Vec<f64>,
     add: impl FnOnce(&mut Problem, &F, &[VariableId], &Noise, Option<Robust>) -> Result<(), SchurError>,
-) -> Result<(), CliError> {
+) -> Result<(), RegistryError> {
     let fields = assembly.fields.of::<F>();
     // Validated, finite at the initial values, and a finite whitened cost
     // (what the apex path's builder checks); the Jacobian kept for the
@@ -219,7 +215,7 @@ fn add_decoded<F: Factor + 'static>(
         })
         .sum();
     if !cost.is_finite() {
-        return Err(CliError::Factor(FactorError::NonFinite {
+        return Err(RegistryError::Factor(FactorError::NonFinite {
             factor: F::NAME,
             what: "cost: its whitened residual, squared, is beyond the range of f64".into(),
         }));
@@ -279,7 +275,7 @@ fn add_decoded<F: Factor + 'static>(
             ));
             return Ok(());
         }
-        Err(e) => return Err(CliError::Solve(e.to_string())),
+        Err(e) => return Err(RegistryError::Solve(e.to_string())),
     }
     if matches!(entry.noise, Noise::Sigmas(_) | Noise::SqrtInformation(_)) {
         assembly.whitened += 1;
@@ -300,7 +296,7 @@ fn add_decoded<F: Factor + 'static>(
 }
 
 /// `jacobian` cut into its blocks of `rows` × each of `dims`.
-pub(crate) fn blocks_of<'a>(
+pub fn blocks_of<'a>(
     mut jacobian: &'a mut [f64],
     rows: usize,
     dims: &[usize],

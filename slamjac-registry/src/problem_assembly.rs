@@ -2,7 +2,7 @@
 //! problem (feature `solve`): the adder a registry keeps per factor
 //! ([`AddFn`]: through the factor's generated kernel in apex-solver's
 //! chart, or dual numbers in that chart), the problem variables they create
-//! and the problem being assembled. `crate::solve::problem_file` reads the
+//! and the problem being assembled. `slamjac::solve::problem_file` reads the
 //! file and drives it; [`crate::registry`] stores the adders.
 
 use std::collections::HashMap;
@@ -13,66 +13,66 @@ use factor_core::FieldInfo;
 use factor_core::dual::Dual;
 use factor_core::host::{Apex, HostFactor, HostKernel, HostManifold};
 use factor_core::manifold::ChartMap;
-use nalgebra::DMatrix;
+use factor_core::nalgebra::DMatrix;
 use slam_problems::{ProblemError, Robust};
 use slamjac_problem::decode::{FieldsCache, decode_with};
 use slamjac_problem::input::Object;
 use slamjac_problem::observability::tangent_columns;
 
-use crate::error::CliError;
+use crate::error::RegistryError;
 
 /// Reads a variable's stored scalars back from a solution.
-pub(crate) type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
+pub type ReadBack = fn(&Values, &AnyVariable, usize) -> Vec<f64>;
 
 /// A variable's own tangent in its host coordinates at given host
-/// parameters ([`own_tangent_in_host`]).
-pub(crate) type InHost = fn(usize, &[f64]) -> DMatrix<f64>;
+/// parameters (`own_tangent_in_host`).
+pub type InHost = fn(usize, &[f64]) -> DMatrix<f64>;
 
 /// A problem variable once a factor has created it.
-pub(crate) struct Created {
-    pub(crate) variable: AnyVariable,
+pub struct Created {
+    pub variable: AnyVariable,
     /// The factor variable it was created as: its field (layouts) and how
     /// to read it back.
-    pub(crate) field: FieldInfo,
-    pub(crate) index: usize,
-    pub(crate) read_back: ReadBack,
+    pub field: FieldInfo,
+    pub index: usize,
+    pub read_back: ReadBack,
     /// The observability check's columns, named: its tangent coordinates
     /// in apex-solver's chart, or its own tangent's where apex holds it in
     /// more coordinates than its dimension (a direction on S² as `Rn(3)`).
-    pub(crate) columns: Vec<String>,
+    pub columns: Vec<String>,
     /// Its own tangent in apex's coordinates, where those are more than its
-    /// dimension ([`own_tangent_in_host`] for its factor type).
-    pub(crate) in_host: Option<InHost>,
+    /// dimension (`own_tangent_in_host` for its factor type).
+    pub in_host: Option<InHost>,
 }
 
 /// What a factor entry needs while it is added.
-pub(crate) struct Assembly {
-    pub(crate) builder: ProblemBuilder,
-    pub(crate) created: HashMap<String, Created>,
+pub struct Assembly {
+    pub builder: ProblemBuilder,
+    pub created: HashMap<String, Created>,
     /// How many factors go through generated kernels, how many through
     /// dual numbers, so far.
-    pub(crate) linearized_by: [usize; 2],
+    pub linearized_by: [usize; 2],
     /// Whether factors with a kernel go through it (not `--kernels dual`).
-    pub(crate) kernels: bool,
-    pub(crate) fields: FieldsCache,
+    pub kernels: bool,
+    pub fields: FieldsCache,
 }
 
 /// One factor entry of a problem file, checked: its `variables` (by
 /// field, the problem variables' values) and `constants` objects, the
 /// problem variable named for each variable field, its noise model and
 /// loss.
-pub(crate) struct Entry<'a> {
-    pub(crate) variables: &'a Object<'a>,
-    pub(crate) constants: &'a Object<'a>,
-    pub(crate) names: &'a [(&'static str, &'a str)],
-    pub(crate) noise: &'a Noise,
-    pub(crate) loss: Option<Robust>,
+pub struct Entry<'a> {
+    pub variables: &'a Object<'a>,
+    pub constants: &'a Object<'a>,
+    pub names: &'a [(&'static str, &'a str)],
+    pub noise: &'a Noise,
+    pub loss: Option<Robust>,
 }
 
 /// How a registered factor is added from a problem file
 /// ([`crate::registry::Registry::solve_with_kernel`],
 /// [`crate::registry::Registry::solve_with_dual`]).
-pub(crate) type AddFn = fn(&mut Assembly, &Entry) -> Result<(), CliError>;
+pub type AddFn = fn(&mut Assembly, &Entry) -> Result<(), RegistryError>;
 
 /// The factor's variables as problem variables: created from the factor's
 /// value of them at the first factor that names them.
@@ -218,18 +218,18 @@ fn seeded(columns: std::ops::Range<usize>, seed: usize) -> Vec<Dual<1>> {
 }
 
 /// [`AddFn`] through `F`'s generated kernel in apex-solver's chart.
-pub(crate) fn add_kernel<F: HostKernel<Apex> + 'static>(
+pub fn add_kernel<F: HostKernel<Apex> + 'static>(
     assembly: &mut Assembly,
     entry: &Entry,
-) -> Result<(), CliError> {
+) -> Result<(), RegistryError> {
     add_with(assembly, entry, ProblemBuilder::add_factor::<F>)
 }
 
 /// [`AddFn`] through dual numbers in apex-solver's chart.
-pub(crate) fn add_dual<F: HostFactor<Apex> + 'static>(
+pub fn add_dual<F: HostFactor<Apex> + 'static>(
     assembly: &mut Assembly,
     entry: &Entry,
-) -> Result<(), CliError> {
+) -> Result<(), RegistryError> {
     add_with(assembly, entry, ProblemBuilder::add_factor_dual::<F>)
 }
 
@@ -242,7 +242,7 @@ fn add_with<F: HostFactor<Apex> + 'static>(
     assembly: &mut Assembly,
     entry: &Entry,
     add: BuilderAdd<F>,
-) -> Result<(), CliError> {
+) -> Result<(), RegistryError> {
     let fields = assembly.fields.of::<F>();
     let factor: F = decode_with(&fields, entry.variables, entry.constants)?;
     let keys = variables_of(assembly, &factor, &fields, entry.names);
@@ -257,9 +257,9 @@ fn add_with<F: HostFactor<Apex> + 'static>(
 }
 
 /// A builder's refusal as the command line reports it.
-pub(crate) fn build_error(error: BuildError) -> CliError {
+pub fn build_error(error: BuildError) -> RegistryError {
     match error {
-        BuildError::Problem(ProblemError::Degenerate { error, .. }) => CliError::Factor(error),
-        other => CliError::Solve(other.to_string()),
+        BuildError::Problem(ProblemError::Degenerate { error, .. }) => RegistryError::Factor(error),
+        other => RegistryError::Solve(other.to_string()),
     }
 }

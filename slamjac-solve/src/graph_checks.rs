@@ -21,21 +21,22 @@ use slamjac_problem::observability::{
     DRIFT_TOLERANCE, Deficiency, Normal, TOLERANCE, Variable, tangent_columns,
 };
 
-use crate::error::CliError;
-use crate::method::{Method, linearize};
+use slamjac_registry::method::{Method, linearize};
+
+use crate::error::SolveError;
 
 /// Refuses `graph` at its initial values when its edges leave a direction
 /// of its free vertices undetermined (exit 1, nothing solved).
 ///
 /// # Errors
 ///
-/// [`CliError::Usage`] for a graph whose vertices or edges cannot be
-/// built, [`CliError::Solve`] naming the undetermined directions.
-pub(super) fn check_initial(file: &std::path::Path, graph: &G2oGraph) -> Result<(), CliError> {
+/// [`SolveError::Usage`] for a graph whose vertices or edges cannot be
+/// built, [`SolveError::Solve`] naming the undetermined directions.
+pub fn check_initial(file: &std::path::Path, graph: &G2oGraph) -> Result<(), SolveError> {
     let at = |what: String| format!("{}: {what}", file.display());
-    let vertices = Vertices::read(graph).map_err(|e| CliError::Usage(at(e.to_string())))?;
-    match deficiency(graph, &vertices, TOLERANCE).map_err(|e| CliError::Usage(at(e)))? {
-        Some(d) => Err(CliError::Solve(at(format!(
+    let vertices = Vertices::read(graph).map_err(|e| SolveError::Usage(at(e.to_string())))?;
+    match deficiency(graph, &vertices, TOLERANCE).map_err(|e| SolveError::Usage(at(e)))? {
+        Some(d) => Err(SolveError::Solve(at(format!(
             "{d}; nothing solved: hold more vertices fixed (a FIX line) or add edges"
         )))),
         None => Ok(()),
@@ -51,7 +52,7 @@ pub(super) fn check_initial(file: &std::path::Path, graph: &G2oGraph) -> Result<
 /// determined a direction that weakly: `line3d.g2o` does at its file's
 /// values and at its optimum, and a solve stopped by the iteration limit
 /// has not drifted for that.
-pub(super) fn check_solution(
+pub fn check_solution(
     initial: &G2oGraph,
     solved: &G2oGraph,
     verdict: &Verdict,

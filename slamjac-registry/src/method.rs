@@ -5,7 +5,8 @@
 use factor_core::{DynLinearization, Factor, FactorError, NumericLinearize};
 
 /// How the Jacobians are computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Method {
     /// The checked-in generated kernel of `generated/` (straight-line code,
     /// exact to rounding); dual numbers for a factor without one.
