@@ -127,6 +127,8 @@ fn the_problem_files_pipeline_is_a_library_of_the_command_line() {
             "slam-data",
             "nalgebra",
             "factor-core",
+            "slam-factors",
+            "factor-tracking",
         ],
     );
 }

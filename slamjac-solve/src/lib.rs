@@ -13,6 +13,9 @@
 //!   (`factor-schur`), its variables to eliminate chosen;
 //! - `graph_checks`: the observability check of a g2o line, plane and
 //!   point graph (a data file);
+//! - `track_sequence`: a problem file read as a tracking sequence (its
+//!   `Se3` variables the frames, every other variable the fixed map), for
+//!   `factor-tracking`'s pose-only solver (`slamjac track`);
 //! - [`error`]: [`SolveError`], which the command line's `CliError`
 //!   converts from with the same message and exit code.
 //!
@@ -26,5 +29,7 @@ pub mod graph_checks;
 pub mod problem_file;
 #[cfg(feature = "solve")]
 pub mod schur_file;
+#[cfg(feature = "solve")]
+pub mod track_sequence;
 
 pub use error::SolveError;

@@ -9,7 +9,8 @@
 //!               [--plot FILE.svg] [--output FILE.json]
 //! ```
 //!
-//! - The sequence ([`sequence`]): the file's `Se3` variables are the
+//! - The sequence (`slamjac_solve::track_sequence`, re-exported as
+//!   [`sequence`]): the file's `Se3` variables are the
 //!   frames, in the order the file lists them (`synth-plp` writes `c0, c1,
 //!   …` in trajectory order); the observations are the factors of one pose
 //!   against one landmark, with the file's noise models; the map is every
@@ -53,7 +54,7 @@
 
 mod plot;
 mod report;
-pub mod sequence;
+pub use slamjac_solve::track_sequence as sequence;
 
 use std::path::PathBuf;
 use std::time::Instant;

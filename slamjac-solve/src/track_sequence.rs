@@ -35,8 +35,7 @@ use slamjac_problem::input::Object;
 
 use slamjac_problem::checks::{self, Shape, at_value, read_json};
 
-use crate::error::CliError;
-use crate::synth_plp::Kinds;
+use slamjac_problem::synthetic_room::Kinds;
 
 /// Where the fixed map's values come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -159,11 +158,12 @@ fn pose(value: Json<'_>, path: &str) -> Result<Se3<f64>, InputError> {
 ///
 /// # Errors
 ///
-/// As `solve` for the same file (`slamjac_problem::checks`: exit 2 naming the field at
-/// fault, values checked by their types); and, for `track` (exit 2): a
-/// factor that is not one pose against one landmark, a robust loss, no
-/// truth for a pose (or, with [`MapSource::Truth`], for a landmark).
-pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
+/// As a solve of the same file (`slamjac_problem::checks`: the field at
+/// fault, values checked by their types); and a factor that is not one
+/// pose against one landmark, a robust loss, no truth for a pose (or, with
+/// [`MapSource::Truth`], for a landmark): each an [`InputError`] at its
+/// field path.
+pub fn read(file: &Path, map: MapSource) -> Result<Sequence, InputError> {
     let json = read_json(file)?;
     let tracked = tracked_factors();
     let checked = checks::check(&json, |factor, path| {
@@ -209,7 +209,10 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
         pose(value_of(spec), &join(&join("variables", name), "value"))?;
     }
     if frames.is_empty() {
-        return Err(InputError::new("variables", "no Se3 variable: no frame to track").into());
+        return Err(InputError::new(
+            "variables",
+            "no Se3 variable: no frame to track",
+        ));
     }
     let mut landmarks: HashMap<&str, Kind> = HashMap::new();
     for (k, entry) in checked.entries.iter().enumerate() {
@@ -217,8 +220,7 @@ pub fn read(file: &Path, map: MapSource) -> Result<Sequence, CliError> {
             return Err(InputError::new(
                 join(&entry.path, "robust"),
                 "track solves least squares: no robust loss",
-            )
-            .into());
+            ));
         }
         let tracked = tracked
             .iter()
