@@ -32,7 +32,7 @@ use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
 use crate::{InputError, PROBLEM_FILE_VERSION};
 use factor_core::noise::Noise;
-use factor_core::{Factor, VariableInfo};
+use factor_core::{Factor, FieldInfo, VariableInfo};
 use slam_problems::Robust;
 
 use crate::file_truth::Truth;
@@ -51,14 +51,25 @@ pub struct Shape {
 impl Shape {
     /// The shape of factor `F`.
     pub fn of<F: Factor>() -> Shape {
+        Shape::from_fields(F::variables(), F::fields(), F::RESIDUAL_DIM)
+    }
+
+    /// The shape of a factor with these `variables`, `fields` (every
+    /// field, [`Factor::fields`]: those that are no variable are its
+    /// constants) and residual dimension.
+    pub fn from_fields(
+        variables: Vec<VariableInfo>,
+        fields: Vec<FieldInfo>,
+        residual_dim: usize,
+    ) -> Shape {
         Shape {
-            variables: F::variables(),
-            constants: F::fields()
+            variables,
+            constants: fields
                 .into_iter()
                 .filter(|field| field.variable.is_none())
                 .map(|field| field.name)
                 .collect(),
-            residual_dim: F::RESIDUAL_DIM,
+            residual_dim,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! What a registry's factor reports instead of a result
 //! ([`RegistryError`]). The command line (`slamjac::error::CliError`)
-//! converts each variant to its own of the same name: the same message,
-//! exit 2 for [`RegistryError::Input`], exit 1 for the others.
+//! wraps it as it is (`CliError::Registry`): the same message, exit 2 for
+//! [`RegistryError::Input`], exit 1 for the others.
 
 use factor_core::FactorError;
 use slamjac_problem::InputError;

@@ -2,7 +2,7 @@
 //! problem (feature `solve`): the adder a registry keeps per factor
 //! ([`AddFn`]: through the factor's generated kernel in apex-solver's
 //! chart, or dual numbers in that chart), the problem variables they create
-//! and the problem being assembled. `slamjac::solve::problem_file` reads the
+//! and the problem being assembled. `slamjac_solve::problem_file` reads the
 //! file and drives it; [`crate::registry`] stores the adders.
 
 use std::collections::HashMap;

@@ -7,7 +7,8 @@
 //! [`crate::registry::Registry::solve_with_schur_each`]), the problem
 //! variables they create (each held in its type's stored scalars and
 //! retracted by its own manifold), and what the observability check needs
-//! of each factor ([`Kept`]). `slamjac`'s `solve` (its module `schur_file`) drives it.
+//! of each factor ([`Kept`]). `slamjac_solve::schur_file` builds the
+//! problem with it, and `slamjac`'s `solve` solves it.
 
 use std::collections::HashMap;
 

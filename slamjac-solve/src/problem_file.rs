@@ -98,15 +98,11 @@ pub fn shape(registry: &Registry, factor: &str, path: &str) -> Result<Shape, Inp
             ),
         ));
     }
-    Ok(Shape {
-        variables: (entry.variables)(),
-        constants: (entry.fields)()
-            .into_iter()
-            .filter(|field| field.variable.is_none())
-            .map(|field| field.name)
-            .collect(),
-        residual_dim: entry.residual_dim,
-    })
+    Ok(Shape::from_fields(
+        (entry.variables)(),
+        (entry.fields)(),
+        entry.residual_dim,
+    ))
 }
 
 /// Reads and builds the problem file `file`, its factors those `registry`
