@@ -130,8 +130,11 @@ mod generated {
     const BATCH: usize = 1000;
 
     /// The batch with lanes `L` in `group`.
-    fn lanes<F, L>(group: &mut BenchmarkGroup<'_, WallTime>, name: &str, inputs: &Columns<L::Scalar>)
-    where
+    fn lanes<F, L>(
+        group: &mut BenchmarkGroup<'_, WallTime>,
+        name: &str,
+        inputs: &Columns<L::Scalar>,
+    ) where
         F: WithKernel,
         L: Lanes,
         F::Kernel: Kernel<L> + Kernel<L::Scalar>,

@@ -2,13 +2,14 @@
 //! checks them against [`linearize_dual`](slam_factors::PointReprojection::linearize_dual);
 //! with the feature `generated`, calls this project's generated kernels
 //! (`factor-generated`) the same way and checks them against wrenfold's
-//! ([`ours`]).
+//! ([`ours`]), and the fewest-operations formulas written by hand as scalar
+//! code ([`bound`]) against those.
 //!
 //! The kernels are `include!`d from `bench-peers/out/wrenfold_generated.rs`,
 //! written by `bench-peers/wrenfold_factors.py` (run `bash bench-peers/run.sh`).
 
-use slam_factors::{PluckerLineReprojection, PointReprojection};
 use nalgebra::SMatrix;
+use slam_factors::{PluckerLineReprojection, PointReprojection};
 use wrenfold_traits::{OutputSpan2D, Span2D};
 
 /// The wrenfold output, as emitted (never committed).
@@ -290,11 +291,14 @@ fn check(
 /// on plain arrays prepared once per configuration, as wrenfold's are, and
 /// their check against wrenfold's outputs.
 #[cfg(feature = "generated")]
+pub mod bound;
+
+#[cfg(feature = "generated")]
 pub mod ours {
-    use slam_factors::{PluckerLineReprojection, PointReprojection};
     use factor_generated::plucker_line_reprojection::plucker_line_reprojection;
     use factor_generated::point_reprojection::point_reprojection;
     use nalgebra::SMatrix;
+    use slam_factors::{PluckerLineReprojection, PointReprojection};
 
     use super::{Agreement, PluckerInputs, PointInputs, check, relative_error};
 

@@ -10,7 +10,8 @@
 //! minimum ns/call of each side over all rounds, and the median and
 //! quartiles of the per-round ratios. Contenders: this project's generated
 //! kernel (the comparison the README's benchmarks name), and for reference the hand-written
-//! Jacobians of `slam_factors::analytic` (nalgebra outputs, no validation).
+//! Jacobians of `slam_factors::analytic` (nalgebra outputs, no validation),
+//! and the fewest-operations formulas as scalar code (`bound`).
 //! The kernels are first checked against each other (and wrenfold against
 //! `linearize_dual()`) exactly as in `benches/peers.rs`.
 
@@ -19,10 +20,11 @@ fn main() {
     use std::hint::black_box;
     use std::time::Instant;
 
+    use bench_peers_harness::bound;
     use bench_peers_harness::ours::{PluckerArrays, PointArrays};
     use bench_peers_harness::{PluckerInputs, PointInputs};
-    use slam_factors::analytic;
     use factor_testing::samples::Sampler;
+    use slam_factors::analytic;
 
     const CONFIGURATIONS: usize = 64;
     const PASSES: usize = 2000;
@@ -42,6 +44,8 @@ fn main() {
     bench_peers_harness::check_plucker(&lines, 1e-9).unwrap_or_else(|e| panic!("{e}"));
     bench_peers_harness::ours::check_point(&points, 1e-9).unwrap_or_else(|e| panic!("{e}"));
     bench_peers_harness::ours::check_plucker(&lines, 1e-9).unwrap_or_else(|e| panic!("{e}"));
+    bench_peers_harness::bound::check_point(&points, 1e-9).unwrap_or_else(|e| panic!("{e}"));
+    bench_peers_harness::bound::check_plucker(&lines, 1e-9).unwrap_or_else(|e| panic!("{e}"));
 
     /// ns per call of `f` over PASSES passes of the inputs.
     fn time<I, O>(inputs: &[I], f: impl Fn(&I) -> O) -> f64 {
@@ -131,6 +135,24 @@ fn main() {
         &lines,
         analytic::plucker_line_reprojection,
     );
+    report(
+        point,
+        "scalar bound",
+        rounds,
+        &point_w,
+        PointInputs::wrenfold,
+        &point_g,
+        bound::point_reprojection,
+    );
+    report(
+        line,
+        "scalar bound",
+        rounds,
+        &line_w,
+        PluckerInputs::wrenfold,
+        &line_g,
+        bound::plucker_line_reprojection,
+    );
 
     // Each kernel compiled once, on its own, and called: immune to how the
     // optimiser happens to inline and lay out the timing loops.
@@ -153,11 +175,30 @@ fn main() {
         &line_g,
         called::generated_plucker,
     );
+    report(
+        point,
+        "scalar bound",
+        rounds,
+        &point_w,
+        called::wrenfold_point,
+        &point_g,
+        called::bound_point,
+    );
+    report(
+        line,
+        "scalar bound",
+        rounds,
+        &line_w,
+        called::wrenfold_plucker,
+        &line_g,
+        called::bound_plucker,
+    );
 }
 
 /// Out-of-line wrappers, one per kernel.
 #[cfg(feature = "generated")]
 mod called {
+    use bench_peers_harness::bound;
     use bench_peers_harness::ours::{
         PluckerArrayOutputs, PluckerArrays, PointArrayOutputs, PointArrays,
     };
@@ -181,6 +222,16 @@ mod called {
     #[inline(never)]
     pub fn generated_plucker(x: &PluckerArrays) -> PluckerArrayOutputs {
         x.generated()
+    }
+
+    #[inline(never)]
+    pub fn bound_point(x: &PointArrays) -> PointArrayOutputs {
+        bound::point_reprojection(x)
+    }
+
+    #[inline(never)]
+    pub fn bound_plucker(x: &PluckerArrays) -> PluckerArrayOutputs {
+        bound::plucker_line_reprojection(x)
     }
 }
 

@@ -55,10 +55,7 @@ fn main() {
             })
         })
         .collect();
-    out.insert(
-        slam_factors::PointReprojection::NAME.into(),
-        point.into(),
-    );
+    out.insert(slam_factors::PointReprojection::NAME.into(), point.into());
 
     let mut s = Sampler::new(2);
     let line: Vec<Value> = (0..count)
@@ -77,10 +74,7 @@ fn main() {
             })
         })
         .collect();
-    out.insert(
-        slam_factors::LineReprojection::NAME.into(),
-        line.into(),
-    );
+    out.insert(slam_factors::LineReprojection::NAME.into(), line.into());
 
     let mut s = Sampler::new(2);
     let plucker: Vec<Value> = (0..count)
