@@ -23,11 +23,19 @@
 //! With `target_feature = "fma"` (a build for the machine, `-C
 //! target-cpu=native`), products added to a derivative are fused
 //! multiply-adds, as GCC and Clang contract Ceres' `Jet` arithmetic.
+//!
+//! Rotating a vector by a quaternion, the operation the factors spend most
+//! of their dual arithmetic on, is not traced through the rotation matrix's
+//! dual entries: [`Scalar::rotate_by_quaternion`] computes the value and
+//! the derivatives w.r.t. the quaternion in `f64` and applies the chain
+//! rule per coordinate (about 2.3× fewer operations; profiled, it took
+//! half of the point and free-line factors' time before).
 
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 use num_traits::{One, Zero};
 
+use crate::linalg::homogeneous_rotation;
 use crate::scalar::Scalar;
 
 /// A dual number: a value and its derivative w.r.t. `N` coordinates.
@@ -296,11 +304,114 @@ impl<const N: usize> Scalar for Dual<N> {
     fn known_value(self) -> Option<f64> {
         Some(self.re)
     }
+    #[inline(always)]
+    fn rotate_by_quaternion(q: &[Self; 4], v: &[Self; 3], transpose: bool) -> Option<[Self; 3]> {
+        Some(rotate(q, v, transpose))
+    }
+}
+
+/// `R(q) v`, or `R(q)ᵀ v` when `transpose`, `R` the homogeneous rotation
+/// matrix of `q = [x, y, z, w]`, by the chain rule: the value, `R` and the
+/// 3 × 4 derivative `∂(R v)/∂q` in `f64`, then per coordinate
+/// `d(R v) = ∂(R v)/∂q · dq + R dv`: 21 multiply-adds per coordinate, where
+/// the matrix's entries on dual numbers and their product with `v` take
+/// about 96 operations per coordinate.
+///
+/// With `q = [u, w]`, `R v = (w² − u·u) v + 2 (u·v) u + 2 w (u × v)`, so
+/// `∂(R v)/∂u = 2 ((u·v) I + u vᵀ − v uᵀ − w [v]×)` and
+/// `∂(R v)/∂w = 2 (w v + u × v)`. `R(q)ᵀ = R(q̄)`, `q̄ = [−u, w]`: the
+/// transpose rotates by `q̄`, and its derivative w.r.t. `u` changes sign.
+#[inline(always)]
+fn rotate<const N: usize>(q: &[Dual<N>; 4], v: &[Dual<N>; 3], transpose: bool) -> [Dual<N>; 3] {
+    let sign = if transpose { -1.0 } else { 1.0 };
+    let u = [sign * q[0].re, sign * q[1].re, sign * q[2].re];
+    let w = q[3].re;
+    let p = [v[0].re, v[1].re, v[2].re];
+    let r = homogeneous_rotation(u[0], u[1], u[2], w);
+    let up = u[0] * p[0] + u[1] * p[1] + u[2] * p[2];
+    let u_cross_p = [
+        u[1] * p[2] - u[2] * p[1],
+        u[2] * p[0] - u[0] * p[2],
+        u[0] * p[1] - u[1] * p[0],
+    ];
+    let p_cross = [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]];
+    let mut out = [Dual::constant(0.0); 3];
+    for (i, out) in out.iter_mut().enumerate() {
+        let mut j = [0.0; 4];
+        for (k, jk) in j.iter_mut().take(3).enumerate() {
+            let diagonal = if i == k { up } else { 0.0 };
+            *jk = 2.0 * sign * (diagonal + u[i] * p[k] - p[i] * u[k] - w * p_cross[i][k]);
+        }
+        j[3] = 2.0 * (w * p[i] + u_cross_p[i]);
+        let row = [r[(i, 0)], r[(i, 1)], r[(i, 2)]];
+        out.re = row[0] * p[0] + row[1] * p[1] + row[2] * p[2];
+        for (n, e) in out.eps.iter_mut().enumerate() {
+            let d = j[0] * q[0].eps[n];
+            let d = mul_add(j[1], q[1].eps[n], d);
+            let d = mul_add(j[2], q[2].eps[n], d);
+            let d = mul_add(j[3], q[3].eps[n], d);
+            let d = mul_add(row[0], v[0].eps[n], d);
+            let d = mul_add(row[1], v[1].eps[n], d);
+            *e = mul_add(row[2], v[2].eps[n], d);
+        }
+    }
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::{mul, tr_mul};
+    use nalgebra::Vector3;
+
+    /// The chain-rule rotation against the homogeneous matrix multiplied out
+    /// on dual numbers, for unit and non-unit quaternions, every input
+    /// seeded on its own coordinates and on shared ones.
+    #[test]
+    fn rotation_by_the_chain_rule_is_the_matrix_product() {
+        let quaternions = [
+            [0.3, -0.5, 0.1, 0.8],
+            [1.7, 0.2, -2.4, 0.6],
+            [0.0, 0.0, 0.0, 1.0],
+        ];
+        let vectors = [[1.5, -2.0, 0.7], [-0.2, 0.0, 3.3]];
+        for q in quaternions {
+            for p in vectors {
+                // Seeds: q on coordinates 0–3, v on 4–6, and coordinate 7 on all.
+                let q: [Dual<8>; 4] = std::array::from_fn(|k| {
+                    let mut d = Dual::variable(q[k], k);
+                    d.eps[7] = 0.25 * (k as f64 + 1.0);
+                    d
+                });
+                let v: [Dual<8>; 3] = std::array::from_fn(|k| {
+                    let mut d = Dual::variable(p[k], 4 + k);
+                    d.eps[7] = -0.5 * (k as f64) + 0.3;
+                    d
+                });
+                let r = homogeneous_rotation(q[0], q[1], q[2], q[3]);
+                let vector = Vector3::new(v[0], v[1], v[2]);
+                for (transpose, reference) in
+                    [(false, mul(&r, &vector)), (true, tr_mul(&r, &vector))]
+                {
+                    let ours = Dual::rotate_by_quaternion(&q, &v, transpose).unwrap();
+                    for i in 0..3 {
+                        let scale = 1.0 + reference[i].re.abs();
+                        assert!((ours[i].re - reference[i].re).abs() < 1e-14 * scale);
+                        for n in 0..8 {
+                            let scale = 1.0 + reference[i].eps[n].abs();
+                            assert!(
+                                (ours[i].eps[n] - reference[i].eps[n]).abs() < 1e-13 * scale,
+                                "q {q:?} v {p:?} transpose {transpose}: entry {i}, coordinate {n}: \
+                                 {} against {}",
+                                ours[i].eps[n],
+                                reference[i].eps[n]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     fn d1(x: f64) -> Dual<1> {
         Dual::variable(x, 0)

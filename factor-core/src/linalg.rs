@@ -3,7 +3,7 @@
 //! of any magnitude ([`scaled_norm`], [`unit_of`], [`norm_ratio`]).
 
 use nalgebra::storage::RawStorage;
-use nalgebra::{Dim, Matrix, SMatrix, SVector, Vector3};
+use nalgebra::{Dim, Matrix, Matrix3, SMatrix, SVector, Vector3};
 
 use crate::scalar::Scalar;
 
@@ -66,6 +66,26 @@ pub fn tr_mul<S: Scalar, const K: usize, const R: usize, const C: usize>(
     SMatrix::from_fn(|r, c| {
         (1..K).fold(m[(0, r)] * v[(0, c)], |acc, k| acc + m[(k, r)] * v[(k, c)])
     })
+}
+
+/// The rotation matrix of the quaternion `[x, y, z, w]` in its homogeneous
+/// form, `|q|²` times the rotation of `q/|q|` (see
+/// [`Quaternion::to_rotation_matrix`](crate::lie::Quaternion::to_rotation_matrix),
+/// which is this).
+pub fn homogeneous_rotation<S: Scalar>(x: S, y: S, z: S, w: S) -> Matrix3<S> {
+    let two = S::from_f64(2.0);
+    let (xx, yy, zz, ww) = (x * x, y * y, z * z, w * w);
+    Matrix3::new(
+        ww + xx - yy - zz,
+        two * (x * y - z * w),
+        two * (x * z + y * w),
+        two * (x * y + z * w),
+        ww - xx + yy - zz,
+        two * (y * z - x * w),
+        two * (x * z - y * w),
+        two * (y * z + x * w),
+        ww - xx - yy + zz,
+    )
 }
 
 /// `c · v`, the scalar on the left so generic scalars need no `Mul<Matrix>`.

@@ -170,10 +170,10 @@ pub trait Manifold<S: Scalar>: Sized {
     /// `#[derive(Factor)]`'s `linearize_dual` does this.
     ///
     /// The default is [`seeded_through_retraction`] (the retraction on dual
-    /// numbers as wide as this variable's tangent); the Lie groups of this
-    /// crate override it with the closed form of their retraction's
-    /// derivative, which costs a few products instead of the retraction's
-    /// dual arithmetic. An override must agree with the default to
+    /// numbers as wide as this variable's tangent); this crate's Lie groups
+    /// (but Sim(3)), lines and plane override it with the closed form of
+    /// their retraction's derivative, which costs a few products instead of
+    /// the retraction's dual arithmetic. An override must agree with the default to
     /// rounding (rule 11 above).
     ///
     /// # Panics

@@ -87,6 +87,17 @@ pub trait Scalar:
     fn known_value(self) -> Option<f64> {
         None
     }
+    /// `R(q) v`, or `R(q)ᵀ v` when `transpose`, for the quaternion
+    /// `q = [x, y, z, w]` and its homogeneous rotation matrix `R`
+    /// ([`crate::linalg::homogeneous_rotation`]), where this number type has
+    /// a faster way than multiplying by that matrix entry by entry. `None`
+    /// (the default): [`Quaternion::rotate`](crate::lie::Quaternion::rotate)
+    /// multiplies by the matrix, which is what a symbolic scalar must trace.
+    /// Dual numbers compute the value in `f64` and the derivative through
+    /// `∂(R v)/∂q` and `R` ([`crate::dual`]).
+    fn rotate_by_quaternion(_q: &[Self; 4], _v: &[Self; 3], _transpose: bool) -> Option<[Self; 3]> {
+        None
+    }
 }
 
 macro_rules! impl_scalar_for_float {

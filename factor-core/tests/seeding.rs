@@ -1,10 +1,12 @@
 //! `Manifold::seeded`'s closed forms (SO(3), SE(3) in both tangent orders,
-//! vectors, scalars) against its default, the first-order retraction on
+//! SO(2), the orthonormal, Plücker and free lines, the plane, vectors,
+//! scalars) against its default, the first-order retraction on
 //! dual numbers (`seeded_through_retraction`), on both sides, at points
 //! spread over the groups.
 
 use factor_core::dual::Dual;
-use factor_core::lie::{Se3, Se3RhoTheta, So3};
+use factor_core::geometry::{FreeLine, InfinitePlane, OrthonormalLine, PluckerLine};
+use factor_core::lie::{Se3, Se3RhoTheta, So2, So3};
 use factor_core::manifold::seeded_through_retraction;
 use factor_core::{Manifold, Perturbation, Storage};
 use nalgebra::{Vector3, Vector4};
@@ -55,5 +57,20 @@ fn closed_form_seeds_are_the_retractions_derivatives() {
         agree::<_, 6>(&Se3RhoTheta::new(pose), 1);
         agree::<_, 4>(&Vector4::new(t, -t, 0.5, 2.0), 5);
         agree::<_, 1>(&(t - 7.5), 8);
+        let angle = 0.3 * t - 4.0;
+        let w = So2::new(angle.cos(), angle.sin());
+        agree::<_, 1>(&w, 4);
+        agree::<_, 4>(&OrthonormalLine::new(rotation, w), 2);
+        agree::<_, 4>(&FreeLine::new(rotation.quaternion, 0.25 * t - 3.0), 5);
+        agree::<_, 3>(
+            &InfinitePlane {
+                quaternion: rotation.quaternion,
+            },
+            6,
+        );
+        agree::<_, 6>(
+            &PluckerLine::new(Vector3::new(t, 1.0, -2.0), Vector3::new(0.5, -t, 3.0)),
+            0,
+        );
     }
 }

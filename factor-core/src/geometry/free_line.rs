@@ -4,8 +4,9 @@
 
 use nalgebra::Vector3;
 
+use crate::dual::Dual;
 use crate::lie::Quaternion;
-use crate::lie::so3::{perturb_quaternion, quaternion_local, write3};
+use crate::lie::so3::{perturb_quaternion, quaternion_local, seeded_quaternion, write3};
 use crate::linalg::scale;
 use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
@@ -82,6 +83,23 @@ impl<S: Scalar> Manifold<S> for FreeLine<S> {
         Self::new(
             perturb_quaternion(&self.rotation, delta, side, Quaternion::exp_first_order),
             self.distance + delta[3],
+        )
+    }
+    /// In closed form: `q_WL` as [`So3`](crate::lie::So3)'s
+    /// (`seeded_quaternion`), `d_L` additive at `offset + 3`.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let q = self.rotation.map_scalars(&mut |s| s.into());
+        FreeLine::new(
+            seeded_quaternion(&q, side, offset),
+            Dual::variable(self.distance.into(), offset + 3),
         )
     }
     fn tangent_description(side: Perturbation) -> &'static str {

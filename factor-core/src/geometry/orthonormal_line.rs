@@ -8,6 +8,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::dual::Dual;
 use crate::geometry::PluckerLine;
 use crate::lie::{So2, So3};
 use crate::linalg::{cross, dot, norm, norm_ratio, scale, unit_of};
@@ -214,6 +215,21 @@ impl<S: Scalar> Manifold<S> for OrthonormalLine<S> {
         Self::new(
             self.u.retract_first_order(&delta[..3], side),
             self.w.retract_first_order(&delta[3..], side),
+        )
+    }
+    /// In closed form: `U` as [`So3`]'s, `W` as [`So2`]'s.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        OrthonormalLine::new(
+            self.u.seeded::<3, N>(side, offset),
+            self.w.seeded::<1, N>(side, offset + 3),
         )
     }
     fn tangent_description(side: Perturbation) -> &'static str {

@@ -13,9 +13,10 @@
 
 use nalgebra::{Vector3, Vector4};
 
+use crate::dual::Dual;
 use crate::lie::Quaternion;
 use crate::lie::Se3;
-use crate::lie::so3::{perturb_quaternion, quaternion_local, write3};
+use crate::lie::so3::{perturb_quaternion, quaternion_local, seeded_quaternion, write3};
 use crate::linalg::{dot, norm, scale, unit_of};
 use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
@@ -148,6 +149,21 @@ impl<S: Scalar> Manifold<S> for InfinitePlane<S> {
                 side,
                 Quaternion::exp_first_order,
             ),
+        }
+    }
+    /// In closed form, as [`So3`](crate::lie::So3)'s (`seeded_quaternion`).
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let q = self.quaternion.map_scalars(&mut |s| s.into());
+        InfinitePlane {
+            quaternion: seeded_quaternion(&q, side, offset),
         }
     }
     fn tangent_description(side: Perturbation) -> &'static str {

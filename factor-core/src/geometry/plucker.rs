@@ -4,6 +4,7 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
+use crate::dual::Dual;
 use crate::lie::Se3;
 use crate::lie::so3::hat;
 use crate::linalg::cross;
@@ -85,6 +86,21 @@ impl<S: Scalar> Manifold<S> for PluckerLine<S> {
         Self::new(
             self.normal + Vector3::new(delta[0], delta[1], delta[2]),
             self.direction + Vector3::new(delta[3], delta[4], delta[5]),
+        )
+    }
+    /// In closed form, each vector as a vector space's.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        PluckerLine::new(
+            self.normal.seeded::<3, N>(side, offset),
+            self.direction.seeded::<3, N>(side, offset + 3),
         )
     }
     fn tangent_description(_side: Perturbation) -> &'static str {

@@ -9,7 +9,7 @@
 use nalgebra::{Matrix3, Vector3, Vector4};
 
 use crate::lie::SMALL_ANGLE_SQUARED;
-use crate::linalg::{cross, dot, scale, scaled_norm, squared_norm};
+use crate::linalg::{cross, dot, homogeneous_rotation, scale, scaled_norm, squared_norm};
 use crate::scalar::Scalar;
 use crate::storage::{Layout, QUATERNION_NORM_TOLERANCE, Storage, StorageError};
 use crate::validation::magnitude_text;
@@ -148,9 +148,23 @@ impl<S: Scalar> Quaternion<S> {
         scale(k, &v)
     }
 
-    /// Rotates `v` by a unit quaternion, `q ⊗ [v, 0] ⊗ q⁻¹ = R(q) v`.
+    /// Rotates `v` by a unit quaternion, `q ⊗ [v, 0] ⊗ q⁻¹ = R(q) v`
+    /// ([`Quaternion::to_rotation_matrix`] times `v`, or the number type's
+    /// own [`Scalar::rotate_by_quaternion`]).
     pub fn rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        crate::linalg::mul(&self.to_rotation_matrix(), v)
+        match S::rotate_by_quaternion(&[self.x, self.y, self.z, self.w], &[v.x, v.y, v.z], false) {
+            Some(r) => Vector3::from(r),
+            None => crate::linalg::mul(&self.to_rotation_matrix(), v),
+        }
+    }
+
+    /// `R(q)ᵀ v`, the inverse rotation of a unit quaternion (as
+    /// [`Quaternion::rotate`]).
+    pub fn inverse_rotate(&self, v: &Vector3<S>) -> Vector3<S> {
+        match S::rotate_by_quaternion(&[self.x, self.y, self.z, self.w], &[v.x, v.y, v.z], true) {
+            Some(r) => Vector3::from(r),
+            None => crate::linalg::tr_mul(&self.to_rotation_matrix(), v),
+        }
     }
 
     /// The rotation matrix `R(q)` of a unit quaternion, in the homogeneous
@@ -162,20 +176,7 @@ impl<S: Scalar> Quaternion<S> {
     /// themselves: the symbolic engine shares them instead of emitting new
     /// polynomials.
     pub fn to_rotation_matrix(&self) -> Matrix3<S> {
-        let (x, y, z, w) = (self.x, self.y, self.z, self.w);
-        let two = S::from_f64(2.0);
-        let (xx, yy, zz, ww) = (x * x, y * y, z * z, w * w);
-        Matrix3::new(
-            ww + xx - yy - zz,
-            two * (x * y - z * w),
-            two * (x * z + y * w),
-            two * (x * y + z * w),
-            ww - xx + yy - zz,
-            two * (y * z - x * w),
-            two * (x * z - y * w),
-            two * (y * z + x * w),
-            ww - xx - yy + zz,
-        )
+        homogeneous_rotation(self.x, self.y, self.z, self.w)
     }
 
     /// The unit quaternion of a rotation matrix, by Shepperd's method: the

@@ -3,6 +3,7 @@
 
 use nalgebra::{Matrix1, Matrix2, Vector1, Vector2};
 
+use crate::dual::Dual;
 use crate::lie::LieGroup;
 use crate::manifold::{Manifold, NoLocal, Perturbation};
 use crate::scalar::Scalar;
@@ -113,6 +114,23 @@ impl<S: Scalar> Manifold<S> for So2<S> {
     }
     fn retract_first_order(&self, delta: &[S], _side: Perturbation) -> Self {
         Self::new(S::one(), delta[0]).compose(self)
+    }
+    /// In closed form: `[1, δ] ∘ [c, s] = [c − δ s, s + δ c]`, so the
+    /// derivatives are `−s` and `c` at coordinate `offset`.
+    #[inline(always)]
+    fn seeded<const D: usize, const N: usize>(
+        &self,
+        _side: Perturbation,
+        offset: usize,
+    ) -> <Self as Storage<S>>::With<Dual<N>>
+    where
+        S: Into<f64>,
+    {
+        let (c, s): (f64, f64) = (self.cos.into(), self.sin.into());
+        let (mut cos, mut sin) = (Dual::constant(c), Dual::constant(s));
+        cos.eps[offset] = -s;
+        sin.eps[offset] = c;
+        So2::new(cos, sin)
     }
     fn tangent_description(_side: Perturbation) -> &'static str {
         "W ← R(δ) W, one column δ"

@@ -186,7 +186,7 @@ impl<S: Scalar> So3<S> {
 
     /// `Rᵀ v`.
     pub fn inverse_rotate(&self, v: &Vector3<S>) -> Vector3<S> {
-        crate::linalg::tr_mul(&self.matrix(), v)
+        self.quaternion.inverse_rotate(v)
     }
 
     /// `R⁻¹`.
