@@ -35,7 +35,9 @@ use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssi
 
 use num_traits::{One, Zero};
 
-use crate::linalg::homogeneous_rotation;
+use nalgebra::Vector3;
+
+use crate::linalg::{cross, dot, homogeneous_rotation};
 use crate::scalar::Scalar;
 
 /// A dual number: a value and its derivative w.r.t. `N` coordinates.
@@ -328,12 +330,9 @@ fn rotate<const N: usize>(q: &[Dual<N>; 4], v: &[Dual<N>; 3], transpose: bool) -
     let w = q[3].re;
     let p = [v[0].re, v[1].re, v[2].re];
     let r = homogeneous_rotation(u[0], u[1], u[2], w);
-    let up = u[0] * p[0] + u[1] * p[1] + u[2] * p[2];
-    let u_cross_p = [
-        u[1] * p[2] - u[2] * p[1],
-        u[2] * p[0] - u[0] * p[2],
-        u[0] * p[1] - u[1] * p[0],
-    ];
+    let (u_vector, p_vector) = (Vector3::from(u), Vector3::from(p));
+    let up = dot(&u_vector, &p_vector);
+    let u_cross_p = cross(&u_vector, &p_vector);
     let p_cross = [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]];
     let mut out = [Dual::constant(0.0); 3];
     for (i, out) in out.iter_mut().enumerate() {
@@ -362,7 +361,6 @@ fn rotate<const N: usize>(q: &[Dual<N>; 4], v: &[Dual<N>; 3], transpose: bool) -
 mod tests {
     use super::*;
     use crate::linalg::{mul, tr_mul};
-    use nalgebra::Vector3;
 
     /// The chain-rule rotation against the homogeneous matrix multiplied out
     /// on dual numbers, for unit and non-unit quaternions, every input

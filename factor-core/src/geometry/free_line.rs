@@ -96,9 +96,8 @@ impl<S: Scalar> Manifold<S> for FreeLine<S> {
     where
         S: Into<f64>,
     {
-        let q = self.rotation.map_scalars(&mut |s| s.into());
         FreeLine::new(
-            seeded_quaternion(&q, side, offset),
+            seeded_quaternion(&self.rotation, side, offset),
             Dual::variable(self.distance.into(), offset + 3),
         )
     }

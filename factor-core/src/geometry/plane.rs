@@ -161,9 +161,8 @@ impl<S: Scalar> Manifold<S> for InfinitePlane<S> {
     where
         S: Into<f64>,
     {
-        let q = self.quaternion.map_scalars(&mut |s| s.into());
         InfinitePlane {
-            quaternion: seeded_quaternion(&q, side, offset),
+            quaternion: seeded_quaternion(&self.quaternion, side, offset),
         }
     }
     fn tangent_description(side: Perturbation) -> &'static str {

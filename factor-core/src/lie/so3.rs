@@ -275,11 +275,12 @@ pub(crate) fn perturb_quaternion<S: Scalar>(
 /// or `½ q ⊗ e_k` (right), `e_k` the pure quaternion of axis `k`, at
 /// coordinate `offset + k` ([`Manifold::seeded`] in closed form).
 #[inline(always)]
-pub(crate) fn seeded_quaternion<const N: usize>(
-    q: &Quaternion<f64>,
+pub(crate) fn seeded_quaternion<S: Scalar + Into<f64>, const N: usize>(
+    q: &Quaternion<S>,
     side: Perturbation,
     offset: usize,
 ) -> Quaternion<Dual<N>> {
+    let q: Quaternion<f64> = q.map_scalars(&mut |s| s.into());
     let mut out = Quaternion::new(
         Dual::constant(q.x),
         Dual::constant(q.y),
@@ -291,7 +292,7 @@ pub(crate) fn seeded_quaternion<const N: usize>(
         axis[k] = 0.5;
         let half = Quaternion::from_parts(axis, 0.0);
         let d = match side {
-            Perturbation::Left => half.mul(q),
+            Perturbation::Left => half.mul(&q),
             Perturbation::Right => q.mul(&half),
         };
         let column = offset + k;
@@ -355,8 +356,7 @@ impl<S: Scalar> Manifold<S> for So3<S> {
     where
         S: Into<f64>,
     {
-        let q = self.quaternion.map_scalars(&mut |s| s.into());
-        So3::from_quaternion(seeded_quaternion(&q, side, offset))
+        So3::from_quaternion(seeded_quaternion(&self.quaternion, side, offset))
     }
     fn tangent_description(side: Perturbation) -> &'static str {
         match side {
