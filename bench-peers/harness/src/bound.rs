@@ -26,10 +26,9 @@
 //! The outputs are checked against the generated kernels' ([`check_point`],
 //! [`check_plucker`]) before anything is timed.
 
-use nalgebra::SMatrix;
 use slam_factors::{PluckerLineReprojection, PointReprojection};
 
-use crate::ours::{PluckerArrayOutputs, PluckerArrays, PointArrayOutputs, PointArrays};
+use crate::ours::{PluckerArrayOutputs, PluckerArrays, PointArrayOutputs, PointArrays, matrix};
 use crate::{Agreement, check, relative_error};
 
 /// The rotation matrix of the quaternion `[x, y, z, w]` at the start of
@@ -198,15 +197,15 @@ fn compare<const B: usize, const C: usize>(
         let errors = [
             (
                 "residual",
-                relative_error(&m::<2, 1>(&ours.0), &m::<2, 1>(&generated.0)),
+                relative_error(&matrix::<2, 1>(&ours.0), &matrix::<2, 1>(&generated.0)),
             ),
             (
                 "pose",
-                relative_error(&m::<2, 6>(&ours.1), &m::<2, 6>(&generated.1)),
+                relative_error(&matrix::<2, 6>(&ours.1), &matrix::<2, 6>(&generated.1)),
             ),
             (
                 other,
-                relative_error(&m::<2, C>(&ours.2), &m::<2, C>(&generated.2)),
+                relative_error(&matrix::<2, C>(&ours.2), &matrix::<2, C>(&generated.2)),
             ),
         ];
         check(
@@ -219,11 +218,6 @@ fn compare<const B: usize, const C: usize>(
         agreement.update(errors[0].1, errors[1].1, errors[2].1);
     }
     Ok(agreement)
-}
-
-/// A row-major `R × C` block as an nalgebra matrix.
-fn m<const R: usize, const C: usize>(entries: &[f64]) -> SMatrix<f64, R, C> {
-    SMatrix::from_row_slice(entries)
 }
 
 /// Compares [`point_reprojection`] with the generated kernel at every

@@ -402,7 +402,7 @@ pub mod ours {
     }
 
     /// A row-major `R × C` output as an nalgebra matrix.
-    fn matrix<const R: usize, const C: usize>(entries: &[f64]) -> SMatrix<f64, R, C> {
+    pub(crate) fn matrix<const R: usize, const C: usize>(entries: &[f64]) -> SMatrix<f64, R, C> {
         SMatrix::from_row_slice(entries)
     }
 
