@@ -93,6 +93,31 @@ fn position_prior_jacobians_are_correct() {
 }
 "#;
 
+/// `NAME-cli/tests/kernels_are_current.rs`: every registered factor's
+/// kernel against its current definition, through the command line's
+/// `check`.
+const CLI_TEST: &str = r#"//! Every factor `src/main.rs` registers with a kernel: its kernel in
+//! `@NAME@-kernels` is what its current definition generates (the command
+//! line's `check`). A residual, a function it calls or a retraction edited
+//! without regenerating fails here, for a factor added later too, with no
+//! test of its own.
+
+use std::process::Command;
+
+#[test]
+fn the_kernels_are_current() {
+    let check = Command::new(env!("CARGO_BIN_EXE_@NAME@"))
+        .arg("check")
+        .output()
+        .expect("the command line runs");
+    assert!(
+        check.status.success(),
+        "{}",
+        String::from_utf8_lossy(&check.stderr)
+    );
+}
+"#;
+
 /// `NAME-factors/src/lib.rs`: one example factor.
 const FACTORS_LIB: &str = r#"//! The factors of `@NAME@`. Each has a kernel in `@NAME@-kernels`, written by
 //! `@GENERATE@`.
@@ -215,15 +240,19 @@ cargo run -p @NAME@-cli -- list                             # the factors, their
 cargo run -p @NAME@-cli -- eval inputs/position_prior.json  # residual and Jacobians
 cargo run -p @NAME@-cli --no-default-features -- generate --lang cpp   # and C++ in @NAME@-kernels/cpp
 cargo run -p @NAME@-cli --no-default-features -- check      # exit 1 when the kernels are stale (CI)
-cargo test -p @NAME@-factors                                 # the factors' Jacobians against central differences
+cargo test                                                   # the Jacobians against central differences, the kernels against the definitions
 cargo run --release -p @NAME@-cli --features solve -- solve inputs/position_problem.json
 ```
 
 Add a factor to `@NAME@-factors/src/lib.rs` (with its
 `#[cfg_attr(feature = "kernels", factor(kernel = ..., regenerate = ...))]`),
 register it in `@NAME@-cli/src/main.rs` with `.with_kernel::<YourFactor>()`
-(and `.solve_with_dual::<YourFactor>()` for `solve`), then generate. The slamjac guide's chapters "Writing a factor",
-"Kernels of your own factors" and "Kernels in C++ solvers" say more.
+(and `.solve_with_dual::<YourFactor>()` for `solve`), then generate, and
+give it a test beside the example's in `@NAME@-factors/tests/jacobians.rs`
+(`cargo test` checks every registered kernel against its definition
+already, in `@NAME@-cli/tests/kernels_are_current.rs`). The slamjac
+guide's chapters "Writing a factor", "Kernels of your own factors" and
+"Kernels in C++ solvers" say more.
 "#;
 
 /// `.gitignore`.
@@ -273,6 +302,10 @@ pub fn files(name: &str) -> Vec<(String, String)> {
         (format!("{kernels}/src/lib.rs"), placeholder_lib(&generate)),
         (format!("{name}-cli/Cargo.toml"), fill(CLI_MANIFEST)),
         (format!("{name}-cli/src/main.rs"), fill(CLI_MAIN)),
+        (
+            format!("{name}-cli/tests/kernels_are_current.rs"),
+            fill(CLI_TEST),
+        ),
     ]
 }
 

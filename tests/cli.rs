@@ -1365,6 +1365,11 @@ fn init_writes_a_project_into_an_empty_directory_only() {
     assert!(read("vio-kernels/src/lib.rs").contains("compile_error!("));
     assert!(read("vio-factors/src/lib.rs").contains("kernel = vio_kernels::position_prior"));
     assert!(read("vio-cli/src/main.rs").contains(".run(\"vio\")"));
+    // `cargo test` runs `check`: every registered kernel against its definition.
+    assert!(
+        read("vio-cli/tests/kernels_are_current.rs")
+            .contains("Command::new(env!(\"CARGO_BIN_EXE_vio\"))\n        .arg(\"check\")")
+    );
     // The example input names the project's factor.
     let input: Value = serde_json::from_str(&read("inputs/position_prior.json")).unwrap();
     assert_eq!(input["factor"], "position_prior");

@@ -449,7 +449,9 @@ fn messages_name_the_field_and_both_readers_agree() {
     cases.push((
         "tiny",
         tiny,
-        "error: factors[0].noise.sigma: a standard deviation must be from 1e-100 to 1e100".into(),
+        "error: factors[0].noise.sigma: a standard deviation must be from 1e-100 to 1e100, \
+         found 1e-320"
+            .into(),
     ));
     let mut flat = room.clone();
     flat["variables"][&plane]["value"] = json!([0, 0, 0, 3]);

@@ -1538,3 +1538,27 @@ fn problem_files_of_factors_without_fused_kernels_take_the_schur_solver() {
     assert_relative(b.1, a.1, 1e-10, "dual numbers' final cost");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A generated kernel found stale at the initial values (a debug build's
+/// comparison with dual numbers, which a release build like this one does
+/// not make) is the factor's error, which the problem file's reader
+/// reports at the entry with exit 1, as `eval` does; not a refusal of the
+/// problem (exit 2).
+#[test]
+fn a_stale_kernel_at_the_initial_values_is_the_factors_error() {
+    use factor_apex::problems::BuildError;
+    use factor_core::FactorError;
+    use slamjac_registry::RegistryError;
+    use slamjac_registry::problem_assembly::build_error;
+
+    let stale = FactorError::StaleKernel {
+        factor: "f",
+        kernel: "k",
+        detail: "regenerate it".into(),
+    };
+    let refused = build_error(BuildError::StaleKernel {
+        which: "f at the initial values".into(),
+        error: stale.clone(),
+    });
+    assert_eq!(refused, RegistryError::Factor(stale));
+}

@@ -362,7 +362,7 @@ fn bad_files_are_refused_naming_the_field() {
     sigma["factors"][2]["noise"] = serde_json::json!({"sigma": -1});
     cases.push((
         write("sigma.json", &sigma),
-        "error: factors[2].noise.sigma: a standard deviation must be from 1e-100 to 1e100",
+        "error: factors[2].noise.sigma: a standard deviation must be from 1e-100 to 1e100, found -1",
     ));
     let mut no_poses = json.clone();
     no_poses["variables"] = serde_json::json!({});

@@ -32,6 +32,7 @@ use crate::field_path::{join, quoted};
 use crate::input::{Object, numbers};
 use crate::{InputError, PROBLEM_FILE_VERSION};
 use factor_core::noise::Noise;
+use factor_core::validation::number_text;
 use factor_core::{Factor, FieldInfo, VariableInfo};
 use slam_problems::Robust;
 
@@ -390,7 +391,10 @@ fn noise(value: Json<'_>, path: &str, dim: usize) -> Result<Noise, InputError> {
         } else {
             Err(InputError::new(
                 at,
-                format!("a standard deviation must be from {low:e} to {high:e}, found {x:e}"),
+                format!(
+                    "a standard deviation must be from {low:e} to {high:e}, found {}",
+                    number_text(x)
+                ),
             ))
         }
     };

@@ -28,6 +28,7 @@ use crate::input::{Object, numbers};
 use factor_core::Storage;
 use factor_core::geometry::{InfinitePlane, OrthonormalLine};
 use factor_core::lie::Se3;
+use factor_core::validation::number_text;
 use nalgebra::{Isometry3, Point3, Similarity3, UnitQuaternion, Vector3, Vector4};
 
 use crate::align::umeyama;
@@ -56,7 +57,8 @@ fn reading(kind: &str, value: Json<'_>, path: &str) -> Result<Reading, InputErro
             return Err(InputError::new(
                 path,
                 format!(
-                    "{x:e} is out of range: a truth's numbers are at most {:e} in magnitude",
+                    "{} is out of range: a truth's numbers are at most {:e} in magnitude",
+                    number_text(*x),
                     slam_data::MAX_MAGNITUDE
                 ),
             ));

@@ -8,8 +8,10 @@ use factor_core::{DynLinearization, Factor, FactorError, NumericLinearize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Method {
-    /// The checked-in generated kernel of `generated/` (straight-line code,
-    /// exact to rounding); dual numbers for a factor without one.
+    /// The factor's generated kernel, as its crate was built with it (the
+    /// checked-in `generated/` for slamjac's factors, your kernel crate for
+    /// your own; straight-line code, exact to rounding); dual numbers for a
+    /// factor without one in this build.
     #[default]
     Generated,
     /// Dual numbers (num-dual) through the generic residual: exact.

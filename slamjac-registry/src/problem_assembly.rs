@@ -256,10 +256,14 @@ fn add_with<F: HostFactor<Apex> + 'static>(
     .map_err(build_error)
 }
 
-/// A builder's refusal as the command line reports it.
+/// A builder's refusal as the command line reports it: a factor that cannot
+/// be linearized at the initial values (degenerate, or its generated kernel
+/// stale in a debug build) is the factor's error, as `eval` reports it (exit
+/// 1); anything else the solver's refusal.
 pub fn build_error(error: BuildError) -> RegistryError {
     match error {
-        BuildError::Problem(ProblemError::Degenerate { error, .. }) => RegistryError::Factor(error),
+        BuildError::Problem(ProblemError::Degenerate { error, .. })
+        | BuildError::StaleKernel { error, .. } => RegistryError::Factor(error),
         other => RegistryError::Solve(other.to_string()),
     }
 }
