@@ -102,8 +102,6 @@ pub fn point_reprojection(input: &PointArrays) -> PointArrayOutputs {
 #[inline]
 pub fn plucker_line_reprojection(input: &PluckerArrays) -> PluckerArrayOutputs {
     let mut residual = [0.0; 2];
-    let mut d_pose = [0.0; 12];
-    let mut d_line = [0.0; 12];
     let [r00, r01, r02, r10, r11, r12, r20, r21, r22] = rotation(&input.pose);
     let (t0, t1, t2) = (input.pose[4], input.pose[5], input.pose[6]);
     let vc0 = r00 * input.line[3] + r01 * input.line[4] + r02 * input.line[5];
@@ -140,23 +138,16 @@ pub fn plucker_line_reprojection(input: &PluckerArrays) -> PluckerArrayOutputs {
     let g2 = fufv * inv;
     let g0 = [0, 1].map(|i| (fv * (ex[i] - cu) - r[i] * p0) * inv);
     let g1 = [0, 1].map(|i| (fu * (ey[i] - cv) - r[i] * p1) * inv);
-    {
+    let d_pose = {
         let a = [0, 1].map(|i| nc1 * g2 - nc2 * g1[i]);
         let b = [0, 1].map(|i| nc2 * g0[i] - nc0 * g2);
         let c = [0, 1].map(|i| nc0 * g1[i] - nc1 * g0[i]);
         let d = [0, 1].map(|i| vc1 * g2 - vc2 * g1[i]);
         let e = [0, 1].map(|i| vc2 * g0[i] - vc0 * g2);
         let f = [0, 1].map(|i| vc0 * g1[i] - vc1 * g0[i]);
-        for i in 0..2 {
-            d_pose[6 * i] = a[i];
-            d_pose[6 * i + 1] = b[i];
-            d_pose[6 * i + 2] = c[i];
-            d_pose[6 * i + 3] = d[i];
-            d_pose[6 * i + 4] = e[i];
-            d_pose[6 * i + 5] = f[i];
-        }
-    }
-    {
+        rows_of([a, b, c, d, e, f])
+    };
+    let d_line = {
         // Rᵀ gᵢ, then (Rᵀ gᵢ) × (Rᵀ t).
         let tw0 = r00 * t0 + r10 * t1 + r20 * t2;
         let tw1 = r01 * t0 + r11 * t1 + r21 * t2;
@@ -167,16 +158,15 @@ pub fn plucker_line_reprojection(input: &PluckerArrays) -> PluckerArrayOutputs {
         let d3 = [0, 1].map(|i| dn1[i] * tw2 - dn2[i] * tw1);
         let d4 = [0, 1].map(|i| dn2[i] * tw0 - dn0[i] * tw2);
         let d5 = [0, 1].map(|i| dn0[i] * tw1 - dn1[i] * tw0);
-        for i in 0..2 {
-            d_line[6 * i] = dn0[i];
-            d_line[6 * i + 1] = dn1[i];
-            d_line[6 * i + 2] = dn2[i];
-            d_line[6 * i + 3] = d3[i];
-            d_line[6 * i + 4] = d4[i];
-            d_line[6 * i + 5] = d5[i];
-        }
-    }
+        rows_of([dn0, dn1, dn2, d3, d4, d5])
+    };
     (residual, d_pose, d_line)
+}
+
+/// A 2 × 6 row-major block from its six columns, each `[row 0, row 1]`.
+#[inline(always)]
+fn rows_of(columns: [[f64; 2]; 6]) -> [f64; 12] {
+    std::array::from_fn(|k| columns[k % 6][k / 6])
 }
 
 /// The worst relative error per output of `bound` against `generated` over
